@@ -1,0 +1,100 @@
+# swim: symbolic-to-C toolchain for an elastic swimmer in a 2D perfect fluid.
+# `make help` lists the targets. Each module adds its own sources through a
+# module.mk fragment (runtime/*/module.mk, tests/*/module.mk).
+
+SHELL      := /bin/bash
+PYTHON     ?= /usr/bin/python3
+CC         ?= gcc
+CFLAGS     ?= -O2 -g
+CFLAGS     += -std=c11 -D_POSIX_C_SOURCE=200809L -Wall -Wextra -Wno-unused-parameter -MMD -MP
+CPPFLAGS   += -Iruntime -Igenerated -I/usr/include/sundials
+LDLIBS     += -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lm
+BUILD      := build
+# Mode counts whose kernels are committed and linked into bin/swim.
+MODES      ?= 0 1 2 3 4 5 6 7
+N          ?= 7
+
+# Debian packages a fresh machine lacks (checked by `make deps`).
+DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev python3-sympy python3-numpy python3-matplotlib
+
+RUNTIME_SRCS :=
+TEST_SRCS    :=
+TEST_LIB_SRCS :=
+BENCH_SRCS   :=
+
+include $(wildcard runtime/*/module.mk) $(wildcard tests/*/module.mk)
+
+KERNEL_SRCS := $(foreach n,$(MODES),generated/swim_kernel_n$(n).c) generated/swim_kernel_table.c
+LIB_SRCS    := $(RUNTIME_SRCS) $(KERNEL_SRCS)
+LIB_OBJS    := $(LIB_SRCS:%.c=$(BUILD)/%.o)
+TESTLIB_OBJS := $(TEST_LIB_SRCS:%.c=$(BUILD)/%.o)
+TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
+BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
+DEPS_STAMP  := $(BUILD)/.deps-ok
+
+.PHONY: all deps help test bench generate generate-all run clean
+all: bin/swim
+
+help:
+	@echo "make            build bin/swim (installs missing Debian packages first)"
+	@echo "make deps       check/install: $(DEB_PKGS)"
+	@echo "make test       build and run every test program in tests/"
+	@echo "make bench      run the benchmarks (numbers quoted in README.md)"
+	@echo "make generate N=12   regenerate the kernel for one mode count into generated/"
+	@echo "make generate-all    regenerate the committed kernels (N = $(MODES))"
+	@echo "make run        main job: simulate models/example3.toml and plot it"
+	@echo "make clean      remove build/ and bin/"
+
+# Install what a fresh Debian machine lacks (as root), or say exactly what is missing.
+deps: $(DEPS_STAMP)
+$(DEPS_STAMP):
+	@missing=""; for p in $(DEB_PKGS); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  if [ "$$(id -u)" = 0 ]; then \
+	    echo "installing:$$missing"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing >/dev/null || exit 1; \
+	  else \
+	    echo "missing Debian packages:$$missing -- run: sudo apt-get install$$missing" >&2; exit 1; \
+	  fi; \
+	fi
+	@mkdir -p $(BUILD) && touch $@
+
+$(BUILD)/%.o: %.c | $(DEPS_STAMP)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/libswim.a: $(LIB_OBJS)
+	ar rcs $@ $^
+
+$(BUILD)/libswimtest.a: $(TESTLIB_OBJS)
+	ar rcs $@ $^
+
+bin/swim: $(BUILD)/runtime/cli/main.o $(BUILD)/libswim.a
+	@mkdir -p bin
+	$(CC) $(CFLAGS) $^ -o $@ $(LDLIBS)
+
+$(BUILD)/tests/%: $(BUILD)/tests/%.o $(BUILD)/libswimtest.a $(BUILD)/libswim.a
+	$(CC) $(CFLAGS) $^ -o $@ $(LDLIBS)
+
+test: bin/swim $(TEST_BINS)
+	@bash tests/run_tests.sh $(TEST_BINS)
+
+bench: bin/swim $(BENCH_BINS)
+	@bash tests/bench/run_bench.sh $(BENCH_BINS)
+
+generate: | $(DEPS_STAMP)
+	$(PYTHON) generator/generate.py --modes $(N) --out generated
+
+generate-all: | $(DEPS_STAMP)
+	$(PYTHON) generator/generate.py --modes $(MODES) --out generated
+
+run: bin/swim
+	./bin/swim run models/example3.toml --out out/example3
+	./bin/swim plot out/example3
+
+clean:
+	rm -rf $(BUILD) bin
+
+-include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
