@@ -6,7 +6,7 @@ SHELL      := /bin/bash
 PYTHON     ?= /usr/bin/python3
 CC         ?= gcc
 CFLAGS     ?= -O2 -g
-CFLAGS     += -std=c11 -D_POSIX_C_SOURCE=200809L -Wall -Wextra -Wno-unused-parameter -MMD -MP
+CFLAGS     += -std=c11 -D_XOPEN_SOURCE=700 -Wall -Wextra -Wno-unused-parameter -MMD -MP
 CPPFLAGS   += -Iruntime -Igenerated -I/usr/include/sundials
 LDLIBS     += -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lm
 BUILD      := build
@@ -24,15 +24,16 @@ BENCH_SRCS   :=
 
 include $(wildcard runtime/*/module.mk) $(wildcard tests/*/module.mk)
 
-KERNEL_SRCS := $(foreach n,$(MODES),generated/swim_kernel_n$(n).c) generated/swim_kernel_table.c
+KERNEL_SRCS := $(foreach n,$(MODES),generated/swim_kernel_n$(n).c)
 LIB_SRCS    := $(RUNTIME_SRCS) $(KERNEL_SRCS)
-LIB_OBJS    := $(LIB_SRCS:%.c=$(BUILD)/%.o)
+LIB_OBJS    := $(LIB_SRCS:%.c=$(BUILD)/%.o) $(BUILD)/kernel_table.o
+export PYTHONHASHSEED := 0
 TESTLIB_OBJS := $(TEST_LIB_SRCS:%.c=$(BUILD)/%.o)
 TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 DEPS_STAMP  := $(BUILD)/.deps-ok
 
-.PHONY: all deps help test bench generate generate-all run clean
+.PHONY: FORCE all deps help test bench generate generate-all run clean
 all: bin/swim
 
 help:
@@ -65,6 +66,13 @@ $(BUILD)/%.o: %.c | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
+# The table of kernels linked in; rewritten only when MODES changes.
+$(BUILD)/kernel_table.c: FORCE | $(DEPS_STAMP)
+	@$(PYTHON) generator/generate.py --table $(MODES) --out $@
+
+$(BUILD)/kernel_table.o: $(BUILD)/kernel_table.c
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
 $(BUILD)/libswim.a: $(LIB_OBJS)
 	ar rcs $@ $^
 
@@ -78,8 +86,21 @@ bin/swim: $(BUILD)/runtime/cli/main.o $(BUILD)/libswim.a
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(BUILD)/libswimtest.a $(BUILD)/libswim.a
 	$(CC) $(CFLAGS) $^ -o $@ $(LDLIBS)
 
+$(BUILD)/tests/%.o: CPPFLAGS += -Itests
+
+# Kernels outside the committed set, generated on demand (tests use N = 12).
+$(BUILD)/gen/swim_kernel_n%.c: generator/generate.py $(wildcard generator/swimgen/*.py) | $(DEPS_STAMP)
+	$(PYTHON) generator/generate.py --modes $* --out $(BUILD)/gen --quiet
+
+$(BUILD)/gen/%.o: $(BUILD)/gen/%.c
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/tests/test_kernels: $(BUILD)/gen/swim_kernel_n12.o
+
+TEST_SCRIPTS := tests/test_regenerate.sh
+
 test: bin/swim $(TEST_BINS)
-	@bash tests/run_tests.sh $(TEST_BINS)
+	@bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)
 
 bench: bin/swim $(BENCH_BINS)
 	@bash tests/bench/run_bench.sh $(BENCH_BINS)

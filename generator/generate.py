@@ -1,0 +1,68 @@
+#!/usr/bin/env python3
+"""swim generator: derive the N-mode model with SymPy and write specialized C kernels.
+
+    generate.py --modes 0 1 2 7 --out generated        kernels + the contract header
+    generate.py --table 0 1 2 7 --out build/table.c    the table of kernels linked into a build
+
+Output is deterministic: the same SymPy version writes byte-identical files.
+"""
+
+import argparse
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from swimgen.emit import header_source, kernel_source, table_source  # noqa: E402
+
+MAX_MODES = 20
+
+
+def write_if_changed(path, text):
+    old = None
+    if os.path.exists(path):
+        with open(path, encoding="utf-8") as fh:
+            old = fh.read()
+    if old != text:
+        with open(path, "w", encoding="utf-8") as fh:
+            fh.write(text)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--modes", type=int, nargs="*", default=[], help="mode counts N to generate")
+    ap.add_argument("--table", type=int, nargs="*", help="write the kernel table for these N")
+    ap.add_argument("--out", required=True, help="output folder (or file, with --table)")
+    ap.add_argument("--quiet", action="store_true")
+    args = ap.parse_args(argv)
+
+    for k in args.modes + (args.table or []):
+        if not 0 <= k <= MAX_MODES:
+            print("generate.py: --modes: N = %d is out of range 0..%d" % (k, MAX_MODES),
+                  file=sys.stderr)
+            return 2
+
+    if args.table is not None:
+        cmd = "generator/generate.py --table %s --out %s" % (
+            " ".join(map(str, args.table)), args.out)
+        os.makedirs(os.path.dirname(args.out) or ".", exist_ok=True)
+        write_if_changed(args.out, table_source(sorted(set(args.table)), cmd))
+        return 0
+
+    os.makedirs(args.out, exist_ok=True)
+    write_if_changed(os.path.join(args.out, "swim_kernel.h"),
+                     header_source("generator/generate.py --modes N --out %s" % args.out))
+    for k in args.modes:
+        t0 = time.perf_counter()
+        cmd = "generator/generate.py --modes %d --out %s" % (k, args.out)
+        text = kernel_source(k, cmd)
+        path = os.path.join(args.out, "swim_kernel_n%d.c" % k)
+        write_if_changed(path, text)
+        if not args.quiet:
+            print("%s: %d lines, %.2f s" % (path, text.count("\n"), time.perf_counter() - t0))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

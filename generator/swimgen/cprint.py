@@ -1,0 +1,41 @@
+"""The one C printer of the generator: SymPy expressions -> C99 statements, with `cse`."""
+
+import sympy as sp
+from sympy.printing.c import C99CodePrinter
+from sympy.printing.precedence import precedence
+
+
+class KernelPrinter(C99CodePrinter):
+    """C99 printer that maps model symbols to array elements and prints small powers as
+    products (x*x rather than pow(x, 2): exact, and much cheaper)."""
+
+    def __init__(self, names):
+        super().__init__()
+        self._names = names
+
+    def _print_Symbol(self, expr):
+        name = self._names.get(expr)
+        return name if name is not None else super()._print_Symbol(expr)
+
+    def _print_Pow(self, expr):
+        if expr.exp.is_Integer and 2 <= int(expr.exp) <= 4:
+            base = self.parenthesize(expr.base, precedence(expr))
+            return "*".join([base] * int(expr.exp))
+        return super()._print_Pow(expr)
+
+
+def emit_assignments(assignments, printer, indent="    ", tmp="t"):
+    """Print a list of (lhs, expr) as C statements, sharing common subexpressions.
+
+    `cse` runs once over the whole list, so work shared between outputs is done once.
+    """
+    if not assignments:
+        return []
+    exprs = [e for _, e in assignments]
+    temps, reduced = sp.cse(exprs, symbols=sp.numbered_symbols(tmp), optimizations=None)
+    lines = []
+    for sym, e in temps:
+        lines.append("%sconst double %s = %s;" % (indent, sym.name, printer.doprint(e)))
+    for (lhs, _), e in zip(assignments, reduced):
+        lines.append("%s%s = %s;" % (indent, lhs, printer.doprint(e)))
+    return lines

@@ -1,0 +1,156 @@
+"""Symbolic model of the N-mode swimmer (Munnier, sections 2-4, with shared/paper/ERRATA.md).
+
+Everything the kernels need is built here as SymPy expressions; nothing here prints C.
+
+Coordinates. The real shape vector is x = (a_1, b_1, a_-1, b_-1, ..., a_-N, b_-N), c_k = a_k + i b_k.
+The generalized velocity of the whole system is (r*_1, r*_2, omega, xdot).
+
+Boundary data. Every elementary potential (3.6) is determined by a pair of real sequences
+s = (s1_j, s2_j), j = 1..N+1 (all sequences vanish for j > N+1, ERRATA A6). Stack them as the
+columns of a matrix S with 2(N+1) rows (row 2(j-1) holds s1_j, row 2(j-1)+1 holds s2_j) and
+3 + n columns in the order of the generalized velocity: mu_0, nu_0, alpha, then mu_k for a_k and
+nu_k for b_k. With the weighted product u.s = sum_j j (u1_j s1_j + u2_j s2_j) of section 3.2.5,
+the whole fluid mass matrix is the Gram matrix
+
+    M_fluid = rho_f pi S^T W S,    W = diag(j),                              (ERRATA A9)
+
+and the full mass matrix (3.14) is M = M_fluid + rho_0 pi diag(1, 1, I(c), 1/(|k|+1) ...).
+The columns mu_k, nu_k are linear in x and alpha is quadratic, so S and all of its derivatives
+are small sparse polynomials: only they are differentiated symbolically. The Gram products,
+the Schur complement K = Md - N^T Mr^-1 N and the Christoffel symbol are assembled from them by
+the exact product rule in the emitted C (see template.py).
+"""
+
+import sympy as sp
+
+
+class SwimmerModel:
+    """Symbols and exact expressions for one mode count N."""
+
+    def __init__(self, modes):
+        if modes < 0:
+            raise ValueError("mode count must be >= 0")
+        self.N = modes
+        self.n = 2 * (modes + 1)          # real shape coordinates
+        self.nrows = 2 * (modes + 1)      # rows of S: (cos, sin) part of Fourier modes j = 1..N+1
+        self.ncols = 3 + self.n           # columns of S: rigid velocities, then shape coordinates
+        self.x = sp.symbols("x0:%d" % self.n, real=True)
+        self.ks = [1] + [-m for m in range(1, modes + 1)]
+        self._S = None
+        self._dS = None
+
+    # -- shape coefficients -------------------------------------------------------------
+    def index(self, k):
+        """Storage index of a_k (b_k is the next one)."""
+        return 0 if k == 1 else 2 * (-k)
+
+    def a(self, k):
+        return self.x[self.index(k)] if k in self.ks else sp.Integer(0)
+
+    def b(self, k):
+        return self.x[self.index(k) + 1] if k in self.ks else sp.Integer(0)
+
+    # -- the sequences of (3.7)-(3.8), corrected by ERRATA A5-A6 ------------------------
+    def mu(self, k, j):
+        p, q = sp.Rational(k, j) + 1, sp.Rational(k, j) - 1
+        return (p * self.a(k + j) + q * self.a(k - j),
+                p * self.b(k + j) - q * self.b(k - j))
+
+    def nu(self, k, j):
+        p, q = sp.Rational(k, j) + 1, sp.Rational(k, j) - 1
+        return (p * self.b(k + j) + q * self.b(k - j),
+                -p * self.a(k + j) + q * self.a(k - j))
+
+    def alpha(self, j):
+        s1 = sum((self.a(i) * self.b(i + j) - self.b(i) * self.a(i + j) for i in self.ks),
+                 sp.Integer(0))
+        s2 = -sum((self.a(i) * self.a(i + j) + self.b(i) * self.b(i + j) for i in self.ks),
+                  sp.Integer(0))
+        return (s1, s2)
+
+    def column(self, col, j):
+        if col == 0:
+            return self.mu(0, j)
+        if col == 1:
+            return self.nu(0, j)
+        if col == 2:
+            return self.alpha(j)
+        r = col - 3
+        k = 1 if r < 2 else -(r // 2)
+        return self.mu(k, j) if r % 2 == 0 else self.nu(k, j)
+
+    def weight(self, row):
+        """The factor j of the weighted product for a row of S."""
+        return row // 2 + 1
+
+    def S(self):
+        """Boundary-data matrix, nrows x ncols, as a list of rows of expanded expressions."""
+        if self._S is None:
+            rows = [[sp.Integer(0)] * self.ncols for _ in range(self.nrows)]
+            for col in range(self.ncols):
+                for j in range(1, self.N + 2):
+                    s1, s2 = self.column(col, j)
+                    rows[2 * (j - 1)][col] = sp.expand(s1)
+                    rows[2 * (j - 1) + 1][col] = sp.expand(s2)
+            self._S = rows
+        return self._S
+
+    def dS(self):
+        """Exact partial derivatives: dict (r, row, col) -> d S[row][col] / d x_r, non-zeros only."""
+        if self._dS is None:
+            S = self.S()
+            out = {}
+            for row in range(self.nrows):
+                for col in range(self.ncols):
+                    e = S[row][col]
+                    if e == 0:
+                        continue
+                    for r in sorted(e.free_symbols, key=self.x.index):
+                        d = sp.diff(e, r)
+                        if d != 0:
+                            out[(self.x.index(r), row, col)] = d
+            self._dS = out
+        return self._dS
+
+    def directional_dS(self, v):
+        """D_v S = sum_r v_r dS/dx_r, as rows of expressions in x and the symbols v."""
+        rows = [[sp.Integer(0)] * self.ncols for _ in range(self.nrows)]
+        for (r, row, col), d in self.dS().items():
+            rows[row][col] += v[r] * d
+        return rows
+
+    def bilinear_gradient(self, w, X):
+        """Gradient in x of f = sum_{row,col} w_row S[row][col] X_col at fixed w, X.
+
+        With w = W S X this is (S X)^T W (d_i S) X, so that the identity
+        d_i (v^T K v) = X^T (d_i M) X at fixed X = (-Mr^-1 N v, v) needs no tensor.
+        """
+        g = [sp.Integer(0)] * self.n
+        for (r, row, col), d in self.dS().items():
+            g[r] += w[row] * X[col] * d
+        return g
+
+    # -- body terms (2.11), (2.17) ------------------------------------------------------
+    def inertia_sum(self):
+        """sum_k |c_k|^2 / (|k| + 1); the moment of inertia (2.11) is pi rho0 times this."""
+        return sum(((self.a(k) ** 2 + self.b(k) ** 2) / (abs(k) + 1) for k in self.ks),
+                   sp.Integer(0))
+
+    def body_shape_weights(self):
+        """Diagonal of the body part of Md over pi rho0: 1/(|k|+1) (ERRATA A7)."""
+        out = []
+        for k in self.ks:
+            out += [sp.Rational(1, abs(k) + 1)] * 2
+        return out
+
+    # -- J on the unit circle (2.4) with ERRATA B2 ----------------------------------------
+    def jacobian_circle(self, cs, sn):
+        """J = |c_1|^2 - |h|^2, h = sum_{m=1}^N m c_-m conj(z)^(m-1), with z = e^{i theta}
+        and cs[m] = cos(m theta), sn[m] = sin(m theta)."""
+        re_h = sp.Integer(0)
+        im_h = sp.Integer(0)
+        for m in range(1, self.N + 1):
+            a, b = self.a(-m), self.b(-m)
+            re_h += m * (a * cs[m - 1] + b * sn[m - 1])
+            im_h += m * (b * cs[m - 1] - a * sn[m - 1])
+        return self.a(1) ** 2 + self.b(1) ** 2 - re_h ** 2 - im_h ** 2

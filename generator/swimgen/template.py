@@ -1,0 +1,402 @@
+"""C text of the generated files: the contract header, and the fixed-size assembly that every
+kernel shares (Gram products, 3x3 Cholesky, Schur complement, product-rule derivatives).
+
+The symbolic pieces (S, its derivatives, J, the inertia) are pasted in by emit.py. Sizes are
+compile-time constants in every kernel, so loops have fixed trip counts the compiler unrolls
+and vectorizes; matrix products stay loops rather than scalar expansions (scalar expansion of
+dense algebra makes straight-line code that compilers choke on).
+"""
+
+from string import Template
+
+HEADER = """\
+/* swim_kernel.h -- contract between the generated kernels and the runtime.
+ *
+ * $banner
+ *
+ * Conventions (Munnier's model with shared/paper/ERRATA.md):
+ *   x  = (a_1, b_1, a_-1, b_-1, ..., a_-N, b_-N), n = 2(N+1) real shape coordinates;
+ *   generalized rigid velocity q* = (r*_1, r*_2, omega) in the body frame;
+ *   matrices are row-major; rho0 = body density, rhof = fluid density (run-time values).
+ *   Mr (3x3), Nc (3xn), Md (nxn) are the blocks of the mass matrix (3.14), with ERRATA A9;
+ *   K = Md - Nc^T Mr^-1 Nc is the reduced mass matrix (section 4.1.2);
+ *   Gamma[i][j][l] = (d_l K_ij + d_j K_il - d_i K_jl)/2, so that
+ *   <Gamma(c), v, v>_i = sum_jl Gamma[i][j][l] v_j v_l = [D_v(K v)]_i - d_i(v^T K v)/2 (ERRATA C1).
+ * The caller owns every array; kernels allocate nothing except reduced_deriv (freed before it returns).
+ */
+#ifndef SWIM_KERNEL_H
+#define SWIM_KERNEL_H
+
+#define SWIM_KERNEL_ABI 1
+#define SWIM_KERNEL_MAX_MODES 20
+
+typedef struct swim_kernel {
+    int modes;  /* N */
+    int dim;    /* n = 2(N+1) */
+    /* Mr, Nc, Md at shape x; any output may be NULL. */
+    void (*mass)(const double *x, double rho0, double rhof, double *Mr, double *Nc, double *Md);
+    /* Partial derivatives with respect to x_r, stored as slice r: dMr[r*9 + ...],
+     * dNc[r*3n + ...], dMd[r*n*n + ...]; any output may be NULL. */
+    void (*mass_deriv)(const double *x, double rho0, double rhof,
+                       double *dMr, double *dNc, double *dMd);
+    /* K (nxn, exactly symmetric), P = -Mr^-1 Nc (3xn, may be NULL) and, when v is not NULL,
+     * gvv = <Gamma(c), v, v> (n) computed without forming the tensor.
+     * Returns 0, or -1 when Mr is not positive definite. */
+    int (*reduced)(const double *x, const double *v, double rho0, double rhof,
+                   double *K, double *P, double *gvv);
+    /* dK (slice r = d K / d x_r, n*n*n) and Gamma (n*n*n, [i][j][l]); either may be NULL.
+     * Returns 0, -1 when Mr is not positive definite, -2 when out of memory. */
+    int (*reduced_deriv)(const double *x, double rho0, double rhof, double *dK, double *Gamma);
+    /* J(c) at z = e^{i theta} on the unit circle (2.4) and its gradient dJ (n, may be NULL);
+     * cs[m] = cos(m theta), sn[m] = sin(m theta) for m = 0 .. N-1 (unused when N = 0). */
+    void (*jacobian_circle)(const double *x, const double *cs, const double *sn,
+                            double *J, double *dJ);
+    /* sum_k |c_k|^2/(|k|+1) and its gradient (may be NULL); I(c) = pi rho0 times it (2.11). */
+    double (*inertia)(const double *x, double *grad);
+} swim_kernel;
+
+/* The kernel for N modes among those linked in, or NULL. */
+const swim_kernel *swim_kernel_find(int modes);
+/* Mode counts linked in, ascending; returns how many (at most cap written). */
+int swim_kernel_list(int *modes, int cap);
+
+#endif
+"""
+
+TABLE = Template("""\
+/* swim_kernel_table.c -- the kernels linked into this build.
+ *
+ * $banner
+ */
+#include <stddef.h>
+#include "swim_kernel.h"
+
+$externs
+
+static const swim_kernel *const table[] = {$entries};
+
+const swim_kernel *swim_kernel_find(int modes)
+{
+    for (size_t i = 0; i < sizeof table / sizeof table[0]; i++)
+        if (table[i]->modes == modes)
+            return table[i];
+    return NULL;
+}
+
+int swim_kernel_list(int *modes, int cap)
+{
+    int count = (int)(sizeof table / sizeof table[0]);
+    for (int i = 0; i < count && i < cap; i++)
+        modes[i] = table[i]->modes;
+    return count;
+}
+""")
+
+KERNEL = Template("""\
+/* swim_kernel_n$N.c -- mass matrices, reduced mass matrix and Christoffel symbol for N = $N.
+ *
+ * $banner
+ *
+ * n = $n shape coordinates; S is the $R x $P boundary-data matrix of generator/swimgen/model.py
+ * (Fourier rows j = 1..$J, columns r*_1, r*_2, omega, x_0..x_${nm1}).
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "swim_kernel.h"
+
+#define NX $n
+#define NR $R
+#define NP $P
+#define KPI 3.14159265358979323846
+
+/* ---- symbolic pieces (SymPy) ---------------------------------------------------------- */
+
+/* S(x): the sequences mu_0, nu_0, alpha, mu_k, nu_k of (3.7)-(3.8), ERRATA A5-A6. */
+static void boundary_data(const double *x, double S[NR][NP])
+{
+    memset(S, 0, sizeof(double) * NR * NP);
+$S_body
+}
+
+/* D_v S = sum_r v_r dS/dx_r. */
+static void boundary_data_dir(const double *x, const double *v, double D[NR][NP])
+{
+    memset(D, 0, sizeof(double) * NR * NP);
+$D_body
+}
+
+/* g_i = sum_{row,col} w_row dS[row][col]/dx_i X_col. */
+static void boundary_data_bigrad(const double *x, const double *w, const double *X, double *g)
+{
+$G_body
+}
+
+/* dS[r][row][col] = dS[row][col]/dx_r (zero entries are not written: caller clears). */
+static void boundary_data_deriv(const double *x, double *dS)
+{
+$dS_body
+}
+
+static double inertia(const double *x, double *grad)
+{
+    double I;
+$I_body
+    return I;
+}
+
+static void jacobian_circle(const double *x, const double *cs, const double *sn,
+                            double *J, double *dJ)
+{
+$J_body
+    if (dJ) {
+$dJ_body
+    }
+}
+
+/* Body part of Md over pi rho0: 1/(|k|+1) (ERRATA A7). */
+static const double body_shape[NX] = {$bodyw};
+
+/* ---- assembly (fixed-size loops) ------------------------------------------------------ */
+
+typedef struct {
+    double S[NR][NP];   /* boundary data */
+    double U[NR][NX];   /* S E with E = [P; I]: data of the reduced velocities */
+    double P[3][NX];    /* -Mr^-1 Nc */
+    double Mr[9], Nc[3 * NX], Ic, gI[NX];
+} work_t;
+
+static inline double weight(int row) { return (double)(row / 2 + 1); }
+
+/* M = rho_f pi S^T W S + rho_0 pi diag(1, 1, I, 1/(|k|+1)) restricted to the rigid rows. */
+static void rigid_blocks(work_t *w, double f, double b)
+{
+    for (int p = 0; p < 3; p++) {
+        for (int q = 0; q < NP; q++) {
+            double s = 0.0;
+            for (int r = 0; r < NR; r++)
+                s += weight(r) * w->S[r][p] * w->S[r][q];
+            if (q < 3)
+                w->Mr[3 * p + q] = f * s;
+            else
+                w->Nc[NX * p + q - 3] = f * s;
+        }
+    }
+    w->Mr[0] += b;
+    w->Mr[4] += b;
+    w->Mr[8] += b * w->Ic;
+}
+
+/* P = -Mr^-1 Nc by a 3x3 Cholesky factorization; -1 if Mr is not positive definite. */
+static int schur_factor(work_t *w)
+{
+    const double *M = w->Mr;
+    double l00 = M[0];
+    if (!(l00 > 0.0)) return -1;
+    l00 = sqrt(l00);
+    double l10 = M[3] / l00, l20 = M[6] / l00;
+    double l11 = M[4] - l10 * l10;
+    if (!(l11 > 0.0)) return -1;
+    l11 = sqrt(l11);
+    double l21 = (M[7] - l20 * l10) / l11;
+    double l22 = M[8] - l20 * l20 - l21 * l21;
+    if (!(l22 > 0.0)) return -1;
+    l22 = sqrt(l22);
+    for (int k = 0; k < NX; k++) {
+        double y0 = w->Nc[k] / l00;
+        double y1 = (w->Nc[NX + k] - l10 * y0) / l11;
+        double y2 = (w->Nc[2 * NX + k] - l20 * y0 - l21 * y1) / l22;
+        double z2 = y2 / l22;
+        double z1 = (y1 - l21 * z2) / l11;
+        double z0 = (y0 - l10 * z1 - l20 * z2) / l00;
+        w->P[0][k] = -z0;
+        w->P[1][k] = -z1;
+        w->P[2][k] = -z2;
+    }
+    for (int r = 0; r < NR; r++)
+        for (int k = 0; k < NX; k++)
+            w->U[r][k] = w->S[r][3 + k] + w->S[r][0] * w->P[0][k] + w->S[r][1] * w->P[1][k]
+                       + w->S[r][2] * w->P[2][k];
+    return 0;
+}
+
+static int setup(const double *x, double rho0, double rhof, work_t *w)
+{
+    boundary_data(x, w->S);
+    w->Ic = inertia(x, w->gI);
+    rigid_blocks(w, rhof * KPI, rho0 * KPI);
+    return schur_factor(w);
+}
+
+static void mass(const double *x, double rho0, double rhof, double *Mr, double *Nc, double *Md)
+{
+    work_t w;
+    const double f = rhof * KPI, b = rho0 * KPI;
+    boundary_data(x, w.S);
+    w.Ic = inertia(x, NULL);
+    rigid_blocks(&w, f, b);
+    if (Mr) memcpy(Mr, w.Mr, sizeof w.Mr);
+    if (Nc) memcpy(Nc, w.Nc, sizeof w.Nc);
+    if (Md) {
+        for (int i = 0; i < NX; i++)
+            for (int j = i; j < NX; j++) {
+                double s = 0.0;
+                for (int r = 0; r < NR; r++)
+                    s += weight(r) * w.S[r][3 + i] * w.S[r][3 + j];
+                Md[NX * i + j] = Md[NX * j + i] = f * s;
+            }
+        for (int i = 0; i < NX; i++)
+            Md[NX * i + i] += b * body_shape[i];
+    }
+}
+
+/* K = E^T M E = rho_f pi U^T W U + P^T diag(b, b, b I) P + diag(b / (|k|+1)). */
+static void reduced_matrix(const work_t *w, double f, double b, double *K)
+{
+    memset(K, 0, sizeof(double) * NX * NX);
+    for (int r = 0; r < NR; r++) {
+        const double fw = f * weight(r);
+        for (int i = 0; i < NX; i++) {
+            const double t = fw * w->U[r][i];
+            for (int j = i; j < NX; j++)
+                K[NX * i + j] += t * w->U[r][j];
+        }
+    }
+    for (int i = 0; i < NX; i++)
+        for (int j = i; j < NX; j++) {
+            double s = K[NX * i + j] + b * (w->P[0][i] * w->P[0][j] + w->P[1][i] * w->P[1][j]
+                                           + w->Ic * w->P[2][i] * w->P[2][j]);
+            if (i == j) s += b * body_shape[i];
+            K[NX * i + j] = K[NX * j + i] = s;
+        }
+}
+
+static int reduced(const double *x, const double *v, double rho0, double rhof,
+                   double *K, double *P, double *gvv)
+{
+    work_t w;
+    const double f = rhof * KPI, b = rho0 * KPI;
+    if (setup(x, rho0, rhof, &w) != 0) return -1;
+    if (K) reduced_matrix(&w, f, b, K);
+    if (P) memcpy(P, w.P, sizeof w.P);
+    if (!v || !gvv) return 0;
+
+    /* X = (q, v) with q = P v: the velocity that minimizes X^T M X for this v (Lemma 4.3). */
+    double X[NP], ws[NR], dX[NR], a[NP], D[NR][NP];
+    for (int p = 0; p < 3; p++) {
+        double s = 0.0;
+        for (int k = 0; k < NX; k++) s += w.P[p][k] * v[k];
+        X[p] = s;
+    }
+    for (int k = 0; k < NX; k++) X[3 + k] = v[k];
+    for (int r = 0; r < NR; r++) {
+        double s = 0.0;
+        for (int k = 0; k < NX; k++) s += w.U[r][k] * v[k];
+        ws[r] = weight(r) * s;
+    }
+    boundary_data_dir(x, v, D);
+    for (int q = 0; q < NP; q++) a[q] = 0.0;
+    for (int r = 0; r < NR; r++) {
+        double s = 0.0;
+        for (int q = 0; q < NP; q++) {
+            a[q] += D[r][q] * ws[r];
+            s += D[r][q] * X[q];
+        }
+        dX[r] = weight(r) * s;
+    }
+    double g[NX];
+    boundary_data_bigrad(x, ws, X, g);
+    double dIv = 0.0;
+    for (int k = 0; k < NX; k++) dIv += w.gI[k] * v[k];
+    const double q2 = X[2];
+    /* [D_v(K v)]_i = (E^T (D_v M) X)_i;  d_i(v^T K v)/2 = X^T (d_i M) X / 2 at fixed X. */
+    for (int i = 0; i < NX; i++) {
+        double s = a[3 + i] + w.P[0][i] * a[0] + w.P[1][i] * a[1] + w.P[2][i] * a[2];
+        for (int r = 0; r < NR; r++) s += w.U[r][i] * dX[r];
+        gvv[i] = f * (s - g[i]) + b * (dIv * q2 * w.P[2][i] - 0.5 * w.gI[i] * q2 * q2);
+    }
+    return 0;
+}
+
+static void mass_deriv(const double *x, double rho0, double rhof,
+                       double *dMr, double *dNc, double *dMd)
+{
+    const double f = rhof * KPI, b = rho0 * KPI;
+    double S[NR][NP], gI[NX];
+    double *dS = calloc((size_t)NX * NR * NP, sizeof(double));
+    if (!dS) abort();
+    boundary_data(x, S);
+    boundary_data_deriv(x, dS);
+    inertia(x, gI);
+    for (int r = 0; r < NX; r++) {
+        const double (*dSr)[NP] = (const double (*)[NP])(dS + (size_t)r * NR * NP);
+        for (int p = 0; p < NP; p++)
+            for (int q = p; q < NP; q++) {
+                double s = 0.0;
+                for (int row = 0; row < NR; row++)
+                    s += weight(row) * (dSr[row][p] * S[row][q] + S[row][p] * dSr[row][q]);
+                s *= f;
+                if (p == 2 && q == 2) s += b * gI[r];
+                if (q < 3) {
+                    if (dMr) dMr[9 * r + 3 * p + q] = dMr[9 * r + 3 * q + p] = s;
+                } else if (p < 3) {
+                    if (dNc) dNc[3 * NX * r + NX * p + q - 3] = s;
+                } else if (dMd) {
+                    dMd[(size_t)NX * NX * r + NX * (p - 3) + q - 3] = s;
+                    dMd[(size_t)NX * NX * r + NX * (q - 3) + p - 3] = s;
+                }
+            }
+    }
+    free(dS);
+}
+
+static int reduced_deriv(const double *x, double rho0, double rhof, double *dK, double *Gamma)
+{
+    const double f = rhof * KPI, b = rho0 * KPI;
+    work_t w;
+    if (setup(x, rho0, rhof, &w) != 0) return -1;
+    double *dS = calloc((size_t)NX * NR * NP, sizeof(double));
+    double *dKw = dK ? dK : malloc(sizeof(double) * NX * NX * NX);
+    if (!dS || !dKw) { free(dS); if (!dK) free(dKw); return -2; }
+    boundary_data_deriv(x, dS);
+    double V[NR][NX];
+    /* d_r K = E^T (d_r M) E: the terms with d_r E cancel because M E = [0; K]. */
+    for (int r = 0; r < NX; r++) {
+        const double (*dSr)[NP] = (const double (*)[NP])(dS + (size_t)r * NR * NP);
+        double *dKr = dKw + (size_t)NX * NX * r;
+        for (int row = 0; row < NR; row++)
+            for (int k = 0; k < NX; k++)
+                V[row][k] = dSr[row][3 + k] + dSr[row][0] * w.P[0][k] + dSr[row][1] * w.P[1][k]
+                          + dSr[row][2] * w.P[2][k];
+        for (int i = 0; i < NX; i++)
+            for (int j = i; j < NX; j++) {
+                double s = 0.0;
+                for (int row = 0; row < NR; row++)
+                    s += weight(row) * (V[row][i] * w.U[row][j] + w.U[row][i] * V[row][j]);
+                s = f * s + b * w.gI[r] * w.P[2][i] * w.P[2][j];
+                dKr[NX * i + j] = dKr[NX * j + i] = s;
+            }
+    }
+    if (Gamma)
+        for (int i = 0; i < NX; i++)
+            for (int j = 0; j < NX; j++)
+                for (int l = 0; l < NX; l++)
+                    Gamma[((size_t)NX * i + j) * NX + l] =
+                        0.5 * (dKw[((size_t)NX * l + i) * NX + j] + dKw[((size_t)NX * j + i) * NX + l]
+                               - dKw[((size_t)NX * i + j) * NX + l]);
+    free(dS);
+    if (!dK) free(dKw);
+    return 0;
+}
+
+const swim_kernel swim_kernel_n$N = {
+    .modes = $N,
+    .dim = NX,
+    .mass = mass,
+    .mass_deriv = mass_deriv,
+    .reduced = reduced,
+    .reduced_deriv = reduced_deriv,
+    .jacobian_circle = jacobian_circle,
+    .inertia = inertia,
+};
+""")

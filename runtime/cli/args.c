@@ -1,0 +1,118 @@
+#include "cli/args.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int swim_args_parse(const char *cmd, int argc, char **argv, int first, swim_opt *opts, int nopts,
+                    const char **positional, int npos, int *npos_out)
+{
+    int np = 0;
+    for (int i = first; i < argc; i++) {
+        const char *a = argv[i];
+        if (strncmp(a, "--", 2) != 0 || a[2] == '\0') {
+            if (np >= npos) {
+                fprintf(stderr, "swim %s: unexpected argument '%s'\n", cmd, a);
+                return 2;
+            }
+            positional[np++] = a;
+            continue;
+        }
+        const char *name = a + 2, *eq = strchr(name, '=');
+        size_t len = eq ? (size_t)(eq - name) : strlen(name);
+        swim_opt *o = NULL;
+        for (int k = 0; k < nopts; k++)
+            if (strlen(opts[k].name) == len && strncmp(opts[k].name, name, len) == 0) o = &opts[k];
+        if (!o) {
+            fprintf(stderr, "swim %s: unknown option '--%.*s' (see swim --help)\n", cmd, (int)len, name);
+            return 2;
+        }
+        if (!o->takes_value) {
+            if (eq) {
+                fprintf(stderr, "swim %s: option '--%s' takes no value (got '%s')\n", cmd, o->name, eq + 1);
+                return 2;
+            }
+            o->value = "";
+        } else if (eq) {
+            o->value = eq + 1;
+        } else if (i + 1 < argc) {
+            o->value = argv[++i];   /* may start with '-': lists of numbers do */
+        } else {
+            fprintf(stderr, "swim %s: option '--%s' needs a value\n", cmd, o->name);
+            return 2;
+        }
+    }
+    if (npos_out) *npos_out = np;
+    return 0;
+}
+
+const char *swim_args_get(const swim_opt *opts, int nopts, const char *name)
+{
+    for (int k = 0; k < nopts; k++)
+        if (strcmp(opts[k].name, name) == 0) return opts[k].value;
+    return NULL;
+}
+
+static int parse_number(const char *s, size_t len, double *out)
+{
+    char buf[64];
+    if (len == 0 || len >= sizeof buf) return -1;
+    memcpy(buf, s, len);
+    buf[len] = '\0';
+    char *end;
+    errno = 0;
+    double v = strtod(buf, &end);
+    if (*end != '\0' || end == buf || errno == ERANGE || !isfinite(v)) return -1;
+    *out = v;
+    return 0;
+}
+
+int swim_args_double(const char *cmd, const char *opt, const char *s, double *out)
+{
+    if (parse_number(s, strlen(s), out) != 0) {
+        fprintf(stderr, "swim %s: --%s: '%s' is not a finite number\n", cmd, opt, s);
+        return 2;
+    }
+    return 0;
+}
+
+int swim_args_int(const char *cmd, const char *opt, const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (*s == '\0' || *end != '\0' || errno == ERANGE) {
+        fprintf(stderr, "swim %s: --%s: '%s' is not an integer\n", cmd, opt, s);
+        return 2;
+    }
+    if (v < lo || v > hi) {
+        fprintf(stderr, "swim %s: --%s: %ld is out of range %ld..%ld\n", cmd, opt, v, lo, hi);
+        return 2;
+    }
+    *out = v;
+    return 0;
+}
+
+int swim_args_list(const char *cmd, const char *opt, const char *s, double *out, int cap, int *count)
+{
+    int k = 0;
+    const char *p = s;
+    for (;;) {
+        const char *comma = strchr(p, ',');
+        size_t len = comma ? (size_t)(comma - p) : strlen(p);
+        double v;
+        if (parse_number(p, len, &v) != 0) {
+            fprintf(stderr, "swim %s: --%s: item %d ('%.*s') is not a finite number\n", cmd, opt,
+                    k + 1, (int)len, p);
+            return 2;
+        }
+        if (k < cap) out[k] = v;
+        k++;
+        if (!comma) break;
+        p = comma + 1;
+    }
+    *count = k;
+    return 0;
+}

@@ -1,0 +1,25 @@
+/* args.h -- command-line options of the form `--name value` and `--name=value`.
+ * Every error is one line on stderr naming the option and the value; callers exit with status 2. */
+#ifndef SWIM_ARGS_H
+#define SWIM_ARGS_H
+
+typedef struct {
+    const char *name;   /* without the leading "--" */
+    int takes_value;    /* 0 = flag */
+    const char *value;  /* filled in: the value, "" for a flag that was given, NULL if absent */
+} swim_opt;
+
+/* Parses argv[first..argc). Non-option words go to positional[] (at most npos; their count in
+ * *npos_out). Returns 0, or 2 after printing "swim CMD: ..." for an unknown or incomplete option. */
+int swim_args_parse(const char *cmd, int argc, char **argv, int first, swim_opt *opts, int nopts,
+                    const char **positional, int npos, int *npos_out);
+
+const char *swim_args_get(const swim_opt *opts, int nopts, const char *name);
+
+/* Strict number parsing: the whole string, finite. 0 or 2 (message printed, naming opt). */
+int swim_args_double(const char *cmd, const char *opt, const char *s, double *out);
+int swim_args_int(const char *cmd, const char *opt, const char *s, long lo, long hi, long *out);
+/* Comma-separated finite numbers; *count gets how many were read (at most cap). 0 or 2. */
+int swim_args_list(const char *cmd, const char *opt, const char *s, double *out, int cap, int *count);
+
+#endif

@@ -1,0 +1,8 @@
+/* commands.h -- the subcommands of bin/swim. Each returns the process exit status:
+ * 0 success, 1 a run that failed or stopped early (its output kept), 2 bad input. */
+#ifndef SWIM_COMMANDS_H
+#define SWIM_COMMANDS_H
+
+int swim_cmd_inspect(int argc, char **argv);
+
+#endif

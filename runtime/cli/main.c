@@ -1,0 +1,47 @@
+/* bin/swim: command-line front end. `swim --help` lists the commands with an example each. */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli/commands.h"
+#include "swim_kernel.h"
+
+typedef struct {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *summary;
+    const char *example;
+} command;
+
+static const command commands[] = {
+    {"inspect", swim_cmd_inspect,
+     "mass matrices, reduced mass K and Christoffel symbol at one shape, as JSON",
+     "swim inspect --modes 1 --shape 1,0,0.2,0 --velocity 0,0,0.1,0.3 --full"},
+};
+
+static void usage(FILE *f)
+{
+    int modes[64], count = swim_kernel_list(modes, 64);
+    fprintf(f, "usage: swim COMMAND [options]\n\ncommands:\n");
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        fprintf(f, "  %-8s %s\n           e.g. %s\n", commands[i].name, commands[i].summary,
+                commands[i].example);
+    fprintf(f, "\nkernels linked in: N =");
+    for (int i = 0; i < count && i < 64; i++) fprintf(f, " %d", modes[i]);
+    fprintf(f, "\noptions take `--name value` or `--name=value`.\n");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
+        usage(stdout);
+        return 0;
+    }
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc, argv);
+    fprintf(stderr, "swim: unknown command '%s' (see swim --help)\n", argv[1]);
+    return 2;
+}

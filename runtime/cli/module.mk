@@ -1,0 +1,1 @@
+RUNTIME_SRCS += runtime/cli/args.c runtime/cli/inspect.c

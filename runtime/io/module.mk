@@ -1,0 +1,1 @@
+RUNTIME_SRCS += runtime/io/json.c

@@ -1,0 +1,33 @@
+/* shape.h -- quantities on the unit circle: J(c) (2.4), admissibility (4.1), the barrier W2.
+ *
+ * W2(c) = eps/(2 alpha) * int_0^{2 pi} J(c)(e^{i theta})^{-alpha} d theta   (section 4.1.1, ERRATA B2)
+ * is computed with the trapezoidal rule on Q equally spaced nodes. J^{-alpha} is analytic and
+ * periodic, so the rule converges geometrically (ERRATA B4: Q = 256 gives ~1e-14 relative for
+ * min J >= 0.008); tests/test_kernels.c shows the convergence.
+ */
+#ifndef SWIM_SHAPE_H
+#define SWIM_SHAPE_H
+
+#include "swim_kernel.h"
+
+#define SWIM_BARRIER_NODES 256
+
+/* Precomputed cos(m theta_q), sin(m theta_q), m = 0..N-1, on Q nodes; owns its arrays. */
+typedef struct {
+    int modes, nodes;
+    double *cs, *sn;   /* nodes x max(N,1), row q for node q */
+} swim_circle;
+
+int swim_circle_init(swim_circle *c, int modes, int nodes);   /* 0, or -1 out of memory */
+void swim_circle_free(swim_circle *c);
+
+/* min over the closed disk of J (on the circle by the maximum principle, (4.1)): the smallest of
+ * 4096 samples, refined by golden-section search. */
+double swim_shape_jmin(const swim_kernel *k, const double *x);
+
+/* W2 and (if grad != NULL) its gradient (ERRATA B3), on the nodes of `circle`. Also returns the
+ * smallest J met on the nodes in *jnodes (may be NULL). Returns +inf if J <= 0 at a node. */
+double swim_barrier(const swim_kernel *k, const swim_circle *circle, const double *x,
+                    double eps, double alpha, double *grad, double *jnodes);
+
+#endif

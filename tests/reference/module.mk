@@ -1,0 +1,3 @@
+# Independent reference implementation used by the tests (tests/reference/ref_model.c).
+TEST_LIB_SRCS += tests/reference/ref_model.c
+TEST_SRCS += tests/test_reference.c
