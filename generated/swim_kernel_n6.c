@@ -1072,21 +1072,27 @@ typedef struct {
     double Mr[9], Nc[3 * NX], Ic, gI[NX];
 } work_t;
 
-static inline double weight(int row) { return (double)(row / 2 + 1); }
+/* The factor j of the weighted product u.s = sum_j j (u1_j s1_j + u2_j s2_j), per row of S. */
+static const double weight[NR] = {1.0, 1.0, 2.0, 2.0, 3.0, 3.0, 4.0, 4.0, 5.0, 5.0, 6.0, 6.0, 7.0, 7.0};
 
 /* M = rho_f pi S^T W S + rho_0 pi diag(1, 1, I, 1/(|k|+1)) restricted to the rigid rows. */
 static void rigid_blocks(work_t *w, double f, double b)
 {
+    double acc[3][NP];
     for (int p = 0; p < 3; p++) {
-        for (int q = 0; q < NP; q++) {
-            double s = 0.0;
-            for (int r = 0; r < NR; r++)
-                s += weight(r) * w->S[r][p] * w->S[r][q];
-            if (q < 3)
-                w->Mr[3 * p + q] = f * s;
-            else
-                w->Nc[NX * p + q - 3] = f * s;
+        double row[NP] = {0.0};   /* one output row held in registers across the sum over r */
+        for (int r = 0; r < NR; r++) {
+            const double t = f * weight[r] * w->S[r][p];
+            for (int q = 0; q < NP; q++)
+                row[q] += t * w->S[r][q];
         }
+        memcpy(acc[p], row, sizeof row);
+    }
+    for (int p = 0; p < 3; p++) {
+        for (int q = 0; q < 3; q++)
+            w->Mr[3 * p + q] = acc[p < q ? p : q][p < q ? q : p];  /* exactly symmetric */
+        for (int k = 0; k < NX; k++)
+            w->Nc[NX * p + k] = acc[p][3 + k];
     }
     w->Mr[0] += b;
     w->Mr[4] += b;
@@ -1144,34 +1150,36 @@ static void mass(const double *x, double rho0, double rhof, double *Mr, double *
     if (Mr) memcpy(Mr, w.Mr, sizeof w.Mr);
     if (Nc) memcpy(Nc, w.Nc, sizeof w.Nc);
     if (Md) {
-        for (int i = 0; i < NX; i++)
-            for (int j = i; j < NX; j++) {
-                double s = 0.0;
-                for (int r = 0; r < NR; r++)
-                    s += weight(r) * w.S[r][3 + i] * w.S[r][3 + j];
-                Md[NX * i + j] = Md[NX * j + i] = f * s;
+        double acc[NX][NX] = {{0.0}};
+        for (int r = 0; r < NR; r++)
+            for (int i = 0; i < NX; i++) {
+                const double t = f * weight[r] * w.S[r][3 + i];
+                for (int j = 0; j < NX; j++)
+                    acc[i][j] += t * w.S[r][3 + j];
             }
         for (int i = 0; i < NX; i++)
-            Md[NX * i + i] += b * body_shape[i];
+            for (int j = i; j < NX; j++)
+                Md[NX * i + j] = Md[NX * j + i] = acc[i][j] + (i == j ? b * body_shape[i] : 0.0);
     }
 }
 
 /* K = E^T M E = rho_f pi U^T W U + P^T diag(b, b, b I) P + diag(b / (|k|+1)). */
 static void reduced_matrix(const work_t *w, double f, double b, double *K)
 {
-    memset(K, 0, sizeof(double) * NX * NX);
-    for (int r = 0; r < NR; r++) {
-        const double fw = f * weight(r);
-        for (int i = 0; i < NX; i++) {
-            const double t = fw * w->U[r][i];
-            for (int j = i; j < NX; j++)
-                K[NX * i + j] += t * w->U[r][j];
+    double acc[NX][NX];
+    for (int i = 0; i < NX; i++) {
+        double row[NX] = {0.0};   /* one output row held in registers across the sum over r */
+        for (int r = 0; r < NR; r++) {
+            const double t = f * weight[r] * w->U[r][i];
+            for (int j = 0; j < NX; j++)
+                row[j] += t * w->U[r][j];
         }
+        memcpy(acc[i], row, sizeof row);
     }
     for (int i = 0; i < NX; i++)
         for (int j = i; j < NX; j++) {
-            double s = K[NX * i + j] + b * (w->P[0][i] * w->P[0][j] + w->P[1][i] * w->P[1][j]
-                                           + w->Ic * w->P[2][i] * w->P[2][j]);
+            double s = acc[i][j] + b * (w->P[0][i] * w->P[0][j] + w->P[1][i] * w->P[1][j]
+                                        + w->Ic * w->P[2][i] * w->P[2][j]);
             if (i == j) s += b * body_shape[i];
             K[NX * i + j] = K[NX * j + i] = s;
         }
@@ -1198,7 +1206,7 @@ static int reduced(const double *x, const double *v, double rho0, double rhof,
     for (int r = 0; r < NR; r++) {
         double s = 0.0;
         for (int k = 0; k < NX; k++) s += w.U[r][k] * v[k];
-        ws[r] = weight(r) * s;
+        ws[r] = weight[r] * s;
     }
     boundary_data_dir(x, v, D);
     for (int q = 0; q < NP; q++) a[q] = 0.0;
@@ -1208,7 +1216,7 @@ static int reduced(const double *x, const double *v, double rho0, double rhof,
             a[q] += D[r][q] * ws[r];
             s += D[r][q] * X[q];
         }
-        dX[r] = weight(r) * s;
+        dX[r] = weight[r] * s;
     }
     double g[NX];
     boundary_data_bigrad(x, ws, X, g);
@@ -1240,7 +1248,7 @@ static void mass_deriv(const double *x, double rho0, double rhof,
             for (int q = p; q < NP; q++) {
                 double s = 0.0;
                 for (int row = 0; row < NR; row++)
-                    s += weight(row) * (dSr[row][p] * S[row][q] + S[row][p] * dSr[row][q]);
+                    s += weight[row] * (dSr[row][p] * S[row][q] + S[row][p] * dSr[row][q]);
                 s *= f;
                 if (p == 2 && q == 2) s += b * gI[r];
                 if (q < 3) {
@@ -1278,7 +1286,7 @@ static int reduced_deriv(const double *x, double rho0, double rhof, double *dK, 
             for (int j = i; j < NX; j++) {
                 double s = 0.0;
                 for (int row = 0; row < NR; row++)
-                    s += weight(row) * (V[row][i] * w.U[row][j] + w.U[row][i] * V[row][j]);
+                    s += weight[row] * (V[row][i] * w.U[row][j] + w.U[row][i] * V[row][j]);
                 s = f * s + b * w.gI[r] * w.P[2][i] * w.P[2][j];
                 dKr[NX * i + j] = dKr[NX * j + i] = s;
             }

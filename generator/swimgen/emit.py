@@ -56,7 +56,8 @@ def kernel_source(modes, command):
         N=modes, n=n, R=R, P=P, J=modes + 1, nm1=n - 1, banner=banner(command),
         S_body=body(S_assign), D_body=body(D_assign) + ("\n    (void)v;" if not D_assign else ""),
         G_body=body(G_assign), dS_body=body(dS_assign), I_body=I_body,
-        J_body=J_body, dJ_body=dJ_body, bodyw=bodyw)
+        J_body=J_body, dJ_body=dJ_body, bodyw=bodyw,
+        weights=", ".join("%d.0" % m.weight(r) for r in range(R)))
 
 
 def header_source(command):
