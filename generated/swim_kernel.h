@@ -41,6 +41,11 @@ typedef struct swim_kernel {
                             double *J, double *dJ);
     /* sum_k |c_k|^2/(|k|+1) and its gradient (may be NULL); I(c) = pi rho0 times it (2.11). */
     double (*inertia)(const double *x, double *grad);
+    /* S(x), 2(N+1) x (3+n) row-major: column p holds the Fourier data (s1_j, s2_j), j = 1..N+1,
+     * of the potential of velocity component p (r*_1, r*_2, omega, x_0, ...). For a generalized
+     * velocity X the fluid potential is xi = sum_j (-(S X)_{2j-2} cos j theta
+     * + (S X)_{2j-1} sin j theta) r^-j (ERRATA A4). */
+    void (*boundary_data)(const double *x, double *S);
 } swim_kernel;
 
 /* The kernel for N modes among those linked in, or NULL. */

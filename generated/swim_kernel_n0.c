@@ -319,6 +319,11 @@ static int reduced_deriv(const double *x, double rho0, double rhof, double *dK, 
     return 0;
 }
 
+static void boundary_data_flat(const double *x, double *S)
+{
+    boundary_data(x, (double (*)[NP])S);
+}
+
 const swim_kernel swim_kernel_n0 = {
     .modes = 0,
     .dim = NX,
@@ -328,4 +333,5 @@ const swim_kernel swim_kernel_n0 = {
     .reduced_deriv = reduced_deriv,
     .jacobian_circle = jacobian_circle,
     .inertia = inertia,
+    .boundary_data = boundary_data_flat,
 };
