@@ -4,5 +4,7 @@
 #define SWIM_COMMANDS_H
 
 int swim_cmd_inspect(int argc, char **argv);
+int swim_cmd_run(int argc, char **argv);
+int swim_cmd_plot(int argc, char **argv);
 
 #endif

@@ -1,2 +1,2 @@
-RUNTIME_SRCS += runtime/model/shape.c
+RUNTIME_SRCS += runtime/model/shape.c runtime/model/constraints.c runtime/model/dynamics.c runtime/model/flow.c
 TEST_SRCS += tests/test_kernels.c

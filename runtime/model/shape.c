@@ -35,9 +35,12 @@ void swim_circle_free(swim_circle *c)
 static double j_at(const swim_kernel *k, const double *x, double theta)
 {
     double cs[SWIM_KERNEL_MAX_MODES + 1], sn[SWIM_KERNEL_MAX_MODES + 1], J;
-    for (int m = 0; m < (k->modes > 0 ? k->modes : 1); m++) {
-        cs[m] = cos(m * theta);
-        sn[m] = sin(m * theta);
+    const double c1 = cos(theta), s1 = sin(theta);
+    cs[0] = 1.0;
+    sn[0] = 0.0;
+    for (int m = 1; m < k->modes; m++) {   /* e^{i m theta} by repeated rotation */
+        cs[m] = cs[m - 1] * c1 - sn[m - 1] * s1;
+        sn[m] = sn[m - 1] * c1 + cs[m - 1] * s1;
     }
     k->jacobian_circle(x, cs, sn, &J, NULL);
     return J;
@@ -45,7 +48,7 @@ static double j_at(const swim_kernel *k, const double *x, double theta)
 
 double swim_shape_jmin(const swim_kernel *k, const double *x)
 {
-    const int samples = 4096;
+    const int samples = 64 * (k->modes + 1);
     double best = INFINITY, tbest = 0.0;
     for (int q = 0; q < samples; q++) {
         double th = TWO_PI * q / samples, J = j_at(k, x, th);

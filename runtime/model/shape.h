@@ -22,7 +22,7 @@ int swim_circle_init(swim_circle *c, int modes, int nodes);   /* 0, or -1 out of
 void swim_circle_free(swim_circle *c);
 
 /* min over the closed disk of J (on the circle by the maximum principle, (4.1)): the smallest of
- * 4096 samples, refined by golden-section search. */
+ * 64(N+1) samples (J has frequencies up to N-1), refined by golden-section search. */
 double swim_shape_jmin(const swim_kernel *k, const double *x);
 
 /* W2 and (if grad != NULL) its gradient (ERRATA B3), on the nodes of `circle`. Also returns the

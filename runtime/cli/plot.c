@@ -1,0 +1,31 @@
+/* swim plot DIR: the figures of a run (runtime/plot/plot_run.py, matplotlib). */
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "cli/commands.h"
+
+#ifndef SWIM_ROOT
+#define SWIM_ROOT "."
+#endif
+#ifndef SWIM_PYTHON
+#define SWIM_PYTHON "/usr/bin/python3"
+#endif
+
+int swim_cmd_plot(int argc, char **argv)
+{
+    if (argc != 3 || strncmp(argv[2], "--", 2) == 0) {
+        fprintf(stderr, "swim plot: expected one run directory, e.g. swim plot out/example3\n");
+        return 2;
+    }
+    if (access(argv[2], R_OK) != 0) {
+        fprintf(stderr, "swim plot: cannot read run directory '%s'\n", argv[2]);
+        return 2;
+    }
+    char script[1024];
+    snprintf(script, sizeof script, "%s/runtime/plot/plot_run.py", SWIM_ROOT);
+    fflush(stdout);
+    execl(SWIM_PYTHON, SWIM_PYTHON, script, argv[2], (char *)NULL);
+    perror("swim plot: cannot start " SWIM_PYTHON);
+    return 1;
+}

@@ -1,0 +1,347 @@
+/* swim run: one scene end to end -- trajectory.csv, snapshots.json and summary.json in DIR.
+ *
+ * Rows fall exactly on t0 + k*output_step and on t_end, produced by the integrator's own
+ * interpolant. A run that stops early (NaN, step-size underflow, barrier crossed, SIGINT) keeps
+ * every row it wrote (each row is flushed) and says in summary.json where and why it stopped. */
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "io/csv.h"
+#include "io/json.h"
+#include "model/dynamics.h"
+#include "model/flow.h"
+#include "ode/ode.h"
+#include "scene/scene.h"
+
+#define SNAPSHOTS 10
+
+static volatile sig_atomic_t interrupted;
+static void on_sigint(int sig) { (void)sig; interrupted = 1; }
+
+static double wall(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* mkdir -p */
+static int make_dirs(const char *path)
+{
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *p = buf + 1; *p; p++)
+        if (*p == '/') {
+            *p = '\0';
+            if (mkdir(buf, 0777) != 0 && errno != EEXIST) return -1;
+            *p = '/';
+        }
+    if (mkdir(buf, 0777) != 0 && errno != EEXIST) return -1;
+    struct stat st;
+    return stat(buf, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
+}
+
+typedef struct {
+    double t_reached, jmin, e0, drift_abs, emax, res_volume, res_volume_rate, res_angular, res_locks;
+    long rows;
+    int status;           /* 0 completed, 1 failed */
+    char reason[256];
+} run_report;
+
+static int columns(const swim_scene *s, const char **names, char storage[][24])
+{
+    int c = 0;
+    static const char *const head[] = {"t", "x", "y", "theta"};
+    static const char *const tail[] = {
+        "kinetic_fluid", "kinetic_shape", "kinetic_rigid", "potential", "energy",
+        "impulse_body_x", "impulse_body_y", "impulse_body_ang",
+        "impulse_fluid_rigid_x", "impulse_fluid_rigid_y", "impulse_fluid_rigid_ang",
+        "impulse_fluid_shape_x", "impulse_fluid_shape_y", "impulse_fluid_shape_ang",
+        "res_volume", "res_volume_rate", "res_angular", "res_locks", "jmin", "work", "w1", "w2"};
+    for (int i = 0; i < 4; i++) names[c++] = head[i];
+    for (int i = 0; i < s->n; i++) {
+        swim_coord_name(i, storage[i], 24);
+        names[c++] = storage[i];
+    }
+    for (int i = 0; i < s->n; i++) {
+        storage[s->n + i][0] = 'd';
+        swim_coord_name(i, storage[s->n + i] + 1, 23);
+        names[c++] = storage[s->n + i];
+    }
+    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) names[c++] = tail[i];
+    return c;
+}
+
+static int row_values(const swim_scene *s, double t, const double *y, const swim_diag *g, double *v)
+{
+    int c = 0;
+    v[c++] = t;
+    for (int i = 0; i < 3 + 2 * s->n; i++) v[c++] = y[i];
+    const double tail[] = {
+        g->kinetic_fluid, g->kinetic_shape, g->kinetic_rigid, g->w1 + g->w2, g->energy,
+        g->impulse_body[0], g->impulse_body[1], g->impulse_body[2],
+        g->impulse_fluid_rigid[0], g->impulse_fluid_rigid[1], g->impulse_fluid_rigid[2],
+        g->impulse_fluid_shape[0], g->impulse_fluid_shape[1], g->impulse_fluid_shape[2],
+        g->res_volume, g->res_volume_rate, g->res_angular, g->res_locks, g->jmin, g->work, g->w1, g->w2};
+    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) v[c++] = tail[i];
+    return c;
+}
+
+static void track(run_report *r, double t, const swim_diag *g, int first)
+{
+    if (first) { r->e0 = g->energy; r->jmin = INFINITY; }
+    r->t_reached = t;
+    r->drift_abs = fmax(r->drift_abs, fabs(g->energy - r->e0 - g->work));
+    r->emax = fmax(r->emax, fabs(g->energy));
+    r->jmin = fmin(r->jmin, g->jmin);
+    r->res_volume = fmax(r->res_volume, fabs(g->res_volume));
+    r->res_volume_rate = fmax(r->res_volume_rate, fabs(g->res_volume_rate));
+    r->res_angular = fmax(r->res_angular, fabs(g->res_angular));
+    r->res_locks = fmax(r->res_locks, g->res_locks);
+}
+
+static void write_summary(const char *path, const swim_scene *s, const char *dir, const run_report *r,
+                          const double *y, const swim_ode_stats *st, const swim_dynamics *d,
+                          double wall_s)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "swim run: cannot write %s: %s\n", path, strerror(errno));
+        return;
+    }
+    char name[24];
+    fprintf(f, "{\n  \"scene\": ");
+    swim_json_string(f, s->path);
+    fprintf(f, ",\n  \"title\": ");
+    swim_json_string(f, s->title);
+    fprintf(f, ",\n  \"out\": ");
+    swim_json_string(f, dir);
+    fprintf(f, ",\n  \"modes\": %d,\n  \"rho0\": %.17g,\n  \"rhof\": %.17g,\n  \"integrator\": ", s->modes, s->rho0, s->rhof);
+    swim_json_string(f, s->integrator);
+    fprintf(f, ",\n  \"rtol\": %.3g,\n  \"atol\": %.3g,\n  \"free\": [", s->rtol, s->atol);
+    for (int i = 0, first = 1; i < s->n; i++)
+        if (s->free_mask[i]) {
+            swim_coord_name(i, name, sizeof name);
+            fprintf(f, "%s\"%s\"", first ? "" : ", ", name);
+            first = 0;
+        }
+    fprintf(f, "],\n  \"effects\": {\"elastic\": %s, \"barrier\": %s, \"damping\": %s, \"forcing\": %s},\n",
+            s->elastic ? "true" : "false", s->barrier ? "true" : "false", s->damped ? "true" : "false",
+            s->forced ? "true" : "false");
+    fprintf(f, "  \"status\": \"%s\",\n  \"reason\": ", r->status ? "failed" : "completed");
+    swim_json_string(f, r->reason);
+    fprintf(f, ",\n  \"t_end\": %.17g,\n  \"t_reached\": %.17g,\n  \"rows\": %ld,\n", s->t_end, r->t_reached, r->rows);
+    fprintf(f, "  \"initial_velocity_projected\": %s,\n  \"projection_change\": %.3g,\n",
+            s->projection_change > 0 ? "true" : "false", s->projection_change);
+    fprintf(f, "  \"final_state\": {\"t\": %.17g, \"x\": %.17g, \"y\": %.17g, \"theta\": %.17g, \"c\": ", r->t_reached, y[0], y[1], y[2]);
+    swim_json_vector(f, y + 3, s->n);
+    fprintf(f, ", \"dc\": ");
+    swim_json_vector(f, y + 3 + s->n, s->n);
+    fprintf(f, "},\n  \"energy_initial\": ");
+    swim_json_number(f, r->e0);
+    fprintf(f, ",\n  \"energy_drift_abs\": ");
+    swim_json_number(f, r->drift_abs);
+    fprintf(f, ",\n  \"energy_drift_rel\": ");
+    swim_json_number(f, r->emax > 0 ? r->drift_abs / r->emax : 0.0);
+    fprintf(f, ",\n  \"max_residuals\": {\"volume\": %.3g, \"volume_rate\": %.3g, \"angular\": %.3g, \"locks\": %.3g},\n",
+            r->res_volume, r->res_volume_rate, r->res_angular, r->res_locks);
+    fprintf(f, "  \"jmin\": ");
+    swim_json_number(f, r->jmin);
+    fprintf(f, ",\n  \"stats\": {\"steps\": %ld, \"rhs_evaluations\": %ld, \"rejected_steps\": %ld, "
+            "\"jacobian_evaluations\": %ld, \"last_step\": %.6g, \"last_order\": %d, \"stiffness_suspected\": %s,\n"
+            "            \"order_histogram\": [",
+            st->steps, st->rhs_evals, st->rejected, st->jac_evals, st->last_h, st->last_order,
+            st->stiff_suspected ? "true" : "false");
+    for (int i = 0; i < 13; i++) fprintf(f, "%s%ld", i ? ", " : "", st->order_hist[i]);
+    fprintf(f, "],\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f}\n}\n",
+            d->rhs_seconds, wall_s, d->rhs_calls ? 1e9 * d->rhs_seconds / d->rhs_calls : 0.0);
+    fclose(f);
+}
+
+static void default_out(const char *scene_path, char *out, size_t len)
+{
+    const char *base = strrchr(scene_path, '/');
+    base = base ? base + 1 : scene_path;
+    snprintf(out, len, "out/%s", base);
+    char *dot = strrchr(out, '.');
+    if (dot && dot > out + 4) *dot = '\0';
+}
+
+int swim_cmd_run(int argc, char **argv)
+{
+    swim_opt opts[] = {{"out", 1, NULL},  {"t-end", 1, NULL},      {"rtol", 1, NULL},
+                       {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL}};
+    const int nopts = (int)(sizeof opts / sizeof opts[0]);
+    const char *pos[1];
+    int npos = 0;
+    if (swim_args_parse("run", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
+    if (npos != 1) {
+        fprintf(stderr, "swim run: expected one scene file, e.g. swim run models/example3.toml\n");
+        return 2;
+    }
+    static swim_scene s;
+    if (swim_scene_load(pos[0], &s)) return 2;
+    const char *v;
+    if ((v = swim_args_get(opts, nopts, "t-end"))) {
+        if (swim_args_double("run", "t-end", v, &s.t_end)) return 2;
+        if (!(s.t_end > 0)) { fprintf(stderr, "swim run: --t-end: must be > 0, got %s\n", v); return 2; }
+    }
+    if ((v = swim_args_get(opts, nopts, "rtol"))) {
+        if (swim_args_double("run", "rtol", v, &s.rtol)) return 2;
+        if (!(s.rtol > 0)) { fprintf(stderr, "swim run: --rtol: must be > 0, got %s\n", v); return 2; }
+    }
+    if ((v = swim_args_get(opts, nopts, "atol"))) {
+        if (swim_args_double("run", "atol", v, &s.atol)) return 2;
+        if (!(s.atol > 0)) { fprintf(stderr, "swim run: --atol: must be > 0, got %s\n", v); return 2; }
+    }
+    if ((v = swim_args_get(opts, nopts, "integrator"))) {
+        int known = 0;
+        for (const char *const *m = swim_ode_methods(); *m; m++) known |= strcmp(*m, v) == 0;
+        if (!known || strlen(v) >= sizeof s.integrator) {
+            fprintf(stderr, "swim run: --integrator: unknown integrator '%s' (abm, rk8pd, msadams, rkf45, msbdf, cvode-adams, cvode-bdf)\n", v);
+            return 2;
+        }
+        snprintf(s.integrator, sizeof s.integrator, "%s", v);
+    }
+    const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
+    char dir[900];
+    if ((v = swim_args_get(opts, nopts, "out"))) snprintf(dir, sizeof dir, "%s", v);
+    else default_out(s.path, dir, sizeof dir);
+    if (make_dirs(dir) != 0) {
+        fprintf(stderr, "swim run: --out: cannot create directory '%s': %s\n", dir, strerror(errno));
+        swim_scene_free(&s);
+        return 2;
+    }
+    char path[1024];
+    swim_dynamics d;
+    if (swim_dynamics_init(&d, &s) != 0) {
+        fprintf(stderr, "swim run: out of memory\n");
+        swim_scene_free(&s);
+        return 1;
+    }
+    d.interrupt = (volatile int *)&interrupted;
+    const char *names[8 + 4 * SWIM_NMAX + 64];
+    char storage[2 * SWIM_NMAX][24];
+    int ncol = columns(&s, names, storage);
+    swim_csv csv;
+    snprintf(path, sizeof path, "%s/trajectory.csv", dir);
+    if (swim_csv_open(&csv, path, names, ncol) != 0) {
+        fprintf(stderr, "swim run: --out: cannot write '%s': %s\n", path, strerror(errno));
+        swim_dynamics_free(&d);
+        swim_scene_free(&s);
+        return 2;
+    }
+    snprintf(path, sizeof path, "%s/snapshots.json", dir);
+    FILE *snap = fopen(path, "w");
+    if (snap) fputs("[\n", snap);
+
+    double *y = calloc((size_t)d.dim, sizeof(double)), *row = calloc((size_t)ncol, sizeof(double));
+    swim_dynamics_initial_state(&d, y);
+    swim_ode_system sys = {swim_dynamics_rhs, (size_t)d.dim, &d};
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.rtol = s.rtol;
+    o.atol = s.atol;
+    swim_ode *ode = NULL;
+    run_report r;
+    memset(&r, 0, sizeof r);
+    struct sigaction sa, old;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_sigint;
+    sigaction(SIGINT, &sa, &old);
+    const double t_start = wall();
+    double last_progress = t_start;
+    int rc = swim_ode_create(s.integrator, &sys, &o, 0.0, y, &ode);
+    const long rows = (long)floor(s.t_end / s.output_step + 1e-9);
+    const long every = rows / (SNAPSHOTS - 1) > 0 ? rows / (SNAPSHOTS - 1) : 1;
+    int nsnap = 0;
+    if (rc != SWIM_ODE_OK) {
+        r.status = 1;
+        snprintf(r.reason, sizeof r.reason, "integrator '%s' could not start: %s", s.integrator, swim_ode_strerror(rc));
+    }
+    for (long k = 0; rc == SWIM_ODE_OK; k++) {
+        double t = k <= rows ? k * s.output_step : s.t_end;
+        if (k == rows && fabs(t - s.t_end) < 1e-9 * s.output_step) t = s.t_end;
+        if (k > rows && (rows * s.output_step >= s.t_end * (1 - 1e-12))) break;
+        if (k > rows + 1) break;
+        if (k > 0) {
+            rc = swim_ode_advance(ode, t, y);
+            if (rc != SWIM_ODE_OK) {
+                int rs = swim_ode_rhs_status(ode);
+                r.status = 1;
+                if (rc == SWIM_ODE_ERHS)
+                    snprintf(r.reason, sizeof r.reason, "%s near t = %.6g", swim_dynamics_strerror(rs), d.last_rhs_t);
+                else
+                    snprintf(r.reason, sizeof r.reason, "%s near t = %.6g", swim_ode_strerror(rc), swim_ode_time(ode));
+                break;
+            }
+        }
+        swim_diag g;
+        if (swim_dynamics_diagnostics(&d, y, &g) != 0) {
+            r.status = 1;
+            snprintf(r.reason, sizeof r.reason, "diagnostics failed at t = %.6g (K not positive definite)", t);
+            break;
+        }
+        track(&r, t, &g, k == 0);
+        row_values(&s, t, y, &g, row);
+        if (swim_csv_row(&csv, row) != 0) {
+            r.status = 1;
+            snprintf(r.reason, sizeof r.reason, "write error on trajectory.csv at t = %.6g", t);
+            break;
+        }
+        r.rows++;
+        if (snap && (k % every == 0 || k > rows) && nsnap < SNAPSHOTS + 1) {
+            if (nsnap++) fputs(",\n", snap);
+            swim_flow_snapshot(&d, t, y, snap);
+            fflush(snap);
+        }
+        if (!(g.jmin > 0)) {
+            r.status = 1;
+            snprintf(r.reason, sizeof r.reason, "the shape left the admissible set D at t = %.6g (min J = %.3g)", t, g.jmin);
+            break;
+        }
+        if (interrupted) {
+            r.status = 1;
+            snprintf(r.reason, sizeof r.reason, "interrupted (SIGINT) at t = %.6g", t);
+            break;
+        }
+        double now = wall();
+        if (!quiet && now - last_progress > 1.0) {
+            fprintf(stderr, "\rswim run: t = %.4g / %.4g (%.0f%%)   ", t, s.t_end, 100.0 * t / s.t_end);
+            last_progress = now;
+        }
+    }
+    if (!quiet && last_progress > t_start) fputc('\n', stderr);
+    sigaction(SIGINT, &old, NULL);
+    if (r.status == 0) snprintf(r.reason, sizeof r.reason, "reached t_end = %.6g", s.t_end);
+    swim_ode_stats st;
+    memset(&st, 0, sizeof st);
+    if (ode) swim_ode_get_stats(ode, &st);
+    if (snap) {
+        fputs("\n]\n", snap);
+        fclose(snap);
+    }
+    swim_csv_close(&csv);
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    write_summary(path, &s, dir, &r, y, &st, &d, wall() - t_start);
+    printf("%s: %s (%s); %ld rows in %s/trajectory.csv\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);
+    printf("  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)\n",
+           s.integrator, s.rtol, st.steps, st.rhs_evals, st.rejected, wall() - t_start, d.rhs_seconds);
+    printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g\n",
+           r.drift_abs, r.e0, r.res_volume, r.res_angular, r.res_locks, r.jmin);
+    printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", y[0], y[1], y[2]);
+    swim_ode_free(ode);
+    free(y);
+    free(row);
+    swim_dynamics_free(&d);
+    swim_scene_free(&s);
+    return r.status ? 1 : 0;
+}

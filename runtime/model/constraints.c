@@ -1,0 +1,58 @@
+#include "model/constraints.h"
+
+#include <lapacke.h>
+#include <stdlib.h>
+#include <string.h>
+
+int swim_constraint_rows(int n, const double *x, const int *free_mask, double *G)
+{
+    int m = 2;
+    memset(G, 0, sizeof(double) * (size_t)n * (size_t)(n + 2));
+    for (int i = 0; i < n; i += 2) {
+        int k = i == 0 ? 1 : -(i / 2), ak = k < 0 ? -k : k;
+        G[i] = k * x[i];
+        G[i + 1] = k * x[i + 1];
+        G[n + i] = x[i + 1] / (ak + 1);
+        G[n + i + 1] = -x[i] / (ak + 1);
+    }
+    for (int i = 0; i < n; i++)
+        if (!free_mask[i]) G[(size_t)n * m++ + i] = 1.0;
+    return m;
+}
+
+int swim_constraint_locked_index(int n, const int *free_mask, int row)
+{
+    int r = 2;
+    for (int i = 0; i < n; i++)
+        if (!free_mask[i] && r++ == row) return i;
+    return -1;
+}
+
+double swim_constraint_curvature_g1(int n, const double *v)
+{
+    double s = v[0] * v[0] + v[1] * v[1];
+    for (int i = 2; i < n; i += 2) s -= (i / 2) * (v[i] * v[i] + v[i + 1] * v[i + 1]);
+    return s;
+}
+
+int swim_constraint_project(int n, int m, const double *G, double *v)
+{
+    double *A = malloc(sizeof(double) * (size_t)(m * m + m));
+    if (!A) return -1;
+    double *b = A + m * m;
+    for (int i = 0; i < m; i++) {
+        b[i] = 0.0;
+        for (int k = 0; k < n; k++) b[i] += G[i * n + k] * v[k];
+        for (int j = 0; j < m; j++) {
+            double s = 0.0;
+            for (int k = 0; k < n; k++) s += G[i * n + k] * G[j * n + k];
+            A[i * m + j] = s;
+        }
+    }
+    int rc = LAPACKE_dposv(LAPACK_ROW_MAJOR, 'U', m, 1, A, m, b, 1) == 0 ? 0 : -1;
+    if (rc == 0)
+        for (int i = 0; i < m; i++)
+            for (int k = 0; k < n; k++) v[k] -= G[i * n + k] * b[i];
+    free(A);
+    return rc;
+}

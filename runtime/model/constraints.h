@@ -1,0 +1,18 @@
+/* constraints.h -- the constraints (G_j(c), cdot) = 0 of section 4.1.3 in real form (ERRATA C2):
+ *   row 0: G1 = (k a_k, k b_k)_k             volume (2.8)
+ *   row 1: G2 = (b_k, -a_k)/(|k|+1)          angular momentum of the deformation (2.14)
+ *   rows 2..: e_i for each locked coordinate i (section 4.2.2), in increasing i.
+ * G is row-major m x n with m = 2 + number of locked coordinates. */
+#ifndef SWIM_CONSTRAINTS_H
+#define SWIM_CONSTRAINTS_H
+
+int swim_constraint_rows(int n, const double *x, const int *free_mask, double *G);
+/* The coordinate locked by constraint row `row` (>= 2). */
+int swim_constraint_locked_index(int n, const int *free_mask, int row);
+/* (DG1[v]) . v = sum_k k (va_k^2 + vb_k^2); (DG2[v]) . v = 0 and locks give 0 (ERRATA C2). */
+double swim_constraint_curvature_g1(int n, const double *v);
+/* v <- v - G^T (G G^T)^-1 G v, the l2-orthogonal projection onto {G v = 0} (ERRATA D5).
+ * 0, or -1 when G G^T is singular. */
+int swim_constraint_project(int n, int m, const double *G, double *v);
+
+#endif

@@ -1,0 +1,66 @@
+/* dynamics.h -- the ODE of sections 4-5 in first-order form, and the diagnostics of a state.
+ *
+ * State y (dimension 3 + 2n + 1):
+ *   y[0..2]      q = (r_1, r_2, theta): centre of mass and orientation in the fixed frame
+ *   y[3..3+n)    c: shape coordinates (a_1, b_1, a_-1, b_-1, ..., a_-N, b_-N)
+ *   y[3+n..3+2n) cdot
+ *   y[3+2n]      work = int_0^t (F . cdot - cdot^T D cdot) dt, so that E(t) - E(0) = work (5.3)
+ * Equations:
+ *   K c'' + <Gamma(c), c', c'> + grad W = sum_j lambda_j G_j - D c' + F(t)      (4.10), (4.15), (5.2)
+ *   with lambda from the symmetric system (4.12) (ERRATA C2, C3), and
+ *   q' = R(theta) q*,  q* = -Mr^-1 N c'                                         (3.20)-(3.21)
+ *   W = W1 + W2, W1 = 1/2 (c - cref)^T R (c - cref) (ERRATA E2), W2 of section 4.1.1.
+ * Units: lengths in units of the reference radius, densities rho0, rhof as given; time as in
+ * the paper's scenes. Linear solves: LAPACK Cholesky (dpotrf/dpotrs) for K and a symmetric
+ * solve (dsysv) for the multipliers.
+ */
+#ifndef SWIM_DYNAMICS_H
+#define SWIM_DYNAMICS_H
+
+#include "model/shape.h"
+#include "scene/scene.h"
+
+/* Non-zero values returned by the right-hand side (passed through the integrator). */
+enum {
+    SWIM_DYN_OK = 0,
+    SWIM_DYN_ENAN,          /* NaN or Inf in the state or its derivative */
+    SWIM_DYN_EBARRIER,      /* J <= 0 at a quadrature node: the shape left D */
+    SWIM_DYN_EMASS,         /* K (or Mr) not positive definite */
+    SWIM_DYN_ECONSTRAINT,   /* multiplier system (4.12) singular */
+    SWIM_DYN_EINTERRUPT     /* an interrupt was requested (SIGINT) */
+};
+const char *swim_dynamics_strerror(int code);
+
+typedef struct {
+    const swim_scene *scene;     /* borrowed */
+    const swim_kernel *k;
+    int n, dim, m;               /* shape coordinates, state dimension, constraint rows */
+    swim_circle circle;          /* quadrature nodes for W2 */
+    volatile int *interrupt;     /* set asynchronously to stop (may be NULL) */
+    /* workspace (owned) */
+    double *K, *P, *gvv, *rhs, *G, *A, *grad, *ipiv_work;
+    int *ipiv;
+    /* statistics */
+    long rhs_calls;
+    double rhs_seconds;
+    double last_rhs_t;
+} swim_dynamics;
+
+int swim_dynamics_init(swim_dynamics *d, const swim_scene *scene);   /* 0 or -1 (memory) */
+void swim_dynamics_free(swim_dynamics *d);
+void swim_dynamics_initial_state(const swim_dynamics *d, double *y);
+/* The right-hand side in the form of swim_ode_func (params = swim_dynamics *). */
+int swim_dynamics_rhs(double t, const double *y, double *dydt, void *params);
+
+typedef struct {
+    double kinetic_fluid, kinetic_shape, kinetic_rigid, w1, w2, energy, work;
+    double impulse_body[3], impulse_fluid_rigid[3], impulse_fluid_shape[3];  /* fixed frame, (3.19) */
+    double res_volume, res_volume_rate, res_angular, res_locks;
+    double jmin;
+    double rigid_velocity[3];   /* q* in the body frame */
+} swim_diag;
+
+/* Diagnostics at state y; c0 is the initial shape (for the lock and volume residuals). */
+int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *out);
+
+#endif

@@ -1,0 +1,227 @@
+#include "scene/expr.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { OP_NUM, OP_T, OP_ADD, OP_SUB, OP_MUL, OP_DIV, OP_POW, OP_NEG, OP_FUN };
+
+typedef double (*fun1)(double);
+static const struct { const char *name; fun1 f; } funcs[] = {
+    {"sin", sin},   {"cos", cos},   {"tan", tan},   {"asin", asin}, {"acos", acos},
+    {"atan", atan}, {"exp", exp},   {"log", log},   {"sqrt", sqrt}, {"abs", fabs},
+    {"sinh", sinh}, {"cosh", cosh}, {"tanh", tanh},
+};
+#define NFUNCS (int)(sizeof funcs / sizeof funcs[0])
+#define MAX_CODE 256
+#define MAX_DEPTH 64
+
+typedef struct { int op; int fn; double v; } instr;
+
+struct swim_expr {
+    instr code[MAX_CODE];
+    int len, stack;
+};
+
+typedef struct {
+    const char *s, *p;
+    swim_expr *e;
+    char *err;
+    size_t errlen;
+    int failed, depth;
+} parser;
+
+static void fail(parser *ps, const char *msg)
+{
+    if (!ps->failed && ps->err)
+        snprintf(ps->err, ps->errlen, "at column %d: %s", (int)(ps->p - ps->s) + 1, msg);
+    ps->failed = 1;
+}
+
+static void emit(parser *ps, int op, int fn, double v)
+{
+    if (ps->e->len >= MAX_CODE) { fail(ps, "expression too long"); return; }
+    ps->e->code[ps->e->len++] = (instr){op, fn, v};
+}
+
+static void skip(parser *ps) { while (*ps->p == ' ' || *ps->p == '\t') ps->p++; }
+
+static void expr_sum(parser *ps);
+
+static void expr_atom(parser *ps)
+{
+    skip(ps);
+    if (++ps->depth > MAX_DEPTH) { fail(ps, "expression nested too deeply"); return; }
+    const char *p = ps->p;
+    if (*p == '(') {
+        ps->p++;
+        expr_sum(ps);
+        skip(ps);
+        if (*ps->p != ')') fail(ps, "expected ')'");
+        else ps->p++;
+    } else if (isdigit((unsigned char)*p) || (*p == '.' && isdigit((unsigned char)p[1]))) {
+        char *end;
+        double v = strtod(p, &end);
+        if (!isfinite(v)) { fail(ps, "number out of range"); return; }
+        ps->p = end;
+        emit(ps, OP_NUM, 0, v);
+    } else if (isalpha((unsigned char)*p)) {
+        const char *q = p;
+        while (isalnum((unsigned char)*q) || *q == '_') q++;
+        size_t n = (size_t)(q - p);
+        ps->p = q;
+        if (n == 1 && *p == 't') emit(ps, OP_T, 0, 0);
+        else if (n == 2 && strncmp(p, "pi", 2) == 0) emit(ps, OP_NUM, 0, 3.14159265358979323846);
+        else if (n == 1 && *p == 'e') emit(ps, OP_NUM, 0, 2.71828182845904523536);
+        else {
+            int fn = -1;
+            for (int i = 0; i < NFUNCS; i++)
+                if (strlen(funcs[i].name) == n && strncmp(funcs[i].name, p, n) == 0) fn = i;
+            if (fn < 0) { ps->p = p; fail(ps, "unknown name (use t, pi, e or a function such as sin)"); return; }
+            skip(ps);
+            if (*ps->p != '(') { fail(ps, "expected '(' after function name"); return; }
+            ps->p++;
+            expr_sum(ps);
+            skip(ps);
+            if (*ps->p != ')') { fail(ps, "expected ')'"); return; }
+            ps->p++;
+            emit(ps, OP_FUN, fn, 0);
+        }
+    } else {
+        fail(ps, *p ? "unexpected character" : "unexpected end of expression");
+    }
+    ps->depth--;
+}
+
+static void expr_unary(parser *ps);
+
+static void expr_power(parser *ps)
+{
+    expr_atom(ps);
+    skip(ps);
+    if (!ps->failed && *ps->p == '^') {
+        ps->p++;
+        expr_unary(ps);   /* right-associative: 2^-1 and a^b^c = a^(b^c) */
+        emit(ps, OP_POW, 0, 0);
+    }
+}
+
+static void expr_unary(parser *ps)
+{
+    skip(ps);
+    if (*ps->p == '-' || *ps->p == '+') {
+        int neg = *ps->p == '-';
+        ps->p++;
+        if (++ps->depth > MAX_DEPTH) { fail(ps, "expression nested too deeply"); return; }
+        expr_unary(ps);
+        ps->depth--;
+        if (neg) emit(ps, OP_NEG, 0, 0);
+    } else {
+        expr_power(ps);
+    }
+}
+
+static void expr_product(parser *ps)
+{
+    expr_unary(ps);
+    for (;;) {
+        skip(ps);
+        if (ps->failed || (*ps->p != '*' && *ps->p != '/')) return;
+        int op = *ps->p == '*' ? OP_MUL : OP_DIV;
+        ps->p++;
+        expr_unary(ps);
+        emit(ps, op, 0, 0);
+    }
+}
+
+static void expr_sum(parser *ps)
+{
+    expr_product(ps);
+    for (;;) {
+        skip(ps);
+        if (ps->failed || (*ps->p != '+' && *ps->p != '-')) return;
+        int op = *ps->p == '+' ? OP_ADD : OP_SUB;
+        ps->p++;
+        expr_product(ps);
+        emit(ps, op, 0, 0);
+    }
+}
+
+swim_expr *swim_expr_compile(const char *text, char *err, size_t errlen)
+{
+    swim_expr *e = calloc(1, sizeof *e);
+    if (!e) { if (err) snprintf(err, errlen, "out of memory"); return NULL; }
+    parser ps = {text, text, e, err, errlen, 0, 0};
+    expr_sum(&ps);
+    skip(&ps);
+    if (!ps.failed && *ps.p) fail(&ps, "unexpected text after the expression");
+    if (ps.failed) { free(e); return NULL; }
+    int depth = 0;
+    for (int i = 0; i < e->len; i++) {
+        int op = e->code[i].op;
+        depth += (op == OP_NUM || op == OP_T) ? 1 : (op == OP_NEG || op == OP_FUN) ? 0 : -1;
+        if (depth > e->stack) e->stack = depth;
+    }
+    return e;
+}
+
+double swim_expr_eval(const swim_expr *e, double t)
+{
+    double st[MAX_CODE];
+    int sp = 0;
+    for (int i = 0; i < e->len; i++) {
+        const instr *in = &e->code[i];
+        switch (in->op) {
+        case OP_NUM: st[sp++] = in->v; break;
+        case OP_T: st[sp++] = t; break;
+        case OP_NEG: st[sp - 1] = -st[sp - 1]; break;
+        case OP_FUN: st[sp - 1] = funcs[in->fn].f(st[sp - 1]); break;
+        default: {
+            double b = st[--sp], a = st[sp - 1];
+            st[sp - 1] = in->op == OP_ADD ? a + b : in->op == OP_SUB ? a - b
+                       : in->op == OP_MUL ? a * b : in->op == OP_DIV ? a / b : pow(a, b);
+        }
+        }
+    }
+    return st[0];
+}
+
+int swim_expr_to_c(const swim_expr *e, char *buf, size_t len)
+{
+    /* Rebuild infix text with full parentheses from the stack program. */
+    char *st[MAX_CODE];
+    int sp = 0, ok = 1;
+    for (int i = 0; i < e->len && ok; i++) {
+        const instr *in = &e->code[i];
+        char *s = NULL;
+        size_t need;
+        switch (in->op) {
+        case OP_NUM: need = 32; s = malloc(need); if (s) snprintf(s, need, "%.17g", in->v); break;
+        case OP_T: s = strdup("t"); break;
+        case OP_NEG: need = strlen(st[sp - 1]) + 4; s = malloc(need);
+            if (s) snprintf(s, need, "(-%s)", st[sp - 1]);
+            free(st[--sp]); break;
+        case OP_FUN: need = strlen(st[sp - 1]) + 16; s = malloc(need);
+            if (s) snprintf(s, need, "%s(%s)", in->fn == 9 ? "fabs" : funcs[in->fn].name, st[sp - 1]);
+            free(st[--sp]); break;
+        default: {
+            char *b = st[--sp], *a = st[--sp];
+            need = strlen(a) + strlen(b) + 16;
+            s = malloc(need);
+            if (s) {
+                if (in->op == OP_POW) snprintf(s, need, "pow(%s, %s)", a, b);
+                else snprintf(s, need, "(%s %c %s)", a, "+-*/"[in->op - OP_ADD], b);
+            }
+            free(a); free(b);
+        }
+        }
+        if (!s) ok = 0; else st[sp++] = s;
+    }
+    int n = ok && sp == 1 ? snprintf(buf, len, "%s", st[0]) : -1;
+    while (sp > 0) free(st[--sp]);
+    return n;
+}
+
+void swim_expr_free(swim_expr *e) { free(e); }

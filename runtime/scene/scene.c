@@ -1,0 +1,368 @@
+#include "scene/scene.h"
+
+#include <lapacke.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "model/constraints.h"
+#include "model/shape.h"
+#include "ode/ode.h"
+#include "scene/toml.h"
+
+typedef struct {
+    const char *path;
+    const char *table;   /* current table name, for messages */
+} ctx;
+
+#define ERR(c, line, key, ...)                                                  \
+    do {                                                                        \
+        fprintf(stderr, "swim: %s:%d: %s%s%s: ", (c)->path, (line),             \
+                (c)->table ? (c)->table : "", (c)->table ? "." : "", (key));    \
+        fprintf(stderr, __VA_ARGS__);                                           \
+        fputc('\n', stderr);                                                    \
+        return 2;                                                               \
+    } while (0)
+
+void swim_coord_name(int i, char *buf, int len)
+{
+    int m = i / 2;
+    if (m == 0) snprintf(buf, (size_t)len, "%c1", i % 2 ? 'b' : 'a');
+    else snprintf(buf, (size_t)len, "%cm%d", i % 2 ? 'b' : 'a', m);
+}
+
+double swim_area_constant(int n, const double *x)
+{
+    double mu2 = x[0] * x[0] + x[1] * x[1];
+    for (int i = 2; i < n; i += 2) mu2 -= (i / 2) * (x[i] * x[i] + x[i + 1] * x[i + 1]);
+    return mu2;
+}
+
+/* Every key of table t must be in `allowed`. */
+static int check_keys(ctx *c, const toml_value *t, const char *const *allowed)
+{
+    for (size_t i = 0; i < toml_table_size(t); i++) {
+        const char *k = toml_table_key(t, i);
+        int ok = 0;
+        for (const char *const *a = allowed; *a; a++) ok |= strcmp(*a, k) == 0;
+        if (!ok) {
+            char list[256] = "";
+            for (const char *const *a = allowed; *a; a++) {
+                strncat(list, *a, sizeof list - strlen(list) - 3);
+                if (a[1]) strncat(list, ", ", sizeof list - strlen(list) - 1);
+            }
+            ERR(c, toml_table_key_line(t, i), k, "unknown key (expected one of: %s)", list);
+        }
+    }
+    return 0;
+}
+
+static int get_number(ctx *c, const toml_value *t, const char *key, int required, double *out)
+{
+    const toml_value *v = toml_get(t, key);
+    int line = toml_get_key_line(t, key);
+    if (!v) {
+        if (required) ERR(c, toml_line(t), key, "missing (a number is required)");
+        return 0;
+    }
+    if (!toml_is_number(v)) ERR(c, line, key, "expected a number, got a %s", toml_kind_name(toml_kind_of(v)));
+    double d = toml_number(v);
+    if (!isfinite(d)) ERR(c, line, key, "value %g is not a finite number", d);
+    *out = d;
+    return 0;
+}
+
+static int get_vector(ctx *c, const toml_value *t, const char *key, int n, int required, double *out,
+                      int *present)
+{
+    const toml_value *v = toml_get(t, key);
+    int line = toml_get_key_line(t, key);
+    if (present) *present = v != NULL;
+    if (!v) {
+        if (required) ERR(c, toml_line(t), key, "missing (an array of %d numbers is required)", n);
+        return 0;
+    }
+    if (toml_kind_of(v) != TOML_ARRAY) ERR(c, line, key, "expected an array of %d numbers, got a %s", n, toml_kind_name(toml_kind_of(v)));
+    if ((int)toml_array_size(v) != n)
+        ERR(c, line, key, "expected %d numbers (a1,b1,a-1,b-1,...) for this mode count, got %zu", n, toml_array_size(v));
+    for (int i = 0; i < n; i++) {
+        const toml_value *e = toml_array_at(v, (size_t)i);
+        if (!toml_is_number(e)) ERR(c, line, key, "item %d is a %s, expected a number", i + 1, toml_kind_name(toml_kind_of(e)));
+        out[i] = toml_number(e);
+        if (!isfinite(out[i])) ERR(c, line, key, "item %d (%g) is not a finite number", i + 1, out[i]);
+    }
+    return 0;
+}
+
+static const toml_value *get_table(ctx *c, const toml_value *root, const char *name, int required, int *rc)
+{
+    const toml_value *t = toml_get(root, name);
+    *rc = 0;
+    if (!t && required) {
+        fprintf(stderr, "swim: %s:1: [%s]: missing table\n", c->path, name);
+        *rc = 2;
+    } else if (t && toml_kind_of(t) != TOML_TABLE) {
+        fprintf(stderr, "swim: %s:%d: %s: expected a table [%s], got a %s\n", c->path,
+                toml_get_key_line(root, name), name, name, toml_kind_name(toml_kind_of(t)));
+        *rc = 2;
+        t = NULL;
+    }
+    return t;
+}
+
+static int parse_free(ctx *c, const toml_value *shape, swim_scene *s)
+{
+    const toml_value *v = toml_get(shape, "free");
+    int line = toml_get_key_line(shape, "free");
+    if (!v) ERR(c, toml_line(shape), "free", "missing (\"all\" or an array of names such as \"am1\")");
+    if (toml_kind_of(v) == TOML_STRING) {
+        if (strcmp(toml_string(v), "all") != 0)
+            ERR(c, line, "free", "expected \"all\" or an array of coordinate names, got \"%s\"", toml_string(v));
+        for (int i = 0; i < s->n; i++) s->free_mask[i] = 1;
+        return 0;
+    }
+    if (toml_kind_of(v) != TOML_ARRAY) ERR(c, line, "free", "expected \"all\" or an array of names, got a %s", toml_kind_name(toml_kind_of(v)));
+    for (int i = 0; i < s->n; i++) s->free_mask[i] = 0;
+    for (size_t j = 0; j < toml_array_size(v); j++) {
+        const char *name = toml_string(toml_array_at(v, j));
+        if (!name) ERR(c, line, "free", "item %zu is not a string", j + 1);
+        int found = -1;
+        char buf[16];
+        for (int i = 0; i < s->n; i++) {
+            swim_coord_name(i, buf, sizeof buf);
+            if (strcmp(buf, name) == 0) found = i;
+        }
+        if (found < 0) ERR(c, line, "free", "unknown coordinate \"%s\" for modes = %d (names: a1, b1, am1, bm1, ..., bm%d)", name, s->modes, s->modes);
+        if (s->free_mask[found]) ERR(c, line, "free", "coordinate \"%s\" listed twice", name);
+        s->free_mask[found] = 1;
+    }
+    return 0;
+}
+
+/* G1, G2 and locks at dc0: error, or project if asked (ERRATA D5). */
+static int check_initial_velocity(ctx *c, const toml_value *shape, swim_scene *s)
+{
+    double G[(SWIM_NMAX + 2) * SWIM_NMAX];
+    int m = swim_constraint_rows(s->n, s->c0, s->free_mask, G);
+    double worst = 0.0;
+    int wrow = -1;
+    for (int j = 0; j < m; j++) {
+        double dot = 0.0, gn = 0.0, vn = 0.0;
+        for (int i = 0; i < s->n; i++) {
+            dot += G[j * s->n + i] * s->dc0[i];
+            gn += G[j * s->n + i] * G[j * s->n + i];
+            vn += s->dc0[i] * s->dc0[i];
+        }
+        double rel = fabs(dot) / fmax(sqrt(gn * vn), 1e-300);
+        if (fabs(dot) > 1e-12 && rel > 1e-10 && fabs(dot) > worst) { worst = fabs(dot); wrow = j; }
+    }
+    if (wrow < 0) return 0;
+    int line = toml_get_key_line(shape, "dc0");
+    char what[64];
+    if (wrow == 0) snprintf(what, sizeof what, "the volume constraint G1 (2.8)");
+    else if (wrow == 1) snprintf(what, sizeof what, "the angular constraint G2 (2.14)");
+    else {
+        int idx = swim_constraint_locked_index(s->n, s->free_mask, wrow);
+        char nm[16];
+        swim_coord_name(idx, nm, sizeof nm);
+        snprintf(what, sizeof what, "the lock of %s (it must start at rest)", nm);
+    }
+    if (!s->project_initial)
+        ERR(c, line, "dc0", "violates %s by %.3g; fix the data or set [run] project_initial = true", what, worst);
+    double before[SWIM_NMAX];
+    memcpy(before, s->dc0, sizeof(double) * s->n);
+    if (swim_constraint_project(s->n, m, G, s->dc0) != 0)
+        ERR(c, line, "dc0", "cannot project onto the constraints: they are dependent at c0");
+    s->projection_change = 0.0;
+    for (int i = 0; i < s->n; i++) s->projection_change = fmax(s->projection_change, fabs(s->dc0[i] - before[i]));
+    fprintf(stderr, "swim: %s:%d: shape.dc0: violated %s by %.3g; projected onto the constraints "
+            "(largest change %.3g)\n", c->path, line, what, worst, s->projection_change);
+    return 0;
+}
+
+static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
+{
+    static const char *const top[] = {"title", "model", "shape", "elastic", "barrier", "damping", "forcing", "run", NULL};
+    static const char *const k_model[] = {"modes", "rho0", "rhof", NULL};
+    static const char *const k_shape[] = {"c0", "dc0", "free", NULL};
+    static const char *const k_elastic[] = {"stiffness", "reference", NULL};
+    static const char *const k_barrier[] = {"epsilon", "alpha", NULL};
+    static const char *const k_damping[] = {"diagonal", NULL};
+    static const char *const k_forcing[] = {"law", "direction", NULL};
+    static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "project_initial", NULL};
+    int rc;
+    c->table = NULL;
+    if (check_keys(c, root, top)) return 2;
+    const toml_value *title = toml_get(root, "title");
+    if (title) {
+        if (!toml_string(title)) ERR(c, toml_get_key_line(root, "title"), "title", "expected a string");
+        snprintf(s->title, sizeof s->title, "%s", toml_string(title));
+    }
+
+    const toml_value *model = get_table(c, root, "model", 1, &rc);
+    if (rc) return rc;
+    c->table = "model";
+    if (check_keys(c, model, k_model)) return 2;
+    const toml_value *mv = toml_get(model, "modes");
+    if (!mv) ERR(c, toml_line(model), "modes", "missing (an integer 0..%d is required)", SWIM_KERNEL_MAX_MODES);
+    if (toml_kind_of(mv) != TOML_INT) ERR(c, toml_get_key_line(model, "modes"), "modes", "expected an integer, got a %s", toml_kind_name(toml_kind_of(mv)));
+    long long N = toml_int(mv);
+    if (N < 0 || N > SWIM_KERNEL_MAX_MODES) ERR(c, toml_get_key_line(model, "modes"), "modes", "%lld is out of range 0..%d", N, SWIM_KERNEL_MAX_MODES);
+    s->modes = (int)N;
+    s->n = 2 * (s->modes + 1);
+    s->kernel = swim_kernel_find(s->modes);
+    if (!s->kernel) ERR(c, toml_get_key_line(model, "modes"), "modes", "no kernel for N = %lld in this build (make generate N=%lld, then make MODES=\"0 1 ... %lld\")", N, N, N);
+    if (get_number(c, model, "rho0", 1, &s->rho0)) return 2;
+    if (!(s->rho0 > 0)) ERR(c, toml_get_key_line(model, "rho0"), "rho0", "density must be > 0, got %g", s->rho0);
+    const toml_value *rf = toml_get(model, "rhof");
+    if (!rf) ERR(c, toml_line(model), "rhof", "missing (a number, or \"neutral\" for (2.10))");
+    if (toml_kind_of(rf) == TOML_STRING) {
+        if (strcmp(toml_string(rf), "neutral") != 0) ERR(c, toml_get_key_line(model, "rhof"), "rhof", "expected a number or \"neutral\", got \"%s\"", toml_string(rf));
+        s->rhof_neutral = 1;
+    } else {
+        if (get_number(c, model, "rhof", 1, &s->rhof)) return 2;
+        if (!(s->rhof > 0)) ERR(c, toml_get_key_line(model, "rhof"), "rhof", "density must be > 0, got %g", s->rhof);
+    }
+
+    const toml_value *run = get_table(c, root, "run", 1, &rc);
+    if (rc) return rc;
+    c->table = "run";
+    if (check_keys(c, run, k_run)) return 2;
+    if (get_number(c, run, "t_end", 1, &s->t_end)) return 2;
+    if (!(s->t_end > 0)) ERR(c, toml_get_key_line(run, "t_end"), "t_end", "must be > 0, got %g", s->t_end);
+    if (get_number(c, run, "output_step", 1, &s->output_step)) return 2;
+    if (!(s->output_step > 0)) ERR(c, toml_get_key_line(run, "output_step"), "output_step", "must be > 0, got %g", s->output_step);
+    if (s->t_end / s->output_step > 1e7) ERR(c, toml_get_key_line(run, "output_step"), "output_step", "%g gives more than 10^7 rows for t_end = %g", s->output_step, s->t_end);
+    s->rtol = 1e-8;
+    s->atol = 1e-10;
+    if (get_number(c, run, "rtol", 0, &s->rtol)) return 2;
+    if (!(s->rtol > 0)) ERR(c, toml_get_key_line(run, "rtol"), "rtol", "must be > 0, got %g", s->rtol);
+    if (get_number(c, run, "atol", 0, &s->atol)) return 2;
+    if (!(s->atol > 0)) ERR(c, toml_get_key_line(run, "atol"), "atol", "must be > 0, got %g", s->atol);
+    snprintf(s->integrator, sizeof s->integrator, "abm");
+    const toml_value *integ = toml_get(run, "integrator");
+    if (integ) {
+        const char *name = toml_string(integ);
+        if (!name) ERR(c, toml_get_key_line(run, "integrator"), "integrator", "expected a string");
+        int known = 0;
+        for (const char *const *m = swim_ode_methods(); *m; m++) known |= strcmp(*m, name) == 0;
+        if (!known || strlen(name) >= sizeof s->integrator)
+            ERR(c, toml_get_key_line(run, "integrator"), "integrator", "unknown integrator \"%s\" (abm, rk8pd, msadams, rkf45, msbdf, cvode-adams, cvode-bdf)", name);
+        snprintf(s->integrator, sizeof s->integrator, "%s", name);
+    }
+    const toml_value *pi = toml_get(run, "project_initial");
+    if (pi) {
+        if (toml_kind_of(pi) != TOML_BOOL) ERR(c, toml_get_key_line(run, "project_initial"), "project_initial", "expected true or false");
+        s->project_initial = toml_bool(pi);
+    }
+
+    const toml_value *shape = get_table(c, root, "shape", 1, &rc);
+    if (rc) return rc;
+    c->table = "shape";
+    if (check_keys(c, shape, k_shape)) return 2;
+    if (get_vector(c, shape, "c0", s->n, 1, s->c0, NULL)) return 2;
+    if (get_vector(c, shape, "dc0", s->n, 1, s->dc0, NULL)) return 2;
+    if (parse_free(c, shape, s)) return 2;
+    double jmin = swim_shape_jmin(s->kernel, s->c0);
+    if (!(jmin > 0)) ERR(c, toml_get_key_line(shape, "c0"), "c0", "shape outside the admissible set D: min J = %.4g <= 0 on the unit circle (4.1)", jmin);
+    double mu2 = swim_area_constant(s->n, s->c0);
+    if (s->rhof_neutral) s->rhof = s->rho0 / mu2;
+
+    const toml_value *el = get_table(c, root, "elastic", 0, &rc);
+    if (rc) return rc;
+    if (el) {
+        c->table = "elastic";
+        if (check_keys(c, el, k_elastic)) return 2;
+        if (get_vector(c, el, "stiffness", s->n, 1, s->stiffness, NULL)) return 2;
+        if (get_vector(c, el, "reference", s->n, 1, s->reference, NULL)) return 2;
+        for (int i = 0; i < s->n; i++) {
+            if (s->stiffness[i] < 0) ERR(c, toml_get_key_line(el, "stiffness"), "stiffness", "item %d is %g; R must be >= 0", i + 1, s->stiffness[i]);
+            if (s->stiffness[i] > 0) s->elastic = 1;
+        }
+    }
+    const toml_value *ba = get_table(c, root, "barrier", 0, &rc);
+    if (rc) return rc;
+    if (ba) {
+        c->table = "barrier";
+        if (check_keys(c, ba, k_barrier)) return 2;
+        if (get_number(c, ba, "epsilon", 1, &s->epsilon)) return 2;
+        if (get_number(c, ba, "alpha", 1, &s->alpha)) return 2;
+        if (s->epsilon < 0) ERR(c, toml_get_key_line(ba, "epsilon"), "epsilon", "must be >= 0, got %g", s->epsilon);
+        if (!(s->alpha > 0)) ERR(c, toml_get_key_line(ba, "alpha"), "alpha", "must be > 0 (>= 0.5 for Prop. 4.2), got %g", s->alpha);
+        s->barrier = s->epsilon > 0;
+    }
+    const toml_value *da = get_table(c, root, "damping", 0, &rc);
+    if (rc) return rc;
+    if (da) {
+        c->table = "damping";
+        if (check_keys(c, da, k_damping)) return 2;
+        if (get_vector(c, da, "diagonal", s->n, 1, s->damping, NULL)) return 2;
+        for (int i = 0; i < s->n; i++) {
+            if (s->damping[i] < 0) ERR(c, toml_get_key_line(da, "diagonal"), "diagonal", "item %d is %g; D must be >= 0 (4.15)", i + 1, s->damping[i]);
+            if (s->damping[i] > 0) s->damped = 1;
+        }
+    }
+    const toml_value *fo = get_table(c, root, "forcing", 0, &rc);
+    if (rc) return rc;
+    if (fo) {
+        c->table = "forcing";
+        if (check_keys(c, fo, k_forcing)) return 2;
+        const toml_value *law = toml_get(fo, "law");
+        if (!law || !toml_string(law)) ERR(c, law ? toml_get_key_line(fo, "law") : toml_line(fo), "law", "expected a string expression in t, e.g. \"sin(t)\"");
+        char err[160];
+        snprintf(s->forcing_text, sizeof s->forcing_text, "%s", toml_string(law));
+        s->forcing = swim_expr_compile(s->forcing_text, err, sizeof err);
+        if (!s->forcing) ERR(c, toml_get_key_line(fo, "law"), "law", "\"%s\": %s", s->forcing_text, err);
+        if (get_vector(c, fo, "direction", s->n, 1, s->direction, NULL)) return 2;
+        for (int i = 0; i < s->n; i++) s->forced |= s->direction[i] != 0.0;
+    }
+    c->table = "shape";
+    return check_initial_velocity(c, shape, s);
+}
+
+int swim_scene_load(const char *path, swim_scene *s)
+{
+    memset(s, 0, sizeof *s);
+    snprintf(s->path, sizeof s->path, "%s", path);
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        fprintf(stderr, "swim: %s: cannot open scene file\n", path);
+        return 2;
+    }
+    size_t cap = 1 << 16, len = 0;
+    char *buf = malloc(cap);
+    for (;;) {
+        if (!buf) { fclose(f); fprintf(stderr, "swim: %s: out of memory\n", path); return 2; }
+        size_t got = fread(buf + len, 1, cap - len, f);
+        len += got;
+        if (len < cap) break;
+        if (cap >= (1u << 24)) { free(buf); fclose(f); fprintf(stderr, "swim: %s: file larger than 16 MiB\n", path); return 2; }
+        cap *= 2;
+        char *nb = realloc(buf, cap);
+        if (!nb) free(buf);
+        buf = nb;
+    }
+    fclose(f);
+    char err[256];
+    toml_value *root = toml_parse(buf, len, err, sizeof err);
+    free(buf);
+    if (!root) {
+        int line = 0;
+        const char *msg = err;
+        if (sscanf(err, "line %d:", &line) == 1 && strchr(err, ':')) msg = strchr(err, ':') + 2;
+        fprintf(stderr, "swim: %s:%d: %s\n", path, line, msg);
+        return 2;
+    }
+    ctx c = {path, NULL};
+    int rc = load_tree(&c, root, s);
+    toml_free(root);
+    if (rc) swim_scene_free(s);
+    return rc;
+}
+
+void swim_scene_free(swim_scene *s)
+{
+    swim_expr_free(s->forcing);
+    s->forcing = NULL;
+}
