@@ -6,6 +6,7 @@ SHELL      := /bin/bash
 MAKEFLAGS  += --no-builtin-rules
 .SUFFIXES:
 PYTHON     ?= /usr/bin/python3
+export PYTHON
 CC         ?= gcc
 # Kernels are fixed-size loops: -O3 unrolls them and -march=native vectorizes them for the
 # machine that builds (and runs) the simulator. Override with OPT=-O2 for a portable build.
@@ -102,7 +103,7 @@ $(BUILD)/gen/%.o: $(BUILD)/gen/%.c
 
 $(BUILD)/tests/test_kernels: $(BUILD)/gen/swim_kernel_n12.o
 
-TEST_SCRIPTS := tests/test_regenerate.sh
+TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py
 
 test: bin/swim $(TEST_BINS)
 	@bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)

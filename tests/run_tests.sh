@@ -5,7 +5,10 @@
 set -u
 total_pass=0; total_fail=0
 for prog in "$@"; do
-    out=$("$prog" 2>&1); rc=$?
+    case "$prog" in
+        *.py) out=$("${PYTHON:-/usr/bin/python3}" "$prog" 2>&1); rc=$? ;;
+        *) out=$("$prog" 2>&1); rc=$? ;;
+    esac
     printf '%s\n' "$out" | grep -E 'FAIL|passed, [0-9]+ failed' || true
     line=$(printf '%s\n' "$out" | grep -E '^[A-Za-z0-9_.-]+: [0-9]+ passed, [0-9]+ failed' | tail -n 1)
     if [ -n "$line" ]; then

@@ -16,7 +16,7 @@ int swim_csv_row(swim_csv *w, const double *v)
 {
     for (int i = 0; i < w->columns; i++) {
         if (i) fputc(',', w->f);
-        if (isfinite(v[i])) fprintf(w->f, "%.16g", v[i]);
+        if (isfinite(v[i])) fprintf(w->f, "%.17g", v[i]);
         else fputs("nan", w->f);
     }
     fputc('\n', w->f);

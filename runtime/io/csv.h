@@ -1,4 +1,4 @@
-/* csv.h -- the one CSV writer: a header row, then rows of numbers (%.16g, nan/inf as "nan"),
+/* csv.h -- the one CSV writer: a header row, then rows of numbers (%.17g, exact round trip; nan/inf as "nan"),
  * each row flushed so that a run that stops keeps every row it wrote. */
 #ifndef SWIM_CSV_H
 #define SWIM_CSV_H
