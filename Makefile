@@ -103,7 +103,7 @@ $(BUILD)/gen/%.o: $(BUILD)/gen/%.c
 
 $(BUILD)/tests/test_kernels: $(BUILD)/gen/swim_kernel_n12.o
 
-TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py
+TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_plot.sh
 
 test: bin/swim $(TEST_BINS)
 	@bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)
@@ -127,3 +127,4 @@ clean:
 	rm -rf $(BUILD) bin
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
+.SECONDARY:

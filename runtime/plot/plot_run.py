@@ -1,0 +1,708 @@
+#!/usr/bin/env python3
+"""Figures of one `swim run` output directory.
+
+Usage: plot_run.py DIR [--only NAME ...]
+
+Reads DIR/trajectory.csv, DIR/summary.json and DIR/snapshots.json (written by
+`swim run SCENE --out DIR`) and writes into DIR, printing each path written:
+
+  trajectory.png  centre-of-mass path y vs x, and y(t)          (paper Figs 4.2, 4.9, 4.17)
+  energy.png      energy distribution, absolute and in percent   (Figs 4.4, 4.11, 4.16, 4.20)
+  impulse.png     linear impulses of body and fluid and their sum (Fig 4.12)
+  phase.png       phase portraits of the most active free coordinates (Figs 4.10, 4.14)
+  snapshots.png   body density, outline, path and fluid velocity  (Figs 4.3, 4.8)
+
+NAME is one of the figure names above (with or without ".png"). A figure whose
+input is missing or unusable is skipped with a message on stderr. The CSV may
+be truncated (failed run) and may contain "nan". Exit status 0 if at least one
+figure was written, 1 otherwise.
+"""
+import json
+import math
+import os
+import sys
+
+import numpy as np
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.collections import LineCollection  # noqa: E402
+from matplotlib.colors import Normalize  # noqa: E402
+
+FIGURES = ("trajectory", "energy", "impulse", "phase", "snapshots")
+FIGSIZE = (12.0, 5.0)
+DPI = 110
+
+plt.rcParams.update({
+    "font.size": 10,
+    "axes.titlesize": 11,
+    "axes.labelsize": 10,
+    "legend.fontsize": 9,
+    "xtick.labelsize": 9,
+    "ytick.labelsize": 9,
+    "figure.titlesize": 12,
+})
+
+
+class Skip(Exception):
+    """The figure cannot be drawn from the data at hand (message says why)."""
+
+
+def warn(msg):
+    print("plot_run: " + msg, file=sys.stderr)
+
+
+# ---------------------------------------------------------------- input
+
+def read_trajectory(path):
+    """Columns of the CSV as a dict name -> float array, in header order.
+
+    Rows whose field count differs from the header (a truncated last line) are
+    dropped; fields that do not parse become NaN."""
+    with open(path, "r", errors="replace") as fh:
+        lines = fh.read().splitlines()
+    if not lines:
+        raise Skip("%s is empty" % path)
+    names = [h.strip() for h in lines[0].split(",")]
+    rows = []
+    dropped = 0
+    for line in lines[1:]:
+        if not line.strip():
+            continue
+        fields = line.split(",")
+        if len(fields) != len(names):
+            dropped += 1
+            continue
+        row = []
+        for f in fields:
+            try:
+                row.append(float(f))
+            except ValueError:
+                row.append(math.nan)
+        rows.append(row)
+    if dropped:
+        warn("%s: dropped %d incomplete row(s)" % (path, dropped))
+    data = np.array(rows, dtype=float).reshape(len(rows), len(names))
+    cols = {}
+    for i, name in enumerate(names):
+        if name and name not in cols:
+            cols[name] = data[:, i]
+    return cols
+
+
+def read_json(path):
+    with open(path, "r", errors="replace") as fh:
+        return json.load(fh)
+
+
+def need(cols, *names):
+    """The named columns, or Skip naming the missing ones."""
+    if cols is None:
+        raise Skip("no trajectory.csv data")
+    missing = [n for n in names if n not in cols]
+    if missing:
+        raise Skip("missing column(s) " + ", ".join(missing))
+    if len(cols[names[0]]) == 0:
+        raise Skip("trajectory.csv has no data rows")
+    return [cols[n] for n in names]
+
+
+def finite_any(a):
+    return a is not None and np.isfinite(a).any()
+
+
+def span(a):
+    a = np.asarray(a, dtype=float)
+    a = a[np.isfinite(a)]
+    return float(a.max() - a.min()) if a.size else 0.0
+
+
+def absmax(*arrays):
+    m = 0.0
+    for a in arrays:
+        a = np.asarray(a, dtype=float)
+        a = a[np.isfinite(a)]
+        if a.size:
+            m = max(m, float(np.abs(a).max()))
+    return m
+
+
+def coord_label(name, dot=False):
+    """'am2' -> $a_{-2}$, 'db1' -> $\\dot b_{1}$ (mathtext)."""
+    if name.startswith("d") and len(name) > 1 and name[1] in "ab":
+        name, dot = name[1:], True
+    letter, idx = name[0], name[1:]
+    if idx.startswith("m"):
+        idx = "-" + idx[1:]
+    sym = r"\dot %s" % letter if dot else letter
+    return r"$%s_{%s}$" % (sym, idx)
+
+
+# ---------------------------------------------------------------- context
+
+class Run:
+    def __init__(self, outdir):
+        self.dir = outdir
+        self.cols = None
+        self.summary = {}
+        self.snapshots = None
+        self.csv_error = None
+        self.snap_error = None
+
+        sp = os.path.join(outdir, "summary.json")
+        if os.path.exists(sp):
+            try:
+                s = read_json(sp)
+                if isinstance(s, dict):
+                    self.summary = s
+                else:
+                    warn("%s: not a JSON object, ignored" % sp)
+            except Exception as e:  # noqa: BLE001 - any bad file is only a warning
+                warn("%s: unreadable (%s), ignored" % (sp, e))
+        else:
+            warn("%s missing; titles use the directory name" % sp)
+
+        tp = os.path.join(outdir, "trajectory.csv")
+        try:
+            self.cols = read_trajectory(tp)
+        except Skip as e:
+            self.csv_error = str(e)
+        except Exception as e:  # noqa: BLE001
+            self.csv_error = "%s: %s" % (tp, e)
+
+        np_ = os.path.join(outdir, "snapshots.json")
+        if os.path.exists(np_):
+            try:
+                s = read_json(np_)
+                self.snapshots = s if isinstance(s, list) else None
+                if self.snapshots is None:
+                    self.snap_error = "%s: not a JSON list" % np_
+            except Exception as e:  # noqa: BLE001
+                self.snap_error = "%s: unreadable (%s)" % (np_, e)
+        else:
+            self.snap_error = "%s missing" % np_
+
+    def name(self):
+        title = self.summary.get("title")
+        if isinstance(title, str) and title.strip():
+            return title.strip()
+        scene = self.summary.get("scene")
+        if isinstance(scene, str) and scene.strip():
+            return os.path.basename(scene.strip())
+        return os.path.basename(os.path.normpath(self.dir))
+
+    def suptitle(self, fig, what):
+        text = "%s — %s" % (self.name(), what)
+        if self.summary.get("status") == "failed":
+            reason = str(self.summary.get("reason", "")).strip()
+            if len(reason) > 70:
+                reason = reason[:67] + "..."
+            tr = self.summary.get("t_reached")
+            at = (" at t = %.4g" % tr) if isinstance(tr, (int, float)) else ""
+            text += "\n[run failed%s%s]" % (at, (": " + reason) if reason else "")
+        fig.suptitle(text)
+
+    def free_coords(self):
+        free = self.summary.get("free")
+        if isinstance(free, list) and free:
+            return [str(f) for f in free]
+        # fall back to every shape coordinate that has a velocity column
+        cols = self.cols or {}
+        return [n for n in cols if n[:1] in "ab" and n[1:2] in "1m" and ("d" + n) in cols]
+
+
+def save(fig, run, name):
+    path = os.path.join(run.dir, name + ".png")
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def mark_failure(ax, run, t):
+    """Red dotted line at the last computed time of a failed run."""
+    if run.summary.get("status") == "failed" and finite_any(t):
+        ax.axvline(np.nanmax(t), color="tab:red", ls=":", lw=1.2)
+
+
+# ---------------------------------------------------------------- figures
+
+def fig_trajectory(run):
+    t, x, y = need(run.cols, "t", "x", "y")
+    ok = np.isfinite(x) & np.isfinite(y)
+    if not ok.any():
+        raise Skip("x, y are all NaN")
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=FIGSIZE,
+                                   gridspec_kw={"width_ratios": [1, 1.4]})
+    ax1.plot(x, y, color="k", lw=1.4, label="centre of mass")
+    i0 = np.flatnonzero(ok)[0]
+    i1 = np.flatnonzero(ok)[-1]
+    ax1.plot(x[i0], y[i0], "o", color="tab:green", ms=8,
+             label="start (t = %.3g)" % t[i0])
+    ax1.plot(x[i1], y[i1], "s", color="tab:red", ms=8,
+             label="end (t = %.3g)" % t[i1])
+    ax1.set_aspect("equal", adjustable="datalim")
+    # keep a sensible window when the path is (almost) a straight line or a point
+    sx, sy = span(x), span(y)
+    half = 0.5 * max(sx, sy, 1e-9) * 1.1
+    ax1.set_xlim(np.nanmean([np.nanmin(x), np.nanmax(x)]) - half,
+                 np.nanmean([np.nanmin(x), np.nanmax(x)]) + half)
+    ax1.set_ylim(np.nanmean([np.nanmin(y), np.nanmax(y)]) - half,
+                 np.nanmean([np.nanmin(y), np.nanmax(y)]) + half)
+    ax1.set_xlabel("x (centre of mass)")
+    ax1.set_ylabel("y (centre of mass)")
+    ax1.set_title("Path of the centre of mass")
+    ax1.grid(alpha=0.3)
+    ax1.legend(loc="best")
+
+    ax2.plot(t, y, color="tab:blue", lw=1.5, label="y(t)")
+    if span(x) > 1e-3 * max(span(y), 1e-300) and span(x) > 1e-12:
+        ax2.plot(t, x, color="tab:orange", lw=1.2, ls="--", label="x(t)")
+        ax2.legend(loc="best")
+        ax2.set_ylabel("y, x (centre of mass)")
+    else:
+        ax2.set_ylabel("y (centre of mass)")
+    mark_failure(ax2, run, t)
+    ax2.set_xlabel("time t")
+    ax2.set_title("y-coordinate of the centre of mass vs time")
+    ax2.grid(alpha=0.3)
+    run.suptitle(fig, "trajectory")
+    fig.tight_layout()
+    return save(fig, run, "trajectory")
+
+
+def fig_energy(run):
+    cols = run.cols
+    (t,) = need(cols, "t")
+    parts = []  # (label, values, colour)
+    for name, label, colour in (
+            ("kinetic_fluid", "kinetic, fluid", "tab:blue"),
+            ("kinetic_shape", "kinetic, body deformations", "tab:orange"),
+            ("kinetic_rigid", "kinetic, body rigid motion", "tab:green")):
+        if name in cols:
+            parts.append((label, cols[name], colour))
+        else:
+            warn("energy: column %s missing, left out" % name)
+    w2 = cols.get("w2")
+    if "w1" in cols and w2 is not None and absmax(w2) > 0:
+        parts.append(("potential, elastic W1", cols["w1"], "tab:purple"))
+        parts.append(("potential, barrier W2", w2, "tab:brown"))
+    elif "potential" in cols:
+        parts.append(("potential (elastic)", cols["potential"], "tab:purple"))
+    elif "w1" in cols:
+        parts.append(("potential, elastic W1", cols["w1"], "tab:purple"))
+    else:
+        warn("energy: no potential column, left out")
+    if not parts:
+        raise Skip("no energy columns")
+    stack = np.vstack([p[1] for p in parts])
+    if not np.isfinite(stack).any():
+        raise Skip("energy columns are all NaN")
+    total = cols.get("energy")
+    total_label = "total energy"
+    if total is None or not finite_any(total):
+        total = np.sum(stack, axis=0)
+        total_label = "total (sum of parts)"
+
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=FIGSIZE)
+    # absolute values, stacked
+    lower = np.zeros_like(t)
+    for label, v, colour in parts:
+        upper = lower + v
+        ax1.fill_between(t, lower, upper, color=colour, alpha=0.75, lw=0, label=label)
+        lower = upper
+    ax1.plot(t, total, color="k", lw=1.6, label=total_label)
+    work = cols.get("work")
+    if work is not None and absmax(work) > 1e-12 * max(absmax(total), 1e-300):
+        ax1.plot(t, work, color="k", lw=1.0, ls=":", label="work of forcing + damping")
+    mark_failure(ax1, run, t)
+    ax1.set_xlabel("time t")
+    ax1.set_ylabel("energy")
+    ax1.set_title("Distribution of energy (stacked)")
+    ax1.grid(alpha=0.3)
+    ax1.set_xlim(np.nanmin(t), np.nanmax(t)) if np.nanmax(t) > np.nanmin(t) else None
+
+    # in percent of the total; rows with (near) zero total are left blank
+    scale = absmax(total)
+    good = np.isfinite(total) & (np.abs(total) > 1e-9 * max(scale, 1e-300)) & (scale > 0)
+    if good.any():
+        lower = np.zeros_like(t)
+        for label, v, colour in parts:
+            pct = np.where(good, 100.0 * v / np.where(good, total, 1.0), np.nan)
+            upper = lower + pct
+            ax2.fill_between(t, lower, upper, where=good, color=colour, alpha=0.75, lw=0,
+                             interpolate=False)
+            lower = upper
+        ax2.set_ylim(0, max(100.0, np.nanmax(lower[good]) if np.isfinite(lower[good]).any()
+                            else 100.0))
+        if (np.isfinite(total) & ~good).any():
+            ax2.text(0.01, 0.01, "blank: total energy ~ 0", transform=ax2.transAxes,
+                     fontsize=9, va="bottom")
+    else:
+        ax2.text(0.5, 0.5, "total energy is ~0 at all times", ha="center",
+                 transform=ax2.transAxes)
+    mark_failure(ax2, run, t)
+    ax2.set_xlabel("time t")
+    ax2.set_ylabel("share of total energy (%)")
+    ax2.set_title("Distribution of energy (percent)")
+    ax2.grid(alpha=0.3)
+    if np.nanmax(t) > np.nanmin(t):
+        ax2.set_xlim(np.nanmin(t), np.nanmax(t))
+    h, lab = ax1.get_legend_handles_labels()
+    ncol = len(lab) if len(lab) <= 4 else int(math.ceil(len(lab) / 2.0))
+    fig.legend(h, lab, loc="lower center", ncol=ncol, frameon=False)
+    run.suptitle(fig, "energy")
+    fig.tight_layout(rect=(0, 0.07 if len(lab) <= 4 else 0.11, 1, 1))
+    return save(fig, run, "energy")
+
+
+def fig_impulse(run):
+    cols = run.cols
+    (t,) = need(cols, "t")
+    kinds = (("impulse_body", "body", "tab:green"),
+             ("impulse_fluid_rigid", "fluid (rigid motion)", "tab:blue"),
+             ("impulse_fluid_shape", "fluid (shape changes)", "tab:orange"))
+    comps = []
+    for c in ("y", "x"):
+        present = [(k, lab, col) for k, lab, col in kinds if "%s_%s" % (k, c) in cols]
+        if present:
+            comps.append((c, present))
+    if not comps:
+        raise Skip("missing impulse columns (impulse_body_y, ...)")
+    ymax = absmax(*[cols["%s_y" % k] for k, _, _ in kinds if "%s_y" % k in cols])
+    shown = []
+    for c, present in comps:
+        m = absmax(*[cols["%s_%s" % (k, c)] for k, _, _ in present])
+        if c == "y" or (m > 1e-12 and m > 1e-3 * ymax):
+            shown.append((c, present))
+    shown = [(c, present) for c, present in shown
+             if any(finite_any(cols["%s_%s" % (k, c)]) for k, _, _ in present)]
+    if not shown:
+        raise Skip("impulse columns are all NaN")
+    fig, axes = plt.subplots(1, len(shown), figsize=FIGSIZE, squeeze=False)
+    for ax, (c, present) in zip(axes[0], shown):
+        total = np.zeros_like(t)
+        for k, lab, col in present:
+            v = cols["%s_%s" % (k, c)]
+            ax.plot(t, v, color=col, lw=1.5, label=lab)
+            total = total + v
+        ax.plot(t, total, color="k", lw=1.2, ls="--", label="sum (should be 0)")
+        ax.axhline(0, color="0.5", lw=0.6)
+        mark_failure(ax, run, t)
+        ax.set_xlabel("time t")
+        ax.set_ylabel("%s-component of linear impulse" % c)
+        ax.set_title("Linear impulse, %s-component" % c)
+        ax.grid(alpha=0.3)
+        ax.legend(loc="best")
+    if len(shown) == 1:
+        ax.text(0.99, 0.01, "x-components negligible, not shown", transform=ax.transAxes,
+                ha="right", va="bottom", fontsize=9, color="0.35")
+    run.suptitle(fig, "linear impulse")
+    fig.tight_layout()
+    return save(fig, run, "impulse")
+
+
+def fig_phase(run):
+    cols = run.cols
+    (t,) = need(cols, "t")
+    cand = []
+    for name in run.free_coords():
+        if name in cols and ("d" + name) in cols:
+            s = span(cols[name])
+            if s > 0 and finite_any(cols["d" + name]):
+                cand.append((s, name))
+        else:
+            warn("phase: no columns for free coordinate %s" % name)
+    if not cand:
+        raise Skip("no free coordinate with a velocity column varies")
+    cand.sort(key=lambda p: -p[0])
+    names = [n for _, n in cand[:4]]
+    # keep the order of the CSV so panels read a1, b1, am1, ... left to right
+    order = list(cols.keys())
+    names.sort(key=order.index)
+    tmin, tmax = np.nanmin(t), np.nanmax(t)
+    norm = Normalize(tmin, tmax if tmax > tmin else tmin + 1.0)
+    fig, axes = plt.subplots(1, len(names), figsize=FIGSIZE, squeeze=False)
+    lc = None
+    for ax, name in zip(axes[0], names):
+        q, dq = cols[name], cols["d" + name]
+        pts = np.column_stack([q, dq])
+        segs = np.stack([pts[:-1], pts[1:]], axis=1) if len(pts) > 1 else np.zeros((0, 2, 2))
+        keep = np.isfinite(segs).all(axis=(1, 2))
+        lc = LineCollection(segs[keep], cmap="viridis", norm=norm, lw=1.4)
+        lc.set_array(0.5 * (t[:-1] + t[1:])[keep] if len(t) > 1 else np.zeros(0))
+        ax.add_collection(lc)
+        ok = np.isfinite(q) & np.isfinite(dq)
+        if ok.any():
+            i0 = np.flatnonzero(ok)[0]
+            ax.plot(q[i0], dq[i0], "o", color="tab:red", ms=6, label="t = %.3g" % t[i0])
+            ax.legend(loc="upper right", fontsize=8)
+            pad_q = 0.06 * max(span(q), 1e-9)
+            pad_d = 0.06 * max(span(dq), 1e-9)
+            ax.set_xlim(np.nanmin(q[ok]) - pad_q, np.nanmax(q[ok]) + pad_q)
+            ax.set_ylim(np.nanmin(dq[ok]) - pad_d, np.nanmax(dq[ok]) + pad_d)
+        ax.set_xlabel(coord_label(name))
+        ax.set_ylabel(coord_label(name, dot=True))
+        ax.set_title("%s vs %s" % (coord_label(name, dot=True), coord_label(name)))
+        ax.grid(alpha=0.3)
+    run.suptitle(fig, "phase portraits of the free shape coordinates")
+    fig.tight_layout(rect=(0, 0, 0.92, 1))
+    cax = fig.add_axes((0.935, 0.15, 0.015, 0.7))
+    cb = fig.colorbar(lc, cax=cax)
+    cb.set_label("time t")
+    return save(fig, run, "phase")
+
+
+def _arr2(v):
+    a = np.asarray(v, dtype=float)
+    if a.ndim != 2 or a.size == 0:
+        raise ValueError("not a 2-D array")
+    return a
+
+
+def _close_polar(X, Y, R):
+    """Append the first angle column when the grid does not already wrap around,
+    so the filled body has no missing wedge."""
+    gap = np.hypot(X[:, 0] - X[:, -1], Y[:, 0] - Y[:, -1])
+    if X.shape[1] > 2:
+        step = np.hypot(np.diff(X, axis=1), np.diff(Y, axis=1))
+        if np.nanmax(gap) > 1e-9 * max(np.nanmax(step), 1e-300):
+            X = np.hstack([X, X[:, :1]])
+            Y = np.hstack([Y, Y[:, :1]])
+            R = np.hstack([R, R[:, :1]])
+    return X, Y, R
+
+
+def fig_snapshots(run):
+    if run.snapshots is None:
+        raise Skip(run.snap_error or "no snapshots")
+    snaps = []
+    for i, s in enumerate(run.snapshots):
+        try:
+            snap = {"t": float(s["t"])}
+            b = s.get("boundary") or {}
+            bx = np.asarray(b.get("X", []), dtype=float)
+            by = np.asarray(b.get("Y", []), dtype=float)
+            snap["boundary"] = (bx, by) if bx.size and bx.shape == by.shape else None
+            d = s.get("density") or {}
+            try:
+                X, Y, R = _arr2(d["X"]), _arr2(d["Y"]), _arr2(d["rho"])
+                if not (X.shape == Y.shape == R.shape):
+                    raise ValueError("shape mismatch")
+                snap["density"] = _close_polar(X, Y, R)
+            except (KeyError, ValueError, TypeError):
+                snap["density"] = None
+            a = s.get("arrows") or {}
+            try:
+                arr = [np.asarray(a[k], dtype=float).ravel() for k in ("X", "Y", "U", "V")]
+                if len({v.size for v in arr}) != 1 or arr[0].size == 0:
+                    raise ValueError
+                snap["arrows"] = arr
+            except (KeyError, ValueError, TypeError):
+                snap["arrows"] = None
+            snap["pos"] = (float(s.get("x", math.nan)), float(s.get("y", math.nan)))
+            snaps.append(snap)
+        except (KeyError, TypeError, ValueError, AttributeError) as e:
+            warn("snapshots: entry %d unusable (%s), skipped" % (i, e))
+    snaps = [s for s in snaps if s["boundary"] is not None or s["density"] is not None]
+    if not snaps:
+        raise Skip("no usable snapshot (no boundary nor density)")
+    snaps.sort(key=lambda s: s["t"])
+    if len(snaps) > 12:
+        pick = np.unique(np.linspace(0, len(snaps) - 1, 12).round().astype(int))
+        snaps = [snaps[i] for i in pick]
+
+    # path of the centre of mass (may be absent)
+    path = None
+    if run.cols is not None and all(k in run.cols for k in ("t", "x", "y")):
+        path = (run.cols["t"], run.cols["x"], run.cols["y"])
+
+    # common window: every body, and the path up to the last snapshot
+    xs, ys = [], []
+    sizes = []
+    for s in snaps:
+        if s["boundary"] is not None:
+            xs.append(s["boundary"][0]); ys.append(s["boundary"][1])
+            sizes.append(max(span(s["boundary"][0]), span(s["boundary"][1])))
+        if s["density"] is not None:
+            xs.append(s["density"][0].ravel()); ys.append(s["density"][1].ravel())
+            sizes.append(max(span(s["density"][0]), span(s["density"][1])))
+        if np.isfinite(s["pos"]).all():
+            xs.append(np.array([s["pos"][0]])); ys.append(np.array([s["pos"][1]]))
+    if path is not None:
+        m = path[0] <= snaps[-1]["t"] + 1e-12
+        xs.append(path[1][m]); ys.append(path[2][m])
+    allx = np.concatenate(xs); ally = np.concatenate(ys)
+    allx = allx[np.isfinite(allx)]; ally = ally[np.isfinite(ally)]
+    if not allx.size or not ally.size:
+        raise Skip("snapshot coordinates are all NaN")
+    body = max([v for v in sizes if np.isfinite(v)] or [1.0])
+    margin = 0.35 * body
+    xlim = [allx.min() - margin, allx.max() + margin]
+    ylim = [ally.min() - margin, ally.max() + margin]
+
+    # shared colour scale for the density; robust against a few huge values near J -> 0
+    rhos = np.concatenate([s["density"][2].ravel() for s in snaps if s["density"] is not None]
+                          or [np.zeros(0)])
+    rhos = rhos[np.isfinite(rhos)]
+    if rhos.size:
+        vmin, vmax = np.percentile(rhos, [0.5, 99.5])
+        if vmax <= vmin:
+            vmin, vmax = vmin - 0.5 * abs(vmin or 1), vmax + 0.5 * abs(vmax or 1)
+    else:
+        vmin, vmax = 0.0, 1.0
+    norm = Normalize(vmin, vmax)
+
+    # shared arrow scale: the longest arrow is ~12% of the window width
+    speeds = np.concatenate([np.hypot(s["arrows"][2], s["arrows"][3])
+                             for s in snaps if s["arrows"] is not None] or [np.zeros(0)])
+    speeds = speeds[np.isfinite(speeds)]
+    vref = float(np.percentile(speeds, 98)) if speeds.size else 0.0
+    width = max(xlim[1] - xlim[0], ylim[1] - ylim[0])
+    qscale = vref / (0.10 * width) if vref > 0 else None
+
+    n = len(snaps)
+    ncols = min(n, 5 if n != 6 else 3)
+    if n in (7, 8):
+        ncols = 4
+    nrows = int(math.ceil(n / ncols))
+    wx, wy = xlim[1] - xlim[0], ylim[1] - ylim[0]
+    panel_w = 11.0 / ncols
+    height = min(max(nrows * panel_w * wy / wx + 1.2, 4.0), 11.0)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(12.0, height), squeeze=False,
+                             sharex=True, sharey=True)
+    mappable = None
+    quiver_done = None
+    for k, ax in enumerate(axes.ravel()):
+        if k >= n:
+            ax.set_visible(False)
+            continue
+        s = snaps[k]
+        if s["density"] is not None:
+            X, Y, R = s["density"]
+            if np.isfinite(R).all():
+                mappable = ax.pcolormesh(X, Y, R, shading="gouraud", cmap="viridis",
+                                         norm=norm, rasterized=True)
+            elif min(R.shape) > 1:
+                # Gouraud shading cannot leave holes: use flat cells (mean of the four
+                # corners) and leave blank the cells touching a NaN
+                cell = 0.25 * (R[:-1, :-1] + R[1:, :-1] + R[:-1, 1:] + R[1:, 1:])
+                mappable = ax.pcolormesh(X, Y, np.ma.masked_invalid(cell), shading="flat",
+                                         cmap="viridis", norm=norm, rasterized=True)
+        if s["boundary"] is not None:
+            bx, by = s["boundary"]
+            ax.plot(np.append(bx, bx[:1]), np.append(by, by[:1]), color="k", lw=1.2)
+        if path is not None:
+            m = path[0] <= s["t"] + 1e-12
+            ax.plot(path[1][m], path[2][m], color="k", ls="--", lw=1.0)
+        px, py = s["pos"]
+        if not (np.isfinite(px) and np.isfinite(py)) and path is not None and len(path[0]):
+            i = int(np.nanargmin(np.abs(path[0] - s["t"])))
+            px, py = path[1][i], path[2][i]
+        if np.isfinite(px) and np.isfinite(py):
+            ax.plot(px, py, "o", color="k", ms=5, zorder=5)
+        if s["arrows"] is not None and qscale is not None:
+            X, Y, U, V = s["arrows"]
+            ok = (np.isfinite(X) & np.isfinite(Y) & np.isfinite(U) & np.isfinite(V)
+                  & (X >= xlim[0]) & (X <= xlim[1]) & (Y >= ylim[0]) & (Y <= ylim[1]))
+            if ok.any():
+                quiver_done = ax.quiver(X[ok], Y[ok], U[ok], V[ok], color="tab:green",
+                                        angles="xy", scale_units="xy", scale=qscale,
+                                        width=0.006, zorder=4)
+        ax.set_xlim(xlim)
+        ax.set_ylim(ylim)
+        ax.set_aspect("equal")
+        ax.set_title("t = %.3g" % s["t"])
+        if k % ncols == 0:
+            ax.set_ylabel("y")
+        if k // ncols == nrows - 1 or k + ncols >= n:
+            ax.set_xlabel("x")
+            ax.tick_params(labelbottom=True)
+    run.suptitle(fig, "snapshots (colour: density of the body, arrows: fluid velocity)")
+    fig.tight_layout(rect=(0, 0.04 if quiver_done is not None else 0, 0.9, 1))
+    if mappable is not None:
+        cax = fig.add_axes((0.915, 0.15, 0.015, 0.7))
+        lo = rhos.size and rhos.min() < vmin
+        hi = rhos.size and rhos.max() > vmax
+        cb = fig.colorbar(mappable, cax=cax,
+                          extend={(0, 0): "neither", (1, 0): "min", (0, 1): "max"}.get(
+                              (int(bool(lo)), int(bool(hi))), "both"))
+        cb.set_label(r"density $\rho = \rho_0 / J$")
+    if quiver_done is not None:
+        ax0 = axes.ravel()[0]
+        ax0.quiverkey(quiver_done, 0.5, 0.015, vref, "fluid speed %.3g" % vref,
+                      coordinates="figure", labelpos="E", color="tab:green")
+    return save(fig, run, "snapshots")
+
+
+DRAW = {"trajectory": fig_trajectory, "energy": fig_energy, "impulse": fig_impulse,
+        "phase": fig_phase, "snapshots": fig_snapshots}
+
+
+# ---------------------------------------------------------------- main
+
+def parse_args(argv):
+    usage = "usage: plot_run.py DIR [--only NAME ...]   (NAME: %s)" % ", ".join(FIGURES)
+    outdir, only, mode = None, [], None
+    for a in argv:
+        if a in ("-h", "--help"):
+            print(__doc__.strip())
+            sys.exit(0)
+        if a == "--only":
+            mode = "only"
+            continue
+        if a.startswith("--only="):
+            only.extend(x for x in a.split("=", 1)[1].split(",") if x)
+            mode = "only"
+            continue
+        if mode == "only" and outdir is not None:
+            only.extend(x for x in a.split(",") if x)
+        elif outdir is None:
+            outdir = a
+        elif mode == "only":
+            only.extend(x for x in a.split(",") if x)
+        else:
+            print(usage, file=sys.stderr)
+            sys.exit(2)
+    if outdir is None:
+        print(usage, file=sys.stderr)
+        sys.exit(2)
+    if mode == "only" and not only:
+        print("plot_run: --only needs at least one NAME\n" + usage, file=sys.stderr)
+        sys.exit(2)
+    return outdir, only
+
+
+def main(argv):
+    outdir, only = parse_args(argv)
+    if not os.path.isdir(outdir):
+        warn("%s is not a directory" % outdir)
+        return 1
+    wanted = []
+    for name in only or FIGURES:
+        base = name[:-4] if name.endswith(".png") else name
+        if base in DRAW:
+            if base not in wanted:
+                wanted.append(base)
+        else:
+            warn("unknown figure '%s' (known: %s)" % (name, ", ".join(FIGURES)))
+    run = Run(outdir)
+    if run.csv_error:
+        warn(run.csv_error)
+    written = 0
+    for name in wanted:
+        try:
+            path = DRAW[name](run)
+            print(path)
+            written += 1
+        except Skip as e:
+            warn("%s.png skipped: %s" % (name, e))
+        except Exception as e:  # noqa: BLE001 - a plotting bug must not cost the other figures
+            warn("%s.png skipped: %s: %s" % (name, type(e).__name__, e))
+        finally:
+            plt.close("all")
+    return 0 if written else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
