@@ -1,0 +1,179 @@
+/* SUNDIALS CVODE peers: "cvode-adams" (Adams-Moulton, fixed-point iteration)
+ * and "cvode-bdf" (BDF, dense Newton with CVODE's difference-quotient
+ * Jacobian).  Output at tout comes from CVODE's own interpolant (CV_NORMAL). */
+#include "ode/ode_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cvode/cvode.h>
+#include <cvode/cvode_ls.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+
+typedef struct {
+    swim_ode_system sys;
+    SUNContext ctx;
+    void *mem;
+    N_Vector y, atolv;
+    SUNMatrix A;
+    SUNLinearSolver LS;
+    SUNNonlinearSolver NLS;
+    int bdf;
+    double t;
+    long nfe_user;
+    int rhs_status;
+} cv_peer;
+
+static int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void *p)
+{
+    cv_peer *c = p;
+    if (c->rhs_status)
+        return -1;   /* after a failure every later call fails too, so CVODE gives up quickly */
+    c->nfe_user++;
+    int rc = c->sys.function(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), c->sys.params);
+    if (rc) {
+        c->rhs_status = rc;
+        return -1;   /* unrecoverable */
+    }
+    return 0;
+}
+
+static void cv_silent(int code, const char *module, const char *function, char *msg, void *data)
+{
+    (void)code; (void)module; (void)function; (void)msg; (void)data;
+}
+
+static void cv_destroy(void *p)
+{
+    cv_peer *c = p;
+    if (!c)
+        return;
+    if (c->mem)
+        CVodeFree(&c->mem);
+    if (c->NLS)
+        SUNNonlinSolFree(c->NLS);
+    if (c->LS)
+        SUNLinSolFree(c->LS);
+    if (c->A)
+        SUNMatDestroy(c->A);
+    if (c->y)
+        N_VDestroy(c->y);
+    if (c->atolv)
+        N_VDestroy(c->atolv);
+    if (c->ctx)
+        SUNContext_Free(&c->ctx);
+    free(c);
+}
+
+static int cv_advance(void *p, double tout, double *yout)
+{
+    cv_peer *c = p;
+    realtype t = c->t;
+    int rc = CVode(c->mem, tout, c->y, &t, CV_NORMAL);
+    memcpy(yout, N_VGetArrayPointer(c->y), c->sys.dimension * sizeof(double));
+    CVodeGetCurrentTime(c->mem, &t);
+    c->t = t;
+    if (c->rhs_status)
+        return SWIM_ODE_ERHS;   /* CVODE may treat a failing RHS as recoverable; we do not */
+    if (rc >= 0)
+        return SWIM_ODE_OK;
+    switch (rc) {
+    case CV_TOO_MUCH_WORK: return SWIM_ODE_EMAXSTEPS;
+    case CV_TOO_MUCH_ACC: return SWIM_ODE_ETOLTOOSMALL;
+    case CV_ILL_INPUT: return SWIM_ODE_EBADARG;
+    case CV_RHSFUNC_FAIL:
+    case CV_FIRST_RHSFUNC_ERR:
+        return c->rhs_status ? SWIM_ODE_ERHS : SWIM_ODE_EFAIL;
+    case CV_MEM_FAIL: return SWIM_ODE_ENOMEM;
+    case CV_ERR_FAILURE:
+    case CV_CONV_FAILURE: return c->rhs_status ? SWIM_ODE_ERHS : SWIM_ODE_EHMIN;
+    default: return c->rhs_status ? SWIM_ODE_ERHS : SWIM_ODE_EFAIL;
+    }
+}
+
+static void cv_stats(const void *p, swim_ode_stats *st)
+{
+    const cv_peer *c = p;
+    memset(st, 0, sizeof *st);
+    long nst = 0, netf = 0, ncf = 0, nje = 0;
+    realtype h = 0;
+    int q = 0;
+    CVodeGetNumSteps(c->mem, &nst);
+    CVodeGetNumErrTestFails(c->mem, &netf);
+    CVodeGetNumNonlinSolvConvFails(c->mem, &ncf);
+    if (c->bdf)
+        CVodeGetNumJacEvals(c->mem, &nje);
+    CVodeGetLastStep(c->mem, &h);
+    CVodeGetLastOrder(c->mem, &q);
+    st->steps = nst;
+    st->rhs_evals = c->nfe_user;   /* counted in the wrapper: includes DQ Jacobian calls */
+    st->rejected = netf + ncf;
+    st->jac_evals = nje;
+    st->last_h = h;
+    st->last_order = q;
+}
+
+static double cv_time(const void *p) { return ((const cv_peer *)p)->t; }
+static int cv_rhs_status(const void *p) { return ((const cv_peer *)p)->rhs_status; }
+
+static const ode_backend cv_backend = { cv_destroy, cv_advance, cv_stats, cv_time, cv_rhs_status };
+
+int swim_ode_cvode_create(const char *method, const swim_ode_system *sys, const swim_ode_options *opt,
+                          double t0, const double *y0, void **impl, const ode_backend **be)
+{
+    int bdf;
+    if (strcmp(method, "cvode-adams") == 0) bdf = 0;
+    else if (strcmp(method, "cvode-bdf") == 0) bdf = 1;
+    else return SWIM_ODE_EBADARG;
+    size_t n = sys->dimension;
+    cv_peer *c = calloc(1, sizeof *c);
+    if (!c)
+        return SWIM_ODE_ENOMEM;
+    c->sys = *sys;
+    c->bdf = bdf;
+    c->t = t0;
+    int ok = SUNContext_Create(NULL, &c->ctx) == 0;
+    if (ok) ok = (c->y = N_VNew_Serial((sunindextype)n, c->ctx)) != NULL;
+    if (ok) {
+        memcpy(N_VGetArrayPointer(c->y), y0, n * sizeof(double));
+        ok = (c->mem = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, c->ctx)) != NULL;
+    }
+    if (ok) ok = CVodeSetErrHandlerFn(c->mem, cv_silent, NULL) == CV_SUCCESS;
+    if (ok) ok = CVodeInit(c->mem, cv_rhs, t0, c->y) == CV_SUCCESS;
+    if (ok) ok = CVodeSetUserData(c->mem, c) == CV_SUCCESS;
+    if (ok && opt->atol_vec) {
+        ok = (c->atolv = N_VNew_Serial((sunindextype)n, c->ctx)) != NULL;
+        if (ok) {
+            memcpy(N_VGetArrayPointer(c->atolv), opt->atol_vec, n * sizeof(double));
+            ok = CVodeSVtolerances(c->mem, opt->rtol, c->atolv) == CV_SUCCESS;
+        }
+    } else if (ok) {
+        ok = CVodeSStolerances(c->mem, opt->rtol, opt->atol) == CV_SUCCESS;
+    }
+    if (ok) {
+        if (bdf) {
+            ok = (c->A = SUNDenseMatrix((sunindextype)n, (sunindextype)n, c->ctx)) != NULL;
+            if (ok) ok = (c->LS = SUNLinSol_Dense(c->y, c->A, c->ctx)) != NULL;
+            if (ok) ok = CVodeSetLinearSolver(c->mem, c->LS, c->A) == CV_SUCCESS;
+        } else {
+            ok = (c->NLS = SUNNonlinSol_FixedPoint(c->y, 0, c->ctx)) != NULL;
+            if (ok) ok = CVodeSetNonlinearSolver(c->mem, c->NLS) == CV_SUCCESS;
+        }
+    }
+    if (ok) ok = CVodeSetMaxNumSteps(c->mem, opt->max_steps > 0 ? opt->max_steps : 10000000L) == CV_SUCCESS;
+    if (ok && opt->hmax > 0) ok = CVodeSetMaxStep(c->mem, opt->hmax) == CV_SUCCESS;
+    if (ok && opt->h0 > 0) ok = CVodeSetInitStep(c->mem, opt->h0) == CV_SUCCESS;
+    if (ok && isfinite(opt->tstop)) ok = CVodeSetStopTime(c->mem, opt->tstop) == CV_SUCCESS;
+    if (!ok) {
+        cv_destroy(c);
+        return SWIM_ODE_EFAIL;
+    }
+    *impl = c;
+    *be = &cv_backend;
+    return SWIM_ODE_OK;
+}

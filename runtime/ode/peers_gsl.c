@@ -1,0 +1,201 @@
+/* GSL odeiv2 peers (rk8pd, msadams, rkf45, msbdf) behind the swim_ode interface.
+ * GSL's driver ends each call exactly at tout (it shortens the last step);
+ * these steppers have no dense output of their own. */
+#include "ode/ode_internal.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
+
+typedef struct {
+    swim_ode_system sys;
+    gsl_odeiv2_system gsys;
+    const gsl_odeiv2_step_type *type;
+    gsl_odeiv2_driver *drv;
+    swim_ode_options opt;
+    double *scale_abs, *f0, *f1, *ytmp;
+    double t, t0;
+    double *y0;
+    long nfe, njac;
+    int rhs_status;
+} gsl_peer;
+
+static int gsl_rhs(double t, const double *y, double *f, void *p)
+{
+    gsl_peer *g = p;
+    g->nfe++;
+    int rc = g->sys.function(t, y, f, g->sys.params);
+    if (rc) {
+        g->rhs_status = rc;
+        return GSL_EBADFUNC;
+    }
+    return GSL_SUCCESS;
+}
+
+/* Forward-difference Jacobian (n+2 RHS evaluations including df/dt). */
+static int gsl_jac(double t, const double *y, double *dfdy, double *dfdt, void *p)
+{
+    gsl_peer *g = p;
+    size_t n = g->sys.dimension;
+    g->njac++;
+    if (gsl_rhs(t, y, g->f0, g) != GSL_SUCCESS)
+        return GSL_EBADFUNC;
+    memcpy(g->ytmp, y, n * sizeof(double));
+    const double sq = sqrt(DBL_EPSILON);
+    for (size_t j = 0; j < n; j++) {
+        double at = g->opt.atol_vec ? g->scale_abs[j] : g->opt.atol;
+        double d = sq * fmax(fabs(y[j]), fmax(at / fmax(g->opt.rtol, DBL_EPSILON), 1e-8));
+        volatile double yj = y[j] + d;
+        d = yj - y[j];
+        g->ytmp[j] = yj;
+        if (gsl_rhs(t, g->ytmp, g->f1, g) != GSL_SUCCESS)
+            return GSL_EBADFUNC;
+        g->ytmp[j] = y[j];
+        for (size_t i = 0; i < n; i++)
+            dfdy[i * n + j] = (g->f1[i] - g->f0[i]) / d;
+    }
+    double dt = sq * fmax(fabs(t), 1.0);
+    if (gsl_rhs(t + dt, y, g->f1, g) != GSL_SUCCESS)
+        return GSL_EBADFUNC;
+    for (size_t i = 0; i < n; i++)
+        dfdt[i] = (g->f1[i] - g->f0[i]) / dt;
+    return GSL_SUCCESS;
+}
+
+static void gsl_destroy(void *p)
+{
+    gsl_peer *g = p;
+    if (!g)
+        return;
+    if (g->drv)
+        gsl_odeiv2_driver_free(g->drv);
+    free(g->scale_abs);
+    free(g);
+}
+
+/* Initial step from the same heuristic as ABM: h ~ 0.25 / sqrt(|f/w|), at most tout - t0. */
+static double initial_step(gsl_peer *g, double tout)
+{
+    size_t n = g->sys.dimension;
+    double h = tout - g->t0;
+    if (g->opt.h0 > 0)
+        return fmin(g->opt.h0, h);
+    if (gsl_rhs(g->t0, g->y0, g->f0, g) != GSL_SUCCESS)
+        return -1.0;
+    double s = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        double at = g->opt.atol_vec ? g->scale_abs[i] : g->opt.atol;
+        double q = g->f0[i] / (g->opt.rtol * fabs(g->y0[i]) + at);
+        s += q * q;
+    }
+    s = sqrt(s / n);
+    if (16.0 * s * h * h > 1.0)
+        h = 0.25 / sqrt(s);
+    if (g->opt.hmax > 0)
+        h = fmin(h, g->opt.hmax);
+    return h;
+}
+
+static int gsl_advance(void *p, double tout, double *yout)
+{
+    gsl_peer *g = p;
+    size_t n = g->sys.dimension;
+    if (tout > g->opt.tstop)
+        return SWIM_ODE_EBADARG;
+    if (!g->drv) {
+        double h = initial_step(g, tout);
+        if (h < 0)
+            return SWIM_ODE_ERHS;
+        const double *sc = g->scale_abs;
+        double eps_abs = 1.0;
+        g->drv = gsl_odeiv2_driver_alloc_scaled_new(&g->gsys, g->type, h, eps_abs, g->opt.rtol, 1.0, 0.0, sc);
+        if (!g->drv)
+            return SWIM_ODE_ENOMEM;
+        if (g->opt.hmax > 0)
+            gsl_odeiv2_driver_set_hmax(g->drv, g->opt.hmax);
+        gsl_odeiv2_driver_set_nmax(g->drv, 0);
+    }
+    double t = g->t;
+    memcpy(yout, g->y0, n * sizeof(double));
+    unsigned long maxs = g->opt.max_steps > 0 ? (unsigned long)g->opt.max_steps : 10000000UL;
+    unsigned long left = maxs > g->drv->e->count ? maxs - g->drv->e->count : 0;
+    if (left == 0)
+        return SWIM_ODE_EMAXSTEPS;
+    gsl_odeiv2_driver_set_nmax(g->drv, left);
+    int rc = gsl_odeiv2_driver_apply(g->drv, &t, tout, g->y0);
+    g->t = t;
+    memcpy(yout, g->y0, n * sizeof(double));
+    switch (rc) {
+    case GSL_SUCCESS: return SWIM_ODE_OK;
+    case GSL_EBADFUNC: return g->rhs_status ? SWIM_ODE_ERHS : SWIM_ODE_EFAIL;
+    case GSL_EMAXITER: return SWIM_ODE_EMAXSTEPS;
+    case GSL_ENOPROG: return SWIM_ODE_EHMIN;
+    case GSL_ENOMEM: return SWIM_ODE_ENOMEM;
+    default: return SWIM_ODE_EFAIL;
+    }
+}
+
+static void gsl_stats(const void *p, swim_ode_stats *st)
+{
+    const gsl_peer *g = p;
+    memset(st, 0, sizeof *st);
+    st->rhs_evals = g->nfe;
+    st->jac_evals = g->njac;
+    if (g->drv) {
+        st->steps = (long)g->drv->e->count;
+        st->rejected = (long)g->drv->e->failed_steps;
+        st->last_h = g->drv->e->last_step;
+    }
+}
+
+static double gsl_time(const void *p) { return ((const gsl_peer *)p)->t; }
+static int gsl_rhs_status(const void *p) { return ((const gsl_peer *)p)->rhs_status; }
+
+static const ode_backend gsl_backend = { gsl_destroy, gsl_advance, gsl_stats, gsl_time, gsl_rhs_status };
+
+int swim_ode_gsl_create(const char *method, const swim_ode_system *sys, const swim_ode_options *opt,
+                        double t0, const double *y0, void **impl, const ode_backend **be)
+{
+    const gsl_odeiv2_step_type *type = NULL;
+    if (strcmp(method, "rk8pd") == 0) type = gsl_odeiv2_step_rk8pd;
+    else if (strcmp(method, "msadams") == 0) type = gsl_odeiv2_step_msadams;
+    else if (strcmp(method, "rkf45") == 0) type = gsl_odeiv2_step_rkf45;
+    else if (strcmp(method, "msbdf") == 0) type = gsl_odeiv2_step_msbdf;
+    else return SWIM_ODE_EBADARG;
+    if (opt->rtol == 0 && !opt->atol_vec && opt->atol == 0)
+        return SWIM_ODE_EBADARG;
+    /* GSL's default handler aborts the program; errors are reported by status here. */
+    gsl_set_error_handler_off();
+    size_t n = sys->dimension;
+    gsl_peer *g = calloc(1, sizeof *g);
+    if (!g)
+        return SWIM_ODE_ENOMEM;
+    g->scale_abs = malloc(5 * n * sizeof(double));
+    if (!g->scale_abs) {
+        free(g);
+        return SWIM_ODE_ENOMEM;
+    }
+    g->f0 = g->scale_abs + n;
+    g->f1 = g->f0 + n;
+    g->ytmp = g->f1 + n;
+    g->y0 = g->ytmp + n;
+    for (size_t i = 0; i < n; i++)
+        g->scale_abs[i] = opt->atol_vec ? opt->atol_vec[i] : opt->atol;
+    memcpy(g->y0, y0, n * sizeof(double));
+    g->sys = *sys;
+    g->opt = *opt;
+    g->opt.atol_vec = opt->atol_vec ? g->scale_abs : NULL;
+    g->type = type;
+    g->gsys.function = gsl_rhs;
+    g->gsys.jacobian = gsl_jac;
+    g->gsys.dimension = n;
+    g->gsys.params = g;
+    g->t = g->t0 = t0;
+    *impl = g;
+    *be = &gsl_backend;
+    return SWIM_ODE_OK;
+}

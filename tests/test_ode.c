@@ -1,0 +1,492 @@
+/* Tests of the ODE module: the ABM stepper and the peers behind swim_ode. */
+#include "check.h"
+#include "ode/abm.h"
+#include "ode/ode.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+static int ho_rhs(double t, const double *y, double *f, void *p)
+{
+    (void)t; (void)p;
+    f[0] = y[1];
+    f[1] = -y[0];
+    return 0;
+}
+
+static int kepler_rhs(double t, const double *y, double *f, void *p)
+{
+    (void)t; (void)p;
+    double r2 = y[0] * y[0] + y[1] * y[1];
+    double r3 = r2 * sqrt(r2);
+    f[0] = y[2];
+    f[1] = y[3];
+    f[2] = -y[0] / r3;
+    f[3] = -y[1] / r3;
+    return 0;
+}
+
+static const double AREN_MU = 0.012277471;
+static const double AREN_T = 17.0652165601579625588917206249;
+static int arenstorf_rhs(double t, const double *y, double *f, void *p)
+{
+    (void)t; (void)p;
+    double mu = AREN_MU, mp = 1.0 - mu;
+    double d1 = pow((y[0] + mu) * (y[0] + mu) + y[1] * y[1], 1.5);
+    double d2 = pow((y[0] - mp) * (y[0] - mp) + y[1] * y[1], 1.5);
+    f[0] = y[2];
+    f[1] = y[3];
+    f[2] = y[0] + 2 * y[3] - mp * (y[0] + mu) / d1 - mu * (y[0] - mp) / d2;
+    f[3] = y[1] - 2 * y[2] - mp * y[1] / d1 - mu * y[1] / d2;
+    return 0;
+}
+
+/* y' = -1000 (y - cos t) - sin t, solution cos t: stiff for explicit methods */
+static int stiff_rhs(double t, const double *y, double *f, void *p)
+{
+    (void)p;
+    f[0] = -1000.0 * (y[0] - cos(t)) - sin(t);
+    return 0;
+}
+
+/* smooth but with a sharp pulse at t = 5 that forces rejections */
+static int pulse_rhs(double t, const double *y, double *f, void *p)
+{
+    (void)p;
+    double z = (t - 5.0) / 0.02;
+    f[0] = -0.1 * y[0] + 30.0 * exp(-z * z);
+    f[1] = y[0] - y[1];
+    return 0;
+}
+
+static int failing_rhs(double t, const double *y, double *f, void *p)
+{
+    (void)p;
+    if (t > 1.0)
+        return 42;
+    f[0] = -y[0];
+    return 0;
+}
+
+static void kepler_init(double e, double *y)
+{
+    y[0] = 1.0 - e;
+    y[1] = 0.0;
+    y[2] = 0.0;
+    y[3] = sqrt((1.0 + e) / (1.0 - e));
+}
+
+static double run(const char *method, const swim_ode_system *sys, double rtol, double atol, double t0,
+                  const double *y0, double t1, double *y, swim_ode_stats *st, int *status)
+{
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.rtol = rtol;
+    o.atol = atol;
+    swim_ode *s = NULL;
+    int rc = swim_ode_create(method, sys, &o, t0, y0, &s);
+    if (rc == 0)
+        rc = swim_ode_advance(s, t1, y);
+    if (st && s)
+        swim_ode_get_stats(s, st);
+    swim_ode_free(s);
+    *status = rc;
+    return 0;
+}
+
+static void test_harmonic(void)
+{
+    swim_ode_system sys = { ho_rhs, 2, NULL };
+    double y0[2] = { 1.0, 0.0 }, y[2];
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.rtol = 1e-10;
+    o.atol = 1e-10;
+    swim_ode *s;
+    CHECK(swim_ode_create(NULL, &sys, &o, 0.0, y0, &s) == 0, "create abm");
+    CHECK(strcmp(swim_ode_method_name(s), "abm") == 0, "default method is abm");
+    double maxerr = 0;
+    int ok = 1;
+    for (int i = 1; i <= 50; i++) {
+        double t = 0.4 * i;
+        ok &= swim_ode_advance(s, t, y) == 0;
+        maxerr = fmax(maxerr, fmax(fabs(y[0] - cos(t)), fabs(y[1] + sin(t))));
+    }
+    CHECK(ok, "advance ok");
+    CHECK(maxerr < 1e-8, "harmonic oscillator max error %g", maxerr);
+    swim_ode_stats st;
+    swim_ode_get_stats(s, &st);
+    long sum = 0;
+    int maxord = 0;
+    for (int k = 0; k <= 12; k++) {
+        sum += st.order_hist[k];
+        if (st.order_hist[k])
+            maxord = k;
+    }
+    CHECK(sum == st.steps && st.steps > 0, "order histogram sums to steps (%ld vs %ld)", sum, st.steps);
+    CHECK(st.rhs_evals >= 2 * st.steps && st.rhs_evals <= 2 * (st.steps + st.rejected) + 1,
+          "PECE: 2 evaluations per step (%ld evals, %ld steps)", st.rhs_evals, st.steps);
+    CHECK(maxord >= 8, "high order used at tight tolerance (max order %d)", maxord);
+    CHECK(st.last_h > 0 && st.last_order >= 1 && !st.stiff_suspected, "stats fields");
+    CHECK(swim_ode_time(s) >= 20.0, "internal time covers tout");
+    swim_ode_free(s);
+
+    /* every method behind the same interface */
+    for (const char *const *m = swim_ode_methods(); *m; m++) {
+        int rc;
+        swim_ode_stats st2;
+        run(*m, &sys, 1e-9, 1e-9, 0.0, y0, 10.0, y, &st2, &rc);
+        double err = fmax(fabs(y[0] - cos(10.0)), fabs(y[1] + sin(10.0)));
+        CHECK(rc == 0 && err < 1e-5, "%s: status %d error %g", *m, rc, err);
+        CHECK(st2.rhs_evals > 0 && st2.steps > 0, "%s: stats", *m);
+    }
+}
+
+static void test_kepler(void)
+{
+    swim_ode_system sys = { kepler_rhs, 4, NULL };
+    double y0[4], y[4];
+    kepler_init(0.5, y0);
+    double E0 = 0.5 * (y0[2] * y0[2] + y0[3] * y0[3]) - 1.0 / hypot(y0[0], y0[1]);
+    double L0 = y0[0] * y0[3] - y0[1] * y0[2];
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.rtol = 1e-12;
+    o.atol = 1e-12;
+    swim_ode *s;
+    CHECK(swim_ode_create("abm", &sys, &o, 0.0, y0, &s) == 0, "create");
+    double dE = 0, dL = 0;
+    int ok = 1;
+    for (int i = 1; i <= 100; i++) {
+        ok &= swim_ode_advance(s, 0.2 * PI * i, y) == 0;   /* 10 periods */
+        double E = 0.5 * (y[2] * y[2] + y[3] * y[3]) - 1.0 / hypot(y[0], y[1]);
+        double L = y[0] * y[3] - y[1] * y[2];
+        dE = fmax(dE, fabs(E - E0));
+        dL = fmax(dL, fabs(L - L0));
+    }
+    CHECK(ok, "kepler advance");
+    CHECK(dE < 1e-9, "Kepler energy drift %g", dE);
+    CHECK(dL < 1e-9, "Kepler angular momentum drift %g", dL);
+    double err = 0;
+    for (int i = 0; i < 4; i++)
+        err = fmax(err, fabs(y[i] - y0[i]));
+    CHECK(err < 1e-7, "Kepler orbit closes after 10 periods (error %g)", err);
+    swim_ode_free(s);
+}
+
+static void test_arenstorf(void)
+{
+    swim_ode_system sys = { arenstorf_rhs, 4, NULL };
+    double y0[4] = { 0.994, 0.0, 0.0, -2.00158510637908252240537862224 }, y[4];
+    int rc;
+    swim_ode_stats st;
+    run("abm", &sys, 1e-12, 1e-12, 0.0, y0, AREN_T, y, &st, &rc);
+    double err = 0;
+    for (int i = 0; i < 4; i++)
+        err = fmax(err, fabs(y[i] - y0[i]));
+    CHECK(rc == 0 && err < 1e-6, "Arenstorf orbit closes after one period (error %g)", err);
+    /* and it really went around: at half period it is far from the start */
+    run("abm", &sys, 1e-10, 1e-10, 0.0, y0, 0.5 * AREN_T, y, &st, &rc);
+    CHECK(rc == 0 && fabs(y[0] - y0[0]) > 0.5, "Arenstorf half period is elsewhere (x = %g)", y[0]);
+}
+
+/* global error roughly proportional to the tolerance over four decades */
+static void test_proportionality(void)
+{
+    swim_ode_system sys = { kepler_rhs, 4, NULL };
+    double y0[4], y[4];
+    kepler_init(0.5, y0);
+    double lt[5], le[5];
+    int m = 0;
+    for (int j = 0; j <= 4; j++) {
+        double tol = pow(10.0, -6.0 - j);
+        int rc;
+        run("abm", &sys, tol, tol, 0.0, y0, 4 * PI, y, NULL, &rc);
+        double err = 0;
+        for (int i = 0; i < 4; i++)
+            err = fmax(err, fabs(y[i] - y0[i]));
+        CHECK(rc == 0, "proportionality run %d", rc);
+        lt[m] = log10(tol);
+        le[m] = log10(err);
+        m++;
+    }
+    /* least-squares slope of log(err) against log(tol) */
+    double mt = 0, me = 0, sxy = 0, sxx = 0;
+    for (int i = 0; i < m; i++) { mt += lt[i] / m; me += le[i] / m; }
+    for (int i = 0; i < m; i++) { sxy += (lt[i] - mt) * (le[i] - me); sxx += (lt[i] - mt) * (lt[i] - mt); }
+    double slope = sxy / sxx, worst = 0;
+    for (int i = 0; i < m; i++)
+        worst = fmax(worst, fabs(le[i] - (me + slope * (lt[i] - mt))));
+    CHECK(slope > 0.8 && slope < 1.25, "error ~ tolerance: slope %.3f", slope);
+    CHECK(worst < 0.6, "error/tolerance ratio stays within a factor 4 of the fit (%.2f decades)", worst);
+    CHECK(le[4] < le[0] - 3.0, "four decades of tolerance give >= 3 decades of error (%.2f -> %.2f)", le[0], le[4]);
+}
+
+/* dense output between steps, and outputs never shorten steps */
+static void test_interpolant(void)
+{
+    swim_ode_system sys = { kepler_rhs, 4, NULL };
+    double y0[4], y[4];
+    kepler_init(0.5, y0);
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.rtol = 1e-11;
+    o.atol = 1e-11;
+    swim_ode *s1, *s2;
+    swim_ode_create("abm", &sys, &o, 0.0, y0, &s1);
+    swim_ode_create("abm", &sys, &o, 0.0, y0, &s2);
+    /* reference for t in one period: the same orbit integrated much tighter */
+    swim_ode_options o2 = o;
+    o2.rtol = o2.atol = 1e-14;
+    swim_ode *r;
+    swim_ode_create("abm", &sys, &o2, 0.0, y0, &r);
+    double yr[4], maxerr = 0;
+    int ok = 1;
+    srand(12345);
+    double t = 0;
+    for (int i = 0; i < 1000; i++) {
+        t += (2 * PI / 1000) * (0.5 + (double)rand() / RAND_MAX);
+        if (t > 2 * PI) break;
+        ok &= swim_ode_advance(s1, t, y) == 0;
+        ok &= swim_ode_advance(r, t, yr) == 0;
+        for (int k = 0; k < 4; k++)
+            maxerr = fmax(maxerr, fabs(y[k] - yr[k]));
+    }
+    ok &= swim_ode_advance(s1, 2 * PI, y) == 0;
+    ok &= swim_ode_advance(s2, 2 * PI, yr) == 0;
+    CHECK(ok, "dense advance ok");
+    CHECK(maxerr < 1e-8, "interpolant error between steps %g", maxerr);
+    swim_ode_stats a, b;
+    swim_ode_get_stats(s1, &a);
+    swim_ode_get_stats(s2, &b);
+    CHECK(a.steps == b.steps && a.rhs_evals == b.rhs_evals,
+          "1000 outputs do not change the steps (%ld/%ld steps, %ld/%ld evals)", a.steps, b.steps, a.rhs_evals, b.rhs_evals);
+    CHECK(memcmp(y, yr, sizeof y) == 0, "same final value with and without dense output");
+
+    /* the interpolant reproduces the step end points and is smooth in between */
+    swim_ode_system hs = { ho_rhs, 2, NULL };
+    double z0[2] = { 1.0, 0.0 };
+    abm *ab;
+    abm_create(&hs, &o, 0.0, z0, &ab);
+    double z[2];
+    abm_advance(ab, 3.0, z);
+    double tn = abm_time(ab), zz[2], zp[2];
+    abm_interp(ab, tn, zz, zp);
+    CHECK(memcmp(zz, abm_state(ab), sizeof zz) == 0, "interpolant at t_n is y_n");
+    CHECK(fabs(zp[0] - zz[1]) < 1e-9 && fabs(zp[1] + zz[0]) < 1e-9, "interpolant derivative matches f");
+    abm_free(ab);
+    swim_ode_free(s1);
+    swim_ode_free(s2);
+    swim_ode_free(r);
+}
+
+/* a rejected step leaves the complete state bit-for-bit unchanged */
+static void test_reject_restore(void)
+{
+    swim_ode_system sys = { pulse_rhs, 2, NULL };
+    double y0[2] = { 1.0, 0.0 };
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.rtol = 1e-8;
+    o.atol = 1e-8;
+    abm *a;
+    CHECK(abm_create(&sys, &o, 0.0, y0, &a) == 0, "abm create");
+    double y[2];
+    abm_advance(a, 1e-3, y);   /* starts the integrator */
+    size_t m = abm_snapshot(a, NULL);
+    double *before = malloc(m * sizeof(double)), *after = malloc(m * sizeof(double));
+    int rejections = 0, restored = 0, shrunk = 0, rc = 0;
+    while (abm_time(a) < 10.0 && rc == 0) {
+        abm_snapshot(a, before);
+        double h = abm_next_h(a);
+        int acc;
+        rc = abm_step(a, &acc);
+        if (rc == 0 && !acc) {
+            rejections++;
+            abm_snapshot(a, after);
+            restored += memcmp(before, after, m * sizeof(double)) == 0;
+            shrunk += abm_next_h(a) < h;
+        }
+    }
+    CHECK(rc == 0, "pulse integration status %d", rc);
+    CHECK(rejections >= 2, "the pulse causes rejections (%d)", rejections);
+    CHECK(restored == rejections, "state restored exactly after %d of %d rejections", restored, rejections);
+    CHECK(shrunk == rejections, "step reduced after each rejection");
+    /* the pulse integral is 30*0.02*sqrt(pi); compare with a tight run */
+    swim_ode_options o2 = o;
+    o2.rtol = o2.atol = 1e-12;
+    abm *b;
+    abm_create(&sys, &o2, 0.0, y0, &b);
+    double yb[2], ya[2];
+    abm_advance(b, 10.0, yb);
+    abm_interp(a, 10.0, ya, NULL);
+    CHECK(fabs(ya[0] - yb[0]) < 1e-5 && fabs(ya[1] - yb[1]) < 1e-5, "pulse solution %g vs %g", ya[0], yb[0]);
+    free(before);
+    free(after);
+    abm_free(a);
+    abm_free(b);
+}
+
+static void test_bad_args(void)
+{
+    swim_ode_system sys = { ho_rhs, 2, NULL };
+    double y0[2] = { 1.0, 0.0 }, y[2];
+    swim_ode_options o;
+    swim_ode *s = NULL;
+    for (const char *const *m = swim_ode_methods(); *m; m++) {
+        swim_ode_options_default(&o);
+        o.rtol = -1e-6;
+        CHECK(swim_ode_create(*m, &sys, &o, 0.0, y0, &s) == SWIM_ODE_EBADARG && !s, "%s: negative rtol", *m);
+        swim_ode_options_default(&o);
+        o.atol = -1.0;
+        CHECK(swim_ode_create(*m, &sys, &o, 0.0, y0, &s) == SWIM_ODE_EBADARG, "%s: negative atol", *m);
+        swim_ode_options_default(&o);
+        o.rtol = 0;
+        o.atol = 0;
+        CHECK(swim_ode_create(*m, &sys, &o, 0.0, y0, &s) == SWIM_ODE_EBADARG, "%s: zero tolerances", *m);
+        swim_ode_options_default(&o);
+        double ynan[2] = { 1.0, NAN };
+        CHECK(swim_ode_create(*m, &sys, &o, 0.0, ynan, &s) == SWIM_ODE_EBADARG, "%s: NaN in y0", *m);
+        CHECK(swim_ode_create(*m, &sys, &o, 0.0, y0, &s) == 0, "%s: create", *m);
+        CHECK(swim_ode_advance(s, 0.0, y) == SWIM_ODE_EBADARG, "%s: t_end = t0", *m);
+        CHECK(swim_ode_advance(s, 1.0, y) == 0, "%s: advance", *m);
+        CHECK(swim_ode_advance(s, 0.5, y) == SWIM_ODE_EBADARG, "%s: tout decreasing", *m);
+        CHECK(swim_ode_advance(s, NAN, y) == SWIM_ODE_EBADARG, "%s: NaN tout", *m);
+        swim_ode_free(s);
+        s = NULL;
+    }
+    swim_ode_options_default(&o);
+    CHECK(swim_ode_create("euler", &sys, &o, 0.0, y0, &s) == SWIM_ODE_EBADARG, "unknown method");
+    o.atol_vec = (const double[]){ 1e-9, -1e-9 };
+    CHECK(swim_ode_create("abm", &sys, &o, 0.0, y0, &s) == SWIM_ODE_EBADARG, "negative atol_vec entry");
+    swim_ode_options_default(&o);
+    o.tstop = 0.0;
+    CHECK(swim_ode_create("abm", &sys, &o, 0.0, y0, &s) == SWIM_ODE_EBADARG, "tstop = t0");
+
+    /* tolerance too small for double precision: an error, not a hang */
+    swim_ode_options_default(&o);
+    o.rtol = 1e-17;
+    o.atol = 1e-30;
+    swim_ode_create("abm", &sys, &o, 0.0, y0, &s);
+    CHECK(swim_ode_advance(s, 1.0, y) == SWIM_ODE_ETOLTOOSMALL, "tolerance too small");
+    swim_ode_free(s);
+
+    /* RHS failure is passed back with its value */
+    swim_ode_system fs = { failing_rhs, 1, NULL };
+    for (const char *const *m = swim_ode_methods(); *m; m++) {
+        swim_ode_options_default(&o);
+        swim_ode_create(*m, &fs, &o, 0.0, y0, &s);
+        int rc = swim_ode_advance(s, 2.0, y);
+        CHECK(rc == SWIM_ODE_ERHS && swim_ode_rhs_status(s) == 42, "%s: RHS error (%d, %d)", *m, rc,
+              swim_ode_rhs_status(s));
+        swim_ode_free(s);
+    }
+
+    /* step budget */
+    swim_ode_options_default(&o);
+    o.max_steps = 10;
+    swim_ode_create("abm", &sys, &o, 0.0, y0, &s);
+    CHECK(swim_ode_advance(s, 100.0, y) == SWIM_ODE_EMAXSTEPS, "max_steps");
+    swim_ode_free(s);
+    CHECK(strcmp(swim_ode_strerror(SWIM_ODE_ETOLTOOSMALL), "tolerance too small for double precision") == 0, "strerror");
+}
+
+static void test_options(void)
+{
+    swim_ode_system sys = { ho_rhs, 2, NULL };
+    double y0[2] = { 1.0, 0.0 }, y[2], y2[2];
+    swim_ode_options o;
+    swim_ode *s;
+    /* tstop: never step past it */
+    swim_ode_options_default(&o);
+    o.rtol = o.atol = 1e-10;
+    o.tstop = 5.0;
+    swim_ode_create("abm", &sys, &o, 0.0, y0, &s);
+    int rc = swim_ode_advance(s, 5.0, y);
+    CHECK(rc == 0 && swim_ode_time(s) <= 5.0, "tstop respected (t = %.17g)", swim_ode_time(s));
+    CHECK(fabs(y[0] - cos(5.0)) < 1e-8, "value at tstop");
+    CHECK(swim_ode_advance(s, 6.0, y) == SWIM_ODE_EBADARG, "tout beyond tstop");
+    swim_ode_free(s);
+    /* hmax */
+    swim_ode_options_default(&o);
+    o.hmax = 0.01;
+    swim_ode_create("abm", &sys, &o, 0.0, y0, &s);
+    swim_ode_advance(s, 2.0, y);
+    swim_ode_stats st;
+    swim_ode_get_stats(s, &st);
+    CHECK(st.steps >= 200 && st.last_h <= 0.01, "hmax respected (%ld steps, last h %g)", st.steps, st.last_h);
+    swim_ode_free(s);
+    /* per-component atol equal to the scalar gives the identical result */
+    swim_ode_options_default(&o);
+    swim_ode_create("abm", &sys, &o, 0.0, y0, &s);
+    swim_ode_advance(s, 3.0, y);
+    swim_ode_free(s);
+    double av[2] = { o.atol, o.atol };
+    o.atol_vec = av;
+    swim_ode_create("abm", &sys, &o, 0.0, y0, &s);
+    av[0] = 1.0;   /* copied at creation: later changes must not matter */
+    swim_ode_advance(s, 3.0, y2);
+    swim_ode_free(s);
+    CHECK(memcmp(y, y2, sizeof y) == 0, "atol_vec equal to atol gives the same run");
+}
+
+static void test_stiffness(void)
+{
+    swim_ode_system sys = { stiff_rhs, 1, NULL };
+    double y0[1] = { 1.0 }, y[1];
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.rtol = 1e-6;
+    o.atol = 1e-6;
+    swim_ode *s;
+    swim_ode_create("abm", &sys, &o, 0.0, y0, &s);
+    int rc = swim_ode_advance(s, 10.0, y);
+    swim_ode_stats st;
+    swim_ode_get_stats(s, &st);
+    CHECK(rc == 0 && fabs(y[0] - cos(10.0)) < 1e-4, "stiff problem still solved (%d, %g)", rc, y[0]);
+    CHECK(st.stiff_suspected, "stiffness diagnostic fires on y' = -1000(y - cos t)");
+    swim_ode_free(s);
+    o.stiff_stop = 1;
+    swim_ode_create("abm", &sys, &o, 0.0, y0, &s);
+    rc = swim_ode_advance(s, 10.0, y);
+    swim_ode_get_stats(s, &st);
+    CHECK(rc == SWIM_ODE_ESTIFF && swim_ode_time(s) < 10.0, "stiff_stop returns ESTIFF early (%d)", rc);
+    swim_ode_free(s);
+    /* the BDF peers do the same problem cheaply */
+    swim_ode_stats sb;
+    run("cvode-bdf", &sys, 1e-6, 1e-6, 0.0, y0, 10.0, y, &sb, &rc);
+    CHECK(rc == 0 && fabs(y[0] - cos(10.0)) < 1e-4 && sb.rhs_evals < st.rhs_evals, "cvode-bdf on the stiff problem");
+    run("msbdf", &sys, 1e-6, 1e-6, 0.0, y0, 10.0, y, &sb, &rc);
+    CHECK(rc == 0 && fabs(y[0] - cos(10.0)) < 1e-4 && sb.jac_evals > 0, "msbdf with FD Jacobian on the stiff problem");
+    /* no false alarm on long nonstiff runs at loose and tight tolerances */
+    swim_ode_system hs = { ho_rhs, 2, NULL };
+    double z0[2] = { 1.0, 0.0 }, z[2];
+    double tols[3] = { 1e-4, 1e-8, 1e-12 };
+    for (int i = 0; i < 3; i++) {
+        swim_ode_options_default(&o);
+        o.rtol = o.atol = tols[i];
+        o.stiff_stop = 1;
+        swim_ode_create("abm", &hs, &o, 0.0, z0, &s);
+        rc = swim_ode_advance(s, 500.0, z);
+        swim_ode_get_stats(s, &st);
+        CHECK(rc == 0 && !st.stiff_suspected, "no stiffness alarm on the oscillator at tol %g", tols[i]);
+        swim_ode_free(s);
+    }
+}
+
+int main(void)
+{
+    test_harmonic();
+    test_kepler();
+    test_arenstorf();
+    test_proportionality();
+    test_interpolant();
+    test_reject_restore();
+    test_bad_args();
+    test_options();
+    test_stiffness();
+    return check_report("test_ode");
+}
