@@ -14,7 +14,7 @@ OPT        ?= -O3 -march=native
 CFLAGS     ?= $(OPT) -g
 CFLAGS     += -std=c11 -D_XOPEN_SOURCE=700 -Wall -Wextra -Wno-unused-parameter -MMD -MP
 CPPFLAGS   += -Iruntime -Igenerated -I/usr/include/sundials
-LDLIBS     += -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lm
+LDLIBS     += -ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lm
 BUILD      := build
 # Mode counts whose kernels are committed and linked into bin/swim.
 MODES      ?= 0 1 2 3 4 5 6 7
@@ -39,7 +39,7 @@ TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 DEPS_STAMP  := $(BUILD)/.deps-ok
 
-.PHONY: FORCE all deps help test bench generate generate-all run clean
+.PHONY: FORCE all deps help test bench generate generate-all run readme-figures clean
 all: bin/swim
 
 help:
@@ -50,6 +50,7 @@ help:
 	@echo "make generate N=12   regenerate the kernel for one mode count into generated/"
 	@echo "make generate-all    regenerate the committed kernels (N = $(MODES))"
 	@echo "make run        main job: simulate models/example3.toml and plot it"
+	@echo "make readme-figures  rebuild docs/figures/ from the main job"
 	@echo "make clean      remove build/ and bin/"
 
 # Install what a fresh Debian machine lacks (as root), or say exactly what is missing.
@@ -103,7 +104,7 @@ $(BUILD)/gen/%.o: $(BUILD)/gen/%.c
 
 $(BUILD)/tests/test_kernels: $(BUILD)/gen/swim_kernel_n12.o
 
-TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_plot.sh
+TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_specialized.py tests/test_plot.sh
 
 test: bin/swim $(TEST_BINS)
 	@bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)
@@ -122,6 +123,12 @@ generate-all: | $(DEPS_STAMP)
 run: bin/swim
 	./bin/swim run models/example3.toml --out out/example3
 	./bin/swim plot out/example3
+
+# Figures shown in README.md, rebuilt from the main job.
+readme-figures: run
+	mkdir -p docs/figures
+	cp out/example3/snapshots.png docs/figures/example3_snapshots.png
+	cp out/example3/energy.png docs/figures/example3_energy.png
 
 clean:
 	rm -rf $(BUILD) bin

@@ -48,6 +48,29 @@ typedef struct swim_kernel {
     void (*boundary_data)(const double *x, double *S);
 } swim_kernel;
 
+/* Codes returned by right-hand sides (generic: runtime/model/dynamics.c; scene kernels). */
+enum { SWIM_RHS_OK = 0, SWIM_RHS_ENAN, SWIM_RHS_EBARRIER, SWIM_RHS_EMASS, SWIM_RHS_ECONSTRAINT };
+
+/* Run-time parameters of a scene kernel. Vectors have the full length 2(N+1). */
+typedef struct swim_scene_params {
+    double rho0, rhof;
+    const double *x_locked;     /* values of the locked coordinates (free entries ignored) */
+    const double *stiffness, *reference, *damping, *direction;
+    double epsilon, alpha;
+    int nodes;                  /* W2 quadrature: nodes x max(N,1) tables cos/sin(m theta_q) */
+    const double *cs, *sn;
+} swim_scene_params;
+
+/* A kernel specialized to one scene structure (issue 5): it carries only the free coordinates.
+ * State y = (r_1, r_2, theta, c_free, cdot_free, work), as in runtime/model/dynamics.h. */
+typedef struct swim_scene_kernel {
+    int abi;                    /* SWIM_KERNEL_ABI */
+    int modes, nfull, nfree;
+    const int *free_index;      /* nfree indices into the full shape vector */
+    const char *structure;      /* the structure key it was generated for */
+    int (*rhs)(double t, const double *y, double *dydt, const swim_scene_params *p);
+} swim_scene_kernel;
+
 /* The kernel for N modes among those linked in, or NULL. */
 const swim_kernel *swim_kernel_find(int modes);
 /* Mode counts linked in, ascending; returns how many (at most cap written). */

@@ -3,18 +3,21 @@
 
     generate.py --modes 0 1 2 7 --out generated        kernels + the contract header
     generate.py --table 0 1 2 7 --out build/table.c    the table of kernels linked into a build
+    generate.py --scene structure.json --out k.c       a kernel specialized to one scene structure
 
 Output is deterministic: the same SymPy version writes byte-identical files.
 """
 
 import argparse
+import json
 import os
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from swimgen.emit import header_source, kernel_source, table_source  # noqa: E402
+from swimgen.emit import (header_source, kernel_source, scene_kernel_source,  # noqa: E402
+                          table_source)
 
 MAX_MODES = 20
 
@@ -33,6 +36,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--modes", type=int, nargs="*", default=[], help="mode counts N to generate")
     ap.add_argument("--table", type=int, nargs="*", help="write the kernel table for these N")
+    ap.add_argument("--scene", help="scene structure (JSON written by bin/swim) to specialize")
     ap.add_argument("--out", required=True, help="output folder (or file, with --table)")
     ap.add_argument("--quiet", action="store_true")
     args = ap.parse_args(argv)
@@ -42,6 +46,18 @@ def main(argv=None):
             print("generate.py: --modes: N = %d is out of range 0..%d" % (k, MAX_MODES),
                   file=sys.stderr)
             return 2
+
+    if args.scene:
+        try:
+            with open(args.scene, encoding="utf-8") as fh:
+                structure = json.load(fh)
+            text = scene_kernel_source(structure, "generator/generate.py --scene %s --out %s"
+                                       % (os.path.basename(args.scene), os.path.basename(args.out)))
+        except (OSError, ValueError, KeyError, TypeError) as exc:
+            print("generate.py: --scene %s: %s" % (args.scene, exc), file=sys.stderr)
+            return 2
+        write_if_changed(args.out, text)
+        return 0
 
     if args.table is not None:
         cmd = "generator/generate.py --table %s --out %s" % (

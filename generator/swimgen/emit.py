@@ -1,10 +1,19 @@
-"""Turns a SwimmerModel into the text of one C kernel (one place decides what is computed)."""
+"""Turns a SwimmerModel into C text (one place decides what is computed).
+
+kernel_source: the generic kernel for N modes (all coordinates free), linked into bin/swim.
+scene_kernel_source: a kernel specialized to one scene structure (issue 5): locked coordinates
+removed (those locked at 0 folded away), effects the scene lacks not emitted at all, the forcing
+law compiled in, and the whole right-hand side of (4.10)-(4.12), (3.21) in one function.
+"""
 
 import sympy as sp
 
 from .cprint import KernelPrinter, emit_assignments
 from .model import SwimmerModel
-from .template import HEADER, KERNEL, TABLE
+from .template import (ASSEMBLY_FULL, ASSEMBLY_REDUCED, BARRIER_FN, HEADER, KERNEL_HEAD,
+                       SCENE_RHS, SYMBOLIC_CORE, SYMBOLIC_DERIV, SYMBOLIC_JACOBIAN, TABLE)
+
+SCENE_FORMAT = 1
 
 
 def banner(command):
@@ -12,52 +21,158 @@ def banner(command):
             % (command, sp.__version__))
 
 
+def coord_name(i):
+    m = i // 2
+    return ("%s1" if m == 0 else "%sm%d" % ("%s", m)) % ("b" if i % 2 else "a")
+
+
+class _Emitter:
+    """Symbols, printer and the substitutions shared by every piece of one kernel."""
+
+    def __init__(self, m):
+        self.m = m
+        self.v = sp.symbols("v0:%d" % m.n, real=True)
+        self.w = sp.symbols("w0:%d" % m.nrows, real=True)
+        self.X = sp.symbols("X0:%d" % m.ncols, real=True)
+        width = max(m.N, 1)
+        self.cs = sp.symbols("cs0:%d" % width, real=True)
+        self.sn = sp.symbols("sn0:%d" % width, real=True)
+        names = {}
+        for prefix, syms in (("x", m.x), ("v", self.v), ("w", self.w), ("X", self.X),
+                             ("cs", self.cs), ("sn", self.sn)):
+            for i, s in enumerate(syms):
+                names[s] = "%s[%d]" % (prefix, i)
+        self.pr = KernelPrinter(names)
+
+    def body(self, assignments, indent="    ", unused=("x",)):
+        lines = emit_assignments(assignments, self.pr, indent=indent)
+        if not lines:
+            return "\n".join(indent + "(void)%s;" % u for u in unused)
+        return "\n".join(lines)
+
+    def subs(self, **extra):
+        m = self.m
+        R, P = m.nrows, m.ncols
+        S = m.S()
+        D = m.directional_dS(self.v)
+        G = m.bilinear_gradient(self.w, self.X)
+        Isum = m.inertia_sum()
+        gI = emit_assignments([("grad[%d]" % i, e) for i, e in enumerate(m.gradient(Isum))],
+                              self.pr, indent="        ")
+        I_body = "\n".join(emit_assignments([("I", Isum)], self.pr) + ["    if (grad) {"] + gI
+                           + ["    }"])
+        d = dict(
+            N=m.N, n=m.n, nfull=m.nfull, R=R, P=P,
+            columns=", ".join(coord_name(i) for i in m.free),
+            S_body=self.body([("S[%d][%d]" % (r, c), S[r][c])
+                              for r in range(R) for c in range(P) if S[r][c] != 0]),
+            D_body=self.body([("D[%d][%d]" % (r, c), D[r][c])
+                              for r in range(R) for c in range(P) if D[r][c] != 0],
+                             unused=("x", "v")),
+            G_body=self.body([("g[%d]" % i, G[i]) for i in range(m.n)],
+                             unused=("x", "w", "X")),
+            I_body=I_body,
+            bodyw=", ".join(repr(float(c)) for c in m.body_shape_weights()),
+            weights=", ".join("%d.0" % m.weight(r) for r in range(R)))
+        d.update(extra)
+        return d
+
+    def deriv_subs(self):
+        m = self.m
+        R, P = m.nrows, m.ncols
+        return self.body([("dS[%d]" % ((r * R + row) * P + col), e)
+                          for (r, row, col), e in sorted(m.dS().items())])
+
+    def jacobian_subs(self):
+        m = self.m
+        J = m.jacobian_circle(self.cs, self.sn)
+        J_body = self.body([("*J", J)], unused=("x",))
+        if m.N == 0:
+            J_body += "\n    (void)cs;\n    (void)sn;"
+        dJ_body = self.body([("dJ[%d]" % i, e) for i, e in enumerate(m.gradient(J))],
+                            indent="        ")
+        return dict(J_body=J_body, dJ_body=dJ_body)
+
+
 def kernel_source(modes, command):
     m = SwimmerModel(modes)
-    n, R, P = m.n, m.nrows, m.ncols
-    v = sp.symbols("v0:%d" % n, real=True)
-    w = sp.symbols("w0:%d" % R, real=True)
-    X = sp.symbols("X0:%d" % P, real=True)
-    cs = sp.symbols("cs0:%d" % max(modes, 1), real=True)
-    sn = sp.symbols("sn0:%d" % max(modes, 1), real=True)
-    names = {}
-    for prefix, syms in (("x", m.x), ("v", v), ("w", w), ("X", X), ("cs", cs), ("sn", sn)):
-        for i, s in enumerate(syms):
-            names[s] = "%s[%d]" % (prefix, i)
-    pr = KernelPrinter(names)
+    e = _Emitter(m)
+    d = e.subs(filename="swim_kernel_n%d.c" % modes,
+               what="mass matrices, reduced mass matrix and Christoffel symbol for N = %d." % modes,
+               banner=banner(command))
+    d.update(e.jacobian_subs(), dS_body=e.deriv_subs())
+    return "".join(t.substitute(d) for t in (KERNEL_HEAD, SYMBOLIC_CORE, SYMBOLIC_DERIV,
+                                             SYMBOLIC_JACOBIAN, ASSEMBLY_REDUCED, ASSEMBLY_FULL))
 
-    def body(assignments, indent="    "):
-        lines = emit_assignments(assignments, pr, indent=indent)
-        return "\n".join(lines) if lines else indent + "(void)x;"
 
-    S = m.S()
-    S_assign = [("S[%d][%d]" % (r, c), S[r][c])
-                for r in range(R) for c in range(P) if S[r][c] != 0]
-    D = m.directional_dS(v)
-    D_assign = [("D[%d][%d]" % (r, c), D[r][c])
-                for r in range(R) for c in range(P) if D[r][c] != 0]
-    G = m.bilinear_gradient(w, X)
-    G_assign = [("g[%d]" % i, G[i]) for i in range(n)]
-    dS_assign = [("dS[%d]" % ((r * R + row) * P + col), e)
-                 for (r, row, col), e in sorted(m.dS().items())]
-    Isum = m.inertia_sum()
-    I_lines = emit_assignments([("I", Isum)], pr)
-    gI_lines = emit_assignments([("grad[%d]" % i, sp.diff(Isum, m.x[i])) for i in range(n)],
-                                pr, indent="        ")
-    I_body = "\n".join(I_lines + ["    if (grad) {"] + gI_lines + ["    }"])
-    Jexpr = m.jacobian_circle(cs, sn)
-    J_body = body([("*J", Jexpr)])
-    if modes == 0:
-        J_body += "\n    (void)cs;\n    (void)sn;"
-    dJ_body = body([("dJ[%d]" % i, sp.diff(Jexpr, m.x[i])) for i in range(n)],
-                   indent="        ")
-    bodyw = ", ".join(repr(float(c)) for c in m.body_shape_weights())
-    return KERNEL.substitute(
-        N=modes, n=n, R=R, P=P, J=modes + 1, nm1=n - 1, banner=banner(command),
-        S_body=body(S_assign), D_body=body(D_assign) + ("\n    (void)v;" if not D_assign else ""),
-        G_body=body(G_assign), dS_body=body(dS_assign), I_body=I_body,
-        J_body=J_body, dJ_body=dJ_body, bodyw=bodyw,
-        weights=", ".join("%d.0" % m.weight(r) for r in range(R)))
+def scene_kernel_source(structure, command):
+    """structure: dict written by runtime/model/specialize.c (keys: key, format, modes, free,
+    zero, elastic, barrier, damping, forcing)."""
+    if structure.get("format") != SCENE_FORMAT:
+        raise ValueError("scene structure format %r, expected %d" % (structure.get("format"),
+                                                                     SCENE_FORMAT))
+    modes = int(structure["modes"])
+    free = [int(i) for i in structure["free"]]
+    m = SwimmerModel(modes, free=free, zero=[int(i) for i in structure["zero"]])
+    if m.n == 0:
+        raise ValueError("a scene kernel needs at least one free coordinate")
+    e = _Emitter(m)
+    pos = {i: f for f, i in enumerate(m.free)}
+    force = []
+    elastic = [i for i in structure.get("elastic", []) if i in pos]
+    if elastic:
+        force.append("    /* W1 = 1/2 (c - cref)^T R (c - cref) (ERRATA E2) */")
+        force += ["    f[%d] -= p->stiffness[%d] * (x[%d] - p->reference[%d]);" % (pos[i], i, i, i)
+                  for i in elastic]
+    barrier_fn = ""
+    if structure.get("barrier"):
+        barrier_fn = BARRIER_FN.replace("$cs_width", str(max(modes, 1)))
+        force += ["    {   /* W2 (section 4.1.1) */",
+                  "        double gW[NX];",
+                  "        const int rc = barrier_gradient(x, p, gW);",
+                  "        if (rc) return rc;",
+                  "        for (int i = 0; i < NX; i++) f[i] -= gW[i];",
+                  "    }"]
+    damping = [i for i in structure.get("damping", []) if i in pos]
+    if damping:
+        force.append("    /* -D cdot (4.15) */")
+        for i in damping:
+            force.append("    f[%d] -= p->damping[%d] * v[%d];" % (pos[i], i, pos[i]))
+            force.append("    power -= p->damping[%d] * v[%d] * v[%d];" % (i, pos[i], pos[i]))
+    forcing_fn = ""
+    fo = structure.get("forcing")
+    if fo and [i for i in fo["direction"] if i in pos]:
+        forcing_fn = ("/* F(t) = f(t) direction (5.1), f compiled from the scene's law \"%s\" */\n"
+                      "static double forcing_law(double t)\n{\n    return %s;\n}\n"
+                      % (fo["law"].replace("*/", "* /"), fo["c"]))
+        force.append("    {   /* F(t) (5.1) */")
+        force.append("        const double ft = forcing_law(t);")
+        for i in fo["direction"]:
+            if i in pos:
+                force.append("        f[%d] += ft * p->direction[%d];" % (pos[i], i))
+                force.append("        power += ft * p->direction[%d] * v[%d];" % (i, pos[i]))
+        force.append("    }")
+    rows = []
+    for f, i in enumerate(m.free):
+        k = m.mode_of(i)
+        ak = abs(k) + 1
+        g1 = sp.Integer(k) * m.coord(i)
+        g2 = (m.coord(i + 1) if i % 2 == 0 else -m.coord(i - 1)) / ak
+        rows.append("    G[0][%d] = %s;" % (f, e.pr.doprint(g1)))
+        rows.append("    G[1][%d] = %s;" % (f, e.pr.doprint(g2)))
+        rows.append("    curv += %d.0 * v[%d] * v[%d];" % (k, f, f))
+    d = e.subs(filename="scene kernel",
+               what="right-hand side specialized to one scene structure.",
+               banner=banner(command), structure=structure["key"].replace('"', "'"),
+               free_index=", ".join(str(i) for i in m.free), forcing_fn=forcing_fn,
+               barrier_fn=barrier_fn, force_terms="\n".join(force),
+               constraint_rows="\n".join(rows))
+    pieces = [KERNEL_HEAD, SYMBOLIC_CORE]
+    if structure.get("barrier"):
+        d.update(e.jacobian_subs())
+        pieces.append(SYMBOLIC_JACOBIAN)
+    pieces += [ASSEMBLY_REDUCED, SCENE_RHS]
+    return "".join(t.substitute(d) for t in pieces)
 
 
 def header_source(command):

@@ -27,16 +27,24 @@ import sympy as sp
 class SwimmerModel:
     """Symbols and exact expressions for one mode count N."""
 
-    def __init__(self, modes):
+    def __init__(self, modes, free=None, zero=()):
+        """`free`: indices of the coordinates that move (default: all); the others are locked.
+        `zero`: locked coordinates whose value is 0, folded into the expressions. Locked
+        coordinates that are not in `zero` stay symbols (run-time parameters)."""
         if modes < 0:
             raise ValueError("mode count must be >= 0")
         self.N = modes
-        self.n = 2 * (modes + 1)          # real shape coordinates
-        self.nrows = 2 * (modes + 1)      # rows of S: (cos, sin) part of Fourier modes j = 1..N+1
-        self.ncols = 3 + self.n           # columns of S: rigid velocities, then shape coordinates
-        self.x = sp.symbols("x0:%d" % self.n, real=True)
+        self.nfull = 2 * (modes + 1)      # real shape coordinates
+        self.free = list(range(self.nfull)) if free is None else sorted(free)
+        self.zero = set(zero)
+        if self.zero & set(self.free):
+            raise ValueError("a coordinate cannot be both free and locked at zero")
+        self.n = len(self.free)           # velocity coordinates carried by the kernel
+        self.ncols = 3 + self.n           # columns of S: rigid velocities, then free coordinates
+        self.x = sp.symbols("x0:%d" % self.nfull, real=True)
         self.ks = [1] + [-m for m in range(1, modes + 1)]
         self._S = None
+        self._rows = None
         self._dS = None
 
     # -- shape coefficients -------------------------------------------------------------
@@ -44,11 +52,14 @@ class SwimmerModel:
         """Storage index of a_k (b_k is the next one)."""
         return 0 if k == 1 else 2 * (-k)
 
+    def coord(self, i):
+        return sp.Integer(0) if i in self.zero else self.x[i]
+
     def a(self, k):
-        return self.x[self.index(k)] if k in self.ks else sp.Integer(0)
+        return self.coord(self.index(k)) if k in self.ks else sp.Integer(0)
 
     def b(self, k):
-        return self.x[self.index(k) + 1] if k in self.ks else sp.Integer(0)
+        return self.coord(self.index(k) + 1) if k in self.ks else sp.Integer(0)
 
     # -- the sequences of (3.7)-(3.8), corrected by ERRATA A5-A6 ------------------------
     def mu(self, k, j):
@@ -75,28 +86,42 @@ class SwimmerModel:
             return self.nu(0, j)
         if col == 2:
             return self.alpha(j)
-        r = col - 3
+        r = self.free[col - 3]
         k = 1 if r < 2 else -(r // 2)
         return self.mu(k, j) if r % 2 == 0 else self.nu(k, j)
 
-    def weight(self, row):
-        """The factor j of the weighted product for a row of S."""
-        return row // 2 + 1
-
     def S(self):
-        """Boundary-data matrix, nrows x ncols, as a list of rows of expanded expressions."""
+        """Boundary-data matrix as a list of rows of expanded expressions. Rows that vanish
+        identically (high Fourier modes when the high coordinates are locked at zero) are
+        dropped; weight(row) gives the j of each kept row."""
         if self._S is None:
-            rows = [[sp.Integer(0)] * self.ncols for _ in range(self.nrows)]
-            for col in range(self.ncols):
-                for j in range(1, self.N + 2):
-                    s1, s2 = self.column(col, j)
-                    rows[2 * (j - 1)][col] = sp.expand(s1)
-                    rows[2 * (j - 1) + 1][col] = sp.expand(s2)
-            self._S = rows
+            rows, keep = [], []
+            for j in range(1, self.N + 2):
+                for part in (0, 1):
+                    row = [sp.expand(self.column(col, j)[part]) for col in range(self.ncols)]
+                    if any(e != 0 for e in row):
+                        rows.append(row)
+                        keep.append(j)
+            self._S, self._rows = rows, keep
         return self._S
 
+    @property
+    def nrows(self):
+        return len(self.S())
+
+    def weight(self, row):
+        """The factor j of the weighted product for a row of S."""
+        self.S()
+        return self._rows[row]
+
+    def free_position(self, sym):
+        """Position in the velocity vector of the coordinate `sym`, or None if it is locked."""
+        i = self.x.index(sym)
+        return self.free.index(i) if i in self.free else None
+
     def dS(self):
-        """Exact partial derivatives: dict (r, row, col) -> d S[row][col] / d x_r, non-zeros only."""
+        """Exact partial derivatives with respect to the free coordinates:
+        dict (r, row, col) -> d S[row][col] / d x_free[r], non-zeros only."""
         if self._dS is None:
             S = self.S()
             out = {}
@@ -105,10 +130,13 @@ class SwimmerModel:
                     e = S[row][col]
                     if e == 0:
                         continue
-                    for r in sorted(e.free_symbols, key=self.x.index):
-                        d = sp.diff(e, r)
+                    for sym in sorted(e.free_symbols, key=self.x.index):
+                        r = self.free_position(sym)
+                        if r is None:
+                            continue
+                        d = sp.diff(e, sym)
                         if d != 0:
-                            out[(self.x.index(r), row, col)] = d
+                            out[(r, row, col)] = d
             self._dS = out
         return self._dS
 
@@ -136,12 +164,17 @@ class SwimmerModel:
         return sum(((self.a(k) ** 2 + self.b(k) ** 2) / (abs(k) + 1) for k in self.ks),
                    sp.Integer(0))
 
+    def gradient(self, expr):
+        """Partial derivatives of expr with respect to the free coordinates."""
+        return [sp.diff(expr, self.x[i]) for i in self.free]
+
+    def mode_of(self, i):
+        """The mode k of real coordinate i (a_k or b_k)."""
+        return 1 if i < 2 else -(i // 2)
+
     def body_shape_weights(self):
-        """Diagonal of the body part of Md over pi rho0: 1/(|k|+1) (ERRATA A7)."""
-        out = []
-        for k in self.ks:
-            out += [sp.Rational(1, abs(k) + 1)] * 2
-        return out
+        """Diagonal of the body part of Md over pi rho0: 1/(|k|+1) (ERRATA A7), free coordinates."""
+        return [sp.Rational(1, abs(self.mode_of(i)) + 1) for i in self.free]
 
     # -- J on the unit circle (2.4) with ERRATA B2 ----------------------------------------
     def jacobian_circle(self, cs, sn):

@@ -60,6 +60,29 @@ typedef struct swim_kernel {
     void (*boundary_data)(const double *x, double *S);
 } swim_kernel;
 
+/* Codes returned by right-hand sides (generic: runtime/model/dynamics.c; scene kernels). */
+enum { SWIM_RHS_OK = 0, SWIM_RHS_ENAN, SWIM_RHS_EBARRIER, SWIM_RHS_EMASS, SWIM_RHS_ECONSTRAINT };
+
+/* Run-time parameters of a scene kernel. Vectors have the full length 2(N+1). */
+typedef struct swim_scene_params {
+    double rho0, rhof;
+    const double *x_locked;     /* values of the locked coordinates (free entries ignored) */
+    const double *stiffness, *reference, *damping, *direction;
+    double epsilon, alpha;
+    int nodes;                  /* W2 quadrature: nodes x max(N,1) tables cos/sin(m theta_q) */
+    const double *cs, *sn;
+} swim_scene_params;
+
+/* A kernel specialized to one scene structure (issue 5): it carries only the free coordinates.
+ * State y = (r_1, r_2, theta, c_free, cdot_free, work), as in runtime/model/dynamics.h. */
+typedef struct swim_scene_kernel {
+    int abi;                    /* SWIM_KERNEL_ABI */
+    int modes, nfull, nfree;
+    const int *free_index;      /* nfree indices into the full shape vector */
+    const char *structure;      /* the structure key it was generated for */
+    int (*rhs)(double t, const double *y, double *dydt, const swim_scene_params *p);
+} swim_scene_kernel;
+
 /* The kernel for N modes among those linked in, or NULL. */
 const swim_kernel *swim_kernel_find(int modes);
 /* Mode counts linked in, ascending; returns how many (at most cap written). */
@@ -97,24 +120,31 @@ int swim_kernel_list(int *modes, int cap)
 }
 """)
 
-KERNEL = Template("""\
-/* swim_kernel_n$N.c -- mass matrices, reduced mass matrix and Christoffel symbol for N = $N.
+# The pieces below are joined by emit.py: a generic kernel uses all of them; a scene kernel
+# (issue 5) uses the symbolic core, the reduced assembly and SCENE_RHS.
+KERNEL_HEAD = Template("""\
+/* $filename -- $what
  *
  * $banner
  *
- * n = $n shape coordinates; S is the $R x $P boundary-data matrix of generator/swimgen/model.py
- * (Fourier rows j = 1..$J, columns r*_1, r*_2, omega, x_0..x_${nm1}).
+ * Velocity coordinates ($n): $columns.
+ * S is the $R x $P boundary-data matrix of generator/swimgen/model.py (rows: Fourier modes j of
+ * the potentials, columns: r*_1, r*_2, omega, then the velocity coordinates).
  */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "swim_kernel.h"
 
-#define NX $n
+#define NFULL $nfull   /* length of the shape vector x */
+#define NX $n      /* velocity coordinates carried by this kernel */
 #define NR $R
 #define NP $P
 #define KPI 3.14159265358979323846
 
+""")
+
+SYMBOLIC_CORE = Template("""\
 /* ---- symbolic pieces (SymPy) ---------------------------------------------------------- */
 
 /* S(x): the sequences mu_0, nu_0, alpha, mu_k, nu_k of (3.7)-(3.8), ERRATA A5-A6. */
@@ -137,12 +167,6 @@ static void boundary_data_bigrad(const double *x, const double *w, const double 
 $G_body
 }
 
-/* dS[r][row][col] = dS[row][col]/dx_r (zero entries are not written: caller clears). */
-static void boundary_data_deriv(const double *x, double *dS)
-{
-$dS_body
-}
-
 static double inertia(const double *x, double *grad)
 {
     double I;
@@ -150,6 +174,21 @@ $I_body
     return I;
 }
 
+/* Body part of Md over pi rho0: 1/(|k|+1) (ERRATA A7). */
+static const double body_shape[NX] = {$bodyw};
+
+""")
+
+SYMBOLIC_DERIV = Template("""\
+/* dS[r][row][col] = dS[row][col]/dx_r (zero entries are not written: caller clears). */
+static void boundary_data_deriv(const double *x, double *dS)
+{
+$dS_body
+}
+
+""")
+
+SYMBOLIC_JACOBIAN = Template("""\
 static void jacobian_circle(const double *x, const double *cs, const double *sn,
                             double *J, double *dJ)
 {
@@ -159,9 +198,9 @@ $dJ_body
     }
 }
 
-/* Body part of Md over pi rho0: 1/(|k|+1) (ERRATA A7). */
-static const double body_shape[NX] = {$bodyw};
+""")
 
+ASSEMBLY_REDUCED = Template("""\
 /* ---- assembly (fixed-size loops) ------------------------------------------------------ */
 
 typedef struct {
@@ -239,29 +278,6 @@ static int setup(const double *x, double rho0, double rhof, work_t *w)
     return schur_factor(w);
 }
 
-static void mass(const double *x, double rho0, double rhof, double *Mr, double *Nc, double *Md)
-{
-    work_t w;
-    const double f = rhof * KPI, b = rho0 * KPI;
-    boundary_data(x, w.S);
-    w.Ic = inertia(x, NULL);
-    rigid_blocks(&w, f, b);
-    if (Mr) memcpy(Mr, w.Mr, sizeof w.Mr);
-    if (Nc) memcpy(Nc, w.Nc, sizeof w.Nc);
-    if (Md) {
-        double acc[NX][NX] = {{0.0}};
-        for (int r = 0; r < NR; r++)
-            for (int i = 0; i < NX; i++) {
-                const double t = f * weight[r] * w.S[r][3 + i];
-                for (int j = 0; j < NX; j++)
-                    acc[i][j] += t * w.S[r][3 + j];
-            }
-        for (int i = 0; i < NX; i++)
-            for (int j = i; j < NX; j++)
-                Md[NX * i + j] = Md[NX * j + i] = acc[i][j] + (i == j ? b * body_shape[i] : 0.0);
-    }
-}
-
 /* K = E^T M E = rho_f pi U^T W U + P^T diag(b, b, b I) P + diag(b / (|k|+1)). */
 static void reduced_matrix(const work_t *w, double f, double b, double *K)
 {
@@ -329,6 +345,32 @@ static int reduced(const double *x, const double *v, double rho0, double rhof,
         gvv[i] = f * (s - g[i]) + b * (dIv * q2 * w.P[2][i] - 0.5 * w.gI[i] * q2 * q2);
     }
     return 0;
+}
+
+""")
+
+ASSEMBLY_FULL = Template("""\
+static void mass(const double *x, double rho0, double rhof, double *Mr, double *Nc, double *Md)
+{
+    work_t w;
+    const double f = rhof * KPI, b = rho0 * KPI;
+    boundary_data(x, w.S);
+    w.Ic = inertia(x, NULL);
+    rigid_blocks(&w, f, b);
+    if (Mr) memcpy(Mr, w.Mr, sizeof w.Mr);
+    if (Nc) memcpy(Nc, w.Nc, sizeof w.Nc);
+    if (Md) {
+        double acc[NX][NX] = {{0.0}};
+        for (int r = 0; r < NR; r++)
+            for (int i = 0; i < NX; i++) {
+                const double t = f * weight[r] * w.S[r][3 + i];
+                for (int j = 0; j < NX; j++)
+                    acc[i][j] += t * w.S[r][3 + j];
+            }
+        for (int i = 0; i < NX; i++)
+            for (int j = i; j < NX; j++)
+                Md[NX * i + j] = Md[NX * j + i] = acc[i][j] + (i == j ? b * body_shape[i] : 0.0);
+    }
 }
 
 static void mass_deriv(const double *x, double rho0, double rhof,
@@ -419,3 +461,136 @@ const swim_kernel swim_kernel_n$N = {
     .boundary_data = boundary_data_flat,
 };
 """)
+
+SCENE_RHS = Template("""\
+/* ---- the scene's right-hand side ------------------------------------------------------ */
+
+static const int free_index[NX] = {$free_index};
+
+$forcing_fn
+/* K a = b for the NX x NX Cholesky factor L (lower, in place of K). */
+static void chol_solve(const double *L, const double *b, double *a)
+{
+    double z[NX];
+    for (int i = 0; i < NX; i++) {
+        double s = b[i];
+        for (int k = 0; k < i; k++) s -= L[NX * i + k] * z[k];
+        z[i] = s / L[NX * i + i];
+    }
+    for (int i = NX - 1; i >= 0; i--) {
+        double s = z[i];
+        for (int k = i + 1; k < NX; k++) s -= L[NX * k + i] * a[k];
+        a[i] = s / L[NX * i + i];
+    }
+}
+
+static int chol_factor(double *K)
+{
+    for (int j = 0; j < NX; j++) {
+        double d = K[NX * j + j];
+        for (int k = 0; k < j; k++) d -= K[NX * j + k] * K[NX * j + k];
+        if (!(d > 0.0)) return -1;
+        d = sqrt(d);
+        K[NX * j + j] = d;
+        for (int i = j + 1; i < NX; i++) {
+            double s = K[NX * i + j];
+            for (int k = 0; k < j; k++) s -= K[NX * i + k] * K[NX * j + k];
+            K[NX * i + j] = s / d;
+        }
+    }
+    return 0;
+}
+$barrier_fn
+static int scene_rhs(double t, const double *y, double *dy, const swim_scene_params *p)
+{
+    double x[NFULL];
+    memcpy(x, p->x_locked, sizeof x);
+    for (int f = 0; f < NX; f++) x[free_index[f]] = y[3 + f];
+    const double *v = y + 3 + NX;
+    for (int i = 0; i < 4 + 2 * NX; i++)
+        if (!isfinite(y[i])) return SWIM_RHS_ENAN;
+    double K[NX * NX], P[3 * NX], g[NX], f[NX], power = 0.0;
+    if (reduced(x, v, p->rho0, p->rhof, K, P, g) != 0) return SWIM_RHS_EMASS;
+    for (int i = 0; i < NX; i++) f[i] = -g[i];
+$force_terms
+    (void)t;
+    /* (4.10)-(4.12) on the free coordinates: locking by deletion equals locking by
+     * multipliers (ERRATA C2); G1 (2.8) and G2 (2.14) restricted to the free coordinates. */
+    if (chol_factor(K) != 0) return SWIM_RHS_EMASS;
+    double a[NX], G[2][NX], Z[2][NX], curv = 0.0;
+$constraint_rows
+    chol_solve(K, f, a);
+    chol_solve(K, G[0], Z[0]);
+    chol_solve(K, G[1], Z[1]);
+    double A[2][2], r[2], lam[2] = {0.0, 0.0};
+    for (int i = 0; i < 2; i++) {
+        r[i] = 0.0;
+        for (int k = 0; k < NX; k++) r[i] -= G[i][k] * a[k];
+        for (int j = 0; j < 2; j++) {
+            A[i][j] = 0.0;
+            for (int k = 0; k < NX; k++) A[i][j] += G[i][k] * Z[j][k];
+        }
+    }
+    r[0] -= curv;
+    /* A constraint whose row vanishes on the free coordinates holds trivially: drop it. */
+    const double scale = fabs(A[0][0]) + fabs(A[1][1]) + 1e-300;
+    const int use0 = A[0][0] > 1e-13 * scale, use1 = A[1][1] > 1e-13 * scale;
+    if (use0 && use1) {
+        const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+        if (!(fabs(det) > 1e-13 * A[0][0] * A[1][1])) return SWIM_RHS_ECONSTRAINT;
+        lam[0] = (r[0] * A[1][1] - A[0][1] * r[1]) / det;
+        lam[1] = (A[0][0] * r[1] - A[1][0] * r[0]) / det;
+    } else if (use0) {
+        lam[0] = r[0] / A[0][0];
+    } else if (use1) {
+        lam[1] = r[1] / A[1][1];
+    }
+    double qs[3] = {0.0, 0.0, 0.0};
+    for (int k = 0; k < NX; k++) {
+        dy[3 + k] = v[k];
+        dy[3 + NX + k] = a[k] + lam[0] * Z[0][k] + lam[1] * Z[1][k];
+        qs[0] += P[k] * v[k];
+        qs[1] += P[NX + k] * v[k];
+        qs[2] += P[2 * NX + k] * v[k];
+    }
+    /* (3.21) */
+    const double ct = cos(y[2]), st = sin(y[2]);
+    dy[0] = ct * qs[0] - st * qs[1];
+    dy[1] = st * qs[0] + ct * qs[1];
+    dy[2] = qs[2];
+    dy[3 + 2 * NX] = power;
+    for (int i = 0; i < 4 + 2 * NX; i++)
+        if (!isfinite(dy[i])) return SWIM_RHS_ENAN;
+    return SWIM_RHS_OK;
+}
+
+const swim_scene_kernel swim_scene_kernel_entry = {
+    .abi = SWIM_KERNEL_ABI,
+    .modes = $N,
+    .nfull = NFULL,
+    .nfree = NX,
+    .free_index = free_index,
+    .structure = "$structure",
+    .rhs = scene_rhs,
+};
+""")
+
+BARRIER_FN = """
+/* grad W2 on the free coordinates by the trapezoidal rule (runtime/model/shape.h, ERRATA B3). */
+static int barrier_gradient(const double *x, const swim_scene_params *p, double *gW)
+{
+    const int w = $cs_width;
+    double dJ[NX], J;
+    for (int i = 0; i < NX; i++) gW[i] = 0.0;
+    for (int q = 0; q < p->nodes; q++) {
+        jacobian_circle(x, p->cs + (size_t)q * w, p->sn + (size_t)q * w, &J, dJ);
+        if (!(J > 0.0)) return SWIM_RHS_EBARRIER;
+        const double ja = p->alpha == 0.5 ? 1.0 / sqrt(J) : p->alpha == 1.0 ? 1.0 / J : pow(J, -p->alpha);
+        const double s = ja / J;
+        for (int i = 0; i < NX; i++) gW[i] += s * dJ[i];
+    }
+    const double c = -0.5 * p->epsilon * 6.28318530717958647692 / p->nodes;
+    for (int i = 0; i < NX; i++) gW[i] *= c;
+    return 0;
+}
+"""

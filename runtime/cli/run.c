@@ -18,6 +18,7 @@
 #include "io/json.h"
 #include "model/dynamics.h"
 #include "model/flow.h"
+#include "model/specialize.h"
 #include "ode/ode.h"
 #include "scene/scene.h"
 
@@ -110,7 +111,7 @@ static void track(run_report *r, double t, const swim_diag *g, int first)
 
 static void write_summary(const char *path, const swim_scene *s, const char *dir, const run_report *r,
                           const double *y, const swim_ode_stats *st, const swim_dynamics *d,
-                          double wall_s)
+                          const swim_specialized *sp, double wall_s)
 {
     FILE *f = fopen(path, "w");
     if (!f) {
@@ -136,6 +137,11 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
     fprintf(f, "],\n  \"effects\": {\"elastic\": %s, \"barrier\": %s, \"damping\": %s, \"forcing\": %s},\n",
             s->elastic ? "true" : "false", s->barrier ? "true" : "false", s->damped ? "true" : "false",
             s->forced ? "true" : "false");
+    fprintf(f, "  \"kernel\": {\"kind\": \"%s\", \"state_dimension\": %d, \"cache\": ",
+            d->spec ? "specialized" : "generic", swim_dynamics_state_dim(d));
+    swim_json_string(f, d->spec ? sp->dir : "");
+    fprintf(f, ", \"from_cache\": %s, \"generate_seconds\": %.3f, \"compile_seconds\": %.3f},\n",
+            sp->from_cache ? "true" : "false", sp->generate_seconds, sp->compile_seconds);
     fprintf(f, "  \"status\": \"%s\",\n  \"reason\": ", r->status ? "failed" : "completed");
     swim_json_string(f, r->reason);
     fprintf(f, ",\n  \"t_end\": %.17g,\n  \"t_reached\": %.17g,\n  \"rows\": %ld,\n", s->t_end, r->t_reached, r->rows);
@@ -178,7 +184,8 @@ static void default_out(const char *scene_path, char *out, size_t len)
 int swim_cmd_run(int argc, char **argv)
 {
     swim_opt opts[] = {{"out", 1, NULL},  {"t-end", 1, NULL},      {"rtol", 1, NULL},
-                       {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL}};
+                       {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
+                       {"generic", 0, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
@@ -228,6 +235,14 @@ int swim_cmd_run(int argc, char **argv)
         return 1;
     }
     d.interrupt = (volatile int *)&interrupted;
+    swim_specialized spz;
+    memset(&spz, 0, sizeof spz);
+    if (!swim_args_get(opts, nopts, "generic")) {
+        if (swim_specialize(&s, &spz, !quiet) == 0)
+            swim_dynamics_use_scene_kernel(&d, spz.kernel);
+        else
+            fprintf(stderr, "swim run: using the generic kernel instead\n");
+    }
     const char *names[8 + 4 * SWIM_NMAX + 64];
     char storage[2 * SWIM_NMAX][24];
     int ncol = columns(&s, names, storage);
@@ -243,9 +258,12 @@ int swim_cmd_run(int argc, char **argv)
     FILE *snap = fopen(path, "w");
     if (snap) fputs("[\n", snap);
 
+    const int sdim = swim_dynamics_state_dim(&d);
     double *y = calloc((size_t)d.dim, sizeof(double)), *row = calloc((size_t)ncol, sizeof(double));
+    double *ys = calloc((size_t)sdim, sizeof(double));
     swim_dynamics_initial_state(&d, y);
-    swim_ode_system sys = {swim_dynamics_rhs, (size_t)d.dim, &d};
+    swim_dynamics_pack(&d, y, ys);
+    swim_ode_system sys = {swim_dynamics_rhs, (size_t)sdim, &d};
     swim_ode_options o;
     swim_ode_options_default(&o);
     o.rtol = s.rtol;
@@ -259,7 +277,7 @@ int swim_cmd_run(int argc, char **argv)
     sigaction(SIGINT, &sa, &old);
     const double t_start = wall();
     double last_progress = t_start;
-    int rc = swim_ode_create(s.integrator, &sys, &o, 0.0, y, &ode);
+    int rc = swim_ode_create(s.integrator, &sys, &o, 0.0, ys, &ode);
     const long rows = (long)floor(s.t_end / s.output_step + 1e-9);
     const long every = rows / (SNAPSHOTS - 1) > 0 ? rows / (SNAPSHOTS - 1) : 1;
     int nsnap = 0;
@@ -273,7 +291,8 @@ int swim_cmd_run(int argc, char **argv)
         if (k > rows && (rows * s.output_step >= s.t_end * (1 - 1e-12))) break;
         if (k > rows + 1) break;
         if (k > 0) {
-            rc = swim_ode_advance(ode, t, y);
+            rc = swim_ode_advance(ode, t, ys);
+            if (rc == SWIM_ODE_OK) swim_dynamics_unpack(&d, ys, y);
             if (rc != SWIM_ODE_OK) {
                 int rs = swim_ode_rhs_status(ode);
                 r.status = 1;
@@ -331,14 +350,17 @@ int swim_cmd_run(int argc, char **argv)
     }
     swim_csv_close(&csv);
     snprintf(path, sizeof path, "%s/summary.json", dir);
-    write_summary(path, &s, dir, &r, y, &st, &d, wall() - t_start);
+    write_summary(path, &s, dir, &r, y, &st, &d, &spz, wall() - t_start);
     printf("%s: %s (%s); %ld rows in %s/trajectory.csv\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);
+    printf("  %s kernel (state dimension %d)\n", d.spec ? "specialized" : "generic", sdim);
     printf("  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)\n",
            s.integrator, s.rtol, st.steps, st.rhs_evals, st.rejected, wall() - t_start, d.rhs_seconds);
     printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g\n",
            r.drift_abs, r.e0, r.res_volume, r.res_angular, r.res_locks, r.jmin);
     printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", y[0], y[1], y[2]);
     swim_ode_free(ode);
+    swim_specialized_close(&spz);
+    free(ys);
     free(y);
     free(row);
     swim_dynamics_free(&d);

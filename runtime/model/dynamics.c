@@ -161,11 +161,73 @@ static int rhs_body(swim_dynamics *d, double t, const double *y, double *dy)
     return 0;
 }
 
+void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *spec)
+{
+    const swim_scene *s = d->scene;
+    d->spec = spec;
+    swim_scene_params *p = &d->spec_params;
+    memset(p, 0, sizeof *p);
+    p->rho0 = s->rho0;
+    p->rhof = s->rhof;
+    p->x_locked = s->c0;
+    p->stiffness = s->stiffness;
+    p->reference = s->reference;
+    p->damping = s->damping;
+    p->direction = s->direction;
+    p->epsilon = s->epsilon;
+    p->alpha = s->alpha;
+    if (s->barrier) {
+        p->nodes = d->circle.nodes;
+        p->cs = d->circle.cs;
+        p->sn = d->circle.sn;
+    }
+}
+
+int swim_dynamics_state_dim(const swim_dynamics *d)
+{
+    return d->spec ? 4 + 2 * d->spec->nfree : d->dim;
+}
+
+void swim_dynamics_pack(const swim_dynamics *d, const double *full, double *state)
+{
+    if (!d->spec) {
+        memcpy(state, full, sizeof(double) * d->dim);
+        return;
+    }
+    const int n = d->n, nf = d->spec->nfree;
+    memcpy(state, full, 3 * sizeof(double));
+    for (int f = 0; f < nf; f++) {
+        state[3 + f] = full[3 + d->spec->free_index[f]];
+        state[3 + nf + f] = full[3 + n + d->spec->free_index[f]];
+    }
+    state[3 + 2 * nf] = full[3 + 2 * n];
+}
+
+void swim_dynamics_unpack(const swim_dynamics *d, const double *state, double *full)
+{
+    if (!d->spec) {
+        memcpy(full, state, sizeof(double) * d->dim);
+        return;
+    }
+    const int n = d->n, nf = d->spec->nfree;
+    memcpy(full, state, 3 * sizeof(double));
+    memcpy(full + 3, d->scene->c0, sizeof(double) * n);   /* locked coordinates keep c0 */
+    memset(full + 3 + n, 0, sizeof(double) * n);
+    for (int f = 0; f < nf; f++) {
+        full[3 + d->spec->free_index[f]] = state[3 + f];
+        full[3 + n + d->spec->free_index[f]] = state[3 + nf + f];
+    }
+    full[3 + 2 * n] = state[3 + 2 * nf];
+}
+
 int swim_dynamics_rhs(double t, const double *y, double *dy, void *params)
 {
     swim_dynamics *d = params;
     double t0 = seconds();
-    int rc = rhs_body(d, t, y, dy);
+    int rc;
+    if (d->interrupt && *d->interrupt) rc = SWIM_DYN_EINTERRUPT;
+    else if (d->spec) rc = d->spec->rhs(t, y, dy, &d->spec_params);
+    else rc = rhs_body(d, t, y, dy);
     d->rhs_seconds += seconds() - t0;
     d->rhs_calls++;
     d->last_rhs_t = t;

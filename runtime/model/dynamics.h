@@ -20,21 +20,24 @@
 #include "model/shape.h"
 #include "scene/scene.h"
 
-/* Non-zero values returned by the right-hand side (passed through the integrator). */
+/* Non-zero values returned by the right-hand side (passed through the integrator); the first
+ * five are the SWIM_RHS_* codes that scene kernels return too. */
 enum {
-    SWIM_DYN_OK = 0,
-    SWIM_DYN_ENAN,          /* NaN or Inf in the state or its derivative */
-    SWIM_DYN_EBARRIER,      /* J <= 0 at a quadrature node: the shape left D */
-    SWIM_DYN_EMASS,         /* K (or Mr) not positive definite */
-    SWIM_DYN_ECONSTRAINT,   /* multiplier system (4.12) singular */
-    SWIM_DYN_EINTERRUPT     /* an interrupt was requested (SIGINT) */
+    SWIM_DYN_OK = SWIM_RHS_OK,
+    SWIM_DYN_ENAN = SWIM_RHS_ENAN,               /* NaN or Inf in the state or its derivative */
+    SWIM_DYN_EBARRIER = SWIM_RHS_EBARRIER,       /* J <= 0 at a quadrature node: the shape left D */
+    SWIM_DYN_EMASS = SWIM_RHS_EMASS,             /* K (or Mr) not positive definite */
+    SWIM_DYN_ECONSTRAINT = SWIM_RHS_ECONSTRAINT, /* multiplier system (4.12) singular */
+    SWIM_DYN_EINTERRUPT                          /* an interrupt was requested (SIGINT) */
 };
 const char *swim_dynamics_strerror(int code);
 
 typedef struct {
     const swim_scene *scene;     /* borrowed */
-    const swim_kernel *k;
-    int n, dim, m;               /* shape coordinates, state dimension, constraint rows */
+    const swim_kernel *k;        /* generic kernel: diagnostics, and the RHS unless `spec` */
+    const swim_scene_kernel *spec;   /* scene kernel (borrowed) or NULL */
+    swim_scene_params spec_params;
+    int n, dim, m;               /* shape coordinates, full state dimension, constraint rows */
     swim_circle circle;          /* quadrature nodes for W2 */
     volatile int *interrupt;     /* set asynchronously to stop (may be NULL) */
     /* workspace (owned) */
@@ -49,7 +52,16 @@ typedef struct {
 int swim_dynamics_init(swim_dynamics *d, const swim_scene *scene);   /* 0 or -1 (memory) */
 void swim_dynamics_free(swim_dynamics *d);
 void swim_dynamics_initial_state(const swim_dynamics *d, double *y);
-/* The right-hand side in the form of swim_ode_func (params = swim_dynamics *). */
+
+/* Integrate with a scene kernel: the integrator's state is then (q, c_free, cdot_free, work). */
+void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *spec);
+int swim_dynamics_state_dim(const swim_dynamics *d);
+/* Full state (dim) <-> integrator state (state_dim); identical without a scene kernel. */
+void swim_dynamics_pack(const swim_dynamics *d, const double *full, double *state);
+void swim_dynamics_unpack(const swim_dynamics *d, const double *state, double *full);
+
+/* The right-hand side on the integrator's state, in the form of swim_ode_func
+ * (params = swim_dynamics *). */
 int swim_dynamics_rhs(double t, const double *y, double *dydt, void *params);
 
 typedef struct {
