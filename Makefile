@@ -109,9 +109,9 @@ TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_special
 test: bin/swim $(TEST_BINS)
 	@bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)
 
-BENCH_SCRIPTS := tests/bench/bench_kernels.sh
+BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py
 
-bench: bin/swim $(BENCH_BINS)
+bench: bin/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs
 	@bash tests/bench/run_bench.sh $(BENCH_SCRIPTS) $(BENCH_BINS)
 
 generate: | $(DEPS_STAMP)

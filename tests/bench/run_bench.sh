@@ -5,5 +5,8 @@ set -eu
 mkdir -p build/bench
 for prog in "$@"; do
     echo "== $prog"
-    "$prog"
+    case "$prog" in
+        *.py) "${PYTHON:-/usr/bin/python3}" "$prog" ;;
+        *) "$prog" ;;
+    esac
 done
