@@ -12,7 +12,8 @@
  * Predictor of order k:   p = y_n + h sum_{i<=k} g_i phi*_i.
  * Corrector (local extrapolation, order k+1):  y_{n+1} = p + h g_{k+1} phi_{k+1}(n+1)
  * where phi_{k+1}(n+1) = f(t_{n+1}, p) - sum_{i<=k} phi*_i.
- * The local error of the order-k formula, h (g_k - g_{k+1}) |phi_{k+1}(n+1)|,
+ * The local error of the order-k formula, h (g_k - g_{k+1}) |phi_{k+1}(n+1)|
+ * (weighted max norm, weights rtol|y_n| + atol_i, as in ode113),
  * is what the tolerance controls.  Orders are chosen by comparing error
  * estimates at orders k-2 .. k+1; the step is doubled, kept, or reduced by a
  * factor in [1/2, 0.9], so that on runs of equal steps the coefficients are
@@ -36,8 +37,6 @@
 #define MAXD(x, y) ((x) > (y) ? (x) : (y))
 #define MIND(x, y) ((x) < (y) ? (x) : (y))
 #define STIFF_BLOCK 100          /* accepted steps per block of the stiffness diagnostic */
-#define MAXD(x, y) ((x) > (y) ? (x) : (y))
-#define MIND(x, y) ((x) < (y) ? (x) : (y))
 #define STIFF_BLOCKS 3           /* stiff-looking blocks in a row that raise the flag */
 
 struct abm {
@@ -50,6 +49,7 @@ struct abm {
     int stiff_stop;
 
     double t;                    /* t_n */
+    double tc;                   /* compensated-summation carry for t (t_n = t + tc exactly up to rounding) */
     double *y;                   /* y_n */
     double *yc;                  /* compensated-summation carry for y */
     double *phi, *phin;          /* difference tables, NROW rows of n (row i at i*n) */
@@ -153,7 +153,7 @@ int abm_create(const swim_ode_system *sys, const swim_ode_options *opt, double t
     return SWIM_ODE_OK;
 }
 
-/* Weighted RMS norm helpers use a->rw = 1/(rtol|y_n| + atol). */
+/* Weights a->rw = 1/(rtol|y_n| + atol_i) for the weighted max norm. */
 static double set_weights(abm *a)
 {
     const size_t n = a->n;
@@ -163,18 +163,18 @@ static double set_weights(abm *a)
     double s = 0.0;
     if (av) {
         for (size_t l = 0; l < n; l++) {
-            double r = 1.0 / (rt * fabs(y[l]) + av[l]), q = y[l] * r;
+            double r = 1.0 / (rt * fabs(y[l]) + av[l]), q = fabs(y[l] * r);
             rw[l] = r;
-            s += q * q;
+            s = MAXD(s, q);
         }
     } else {
         for (size_t l = 0; l < n; l++) {
-            double r = 1.0 / (rt * fabs(y[l]) + at), q = y[l] * r;
+            double r = 1.0 / (rt * fabs(y[l]) + at), q = fabs(y[l] * r);
             rw[l] = r;
-            s += q * q;
+            s = MAXD(s, q);
         }
     }
-    return s;     /* |y/w|^2, for the round-off test */
+    return s;     /* max |y/w|, for the round-off test */
 }
 
 static double clamp_h(abm *a, double h)
@@ -201,10 +201,9 @@ static int start(abm *a, double tout)
     set_weights(a);
     double s = 0.0;
     for (size_t l = 0; l < n; l++) {
-        double q = a->phi[n + l] * a->rw[l];
-        s += q * q;
+        double q = fabs(a->phi[n + l] * a->rw[l]);
+        s = MAXD(s, q);
     }
-    s = sqrt(s / n);
     double h = a->h;
     if (!(h > 0)) {
         /* the step for which an order-1 error of size 1/16 * ... is expected:
@@ -308,14 +307,12 @@ int abm_step(abm *a, int *accepted)
     if (!(h >= 4.0 * UROUND * fabs(a->t)) || !(h > 0))
         return SWIM_ODE_EHMIN;
 
-    /* Can double precision hold the requested accuracy?  round = 2u |y/w|
-     * (rms); compare squares to avoid a square root. */
+    /* Can double precision hold the requested accuracy?  round = 2u max|y/w|. */
     {
-        double s = set_weights(a) / n;
-        double r2 = 4.0 * UROUND * UROUND * s;
-        if (0.25 < r2)
+        double round = 2.0 * UROUND * set_weights(a);
+        if (0.5 < round)
             return SWIM_ODE_ETOLTOOSMALL;
-        a->compensate = 0.25 < 1e6 * r2;
+        a->compensate = 0.5 < 1e3 * round;
     }
     int ns_save = a->ns;
 
@@ -359,43 +356,52 @@ int abm_step(abm *a, int *accepted)
         for (l = 0; l < n; l++)
             pp[l] = yy[l] + (pinc[l] + yc[l]);
     }
-    double tnew = a->t + h;
-    if (a->h_clamped && a->t + h >= a->tstop)
+    /* t_{n+1} = t_n + h with compensated summation: over 10^5..10^6 steps the
+     * rounding of t += h would otherwise drift t by up to steps * ulp(t)/2 (a
+     * systematic shift for runs of equal steps), i.e. the solution would be
+     * reported at, and a time-dependent f evaluated at, the wrong times. */
+    double tau = h + a->tc, tnew = a->t + tau, tcnew = tau - (tnew - a->t);
+    if (a->h_clamped && a->t + h >= a->tstop) {
         tnew = a->tstop;
+        tcnew = 0.0;
+    }
     int rc = eval(a, tnew, a->p, a->fp);
     if (rc)
         return rc;
 
-    /* Error estimates at orders k, k-1, k-2 from phi_{k+1}, phi_k, phi_{k-1} at n+1. */
+    /* Error estimates at orders k, k-1, k-2 from phi_{k+1}, phi_k, phi_{k-1} at n+1,
+     * in the weighted max norm (the norm of ode113): an RMS norm divides by n, so
+     * components whose error is zero (locked coordinates, constants) would
+     * loosen the test on the others by sqrt(n / active). */
     double sk = 0.0, skm1 = 0.0, skm2 = 0.0;
     const double *restrict c1 = phin + n, *restrict ck = phin + k * n, *restrict ckm1 = phin + (k - 1) * n;
     const double *restrict fpv = a->fp, *restrict rwv = a->rw;
     if (k >= 3) {
         for (size_t l = 0; l < n; l++) {
             double e = fpv[l] - c1[l], r = rwv[l];
-            double q0 = e * r, q1 = (ck[l] + e) * r, q2 = (ckm1[l] + e) * r;
-            sk += q0 * q0;
-            skm1 += q1 * q1;
-            skm2 += q2 * q2;
+            double q0 = fabs(e * r), q1 = fabs((ck[l] + e) * r), q2 = fabs((ckm1[l] + e) * r);
+            sk = MAXD(sk, q0);
+            skm1 = MAXD(skm1, q1);
+            skm2 = MAXD(skm2, q2);
         }
     } else {
         for (size_t l = 0; l < n; l++) {
             double e = fpv[l] - c1[l], r = rwv[l];
-            double q0 = e * r, q1 = (ck[l] + e) * r;
-            sk += q0 * q0;
-            skm1 += q1 * q1;
+            double q0 = fabs(e * r), q1 = fabs((ck[l] + e) * r);
+            sk = MAXD(sk, q0);
+            skm1 = MAXD(skm1, q1);
         }
     }
-    const double absh = fabs(h), rn = 1.0 / n;
+    const double absh = fabs(h);
     const double *sig = a->sig, *gs = a->gstar;
-    double erk = absh * sig[k + 1] * gs[k] * sqrt(sk * rn);
-    double err = absh * (g[k] - g[k + 1]) * sqrt(sk * rn);
+    double erk = absh * sig[k + 1] * gs[k] * sk;
+    double err = absh * (g[k] - g[k + 1]) * sk;
     double erkm1 = 0.0, erkm2 = 0.0;
     int knew = k;
     if (k >= 2) {
-        erkm1 = absh * sig[k] * gs[k - 1] * sqrt(skm1 * rn);
+        erkm1 = absh * sig[k] * gs[k - 1] * skm1;
         if (k >= 3) {
-            erkm2 = absh * sig[k - 1] * gs[k - 2] * sqrt(skm2 * rn);
+            erkm2 = absh * sig[k - 1] * gs[k - 2] * skm2;
             if (MAXD(erkm1, erkm2) <= erk)
                 knew = k - 1;
         } else if (erkm1 <= 0.5 * erk) {
@@ -441,6 +447,7 @@ int abm_step(abm *a, int *accepted)
     if (!a->compensate)
         memset(a->yc, 0, n * sizeof(double));
     a->t = tnew;
+    a->tc = tcnew;
     a->kold = k;
     a->hold = h;
     a->ifail = 0;
@@ -459,8 +466,8 @@ int abm_step(abm *a, int *accepted)
         for (size_t l = 0; l < n; l++) {
             double d = ek1[l] - ok1[l];
             ek2[l] = d;
-            d *= rwv[l];
-            sk2 += d * d;
+            d = fabs(d * rwv[l]);
+            sk2 = MAXD(sk2, d);
         }
     }
     {
@@ -494,7 +501,7 @@ int abm_step(abm *a, int *accepted)
         kn = k - 1;
         erk = erkm1;
     } else if (want_up) {
-        double erkp1 = absh * gs[k + 1] * sqrt(sk2 * rn);
+        double erkp1 = absh * gs[k + 1] * sk2;
         if (k == 1) {
             if (erkp1 < 0.5 * erk) {
                 kn = 2;
@@ -566,7 +573,7 @@ void abm_interp(const abm *a, double tout, double *yout, double *ypout)
 {
     const size_t n = a->n;
     const int ki = a->kold + 1;   /* phi_1 .. phi_{kold+1}(n+1) are valid */
-    const double s = tout - a->t;
+    const double s = (tout - a->t) - a->tc;
     /* gi[j] = g_{j,1}(s), cj[j] = c_j(s) with
      * c_{j+1} = c_j (s + psi_{j-1})/psi_j and the integrals advanced by
      * g_{j+1,q} = gamma g_{j,q} - eta g_{j,q+1}, gamma = (s+psi_{j-1})/psi_j, eta = s/psi_j. */
