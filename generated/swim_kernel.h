@@ -56,9 +56,10 @@ typedef struct swim_scene_params {
     double rho0, rhof;
     const double *x_locked;     /* values of the locked coordinates (free entries ignored) */
     const double *stiffness, *reference, *damping, *direction;
-    double epsilon, alpha;
-    int nodes;                  /* W2 quadrature: nodes x max(N,1) tables cos/sin(m theta_q) */
-    const double *cs, *sn;
+    /* grad W2 on the kernel's coordinates at x (quadrature done by the runtime, which calls
+     * back the kernel's jacobian_circle); 0, or SWIM_RHS_EBARRIER when J <= 0 at a node. */
+    int (*barrier)(const double *x, double *grad, void *ctx);
+    void *barrier_ctx;
 } swim_scene_params;
 
 /* A kernel specialized to one scene structure (issue 5): it carries only the free coordinates.
@@ -69,6 +70,10 @@ typedef struct swim_scene_kernel {
     const int *free_index;      /* nfree indices into the full shape vector */
     const char *structure;      /* the structure key it was generated for */
     int (*rhs)(double t, const double *y, double *dydt, const swim_scene_params *p);
+    /* K on the free coordinates (nfree x nfree); 0, or -1 if Mr is not positive definite */
+    int (*reduced_matrix)(const double *x, double rho0, double rhof, double *K);
+    /* J on the circle and its gradient on the free coordinates (NULL without a barrier) */
+    void (*jacobian_circle)(const double *x, const double *cs, const double *sn, double *J, double *dJ);
 } swim_scene_kernel;
 
 /* The kernel for N modes among those linked in, or NULL. */

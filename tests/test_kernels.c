@@ -24,8 +24,6 @@
 #include "reference/ref_model.h"
 #include "swim_kernel.h"
 
-extern const swim_kernel swim_kernel_n12;
-
 #define NMAX (2 * (SWIM_KERNEL_MAX_MODES + 1))
 
 static double urand(void) { return 2.0 * rand() / (double)RAND_MAX - 1.0; }
@@ -204,7 +202,7 @@ static void check_barrier(const swim_kernel *k)
     for (int t = 0; t < 4; t++) {
         double x[NMAX], g[NMAX], rg[NMAX], eps = 0.03, alpha = t % 2 ? 1.0 : 0.5;
         random_shape(N, x, 0.8);
-        double W = swim_barrier(k, &c, x, eps, alpha, g, NULL);
+        double W = swim_barrier(&c, k->jacobian_circle, k->dim, x, eps, alpha, g, NULL);
         double rW = ref_barrier(N, x, eps, alpha, SWIM_BARRIER_NODES, rg);
         CHECK_CLOSE(W, rW, 1e-13, "W2 vs reference");
         CHECK(max_diff(g, rg, n) <= 1e-12 * fmax(max_abs(rg, n), 1.0), "N=%d: grad W2 vs reference", N);
@@ -216,9 +214,9 @@ static void check_barrier(const swim_kernel *k)
                 double h = 1e-3 / (1 << lev);
                 memcpy(xp, x, sizeof(double) * n);
                 xp[r] += h;
-                double wp = swim_barrier(k, &c, xp, eps, alpha, NULL, NULL);
+                double wp = swim_barrier(&c, k->jacobian_circle, k->dim, xp, eps, alpha, NULL, NULL);
                 xp[r] -= 2 * h;
-                double wm = swim_barrier(k, &c, xp, eps, alpha, NULL, NULL);
+                double wm = swim_barrier(&c, k->jacobian_circle, k->dim, xp, eps, alpha, NULL, NULL);
                 D[lev] = (wp - wm) / (2 * h);
             }
             double r1 = (4 * D[1] - D[0]) / 3, r2 = (4 * D[2] - D[1]) / 3, d = (16 * r2 - r1) / 15;
@@ -227,7 +225,7 @@ static void check_barrier(const swim_kernel *k)
         CHECK(worst <= 1e-8 * fmax(max_abs(g, n), 1.0), "N=%d: grad W2 vs differences %.3g", N, worst);
     }
     double x0[NMAX] = {1.0};
-    CHECK_CLOSE(swim_barrier(k, &c, x0, 0.03, 0.5, NULL, NULL), M_PI * 0.03 / 0.5, 1e-15,
+    CHECK_CLOSE(swim_barrier(&c, k->jacobian_circle, k->dim, x0, 0.03, 0.5, NULL, NULL), M_PI * 0.03 / 0.5, 1e-15,
                 "W2 at the unit circle = pi eps / alpha (ERRATA B2)");
     swim_circle_free(&c);
 }
@@ -242,20 +240,46 @@ static void check_quadrature_convergence(void)
     CHECK(fabs(jmin - 0.0396) < 5e-5, "Example 7 initial min J %.6f (ERRATA D5: 0.0396)", jmin);
     swim_circle ref;
     swim_circle_init(&ref, 7, 2048);
-    double Wref = swim_barrier(k, &ref, x, 0.03, 0.5, NULL, NULL);
+    double Wref = swim_barrier(&ref, k->jacobian_circle, k->dim, x, 0.03, 0.5, NULL, NULL);
     swim_circle_free(&ref);
     double prev = INFINITY;
     printf("  W2 trapezoidal rule at min J = %.4f: nodes -> relative error\n", jmin);
     for (int Q = 16; Q <= 512; Q *= 2) {
         swim_circle c;
         swim_circle_init(&c, 7, Q);
-        double e = fabs(swim_barrier(k, &c, x, 0.03, 0.5, NULL, NULL) - Wref) / Wref;
+        double e = fabs(swim_barrier(&c, k->jacobian_circle, k->dim, x, 0.03, 0.5, NULL, NULL) - Wref) / Wref;
         swim_circle_free(&c);
         printf("    %4d  %.2e\n", Q, e);
         if (Q <= 128) CHECK(e < 0.5 * prev || e < 1e-15, "no geometric decrease at Q=%d (%.3g after %.3g)", Q, e, prev);
         if (Q == SWIM_BARRIER_NODES) CHECK(e <= 1e-13, "W2 with %d nodes: relative error %.3g", Q, e);
         prev = e;
     }
+}
+
+/* Near the boundary of D the fixed 256-node rule is no longer enough; the adaptive rule takes
+ * more nodes and matches a 65536-node rule. Shape with |c_-1| + 2|c_-2| = sqrt(1 - 1e-4). */
+static void check_adaptive_quadrature(void)
+{
+    const swim_kernel *k = swim_kernel_find(2);
+    double x[6] = {1, 0, 0.5, 0, 0, 0.5 * (sqrt(1 - 1e-4) - 0.5)};
+    double jmin = swim_shape_jmin(k, x);
+    CHECK(fabs(jmin - 1e-4) < 1e-9, "near-boundary shape: min J %.6g, want 1e-4", jmin);
+    swim_circle fine, base;
+    swim_circle_init(&fine, 2, SWIM_BARRIER_MAX_NODES);
+    swim_circle_init(&base, 2, SWIM_BARRIER_NODES);
+    double g1[6], g2[6];
+    int used = 0;
+    double Wf = swim_barrier(&fine, k->jacobian_circle, 6, x, 0.03, 0.5, g1, NULL);
+    double Wa = swim_barrier_adaptive(&fine, k->jacobian_circle, 6, x, 0.03, 0.5, g2, NULL, &used);
+    double Wb = swim_barrier(&base, k->jacobian_circle, 6, x, 0.03, 0.5, NULL, NULL);
+    CHECK(used > SWIM_BARRIER_NODES && used < SWIM_BARRIER_MAX_NODES, "adaptive rule used %d nodes", used);
+    CHECK(fabs(Wa - Wf) <= 1e-12 * Wf, "adaptive W2 %.17g vs 65536 nodes %.17g", Wa, Wf);
+    CHECK(max_diff(g1, g2, 6) <= 1e-11 * max_abs(g1, 6), "adaptive grad W2 vs 65536 nodes: %.3g", max_diff(g1, g2, 6));
+    CHECK(fabs(Wb - Wf) > 1e-6 * Wf, "the 256-node rule should be visibly off at min J = 1e-4");
+    printf("  W2 at min J = 1e-4: adaptive rule %d nodes, error %.1e; 256 nodes error %.1e\n", used,
+           fabs(Wa - Wf) / Wf, fabs(Wb - Wf) / Wf);
+    swim_circle_free(&fine);
+    swim_circle_free(&base);
 }
 
 static void check_ellipse_added_mass(void)
@@ -291,13 +315,15 @@ int main(void)
     int modes[32], count = swim_kernel_list(modes, 32);
     const swim_kernel *ks[33];
     for (int i = 0; i < count; i++) ks[i] = swim_kernel_find(modes[i]);
-    ks[count++] = &swim_kernel_n12;
+    CHECK(swim_kernel_find(12) != NULL, "the N = 12 kernel is linked in (EXTRA_MODES)");
     for (int i = 0; i < count; i++) {
         check_values(ks[i], 20);
         check_derivatives(ks[i], ks[i]->modes >= 12 ? 1 : 3);
+        if (ks[i]->modes > 12) continue;   /* N = 15: values and derivatives only */
         check_barrier(ks[i]);
     }
     check_quadrature_convergence();
+    check_adaptive_quadrature();
     check_ellipse_added_mass();
     return check_report("test_kernels");
 }

@@ -175,6 +175,22 @@ BAD = [
     ("duplicate key", lambda s: s.replace("rho0 = 1.0", "rho0 = 1.0\nrho0 = 2.0"), "duplicate key"),
     ("bad forcing law", lambda s: s + '\n[forcing]\nlaw = "sin(t"\ndirection = [0,0,1,0,0,1,0,0,0,0,0,0,0,0,0,0]\n', "forcing.law"),
     ("negative damping", lambda s: s + "\n[damping]\ndiagonal = [0,0,-1,0,0,0,0,0,0,0,0,0,0,0,0,0]\n", "D must be >= 0"),
+    ("huge N", lambda s: s.replace("modes = 7", "modes = 100000000000"), "out of range 0..20"),
+    ("N with no kernel", lambda s: s.replace("modes = 7", "modes = 19"), "no kernel for N = 19"),
+    ("negative fluid density", lambda s: s.replace("rhof = 1.0", "rhof = -2"), "model.rhof: density must be > 0"),
+    ("stiffness too short", lambda s: s.replace("stiffness = [ 0, 0, 1,", "stiffness = [ 0, 1,"), "elastic.stiffness: expected 16 numbers"),
+    ("dc0 inf", lambda s: s.replace("dc0 = [ 0,", "dc0 = [ inf,"), "shape.dc0: item 1 (inf) is not a finite number"),
+    ("t_end not a number", lambda s: s.replace("t_end = 30.0", 't_end = "long"'), "run.t_end: expected a number, got a string"),
+    ("output step nan", lambda s: s.replace("output_step = 0.05", "output_step = nan"), "run.output_step: value nan is not a finite number"),
+    ("too many rows", lambda s: s.replace("output_step = 0.05", "output_step = 1e-9"), "gives more than 10^7 rows"),
+    ("no free coordinate", lambda s: s.replace('free = ["am1", "bm1", "am2", "bm2"]', "free = []"), "no free coordinate"),
+    ("table is a value", lambda s: "elastic = 3\n" + s[:s.index("[elastic]")] + s[s.index("[run]"):], "elastic: expected a table"),
+    ("forcing without direction", lambda s: s + '\n[forcing]\nlaw = "sin(t)"\n', "forcing.direction: missing"),
+    ("barrier alpha zero", lambda s: s + "\n[barrier]\nepsilon = 0.03\nalpha = 0\n", "barrier.alpha: must be > 0"),
+    ("bad stiff fallback", lambda s: s.replace("atol = 1e-12", 'atol = 1e-12\nstiff_fallback = "bdf9"'), "unknown integrator \"bdf9\""),
+    ("projection not bool", lambda s: s.replace("atol = 1e-12", "atol = 1e-12\nprojection = 1"), "run.projection: expected true or false"),
+    ("empty file", lambda s: "", "[model]: missing table"),
+    ("binary garbage", lambda s: "\x01\x02\xff\xfe" * 10, "invalid UTF-8"),
 ]
 
 
@@ -183,7 +199,7 @@ def test_bad_scenes():
     os.makedirs(folder, exist_ok=True)
     for i, (what, change, expect) in enumerate(BAD):
         path = os.path.join(folder, "bad%02d.toml" % i)
-        with open(path, "w") as fh:
+        with open(path, "w", encoding="latin-1") as fh:
             fh.write(change(BASE))
         p = subprocess.run([SWIM, "run", path, "--out", os.path.join(TMP, "badout")], capture_output=True, text=True)
         lines = p.stderr.strip().splitlines()

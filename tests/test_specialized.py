@@ -75,13 +75,13 @@ def test_effects_absent_generate_no_code():
     src = kernel_source(s3)
     check("p->damping" not in src, "example3 (no damping): the kernel has damping code")
     check("forcing_law" not in src, "example3 (no forcing): the kernel has a forcing law")
-    check("barrier_gradient" not in src and "jacobian_circle" not in src, "example3 (no barrier): barrier code emitted")
+    check("p->barrier" not in src and "jacobian_circle" not in src, "example3 (no barrier): barrier code emitted")
     check("p->stiffness" in src, "example3 (elastic): W1 code missing")
     _, _, s1 = run("models/example1.toml", "fx1", "--t-end", "1")
     check("p->stiffness" not in kernel_source(s1), "example1 (no elasticity): W1 code emitted")
     _, _, s7 = run("models/selfpropelled.toml", "fx7", "--t-end", "1")
     src = kernel_source(s7)
-    check("p->damping" in src and "forcing_law" in src and "barrier_gradient" in src,
+    check("p->damping" in src and "forcing_law" in src and "p->barrier" in src,
           "selfpropelled: damping, forcing and barrier code expected")
     check("atan(t)" in src, "selfpropelled: the forcing law is compiled into the kernel")
 

@@ -10,7 +10,7 @@ import sympy as sp
 
 from .cprint import KernelPrinter, emit_assignments
 from .model import SwimmerModel
-from .template import (ASSEMBLY_FULL, ASSEMBLY_REDUCED, BARRIER_FN, HEADER, KERNEL_HEAD,
+from .template import (ASSEMBLY_FULL, ASSEMBLY_REDUCED, HEADER, KERNEL_HEAD,
                        SCENE_RHS, SYMBOLIC_CORE, SYMBOLIC_DERIV, SYMBOLIC_JACOBIAN, TABLE)
 
 SCENE_FORMAT = 1
@@ -124,13 +124,10 @@ def scene_kernel_source(structure, command):
         force.append("    /* W1 = 1/2 (c - cref)^T R (c - cref) (ERRATA E2) */")
         force += ["    f[%d] -= p->stiffness[%d] * (x[%d] - p->reference[%d]);" % (pos[i], i, i, i)
                   for i in elastic]
-    barrier_fn = ""
     if structure.get("barrier"):
-        barrier_fn = BARRIER_FN.replace("$cs_width", str(max(modes, 1)))
-        force += ["    {   /* W2 (section 4.1.1) */",
+        force += ["    {   /* W2 (section 4.1.1): quadrature by the runtime on jacobian_circle */",
                   "        double gW[NX];",
-                  "        const int rc = barrier_gradient(x, p, gW);",
-                  "        if (rc) return rc;",
+                  "        if (p->barrier(x, gW, p->barrier_ctx) != 0) return SWIM_RHS_EBARRIER;",
                   "        for (int i = 0; i < NX; i++) f[i] -= gW[i];",
                   "    }"]
     damping = [i for i in structure.get("damping", []) if i in pos]
@@ -165,7 +162,8 @@ def scene_kernel_source(structure, command):
                what="right-hand side specialized to one scene structure.",
                banner=banner(command), structure=structure["key"].replace('"', "'"),
                free_index=", ".join(str(i) for i in m.free), forcing_fn=forcing_fn,
-               barrier_fn=barrier_fn, force_terms="\n".join(force),
+               jacobian_entry="jacobian_circle" if structure.get("barrier") else "NULL",
+               force_terms="\n".join(force),
                constraint_rows="\n".join(rows))
     pieces = [KERNEL_HEAD, SYMBOLIC_CORE]
     if structure.get("barrier"):

@@ -68,9 +68,10 @@ typedef struct swim_scene_params {
     double rho0, rhof;
     const double *x_locked;     /* values of the locked coordinates (free entries ignored) */
     const double *stiffness, *reference, *damping, *direction;
-    double epsilon, alpha;
-    int nodes;                  /* W2 quadrature: nodes x max(N,1) tables cos/sin(m theta_q) */
-    const double *cs, *sn;
+    /* grad W2 on the kernel's coordinates at x (quadrature done by the runtime, which calls
+     * back the kernel's jacobian_circle); 0, or SWIM_RHS_EBARRIER when J <= 0 at a node. */
+    int (*barrier)(const double *x, double *grad, void *ctx);
+    void *barrier_ctx;
 } swim_scene_params;
 
 /* A kernel specialized to one scene structure (issue 5): it carries only the free coordinates.
@@ -81,6 +82,10 @@ typedef struct swim_scene_kernel {
     const int *free_index;      /* nfree indices into the full shape vector */
     const char *structure;      /* the structure key it was generated for */
     int (*rhs)(double t, const double *y, double *dydt, const swim_scene_params *p);
+    /* K on the free coordinates (nfree x nfree); 0, or -1 if Mr is not positive definite */
+    int (*reduced_matrix)(const double *x, double rho0, double rhof, double *K);
+    /* J on the circle and its gradient on the free coordinates (NULL without a barrier) */
+    void (*jacobian_circle)(const double *x, const double *cs, const double *sn, double *J, double *dJ);
 } swim_scene_kernel;
 
 /* The kernel for N modes among those linked in, or NULL. */
@@ -500,7 +505,6 @@ static int chol_factor(double *K)
     }
     return 0;
 }
-$barrier_fn
 static int scene_rhs(double t, const double *y, double *dy, const swim_scene_params *p)
 {
     double x[NFULL];
@@ -564,6 +568,11 @@ $constraint_rows
     return SWIM_RHS_OK;
 }
 
+static int reduced_matrix_entry(const double *x, double rho0, double rhof, double *K)
+{
+    return reduced(x, NULL, rho0, rhof, K, NULL, NULL);
+}
+
 const swim_scene_kernel swim_scene_kernel_entry = {
     .abi = SWIM_KERNEL_ABI,
     .modes = $N,
@@ -572,25 +581,9 @@ const swim_scene_kernel swim_scene_kernel_entry = {
     .free_index = free_index,
     .structure = "$structure",
     .rhs = scene_rhs,
+    .reduced_matrix = reduced_matrix_entry,
+    .jacobian_circle = $jacobian_entry,
 };
 """)
 
-BARRIER_FN = """
-/* grad W2 on the free coordinates by the trapezoidal rule (runtime/model/shape.h, ERRATA B3). */
-static int barrier_gradient(const double *x, const swim_scene_params *p, double *gW)
-{
-    const int w = $cs_width;
-    double dJ[NX], J;
-    for (int i = 0; i < NX; i++) gW[i] = 0.0;
-    for (int q = 0; q < p->nodes; q++) {
-        jacobian_circle(x, p->cs + (size_t)q * w, p->sn + (size_t)q * w, &J, dJ);
-        if (!(J > 0.0)) return SWIM_RHS_EBARRIER;
-        const double ja = p->alpha == 0.5 ? 1.0 / sqrt(J) : p->alpha == 1.0 ? 1.0 / J : pow(J, -p->alpha);
-        const double s = ja / J;
-        for (int i = 0; i < NX; i++) gW[i] += s * dJ[i];
-    }
-    const double c = -0.5 * p->epsilon * 6.28318530717958647692 / p->nodes;
-    for (int i = 0; i < NX; i++) gW[i] *= c;
-    return 0;
-}
-"""
+

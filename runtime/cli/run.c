@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
 
@@ -55,6 +56,8 @@ typedef struct {
     long rows;
     int status;           /* 0 completed, 1 failed */
     char reason[256];
+    double switch_t;      /* time of a switch to the stiff fallback integrator, or -1 */
+    char used[64];        /* integrator(s) used */
 } run_report;
 
 static int columns(const swim_scene *s, const char **names, char storage[][24])
@@ -126,7 +129,9 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
     fprintf(f, ",\n  \"out\": ");
     swim_json_string(f, dir);
     fprintf(f, ",\n  \"modes\": %d,\n  \"rho0\": %.17g,\n  \"rhof\": %.17g,\n  \"integrator\": ", s->modes, s->rho0, s->rhof);
-    swim_json_string(f, s->integrator);
+    swim_json_string(f, r->used);
+    fprintf(f, ",\n  \"integrator_switch_t\": ");
+    swim_json_number(f, r->switch_t >= 0 ? r->switch_t : NAN);
     fprintf(f, ",\n  \"rtol\": %.3g,\n  \"atol\": %.3g,\n  \"free\": [", s->rtol, s->atol);
     for (int i = 0, first = 1; i < s->n; i++)
         if (s->free_mask[i]) {
@@ -142,6 +147,8 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
     swim_json_string(f, d->spec ? sp->dir : "");
     fprintf(f, ", \"from_cache\": %s, \"generate_seconds\": %.3f, \"compile_seconds\": %.3f},\n",
             sp->from_cache ? "true" : "false", sp->generate_seconds, sp->compile_seconds);
+    fprintf(f, "  \"projection\": {\"enabled\": %s, \"steps\": %ld, \"max_change\": %.3g},\n",
+            s->projection && strncmp(r->used, "abm", 3) == 0 ? "true" : "false", d->projections, d->max_projection);
     fprintf(f, "  \"status\": \"%s\",\n  \"reason\": ", r->status ? "failed" : "completed");
     swim_json_string(f, r->reason);
     fprintf(f, ",\n  \"t_end\": %.17g,\n  \"t_reached\": %.17g,\n  \"rows\": %ld,\n", s->t_end, r->t_reached, r->rows);
@@ -167,9 +174,26 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
             st->steps, st->rhs_evals, st->rejected, st->jac_evals, st->last_h, st->last_order,
             st->stiff_suspected ? "true" : "false");
     for (int i = 0; i < 13; i++) fprintf(f, "%s%ld", i ? ", " : "", st->order_hist[i]);
-    fprintf(f, "],\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f}\n}\n",
-            d->rhs_seconds, wall_s, d->rhs_calls ? 1e9 * d->rhs_seconds / d->rhs_calls : 0.0);
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    fprintf(f, "],\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f, \"max_rss_kb\": %ld}\n}\n",
+            d->rhs_seconds, wall_s, d->rhs_calls ? 1e9 * d->rhs_seconds / d->rhs_calls : 0.0, ru.ru_maxrss);
     fclose(f);
+}
+
+/* Add the counters of `ode` to `total` (a run may use two integrators). */
+static void accumulate_stats(swim_ode_stats *total, const swim_ode *ode)
+{
+    swim_ode_stats st;
+    if (swim_ode_get_stats(ode, &st) != SWIM_ODE_OK) return;
+    total->steps += st.steps;
+    total->rhs_evals += st.rhs_evals;
+    total->rejected += st.rejected;
+    total->jac_evals += st.jac_evals;
+    for (int i = 0; i < 13; i++) total->order_hist[i] += st.order_hist[i];
+    total->last_h = st.last_h;
+    total->last_order = st.last_order;
+    total->stiff_suspected |= st.stiff_suspected;
 }
 
 static void default_out(const char *scene_path, char *out, size_t len)
@@ -185,7 +209,7 @@ int swim_cmd_run(int argc, char **argv)
 {
     swim_opt opts[] = {{"out", 1, NULL},  {"t-end", 1, NULL},      {"rtol", 1, NULL},
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
-                       {"generic", 0, NULL}};
+                       {"generic", 0, NULL}, {"no-projection", 0, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
@@ -219,6 +243,7 @@ int swim_cmd_run(int argc, char **argv)
         snprintf(s.integrator, sizeof s.integrator, "%s", v);
     }
     const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
+    if (swim_args_get(opts, nopts, "no-projection")) s.projection = 0;
     char dir[900];
     if ((v = swim_args_get(opts, nopts, "out"))) snprintf(dir, sizeof dir, "%s", v);
     else default_out(s.path, dir, sizeof dir);
@@ -268,9 +293,18 @@ int swim_cmd_run(int argc, char **argv)
     swim_ode_options_default(&o);
     o.rtol = s.rtol;
     o.atol = s.atol;
+    o.stiff_stop = strcmp(s.integrator, "abm") == 0;   /* stop and report (or switch) on stiffness */
+    if (s.projection) o.project = swim_dynamics_project;  /* drift control (ABM only) */
     swim_ode *ode = NULL;
     run_report r;
     memset(&r, 0, sizeof r);
+    r.switch_t = -1.0;
+    snprintf(r.used, sizeof r.used, "%s", s.integrator);
+    swim_ode_stats total;
+    memset(&total, 0, sizeof total);
+    double *ys_last = calloc((size_t)sdim, sizeof(double)), t_last = 0.0;
+    double *ys_row = calloc((size_t)sdim, sizeof(double));
+    memcpy(ys_last, ys, sizeof(double) * sdim);
     struct sigaction sa, old;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_sigint;
@@ -292,12 +326,45 @@ int swim_cmd_run(int argc, char **argv)
         if (k > rows + 1) break;
         if (k > 0) {
             rc = swim_ode_advance(ode, t, ys);
-            if (rc == SWIM_ODE_OK) swim_dynamics_unpack(&d, ys, y);
+            if (rc == SWIM_ODE_ESTIFF && s.stiff_fallback[0] && r.switch_t < 0) {
+                /* Restart the stiff integrator from the last output row (exact state there). */
+                double ts = swim_ode_time(ode);
+                accumulate_stats(&total, ode);
+                swim_ode_free(ode);
+                ode = NULL;
+                if (!quiet)
+                    fprintf(stderr, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g\n",
+                            ts, s.integrator, s.stiff_fallback, t_last);
+                r.switch_t = t_last;
+                snprintf(r.used, sizeof r.used, "%s+%s", s.integrator, s.stiff_fallback);
+                memcpy(ys, ys_last, sizeof(double) * sdim);
+                o.stiff_stop = 0;
+                rc = swim_ode_create(s.stiff_fallback, &sys, &o, t_last, ys, &ode);
+                if (rc == SWIM_ODE_OK) rc = swim_ode_advance(ode, t, ys);
+            }
+            if (rc == SWIM_ODE_OK) {
+                /* Rows come from the interpolant, which leaves the constraint manifold by the local
+                 * error between two projected steps: project the row as well (a copy; the
+                 * integrator's state is untouched). */
+                if (o.project && ode && strcmp(swim_ode_method_name(ode), "abm") == 0) {
+                    memcpy(ys_row, ys, sizeof(double) * sdim);
+                    o.project(t, ys_row, &d);
+                    swim_dynamics_unpack(&d, ys_row, y);
+                } else {
+                    swim_dynamics_unpack(&d, ys, y);
+                }
+                memcpy(ys_last, ys, sizeof(double) * sdim);
+                t_last = t;
+            }
             if (rc != SWIM_ODE_OK) {
                 int rs = swim_ode_rhs_status(ode);
                 r.status = 1;
                 if (rc == SWIM_ODE_ERHS)
                     snprintf(r.reason, sizeof r.reason, "%s near t = %.6g", swim_dynamics_strerror(rs), d.last_rhs_t);
+                else if (rc == SWIM_ODE_ESTIFF)
+                    snprintf(r.reason, sizeof r.reason, "stiffness detected near t = %.6g: Adams PECE is "
+                             "stability-limited here; rerun with --integrator cvode-bdf (or msbdf), or set "
+                             "[run] stiff_fallback = \"cvode-bdf\" in the scene", ode ? swim_ode_time(ode) : t);
                 else
                     snprintf(r.reason, sizeof r.reason, "%s near t = %.6g", swim_ode_strerror(rc), swim_ode_time(ode));
                 break;
@@ -341,9 +408,8 @@ int swim_cmd_run(int argc, char **argv)
     if (!quiet && last_progress > t_start) fputc('\n', stderr);
     sigaction(SIGINT, &old, NULL);
     if (r.status == 0) snprintf(r.reason, sizeof r.reason, "reached t_end = %.6g", s.t_end);
-    swim_ode_stats st;
-    memset(&st, 0, sizeof st);
-    if (ode) swim_ode_get_stats(ode, &st);
+    if (ode) accumulate_stats(&total, ode);
+    swim_ode_stats st = total;
     if (snap) {
         fputs("\n]\n", snap);
         fclose(snap);
@@ -354,13 +420,15 @@ int swim_cmd_run(int argc, char **argv)
     printf("%s: %s (%s); %ld rows in %s/trajectory.csv\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);
     printf("  %s kernel (state dimension %d)\n", d.spec ? "specialized" : "generic", sdim);
     printf("  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)\n",
-           s.integrator, s.rtol, st.steps, st.rhs_evals, st.rejected, wall() - t_start, d.rhs_seconds);
+           r.used, s.rtol, st.steps, st.rhs_evals, st.rejected, wall() - t_start, d.rhs_seconds);
     printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g\n",
            r.drift_abs, r.e0, r.res_volume, r.res_angular, r.res_locks, r.jmin);
     printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", y[0], y[1], y[2]);
     swim_ode_free(ode);
     swim_specialized_close(&spz);
     free(ys);
+    free(ys_last);
+    free(ys_row);
     free(y);
     free(row);
     swim_dynamics_free(&d);

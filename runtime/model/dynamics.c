@@ -12,7 +12,7 @@
 
 const char *swim_dynamics_strerror(int code)
 {
-    switch (code) {
+    switch (code < 0 ? -code : code) {
     case SWIM_DYN_OK: return "ok";
     case SWIM_DYN_ENAN: return "NaN or Inf in the state";
     case SWIM_DYN_EBARRIER: return "the shape left the admissible set D (J <= 0 on the circle)";
@@ -40,8 +40,9 @@ int swim_dynamics_init(swim_dynamics *d, const swim_scene *s)
     d->grad = malloc(sizeof(double) * n);
     d->ipiv_work = malloc(sizeof(double) * SYSV_LWORK * mmax);
     d->ipiv = malloc(sizeof(int) * mmax);
-    if (!d->K || !d->P || !d->gvv || !d->rhs || !d->G || !d->A || !d->grad || !d->ipiv_work || !d->ipiv ||
-        (s->barrier && swim_circle_init(&d->circle, s->modes, SWIM_BARRIER_NODES) != 0)) {
+    d->proj = malloc(sizeof(double) * d->dim);
+    if (!d->K || !d->P || !d->gvv || !d->rhs || !d->G || !d->A || !d->grad || !d->ipiv_work || !d->ipiv || !d->proj ||
+        (s->barrier && swim_circle_init(&d->circle, s->modes, SWIM_BARRIER_MAX_NODES) != 0)) {
         swim_dynamics_free(d);
         return -1;
     }
@@ -52,9 +53,9 @@ int swim_dynamics_init(swim_dynamics *d, const swim_scene *s)
 void swim_dynamics_free(swim_dynamics *d)
 {
     free(d->K); free(d->P); free(d->gvv); free(d->rhs); free(d->G); free(d->A); free(d->grad);
-    free(d->ipiv_work); free(d->ipiv);
+    free(d->ipiv_work); free(d->ipiv); free(d->proj);
     if (d->circle.cs) swim_circle_free(&d->circle);
-    d->K = d->P = d->gvv = d->rhs = d->G = d->A = d->grad = d->ipiv_work = NULL;
+    d->K = d->P = d->gvv = d->rhs = d->G = d->A = d->grad = d->ipiv_work = d->proj = NULL;
     d->ipiv = NULL;
 }
 
@@ -84,7 +85,8 @@ static int generalized_force(swim_dynamics *d, double t, const double *c, const 
     if (s->elastic)
         for (int i = 0; i < n; i++) f[i] -= s->stiffness[i] * (c[i] - s->reference[i]);
     if (s->barrier) {
-        if (!isfinite(swim_barrier(d->k, &d->circle, c, s->epsilon, s->alpha, d->grad, NULL)))
+        if (!isfinite(swim_barrier_adaptive(&d->circle, d->k->jacobian_circle, d->n, c, s->epsilon,
+                                            s->alpha, d->grad, NULL, NULL)))
             return SWIM_DYN_EBARRIER;
         for (int i = 0; i < n; i++) f[i] -= d->grad[i];
     }
@@ -109,7 +111,6 @@ static int rhs_body(swim_dynamics *d, double t, const double *y, double *dy)
     const swim_scene *s = d->scene;
     const int n = d->n, dim = d->dim;
     const double *c = y + 3, *v = y + 3 + n;
-    if (d->interrupt && *d->interrupt) return SWIM_DYN_EINTERRUPT;
     for (int i = 0; i < dim; i++)
         if (!isfinite(y[i])) return SWIM_DYN_ENAN;
     if (d->k->reduced(c, v, s->rho0, s->rhof, d->K, d->P, d->gvv) != 0) return SWIM_DYN_EMASS;
@@ -161,6 +162,17 @@ static int rhs_body(swim_dynamics *d, double t, const double *y, double *dy)
     return 0;
 }
 
+/* The barrier callback of scene kernels: the same adaptive quadrature as the generic path, on
+ * the scene kernel's own J (gradient on the free coordinates). */
+static int scene_barrier(const double *x, double *grad, void *ctx)
+{
+    swim_dynamics *d = ctx;
+    const swim_scene *s = d->scene;
+    double W = swim_barrier_adaptive(&d->circle, d->spec->jacobian_circle, d->spec->nfree, x,
+                                     s->epsilon, s->alpha, grad, NULL, NULL);
+    return isfinite(W) ? 0 : SWIM_RHS_EBARRIER;
+}
+
 void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *spec)
 {
     const swim_scene *s = d->scene;
@@ -174,13 +186,8 @@ void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *s
     p->reference = s->reference;
     p->damping = s->damping;
     p->direction = s->direction;
-    p->epsilon = s->epsilon;
-    p->alpha = s->alpha;
-    if (s->barrier) {
-        p->nodes = d->circle.nodes;
-        p->cs = d->circle.cs;
-        p->sn = d->circle.sn;
-    }
+    p->barrier = scene_barrier;
+    p->barrier_ctx = d;
 }
 
 int swim_dynamics_state_dim(const swim_dynamics *d)
@@ -225,7 +232,7 @@ int swim_dynamics_rhs(double t, const double *y, double *dy, void *params)
     swim_dynamics *d = params;
     double t0 = seconds();
     int rc;
-    if (d->interrupt && *d->interrupt) rc = SWIM_DYN_EINTERRUPT;
+    if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;   /* fatal: negative */
     else if (d->spec) rc = d->spec->rhs(t, y, dy, &d->spec_params);
     else rc = rhs_body(d, t, y, dy);
     d->rhs_seconds += seconds() - t0;
@@ -266,7 +273,9 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     o->kinetic_fluid = T - o->kinetic_rigid - o->kinetic_shape;
     if (s->elastic)
         for (int i = 0; i < n; i++) o->w1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
-    if (s->barrier) o->w2 = swim_barrier(d->k, &d->circle, c, s->epsilon, s->alpha, NULL, NULL);
+    if (s->barrier)
+        o->w2 = swim_barrier_adaptive(&d->circle, d->k->jacobian_circle, n, c, s->epsilon, s->alpha,
+                                      NULL, NULL, NULL);
     o->energy = T + o->w1 + o->w2;
     o->work = y[3 + 2 * n];
     /* Impulses (section 3.3): body (m r*, I omega), fluid from the rigid motion (added mass),
@@ -299,5 +308,81 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     o->jmin = swim_shape_jmin(d->k, c);
     free(Nc);
     free(Md);
+    return 0;
+}
+
+int swim_dynamics_project(double t, double *ys, void *params)
+{
+    swim_dynamics *d = params;
+    const swim_scene *s = d->scene;
+    const int n = d->n;
+    double *y = d->proj, *c = y + 3, *v = y + 3 + n, change = 0.0;
+    (void)t;
+    swim_dynamics_unpack(d, ys, y);
+    for (int i = 0; i < n; i++)
+        if (!s->free_mask[i]) {
+            change = fmax(change, fabs(c[i] - s->c0[i]) + fabs(v[i]));
+            c[i] = s->c0[i];
+            v[i] = 0.0;
+        }
+    /* Volume (2.5): mu^2(c) = mu0^2, Newton along the free part of grad mu^2 = 2 G1. */
+    const double mu0 = swim_area_constant(n, s->c0);
+    for (int it = 0; it < 2; it++) {
+        double r = swim_area_constant(n, c) - mu0, gg = 0.0;
+        double g[2 * (SWIM_KERNEL_MAX_MODES + 1)];
+        for (int i = 0; i < n; i++) {
+            int k = i < 2 ? 1 : -(i / 2);
+            g[i] = s->free_mask[i] ? 2.0 * k * c[i] : 0.0;
+            gg += g[i] * g[i];
+        }
+        if (!(gg > 0.0) || r == 0.0) break;
+        for (int i = 0; i < n; i++) {
+            c[i] -= r * g[i] / gg;
+            change = fmax(change, fabs(r * g[i] / gg));
+        }
+    }
+    /* Velocity: v <- v - K^-1 G^T (G K^-1 G^T)^-1 G v on the free coordinates (K-orthogonal: the
+     * kinetic energy changes only at second order in the correction). */
+    double *G = d->G;
+    swim_constraint_rows(n, c, s->free_mask, G);
+    int fi[2 * (SWIM_KERNEL_MAX_MODES + 1)], nf = 0;
+    for (int i = 0; i < n; i++)
+        if (s->free_mask[i]) fi[nf++] = i;
+    double *K = d->K, *Z = d->rhs;   /* nf x nf factor; Z = K^-1 G^T, two columns */
+    if (d->spec && d->spec->reduced_matrix) {
+        if (d->spec->reduced_matrix(c, s->rho0, s->rhof, K) != 0) return SWIM_DYN_EMASS;
+    } else {
+        if (d->k->reduced(c, NULL, s->rho0, s->rhof, d->rhs, NULL, NULL) != 0) return SWIM_DYN_EMASS;
+        for (int a = 0; a < nf; a++)
+            for (int b = 0; b < nf; b++) K[a * nf + b] = d->rhs[fi[a] * n + fi[b]];
+    }
+    for (int j = 0; j < 2; j++)
+        for (int a = 0; a < nf; a++) Z[j * nf + a] = G[j * n + fi[a]];
+    if (LAPACKE_dposv_work(LAPACK_COL_MAJOR, 'L', nf, 2, K, nf, Z, nf) != 0) return SWIM_DYN_EMASS;
+    double A[2][2] = {{0, 0}, {0, 0}}, b[2] = {0, 0}, lam[2] = {0, 0};
+    for (int a = 0; a < nf; a++)
+        for (int j = 0; j < 2; j++) {
+            b[j] += G[j * n + fi[a]] * v[fi[a]];
+            for (int l = 0; l < 2; l++) A[j][l] += G[j * n + fi[a]] * Z[l * nf + a];
+        }
+    const double scale = A[0][0] + A[1][1] + 1e-300;
+    const int use0 = A[0][0] > 1e-13 * scale, use1 = A[1][1] > 1e-13 * scale;
+    const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+    if (use0 && use1 && fabs(det) > 1e-13 * A[0][0] * A[1][1]) {
+        lam[0] = (b[0] * A[1][1] - A[0][1] * b[1]) / det;
+        lam[1] = (A[0][0] * b[1] - A[1][0] * b[0]) / det;
+    } else if (use0) {
+        lam[0] = b[0] / A[0][0];
+    } else if (use1) {
+        lam[1] = b[1] / A[1][1];
+    }
+    for (int a = 0; a < nf; a++) {
+        double dv = lam[0] * Z[a] + lam[1] * Z[nf + a];
+        v[fi[a]] -= dv;
+        change = fmax(change, fabs(dv));
+    }
+    swim_dynamics_pack(d, y, ys);
+    d->projections++;
+    d->max_projection = fmax(d->max_projection, change);
     return 0;
 }

@@ -20,8 +20,10 @@
 #include "model/shape.h"
 #include "scene/scene.h"
 
-/* Non-zero values returned by the right-hand side (passed through the integrator); the first
- * five are the SWIM_RHS_* codes that scene kernels return too. */
+/* Values returned by the right-hand side (passed through the integrator); the first five are
+ * the SWIM_RHS_* codes that scene kernels return too. They are returned positive -- the state is
+ * outside the domain of the equations, so the integrator may retry with a smaller step (see
+ * swim_ode_func) -- except the interrupt, returned as -SWIM_DYN_EINTERRUPT (fatal). */
 enum {
     SWIM_DYN_OK = SWIM_RHS_OK,
     SWIM_DYN_ENAN = SWIM_RHS_ENAN,               /* NaN or Inf in the state or its derivative */
@@ -41,10 +43,11 @@ typedef struct {
     swim_circle circle;          /* quadrature nodes for W2 */
     volatile int *interrupt;     /* set asynchronously to stop (may be NULL) */
     /* workspace (owned) */
-    double *K, *P, *gvv, *rhs, *G, *A, *grad, *ipiv_work;
+    double *K, *P, *gvv, *rhs, *G, *A, *grad, *ipiv_work, *proj;
     int *ipiv;
     /* statistics */
-    long rhs_calls;
+    long rhs_calls, projections;
+    double max_projection;       /* largest change made by swim_dynamics_project */
     double rhs_seconds;
     double last_rhs_t;
 } swim_dynamics;
@@ -59,6 +62,14 @@ int swim_dynamics_state_dim(const swim_dynamics *d);
 /* Full state (dim) <-> integrator state (state_dim); identical without a scene kernel. */
 void swim_dynamics_pack(const swim_dynamics *d, const double *full, double *state);
 void swim_dynamics_unpack(const swim_dynamics *d, const double *state, double *full);
+
+/* Drift control (issue 6): (2.8) is enforced by (4.12) only at the acceleration level, so the
+ * volume and the velocity constraints drift with the integration error. After each accepted
+ * step the integrator calls this (swim_ode_options.project): it restores the locks exactly, puts
+ * c back on the volume manifold sum_k k|c_k|^2 = mu0^2 by Newton steps along its gradient 2 G1,
+ * and removes the components of cdot along G1 and G2 (l2-orthogonal projection, as for the initial
+ * data in ERRATA D5). The corrections are of the size of the local error. */
+int swim_dynamics_project(double t, double *y, void *params);
 
 /* The right-hand side on the integrator's state, in the form of swim_ode_func
  * (params = swim_dynamics *). */

@@ -71,34 +71,59 @@ double swim_shape_jmin(const swim_kernel *k, const double *x)
     return fm < best ? fm : best;
 }
 
-double swim_barrier(const swim_kernel *k, const swim_circle *circle, const double *x,
-                    double eps, double alpha, double *grad, double *jnodes)
+/* Trapezoidal sums over every `stride`-th node: W2, and its gradient into grad. */
+static double barrier_rule(const swim_circle *circle, int stride, swim_jacobian_fn jac, int ngrad,
+                           const double *x, double eps, double alpha, double *grad, double *jlow)
 {
-    const int n = k->dim, w = k->modes > 0 ? k->modes : 1, Q = circle->nodes;
+    const int w = circle->modes > 0 ? circle->modes : 1, Q = circle->nodes / stride;
     double dJ[2 * (SWIM_KERNEL_MAX_MODES + 1)];
-    double sum = 0.0, jlow = INFINITY;
+    double sum = 0.0;
+    *jlow = INFINITY;
     if (grad)
-        for (int i = 0; i < n; i++) grad[i] = 0.0;
-    for (int q = 0; q < Q; q++) {
+        for (int i = 0; i < ngrad; i++) grad[i] = 0.0;
+    for (int q = 0; q < circle->nodes; q += stride) {
         double J;
-        k->jacobian_circle(x, circle->cs + (size_t)q * w, circle->sn + (size_t)q * w, &J,
-                           grad ? dJ : NULL);
-        if (J < jlow) jlow = J;
-        if (!(J > 0.0)) {
-            if (jnodes) *jnodes = J;
-            return INFINITY;
-        }
+        jac(x, circle->cs + (size_t)q * w, circle->sn + (size_t)q * w, &J, grad ? dJ : NULL);
+        if (J < *jlow) *jlow = J;
+        if (!(J > 0.0)) return INFINITY;
         /* J^-alpha; alpha = 1/2 and 1 avoid pow() on the hot path. */
         double ja = alpha == 0.5 ? 1.0 / sqrt(J) : alpha == 1.0 ? 1.0 / J : pow(J, -alpha);
         sum += ja;
         if (grad) {
             double s = ja / J;   /* J^(-1-alpha) */
-            for (int i = 0; i < n; i++) grad[i] += s * dJ[i];
+            for (int i = 0; i < ngrad; i++) grad[i] += s * dJ[i];
         }
     }
     const double h = TWO_PI / Q;
     if (grad)   /* dW2 = eps/(2 alpha) * (-alpha) int J^(-1-alpha) dJ */
-        for (int i = 0; i < n; i++) grad[i] *= -0.5 * eps * h;
-    if (jnodes) *jnodes = jlow;
+        for (int i = 0; i < ngrad; i++) grad[i] *= -0.5 * eps * h;
     return eps / (2.0 * alpha) * h * sum;
+}
+
+double swim_barrier(const swim_circle *circle, swim_jacobian_fn jac, int ngrad, const double *x,
+                    double eps, double alpha, double *grad, double *jnodes)
+{
+    double jlow;
+    double W = barrier_rule(circle, 1, jac, ngrad, x, eps, alpha, grad, &jlow);
+    if (jnodes) *jnodes = jlow;
+    return W;
+}
+
+double swim_barrier_adaptive(const swim_circle *circle, swim_jacobian_fn jac, int ngrad,
+                             const double *x, double eps, double alpha, double *grad,
+                             double *jnodes, int *nodes_used)
+{
+    int Q = circle->nodes < SWIM_BARRIER_NODES ? circle->nodes : SWIM_BARRIER_NODES;
+    double jlow, W;
+    for (;;) {
+        W = barrier_rule(circle, circle->nodes / Q, jac, ngrad, x, eps, alpha, grad, &jlow);
+        if (!isfinite(W)) break;
+        /* Keep the resolution that 256 nodes have at min J = 0.008 (ERRATA B4). */
+        double need = jlow < 0.008 ? SWIM_BARRIER_NODES * sqrt(0.008 / jlow) : 0.0;
+        if (need <= Q || Q >= circle->nodes) break;
+        while (Q < need && Q < circle->nodes) Q *= 2;
+    }
+    if (jnodes) *jnodes = jlow;
+    if (nodes_used) *nodes_used = Q;
+    return W;
 }

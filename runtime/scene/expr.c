@@ -9,11 +9,14 @@
 enum { OP_NUM, OP_T, OP_ADD, OP_SUB, OP_MUL, OP_DIV, OP_POW, OP_NEG, OP_FUN };
 
 typedef double (*fun1)(double);
+static double heaviside(double x) { return x >= 0.0 ? 1.0 : 0.0; }
 static const struct { const char *name; fun1 f; } funcs[] = {
     {"sin", sin},   {"cos", cos},   {"tan", tan},   {"asin", asin}, {"acos", acos},
     {"atan", atan}, {"exp", exp},   {"log", log},   {"sqrt", sqrt}, {"abs", fabs},
-    {"sinh", sinh}, {"cosh", cosh}, {"tanh", tanh},
+    {"sinh", sinh}, {"cosh", cosh}, {"tanh", tanh}, {"step", heaviside},
 };
+#define FUN_ABS 9
+#define FUN_STEP 13
 #define NFUNCS (int)(sizeof funcs / sizeof funcs[0])
 #define MAX_CODE 256
 #define MAX_DEPTH 64
@@ -203,8 +206,9 @@ int swim_expr_to_c(const swim_expr *e, char *buf, size_t len)
         case OP_NEG: need = strlen(st[sp - 1]) + 4; s = malloc(need);
             if (s) snprintf(s, need, "(-%s)", st[sp - 1]);
             free(st[--sp]); break;
-        case OP_FUN: need = strlen(st[sp - 1]) + 16; s = malloc(need);
-            if (s) snprintf(s, need, "%s(%s)", in->fn == 9 ? "fabs" : funcs[in->fn].name, st[sp - 1]);
+        case OP_FUN: need = strlen(st[sp - 1]) + 32; s = malloc(need);
+            if (s && in->fn == FUN_STEP) snprintf(s, need, "((%s) >= 0.0 ? 1.0 : 0.0)", st[sp - 1]);
+            else if (s) snprintf(s, need, "%s(%s)", in->fn == FUN_ABS ? "fabs" : funcs[in->fn].name, st[sp - 1]);
             free(st[--sp]); break;
         default: {
             char *b = st[--sp], *a = st[--sp];

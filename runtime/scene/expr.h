@@ -1,7 +1,7 @@
 /* expr.h -- scalar expressions in t for forcing laws F(t) (section 5.1), e.g.
  * "2*(4*atan(t)^2/pi^2)*cos(t/3)". Grammar: numbers, t, pi, e; + - * / ^ (right-assoc.),
  * unary minus, parentheses; functions sin cos tan asin acos atan exp log sqrt abs sinh cosh
- * tanh. Compiled once to a small stack program; evaluation allocates nothing. */
+ * tanh, and step (Heaviside: 1 for x >= 0, else 0). Compiled once to a small stack program; evaluation allocates nothing. */
 #ifndef SWIM_EXPR_H
 #define SWIM_EXPR_H
 

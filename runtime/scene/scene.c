@@ -111,6 +111,22 @@ static const toml_value *get_table(ctx *c, const toml_value *root, const char *n
     return t;
 }
 
+/* An integrator name (absent: leave *out as it is). */
+static int get_integrator(ctx *c, const toml_value *t, const char *key, char *out, size_t len)
+{
+    const toml_value *v = toml_get(t, key);
+    if (!v) return 0;
+    const char *name = toml_string(v);
+    int line = toml_get_key_line(t, key);
+    if (!name) ERR(c, line, key, "expected a string (an integrator name)");
+    int known = 0;
+    for (const char *const *m = swim_ode_methods(); *m; m++) known |= strcmp(*m, name) == 0;
+    if (!known || strlen(name) >= len)
+        ERR(c, line, key, "unknown integrator \"%s\" (abm, rk8pd, msadams, rkf45, msbdf, cvode-adams, cvode-bdf)", name);
+    snprintf(out, len, "%s", name);
+    return 0;
+}
+
 static int parse_free(ctx *c, const toml_value *shape, swim_scene *s)
 {
     const toml_value *v = toml_get(shape, "free");
@@ -124,6 +140,7 @@ static int parse_free(ctx *c, const toml_value *shape, swim_scene *s)
     }
     if (toml_kind_of(v) != TOML_ARRAY) ERR(c, line, "free", "expected \"all\" or an array of names, got a %s", toml_kind_name(toml_kind_of(v)));
     for (int i = 0; i < s->n; i++) s->free_mask[i] = 0;
+    if (toml_array_size(v) == 0) ERR(c, line, "free", "no free coordinate: nothing can move");
     for (size_t j = 0; j < toml_array_size(v); j++) {
         const char *name = toml_string(toml_array_at(v, j));
         if (!name) ERR(c, line, "free", "item %zu is not a string", j + 1);
@@ -190,7 +207,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     static const char *const k_barrier[] = {"epsilon", "alpha", NULL};
     static const char *const k_damping[] = {"diagonal", NULL};
     static const char *const k_forcing[] = {"law", "direction", NULL};
-    static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "project_initial", NULL};
+    static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "stiff_fallback", "project_initial", "projection", NULL};
     int rc;
     c->table = NULL;
     if (check_keys(c, root, top)) return 2;
@@ -241,15 +258,13 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (get_number(c, run, "atol", 0, &s->atol)) return 2;
     if (!(s->atol > 0)) ERR(c, toml_get_key_line(run, "atol"), "atol", "must be > 0, got %g", s->atol);
     snprintf(s->integrator, sizeof s->integrator, "abm");
-    const toml_value *integ = toml_get(run, "integrator");
-    if (integ) {
-        const char *name = toml_string(integ);
-        if (!name) ERR(c, toml_get_key_line(run, "integrator"), "integrator", "expected a string");
-        int known = 0;
-        for (const char *const *m = swim_ode_methods(); *m; m++) known |= strcmp(*m, name) == 0;
-        if (!known || strlen(name) >= sizeof s->integrator)
-            ERR(c, toml_get_key_line(run, "integrator"), "integrator", "unknown integrator \"%s\" (abm, rk8pd, msadams, rkf45, msbdf, cvode-adams, cvode-bdf)", name);
-        snprintf(s->integrator, sizeof s->integrator, "%s", name);
+    if (get_integrator(c, run, "integrator", s->integrator, sizeof s->integrator)) return 2;
+    if (get_integrator(c, run, "stiff_fallback", s->stiff_fallback, sizeof s->stiff_fallback)) return 2;
+    s->projection = 1;
+    const toml_value *pj = toml_get(run, "projection");
+    if (pj) {
+        if (toml_kind_of(pj) != TOML_BOOL) ERR(c, toml_get_key_line(run, "projection"), "projection", "expected true or false");
+        s->projection = toml_bool(pj);
     }
     const toml_value *pi = toml_get(run, "project_initial");
     if (pi) {

@@ -36,7 +36,9 @@ typedef struct {
     double direction[SWIM_NMAX];
     double t_end, output_step, rtol, atol;
     char integrator[32];
+    char stiff_fallback[32];          /* integrator to switch to when ABM detects stiffness, or "" */
     int project_initial;
+    int projection;                   /* drift control after each step (ABM), default on */
     double projection_change;         /* max |change| of dc0 when projected */
 } swim_scene;
 
