@@ -15,7 +15,8 @@ CFLAGS     ?= $(OPT) -g
 CFLAGS     += -std=c11 -D_XOPEN_SOURCE=700 -Wall -Wextra -Wno-unused-parameter -MMD -MP
 CPPFLAGS   += -Iruntime -Igenerated -I/usr/include/sundials
 LDLIBS     += -ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lm
-BUILD      := build
+BUILD      ?= build
+BIN        ?= bin
 # Mode counts whose kernels are committed (generated/) and linked into bin/swim, and mode counts
 # generated at build time into build/gen/ and linked as well (tests use 12, hard scenes 15).
 MODES      ?= 0 1 2 3 4 5 6 7
@@ -42,13 +43,15 @@ TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 DEPS_STAMP  := $(BUILD)/.deps-ok
 
-.PHONY: FORCE all deps help test bench generate generate-all run readme-figures clean
-all: bin/swim
+.PHONY: FORCE all deps help test sanitize fuzz bench generate generate-all run readme-figures clean
+all: $(BIN)/swim
 
 help:
 	@echo "make            build bin/swim (installs missing Debian packages first)"
 	@echo "make deps       check/install: $(DEB_PKGS)"
 	@echo "make test       build and run every test program in tests/"
+	@echo "make sanitize   the test suite under AddressSanitizer + UndefinedBehaviorSanitizer"
+	@echo "make fuzz       fuzz the scene parser and the CLI arguments (libFuzzer, FUZZ_SECONDS=60)"
 	@echo "make bench      run the benchmarks (numbers quoted in README.md)"
 	@echo "make generate N=12   regenerate the kernel for one mode count into generated/"
 	@echo "make generate-all    regenerate the committed kernels (N = $(MODES))"
@@ -89,8 +92,8 @@ $(BUILD)/libswim.a: $(LIB_OBJS)
 $(BUILD)/libswimtest.a: $(TESTLIB_OBJS)
 	ar rcs $@ $^
 
-bin/swim: $(BUILD)/runtime/cli/main.o $(BUILD)/libswim.a
-	@mkdir -p bin
+$(BIN)/swim: $(BUILD)/runtime/cli/main.o $(BUILD)/libswim.a
+	@mkdir -p $(BIN)
 	$(CC) $(CFLAGS) $^ -o $@ $(LDLIBS)
 
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(BUILD)/libswimtest.a $(BUILD)/libswim.a
@@ -107,12 +110,25 @@ $(BUILD)/gen/%.o: $(BUILD)/gen/%.c
 
 TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_specialized.py tests/test_hard.py tests/test_plot.sh
 
-test: bin/swim $(TEST_BINS)
-	@bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)
+test: $(BIN)/swim $(TEST_BINS)
+	@SWIM_BIN=$(CURDIR)/$(BIN)/swim bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)
+
+# The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer (own build folder;
+# specialized kernels are compiled with the same flags into their own cache entries).
+SANITIZE_OPT := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
+sanitize: | $(DEPS_STAMP)
+	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	  $(MAKE) --no-print-directory BUILD=build/sanitize BIN=build/sanitize/bin OPT="$(SANITIZE_OPT)" test
+
+# Short coverage-guided fuzzing of the scene parser and the command-line arguments (libFuzzer,
+# clang); FUZZ_SECONDS per target.
+FUZZ_SECONDS ?= 60
+fuzz: | $(DEPS_STAMP)
+	bash tests/fuzz/run_fuzz.sh $(FUZZ_SECONDS)
 
 BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py
 
-bench: bin/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs
+bench: $(BIN)/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs
 	@bash tests/bench/run_bench.sh $(BENCH_SCRIPTS) $(BENCH_BINS)
 
 generate: | $(DEPS_STAMP)
@@ -121,15 +137,16 @@ generate: | $(DEPS_STAMP)
 generate-all: | $(DEPS_STAMP)
 	$(PYTHON) generator/generate.py --modes $(MODES) --out generated
 
-run: bin/swim
-	./bin/swim run models/example3.toml --out out/example3
-	./bin/swim plot out/example3
+run: $(BIN)/swim
+	./$(BIN)/swim run models/example3.toml --out out/example3
+	./$(BIN)/swim plot out/example3
 
 # Figures shown in README.md, rebuilt from the main job.
 readme-figures: run
 	mkdir -p docs/figures
 	cp out/example3/snapshots.png docs/figures/example3_snapshots.png
 	cp out/example3/energy.png docs/figures/example3_energy.png
+	$(PYTHON) tests/bench/plot_drift.py docs/figures/drift_long_runs.png
 
 clean:
 	rm -rf $(BUILD) bin

@@ -22,7 +22,7 @@ import tempfile
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SWIM = os.path.join(ROOT, "bin", "swim")
+SWIM = os.environ.get("SWIM_BIN") or os.path.join(ROOT, "bin", "swim")
 TMP = tempfile.mkdtemp(prefix="swim-hard-")
 passed = failed = 0
 

@@ -72,6 +72,84 @@ static int failing_rhs(double t, const double *y, double *f, void *p)
     return 0;
 }
 
+/* y' = -y + cos t, y(0) = 1/2: y = (cos t + sin t)/2, |y| <= 0.71.  The RHS
+ * reports a domain failure (+1) when |y| >= bound, a region the exact solution
+ * never reaches, so only trial states of too large steps are refused; after
+ * t > fatal_t (if set) it returns fatal_rc (negative: fatal, positive: a
+ * domain failure from which no step can recover). */
+typedef struct {
+    double bound, fatal_t;
+    int fatal_rc;
+    long calls, dom_fails, calls_after_fatal;
+    int seen_fatal;
+} dom_par;
+
+static int dom_rhs(double t, const double *y, double *f, void *p)
+{
+    dom_par *d = p;
+    d->calls++;
+    if (d->seen_fatal)
+        d->calls_after_fatal++;
+    if (d->fatal_rc && t > d->fatal_t) {
+        if (d->fatal_rc < 0)
+            d->seen_fatal = 1;
+        return d->fatal_rc;
+    }
+    if (!(fabs(y[0]) < d->bound)) {
+        d->dom_fails++;
+        return 1;
+    }
+    f[0] = -y[0] + cos(t);
+    return 0;
+}
+
+/* Kepler with a RHS that refuses (+1) exactly the call numbered fail_call. */
+typedef struct {
+    long calls, fail_call;
+} inject_par;
+
+static int inject_rhs(double t, const double *y, double *f, void *p)
+{
+    inject_par *q = p;
+    if (q->calls++ == q->fail_call)
+        return 1;
+    return kepler_rhs(t, y, f, NULL);
+}
+
+/* y' = -y + cos t (y(0) = 1/2), returning inj_rc once, from call number
+ * inj_call on.  A positive value stands for a state outside the domain, so it
+ * is not returned for a repeat of the last successful call (same t and y):
+ * GSL's evolve evaluates f at the accepted state again at the start of each
+ * step, outside its retry logic, and a function of (t, y) cannot fail there. */
+typedef struct {
+    long calls, inj_call, calls_after;
+    int inj_rc, injected;
+    double last_t, last_y;
+} sweep_par;
+
+static int sweep_rhs(double t, const double *y, double *f, void *p)
+{
+    sweep_par *q = p;
+    long c = q->calls++;
+    if (q->injected)
+        q->calls_after++;
+    int repeat = c > 0 && t == q->last_t && y[0] == q->last_y;
+    if (c >= q->inj_call && !q->injected && (q->inj_rc < 0 || !repeat)) {
+        q->injected = 1;
+        return q->inj_rc;
+    }
+    q->last_t = t;
+    q->last_y = y[0];
+    f[0] = -y[0] + cos(t);
+    return 0;
+}
+
+static int reject_project(double t, double *y, void *p)
+{
+    (void)y; (void)p;
+    return t > 1.0 ? 3 : 0;
+}
+
 static void kepler_init(double e, double *y)
 {
     y[0] = 1.0 - e;
@@ -405,7 +483,7 @@ static void test_bad_args(void)
     CHECK(swim_ode_advance(s, 1.0, y) == SWIM_ODE_ETOLTOOSMALL, "tolerance too small");
     swim_ode_free(s);
 
-    /* RHS failure is passed back with its value */
+    /* a RHS failure no step can avoid (42 > 0: a persistent domain failure) is passed back with its value */
     swim_ode_system fs = { failing_rhs, 1, NULL };
     for (const char *const *m = swim_ode_methods(); *m; m++) {
         swim_ode_options_default(&o);
@@ -423,6 +501,206 @@ static void test_bad_args(void)
     CHECK(swim_ode_advance(s, 100.0, y) == SWIM_ODE_EMAXSTEPS, "max_steps");
     swim_ode_free(s);
     CHECK(strcmp(swim_ode_strerror(SWIM_ODE_ETOLTOOSMALL), "tolerance too small for double precision") == 0, "strerror");
+}
+
+/* Positive RHS values are recoverable domain failures, negative ones fatal,
+ * for every method. */
+static void test_domain_failures(void)
+{
+    for (const char *const *m = swim_ode_methods(); *m; m++) {
+        swim_ode_options o;
+        swim_ode *s = NULL;
+        swim_ode_stats st;
+        double y0[1] = { 0.5 }, y[1];
+
+        /* recoverable: h0 = 5 (and, at the end, a loose tolerance) put trial states outside |y| < bound */
+        const double bounds[2] = { 2.0, 0.75 };
+        for (int b = 0; b < 2; b++) {
+            for (int loose = 0; loose < 2; loose++) {
+                dom_par d = { .bound = bounds[b] };
+                swim_ode_system sys = { dom_rhs, 1, &d };
+                swim_ode_options_default(&o);
+                o.rtol = loose ? 1e-3 : 1e-8;
+                o.atol = loose ? 1e-3 : 1e-8;
+                o.h0 = 5.0;
+                swim_ode_create(*m, &sys, &o, 0.0, y0, &s);
+                int rc = 0;
+                double err = 0;
+                for (int i = 0; i <= 4 && rc == 0; i++) {
+                    double t = 10.0 + 0.5 * i;   /* the GSL peers cap the first step at tout - t0 */
+                    rc = swim_ode_advance(s, t, y);
+                    err = fmax(err, fabs(y[0] - 0.5 * (cos(t) + sin(t))));
+                }
+                swim_ode_get_stats(s, &st);
+                double tol = loose ? 1e-2 : 1e-5;
+                CHECK(rc == 0 && err < tol, "%s: domain failures |y| >= %g at rtol %g: status %d, error %g (%ld refused)",
+                      *m, bounds[b], o.rtol, rc, err, d.dom_fails);
+                if (!loose)
+                    CHECK(d.dom_fails > 0 && st.rejected >= 1,
+                          "%s: trial states refused (%ld) and counted as rejected steps (%ld)", *m, d.dom_fails,
+                          st.rejected);
+                swim_ode_free(s);
+            }
+        }
+
+        /* fatal: -7 at t > 1 stops at once */
+        {
+            dom_par d = { .bound = 2.0, .fatal_t = 1.0, .fatal_rc = -7 };
+            swim_ode_system sys = { dom_rhs, 1, &d };
+            swim_ode_options_default(&o);
+            o.rtol = o.atol = 1e-8;
+            swim_ode_create(*m, &sys, &o, 0.0, y0, &s);
+            int rc = swim_ode_advance(s, 2.0, y);
+            CHECK(rc == SWIM_ODE_ERHS && swim_ode_rhs_status(s) == -7 && d.calls_after_fatal == 0,
+                  "%s: negative RHS value is fatal (status %d, rhs %d, %ld calls after it)", *m, rc,
+                  swim_ode_rhs_status(s), d.calls_after_fatal);
+            swim_ode_free(s);
+        }
+
+        /* a domain failure no step can avoid: +1 for all t > 1 ends the run, not hangs */
+        for (int loose = 0; loose < 2; loose++) {
+            dom_par d = { .bound = 2.0, .fatal_t = 1.0, .fatal_rc = 1 };
+            swim_ode_system sys = { dom_rhs, 1, &d };
+            swim_ode_options_default(&o);
+            o.rtol = o.atol = loose ? 1e-4 : 1e-10;
+            swim_ode_create(*m, &sys, &o, 0.0, y0, &s);
+            int rc = swim_ode_advance(s, 2.0, y);
+            swim_ode_get_stats(s, &st);
+            CHECK(rc == SWIM_ODE_ERHS && swim_ode_rhs_status(s) == 1 && d.calls < 2000 && swim_ode_time(s) <= 1.0,
+                  "%s: persistent domain failure at tol %g ends the run (status %d, rhs %d, %ld calls, t = %.17g)",
+                  *m, o.rtol, rc, swim_ode_rhs_status(s), d.calls, swim_ode_time(s));
+            swim_ode_free(s);
+        }
+
+        /* a positive value at (t0, y0) is fatal: the initial state itself is invalid */
+        {
+            dom_par d = { .bound = 0.1 };
+            swim_ode_system sys = { dom_rhs, 1, &d };
+            swim_ode_options_default(&o);
+            o.h0 = 0.01;
+            swim_ode_create(*m, &sys, &o, 0.0, y0, &s);
+            int rc = swim_ode_advance(s, 1.0, y);
+            CHECK(rc == SWIM_ODE_ERHS && swim_ode_rhs_status(s) == 1 && d.calls <= 2,
+                  "%s: invalid initial state (status %d, rhs %d, %ld calls)", *m, rc, swim_ode_rhs_status(s), d.calls);
+            swim_ode_free(s);
+        }
+    }
+}
+
+/* One failing call, at every position in the first 80 calls (which covers the
+ * start-up, the first steps and, for the BDF methods, the difference-quotient
+ * Jacobians): +1 anywhere but at (t0, y0) is recovered from, -7 anywhere stops
+ * the run at once. */
+static void test_failure_sweep(void)
+{
+    for (const char *const *m = swim_ode_methods(); *m; m++) {
+        int bad_pos = 0, bad_neg = 0, first_fatal = 0;
+        for (long n = 0; n < 80; n++) {
+            for (int neg = 0; neg < 2; neg++) {
+                sweep_par q = { .inj_call = n, .inj_rc = neg ? -7 : 1 };
+                swim_ode_system sys = { sweep_rhs, 1, &q };
+                swim_ode_options o;
+                swim_ode_options_default(&o);
+                o.rtol = o.atol = 1e-8;
+                swim_ode *s = NULL;
+                double y0[1] = { 0.5 }, y[1];
+                swim_ode_create(*m, &sys, &o, 0.0, y0, &s);
+                int rc = swim_ode_advance(s, 3.0, y);
+                int rs = swim_ode_rhs_status(s);
+                if (!q.injected) {
+                    /* the run needed fewer than n calls */
+                } else if (neg) {
+                    bad_neg += !(rc == SWIM_ODE_ERHS && rs == -7 && q.calls_after == 0);
+                } else if (n == 0) {
+                    first_fatal = rc == SWIM_ODE_ERHS && rs == 1 && q.calls == 1;
+                } else {
+                    double err = fabs(y[0] - 0.5 * (cos(3.0) + sin(3.0)));
+                    if (!(rc == 0 && err < 1e-6)) {
+                        bad_pos++;
+                        fprintf(stderr, "%s: +1 at call %ld: status %d, error %g\n", *m, n, rc, err);
+                    }
+                }
+                swim_ode_free(s);
+            }
+        }
+        CHECK(first_fatal, "%s: +1 at (t0, y0) is fatal", *m);
+        CHECK(bad_pos == 0, "%s: one +1 at any later call is recovered from (%d failures)", *m, bad_pos);
+        CHECK(bad_neg == 0, "%s: one -7 at any call stops at once (%d failures)", *m, bad_neg);
+    }
+}
+
+/* ABM: a domain failure at the predicted state (P E) or at the corrected
+ * y_{n+1} (final E) leaves the state bit-for-bit intact and cuts h by 4; the
+ * run then goes on to the right answer.  With and without compensated
+ * summation (tolerance 1e-14 / 1e-9). */
+static void test_abm_domain_restore(void)
+{
+    const double tols[2] = { 1e-9, 1e-14 };
+    for (int it = 0; it < 2; it++) {
+        inject_par q = { 0, -1 };
+        swim_ode_system sys = { inject_rhs, 4, &q };
+        double y0[4], y[4];
+        kepler_init(0.5, y0);
+        swim_ode_options o;
+        swim_ode_options_default(&o);
+        o.rtol = o.atol = tols[it];
+        abm *a;
+        CHECK(abm_create(&sys, &o, 0.0, y0, &a) == 0, "abm create");
+        abm_advance(a, 1e-3, y);
+        size_t m = abm_snapshot(a, NULL);
+        double *before = malloc(m * sizeof(double)), *after = malloc(m * sizeof(double));
+        int injected = 0, refused = 0, restored = 0, cut = 0, rc = 0, i = 0;
+        while (abm_time(a) < 2 * PI && rc == 0) {
+            int acc;
+            if (++i % 7 == 0) {
+                /* step attempt i: the predictor evaluation is call q.calls, the final one q.calls + 1 */
+                q.fail_call = q.calls + (i % 14 == 0);
+                injected++;
+                abm_snapshot(a, before);
+                double h = abm_next_h(a), t = abm_time(a);
+                long rej0;
+                swim_ode_stats st;
+                abm_get_stats(a, &st);
+                rej0 = st.rejected;
+                rc = abm_step(a, &acc);
+                abm_get_stats(a, &st);
+                if (rc == 0 && !acc && st.rejected == rej0 + 1) {
+                    refused++;
+                    abm_snapshot(a, after);
+                    restored += memcmp(before, after, m * sizeof(double)) == 0 && abm_time(a) == t;
+                    cut += abm_next_h(a) == 0.25 * h;
+                }
+                q.fail_call = -1;
+            } else {
+                rc = abm_step(a, &acc);
+            }
+        }
+        CHECK(rc == 0 && injected >= 10, "injected domain failures: status %d, %d injected", rc, injected);
+        CHECK(refused == injected && restored == injected && cut == injected,
+              "tol %g: %d domain failures: %d rejected, %d restored exactly, %d cut by 4", tols[it], injected, refused,
+              restored, cut);
+        abm_interp(a, 2 * PI, y, NULL);
+        double err = 0;
+        for (int k = 0; k < 4; k++)
+            err = fmax(err, fabs(y[k] - y0[k]));
+        CHECK(err < 1e4 * tols[it] + 1e-11, "tol %g: Kepler orbit closes despite the refused steps (error %g)", tols[it], err);
+        free(before);
+        free(after);
+        abm_free(a);
+    }
+
+    /* a failing projection still stops the run */
+    swim_ode_system hs = { ho_rhs, 2, NULL };
+    double z0[2] = { 1.0, 0.0 }, z[2];
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.project = reject_project;
+    swim_ode *s;
+    swim_ode_create("abm", &hs, &o, 0.0, z0, &s);
+    int rc = swim_ode_advance(s, 2.0, z);
+    CHECK(rc == SWIM_ODE_ERHS && swim_ode_rhs_status(s) == 3 && swim_ode_time(s) <= 1.0,
+          "failing projection stops with ERHS (%d, %d)", rc, swim_ode_rhs_status(s));
+    swim_ode_free(s);
 }
 
 static void test_options(void)
@@ -518,6 +796,9 @@ int main(void)
     test_interpolant();
     test_reject_restore();
     test_bad_args();
+    test_domain_failures();
+    test_failure_sweep();
+    test_abm_domain_restore();
     test_options();
     test_stiffness();
     return check_report("test_ode");

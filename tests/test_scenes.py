@@ -19,7 +19,7 @@ import time
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SWIM = os.path.join(ROOT, "bin", "swim")
+SWIM = os.environ.get("SWIM_BIN") or os.path.join(ROOT, "bin", "swim")
 TMP = tempfile.mkdtemp(prefix="swim-test-")
 passed = failed = 0
 

@@ -17,8 +17,9 @@ static const command commands[] = {
      "mass matrices, reduced mass K and Christoffel symbol at one shape, as JSON",
      "swim inspect --modes 1 --shape 1,0,0.2,0 --velocity 0,0,0.1,0.3 --full"},
     {"run", swim_cmd_run,
-     "simulate a scene: DIR/trajectory.csv, snapshots.json, summary.json "
-     "[--out DIR] [--t-end T] [--rtol R] [--atol A] [--integrator NAME] [--quiet]",
+     "simulate a scene: DIR/trajectory.csv, snapshots.json, summary.json\n"
+     "           [--out DIR] [--t-end T] [--output-step DT] [--rtol R] [--atol A]\n"
+     "           [--integrator NAME] [--generic] [--no-projection] [--quiet]",
      "swim run models/example3.toml --out out/example3 --rtol=1e-10"},
     {"plot", swim_cmd_plot, "PNG figures of a run directory (matplotlib)", "swim plot out/example3"},
 };

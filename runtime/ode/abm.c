@@ -19,10 +19,19 @@
  * factor in [1/2, 0.9], so that on runs of equal steps the coefficients are
  * not recomputed (ns counts the equal steps).
  *
- * The difference table is double-buffered: a step attempt writes the new table
- * into a second buffer and leaves the old one untouched, and the step history
- * (psi, v) is saved before it is modified, so a rejected step leaves the
- * state bit-for-bit as it was.
+ * The difference table and the solution (y with its compensated-summation
+ * carries) are double-buffered: a step attempt writes the new table and the
+ * corrected y_{n+1} into second buffers and leaves the old ones untouched until
+ * the step is complete, t_{n+1} and its carry are kept in locals, and the step
+ * history (psi, v) is saved before it is modified, so a rejected step leaves
+ * the state bit-for-bit as it was.
+ *
+ * A step attempt is rejected either by the error test or because the
+ * right-hand side returned a positive value (its argument lies outside the
+ * domain of f) at the predicted state p or at the corrected y_{n+1}.  In the
+ * second case the step is cut by a factor 4 (and to order 1 from the third
+ * failure in a row on); more than ABM_MAXDOMFAIL such failures in a row, or a
+ * step size below the minimum, end the integration with SWIM_ODE_ERHS.
  */
 #include "ode/abm.h"
 
@@ -38,6 +47,8 @@
 #define MIND(x, y) ((x) < (y) ? (x) : (y))
 #define STIFF_BLOCK 100          /* accepted steps per block of the stiffness diagnostic */
 #define STIFF_BLOCKS 3           /* stiff-looking blocks in a row that raise the flag */
+#define ABM_MAXDOMFAIL 20        /* domain failures of f (positive returns) in a row before giving up */
+#define ABM_DOMFAC 0.25          /* step reduction after a domain failure */
 
 struct abm {
     size_t n;
@@ -47,11 +58,14 @@ struct abm {
     double hmax, tstop;
     long max_steps;
     int stiff_stop;
+    int (*project)(double t, double *y, void *params);
 
     double t;                    /* t_n */
     double tc;                   /* compensated-summation carry for t (t_n = t + tc exactly up to rounding) */
     double *y;                   /* y_n */
     double *yc;                  /* compensated-summation carry for y */
+    double *yn, *ycn;            /* y_{n+1} and its carry during a step attempt (swapped with y, yc on acceptance) */
+    double *base;                /* the one allocation holding all vectors */
     double *phi, *phin;          /* difference tables, NROW rows of n (row i at i*n) */
     double *p, *pinc, *fp, *rw;  /* predictor, its increment, f at p / at y_{n+1}, 1/weights */
 
@@ -63,6 +77,7 @@ struct abm {
     int k, kold, ns, phase1, ifail, started, compensate, have_step;
     int h_clamped;               /* current h limited by hmax or tstop */
     int saved;                   /* psi_save/v_save hold the history of this attempt */
+    int domfail;                 /* domain failures of f in a row (since the last accepted step) */
 
     /* statistics */
     long steps, nfe, rejected, hist[KM + 1];
@@ -75,15 +90,15 @@ struct abm {
     double tout_last;
 };
 
+/* Evaluate f; returns 0, or the (nonzero) value returned by f, which is also
+ * recorded in rhs_status. */
 static int eval(abm *a, double t, const double *y, double *f)
 {
     a->nfe++;
     int rc = a->f(t, y, f, a->par);
-    if (rc != 0) {
+    if (rc != 0)
         a->rhs_status = rc;
-        return SWIM_ODE_ERHS;
-    }
-    return SWIM_ODE_OK;
+    return rc;
 }
 
 void abm_free(abm *a)
@@ -91,7 +106,7 @@ void abm_free(abm *a)
     if (!a)
         return;
     free(a->atolv);
-    free(a->y);
+    free(a->base);
     free(a);
 }
 
@@ -103,9 +118,10 @@ int abm_create(const swim_ode_system *sys, const swim_ode_options *opt, double t
     abm *a = calloc(1, sizeof *a);
     if (!a)
         return SWIM_ODE_ENOMEM;
-    /* one block for all vectors: y, yc, p, pinc, fp, rw, phi, phin */
-    a->y = calloc((6 + 2 * NROW) * n, sizeof(double));
-    if (!a->y) {
+    /* one block for all vectors: y, yc, p, pinc, fp, rw, phi, phin, yn, ycn */
+    a->base = calloc((8 + 2 * NROW) * n, sizeof(double));
+    a->y = a->base;
+    if (!a->base) {
         free(a);
         return SWIM_ODE_ENOMEM;
     }
@@ -116,6 +132,8 @@ int abm_create(const swim_ode_system *sys, const swim_ode_options *opt, double t
     a->rw = a->fp + n;
     a->phi = a->rw + n;
     a->phin = a->phi + NROW * n;
+    a->yn = a->phin + NROW * n;
+    a->ycn = a->yn + n;
     if (opt->atol_vec) {
         a->atolv = malloc(n * sizeof(double));
         if (!a->atolv) {
@@ -133,6 +151,7 @@ int abm_create(const swim_ode_system *sys, const swim_ode_options *opt, double t
     a->tstop = opt->tstop;
     a->max_steps = opt->max_steps > 0 ? opt->max_steps : 10000000L;
     a->stiff_stop = opt->stiff_stop;
+    a->project = opt->project;
     a->h = opt->h0 > 0 ? opt->h0 : 0.0;
     a->t = t0;
     a->tout_last = t0;
@@ -191,13 +210,13 @@ static double clamp_h(abm *a, double h)
     return h;
 }
 
-/* First call: f(t0, y0), initial step, order 1, start phase. */
+/* First call: f(t0, y0), initial step, order 1, start phase.  Any failure of
+ * f here is fatal, a positive value too: the initial state itself is invalid. */
 static int start(abm *a, double tout)
 {
     size_t n = a->n;
-    int rc = eval(a, a->t, a->y, a->phi + n);
-    if (rc)
-        return rc;
+    if (eval(a, a->t, a->y, a->phi + n))
+        return SWIM_ODE_ERHS;
     set_weights(a);
     double s = 0.0;
     for (size_t l = 0; l < n; l++) {
@@ -295,6 +314,36 @@ static void coefficients(abm *a)
     }
 }
 
+/* Undo the changes a step attempt made to the step history (the difference
+ * table, y and t were not touched). */
+static void restore_history(abm *a, int ns_save)
+{
+    if (a->saved) {
+        memcpy(a->psi, a->psi_save, sizeof a->psi);
+        memcpy(a->v, a->v_save, sizeof a->v);
+    }
+    a->ns = ns_save;
+}
+
+/* The attempt of size h failed because f returned rc > 0 (at p or at y_{n+1}):
+ * restore, cut the step by ABM_DOMFAC and drop to order 1 from the third
+ * failure in a row on.  Too many such failures in a row, or a step below the
+ * minimum, make it fatal. */
+static int domain_failure(abm *a, int ns_save, double h)
+{
+    restore_history(a, ns_save);
+    a->rejected++;
+    a->phase1 = 0;
+    a->ifail++;
+    a->domfail++;
+    if (a->ifail >= 3)
+        a->k = 1;
+    a->h = clamp_h(a, ABM_DOMFAC * h);
+    if (a->domfail > ABM_MAXDOMFAIL || !(a->h >= 4.0 * UROUND * fabs(a->t)) || !(a->h > 0))
+        return SWIM_ODE_ERHS;
+    return SWIM_ODE_OK;
+}
+
 int abm_step(abm *a, int *accepted)
 {
     *accepted = 0;
@@ -366,8 +415,10 @@ int abm_step(abm *a, int *accepted)
         tcnew = 0.0;
     }
     int rc = eval(a, tnew, a->p, a->fp);
-    if (rc)
-        return rc;
+    if (rc < 0)
+        return SWIM_ODE_ERHS;
+    if (rc > 0)
+        return domain_failure(a, ns_save, h);
 
     /* Error estimates at orders k, k-1, k-2 from phi_{k+1}, phi_k, phi_{k-1} at n+1,
      * in the weighted max norm (the norm of ode113): an RMS norm divides by n, so
@@ -411,11 +462,7 @@ int abm_step(abm *a, int *accepted)
 
     if (!(err <= 1.0)) {
         /* Rejected: the old table was never touched; put back the history. */
-        if (a->saved) {
-            memcpy(a->psi, a->psi_save, sizeof a->psi);
-            memcpy(a->v, a->v_save, sizeof a->v);
-        }
-        a->ns = ns_save;
+        restore_history(a, ns_save);
         a->rejected++;
         a->phase1 = 0;
         a->ifail++;
@@ -431,29 +478,55 @@ int abm_step(abm *a, int *accepted)
         return SWIM_ODE_OK;
     }
 
-    /* Accepted: correct, evaluate, update the differences. */
+    /* Passed the error test: correct into the second buffers yn, ycn (y, yc
+     * stay as they are until the final evaluation has succeeded). */
     const double gk1h = h * g[k + 1];
-    for (size_t l = 0; l < n; l++) {
-        double d = a->pinc[l] + gk1h * (a->fp[l] - c1[l]);
+    {
+        const double *restrict yo = a->y, *restrict yco = a->yc, *restrict pi = a->pinc;
+        double *restrict yn = a->yn, *restrict ycn = a->ycn;
         if (a->compensate) {
-            double tau = d + a->yc[l];
-            double yn = a->y[l] + tau;
-            a->yc[l] = tau - (yn - a->y[l]);
-            a->y[l] = yn;
+            for (size_t l = 0; l < n; l++) {
+                double d = pi[l] + gk1h * (fpv[l] - c1[l]);
+                double tau = d + yco[l];
+                double y1 = yo[l] + tau;
+                ycn[l] = tau - (y1 - yo[l]);
+                yn[l] = y1;
+            }
         } else {
-            a->y[l] += d;
+            for (size_t l = 0; l < n; l++) {
+                yn[l] = yo[l] + (pi[l] + gk1h * (fpv[l] - c1[l]));
+                ycn[l] = 0.0;
+            }
         }
     }
-    if (!a->compensate)
-        memset(a->yc, 0, n * sizeof(double));
+    if (a->project) {
+        rc = a->project(tnew, a->yn, a->par);
+        if (rc) {
+            a->rhs_status = rc;
+            return SWIM_ODE_ERHS;
+        }
+        memset(a->ycn, 0, n * sizeof(double));   /* the carries belonged to the unprojected y */
+    }
+    rc = eval(a, tnew, a->yn, a->fp);
+    if (rc < 0)
+        return SWIM_ODE_ERHS;
+    if (rc > 0)
+        return domain_failure(a, ns_save, h);
+    /* Accepted: y_{n+1} becomes current, update the differences. */
+    {
+        double *sw = a->y;
+        a->y = a->yn;
+        a->yn = sw;
+        sw = a->yc;
+        a->yc = a->ycn;
+        a->ycn = sw;
+    }
     a->t = tnew;
     a->tc = tcnew;
     a->kold = k;
     a->hold = h;
     a->ifail = 0;
-    rc = eval(a, a->t, a->y, a->fp);
-    if (rc)
-        return rc;
+    a->domfail = 0;
     /* raising the order is only considered after k+1 equal steps; then
      * beta_{k+1} = 1 and phi_{k+2}(n+1) = phi_{k+1}(n+1) - phi_{k+1}(n). */
     int want_up = !a->phase1 && knew == k && k < KM && k + 1 <= a->ns;

@@ -19,9 +19,30 @@
 
 #include <stddef.h>
 
-/* Right-hand side: dydt = f(t, y).  Return 0 on success; any nonzero value
- * stops the integration, swim_ode_advance() then returns SWIM_ODE_ERHS and
- * swim_ode_rhs_status() gives the value returned here. */
+/* Right-hand side: dydt = f(t, y).  The return value is the same contract for
+ * every method:
+ *   0         success.
+ *   positive  recoverable: (t, y) lies outside the domain of f (typically a
+ *             trial state of a step that was too large: the swimmer's shape
+ *             left its admissible set, a mass matrix is no longer positive
+ *             definite, NaN ...).  The integrator rejects the step attempt,
+ *             restores its state exactly, retries with a smaller step (ABM:
+ *             h/4, order 1 from the third failure in a row; GSL: h/2; CVODE:
+ *             h/4) and counts the attempt in swim_ode_stats.rejected.  Only
+ *             when the step size underflows or the failures persist (ABM and
+ *             the GSL peers: more than 20 in a row without an accepted step;
+ *             CVODE: its 10 convergence failures per step, or more than 20
+ *             without an accepted step of size > 4 u |t|) does
+ *             swim_ode_advance() return SWIM_ODE_ERHS, with
+ *             swim_ode_rhs_status() the last value.  A positive value at the
+ *             initial state (t0, y0) is fatal: the initial state is invalid.
+ *   negative  fatal (e.g. an interrupt request): the integration stops at
+ *             once, without further calls of f; swim_ode_advance() returns
+ *             SWIM_ODE_ERHS and swim_ode_rhs_status() gives the value.
+ * The value passed to the integrator should not depend on anything but
+ * (t, y): the GSL peers evaluate f at each accepted state a second time, at
+ * the start of the next step and outside their retry logic, so a failure
+ * there (which a function of (t, y) cannot produce) ends the run. */
 typedef int (*swim_ode_func)(double t, const double *y, double *dydt, void *params);
 
 typedef struct {
@@ -38,16 +59,22 @@ typedef struct {
     double tstop;               /* never step past this time (INFINITY = no limit) */
     long max_steps;             /* 0 = default (10^7) */
     int stiff_stop;             /* nonzero: ABM returns SWIM_ODE_ESTIFF when its stiffness diagnostic fires */
+    /* Optional projection onto an invariant manifold (ABM only; the peers ignore it): called
+     * after each accepted step with the corrected y_{n+1}, which it may modify in place, before
+     * the final evaluation f(t_{n+1}, y_{n+1}) of PECE -- so the derivative history of the
+     * method is the one of the projected states. Nonzero return: stop with SWIM_ODE_ERHS. */
+    int (*project)(double t, double *y, void *params);
 } swim_ode_options;
 
 /* rtol = 1e-6, atol = 1e-9, no hmax, automatic h0, tstop = INFINITY,
- * max_steps = 10^7, stiff_stop = 0. */
+ * max_steps = 10^7, stiff_stop = 0, no projection. */
 void swim_ode_options_default(swim_ode_options *opt);
 
 typedef struct {
     long steps;            /* accepted steps */
     long rhs_evals;        /* calls of the right-hand side (including Jacobian differencing) */
-    long rejected;         /* rejected step attempts (error test failures, convergence failures) */
+    long rejected;         /* rejected step attempts (error test failures, convergence failures,
+                              positive right-hand-side values) */
     long jac_evals;        /* Jacobian evaluations (BDF methods) */
     long order_hist[13];   /* accepted steps per order (ABM, CVODE); index = order */
     double last_h;         /* last step size taken */
@@ -60,7 +87,7 @@ enum {
     SWIM_ODE_EBADARG,       /* bad tolerance, NaN in y0, unknown method, tout not increasing ... */
     SWIM_ODE_ETOLTOOSMALL,  /* tolerance below what double precision can deliver */
     SWIM_ODE_EHMIN,         /* step size underflow */
-    SWIM_ODE_ERHS,          /* right-hand side returned nonzero */
+    SWIM_ODE_ERHS,          /* right-hand side returned a negative value, or positive ones it could not recover from */
     SWIM_ODE_ESTIFF,        /* stiffness suspected (ABM with stiff_stop) */
     SWIM_ODE_EMAXSTEPS,     /* max_steps reached */
     SWIM_ODE_ENOMEM,        /* allocation failed */
@@ -79,6 +106,9 @@ int swim_ode_create(const char *method, const swim_ode_system *sys, const swim_o
 int swim_ode_advance(swim_ode *s, double tout, double *yout);
 int swim_ode_get_stats(const swim_ode *s, swim_ode_stats *st);
 double swim_ode_time(const swim_ode *s);  /* time reached by the internal steps */
+/* Last nonzero value returned by the right-hand side (or by the projection),
+ * 0 if none; after SWIM_ODE_ERHS the value that ended the run.  It may be a
+ * recovered positive value after a successful advance. */
 int swim_ode_rhs_status(const swim_ode *s);
 const char *swim_ode_method_name(const swim_ode *s);
 void swim_ode_free(swim_ode *s);

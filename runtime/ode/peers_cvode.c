@@ -1,8 +1,27 @@
 /* SUNDIALS CVODE peers: "cvode-adams" (Adams-Moulton, fixed-point iteration)
  * and "cvode-bdf" (BDF, dense Newton with CVODE's difference-quotient
- * Jacobian).  Output at tout comes from CVODE's own interpolant (CV_NORMAL). */
+ * Jacobian).  Output at tout comes from CVODE's own interpolant (CV_NORMAL).
+ *
+ * Right-hand-side failures: CVODE's convention is swim's.  A positive value is
+ * recoverable: CVODE counts a nonlinear-solver failure, cuts the step (by
+ * eta_cf = 1/4) and retries; a positive value inside the difference-quotient
+ * Jacobian makes the linear-solver setup fail recoverably, with the same
+ * effect.  After maxncf (10) such failures on one step, or at hmin, CVODE
+ * returns CV_REPTD_RHSFUNC_ERR (or CV_CONV_FAILURE when the failing call was
+ * in the Jacobian).  A positive value at (t0, y0) gives CV_FIRST_RHSFUNC_ERR.
+ * A negative value is unrecoverable (CV_RHSFUNC_FAIL / CV_LSETUP_FAIL); the
+ * wrapper then also fails every later call without calling the user's f.
+ *
+ * CVODE has no relative minimum step: when f fails beyond some time t* for
+ * good, it creeps towards t* with ever smaller accepted steps, down to steps
+ * that no longer change t (it only warns about those), without end.  So the
+ * wrapper counts positive returns and makes the next one fatal after
+ * CV_MAXDOMFAIL of them without an accepted step in between whose size is
+ * above the minimum step of ABM, 4 u |t| (so the count restarts whenever the
+ * integration makes real progress). */
 #include "ode/ode_internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,6 +34,8 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
+#define CV_MAXDOMFAIL 20
+
 typedef struct {
     swim_ode_system sys;
     SUNContext ctx;
@@ -26,21 +47,40 @@ typedef struct {
     int bdf;
     double t;
     long nfe_user;
-    int rhs_status;
+    int rhs_status;    /* last nonzero value returned by the RHS */
+    int fatal;         /* the RHS returned a negative value */
+    int last_failed;   /* the most recent call of the RHS returned nonzero */
+    int domfail;       /* positive returns without a real accepted step in between */
+    long domfail_nst;  /* CVODE's step count at the latest positive return */
 } cv_peer;
 
 static int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void *p)
 {
     cv_peer *c = p;
-    if (c->rhs_status)
-        return -1;   /* after a failure every later call fails too, so CVODE gives up quickly */
+    if (c->fatal)
+        return -1;   /* after a fatal failure every later call fails too, so CVODE gives up at once */
     c->nfe_user++;
     int rc = c->sys.function(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), c->sys.params);
-    if (rc) {
-        c->rhs_status = rc;
-        return -1;   /* unrecoverable */
+    c->last_failed = rc != 0;
+    if (rc == 0)
+        return 0;
+    c->rhs_status = rc;
+    if (rc > 0) {
+        long nst = 0;
+        realtype hu = 0;
+        CVodeGetNumSteps(c->mem, &nst);
+        if (nst != c->domfail_nst) {
+            /* steps were accepted since the last failure: the last one real progress? */
+            CVodeGetLastStep(c->mem, &hu);
+            if (fabs(hu) > 4.0 * DBL_EPSILON * fabs(t))
+                c->domfail = 0;
+            c->domfail_nst = nst;
+        }
+        if (++c->domfail <= CV_MAXDOMFAIL)
+            return 1;   /* recoverable: CVODE retries with a smaller step */
     }
-    return 0;
+    c->fatal = 1;
+    return -1;          /* unrecoverable */
 }
 
 static void cv_silent(int code, const char *module, const char *function, char *msg, void *data)
@@ -78,21 +118,26 @@ static int cv_advance(void *p, double tout, double *yout)
     memcpy(yout, N_VGetArrayPointer(c->y), c->sys.dimension * sizeof(double));
     CVodeGetCurrentTime(c->mem, &t);
     c->t = t;
-    if (c->rhs_status)
-        return SWIM_ODE_ERHS;   /* CVODE may treat a failing RHS as recoverable; we do not */
     if (rc >= 0)
         return SWIM_ODE_OK;
+    if (c->fatal)
+        return SWIM_ODE_ERHS;
     switch (rc) {
     case CV_TOO_MUCH_WORK: return SWIM_ODE_EMAXSTEPS;
     case CV_TOO_MUCH_ACC: return SWIM_ODE_ETOLTOOSMALL;
     case CV_ILL_INPUT: return SWIM_ODE_EBADARG;
     case CV_RHSFUNC_FAIL:
     case CV_FIRST_RHSFUNC_ERR:
+    case CV_REPTD_RHSFUNC_ERR:
+    case CV_UNREC_RHSFUNC_ERR:
         return c->rhs_status ? SWIM_ODE_ERHS : SWIM_ODE_EFAIL;
     case CV_MEM_FAIL: return SWIM_ODE_ENOMEM;
     case CV_ERR_FAILURE:
-    case CV_CONV_FAILURE: return c->rhs_status ? SWIM_ODE_ERHS : SWIM_ODE_EHMIN;
-    default: return c->rhs_status ? SWIM_ODE_ERHS : SWIM_ODE_EFAIL;
+    case CV_CONV_FAILURE:
+        /* a convergence failure whose last attempt ended in a positive RHS
+         * value (in the DQ Jacobian) is a repeated domain failure */
+        return c->last_failed ? SWIM_ODE_ERHS : SWIM_ODE_EHMIN;
+    default: return c->last_failed ? SWIM_ODE_ERHS : SWIM_ODE_EFAIL;
     }
 }
 

@@ -1,6 +1,22 @@
 /* GSL odeiv2 peers (rk8pd, msadams, rkf45, msbdf) behind the swim_ode interface.
  * GSL's driver ends each call exactly at tout (it shortens the last step);
- * these steppers have no dense output of their own. */
+ * these steppers have no dense output of their own.
+ *
+ * Right-hand-side failures (GSL 2.7, gsl_odeiv2_evolve_apply): a function
+ * status of GSL_EBADFUNC makes evolve return at once; any other nonzero status
+ * aborts the step attempt, restores y and retries with h/2 (the multistep
+ * steppers restore their Nordsieck history / lower the order through their
+ * failure handlers), until h no longer changes t, when that status is
+ * returned.  A negative swim RHS value is therefore passed as GSL_EBADFUNC,
+ * a positive one (state outside the domain of f) as GSL_RHS_DOMAIN, which GSL
+ * retries.  More than GSL_MAXDOMFAIL positive returns without an accepted step
+ * in between turn into GSL_EBADFUNC, so a RHS that fails for good ends the run
+ * after a bounded number of evaluations.  Two failures GSL does not retry
+ * end the run with SWIM_ODE_ERHS too: f(t0, y0) (evaluated here before the
+ * driver exists: an invalid initial state), and evolve's evaluation of f at
+ * the accepted state at the start of each step (dydt_in), which repeats the
+ * successful final evaluation of the previous step and so cannot fail for a
+ * right-hand side that is a function of (t, y). */
 #include "ode/ode_internal.h"
 
 #include <float.h>
@@ -10,6 +26,9 @@
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
+
+#define GSL_RHS_DOMAIN GSL_EDOM   /* retryable: anything but GSL_SUCCESS, GSL_EFAULT, GSL_EBADFUNC */
+#define GSL_MAXDOMFAIL 20
 
 typedef struct {
     swim_ode_system sys;
@@ -21,7 +40,10 @@ typedef struct {
     double t, t0;
     double *y0;
     long nfe, njac;
-    int rhs_status;
+    int rhs_status;      /* last nonzero value returned by the RHS */
+    int last_failed;     /* the most recent RHS call returned nonzero */
+    int domfail;         /* positive returns since the accepted step count was domfail_mark */
+    size_t domfail_mark;
 } gsl_peer;
 
 static int gsl_rhs(double t, const double *y, double *f, void *p)
@@ -29,11 +51,20 @@ static int gsl_rhs(double t, const double *y, double *f, void *p)
     gsl_peer *g = p;
     g->nfe++;
     int rc = g->sys.function(t, y, f, g->sys.params);
-    if (rc) {
-        g->rhs_status = rc;
-        return GSL_EBADFUNC;
+    g->last_failed = rc != 0;
+    if (rc == 0)
+        return GSL_SUCCESS;
+    g->rhs_status = rc;
+    if (rc < 0 || !g->drv)
+        return GSL_EBADFUNC;   /* fatal; before the driver exists: f(t0, y0) itself failed */
+    size_t count = g->drv->e->count;
+    if (count != g->domfail_mark) {
+        g->domfail_mark = count;
+        g->domfail = 0;
     }
-    return GSL_SUCCESS;
+    if (++g->domfail > GSL_MAXDOMFAIL)
+        return GSL_EBADFUNC;
+    return GSL_RHS_DOMAIN;
 }
 
 /* Forward-difference Jacobian (n+2 RHS evaluations including df/dt). */
@@ -42,8 +73,9 @@ static int gsl_jac(double t, const double *y, double *dfdy, double *dfdt, void *
     gsl_peer *g = p;
     size_t n = g->sys.dimension;
     g->njac++;
-    if (gsl_rhs(t, y, g->f0, g) != GSL_SUCCESS)
-        return GSL_EBADFUNC;
+    int rc = gsl_rhs(t, y, g->f0, g);
+    if (rc != GSL_SUCCESS)
+        return rc;   /* GSL_RHS_DOMAIN: msbdf's failure handler retries with a smaller step */
     memcpy(g->ytmp, y, n * sizeof(double));
     const double sq = sqrt(DBL_EPSILON);
     for (size_t j = 0; j < n; j++) {
@@ -52,15 +84,17 @@ static int gsl_jac(double t, const double *y, double *dfdy, double *dfdt, void *
         volatile double yj = y[j] + d;
         d = yj - y[j];
         g->ytmp[j] = yj;
-        if (gsl_rhs(t, g->ytmp, g->f1, g) != GSL_SUCCESS)
-            return GSL_EBADFUNC;
+        rc = gsl_rhs(t, g->ytmp, g->f1, g);
+        if (rc != GSL_SUCCESS)
+            return rc;
         g->ytmp[j] = y[j];
         for (size_t i = 0; i < n; i++)
             dfdy[i * n + j] = (g->f1[i] - g->f0[i]) / d;
     }
     double dt = sq * fmax(fabs(t), 1.0);
-    if (gsl_rhs(t + dt, y, g->f1, g) != GSL_SUCCESS)
-        return GSL_EBADFUNC;
+    rc = gsl_rhs(t + dt, y, g->f1, g);
+    if (rc != GSL_SUCCESS)
+        return rc;
     for (size_t i = 0; i < n; i++)
         dfdt[i] = (g->f1[i] - g->f0[i]) / dt;
     return GSL_SUCCESS;
@@ -77,15 +111,17 @@ static void gsl_destroy(void *p)
     free(g);
 }
 
-/* Initial step from the same heuristic as ABM: h ~ 0.25 / sqrt(|f/w|), at most tout - t0. */
+/* Initial step from the same heuristic as ABM: h ~ 0.25 / sqrt(|f/w|), at most tout - t0.
+ * f(t0, y0) is evaluated in any case: any failure there (a positive value too,
+ * the initial state itself is invalid) is fatal; returns -1 then. */
 static double initial_step(gsl_peer *g, double tout)
 {
     size_t n = g->sys.dimension;
     double h = tout - g->t0;
-    if (g->opt.h0 > 0)
-        return fmin(g->opt.h0, h);
     if (gsl_rhs(g->t0, g->y0, g->f0, g) != GSL_SUCCESS)
         return -1.0;
+    if (g->opt.h0 > 0)
+        return fmin(g->opt.h0, h);
     double s = 0.0;
     for (size_t i = 0; i < n; i++) {
         double at = g->opt.atol_vec ? g->scale_abs[i] : g->opt.atol;
@@ -129,6 +165,8 @@ static int gsl_advance(void *p, double tout, double *yout)
     int rc = gsl_odeiv2_driver_apply(g->drv, &t, tout, g->y0);
     g->t = t;
     memcpy(yout, g->y0, n * sizeof(double));
+    if (rc != GSL_SUCCESS && g->last_failed)
+        return SWIM_ODE_ERHS;   /* fatal value, repeated domain failures, or h underflow on one */
     switch (rc) {
     case GSL_SUCCESS: return SWIM_ODE_OK;
     case GSL_EBADFUNC: return g->rhs_status ? SWIM_ODE_ERHS : SWIM_ODE_EFAIL;

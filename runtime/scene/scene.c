@@ -336,10 +336,29 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     return check_initial_velocity(c, shape, s);
 }
 
-int swim_scene_load(const char *path, swim_scene *s)
+int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *s)
 {
     memset(s, 0, sizeof *s);
     snprintf(s->path, sizeof s->path, "%s", path);
+    char err[256];
+    toml_value *root = toml_parse(text, len, err, sizeof err);
+    if (!root) {
+        int line = 0;
+        const char *msg = err;
+        if (sscanf(err, "line %d:", &line) == 1 && strchr(err, ':')) msg = strchr(err, ':') + 2;
+        fprintf(stderr, "swim: %s:%d: %s\n", path, line, msg);
+        return 2;
+    }
+    ctx c = {path, NULL};
+    int rc = load_tree(&c, root, s);
+    toml_free(root);
+    if (rc) swim_scene_free(s);
+    return rc;
+}
+
+int swim_scene_load(const char *path, swim_scene *s)
+{
+    memset(s, 0, sizeof *s);
     FILE *f = fopen(path, "rb");
     if (!f) {
         fprintf(stderr, "swim: %s: cannot open scene file\n", path);
@@ -359,20 +378,8 @@ int swim_scene_load(const char *path, swim_scene *s)
         buf = nb;
     }
     fclose(f);
-    char err[256];
-    toml_value *root = toml_parse(buf, len, err, sizeof err);
+    int rc = swim_scene_parse(buf, len, path, s);
     free(buf);
-    if (!root) {
-        int line = 0;
-        const char *msg = err;
-        if (sscanf(err, "line %d:", &line) == 1 && strchr(err, ':')) msg = strchr(err, ':') + 2;
-        fprintf(stderr, "swim: %s:%d: %s\n", path, line, msg);
-        return 2;
-    }
-    ctx c = {path, NULL};
-    int rc = load_tree(&c, root, s);
-    toml_free(root);
-    if (rc) swim_scene_free(s);
     return rc;
 }
 

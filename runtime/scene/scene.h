@@ -10,6 +10,8 @@
 #ifndef SWIM_SCENE_H
 #define SWIM_SCENE_H
 
+#include <stddef.h>
+
 #include "scene/expr.h"
 #include "swim_kernel.h"
 
@@ -44,6 +46,9 @@ typedef struct {
 
 /* 0 on success; 2 after printing a one-line error naming the file, the key and the value. */
 int swim_scene_load(const char *path, swim_scene *scene);
+/* The same on text already in memory (len bytes, not necessarily NUL-terminated); `path` names
+ * it in messages. */
+int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *scene);
 void swim_scene_free(swim_scene *scene);
 
 /* Name of real coordinate i in CSV headers and scenes: a1, b1, am1, bm1, am2, ... */

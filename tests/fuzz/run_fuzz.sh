@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Fuzz the TOML reader with libFuzzer (clang, ASan + UBSan).
-#   bash tests/fuzz/run_fuzz.sh [SECONDS]      (default 30)
+# Fuzz the TOML reader, the whole scene reader and the command-line arguments with libFuzzer
+# (clang, ASan + UBSan); each target runs for SECONDS (default 30).
+#   bash tests/fuzz/run_fuzz.sh [SECONDS]
 # Seeds: models/*.toml and tests/fuzz/corpus/*; the working corpus, a dictionary and any crash
 # artifacts go to build/fuzz/. Exits non-zero if the fuzzer finds a crash, leak or invariant
 # failure (the reproducer is left in build/fuzz/artifacts/; rerun it with
@@ -15,9 +16,17 @@ command -v "$CLANG" >/dev/null || CLANG=/usr/bin/clang
 out=build/fuzz
 mkdir -p "$out/corpus" "$out/artifacts"
 
-"$CLANG" -g -O1 -std=c11 -D_POSIX_C_SOURCE=200809L -fsanitize=fuzzer,address,undefined \
-    -fno-sanitize-recover=undefined -Iruntime \
-    tests/fuzz/fuzz_toml.c runtime/scene/toml.c -o "$out/fuzz_toml" -lm
+FLAGS=(-g -O1 -std=c11 -D_XOPEN_SOURCE=700 -fsanitize=fuzzer,address,undefined
+       -fno-sanitize-recover=undefined -Iruntime -Igenerated -I/usr/include/sundials)
+"$CLANG" "${FLAGS[@]}" tests/fuzz/fuzz_toml.c runtime/scene/toml.c -o "$out/fuzz_toml" -lm
+# The scene and CLI targets link the runtime with the committed kernels (N = 0..7).
+"${PYTHON:-/usr/bin/python3}" generator/generate.py --table 0 1 2 3 4 5 6 7 --out "$out/kernel_table.c"
+runtime_srcs=$(ls runtime/*/*.c | grep -v 'runtime/cli/main.c')
+libs=(-ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lm)
+for t in scene cli; do
+    "$CLANG" "${FLAGS[@]}" "tests/fuzz/fuzz_$t.c" $runtime_srcs generated/swim_kernel_n[0-7].c \
+        "$out/kernel_table.c" -o "$out/fuzz_$t" "${libs[@]}"
+done
 
 # fresh seeds each run (the working corpus keeps what earlier runs found)
 for f in models/*.toml tests/fuzz/corpus/*; do
@@ -63,18 +72,34 @@ cat > "$out/toml.dict" <<'DICT'
 "1979-05-27"
 DICT
 
-echo "fuzzing for ${secs}s: $out/fuzz_toml"
-set +e
-"$out/fuzz_toml" "$out/corpus" -dict="$out/toml.dict" -max_total_time="$secs" \
-    -max_len=4096 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-    -artifact_prefix="$out/artifacts/" 2>"$out/fuzz.log"
-rc=$?
-set -e
-grep -E '^(#[0-9]+ +DONE|stat::number_of_executed_units|stat::peak_rss_mb|Done )' "$out/fuzz.log" || true
-if [ "$rc" -ne 0 ]; then
-    echo "fuzzer FAILED (exit $rc); last lines of $out/fuzz.log:" >&2
-    tail -n 40 "$out/fuzz.log" >&2
+# Corpora: TOML seeds for the two parsers (the scene target starts from the paper's scenes),
+# argument lists for the CLI target.
+mkdir -p "$out/corpus_scene" "$out/corpus_cli"
+cp -f models/*.toml models/hard/*.toml "$out/corpus_scene/" 2>/dev/null || true
+cp -f tests/fuzz/corpus_cli/* "$out/corpus_cli/"
+
+status=0
+for t in toml scene cli; do
+    corpus="$out/corpus"
+    [ "$t" = scene ] && corpus="$out/corpus_scene"
+    [ "$t" = cli ] && corpus="$out/corpus_cli"
+    dict=()
+    [ "$t" != cli ] && dict=(-dict="$out/toml.dict")
+    echo "fuzzing $t for ${secs}s"
+    set +e
+    "$out/fuzz_$t" "$corpus" "${dict[@]}" -max_total_time="$secs" -max_len=4096 -timeout=10 \
+        -rss_limit_mb=2048 -print_final_stats=1 -close_fd_mask=3 -artifact_prefix="$out/artifacts/$t-" 2>"$out/fuzz_$t.log"
+    rc=$?
+    set -e
+    grep -E '^stat::number_of_executed_units' "$out/fuzz_$t.log" | sed "s/^/  $t: /" || true
+    if [ "$rc" -ne 0 ]; then
+        echo "fuzzer $t FAILED (exit $rc); last lines of $out/fuzz_$t.log:" >&2
+        tail -n 40 "$out/fuzz_$t.log" >&2
+        status=1
+    fi
+done
+if [ "$status" -ne 0 ]; then
     ls -1 "$out/artifacts" >&2 || true
     exit 1
 fi
-echo "fuzzer: no crashes"
+echo "fuzz: 3 passed, 0 failed"

@@ -1,0 +1,33 @@
+/* libFuzzer target: command-line arguments of `swim inspect` (option forms, number lists,
+ * shapes in and out of D). The input is split at newlines into at most 12 arguments; output is silenced by
+ * -close_fd_mask (tests/fuzz/run_fuzz.sh). */
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/commands.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    if (size > 4096) return 0;
+    char *buf = malloc(size + 1), *argv[16];
+    if (!buf) return 0;
+    memcpy(buf, data, size);
+    buf[size] = '\0';
+    int argc = 0;
+    argv[argc++] = "swim";
+    argv[argc++] = "inspect";
+    for (char *p = buf; argc < 14;) {
+        argv[argc++] = p;
+        char *nl = memchr(p, '\n', (size_t)(buf + size - p));
+        if (!nl) break;
+        *nl = '\0';
+        p = nl + 1;
+    }
+    argv[argc] = NULL;
+    int rc = swim_cmd_inspect(argc, argv);
+    free(buf);
+    if (rc != 0 && rc != 1 && rc != 2) abort();
+    return 0;
+}
