@@ -13,42 +13,12 @@ test time, said below) and asserts:
 Prints "test_hard: P passed, F failed".
 """
 
-import json
 import os
-import subprocess
 import sys
-import tempfile
 
 import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SWIM = os.environ.get("SWIM_BIN") or os.path.join(ROOT, "bin", "swim")
-TMP = tempfile.mkdtemp(prefix="swim-hard-")
-passed = failed = 0
-
-
-def check(cond, what):
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print("FAIL:", what)
-
-
-def run(scene, name, *args):
-    out = os.path.join(TMP, name)
-    p = subprocess.run([SWIM, "run", scene, "--out", out, "--quiet", *args], capture_output=True,
-                       text=True, cwd=ROOT)
-    d = None
-    path = os.path.join(out, "trajectory.csv")
-    if os.path.exists(path) and os.path.getsize(path) > 0:
-        d = np.atleast_1d(np.genfromtxt(path, delimiter=",", names=True))
-    s = None
-    if os.path.exists(os.path.join(out, "summary.json")):
-        with open(os.path.join(out, "summary.json")) as fh:
-            s = json.load(fh)
-    return p, d, s
+from swimtest import ROOT, TMP, check, main, run
 
 
 def test_barrier_scenes_stay_in_D():
@@ -119,16 +89,5 @@ def test_failures_keep_rows():
     check(p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1, "unreadable scene: exit 2, one line: %r" % p.stderr)
 
 
-def main():
-    for name, fn in sorted(globals().items()):
-        if name.startswith("test_") and callable(fn):
-            try:
-                fn()
-            except Exception as exc:
-                check(False, "%s raised %r" % (name, exc))
-    print("test_hard: %d passed, %d failed" % (passed, failed))
-    return 1 if failed else 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(globals(), "test_hard"))

@@ -13,38 +13,16 @@ import re
 import signal
 import subprocess
 import sys
-import tempfile
 import time
 
 import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SWIM = os.environ.get("SWIM_BIN") or os.path.join(ROOT, "bin", "swim")
-TMP = tempfile.mkdtemp(prefix="swim-test-")
-passed = failed = 0
-
-
-def check(cond, what):
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print("FAIL:", what)
+import swimtest
+from swimtest import ROOT, SWIM, TMP, check, main
 
 
 def run(scene, *args, name=None):
-    out = os.path.join(TMP, name or os.path.basename(scene).replace(".toml", ""))
-    p = subprocess.run([SWIM, "run", scene, "--out", out, "--quiet", *args],
-                       capture_output=True, text=True, cwd=ROOT)
-    data = None
-    if os.path.exists(os.path.join(out, "trajectory.csv")):
-        data = np.genfromtxt(os.path.join(out, "trajectory.csv"), delimiter=",", names=True)
-    summary = None
-    if os.path.exists(os.path.join(out, "summary.json")):
-        with open(os.path.join(out, "summary.json")) as fh:
-            summary = json.load(fh)
-    return p, data, summary
+    return swimtest.run(scene, name or os.path.basename(scene).replace(".toml", ""), *args)
 
 
 def scene_path(name):
@@ -215,16 +193,5 @@ def test_bad_scenes():
     check(p.returncode == 2 and "cannot open" in p.stderr, "missing scene file")
 
 
-def main():
-    for name, fn in sorted(globals().items()):
-        if name.startswith("test_") and callable(fn):
-            try:
-                fn()
-            except Exception as exc:  # a crash in one test is a failure, not the end of the run
-                check(False, "%s raised %r" % (name, exc))
-    print("test_scenes: %d passed, %d failed" % (passed, failed))
-    return 1 if failed else 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(globals(), "test_scenes"))

@@ -10,38 +10,19 @@ Prints "test_specialized: P passed, F failed".
 """
 
 import glob
-import json
 import os
-import subprocess
 import sys
-import tempfile
 
 import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SWIM = os.environ.get("SWIM_BIN") or os.path.join(ROOT, "bin", "swim")
-TMP = tempfile.mkdtemp(prefix="swim-spec-")
+import swimtest
+from swimtest import ROOT, TMP, check, main
+
 ENV = dict(os.environ, SWIM_CACHE=os.path.join(TMP, "cache"))
-passed = failed = 0
-
-
-def check(cond, what):
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print("FAIL:", what)
 
 
 def run(scene, name, *args):
-    out = os.path.join(TMP, name)
-    p = subprocess.run([SWIM, "run", scene, "--out", out, "--quiet", *args], capture_output=True,
-                       text=True, cwd=ROOT, env=ENV)
-    d = np.genfromtxt(os.path.join(out, "trajectory.csv"), delimiter=",", names=True)
-    with open(os.path.join(out, "summary.json")) as fh:
-        s = json.load(fh)
-    return p, d, s
+    return swimtest.run(scene, name, *args, env=ENV)
 
 
 SCENES = {"example1": 10, "example2a": 10, "example2b": 10, "example2c": 10, "example3": 10,
@@ -117,16 +98,5 @@ def test_cache():
     check(len(glob.glob(os.path.join(ENV["SWIM_CACHE"], "*", "kernel.so"))) == 3, "cache: 3 compiled kernels")
 
 
-def main():
-    for name, fn in sorted(globals().items()):
-        if name.startswith("test_") and callable(fn):
-            try:
-                fn()
-            except Exception as exc:
-                check(False, "%s raised %r" % (name, exc))
-    print("test_specialized: %d passed, %d failed" % (passed, failed))
-    return 1 if failed else 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(globals(), "test_specialized"))

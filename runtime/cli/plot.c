@@ -4,13 +4,8 @@
 #include <unistd.h>
 
 #include "cli/commands.h"
+#include "io/files.h"
 
-#ifndef SWIM_ROOT
-#define SWIM_ROOT "."
-#endif
-#ifndef SWIM_PYTHON
-#define SWIM_PYTHON "/usr/bin/python3"
-#endif
 
 int swim_cmd_plot(int argc, char **argv)
 {

@@ -16,6 +16,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "io/csv.h"
+#include "io/files.h"
 #include "io/json.h"
 #include "model/dynamics.h"
 #include "model/flow.h"
@@ -33,22 +34,6 @@ static double wall(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-/* mkdir -p */
-static int make_dirs(const char *path)
-{
-    char buf[1024];
-    snprintf(buf, sizeof buf, "%s", path);
-    for (char *p = buf + 1; *p; p++)
-        if (*p == '/') {
-            *p = '\0';
-            if (mkdir(buf, 0777) != 0 && errno != EEXIST) return -1;
-            *p = '/';
-        }
-    if (mkdir(buf, 0777) != 0 && errno != EEXIST) return -1;
-    struct stat st;
-    return stat(buf, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
 }
 
 typedef struct {
@@ -257,7 +242,7 @@ int swim_cmd_run(int argc, char **argv)
     char dir[900];
     if ((v = swim_args_get(opts, nopts, "out"))) snprintf(dir, sizeof dir, "%s", v);
     else default_out(s.path, dir, sizeof dir);
-    if (make_dirs(dir) != 0) {
+    if (swim_mkdirs(dir) != 0) {
         fprintf(stderr, "swim run: --out: cannot create directory '%s': %s\n", dir, strerror(errno));
         swim_scene_free(&s);
         return 2;

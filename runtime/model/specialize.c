@@ -1,5 +1,7 @@
 #include "model/specialize.h"
 
+#include "io/files.h"
+
 #include <dlfcn.h>
 #include <errno.h>
 #include <stdarg.h>
@@ -12,12 +14,6 @@
 #include <time.h>
 #include <unistd.h>
 
-#ifndef SWIM_ROOT
-#define SWIM_ROOT "."
-#endif
-#ifndef SWIM_PYTHON
-#define SWIM_PYTHON "/usr/bin/python3"
-#endif
 #ifndef SWIM_CC
 #define SWIM_CC "cc"
 #endif
@@ -162,19 +158,6 @@ static int run_command(char *const argv[], const char *log)
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
-static int mkdirs(const char *path)
-{
-    char buf[1024];
-    snprintf(buf, sizeof buf, "%s", path);
-    for (char *p = buf + 1; *p; p++)
-        if (*p == '/') {
-            *p = '\0';
-            if (mkdir(buf, 0777) != 0 && errno != EEXIST) return -1;
-            *p = '/';
-        }
-    return mkdir(buf, 0777) != 0 && errno != EEXIST ? -1 : 0;
-}
-
 static int read_text(const char *path, char *buf, size_t len)
 {
     FILE *f = fopen(path, "rb");
@@ -227,7 +210,7 @@ int swim_specialize(const swim_scene *s, swim_specialized *sp, int verbose)
         if (verbose) fprintf(stderr, "swim: specialized kernel from cache %s\n", sp->dir);
         return 0;
     }
-    if (mkdirs(sp->dir) != 0) {
+    if (swim_mkdirs(sp->dir) != 0) {
         fprintf(stderr, "swim: cannot create kernel cache %s: %s\n", sp->dir, strerror(errno));
         return -1;
     }

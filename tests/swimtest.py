@@ -1,0 +1,52 @@
+"""Shared helpers of the Python end-to-end tests: run `swim run`, read what it wrote, count checks.
+
+Each test module defines functions named test_* and ends with `sys.exit(swimtest.main(globals(),
+"test_name"))`, which runs them and prints "test_name: P passed, F failed"."""
+
+import json
+import os
+import subprocess
+import tempfile
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SWIM = os.environ.get("SWIM_BIN") or os.path.join(ROOT, "bin", "swim")
+TMP = tempfile.mkdtemp(prefix="swim-test-")
+counts = {"passed": 0, "failed": 0}
+
+
+def check(cond, what):
+    if cond:
+        counts["passed"] += 1
+    else:
+        counts["failed"] += 1
+        print("FAIL:", what)
+
+
+def run(scene, name, *args, env=None):
+    """Run `swim run SCENE --out TMP/name --quiet ARGS`; returns (process, rows, summary), the
+    last two None when the file is missing or empty."""
+    out = os.path.join(TMP, name)
+    p = subprocess.run([SWIM, "run", scene, "--out", out, "--quiet", *args], capture_output=True,
+                       text=True, cwd=ROOT, env=env)
+    rows = None
+    path = os.path.join(out, "trajectory.csv")
+    if os.path.exists(path) and os.path.getsize(path) > 0:
+        rows = np.atleast_1d(np.genfromtxt(path, delimiter=",", names=True))
+    summary = None
+    if os.path.exists(os.path.join(out, "summary.json")):
+        with open(os.path.join(out, "summary.json")) as fh:
+            summary = json.load(fh)
+    return p, rows, summary
+
+
+def main(namespace, name):
+    for fname, fn in sorted(namespace.items()):
+        if fname.startswith("test_") and callable(fn):
+            try:
+                fn()
+            except Exception as exc:   # a crash in one test is a failure, not the end of the run
+                check(False, "%s raised %r" % (fname, exc))
+    print("%s: %d passed, %d failed" % (name, counts["passed"], counts["failed"]))
+    return 1 if counts["failed"] else 0
