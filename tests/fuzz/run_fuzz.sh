@@ -13,6 +13,10 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 cd "$root"
 CLANG="${CLANG:-clang}"
 command -v "$CLANG" >/dev/null || CLANG=/usr/bin/clang
+if ! command -v "$CLANG" >/dev/null; then
+    echo "make fuzz needs clang with libFuzzer: apt-get install clang" >&2
+    exit 1
+fi
 out=build/fuzz
 mkdir -p "$out/corpus" "$out/artifacts"
 
