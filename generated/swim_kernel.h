@@ -39,6 +39,11 @@ typedef struct swim_kernel {
      * cs[m] = cos(m theta), sn[m] = sin(m theta) for m = 0 .. N-1 (unused when N = 0). */
     void (*jacobian_circle)(const double *x, const double *cs, const double *sn,
                             double *J, double *dJ);
+    /* Trapezoidal sums for W2 over Q nodes (tables cs, sn as for jacobian_circle, row q for node
+     * q): *sum = sum_q J^-alpha, gsum (may be NULL) = sum_q J^(-1-alpha) dJ, *jlow = smallest J.
+     * Returns 0, or -1 as soon as J <= 0 at a node. The runtime scales them (model/shape.c). */
+    int (*barrier_sums)(const double *x, const double *cs, const double *sn, int Q, double alpha,
+                        double *sum, double *gsum, double *jlow);
     /* sum_k |c_k|^2/(|k|+1) and its gradient (may be NULL); I(c) = pi rho0 times it (2.11). */
     double (*inertia)(const double *x, double *grad);
     /* S(x), 2(N+1) x (3+n) row-major: column p holds the Fourier data (s1_j, s2_j), j = 1..N+1,
@@ -57,7 +62,7 @@ typedef struct swim_scene_params {
     const double *x_locked;     /* values of the locked coordinates (free entries ignored) */
     const double *stiffness, *reference, *damping, *direction;
     /* grad W2 on the kernel's coordinates at x (quadrature done by the runtime, which calls
-     * back the kernel's jacobian_circle); 0, or SWIM_RHS_EBARRIER when J <= 0 at a node. */
+     * back the kernel's barrier_sums); 0, or SWIM_RHS_EBARRIER when J <= 0 at a node. */
     int (*barrier)(const double *x, double *grad, void *ctx);
     void *barrier_ctx;
 } swim_scene_params;
@@ -72,8 +77,9 @@ typedef struct swim_scene_kernel {
     int (*rhs)(double t, const double *y, double *dydt, const swim_scene_params *p);
     /* K on the free coordinates (nfree x nfree); 0, or -1 if Mr is not positive definite */
     int (*reduced_matrix)(const double *x, double rho0, double rhof, double *K);
-    /* J on the circle and its gradient on the free coordinates (NULL without a barrier) */
-    void (*jacobian_circle)(const double *x, const double *cs, const double *sn, double *J, double *dJ);
+    /* barrier_sums as in swim_kernel, gradient on the free coordinates (NULL without a barrier) */
+    int (*barrier_sums)(const double *x, const double *cs, const double *sn, int Q, double alpha,
+                        double *sum, double *gsum, double *jlow);
 } swim_scene_kernel;
 
 /* The kernel for N modes among those linked in, or NULL. */

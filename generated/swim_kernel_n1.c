@@ -145,6 +145,33 @@ static void jacobian_circle(const double *x, const double *cs, const double *sn,
     }
 }
 
+
+static int barrier_sums(const double *x, const double *cs, const double *sn, int Q, double alpha,
+                        double *sum, double *gsum, double *jlow)
+{
+    const int w = NFULL / 2 - 1 > 0 ? NFULL / 2 - 1 : 1;   /* max(N, 1) columns per node */
+    double s = 0.0, lo = INFINITY, dJ[NX], J;
+    if (gsum)
+        for (int i = 0; i < NX; i++) gsum[i] = 0.0;
+    for (int q = 0; q < Q; q++) {
+        jacobian_circle(x, cs + (size_t)q * w, sn + (size_t)q * w, &J, gsum ? dJ : NULL);
+        if (J < lo) lo = J;
+        if (!(J > 0.0)) {
+            *jlow = lo;
+            return -1;
+        }
+        /* J^-alpha; alpha = 1/2 and 1 avoid pow() on the hot path */
+        const double ja = alpha == 0.5 ? 1.0 / sqrt(J) : alpha == 1.0 ? 1.0 / J : pow(J, -alpha);
+        s += ja;
+        if (gsum) {
+            const double t = ja / J;
+            for (int i = 0; i < NX; i++) gsum[i] += t * dJ[i];
+        }
+    }
+    *sum = s;
+    *jlow = lo;
+    return 0;
+}
 /* ---- assembly (fixed-size loops) ------------------------------------------------------ */
 
 typedef struct {
@@ -398,6 +425,7 @@ const swim_kernel swim_kernel_n1 = {
     .reduced = reduced,
     .reduced_deriv = reduced_deriv,
     .jacobian_circle = jacobian_circle,
+    .barrier_sums = barrier_sums,
     .inertia = inertia,
     .boundary_data = boundary_data_flat,
 };

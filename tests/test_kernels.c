@@ -202,7 +202,7 @@ static void check_barrier(const swim_kernel *k)
     for (int t = 0; t < 4; t++) {
         double x[NMAX], g[NMAX], rg[NMAX], eps = 0.03, alpha = t % 2 ? 1.0 : 0.5;
         random_shape(N, x, 0.8);
-        double W = swim_barrier(&c, k->jacobian_circle, k->dim, x, eps, alpha, g, NULL);
+        double W = swim_barrier(&c, k->barrier_sums, k->dim, x, eps, alpha, g, NULL);
         double rW = ref_barrier(N, x, eps, alpha, SWIM_BARRIER_NODES, rg);
         CHECK_CLOSE(W, rW, 1e-13, "W2 vs reference");
         CHECK(max_diff(g, rg, n) <= 1e-12 * fmax(max_abs(rg, n), 1.0), "N=%d: grad W2 vs reference", N);
@@ -214,9 +214,9 @@ static void check_barrier(const swim_kernel *k)
                 double h = 1e-3 / (1 << lev);
                 memcpy(xp, x, sizeof(double) * n);
                 xp[r] += h;
-                double wp = swim_barrier(&c, k->jacobian_circle, k->dim, xp, eps, alpha, NULL, NULL);
+                double wp = swim_barrier(&c, k->barrier_sums, k->dim, xp, eps, alpha, NULL, NULL);
                 xp[r] -= 2 * h;
-                double wm = swim_barrier(&c, k->jacobian_circle, k->dim, xp, eps, alpha, NULL, NULL);
+                double wm = swim_barrier(&c, k->barrier_sums, k->dim, xp, eps, alpha, NULL, NULL);
                 D[lev] = (wp - wm) / (2 * h);
             }
             double r1 = (4 * D[1] - D[0]) / 3, r2 = (4 * D[2] - D[1]) / 3, d = (16 * r2 - r1) / 15;
@@ -225,7 +225,7 @@ static void check_barrier(const swim_kernel *k)
         CHECK(worst <= 1e-8 * fmax(max_abs(g, n), 1.0), "N=%d: grad W2 vs differences %.3g", N, worst);
     }
     double x0[NMAX] = {1.0};
-    CHECK_CLOSE(swim_barrier(&c, k->jacobian_circle, k->dim, x0, 0.03, 0.5, NULL, NULL), M_PI * 0.03 / 0.5, 1e-15,
+    CHECK_CLOSE(swim_barrier(&c, k->barrier_sums, k->dim, x0, 0.03, 0.5, NULL, NULL), M_PI * 0.03 / 0.5, 1e-15,
                 "W2 at the unit circle = pi eps / alpha (ERRATA B2)");
     swim_circle_free(&c);
 }
@@ -240,14 +240,14 @@ static void check_quadrature_convergence(void)
     CHECK(fabs(jmin - 0.0396) < 5e-5, "Example 7 initial min J %.6f (ERRATA D5: 0.0396)", jmin);
     swim_circle ref;
     swim_circle_init(&ref, 7, 2048);
-    double Wref = swim_barrier(&ref, k->jacobian_circle, k->dim, x, 0.03, 0.5, NULL, NULL);
+    double Wref = swim_barrier(&ref, k->barrier_sums, k->dim, x, 0.03, 0.5, NULL, NULL);
     swim_circle_free(&ref);
     double prev = INFINITY;
     printf("  W2 trapezoidal rule at min J = %.4f: nodes -> relative error\n", jmin);
     for (int Q = 16; Q <= 512; Q *= 2) {
         swim_circle c;
         swim_circle_init(&c, 7, Q);
-        double e = fabs(swim_barrier(&c, k->jacobian_circle, k->dim, x, 0.03, 0.5, NULL, NULL) - Wref) / Wref;
+        double e = fabs(swim_barrier(&c, k->barrier_sums, k->dim, x, 0.03, 0.5, NULL, NULL) - Wref) / Wref;
         swim_circle_free(&c);
         printf("    %4d  %.2e\n", Q, e);
         if (Q <= 128) CHECK(e < 0.5 * prev || e < 1e-15, "no geometric decrease at Q=%d (%.3g after %.3g)", Q, e, prev);
@@ -269,9 +269,9 @@ static void check_adaptive_quadrature(void)
     swim_circle_init(&base, 2, SWIM_BARRIER_NODES);
     double g1[6], g2[6];
     int used = 0;
-    double Wf = swim_barrier(&fine, k->jacobian_circle, 6, x, 0.03, 0.5, g1, NULL);
-    double Wa = swim_barrier_adaptive(&fine, k->jacobian_circle, 6, x, 0.03, 0.5, g2, NULL, &used);
-    double Wb = swim_barrier(&base, k->jacobian_circle, 6, x, 0.03, 0.5, NULL, NULL);
+    double Wf = swim_barrier(&fine, k->barrier_sums, 6, x, 0.03, 0.5, g1, NULL);
+    double Wa = swim_barrier_adaptive(&fine, k->barrier_sums, 6, x, 0.03, 0.5, g2, NULL, &used);
+    double Wb = swim_barrier(&base, k->barrier_sums, 6, x, 0.03, 0.5, NULL, NULL);
     CHECK(used > SWIM_BARRIER_NODES && used < SWIM_BARRIER_MAX_NODES, "adaptive rule used %d nodes", used);
     CHECK(fabs(Wa - Wf) <= 1e-12 * Wf, "adaptive W2 %.17g vs 65536 nodes %.17g", Wa, Wf);
     CHECK(max_diff(g1, g2, 6) <= 1e-11 * max_abs(g1, 6), "adaptive grad W2 vs 65536 nodes: %.3g", max_diff(g1, g2, 6));

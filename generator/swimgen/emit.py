@@ -125,7 +125,7 @@ def scene_kernel_source(structure, command):
         force += ["    f[%d] -= p->stiffness[%d] * (x[%d] - p->reference[%d]);" % (pos[i], i, i, i)
                   for i in elastic]
     if structure.get("barrier"):
-        force += ["    {   /* W2 (section 4.1.1): quadrature by the runtime on jacobian_circle */",
+        force += ["    {   /* W2 (section 4.1.1): quadrature by the runtime on barrier_sums */",
                   "        double gW[NX];",
                   "        if (p->barrier(x, gW, p->barrier_ctx) != 0) return SWIM_RHS_EBARRIER;",
                   "        for (int i = 0; i < NX; i++) f[i] -= gW[i];",
@@ -162,7 +162,7 @@ def scene_kernel_source(structure, command):
                what="right-hand side specialized to one scene structure.",
                banner=banner(command), structure=structure["key"].replace('"', "'"),
                free_index=", ".join(str(i) for i in m.free), forcing_fn=forcing_fn,
-               jacobian_entry="jacobian_circle" if structure.get("barrier") else "NULL",
+               barrier_entry="barrier_sums" if structure.get("barrier") else "NULL",
                force_terms="\n".join(force),
                constraint_rows="\n".join(rows))
     pieces = [KERNEL_HEAD, SYMBOLIC_CORE]

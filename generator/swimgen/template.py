@@ -51,6 +51,11 @@ typedef struct swim_kernel {
      * cs[m] = cos(m theta), sn[m] = sin(m theta) for m = 0 .. N-1 (unused when N = 0). */
     void (*jacobian_circle)(const double *x, const double *cs, const double *sn,
                             double *J, double *dJ);
+    /* Trapezoidal sums for W2 over Q nodes (tables cs, sn as for jacobian_circle, row q for node
+     * q): *sum = sum_q J^-alpha, gsum (may be NULL) = sum_q J^(-1-alpha) dJ, *jlow = smallest J.
+     * Returns 0, or -1 as soon as J <= 0 at a node. The runtime scales them (model/shape.c). */
+    int (*barrier_sums)(const double *x, const double *cs, const double *sn, int Q, double alpha,
+                        double *sum, double *gsum, double *jlow);
     /* sum_k |c_k|^2/(|k|+1) and its gradient (may be NULL); I(c) = pi rho0 times it (2.11). */
     double (*inertia)(const double *x, double *grad);
     /* S(x), 2(N+1) x (3+n) row-major: column p holds the Fourier data (s1_j, s2_j), j = 1..N+1,
@@ -69,7 +74,7 @@ typedef struct swim_scene_params {
     const double *x_locked;     /* values of the locked coordinates (free entries ignored) */
     const double *stiffness, *reference, *damping, *direction;
     /* grad W2 on the kernel's coordinates at x (quadrature done by the runtime, which calls
-     * back the kernel's jacobian_circle); 0, or SWIM_RHS_EBARRIER when J <= 0 at a node. */
+     * back the kernel's barrier_sums); 0, or SWIM_RHS_EBARRIER when J <= 0 at a node. */
     int (*barrier)(const double *x, double *grad, void *ctx);
     void *barrier_ctx;
 } swim_scene_params;
@@ -84,8 +89,9 @@ typedef struct swim_scene_kernel {
     int (*rhs)(double t, const double *y, double *dydt, const swim_scene_params *p);
     /* K on the free coordinates (nfree x nfree); 0, or -1 if Mr is not positive definite */
     int (*reduced_matrix)(const double *x, double rho0, double rhof, double *K);
-    /* J on the circle and its gradient on the free coordinates (NULL without a barrier) */
-    void (*jacobian_circle)(const double *x, const double *cs, const double *sn, double *J, double *dJ);
+    /* barrier_sums as in swim_kernel, gradient on the free coordinates (NULL without a barrier) */
+    int (*barrier_sums)(const double *x, const double *cs, const double *sn, int Q, double alpha,
+                        double *sum, double *gsum, double *jlow);
 } swim_scene_kernel;
 
 /* The kernel for N modes among those linked in, or NULL. */
@@ -203,6 +209,33 @@ $dJ_body
     }
 }
 
+
+static int barrier_sums(const double *x, const double *cs, const double *sn, int Q, double alpha,
+                        double *sum, double *gsum, double *jlow)
+{
+    const int w = NFULL / 2 - 1 > 0 ? NFULL / 2 - 1 : 1;   /* max(N, 1) columns per node */
+    double s = 0.0, lo = INFINITY, dJ[NX], J;
+    if (gsum)
+        for (int i = 0; i < NX; i++) gsum[i] = 0.0;
+    for (int q = 0; q < Q; q++) {
+        jacobian_circle(x, cs + (size_t)q * w, sn + (size_t)q * w, &J, gsum ? dJ : NULL);
+        if (J < lo) lo = J;
+        if (!(J > 0.0)) {
+            *jlow = lo;
+            return -1;
+        }
+        /* J^-alpha; alpha = 1/2 and 1 avoid pow() on the hot path */
+        const double ja = alpha == 0.5 ? 1.0 / sqrt(J) : alpha == 1.0 ? 1.0 / J : pow(J, -alpha);
+        s += ja;
+        if (gsum) {
+            const double t = ja / J;
+            for (int i = 0; i < NX; i++) gsum[i] += t * dJ[i];
+        }
+    }
+    *sum = s;
+    *jlow = lo;
+    return 0;
+}
 """)
 
 ASSEMBLY_REDUCED = Template("""\
@@ -462,6 +495,7 @@ const swim_kernel swim_kernel_n$N = {
     .reduced = reduced,
     .reduced_deriv = reduced_deriv,
     .jacobian_circle = jacobian_circle,
+    .barrier_sums = barrier_sums,
     .inertia = inertia,
     .boundary_data = boundary_data_flat,
 };
@@ -582,7 +616,7 @@ const swim_scene_kernel swim_scene_kernel_entry = {
     .structure = "$structure",
     .rhs = scene_rhs,
     .reduced_matrix = reduced_matrix_entry,
-    .jacobian_circle = $jacobian_entry,
+    .barrier_sums = $barrier_entry,
 };
 """)
 

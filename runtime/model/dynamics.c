@@ -54,7 +54,7 @@ void swim_dynamics_free(swim_dynamics *d)
 {
     free(d->K); free(d->P); free(d->gvv); free(d->rhs); free(d->G); free(d->A); free(d->grad);
     free(d->ipiv_work); free(d->ipiv); free(d->proj);
-    if (d->circle.cs) swim_circle_free(&d->circle);
+    swim_circle_free(&d->circle);
     d->K = d->P = d->gvv = d->rhs = d->G = d->A = d->grad = d->ipiv_work = d->proj = NULL;
     d->ipiv = NULL;
 }
@@ -85,7 +85,7 @@ static int generalized_force(swim_dynamics *d, double t, const double *c, const 
     if (s->elastic)
         for (int i = 0; i < n; i++) f[i] -= s->stiffness[i] * (c[i] - s->reference[i]);
     if (s->barrier) {
-        if (!isfinite(swim_barrier_adaptive(&d->circle, d->k->jacobian_circle, d->n, c, s->epsilon,
+        if (!isfinite(swim_barrier_adaptive(&d->circle, d->k->barrier_sums, d->n, c, s->epsilon,
                                             s->alpha, d->grad, NULL, NULL)))
             return SWIM_DYN_EBARRIER;
         for (int i = 0; i < n; i++) f[i] -= d->grad[i];
@@ -168,7 +168,7 @@ static int scene_barrier(const double *x, double *grad, void *ctx)
 {
     swim_dynamics *d = ctx;
     const swim_scene *s = d->scene;
-    double W = swim_barrier_adaptive(&d->circle, d->spec->jacobian_circle, d->spec->nfree, x,
+    double W = swim_barrier_adaptive(&d->circle, d->spec->barrier_sums, d->spec->nfree, x,
                                      s->epsilon, s->alpha, grad, NULL, NULL);
     return isfinite(W) ? 0 : SWIM_RHS_EBARRIER;
 }
@@ -274,7 +274,7 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     if (s->elastic)
         for (int i = 0; i < n; i++) o->w1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
     if (s->barrier)
-        o->w2 = swim_barrier_adaptive(&d->circle, d->k->jacobian_circle, n, c, s->epsilon, s->alpha,
+        o->w2 = swim_barrier_adaptive(&d->circle, d->k->barrier_sums, n, c, s->epsilon, s->alpha,
                                       NULL, NULL, NULL);
     o->energy = T + o->w1 + o->w2;
     o->work = y[3 + 2 * n];

@@ -2,33 +2,51 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #define TWO_PI 6.28318530717958647692
+
+static int fill(double *cs, double *sn, int nodes, int w)
+{
+    for (int q = 0; q < nodes; q++)
+        for (int m = 0; m < w; m++) {
+            double th = TWO_PI * q / nodes;
+            cs[q * w + m] = cos(m * th);
+            sn[q * w + m] = sin(m * th);
+        }
+    return 0;
+}
 
 int swim_circle_init(swim_circle *c, int modes, int nodes)
 {
     int w = modes > 0 ? modes : 1;
+    memset(c, 0, sizeof *c);
     c->modes = modes;
     c->nodes = nodes;
-    c->cs = malloc(sizeof(double) * (size_t)nodes * (size_t)w);
-    c->sn = malloc(sizeof(double) * (size_t)nodes * (size_t)w);
-    if (!c->cs || !c->sn) {
-        swim_circle_free(c);
-        return -1;
-    }
-    for (int q = 0; q < nodes; q++)
-        for (int m = 0; m < w; m++) {
-            double th = TWO_PI * q / nodes;
-            c->cs[q * w + m] = cos(m * th);
-            c->sn[q * w + m] = sin(m * th);
+    for (int q = nodes; c->levels < 20; q /= 2) {
+        int l = c->levels++;
+        c->lcs[l] = malloc(sizeof(double) * (size_t)q * (size_t)w);
+        c->lsn[l] = malloc(sizeof(double) * (size_t)q * (size_t)w);
+        if (!c->lcs[l] || !c->lsn[l]) {
+            swim_circle_free(c);
+            return -1;
         }
+        fill(c->lcs[l], c->lsn[l], q, w);
+        if (q <= SWIM_BARRIER_NODES || q % 2) break;
+    }
+    c->cs = c->lcs[0];
+    c->sn = c->lsn[0];
     return 0;
 }
 
 void swim_circle_free(swim_circle *c)
 {
-    free(c->cs);
-    free(c->sn);
+    for (int l = 0; l < c->levels; l++) {
+        free(c->lcs[l]);
+        free(c->lsn[l]);
+        c->lcs[l] = c->lsn[l] = NULL;
+    }
+    c->levels = 0;
     c->cs = c->sn = NULL;
 }
 
@@ -71,52 +89,41 @@ double swim_shape_jmin(const swim_kernel *k, const double *x)
     return fm < best ? fm : best;
 }
 
-/* Trapezoidal sums over every `stride`-th node: W2, and its gradient into grad. */
-static double barrier_rule(const swim_circle *circle, int stride, swim_jacobian_fn jac, int ngrad,
+/* W2 and its gradient with the Q-node rule (Q = circle->nodes >> l for some level l). */
+static double barrier_rule(const swim_circle *circle, int Q, swim_barrier_sums_fn sums, int ngrad,
                            const double *x, double eps, double alpha, double *grad, double *jlow)
 {
-    const int w = circle->modes > 0 ? circle->modes : 1, Q = circle->nodes / stride;
-    double dJ[2 * (SWIM_KERNEL_MAX_MODES + 1)];
-    double sum = 0.0;
-    *jlow = INFINITY;
-    if (grad)
-        for (int i = 0; i < ngrad; i++) grad[i] = 0.0;
-    for (int q = 0; q < circle->nodes; q += stride) {
-        double J;
-        jac(x, circle->cs + (size_t)q * w, circle->sn + (size_t)q * w, &J, grad ? dJ : NULL);
-        if (J < *jlow) *jlow = J;
-        if (!(J > 0.0)) return INFINITY;
-        /* J^-alpha; alpha = 1/2 and 1 avoid pow() on the hot path. */
-        double ja = alpha == 0.5 ? 1.0 / sqrt(J) : alpha == 1.0 ? 1.0 / J : pow(J, -alpha);
-        sum += ja;
-        if (grad) {
-            double s = ja / J;   /* J^(-1-alpha) */
-            for (int i = 0; i < ngrad; i++) grad[i] += s * dJ[i];
+    const double *cs = circle->cs, *sn = circle->sn;
+    for (int l = 0; l < circle->levels; l++)
+        if ((circle->nodes >> l) == Q) {
+            cs = circle->lcs[l];
+            sn = circle->lsn[l];
         }
-    }
+    double sum;
+    if (sums(x, cs, sn, Q, alpha, &sum, grad, jlow) != 0) return INFINITY;
     const double h = TWO_PI / Q;
     if (grad)   /* dW2 = eps/(2 alpha) * (-alpha) int J^(-1-alpha) dJ */
         for (int i = 0; i < ngrad; i++) grad[i] *= -0.5 * eps * h;
     return eps / (2.0 * alpha) * h * sum;
 }
 
-double swim_barrier(const swim_circle *circle, swim_jacobian_fn jac, int ngrad, const double *x,
+double swim_barrier(const swim_circle *circle, swim_barrier_sums_fn sums, int ngrad, const double *x,
                     double eps, double alpha, double *grad, double *jnodes)
 {
     double jlow;
-    double W = barrier_rule(circle, 1, jac, ngrad, x, eps, alpha, grad, &jlow);
+    double W = barrier_rule(circle, circle->nodes, sums, ngrad, x, eps, alpha, grad, &jlow);
     if (jnodes) *jnodes = jlow;
     return W;
 }
 
-double swim_barrier_adaptive(const swim_circle *circle, swim_jacobian_fn jac, int ngrad,
+double swim_barrier_adaptive(const swim_circle *circle, swim_barrier_sums_fn sums, int ngrad,
                              const double *x, double eps, double alpha, double *grad,
                              double *jnodes, int *nodes_used)
 {
     int Q = circle->nodes < SWIM_BARRIER_NODES ? circle->nodes : SWIM_BARRIER_NODES;
     double jlow, W;
     for (;;) {
-        W = barrier_rule(circle, circle->nodes / Q, jac, ngrad, x, eps, alpha, grad, &jlow);
+        W = barrier_rule(circle, Q, sums, ngrad, x, eps, alpha, grad, &jlow);
         if (!isfinite(W)) break;
         /* Keep the resolution that 256 nodes have at min J = 0.008 (ERRATA B4). */
         double need = jlow < 0.008 ? SWIM_BARRIER_NODES * sqrt(0.008 / jlow) : 0.0;

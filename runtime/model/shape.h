@@ -17,14 +17,18 @@
 #define SWIM_BARRIER_NODES 256          /* base rule */
 #define SWIM_BARRIER_MAX_NODES 65536    /* finest rule of the adaptive quadrature */
 
-/* J and its gradient at one node: the jacobian_circle of a kernel (generic or scene). */
-typedef void (*swim_jacobian_fn)(const double *x, const double *cs, const double *sn, double *J,
-                                 double *dJ);
+/* The barrier_sums of a kernel (generic or scene): sums over Q nodes, see swim_kernel.h. */
+typedef int (*swim_barrier_sums_fn)(const double *x, const double *cs, const double *sn, int Q,
+                                    double alpha, double *sum, double *gsum, double *jlow);
 
-/* Precomputed cos(m theta_q), sin(m theta_q), m = 0..N-1, on Q nodes; owns its arrays. */
+/* Precomputed cos(m theta_q), sin(m theta_q), m = 0..N-1, on Q nodes; owns its arrays. Coarser
+ * rules down to SWIM_BARRIER_NODES nodes (every 2^l-th node) get contiguous tables of their own,
+ * so that the adaptive rule reads memory in order. */
 typedef struct {
     int modes, nodes;
-    double *cs, *sn;   /* nodes x max(N,1), row q for node q */
+    double *cs, *sn;         /* nodes x max(N,1), row q for node q (= level 0) */
+    int levels;              /* tables for nodes >> l, l = 0 .. levels-1 */
+    double *lcs[20], *lsn[20];
 } swim_circle;
 
 int swim_circle_init(swim_circle *c, int modes, int nodes);   /* 0, or -1 out of memory */
@@ -34,14 +38,14 @@ void swim_circle_free(swim_circle *c);
  * 64(N+1) samples (J has frequencies up to N-1), refined by golden-section search. */
 double swim_shape_jmin(const swim_kernel *k, const double *x);
 
-/* W2 and (if grad != NULL) its gradient (ERRATA B3, ngrad entries as jac gives them) on all the
+/* W2 and (if grad != NULL) its gradient (ERRATA B3, ngrad entries as `sums` gives them) on all the
  * nodes of `circle`. Also returns the smallest J met on the nodes in *jnodes (may be NULL).
  * Returns +inf if J <= 0 at a node. */
-double swim_barrier(const swim_circle *circle, swim_jacobian_fn jac, int ngrad, const double *x,
+double swim_barrier(const swim_circle *circle, swim_barrier_sums_fn sums, int ngrad, const double *x,
                     double eps, double alpha, double *grad, double *jnodes);
 /* The same with the adaptive rule (see above) on subsets of the nodes of `circle`, which should
  * have SWIM_BARRIER_MAX_NODES nodes; *nodes_used (may be NULL) gets the Q taken. */
-double swim_barrier_adaptive(const swim_circle *circle, swim_jacobian_fn jac, int ngrad,
+double swim_barrier_adaptive(const swim_circle *circle, swim_barrier_sums_fn sums, int ngrad,
                              const double *x, double eps, double alpha, double *grad,
                              double *jnodes, int *nodes_used);
 
