@@ -43,7 +43,7 @@ TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 DEPS_STAMP  := $(BUILD)/.deps-ok
 
-.PHONY: FORCE all deps help test sanitize fuzz bench generate generate-all run readme-figures clean
+.PHONY: FORCE all deps help test sanitize fuzz bench bench-accuracy generate generate-all run readme-figures clean
 all: $(BIN)/swim
 
 help:
@@ -53,6 +53,7 @@ help:
 	@echo "make sanitize   the test suite under AddressSanitizer + UndefinedBehaviorSanitizer"
 	@echo "make fuzz       fuzz the scene parser and the CLI arguments (libFuzzer, FUZZ_SECONDS=60)"
 	@echo "make bench      run the benchmarks (numbers quoted in README.md)"
+	@echo "make bench-accuracy  work-precision diagrams and table for every paper scene (~8 min)"
 	@echo "make generate N=12   regenerate the kernel for one mode count into generated/"
 	@echo "make generate-all    regenerate the committed kernels (N = $(MODES))"
 	@echo "make run        main job: simulate models/example3.toml and plot it"
@@ -141,12 +142,18 @@ run: $(BIN)/swim
 	./$(BIN)/swim run models/example3.toml --out out/example3
 	./$(BIN)/swim plot out/example3
 
+# Work-precision per paper scene (issue 7): build/bench/accuracy/{accuracy.csv,table.md,*.png}.
+bench-accuracy: $(BIN)/swim
+	$(PYTHON) tests/bench/bench_accuracy.py
+
 # Figures shown in README.md, rebuilt from the main job.
 readme-figures: run
 	mkdir -p docs/figures
 	cp out/example3/snapshots.png docs/figures/example3_snapshots.png
 	cp out/example3/energy.png docs/figures/example3_energy.png
 	$(PYTHON) tests/bench/plot_drift.py docs/figures/drift_long_runs.png
+	if [ -f build/bench/ode_work_precision.png ]; then cp build/bench/ode_work_precision.png docs/figures/; fi
+	if [ -f build/bench/accuracy/work_precision_cpu.png ]; then cp build/bench/accuracy/work_precision_cpu.png docs/figures/scenes_work_precision_cpu.png; fi
 
 clean:
 	rm -rf $(BUILD) bin

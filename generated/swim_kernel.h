@@ -15,7 +15,7 @@
 #ifndef SWIM_KERNEL_H
 #define SWIM_KERNEL_H
 
-#define SWIM_KERNEL_ABI 1
+#define SWIM_KERNEL_ABI 2
 #define SWIM_KERNEL_MAX_MODES 20
 
 typedef struct swim_kernel {
@@ -75,8 +75,6 @@ typedef struct swim_scene_kernel {
     const int *free_index;      /* nfree indices into the full shape vector */
     const char *structure;      /* the structure key it was generated for */
     int (*rhs)(double t, const double *y, double *dydt, const swim_scene_params *p);
-    /* K on the free coordinates (nfree x nfree); 0, or -1 if Mr is not positive definite */
-    int (*reduced_matrix)(const double *x, double rho0, double rhof, double *K);
     /* barrier_sums as in swim_kernel, gradient on the free coordinates (NULL without a barrier) */
     int (*barrier_sums)(const double *x, const double *cs, const double *sn, int Q, double alpha,
                         double *sum, double *gsum, double *jlow);

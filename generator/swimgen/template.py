@@ -27,7 +27,7 @@ HEADER = """\
 #ifndef SWIM_KERNEL_H
 #define SWIM_KERNEL_H
 
-#define SWIM_KERNEL_ABI 1
+#define SWIM_KERNEL_ABI 2
 #define SWIM_KERNEL_MAX_MODES 20
 
 typedef struct swim_kernel {
@@ -87,8 +87,6 @@ typedef struct swim_scene_kernel {
     const int *free_index;      /* nfree indices into the full shape vector */
     const char *structure;      /* the structure key it was generated for */
     int (*rhs)(double t, const double *y, double *dydt, const swim_scene_params *p);
-    /* K on the free coordinates (nfree x nfree); 0, or -1 if Mr is not positive definite */
-    int (*reduced_matrix)(const double *x, double rho0, double rhof, double *K);
     /* barrier_sums as in swim_kernel, gradient on the free coordinates (NULL without a barrier) */
     int (*barrier_sums)(const double *x, const double *cs, const double *sn, int Q, double alpha,
                         double *sum, double *gsum, double *jlow);
@@ -602,11 +600,6 @@ $constraint_rows
     return SWIM_RHS_OK;
 }
 
-static int reduced_matrix_entry(const double *x, double rho0, double rhof, double *K)
-{
-    return reduced(x, NULL, rho0, rhof, K, NULL, NULL);
-}
-
 const swim_scene_kernel swim_scene_kernel_entry = {
     .abi = SWIM_KERNEL_ABI,
     .modes = $N,
@@ -615,7 +608,6 @@ const swim_scene_kernel swim_scene_kernel_entry = {
     .free_index = free_index,
     .structure = "$structure",
     .rhs = scene_rhs,
-    .reduced_matrix = reduced_matrix_entry,
     .barrier_sums = $barrier_entry,
 };
 """)

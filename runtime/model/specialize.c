@@ -90,7 +90,7 @@ static int structure_json(const swim_scene *s, char *key, size_t klen, char *jso
     char law[1024] = "";
     if (s->forced && swim_expr_to_c(s->forcing, law, sizeof law) < 0) return -1;
     size_t at = 0;
-    append(key, klen, &at, "format=1 N=%d free=", s->modes);
+    append(key, klen, &at, "format=1 abi=%d N=%d free=", SWIM_KERNEL_ABI, s->modes);
     index_list(s, key, klen, &at, 0);
     append(key, klen, &at, " zero=");
     index_list(s, key, klen, &at, 1);
