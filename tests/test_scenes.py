@@ -124,6 +124,36 @@ def test_interrupt():
     check(len(d) == s["rows"] and len(d) > 10, "SIGINT: rows kept (%d)" % len(d))
 
 
+def test_inspect():
+    """swim inspect: JSON keys and sizes, both option forms, lists starting with a minus sign."""
+    shape = "-1,0,0.2,0.1,0,-0.05"
+    for args in (["--modes", "2", "--shape", shape, "--velocity", "0,0,0.3,-0.1,0.2,0"],
+                 ["--modes=2", "--shape=" + shape, "--velocity=0,0,0.3,-0.1,0.2,0"]):
+        p = subprocess.run([SWIM, "inspect", *args, "--full", "--rho0", "2"], capture_output=True, text=True)
+        check(p.returncode == 0, "inspect %s: exit %d %s" % (args, p.returncode, p.stderr))
+        j = json.loads(p.stdout)
+        n = 6
+        check(np.shape(j["mass_rigid"]) == (3, 3) and np.shape(j["mass_coupling"]) == (3, n)
+              and np.shape(j["mass_shape"]) == (n, n) and np.shape(j["mass_reduced"]) == (n, n),
+              "inspect: matrix sizes")
+        check(len(j["christoffel_vv"]) == n and np.shape(j["christoffel"]) == (n, n, n), "inspect: Christoffel sizes")
+        G, v = np.array(j["christoffel"]), np.array([0, 0, 0.3, -0.1, 0.2, 0])
+        check(np.allclose(np.einsum("ijl,j,l->i", G, v, v), j["christoffel_vv"], rtol=1e-12, atol=1e-14),
+              "inspect: contracted Christoffel = tensor contracted with v, v")
+        check(j["rho0"] == 2 and j["rhof"] == 1, "inspect: densities")
+    for args, expect in [(["--modes", "2", "--shape", "1,0,0.2"], "needs 6 coordinates"),
+                         (["--modes", "1", "--shape", "1,0,1.2,0"], "outside the admissible set D"),
+                         (["--modes", "2", "--shape", "1,0,0,0,0.6,0"], "outside the admissible set D"),
+                         (["--modes", "25", "--shape", "1,0"], "out of range"),
+                         (["--modes", "2"], "required"),
+                         (["--modes", "1", "--shape", "1,0,0,0", "--rhof", "-1"], "density must be > 0"),
+                         (["--modes", "1", "--shape", "1,0,x,0"], "not a finite number"),
+                         (["--modes", "1", "--shape", "1,0,0,0", "--bogus"], "unknown option")]:
+        p = subprocess.run([SWIM, "inspect", *args], capture_output=True, text=True)
+        check(p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1 and expect in p.stderr,
+              "inspect %s: want exit 2 and %r, got %d %r" % (args, expect, p.returncode, p.stderr))
+
+
 BASE = open(os.path.join(ROOT, "models", "example3.toml")).read()
 
 # (what, how to change example3.toml, expected message part)
