@@ -159,4 +159,5 @@ clean:
 	rm -rf $(BUILD) bin
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
-.PRECIOUS: $(BUILD)/tests/%.o $(BUILD)/gen/%.c
+# Keep intermediate objects and generated sources (no rebuild on every make test).
+.SECONDARY: $(TEST_BINS:%=%.o) $(foreach n,$(EXTRA_MODES),$(BUILD)/gen/swim_kernel_n$(n).c)
