@@ -28,20 +28,30 @@ static int cmp(const void *a, const void *b)
 
 static volatile double sink;
 
+/* Route 0: generated K; 1: generated K + contracted Gamma; 2: loop reference K;
+ * 3: loop reference K + central finite-difference Gamma. */
+static void route(int which, const double *x, const double *v, double *K, double *g)
+{
+    const swim_kernel *k = &CAT(swim_kernel_n, BENCH_N);
+    if (which == 0) k->reduced(x, NULL, 1.0, 1.0, K, NULL, NULL);
+    else if (which == 1) k->reduced(x, v, 1.0, 1.0, K, NULL, g);
+    else if (which == 2) ref_mass(BENCH_N, x, 1.0, 1.0, NULL, NULL, NULL, K);
+    else {
+        ref_mass(BENCH_N, x, 1.0, 1.0, NULL, NULL, NULL, K);
+        ref_christoffel_fd(BENCH_N, x, v, 1.0, 1.0, 1e-5, g);
+    }
+    sink += K[0] + g[0];
+}
+
 /* Median over 7 repetitions of ns per call of route `which`. */
 static double time_route(int which, const double *x, const double *v, int n)
 {
-    const swim_kernel *k = &CAT(swim_kernel_n, BENCH_N);
-    double *K = malloc(sizeof(double) * n * n), *g = malloc(sizeof(double) * n), reps[7];
+    double *K = calloc((size_t)n * n, sizeof(double)), *g = calloc((size_t)n, sizeof(double)), reps[7];
     long iters = 1;
     for (;;) {   /* calibrate to ~50 ms per repetition */
         double t0 = now();
         for (long i = 0; i < iters; i++) {
-            if (which == 0) k->reduced(x, NULL, 1.0, 1.0, K, NULL, NULL);
-            else if (which == 1) k->reduced(x, v, 1.0, 1.0, K, NULL, g);
-            else if (which == 2) ref_mass(BENCH_N, x, 1.0, 1.0, NULL, NULL, NULL, K);
-            else { ref_mass(BENCH_N, x, 1.0, 1.0, NULL, NULL, NULL, K); ref_christoffel_fd(BENCH_N, x, v, 1.0, 1.0, 1e-5, g); }
-            sink += K[0] + g[0];
+            route(which, x, v, K, g);
         }
         double dt = now() - t0;
         if (dt > 0.05) break;
@@ -50,11 +60,7 @@ static double time_route(int which, const double *x, const double *v, int n)
     for (int r = 0; r < 7; r++) {
         double t0 = now();
         for (long i = 0; i < iters; i++) {
-            if (which == 0) k->reduced(x, NULL, 1.0, 1.0, K, NULL, NULL);
-            else if (which == 1) k->reduced(x, v, 1.0, 1.0, K, NULL, g);
-            else if (which == 2) ref_mass(BENCH_N, x, 1.0, 1.0, NULL, NULL, NULL, K);
-            else { ref_mass(BENCH_N, x, 1.0, 1.0, NULL, NULL, NULL, K); ref_christoffel_fd(BENCH_N, x, v, 1.0, 1.0, 1e-5, g); }
-            sink += K[0] + g[0];
+            route(which, x, v, K, g);
         }
         reps[r] = (now() - t0) / iters * 1e9;
     }
