@@ -20,9 +20,9 @@ for N in ${BENCH_MODES:-1 3 5 7 10 15 20}; do
     "$CC" ${OPT:--O3 -march=native} -std=c11 -D_XOPEN_SOURCE=700 -DBENCH_N="$N" -Igenerated -Itests \
         tests/bench/bench_kernel.c tests/reference/ref_model.c "$out/k$N.o" -o "$out/bench_n$N" -lm
     row=$("$out/bench_n$N")
-    gen=$(echo "$t1 - $t0" | bc -l); gcc_s=$(echo "$t2 - $t1" | bc -l)
+    gen=$(awk -v a="$t0" -v b="$t1" "BEGIN{print b-a}"); gcc_s=$(awk -v a="$t1" -v b="$t2" "BEGIN{print b-a}")
     IFS=, read -r _ nsK nsKG nsR nsRG <<<"$row"
-    sp=$(echo "$nsRG / $nsKG" | bc -l)
+    sp=$(awk -v a="$nsRG" -v b="$nsKG" "BEGIN{print a/b}")
     printf '%4d %8.2f %8d %8.2f %10.0f %12.0f %12.0f %16.0f %8.0fx\n' "$N" "$gen" "$lines" "$gcc_s" "$nsK" "$nsKG" "$nsR" "$nsRG" "$sp"
     printf '%d,%.3f,%d,%.3f,%s,%s,%s,%s,%.1f\n' "$N" "$gen" "$lines" "$gcc_s" "$nsK" "$nsKG" "$nsR" "$nsRG" "$sp" >> "$csv"
 done
