@@ -47,7 +47,14 @@ int main(int argc, char **argv)
         return 0;
     }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
-        if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc, argv);
+        if (strcmp(argv[1], commands[i].name) == 0) {
+            for (int a = 2; a < argc; a++)
+                if (strcmp(argv[a], "--help") == 0 || strcmp(argv[a], "-h") == 0) {
+                    printf("swim %s: %s\n  e.g. %s\n", commands[i].name, commands[i].summary, commands[i].example);
+                    return 0;
+                }
+            return commands[i].run(argc, argv);
+        }
     fprintf(stderr, "swim: unknown command '%s' (see swim --help)\n", argv[1]);
     return 2;
 }
