@@ -2,6 +2,7 @@
 #include "check.h"
 #include "ode/abm.h"
 #include "ode/ode.h"
+#include "ode_problems.h"
 
 #include <float.h>
 #include <math.h>
@@ -9,26 +10,6 @@
 #include <string.h>
 
 #define PI 3.14159265358979323846
-
-static int ho_rhs(double t, const double *y, double *f, void *p)
-{
-    (void)t; (void)p;
-    f[0] = y[1];
-    f[1] = -y[0];
-    return 0;
-}
-
-static int kepler_rhs(double t, const double *y, double *f, void *p)
-{
-    (void)t; (void)p;
-    double r2 = y[0] * y[0] + y[1] * y[1];
-    double r3 = r2 * sqrt(r2);
-    f[0] = y[2];
-    f[1] = y[3];
-    f[2] = -y[0] / r3;
-    f[3] = -y[1] / r3;
-    return 0;
-}
 
 static const double AREN_MU = 0.012277471;
 static const double AREN_T = 17.0652165601579625588917206249;

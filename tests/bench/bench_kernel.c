@@ -8,23 +8,11 @@
 
 #include "reference/ref_model.h"
 #include "swim_kernel.h"
+#include "bench/timing.h"
 
 #define CAT_(a, b) a##b
 #define CAT(a, b) CAT_(a, b)
 extern const swim_kernel CAT(swim_kernel_n, BENCH_N);
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 static volatile double sink;
 
@@ -49,25 +37,20 @@ static double time_route(int which, const double *x, const double *v, int n)
     double *K = calloc((size_t)n * n, sizeof(double)), *g = calloc((size_t)n, sizeof(double)), reps[7];
     long iters = 1;
     for (;;) {   /* calibrate to ~50 ms per repetition */
-        double t0 = now();
-        for (long i = 0; i < iters; i++) {
-            route(which, x, v, K, g);
-        }
-        double dt = now() - t0;
+        double t0 = bench_now();
+        for (long i = 0; i < iters; i++) route(which, x, v, K, g);
+        double dt = bench_now() - t0;
         if (dt > 0.05) break;
         iters = dt > 1e-4 ? (long)(iters * 0.06 / dt) + 1 : iters * 10;
     }
     for (int r = 0; r < 7; r++) {
-        double t0 = now();
-        for (long i = 0; i < iters; i++) {
-            route(which, x, v, K, g);
-        }
-        reps[r] = (now() - t0) / iters * 1e9;
+        double t0 = bench_now();
+        for (long i = 0; i < iters; i++) route(which, x, v, K, g);
+        reps[r] = (bench_now() - t0) / iters * 1e9;
     }
-    qsort(reps, 7, sizeof reps[0], cmp);
     free(K);
     free(g);
-    return reps[3];
+    return bench_median(reps, 7);
 }
 
 int main(void)

@@ -13,6 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include "ode_problems.h"
+#include "bench/timing.h"
 
 #define PI 3.14159265358979323846
 #define NMAX 32
@@ -93,26 +95,6 @@ static int lin16_rhs(double t, const double *y, double *f, void *p)
         f[i] = y[8 + i];
         f[8 + i] = -(1.0 + 0.1 * i) * y[i];
     }
-    return 0;
-}
-
-static int ho_rhs(double t, const double *y, double *f, void *p)
-{
-    (void)t; (void)p;
-    f[0] = y[1];
-    f[1] = -y[0];
-    return 0;
-}
-
-static int kepler_rhs(double t, const double *y, double *f, void *p)
-{
-    (void)t; (void)p;
-    double r2 = y[0] * y[0] + y[1] * y[1];
-    double r3 = r2 * sqrt(r2);
-    f[0] = y[2];
-    f[1] = y[3];
-    f[2] = -y[0] / r3;
-    f[3] = -y[1] / r3;
     return 0;
 }
 
@@ -222,12 +204,6 @@ static int record_rhs(double t, const double *y, double *f, void *p)
     if (r->count < r->cap)
         memcpy(r->rec[r->count++], y, r->n * sizeof(double));
     return r->f(t, y, f, NULL);
-}
-
-static int cmpd(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
 }
 
 static int solve(const problem *p, const char *method, double tol, double *y, swim_ode_stats *st)
@@ -373,7 +349,7 @@ int main(int argc, char **argv)
             tt[k] = (cpu_now() - t0) / (5.0 * r.count);
         }
         (void)sink;
-        qsort(tt, NREP, sizeof(double), cmpd);
+        qsort(tt, NREP, sizeof(double), bench_cmp);
         trhs = tt[NREP / 2];
     }
     printf("expensive RHS chain_n16: %.2f us per evaluation\n", trhs * 1e6);
@@ -417,7 +393,7 @@ int main(int argc, char **argv)
                 for (int im = 0; im < NMETH; im++)
                     tt[im][r] = reps[im] ? time_batch(p, methods[im], tol, reps[im]) : NAN;
             for (int im = 0; im < NMETH; im++) {
-                qsort(tt[im], NREP, sizeof(double), cmpd);
+                qsort(tt[im], NREP, sizeof(double), bench_cmp);
                 res[ip][im][it].cpu = res[ip][im][it].ok ? tt[im][NREP / 2] : NAN;
             }
         }
@@ -461,7 +437,7 @@ int main(int argc, char **argv)
                 double tt[NREP];
                 for (int r = 0; r < NREP; r++)
                     tt[r] = time_batch(&lp, methods[im], tol, reps);
-                qsort(tt, NREP, sizeof(double), cmpd);
+                qsort(tt, NREP, sizeof(double), bench_cmp);
                 double c = tt[NREP / 2];
                 printf("  tol 1e-%d: %.3f us", 4 + it, c / st.rhs_evals * 1e6);
             }

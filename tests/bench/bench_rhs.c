@@ -10,38 +10,25 @@
 #include "model/dynamics.h"
 #include "model/specialize.h"
 #include "scene/scene.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
+#include "bench/timing.h"
 
 static double time_rhs(swim_dynamics *d, const double *y, double *dy)
 {
     long iters = 1;
     double reps[7];
     for (;;) {
-        double t0 = now();
+        double t0 = bench_now();
         for (long i = 0; i < iters; i++) swim_dynamics_rhs(0.1, y, dy, d);
-        double dt = now() - t0;
+        double dt = bench_now() - t0;
         if (dt > 0.05) break;
         iters = dt > 1e-4 ? (long)(iters * 0.06 / dt) + 1 : iters * 10;
     }
     for (int r = 0; r < 7; r++) {
-        double t0 = now();
+        double t0 = bench_now();
         for (long i = 0; i < iters; i++) swim_dynamics_rhs(0.1, y, dy, d);
-        reps[r] = (now() - t0) / iters * 1e9;
+        reps[r] = (bench_now() - t0) / iters * 1e9;
     }
-    qsort(reps, 7, sizeof reps[0], cmp);
-    return reps[3];
+        return bench_median(reps, 7);
 }
 
 static long count_lines(const char *path)
