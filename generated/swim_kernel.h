@@ -15,7 +15,7 @@
 #ifndef SWIM_KERNEL_H
 #define SWIM_KERNEL_H
 
-#define SWIM_KERNEL_ABI 2
+#define SWIM_KERNEL_ABI 3
 #define SWIM_KERNEL_MAX_MODES 20
 
 typedef struct swim_kernel {
@@ -24,9 +24,10 @@ typedef struct swim_kernel {
     /* Mr, Nc, Md at shape x; any output may be NULL. */
     void (*mass)(const double *x, double rho0, double rhof, double *Mr, double *Nc, double *Md);
     /* Partial derivatives with respect to x_r, stored as slice r: dMr[r*9 + ...],
-     * dNc[r*3n + ...], dMd[r*n*n + ...]; any output may be NULL. */
-    void (*mass_deriv)(const double *x, double rho0, double rhof,
-                       double *dMr, double *dNc, double *dMd);
+     * dNc[r*3n + ...], dMd[r*n*n + ...]; any output may be NULL.
+     * Returns 0, or -2 when out of memory. */
+    int (*mass_deriv)(const double *x, double rho0, double rhof,
+                      double *dMr, double *dNc, double *dMd);
     /* K (nxn, exactly symmetric), P = -Mr^-1 Nc (3xn, may be NULL) and, when v is not NULL,
      * gvv = <Gamma(c), v, v> (n) computed without forming the tensor.
      * Returns 0, or -1 when Mr is not positive definite. */

@@ -277,13 +277,13 @@ static void mass(const double *x, double rho0, double rhof, double *Mr, double *
     }
 }
 
-static void mass_deriv(const double *x, double rho0, double rhof,
-                       double *dMr, double *dNc, double *dMd)
+static int mass_deriv(const double *x, double rho0, double rhof,
+                      double *dMr, double *dNc, double *dMd)
 {
     const double f = rhof * KPI, b = rho0 * KPI;
     double S[NR][NP], gI[NX];
     double *dS = calloc((size_t)NX * NR * NP, sizeof(double));
-    if (!dS) abort();
+    if (!dS) return -2;
     boundary_data(x, S);
     boundary_data_deriv(x, dS);
     inertia(x, gI);
@@ -307,6 +307,7 @@ static void mass_deriv(const double *x, double rho0, double rhof,
             }
     }
     free(dS);
+    return 0;
 }
 
 static int reduced_deriv(const double *x, double rho0, double rhof, double *dK, double *Gamma)

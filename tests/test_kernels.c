@@ -140,7 +140,7 @@ static void check_derivatives(const swim_kernel *k, int trials)
         double x[NMAX], v[NMAX], rho0 = 0.5 + fabs(urand()), rhof = 0.5 + fabs(urand());
         random_shape(N, x, 0.7 * fabs(urand()));
         for (int i = 0; i < n; i++) v[i] = urand();
-        k->mass_deriv(x, rho0, rhof, dMr, dNc, dMd);
+        CHECK(k->mass_deriv(x, rho0, rhof, dMr, dNc, dMd) == 0, "N=%d mass_deriv failed", N);
         CHECK(k->reduced_deriv(x, rho0, rhof, dK, G) == 0, "N=%d reduced_deriv failed", N);
         for (int r = 0; r < n; r++) ref_all_deriv(N, x, r, rho0, rhof, 1e-2, fd + (size_t)r * len);
         double scale_m = 0.0, err_m = 0.0, scale_k = 0.0, err_k = 0.0;

@@ -27,7 +27,7 @@ HEADER = """\
 #ifndef SWIM_KERNEL_H
 #define SWIM_KERNEL_H
 
-#define SWIM_KERNEL_ABI 2
+#define SWIM_KERNEL_ABI 3
 #define SWIM_KERNEL_MAX_MODES 20
 
 typedef struct swim_kernel {
@@ -36,9 +36,10 @@ typedef struct swim_kernel {
     /* Mr, Nc, Md at shape x; any output may be NULL. */
     void (*mass)(const double *x, double rho0, double rhof, double *Mr, double *Nc, double *Md);
     /* Partial derivatives with respect to x_r, stored as slice r: dMr[r*9 + ...],
-     * dNc[r*3n + ...], dMd[r*n*n + ...]; any output may be NULL. */
-    void (*mass_deriv)(const double *x, double rho0, double rhof,
-                       double *dMr, double *dNc, double *dMd);
+     * dNc[r*3n + ...], dMd[r*n*n + ...]; any output may be NULL.
+     * Returns 0, or -2 when out of memory. */
+    int (*mass_deriv)(const double *x, double rho0, double rhof,
+                      double *dMr, double *dNc, double *dMd);
     /* K (nxn, exactly symmetric), P = -Mr^-1 Nc (3xn, may be NULL) and, when v is not NULL,
      * gvv = <Gamma(c), v, v> (n) computed without forming the tensor.
      * Returns 0, or -1 when Mr is not positive definite. */
@@ -409,13 +410,13 @@ static void mass(const double *x, double rho0, double rhof, double *Mr, double *
     }
 }
 
-static void mass_deriv(const double *x, double rho0, double rhof,
-                       double *dMr, double *dNc, double *dMd)
+static int mass_deriv(const double *x, double rho0, double rhof,
+                      double *dMr, double *dNc, double *dMd)
 {
     const double f = rhof * KPI, b = rho0 * KPI;
     double S[NR][NP], gI[NX];
     double *dS = calloc((size_t)NX * NR * NP, sizeof(double));
-    if (!dS) abort();
+    if (!dS) return -2;
     boundary_data(x, S);
     boundary_data_deriv(x, dS);
     inertia(x, gI);
@@ -439,6 +440,7 @@ static void mass_deriv(const double *x, double rho0, double rhof,
             }
     }
     free(dS);
+    return 0;
 }
 
 static int reduced_deriv(const double *x, double rho0, double rhof, double *dK, double *Gamma)
