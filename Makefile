@@ -43,7 +43,7 @@ TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 DEPS_STAMP  := $(BUILD)/.deps-ok
 
-.PHONY: FORCE all deps help test sanitize fuzz bench bench-accuracy generate generate-all run readme-figures clean
+.PHONY: FORCE all deps help test sanitize fuzz bench bench-accuracy bench-drift generate generate-all run readme-figures clean
 all: $(BIN)/swim
 
 help:
@@ -53,7 +53,8 @@ help:
 	@echo "make sanitize   the test suite under AddressSanitizer + UndefinedBehaviorSanitizer"
 	@echo "make fuzz       fuzz the scene parser and the CLI arguments (libFuzzer, FUZZ_SECONDS=60)"
 	@echo "make bench      run the benchmarks (numbers quoted in README.md)"
-	@echo "make bench-accuracy  work-precision diagrams and table for every paper scene (~8 min)"
+	@echo "make bench-accuracy  work-precision diagrams and table for every paper scene (~9 min)"
+	@echo "make bench-drift     energy drift of the T = 1000 runs vs tolerance and step look-ahead (~2 min)"
 	@echo "make generate N=12   regenerate the kernel for one mode count into generated/"
 	@echo "make generate-all    regenerate the committed kernels (N = $(MODES))"
 	@echo "make run        main job: simulate models/example3.toml and plot it"
@@ -127,7 +128,7 @@ FUZZ_SECONDS ?= 60
 fuzz: | $(DEPS_STAMP)
 	bash tests/fuzz/run_fuzz.sh $(FUZZ_SECONDS)
 
-BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py
+BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_drift.py
 
 bench: $(BIN)/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs
 	@bash tests/bench/run_bench.sh $(BENCH_SCRIPTS) $(BENCH_BINS)
@@ -145,6 +146,9 @@ run: $(BIN)/swim
 # Work-precision per paper scene (issue 7): build/bench/accuracy/{accuracy.csv,table.md,*.png}.
 bench-accuracy: $(BIN)/swim
 	$(PYTHON) tests/bench/bench_accuracy.py
+
+bench-drift: $(BIN)/swim
+	$(PYTHON) tests/bench/bench_drift.py
 
 # Figures shown in README.md, rebuilt from the main job.
 readme-figures: run

@@ -41,6 +41,8 @@ def test_long_runs():
     for name in ("long_example1", "long_example3"):
         p, d, s = run("models/hard/%s.toml" % name, name)
         check(s["status"] == "completed" and d["t"][-1] == 1000.0, "%s: reached T = 1000" % name)
+        check(s["rtol"] == 1e-10 and s["integrator"] == "abm", "%s: runs abm at rtol 1e-10 (issue 6), not %s at %g"
+              % (name, s["integrator"], s["rtol"]))
         res = max(np.max(np.abs(d[c])) for c in ("res_volume", "res_volume_rate", "res_angular", "res_locks"))
         check(res <= 1e-12, "%s: constraint residual %.3g > 1e-12" % (name, res))
         e = np.abs(d["energy"] - d["energy"][0]) / d["energy"][0]

@@ -197,6 +197,8 @@ BAD = [
     ("barrier alpha zero", lambda s: s + "\n[barrier]\nepsilon = 0.03\nalpha = 0\n", "barrier.alpha: must be > 0"),
     ("bad stiff fallback", lambda s: s.replace("atol = 1e-12", 'atol = 1e-12\nstiff_fallback = "bdf9"'), "unknown integrator \"bdf9\""),
     ("projection not bool", lambda s: s.replace("atol = 1e-12", "atol = 1e-12\nprojection = 1"), "run.projection: expected true or false"),
+    ("step_lookahead out of range", lambda s: s.replace("atol = 1e-12", "atol = 1e-12\nstep_lookahead = 13"), "run.step_lookahead: expected an integer 0..12"),
+    ("step_lookahead not integer", lambda s: s.replace("atol = 1e-12", "atol = 1e-12\nstep_lookahead = 2.5"), "run.step_lookahead: expected an integer 0..12"),
     ("empty file", lambda s: "", "[model]: missing table"),
     ("binary garbage", lambda s: "\x01\x02\xff\xfe" * 10, "invalid UTF-8"),
 ]
@@ -217,6 +219,9 @@ def test_bad_scenes():
         check(expect in p.stderr, "%s: message %r lacks %r" % (what, p.stderr.strip(), expect))
     p = subprocess.run([SWIM, "run", "models/example3.toml", "--rtol", "abc"], capture_output=True, text=True, cwd=ROOT)
     check(p.returncode == 2 and "--rtol" in p.stderr, "bad --rtol value")
+    p = subprocess.run([SWIM, "run", "models/example3.toml", "--step-lookahead", "-1"], capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 2 and "--step-lookahead" in p.stderr and len(p.stderr.strip().splitlines()) == 1,
+          "bad --step-lookahead value: " + p.stderr)
     p = subprocess.run([SWIM, "run", "models/example3.toml", "--out", "/proc/forbidden"], capture_output=True, text=True, cwd=ROOT)
     check(p.returncode == 2 and "--out" in p.stderr, "unwritable output folder: " + p.stderr)
     p = subprocess.run([SWIM, "run", "models/none.toml"], capture_output=True, text=True, cwd=ROOT)

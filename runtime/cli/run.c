@@ -118,7 +118,7 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
     swim_json_string(f, r->used);
     fprintf(f, ",\n  \"integrator_switch_t\": ");
     swim_json_number(f, r->switch_t >= 0 ? r->switch_t : NAN);
-    fprintf(f, ",\n  \"rtol\": %.3g,\n  \"atol\": %.3g,\n  \"free\": [", s->rtol, s->atol);
+    fprintf(f, ",\n  \"rtol\": %.3g,\n  \"atol\": %.3g,\n  \"step_lookahead\": %d,\n  \"free\": [", s->rtol, s->atol, s->step_lookahead);
     for (int i = 0, first = 1; i < s->n; i++)
         if (s->free_mask[i]) {
             swim_coord_name(i, name, sizeof name);
@@ -197,7 +197,7 @@ int swim_cmd_run(int argc, char **argv)
     swim_opt opts[] = {{"out", 1, NULL},  {"t-end", 1, NULL},      {"rtol", 1, NULL},
                        {"output-step", 1, NULL},
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
-                       {"generic", 0, NULL}, {"no-projection", 0, NULL}};
+                       {"generic", 0, NULL}, {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
@@ -236,6 +236,11 @@ int swim_cmd_run(int argc, char **argv)
             return 2;
         }
         snprintf(s.integrator, sizeof s.integrator, "%s", v);
+    }
+    if ((v = swim_args_get(opts, nopts, "step-lookahead"))) {
+        long p;
+        if (swim_args_int("run", "step-lookahead", v, 0, 12, &p)) return 2;
+        s.step_lookahead = (int)p;
     }
     const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     if (swim_args_get(opts, nopts, "no-projection")) s.projection = 0;
@@ -288,6 +293,8 @@ int swim_cmd_run(int argc, char **argv)
     swim_ode_options_default(&o);
     o.rtol = s.rtol;
     o.atol = s.atol;
+    if (s.step_lookahead >= 0) o.lookahead = s.step_lookahead;
+    s.step_lookahead = o.lookahead;   /* the summary records the value used */
     o.stiff_stop = strcmp(s.integrator, "abm") == 0;   /* stop and report (or switch) on stiffness */
     if (s.projection) o.project = swim_dynamics_project;  /* drift control (ABM only) */
     swim_ode *ode = NULL;

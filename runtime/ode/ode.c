@@ -31,6 +31,7 @@ void swim_ode_options_default(swim_ode_options *opt)
     opt->tstop = INFINITY;
     opt->max_steps = 0;
     opt->stiff_stop = 0;
+    opt->lookahead = 6;
 }
 
 const char *swim_ode_strerror(int status)
@@ -80,7 +81,7 @@ int swim_ode_create(const char *method, const swim_ode_system *sys, const swim_o
         swim_ode_options_default(&o);
     size_t n = sys->dimension;
     if (!valid_pos(o.rtol) || !valid_pos(o.atol) || !valid_pos(o.hmax) || !valid_pos(o.h0) ||
-        isnan(o.tstop) || o.tstop <= t0 || o.max_steps < 0)
+        isnan(o.tstop) || o.tstop <= t0 || o.max_steps < 0 || o.lookahead < 0 || o.lookahead > 12)
         return SWIM_ODE_EBADARG;
     int atol_pos = o.atol > 0;
     if (o.atol_vec) {

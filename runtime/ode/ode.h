@@ -59,6 +59,9 @@ typedef struct {
     double tstop;               /* never step past this time (INFINITY = no limit) */
     long max_steps;             /* 0 = default (10^7) */
     int stiff_stop;             /* nonzero: ABM returns SWIM_ODE_ESTIFF when its stiffness diagnostic fires */
+    int lookahead;              /* ABM: when the error estimate grows by rho per step, the step-size
+                                   decision uses rho^lookahead times it (abm.c); 0..12, 0 = the
+                                   classic Shampine-Gordon rule; default 6 */
     /* Optional projection onto an invariant manifold (ABM only; the peers ignore it): called
      * after each accepted step with the corrected y_{n+1}, which it may modify in place, before
      * the final evaluation f(t_{n+1}, y_{n+1}) of PECE -- so the derivative history of the
@@ -67,7 +70,7 @@ typedef struct {
 } swim_ode_options;
 
 /* rtol = 1e-6, atol = 1e-9, no hmax, automatic h0, tstop = INFINITY,
- * max_steps = 10^7, stiff_stop = 0, no projection. */
+ * max_steps = 10^7, stiff_stop = 0, lookahead = 6, no projection. */
 void swim_ode_options_default(swim_ode_options *opt);
 
 typedef struct {

@@ -207,7 +207,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     static const char *const k_barrier[] = {"epsilon", "alpha", NULL};
     static const char *const k_damping[] = {"diagonal", NULL};
     static const char *const k_forcing[] = {"law", "direction", NULL};
-    static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "stiff_fallback", "project_initial", "projection", NULL};
+    static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "stiff_fallback", "project_initial", "projection", "step_lookahead", NULL};
     int rc;
     c->table = NULL;
     if (check_keys(c, root, top)) return 2;
@@ -265,6 +265,13 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (pj) {
         if (toml_kind_of(pj) != TOML_BOOL) ERR(c, toml_get_key_line(run, "projection"), "projection", "expected true or false");
         s->projection = toml_bool(pj);
+    }
+    s->step_lookahead = -1;
+    const toml_value *la = toml_get(run, "step_lookahead");
+    if (la) {
+        if (toml_kind_of(la) != TOML_INT || toml_int(la) < 0 || toml_int(la) > 12)
+            ERR(c, toml_get_key_line(run, "step_lookahead"), "step_lookahead", "expected an integer 0..12");
+        s->step_lookahead = (int)toml_int(la);
     }
     const toml_value *pi = toml_get(run, "project_initial");
     if (pi) {

@@ -41,6 +41,7 @@ typedef struct {
     char stiff_fallback[32];          /* integrator to switch to when ABM detects stiffness, or "" */
     int project_initial;
     int projection;                   /* drift control after each step (ABM), default on */
+    int step_lookahead;               /* ABM step-size look-ahead p (swim_ode_options.lookahead); -1 = the integrator default */
     double projection_change;         /* max |change| of dc0 when projected */
 } swim_scene;
 

@@ -14,7 +14,8 @@ T/100 (101 rows, so writing output costs little):
    Above 1e-9 the table says "reference NOT converged". The CSVs are kept in
    build/bench/accuracy/ref/<scene>/ and reused unless the scene file or bin/swim is newer or T
    changed.
-2. Sweep: abm, rk8pd, msadams, cvode-adams (plus cvode-bdf and msbdf on the damped/forced
+2. Sweep: abm, abm-step (abm with STEP's step-size rule, --step-lookahead 0, to show what the
+   look-ahead buys), rk8pd, msadams, cvode-adams (plus cvode-bdf and msbdf on the damped/forced
    scenes example7 and selfpropelled) at rtol 1e-3 .. 1e-13, atol = rtol * 1e-2, specialized
    kernel; abm and rk8pd with --generic at rtol 1e-4, 1e-7, 1e-10; and abm at ode113's default
    tolerances (rtol 1e-3, atol 1e-6), the paper's own setting.
@@ -71,7 +72,10 @@ SWIM_STAMP = None        # bin/swim's mtime when the copy was made
 SCENES = ["example1", "example2a", "example2b", "example2c", "example3", "example4", "example5",
           "example6", "example7", "selfpropelled"]
 STIFFISH = {"example7", "selfpropelled"}          # damped/forced, barrier: add the BDF codes
-NONSTIFF_METHODS = ["abm", "rk8pd", "msadams", "cvode-adams"]
+NONSTIFF_METHODS = ["abm", "abm-step", "rk8pd", "msadams", "cvode-adams"]
+# Variants of an integrator, run side by side with it: "abm-step" is abm with STEP's step-size
+# rule (--step-lookahead 0), i.e. without the look-ahead that abm uses by default.
+VARIANTS = {"abm-step": ("abm", ["--step-lookahead", "0"])}
 STIFF_METHODS = ["cvode-bdf", "msbdf"]
 GENERIC_METHODS = ["abm", "rk8pd"]
 TOL_EXPS = list(range(3, 14))                      # rtol 1e-3 .. 1e-13
@@ -125,8 +129,9 @@ def run_swim(scene_path, out, T, dt, integrator, rexp, aexp, generic):
     summ = os.path.join(out, "summary.json")
     if os.path.exists(summ):
         os.remove(summ)
+    method, extra = VARIANTS.get(integrator, (integrator, []))
     args = [SWIM, "run", scene_path, "--out", out, "--t-end", repr(T), "--output-step", repr(dt),
-            "--rtol", tol_str(rexp), "--atol", tol_str(aexp), "--integrator", integrator, "--quiet"]
+            "--rtol", tol_str(rexp), "--atol", tol_str(aexp), "--integrator", method, "--quiet"] + extra
     if generic:
         args.append("--generic")
     p = subprocess.run(args, cwd=ROOT, capture_output=True, text=True)
@@ -244,7 +249,7 @@ def first_run(c, scene_path, out, T, dt, ref, alt):
              rhs_evaluations=st["rhs_evaluations"], steps=st["steps"],
              rejected_steps=st["rejected_steps"], stiffness_suspected=st.get("stiffness_suspected", ""),
              kernel_used=s["kernel"]["kind"], integrator_used=s["integrator"])
-    if c.integrator in ("abm", "msadams", "cvode-adams", "cvode-bdf", "msbdf"):
+    if c.integrator in ("abm", "abm-step", "msadams", "cvode-adams", "cvode-bdf", "msbdf"):
         r["order_histogram"] = " ".join(str(v) for v in st.get("order_histogram", []))
     if s["kernel"]["kind"] != c.kernel:
         r["reason"] = "asked for the %s kernel, got %s" % (c.kernel, s["kernel"]["kind"])
@@ -401,7 +406,7 @@ def build_table(scenes_data, repeat, elapsed=None, exps=TOL_EXPS):
             for key, scale in (("cpu", 1e3), ("rhs", 1)):
                 best = None
                 for (m, k), cur in sd["curves"].items():
-                    if k != "specialized":
+                    if k != "specialized" or m in VARIANTS:
                         continue
                     res = cur["reach"][key][t]
                     if res is not None and (best is None or res[0] < best[1][0]):
@@ -410,6 +415,36 @@ def build_table(scenes_data, repeat, elapsed=None, exps=TOL_EXPS):
                     best[0], fmt_cost(best[1], scale, 3, t < UNRESOLVED * sd["ref_err_grid"])))
         L.append("| " + " | ".join(cells) + " |")
     L.append("")
+    # each variant against the integrator it varies, at equal error
+    for var, (base, extra) in VARIANTS.items():
+        L.append("## %s / %s at equal error (specialized kernels)" % (base, var))
+        L.append("")
+        L.append("Ratios of the interpolated costs to reach each target (< 1: %s is cheaper); %s is %s "
+                 "with `%s`." % (base, var, base, " ".join(extra)))
+        L.append("")
+        L.append("| scene |" + "".join(" %s: RHS | %s: CPU |" % (texp(t), texp(t)) for t in TARGETS))
+        L.append("|---|" + "---|---|" * len(TARGETS))
+        logs = {"rhs": [], "cpu": []}
+        for sd in scenes_data:
+            a, b = sd["curves"].get((base, "specialized")), sd["curves"].get((var, "specialized"))
+            if not a or not b:
+                continue
+            cells = [sd["scene"]]
+            for t in TARGETS:
+                for key in ("rhs", "cpu"):
+                    ra, rb = a["reach"][key][t], b["reach"][key][t]
+                    if (ra is None or rb is None or "bound" in (ra[1], rb[1])
+                            or t < UNRESOLVED * sd["ref_err_grid"]):
+                        cells.append("–")
+                    else:
+                        logs[key].append(np.log(ra[0] / rb[0]))
+                        cells.append("%.2f" % (ra[0] / rb[0]))
+            L.append("| " + " | ".join(cells) + " |")
+        L.append("")
+        L.append("Geometric mean over the resolved targets: RHS %.3f, CPU %.3f (%d targets)." % (
+            np.exp(np.mean(logs["rhs"])) if logs["rhs"] else float("nan"),
+            np.exp(np.mean(logs["cpu"])) if logs["cpu"] else float("nan"), len(logs["rhs"])))
+        L.append("")
     for sd in scenes_data:
         conv = sd["ref_err_grid"] <= REF_CONVERGED
         L.append("## %s (T = %g)" % (sd["scene"], sd["T"]))

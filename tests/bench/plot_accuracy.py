@@ -21,9 +21,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
 COLORS = OrderedDict([
-    ("abm", "tab:red"), ("rk8pd", "tab:green"), ("msadams", "tab:blue"),
+    ("abm", "tab:red"), ("abm-step", "salmon"), ("rk8pd", "tab:green"), ("msadams", "tab:blue"),
     ("cvode-adams", "tab:purple"), ("cvode-bdf", "tab:orange"), ("msbdf", "tab:brown")])
-MARKERS = {"abm": "o", "rk8pd": "^", "msadams": "s", "cvode-adams": "D", "cvode-bdf": "v", "msbdf": "P"}
+MARKERS = {"abm": "o", "abm-step": "x", "rk8pd": "^", "msadams": "s", "cvode-adams": "D", "cvode-bdf": "v", "msbdf": "P"}
 
 
 def read(csv_path):

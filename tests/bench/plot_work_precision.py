@@ -20,6 +20,7 @@ STYLE = {
     "msadams": dict(color="tab:blue", marker="s", lw=1.2),
     "rk8pd": dict(color="tab:green", marker="^", lw=1.2),
     "cvode-adams": dict(color="tab:purple", marker="D", lw=1.2),
+    "abm-step": dict(color="salmon", marker="x", lw=1.2, ls="--"),
 }
 
 
