@@ -85,6 +85,7 @@ struct abm {
     double *base;                /* the one allocation holding all vectors */
     double *phi, *phin;          /* difference tables, NROW rows of n (row i at i*n) */
     double *p, *pinc, *fp, *rw;  /* predictor, its increment, f at p / at y_{n+1}, 1/weights */
+    double *rwp;                 /* 1/weights of the last accepted step (look-ahead) */
 
     double psi[KM + 3], alpha[KM + 3], beta[KM + 3], sig[KM + 3];
     double g[KM + 3], v[KM + 3], w[KM + 3], gstar[KM + 3];
@@ -137,7 +138,7 @@ int abm_create(const swim_ode_system *sys, const swim_ode_options *opt, double t
     if (!a)
         return SWIM_ODE_ENOMEM;
     /* one block for all vectors: y, yc, p, pinc, fp, rw, phi, phin, yn, ycn */
-    a->base = calloc((8 + 2 * NROW) * n, sizeof(double));
+    a->base = calloc((9 + 2 * NROW) * n, sizeof(double));
     a->y = a->base;
     if (!a->base) {
         free(a);
@@ -152,6 +153,7 @@ int abm_create(const swim_ode_system *sys, const swim_ode_options *opt, double t
     a->phin = a->phi + NROW * n;
     a->yn = a->phin + NROW * n;
     a->ycn = a->yn + n;
+    a->rwp = a->ycn + n;
     if (opt->atol_vec) {
         a->atolv = malloc(n * sizeof(double));
         if (!a->atolv) {
@@ -463,6 +465,14 @@ int abm_step(abm *a, int *accepted)
             skm1 = MAXD(skm1, q1);
         }
     }
+    /* For the look-ahead: the same estimate in the norm of the last step (its weights), so
+     * that its growth measures the solution, not weights that change with |y|. */
+    double sk_last = 0.0;
+    if (a->lookahead > 0 && a->la_erk > 0.0) {
+        const double *restrict rpv = a->rwp;
+        for (size_t l = 0; l < n; l++)
+            sk_last = MAXD(sk_last, fabs((fpv[l] - c1[l]) * rpv[l]));
+    }
     const double absh = fabs(h);
     const double *sig = a->sig, *gs = a->gstar;
     double erk = absh * sig[k + 1] * gs[k] * sk;
@@ -616,7 +626,7 @@ int abm_step(abm *a, int *accepted)
     if (kn == k && !a->phase1) {
         double e = erk;
         if (a->lookahead > 0 && a->la_erk > 0.0) {
-            double rho = e / a->la_erk;
+            double rho = absh * sig[k + 1] * gs[k] * sk_last / a->la_erk;
             if (a->la_h != h)
                 rho *= pow(a->la_h / h, k + 1);
             if (rho > 1.0) {
@@ -627,6 +637,9 @@ int abm_step(abm *a, int *accepted)
         }
         a->la_erk = e;
         a->la_h = h;
+        double *sw = a->rwp;     /* this step's weights become the reference norm */
+        a->rwp = a->rw;
+        a->rw = sw;
     } else {
         a->la_erk = 0.0;
     }
