@@ -379,12 +379,10 @@ int abm_step(abm *a, int *accepted)
         return SWIM_ODE_EHMIN;
 
     /* Can double precision hold the requested accuracy?  round = 2u max|y/w|. */
-    {
-        double round = 2.0 * UROUND * set_weights(a);
-        if (0.5 < round)
-            return SWIM_ODE_ETOLTOOSMALL;
-        a->compensate = 0.5 < 1e3 * round;
-    }
+    const double round = 2.0 * UROUND * set_weights(a);
+    if (0.5 < round)
+        return SWIM_ODE_ETOLTOOSMALL;
+    a->compensate = 0.5 < 1e3 * round;
     int ns_save = a->ns;
 
     a->saved = 0;
@@ -625,7 +623,8 @@ int abm_step(abm *a, int *accepted)
      * growing error estimate p steps ahead. */
     if (kn == k && !a->phase1) {
         double e = erk;
-        if (a->lookahead > 0 && a->la_erk > 0.0) {
+        /* estimates within 10x of the rounding level grow and shrink with noise: no trend */
+        if (a->lookahead > 0 && a->la_erk > 10.0 * round && e > 10.0 * round) {
             double rho = absh * sig[k + 1] * gs[k] * sk_last / a->la_erk;
             if (a->la_h != h)
                 rho *= pow(a->la_h / h, k + 1);
