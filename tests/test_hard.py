@@ -14,6 +14,7 @@ Prints "test_hard: P passed, F failed".
 """
 
 import os
+import subprocess
 import sys
 
 import numpy as np
@@ -55,6 +56,32 @@ def test_long_runs():
         rss_long, rss_short = s["stats"]["max_rss_kb"], s2["stats"]["max_rss_kb"]
         check(rss_long <= rss_short * 1.5 + 4096, "%s: memory grows with T (%d kB vs %d kB at T = 10)"
               % (name, rss_long, rss_short))
+
+
+def test_step_trace():
+    """--trace-steps reports every step attempt and does not change the integration."""
+    trace = os.path.join(TMP, "steps.csv")
+    for p_la in ("6", "0"):
+        p0, d0, s0 = run("models/hard/stiff_n7.toml", "trace-off", "--t-end", "2", "--step-lookahead", p_la)
+        p1, d1, s1 = run("models/hard/stiff_n7.toml", "trace-on", "--t-end", "2", "--step-lookahead", p_la,
+                         "--trace-steps", trace)
+        check(p1.returncode == 0 and s1["status"] == "completed", "traced run completes: " + p1.stderr)
+        same = d0 is not None and d1 is not None and all(np.array_equal(d0[c], d1[c]) for c in d0.dtype.names
+                                                         if c not in ("wall",))
+        check(same, "p = %s: the trajectory with --trace-steps differs from the one without" % p_la)
+        t = np.atleast_1d(np.genfromtxt(trace, delimiter=",", names=True))
+        acc = t["accepted"] == 1
+        check(int(acc.sum()) == s1["stats"]["steps"] and int((~acc).sum()) == s1["stats"]["rejected_steps"],
+              "p = %s: trace has %d accepted / %d rejected rows, summary %d / %d" % (
+                  p_la, acc.sum(), (~acc).sum(), s1["stats"]["steps"], s1["stats"]["rejected_steps"]))
+        check(np.all(np.diff(t["t"][acc]) > 0) and np.all(np.isfinite(t["energy"][acc]))
+              and np.all(t["err"][acc] <= 1.0) and np.all(t["err"][~acc] > 1.0),
+              "p = %s: accepted times increase, energies finite, err <= 1 exactly on accepted rows" % p_la)
+    p = subprocess.run([os.path.join(ROOT, "bin", "swim"), "run", "models/example3.toml", "--out",
+                        os.path.join(TMP, "trace-bad"), "--trace-steps", "/nonexistent/steps.csv"],
+                       capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 2 and "--trace-steps" in p.stderr and len(p.stderr.strip().splitlines()) == 1,
+          "unwritable --trace-steps file: exit 2 and one line, got %d %r" % (p.returncode, p.stderr))
 
 
 def test_stiff():

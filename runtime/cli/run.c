@@ -169,6 +169,32 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
 }
 
 /* Add the counters of `ode` to `total` (a run may use two integrators). */
+/* --trace-steps FILE: one row per ABM step attempt, with the energy of each accepted state. */
+typedef struct {
+    swim_csv csv;
+    swim_dynamics *d;
+    double *full;
+    int ok;
+} step_trace;
+
+static const char *const trace_columns[] = {"t", "h", "order", "accepted", "err", "erk", "growth", "energy", "work"};
+
+static void trace_step(const swim_ode_step *st, void *data)
+{
+    step_trace *tr = data;
+    double v[9] = {st->t, st->h, st->order, st->accepted, st->err, st->erk, st->growth, NAN, NAN};
+    swim_diag g;
+    if (st->y) {
+        swim_dynamics_unpack(tr->d, st->y, tr->full);
+        if (swim_dynamics_diagnostics(tr->d, tr->full, &g) == 0) {
+            v[7] = g.energy;
+            v[8] = g.work;
+        }
+    }
+    if (tr->ok && swim_csv_row(&tr->csv, v) != 0)
+        tr->ok = 0;
+}
+
 static void accumulate_stats(swim_ode_stats *total, const swim_ode *ode)
 {
     swim_ode_stats st;
@@ -197,7 +223,8 @@ int swim_cmd_run(int argc, char **argv)
     swim_opt opts[] = {{"out", 1, NULL},  {"t-end", 1, NULL},      {"rtol", 1, NULL},
                        {"output-step", 1, NULL},
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
-                       {"generic", 0, NULL}, {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL}};
+                       {"generic", 0, NULL}, {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL},
+                       {"trace-steps", 1, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
@@ -253,9 +280,19 @@ int swim_cmd_run(int argc, char **argv)
         return 2;
     }
     char path[1024];
+    step_trace trace = {.d = NULL, .full = NULL, .ok = 0};
+    if ((v = swim_args_get(opts, nopts, "trace-steps"))) {
+        if (swim_csv_open(&trace.csv, v, trace_columns, 9) != 0) {
+            fprintf(stderr, "swim run: --trace-steps: cannot write '%s': %s\n", v, strerror(errno));
+            swim_scene_free(&s);
+            return 2;
+        }
+        trace.ok = 1;
+    }
     swim_dynamics d;
     if (swim_dynamics_init(&d, &s) != 0) {
         fprintf(stderr, "swim run: out of memory\n");
+        if (trace.ok) swim_csv_close(&trace.csv);
         swim_scene_free(&s);
         return 1;
     }
@@ -275,6 +312,7 @@ int swim_cmd_run(int argc, char **argv)
     snprintf(path, sizeof path, "%s/trajectory.csv", dir);
     if (swim_csv_open(&csv, path, names, ncol) != 0) {
         fprintf(stderr, "swim run: --out: cannot write '%s': %s\n", path, strerror(errno));
+        if (trace.ok) swim_csv_close(&trace.csv);
         swim_dynamics_free(&d);
         swim_scene_free(&s);
         return 2;
@@ -297,6 +335,12 @@ int swim_cmd_run(int argc, char **argv)
     s.step_lookahead = o.lookahead;   /* the summary records the value used */
     o.stiff_stop = strcmp(s.integrator, "abm") == 0;   /* stop and report (or switch) on stiffness */
     if (s.projection) o.project = swim_dynamics_project;  /* drift control (ABM only) */
+    if (trace.ok) {
+        trace.d = &d;
+        trace.full = calloc((size_t)d.dim, sizeof(double));
+        o.on_step = trace_step;
+        o.on_step_data = &trace;
+    }
     swim_ode *ode = NULL;
     run_report r;
     memset(&r, 0, sizeof r);
@@ -419,6 +463,10 @@ int swim_cmd_run(int argc, char **argv)
         fclose(snap);
     }
     swim_csv_close(&csv);
+    if (trace.ok || trace.full) {
+        swim_csv_close(&trace.csv);
+        free(trace.full);
+    }
     snprintf(path, sizeof path, "%s/summary.json", dir);
     write_summary(path, &s, dir, &r, y, &st, &d, &spz, wall() - t_start);
     printf("%s: %s (%s); %ld rows in %s/trajectory.csv\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);

@@ -30,9 +30,12 @@
  * the energy drift.  So when the order is unchanged and the error normalised
  * to the step size, rho = (erk_n / erk_{n-1}) (h_{n-1} / h_n)^(k+1), exceeds 1,
  * the step-size decision uses erk rho^p (rho capped at ABM_GROWTH_CAP) instead
- * of erk: it keeps the error expected p steps ahead within the target.  It only
- * ever shortens steps, and p = 0 gives STEP's rule.  The default p = 6 was
- * chosen by measurement (README, "Step-size look-ahead").
+ * of erk: it keeps the error expected p steps ahead within the target.  Both
+ * estimates in rho are taken in the weighted norm of step n-1 (weights change
+ * with |y|, which is not a growing error), and estimates within 10x of the
+ * rounding level are left alone (noise, not a trend).  It only ever shortens
+ * steps, and p = 0 gives STEP's rule.  The default p = 6 was chosen by
+ * measurement (README, "Step-size look-ahead").
  *
  * The difference table and the solution (y with its compensated-summation
  * carries) are double-buffered: a step attempt writes the new table and the
@@ -76,6 +79,8 @@ struct abm {
     int stiff_stop;
     int lookahead;               /* p of the look-ahead (0 = STEP's rule) */
     int (*project)(double t, double *y, void *params);
+    void (*on_step)(const swim_ode_step *step, void *data);
+    void *on_step_data;
 
     double t;                    /* t_n */
     double tc;                   /* compensated-summation carry for t (t_n = t + tc exactly up to rounding) */
@@ -173,6 +178,8 @@ int abm_create(const swim_ode_system *sys, const swim_ode_options *opt, double t
     a->stiff_stop = opt->stiff_stop;
     a->lookahead = opt->lookahead;
     a->project = opt->project;
+    a->on_step = opt->on_step;
+    a->on_step_data = opt->on_step_data;
     a->h = opt->h0 > 0 ? opt->h0 : 0.0;
     a->t = t0;
     a->tout_last = t0;
@@ -466,7 +473,8 @@ int abm_step(abm *a, int *accepted)
     /* For the look-ahead: the same estimate in the norm of the last step (its weights), so
      * that its growth measures the solution, not weights that change with |y|. */
     double sk_last = 0.0;
-    if (a->lookahead > 0 && a->la_erk > 0.0) {
+    const int want_rho = (a->lookahead > 0 || a->on_step) && a->la_erk > 10.0 * round;
+    if (want_rho) {
         const double *restrict rpv = a->rwp;
         for (size_t l = 0; l < n; l++)
             sk_last = MAXD(sk_last, fabs((fpv[l] - c1[l]) * rpv[l]));
@@ -474,6 +482,7 @@ int abm_step(abm *a, int *accepted)
     const double absh = fabs(h);
     const double *sig = a->sig, *gs = a->gstar;
     double erk = absh * sig[k + 1] * gs[k] * sk;
+    const double erk_k = erk;
     double err = absh * (g[k] - g[k + 1]) * sk;
     double erkm1 = 0.0, erkm2 = 0.0;
     int knew = k;
@@ -492,8 +501,12 @@ int abm_step(abm *a, int *accepted)
         /* Rejected: the old table was never touched; put back the history. */
         restore_history(a, ns_save);
         a->rejected++;
-    a->la_erk = 0.0;
+        a->la_erk = 0.0;
         a->phase1 = 0;
+        if (a->on_step) {
+            swim_ode_step s = {tnew, h, k, 0, err, erk_k, 0.0, NULL};
+            a->on_step(&s, a->on_step_data);
+        }
         a->ifail++;
         double fac = 0.5;
         if (a->ifail > 3 && 0.5 < 0.25 * erk)
@@ -621,14 +634,16 @@ int abm_step(abm *a, int *accepted)
 
     /* Look-ahead (see the top of the file): at an unchanged order, extrapolate a
      * growing error estimate p steps ahead. */
+    double la_rho = 0.0;
     if (kn == k && !a->phase1) {
         double e = erk;
         /* estimates within 10x of the rounding level grow and shrink with noise: no trend */
-        if (a->lookahead > 0 && a->la_erk > 10.0 * round && e > 10.0 * round) {
+        if (want_rho && e > 10.0 * round) {
             double rho = absh * sig[k + 1] * gs[k] * sk_last / a->la_erk;
             if (a->la_h != h)
                 rho *= pow(a->la_h / h, k + 1);
-            if (rho > 1.0) {
+            la_rho = rho;   /* reported to on_step even when the look-ahead is off */
+            if (a->lookahead > 0 && rho > 1.0) {
                 rho = MIND(rho, ABM_GROWTH_CAP);
                 for (int i = 0; i < a->lookahead; i++)
                     erk *= rho;
@@ -694,6 +709,10 @@ int abm_step(abm *a, int *accepted)
         }
     }
 
+    if (a->on_step) {
+        swim_ode_step s = {a->t, h, k, 1, err, erk_k, la_rho, a->y};
+        a->on_step(&s, a->on_step_data);
+    }
     *accepted = 1;
     return SWIM_ODE_OK;
 }

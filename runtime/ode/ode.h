@@ -51,6 +51,19 @@ typedef struct {
     void *params;
 } swim_ode_system;
 
+/* One ABM step attempt, as passed to swim_ode_options.on_step (diagnostics, e.g. swim run
+ * --trace-steps). Attempts that f refused (domain failures) are not reported. */
+typedef struct {
+    double t;              /* t_{n+1} of the attempt */
+    double h;              /* its step size */
+    int order;             /* k */
+    int accepted;          /* 1: accepted; 0: rejected by the error test */
+    double err;            /* the error-test value (<= 1 passes) */
+    double erk;            /* estimate at order k for a step of the same size (STEP's erk) */
+    double growth;         /* rho of the look-ahead (0 when it was not formed) */
+    const double *y;       /* accepted: y_{n+1} after projection; rejected: NULL */
+} swim_ode_step;
+
 typedef struct {
     double rtol, atol;          /* scalar tolerances (weights rtol*|y_i| + atol_i) */
     const double *atol_vec;     /* optional per-component atol (length dimension), NULL = use atol; copied */
@@ -67,6 +80,9 @@ typedef struct {
      * the final evaluation f(t_{n+1}, y_{n+1}) of PECE -- so the derivative history of the
      * method is the one of the projected states. Nonzero return: stop with SWIM_ODE_ERHS. */
     int (*project)(double t, double *y, void *params);
+    /* Optional report of every ABM step attempt (the peers ignore it), with its own data. */
+    void (*on_step)(const swim_ode_step *step, void *data);
+    void *on_step_data;
 } swim_ode_options;
 
 /* rtol = 1e-6, atol = 1e-9, no hmax, automatic h0, tstop = INFINITY,
