@@ -804,15 +804,6 @@ static void test_stiffness(void)
     }
 }
 
-/* Kepler orbit of eccentricity e from pericentre, period 2 pi. */
-static void kepler_ecc(double e, double *y)
-{
-    y[0] = 1.0 - e;
-    y[1] = 0.0;
-    y[2] = 0.0;
-    y[3] = sqrt((1.0 + e) / (1.0 - e));
-}
-
 /* Closure error and cost of one ABM run with the given look-ahead. */
 static double closure(const swim_ode_system *sys, const double *y0, double T, double tol, int lookahead,
                       swim_ode_stats *st)
@@ -843,7 +834,7 @@ static void test_lookahead(void)
 {
     swim_ode_system sa = { arenstorf_rhs, 4, NULL }, sk = { kepler_rhs, 4, NULL };
     double ya[4] = { 0.994, 0.0, 0.0, -2.00158510637908252240537862224 }, yk[4];
-    kepler_ecc(0.9, yk);
+    kepler_init(0.9, yk);
     for (int prob = 0; prob < 2; prob++) {
         const swim_ode_system *sys = prob ? &sk : &sa;
         const double *y0 = prob ? yk : ya;

@@ -2,7 +2,8 @@
  * GSL rk8pd and CVODE-Adams on four problems, tolerances 1e-4 .. 1e-15
  * (1e-14 and 1e-15 added so that the multistep codes reach errors near 1e-12:
  * an Adams code with per-step error control ends about 1e3 x tol from the
- * solution on Kepler/Arenstorf).
+ * solution on Kepler/Arenstorf).  "abm-step" is ABM with STEP's step-size rule
+ * (lookahead = 0), run side by side to show what the look-ahead changes.
  * Achieved errors are measured against analytic solutions or a long double
  * Gragg-Bulirsch-Stoer reference of the same right-hand side.  Writes
  * build/bench/ode_work_precision.csv and runs the plot script. */
