@@ -24,10 +24,9 @@
  * assumes erk changes little from one step to the next.  Where the solution's
  * high derivatives grow quickly the estimate grows by a factor rho per step at
  * fixed h, and, being built from the (k+1)-st difference over the last k+2
- * points, it lags behind the error actually committed: measured on Example 3
- * of the swimmer (T = 1000) the true local error was 1.3-2x the estimate in
- * such phases, with the same sign each time, and those few steps made most of
- * the energy drift.  So when the order is unchanged and the error normalised
+ * points, it lags behind the error actually committed.  Traced on the swimmer's
+ * Example 3 (T = 1000, rtol 1e-10; make bench-drift, part 4) the steps of such
+ * phases made the whole energy drift, with the same sign each time.  So when the order is unchanged and the error normalised
  * to the step size, rho = (erk_n / erk_{n-1}) (h_{n-1} / h_n)^(k+1), exceeds 1,
  * the step-size decision uses erk rho^p (rho capped at ABM_GROWTH_CAP) instead
  * of erk: it keeps the error expected p steps ahead within the target.  Both
