@@ -26,10 +26,11 @@
  * fixed h, and, being built from the (k+1)-st difference over the last k+2
  * points, it lags behind the error actually committed.  Traced on the swimmer's
  * Example 3 (T = 1000, rtol 1e-10; make bench-drift, part 4) the steps of such
- * phases made the whole energy drift, with the same sign each time.  So when the order is unchanged and the error normalised
- * to the step size, rho = (erk_n / erk_{n-1}) (h_{n-1} / h_n)^(k+1), exceeds 1,
- * the step-size decision uses erk rho^p (rho capped at ABM_GROWTH_CAP) instead
- * of erk: it keeps the error expected p steps ahead within the target.  Both
+ * phases made the whole energy drift, with the same sign each time.  So when
+ * the order is unchanged and the error normalised to the step size,
+ * rho = (erk_n / erk_{n-1}) (h_{n-1} / h_n)^(k+1), exceeds 1, the step-size
+ * decision uses erk rho^p (rho capped at ABM_GROWTH_CAP) instead of erk: it
+ * keeps the error expected p steps ahead within the target.  Both
  * estimates in rho are taken in the weighted norm of step n-1 (weights change
  * with |y|, which is not a growing error), and estimates within 10x of the
  * rounding level are left alone (noise, not a trend).  It only ever shortens
