@@ -13,6 +13,7 @@
 
 static const double AREN_MU = 0.012277471;
 static const double AREN_T = 17.0652165601579625588917206249;
+static const double AREN_Y0[4] = { 0.994, 0.0, 0.0, -2.00158510637908252240537862224 };
 static int arenstorf_rhs(double t, const double *y, double *f, void *p)
 {
     (void)t; (void)p;
@@ -240,7 +241,8 @@ static void test_kepler(void)
 static void test_arenstorf(void)
 {
     swim_ode_system sys = { arenstorf_rhs, 4, NULL };
-    double y0[4] = { 0.994, 0.0, 0.0, -2.00158510637908252240537862224 }, y[4];
+    const double *y0 = AREN_Y0;
+    double y[4];
     int rc;
     swim_ode_stats st;
     run("abm", &sys, 1e-12, 1e-12, 0.0, y0, AREN_T, y, &st, &rc);
@@ -833,7 +835,8 @@ static double closure(const swim_ode_system *sys, const double *y0, double T, do
 static void test_lookahead(void)
 {
     swim_ode_system sa = { arenstorf_rhs, 4, NULL }, sk = { kepler_rhs, 4, NULL };
-    double ya[4] = { 0.994, 0.0, 0.0, -2.00158510637908252240537862224 }, yk[4];
+    const double *ya = AREN_Y0;
+    double yk[4];
     kepler_init(0.9, yk);
     for (int prob = 0; prob < 2; prob++) {
         const swim_ode_system *sys = prob ? &sk : &sa;

@@ -168,13 +168,13 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
     fclose(f);
 }
 
-/* Add the counters of `ode` to `total` (a run may use two integrators). */
 /* --trace-steps FILE: one row per ABM step attempt, with the energy of each accepted state. */
 typedef struct {
     swim_csv csv;
     swim_dynamics *d;
-    double *full;
-    int ok;
+    double *full;     /* full state for the diagnostics */
+    int open;         /* csv is open */
+    int ok;           /* no write error so far */
 } step_trace;
 
 static const char *const trace_columns[] = {"t", "h", "order", "accepted", "err", "erk", "growth", "energy", "work"};
@@ -182,6 +182,8 @@ static const char *const trace_columns[] = {"t", "h", "order", "accepted", "err"
 static void trace_step(const swim_ode_step *st, void *data)
 {
     step_trace *tr = data;
+    if (!tr->ok)
+        return;
     double v[9] = {st->t, st->h, st->order, st->accepted, st->err, st->erk, st->growth, NAN, NAN};
     swim_diag g;
     if (st->y) {
@@ -191,10 +193,11 @@ static void trace_step(const swim_ode_step *st, void *data)
             v[8] = g.work;
         }
     }
-    if (tr->ok && swim_csv_row(&tr->csv, v) != 0)
+    if (swim_csv_row(&tr->csv, v) != 0)
         tr->ok = 0;
 }
 
+/* Add the counters of `ode` to `total` (a run may use two integrators). */
 static void accumulate_stats(swim_ode_stats *total, const swim_ode *ode)
 {
     swim_ode_stats st;
@@ -280,19 +283,19 @@ int swim_cmd_run(int argc, char **argv)
         return 2;
     }
     char path[1024];
-    step_trace trace = {.d = NULL, .full = NULL, .ok = 0};
+    step_trace trace = {.d = NULL, .full = NULL, .open = 0, .ok = 0};
     if ((v = swim_args_get(opts, nopts, "trace-steps"))) {
         if (swim_csv_open(&trace.csv, v, trace_columns, 9) != 0) {
             fprintf(stderr, "swim run: --trace-steps: cannot write '%s': %s\n", v, strerror(errno));
             swim_scene_free(&s);
             return 2;
         }
-        trace.ok = 1;
+        trace.open = trace.ok = 1;
     }
     swim_dynamics d;
     if (swim_dynamics_init(&d, &s) != 0) {
         fprintf(stderr, "swim run: out of memory\n");
-        if (trace.ok) swim_csv_close(&trace.csv);
+        if (trace.open) swim_csv_close(&trace.csv);
         swim_scene_free(&s);
         return 1;
     }
@@ -312,7 +315,7 @@ int swim_cmd_run(int argc, char **argv)
     snprintf(path, sizeof path, "%s/trajectory.csv", dir);
     if (swim_csv_open(&csv, path, names, ncol) != 0) {
         fprintf(stderr, "swim run: --out: cannot write '%s': %s\n", path, strerror(errno));
-        if (trace.ok) swim_csv_close(&trace.csv);
+        if (trace.open) swim_csv_close(&trace.csv);
         swim_dynamics_free(&d);
         swim_scene_free(&s);
         return 2;
@@ -335,9 +338,10 @@ int swim_cmd_run(int argc, char **argv)
     s.step_lookahead = o.lookahead;   /* the summary records the value used */
     o.stiff_stop = strcmp(s.integrator, "abm") == 0;   /* stop and report (or switch) on stiffness */
     if (s.projection) o.project = swim_dynamics_project;  /* drift control (ABM only) */
-    if (trace.ok) {
+    if (trace.open) {
         trace.d = &d;
         trace.full = calloc((size_t)d.dim, sizeof(double));
+        trace.ok = trace.full != NULL;
         o.on_step = trace_step;
         o.on_step_data = &trace;
     }
@@ -463,7 +467,7 @@ int swim_cmd_run(int argc, char **argv)
         fclose(snap);
     }
     swim_csv_close(&csv);
-    if (trace.ok || trace.full) {
+    if (trace.open) {
         swim_csv_close(&trace.csv);
         free(trace.full);
     }

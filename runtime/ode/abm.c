@@ -142,7 +142,7 @@ int abm_create(const swim_ode_system *sys, const swim_ode_options *opt, double t
     abm *a = calloc(1, sizeof *a);
     if (!a)
         return SWIM_ODE_ENOMEM;
-    /* one block for all vectors: y, yc, p, pinc, fp, rw, phi, phin, yn, ycn */
+    /* one block for all vectors: y, yc, p, pinc, fp, rw, phi, phin, yn, ycn, rwp */
     a->base = calloc((9 + 2 * NROW) * n, sizeof(double));
     a->y = a->base;
     if (!a->base) {

@@ -32,6 +32,7 @@ import argparse
 import csv
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -46,12 +47,17 @@ PEERS = ["rk8pd", "msadams", "cvode-adams"]
 BOUND = 1e-8
 
 
-def run(scene, tmp, rtol, integrator="abm", lookahead=None):
-    out = os.path.join(tmp, "run")
+def swim_args(scene, out, rtol, integrator="abm", lookahead=None):
     args = [SWIM, "run", scene, "--out", out, "--quiet", "--rtol", repr(rtol), "--atol", repr(rtol / 100),
             "--integrator", integrator]
     if lookahead is not None:
         args += ["--step-lookahead", str(lookahead)]
+    return args
+
+
+def run(scene, tmp, rtol, integrator="abm", lookahead=None):
+    out = os.path.join(tmp, "run")
+    args = swim_args(scene, out, rtol, integrator, lookahead)
     p = subprocess.run(args, cwd=ROOT, capture_output=True, text=True)
     with open(os.path.join(out, "summary.json")) as fh:
         s = json.load(fh)
@@ -65,8 +71,7 @@ def run(scene, tmp, rtol, integrator="abm", lookahead=None):
 def drift_classes(scene, tmp, p):
     """Classify the energy changes of the accepted steps of one traced run (part 4)."""
     trace = os.path.join(tmp, "steps.csv")
-    subprocess.run([SWIM, "run", scene, "--out", os.path.join(tmp, "traced"), "--quiet", "--rtol", "1e-10",
-                    "--atol", "1e-12", "--step-lookahead", str(p), "--trace-steps", trace],
+    subprocess.run(swim_args(scene, os.path.join(tmp, "traced"), 1e-10, lookahead=p) + ["--trace-steps", trace],
                    cwd=ROOT, check=True, capture_output=True)
     with open(trace) as fh:
         rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)]
@@ -100,11 +105,16 @@ def main(argv):
     a = ap.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
     tmp = tempfile.mkdtemp(prefix="swim-drift-")
-    rows = []
+    rows, done = [], {}
 
-    def record(name, integrator, p, rtol, r):
-        rows.append(dict(r, scene=name, integrator=integrator, lookahead=p, rtol=rtol))
-        return r
+    def measure(name, scene, rtol, p=None, integrator="abm"):
+        """One run (each configuration once), recorded for drift.csv."""
+        key = (name, integrator, p, rtol)
+        if key not in done:
+            done[key] = run(scene, tmp, rtol, integrator, p)
+            rows.append(dict(done[key], scene=name, integrator=integrator, lookahead="" if p is None else p,
+                             rtol=rtol))
+        return done[key]
 
     L = ["# Energy drift over T = 1000 (`make bench-drift`)", ""]
     # 1. tolerance sweep, look-ahead on and off side by side
@@ -114,8 +124,7 @@ def main(argv):
           "|---|---|---|---|---|---|---|---|"]
     for name, scene in SCENES:
         for rtol in NEAR + TIGHT:
-            r6 = record(name, "abm", 6, rtol, run(scene, tmp, rtol, lookahead=6))
-            r0 = record(name, "abm", 0, rtol, run(scene, tmp, rtol, lookahead=0))
+            r6, r0 = measure(name, scene, rtol, 6), measure(name, scene, rtol, 0)
             L.append("| %s | %.3g | %.2g%s | %d | %d | %.2g%s | %d | %d |" % (
                 name, rtol, r6["drift"], "" if r6["drift"] <= BOUND else " (> 1e-8)", r6["rhs"], r6["rejected"],
                 r0["drift"], "" if r0["drift"] <= BOUND else " (> 1e-8)", r0["rhs"], r0["rejected"]))
@@ -124,15 +133,11 @@ def main(argv):
           ", ".join("%g" % (r * 1e10) for r in NEAR), "",
           "| p | " + " | ".join("%s: worst drift | RHS / RHS(p=0)" % n for n, _ in SCENES) + " |",
           "|---|" + "---|---|" * len(SCENES)]
-    have = {(r["scene"], r["lookahead"], r["rtol"]): r for r in rows if r["integrator"] == "abm"}
     for p in LOOKAHEADS:
         cells = []
         for name, scene in SCENES:
-            rs = []
-            for rtol in NEAR:
-                key = (name, p, rtol)
-                rs.append(have[key] if key in have else record(name, "abm", p, rtol, run(scene, tmp, rtol, lookahead=p)))
-            base = sum(have[(name, 0, rtol)]["rhs"] for rtol in NEAR)
+            rs = [measure(name, scene, rtol, p) for rtol in NEAR]
+            base = sum(measure(name, scene, rtol, 0)["rhs"] for rtol in NEAR)
             cells.append("%.2g | %.3f" % (max(r["drift"] for r in rs), sum(r["rhs"] for r in rs) / base))
         L.append("| %d | %s |" % (p, " | ".join(cells)))
     # 3. the other integrators
@@ -140,7 +145,7 @@ def main(argv):
           "| scene | integrator | energy drift | max constraint residual | RHS |", "|---|---|---|---|---|"]
     for name, scene in SCENES:
         for m in ["abm"] + PEERS:
-            r = have.get((name, 6, 1e-10)) if m == "abm" else record(name, m, "", 1e-10, run(scene, tmp, 1e-10, m))
+            r = measure(name, scene, 1e-10, 6) if m == "abm" else measure(name, scene, 1e-10, integrator=m)
             L.append("| %s | %s | %.2g | %.2g | %d |" % (name, m, r["drift"], r["residual"], r["rhs"]))
     # 4. where the drift is made
     L += ["", "## Where the drift is made (rtol 1e-10): sum of the energy changes of the accepted steps "
@@ -160,6 +165,7 @@ def main(argv):
         w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
+    shutil.rmtree(tmp, ignore_errors=True)
     print(text)
     print("wrote %s/drift.csv and table.md" % a.out)
 
