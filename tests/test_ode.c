@@ -160,7 +160,7 @@ static double run(const char *method, const swim_ode_system *sys, double rtol, d
 
 static void test_harmonic(void)
 {
-    swim_ode_system sys = { ho_rhs, 2, NULL };
+    swim_ode_system sys = { ho_rhs, 2, NULL, NULL };
     double y0[2] = { 1.0, 0.0 }, y[2];
     swim_ode_options o;
     swim_ode_options_default(&o);
@@ -208,7 +208,7 @@ static void test_harmonic(void)
 
 static void test_kepler(void)
 {
-    swim_ode_system sys = { kepler_rhs, 4, NULL };
+    swim_ode_system sys = { kepler_rhs, 4, NULL, NULL };
     double y0[4], y[4];
     kepler_init(0.5, y0);
     double E0 = 0.5 * (y0[2] * y0[2] + y0[3] * y0[3]) - 1.0 / hypot(y0[0], y0[1]);
@@ -240,7 +240,7 @@ static void test_kepler(void)
 
 static void test_arenstorf(void)
 {
-    swim_ode_system sys = { arenstorf_rhs, 4, NULL };
+    swim_ode_system sys = { arenstorf_rhs, 4, NULL, NULL };
     const double *y0 = AREN_Y0;
     double y[4];
     int rc;
@@ -279,7 +279,7 @@ static void kepler_exact(double e, double t, double *y)
  * 1e-8 between 30 and 150 tol at the neighbouring tolerances). */
 static void test_proportionality(void)
 {
-    swim_ode_system sys = { kepler_rhs, 4, NULL };
+    swim_ode_system sys = { kepler_rhs, 4, NULL, NULL };
     double y0[4], y[4], ye[4];
     kepler_init(0.5, y0);
     double d0 = 0, d1 = 0;
@@ -332,7 +332,7 @@ static void test_proportionality(void)
  * and 1.5e-11 at 1e-15.  The bounds leave a factor ~4..7 of room. */
 static void test_no_floor(void)
 {
-    swim_ode_system sys = { kepler_rhs, 4, NULL };
+    swim_ode_system sys = { kepler_rhs, 4, NULL, NULL };
     double y0[4], y[4], err[2];
     const double tol[2] = { 1e-12, 1e-15 }, bound[2] = { 1e-8, 1e-10 };
     kepler_init(0.5, y0);
@@ -350,7 +350,7 @@ static void test_no_floor(void)
 /* dense output between steps, and outputs never shorten steps */
 static void test_interpolant(void)
 {
-    swim_ode_system sys = { kepler_rhs, 4, NULL };
+    swim_ode_system sys = { kepler_rhs, 4, NULL, NULL };
     double y0[4], y[4];
     kepler_init(0.5, y0);
     swim_ode_options o;
@@ -389,7 +389,7 @@ static void test_interpolant(void)
     CHECK(memcmp(y, yr, sizeof y) == 0, "same final value with and without dense output");
 
     /* the interpolant reproduces the step end points and is smooth in between */
-    swim_ode_system hs = { ho_rhs, 2, NULL };
+    swim_ode_system hs = { ho_rhs, 2, NULL, NULL };
     double z0[2] = { 1.0, 0.0 };
     abm *ab;
     abm_create(&hs, &o, 0.0, z0, &ab);
@@ -412,7 +412,7 @@ static void test_interpolant(void)
 /* a rejected step leaves the complete state bit-for-bit unchanged */
 static void test_reject_restore(void)
 {
-    swim_ode_system sys = { pulse_rhs, 2, NULL };
+    swim_ode_system sys = { pulse_rhs, 2, NULL, NULL };
     double y0[2] = { 1.0, 0.0 };
     swim_ode_options o;
     swim_ode_options_default(&o);
@@ -461,7 +461,7 @@ static void test_reject_restore(void)
 
 static void test_bad_args(void)
 {
-    swim_ode_system sys = { ho_rhs, 2, NULL };
+    swim_ode_system sys = { ho_rhs, 2, NULL, NULL };
     double y0[2] = { 1.0, 0.0 }, y[2];
     swim_ode_options o;
     swim_ode *s = NULL;
@@ -504,7 +504,7 @@ static void test_bad_args(void)
     swim_ode_free(s);
 
     /* a RHS failure no step can avoid (42 > 0: a persistent domain failure) is passed back with its value */
-    swim_ode_system fs = { failing_rhs, 1, NULL };
+    swim_ode_system fs = { failing_rhs, 1, NULL, NULL };
     for (const char *const *m = swim_ode_methods(); *m; m++) {
         swim_ode_options_default(&o);
         swim_ode_create(*m, &fs, &o, 0.0, y0, &s);
@@ -538,7 +538,7 @@ static void test_domain_failures(void)
         for (int b = 0; b < 2; b++) {
             for (int loose = 0; loose < 2; loose++) {
                 dom_par d = { .bound = bounds[b] };
-                swim_ode_system sys = { dom_rhs, 1, &d };
+                swim_ode_system sys = { dom_rhs, 1, &d, NULL };
                 swim_ode_options_default(&o);
                 o.rtol = loose ? 1e-3 : 1e-8;
                 o.atol = loose ? 1e-3 : 1e-8;
@@ -566,7 +566,7 @@ static void test_domain_failures(void)
         /* fatal: -7 at t > 1 stops at once */
         {
             dom_par d = { .bound = 2.0, .fatal_t = 1.0, .fatal_rc = -7 };
-            swim_ode_system sys = { dom_rhs, 1, &d };
+            swim_ode_system sys = { dom_rhs, 1, &d, NULL };
             swim_ode_options_default(&o);
             o.rtol = o.atol = 1e-8;
             swim_ode_create(*m, &sys, &o, 0.0, y0, &s);
@@ -580,7 +580,7 @@ static void test_domain_failures(void)
         /* a domain failure no step can avoid: +1 for all t > 1 ends the run, not hangs */
         for (int loose = 0; loose < 2; loose++) {
             dom_par d = { .bound = 2.0, .fatal_t = 1.0, .fatal_rc = 1 };
-            swim_ode_system sys = { dom_rhs, 1, &d };
+            swim_ode_system sys = { dom_rhs, 1, &d, NULL };
             swim_ode_options_default(&o);
             o.rtol = o.atol = loose ? 1e-4 : 1e-10;
             swim_ode_create(*m, &sys, &o, 0.0, y0, &s);
@@ -595,7 +595,7 @@ static void test_domain_failures(void)
         /* a positive value at (t0, y0) is fatal: the initial state itself is invalid */
         {
             dom_par d = { .bound = 0.1 };
-            swim_ode_system sys = { dom_rhs, 1, &d };
+            swim_ode_system sys = { dom_rhs, 1, &d, NULL };
             swim_ode_options_default(&o);
             o.h0 = 0.01;
             swim_ode_create(*m, &sys, &o, 0.0, y0, &s);
@@ -618,7 +618,7 @@ static void test_failure_sweep(void)
         for (long n = 0; n < 80; n++) {
             for (int neg = 0; neg < 2; neg++) {
                 sweep_par q = { .inj_call = n, .inj_rc = neg ? -7 : 1 };
-                swim_ode_system sys = { sweep_rhs, 1, &q };
+                swim_ode_system sys = { sweep_rhs, 1, &q, NULL };
                 swim_ode_options o;
                 swim_ode_options_default(&o);
                 o.rtol = o.atol = 1e-8;
@@ -658,7 +658,7 @@ static void test_abm_domain_restore(void)
     const double tols[2] = { 1e-9, 1e-14 };
     for (int it = 0; it < 2; it++) {
         inject_par q = { 0, -1 };
-        swim_ode_system sys = { inject_rhs, 4, &q };
+        swim_ode_system sys = { inject_rhs, 4, &q, NULL };
         double y0[4], y[4];
         kepler_init(0.5, y0);
         swim_ode_options o;
@@ -710,7 +710,7 @@ static void test_abm_domain_restore(void)
     }
 
     /* a failing projection still stops the run */
-    swim_ode_system hs = { ho_rhs, 2, NULL };
+    swim_ode_system hs = { ho_rhs, 2, NULL, NULL };
     double z0[2] = { 1.0, 0.0 }, z[2];
     swim_ode_options o;
     swim_ode_options_default(&o);
@@ -725,7 +725,7 @@ static void test_abm_domain_restore(void)
 
 static void test_options(void)
 {
-    swim_ode_system sys = { ho_rhs, 2, NULL };
+    swim_ode_system sys = { ho_rhs, 2, NULL, NULL };
     double y0[2] = { 1.0, 0.0 }, y[2], y2[2];
     swim_ode_options o;
     swim_ode *s;
@@ -764,7 +764,7 @@ static void test_options(void)
 
 static void test_stiffness(void)
 {
-    swim_ode_system sys = { stiff_rhs, 1, NULL };
+    swim_ode_system sys = { stiff_rhs, 1, NULL, NULL };
     double y0[1] = { 1.0 }, y[1];
     swim_ode_options o;
     swim_ode_options_default(&o);
@@ -791,7 +791,7 @@ static void test_stiffness(void)
     run("msbdf", &sys, 1e-6, 1e-6, 0.0, y0, 10.0, y, &sb, &rc);
     CHECK(rc == 0 && fabs(y[0] - cos(10.0)) < 1e-4 && sb.jac_evals > 0, "msbdf with FD Jacobian on the stiff problem");
     /* no false alarm on long nonstiff runs at loose and tight tolerances */
-    swim_ode_system hs = { ho_rhs, 2, NULL };
+    swim_ode_system hs = { ho_rhs, 2, NULL, NULL };
     double z0[2] = { 1.0, 0.0 }, z[2];
     double tols[3] = { 1e-4, 1e-8, 1e-12 };
     for (int i = 0; i < 3; i++) {
@@ -834,7 +834,7 @@ static double closure(const swim_ode_system *sys, const double *y0, double T, do
  * either rule scatter by 10x. */
 static void test_lookahead(void)
 {
-    swim_ode_system sa = { arenstorf_rhs, 4, NULL }, sk = { kepler_rhs, 4, NULL };
+    swim_ode_system sa = { arenstorf_rhs, 4, NULL, NULL }, sk = { kepler_rhs, 4, NULL, NULL };
     const double *ya = AREN_Y0;
     double yk[4];
     kepler_init(0.9, yk);
@@ -873,6 +873,95 @@ static void test_lookahead(void)
     CHECK(swim_ode_create("abm", &sa, &o, 0.0, ya, &s) == SWIM_ODE_EBADARG && !s, "lookahead -1 rejected");
 }
 
+
+/* The registry: one list of names, capabilities as documented in ode.h, and an option a
+ * method cannot honour refused with SWIM_ODE_EUNSUPPORTED rather than ignored. */
+static int unit_circle(double t, double *y, void *p)
+{
+    (void)t; (void)p;
+    double r = sqrt(y[0] * y[0] + y[1] * y[1]);
+    y[0] /= r;
+    y[1] /= r;
+    return 0;
+}
+static void ignore_step(const swim_ode_step *st, void *data) { (void)st; (void)data; }
+
+static void test_registry(void)
+{
+    static const char *const want[] = {"abm", "rk8pd", "msadams", "rkf45", "msbdf", "cvode-adams", "cvode-bdf"};
+    static const unsigned caps[] = {
+        SWIM_ODE_CAP_PROJECTION | SWIM_ODE_CAP_STEP_TRACE | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_STIFFNESS,
+        0, 0, 0, SWIM_ODE_CAP_JACOBIAN, SWIM_ODE_CAP_EVENTS,
+        SWIM_ODE_CAP_PROJECTION | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_JACOBIAN};
+    const char *const *m = swim_ode_methods();
+    int i = 0;
+    for (; m[i]; i++) {
+        CHECK(i < 7 && strcmp(m[i], want[i]) == 0, "method %d is %s", i, m[i]);
+        if (i < 7)
+            CHECK(swim_ode_capabilities(m[i]) == caps[i], "capabilities of %s: %u", m[i], swim_ode_capabilities(m[i]));
+    }
+    CHECK(i == 7, "7 methods (%d)", i);
+    CHECK(!swim_ode_method_known("ode45") && swim_ode_capabilities("ode45") == 0, "unknown name");
+    CHECK(strcmp(swim_ode_method_list(), "abm, rk8pd, msadams, rkf45, msbdf, cvode-adams, cvode-bdf") == 0,
+          "method list for messages: %s", swim_ode_method_list());
+
+    swim_ode_system sys = { ho_rhs, 2, NULL, NULL };
+    double y0[2] = { 1.0, 0.0 };
+    swim_ode_event ev = { NULL, NULL, 0, 0 };
+    for (i = 0; i < 7; i++) {
+        for (int opt = 0; opt < 4; opt++) {
+            swim_ode_options o;
+            swim_ode_options_default(&o);
+            unsigned need = 0;
+            switch (opt) {
+            case 0: o.project = unit_circle; need = SWIM_ODE_CAP_PROJECTION; break;
+            case 1: o.on_step = ignore_step; need = SWIM_ODE_CAP_STEP_TRACE; break;
+            case 2: o.events = &ev; o.nevents = 1; need = SWIM_ODE_CAP_EVENTS; break;
+            case 3: o.stiff_stop = 1; need = SWIM_ODE_CAP_STIFFNESS; break;
+            }
+            swim_ode *s = NULL;
+            int rc = swim_ode_create(want[i], &sys, &o, 0.0, y0, &s);
+            if (caps[i] & need)
+                CHECK(rc != SWIM_ODE_EUNSUPPORTED, "%s accepts option %d (rc %d)", want[i], opt, rc);
+            else
+                CHECK(rc == SWIM_ODE_EUNSUPPORTED && !s, "%s refuses option %d (rc %d)", want[i], opt, rc);
+            swim_ode_free(s);
+        }
+    }
+}
+
+/* CVODE-BDF's projection (CVodeSetProjFn): the harmonic oscillator stays on the unit
+ * circle to rounding with it, and drifts off it by the local errors without it. */
+static void test_cvode_projection(void)
+{
+    swim_ode_system sys = { ho_rhs, 2, NULL, NULL };
+    double y0[2] = { 1.0, 0.0 }, y[2];
+    double radius_err[2];
+    for (int proj = 0; proj < 2; proj++) {
+        swim_ode_options o;
+        swim_ode_options_default(&o);
+        o.rtol = 1e-6;
+        o.atol = 1e-9;
+        if (proj)
+            o.project = unit_circle;
+        swim_ode *s = NULL;
+        int rc = swim_ode_create("cvode-bdf", &sys, &o, 0.0, y0, &s);
+        double worst = 0.0;
+        for (int k = 1; rc == 0 && k <= 200; k++) {
+            rc = swim_ode_advance(s, 0.5 * k, y);
+            worst = fmax(worst, fabs(hypot(y[0], y[1]) - 1.0));
+        }
+        CHECK(rc == 0, "cvode-bdf %s projection ran (rc %d)", proj ? "with" : "without", rc);
+        radius_err[proj] = worst;
+        swim_ode_free(s);
+    }
+    /* outputs come from CVODE's interpolant between projected steps: off by its local error */
+    CHECK(radius_err[1] < 1e-2 * radius_err[0],
+          "projection keeps |y| = 1: %.3g with, %.3g without", radius_err[1], radius_err[0]);
+    printf("cvode-bdf on the oscillator, 100 time units, rtol 1e-6: max ||y| - 1| %.3g with projection, %.3g without\n",
+           radius_err[1], radius_err[0]);
+}
+
 int main(void)
 {
     test_harmonic();
@@ -889,5 +978,7 @@ int main(void)
     test_options();
     test_stiffness();
     test_lookahead();
+    test_registry();
+    test_cvode_projection();
     return check_report("test_ode");
 }

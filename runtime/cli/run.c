@@ -134,7 +134,7 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
     fprintf(f, ", \"from_cache\": %s, \"generate_seconds\": %.3f, \"compile_seconds\": %.3f},\n",
             sp->from_cache ? "true" : "false", sp->generate_seconds, sp->compile_seconds);
     fprintf(f, "  \"projection\": {\"enabled\": %s, \"steps\": %ld, \"max_change\": %.3g},\n",
-            s->projection && strncmp(r->used, "abm", 3) == 0 ? "true" : "false", d->projections, d->max_projection);
+            s->projection && (swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_PROJECTION) ? "true" : "false", d->projections, d->max_projection);
     fprintf(f, "  \"status\": \"%s\",\n  \"reason\": ", r->status ? "failed" : "completed");
     swim_json_string(f, r->reason);
     fprintf(f, ",\n  \"t_end\": %.17g,\n  \"t_reached\": %.17g,\n  \"rows\": %ld,\n", s->t_end, r->t_reached, r->rows);
@@ -259,10 +259,8 @@ int swim_cmd_run(int argc, char **argv)
         if (!(s.atol > 0)) { fprintf(stderr, "swim run: --atol: must be > 0, got %s\n", v); return 2; }
     }
     if ((v = swim_args_get(opts, nopts, "integrator"))) {
-        int known = 0;
-        for (const char *const *m = swim_ode_methods(); *m; m++) known |= strcmp(*m, v) == 0;
-        if (!known || strlen(v) >= sizeof s.integrator) {
-            fprintf(stderr, "swim run: --integrator: unknown integrator '%s' (abm, rk8pd, msadams, rkf45, msbdf, cvode-adams, cvode-bdf)\n", v);
+        if (!swim_ode_method_known(v) || strlen(v) >= sizeof s.integrator) {
+            fprintf(stderr, "swim run: --integrator: unknown integrator '%s' (%s)\n", v, swim_ode_method_list());
             return 2;
         }
         snprintf(s.integrator, sizeof s.integrator, "%s", v);
@@ -285,6 +283,11 @@ int swim_cmd_run(int argc, char **argv)
     char path[1024];
     step_trace trace = {.d = NULL, .full = NULL, .open = 0, .ok = 0};
     if ((v = swim_args_get(opts, nopts, "trace-steps"))) {
+        if (!(swim_ode_capabilities(s.integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
+            fprintf(stderr, "swim run: --trace-steps: integrator '%s' does not report its steps\n", s.integrator);
+            swim_scene_free(&s);
+            return 2;
+        }
         if (swim_csv_open(&trace.csv, v, trace_columns, 9) != 0) {
             fprintf(stderr, "swim run: --trace-steps: cannot write '%s': %s\n", v, strerror(errno));
             swim_scene_free(&s);
@@ -329,15 +332,16 @@ int swim_cmd_run(int argc, char **argv)
     double *ys = calloc((size_t)sdim, sizeof(double));
     swim_dynamics_initial_state(&d, y);
     swim_dynamics_pack(&d, y, ys);
-    swim_ode_system sys = {swim_dynamics_rhs, (size_t)sdim, &d};
+    swim_ode_system sys = {swim_dynamics_rhs, (size_t)sdim, &d, NULL};
     swim_ode_options o;
     swim_ode_options_default(&o);
     o.rtol = s.rtol;
     o.atol = s.atol;
     if (s.step_lookahead >= 0) o.lookahead = s.step_lookahead;
     s.step_lookahead = o.lookahead;   /* the summary records the value used */
-    o.stiff_stop = strcmp(s.integrator, "abm") == 0;   /* stop and report (or switch) on stiffness */
-    if (s.projection) o.project = swim_dynamics_project;  /* drift control (ABM only) */
+    const unsigned caps = swim_ode_capabilities(s.integrator);
+    o.stiff_stop = (caps & SWIM_ODE_CAP_STIFFNESS) != 0;   /* stop and report (or switch) on stiffness */
+    if (s.projection && (caps & SWIM_ODE_CAP_PROJECTION)) o.project = swim_dynamics_project;  /* drift control */
     if (trace.open) {
         trace.d = &d;
         trace.full = calloc((size_t)d.dim, sizeof(double));
@@ -391,6 +395,8 @@ int swim_cmd_run(int argc, char **argv)
                 snprintf(r.used, sizeof r.used, "%s+%s", s.integrator, s.stiff_fallback);
                 memcpy(ys, ys_last, sizeof(double) * sdim);
                 o.stiff_stop = 0;
+                if (!(swim_ode_capabilities(s.stiff_fallback) & SWIM_ODE_CAP_PROJECTION)) o.project = NULL;
+                if (!(swim_ode_capabilities(s.stiff_fallback) & SWIM_ODE_CAP_STEP_TRACE)) o.on_step = NULL;
                 rc = swim_ode_create(s.stiff_fallback, &sys, &o, t_last, ys, &ode);
                 if (rc == SWIM_ODE_OK) rc = swim_ode_advance(ode, t, ys);
             }
@@ -398,7 +404,7 @@ int swim_cmd_run(int argc, char **argv)
                 /* Rows come from the interpolant, which leaves the constraint manifold by the local
                  * error between two projected steps: project the row as well (a copy; the
                  * integrator's state is untouched). */
-                if (o.project && ode && strcmp(swim_ode_method_name(ode), "abm") == 0) {
+                if (o.project && ode) {
                     memcpy(ys_row, ys, sizeof(double) * sdim);
                     o.project(t, ys_row, &d);
                     swim_dynamics_unpack(&d, ys_row, y);

@@ -2,6 +2,12 @@
  * and "cvode-bdf" (BDF, dense Newton with CVODE's difference-quotient
  * Jacobian).  Output at tout comes from CVODE's own interpolant (CV_NORMAL).
  *
+ * Projection (cvode-bdf): swim's projection maps y to a point of the manifold
+ * in place; CVODE (>= 5.3, BDF only) wants the correction, projected minus
+ * corrected y, which it adds to the solution and its Nordsieck history.  The
+ * error estimate is not projected (CVodeSetProjErrEst off): the projection
+ * function has no use for it.
+ *
  * Right-hand-side failures: CVODE's convention is swim's.  A positive value is
  * recoverable: CVODE counts a nonlinear-solver failure, cuts the step (by
  * eta_cf = 1/4) and retries; a positive value inside the difference-quotient
@@ -28,6 +34,7 @@
 
 #include <cvode/cvode.h>
 #include <cvode/cvode_ls.h>
+#include <cvode/cvode_proj.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
@@ -45,6 +52,8 @@ typedef struct {
     SUNLinearSolver LS;
     SUNNonlinearSolver NLS;
     int bdf;
+    int (*project)(double t, double *y, void *params);   /* swim's projection, or NULL */
+    double *yproj;     /* work vector for the projection (n) */
     double t;
     long nfe_user;
     int rhs_status;    /* last nonzero value returned by the RHS */
@@ -83,6 +92,26 @@ static int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void *p)
     return -1;          /* unrecoverable */
 }
 
+/* CVProjFn: corr = P(ycur) - ycur with swim's in-place projection P. */
+static int cv_project(realtype t, N_Vector ycur, N_Vector corr, realtype eps, N_Vector err, void *p)
+{
+    (void)eps; (void)err;
+    cv_peer *c = p;
+    const size_t n = c->sys.dimension;
+    const double *y = N_VGetArrayPointer(ycur);
+    double *d = N_VGetArrayPointer(corr);
+    memcpy(c->yproj, y, n * sizeof(double));
+    int rc = c->project(t, c->yproj, c->sys.params);
+    if (rc) {
+        c->rhs_status = rc;
+        c->fatal = 1;
+        return -1;      /* unrecoverable: the run stops with SWIM_ODE_ERHS */
+    }
+    for (size_t i = 0; i < n; i++)
+        d[i] = c->yproj[i] - y[i];
+    return 0;
+}
+
 static void cv_silent(int code, const char *module, const char *function, char *msg, void *data)
 {
     (void)code; (void)module; (void)function; (void)msg; (void)data;
@@ -107,6 +136,7 @@ static void cv_destroy(void *p)
         N_VDestroy(c->atolv);
     if (c->ctx)
         SUNContext_Free(&c->ctx);
+    free(c->yproj);
     free(c);
 }
 
@@ -166,15 +196,18 @@ static void cv_stats(const void *p, swim_ode_stats *st)
 static double cv_time(const void *p) { return ((const cv_peer *)p)->t; }
 static int cv_rhs_status(const void *p) { return ((const cv_peer *)p)->rhs_status; }
 
-static const ode_backend cv_backend = { cv_destroy, cv_advance, cv_stats, cv_time, cv_rhs_status };
+static const ode_backend cv_backend = { cv_destroy, cv_advance, cv_stats, cv_time, cv_rhs_status,
+                                        NULL, NULL };
 
-int swim_ode_cvode_create(const char *method, const swim_ode_system *sys, const swim_ode_options *opt,
+int swim_ode_cvode_create(const ode_method *m, const swim_ode_system *sys, const swim_ode_options *opt,
                           double t0, const double *y0, void **impl, const ode_backend **be)
 {
     int bdf;
-    if (strcmp(method, "cvode-adams") == 0) bdf = 0;
-    else if (strcmp(method, "cvode-bdf") == 0) bdf = 1;
-    else return SWIM_ODE_EBADARG;
+    switch (m->variant) {
+    case ODE_CVODE_ADAMS: bdf = 0; break;
+    case ODE_CVODE_BDF: bdf = 1; break;
+    default: return SWIM_ODE_EBADARG;
+    }
     size_t n = sys->dimension;
     cv_peer *c = calloc(1, sizeof *c);
     if (!c)
@@ -214,6 +247,12 @@ int swim_ode_cvode_create(const char *method, const swim_ode_system *sys, const 
     if (ok && opt->hmax > 0) ok = CVodeSetMaxStep(c->mem, opt->hmax) == CV_SUCCESS;
     if (ok && opt->h0 > 0) ok = CVodeSetInitStep(c->mem, opt->h0) == CV_SUCCESS;
     if (ok && isfinite(opt->tstop)) ok = CVodeSetStopTime(c->mem, opt->tstop) == CV_SUCCESS;
+    if (ok && opt->project) {
+        c->project = opt->project;
+        ok = (c->yproj = malloc(n * sizeof(double))) != NULL;
+        if (ok) ok = CVodeSetProjFn(c->mem, cv_project) == CV_SUCCESS;
+        if (ok) ok = CVodeSetProjErrEst(c->mem, SUNFALSE) == CV_SUCCESS;
+    }
     if (!ok) {
         cv_destroy(c);
         return SWIM_ODE_EFAIL;

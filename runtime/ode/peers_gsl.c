@@ -193,17 +193,21 @@ static void gsl_stats(const void *p, swim_ode_stats *st)
 static double gsl_time(const void *p) { return ((const gsl_peer *)p)->t; }
 static int gsl_rhs_status(const void *p) { return ((const gsl_peer *)p)->rhs_status; }
 
-static const ode_backend gsl_backend = { gsl_destroy, gsl_advance, gsl_stats, gsl_time, gsl_rhs_status };
+/* No dense output: the event hooks stay NULL (the registry gives no SWIM_ODE_CAP_EVENTS). */
+static const ode_backend gsl_backend = { gsl_destroy, gsl_advance, gsl_stats, gsl_time, gsl_rhs_status,
+                                         NULL, NULL };
 
-int swim_ode_gsl_create(const char *method, const swim_ode_system *sys, const swim_ode_options *opt,
+int swim_ode_gsl_create(const ode_method *m, const swim_ode_system *sys, const swim_ode_options *opt,
                         double t0, const double *y0, void **impl, const ode_backend **be)
 {
     const gsl_odeiv2_step_type *type = NULL;
-    if (strcmp(method, "rk8pd") == 0) type = gsl_odeiv2_step_rk8pd;
-    else if (strcmp(method, "msadams") == 0) type = gsl_odeiv2_step_msadams;
-    else if (strcmp(method, "rkf45") == 0) type = gsl_odeiv2_step_rkf45;
-    else if (strcmp(method, "msbdf") == 0) type = gsl_odeiv2_step_msbdf;
-    else return SWIM_ODE_EBADARG;
+    switch (m->variant) {
+    case ODE_GSL_RK8PD: type = gsl_odeiv2_step_rk8pd; break;
+    case ODE_GSL_MSADAMS: type = gsl_odeiv2_step_msadams; break;
+    case ODE_GSL_RKF45: type = gsl_odeiv2_step_rkf45; break;
+    case ODE_GSL_MSBDF: type = gsl_odeiv2_step_msbdf; break;
+    default: return SWIM_ODE_EBADARG;
+    }
     if (opt->rtol == 0 && !opt->atol_vec && opt->atol == 0)
         return SWIM_ODE_EBADARG;
     /* GSL's default handler aborts the program; errors are reported by status here. */

@@ -119,10 +119,8 @@ static int get_integrator(ctx *c, const toml_value *t, const char *key, char *ou
     const char *name = toml_string(v);
     int line = toml_get_key_line(t, key);
     if (!name) ERR(c, line, key, "expected a string (an integrator name)");
-    int known = 0;
-    for (const char *const *m = swim_ode_methods(); *m; m++) known |= strcmp(*m, name) == 0;
-    if (!known || strlen(name) >= len)
-        ERR(c, line, key, "unknown integrator \"%s\" (abm, rk8pd, msadams, rkf45, msbdf, cvode-adams, cvode-bdf)", name);
+    if (!swim_ode_method_known(name) || strlen(name) >= len)
+        ERR(c, line, key, "unknown integrator \"%s\" (%s)", name, swim_ode_method_list());
     snprintf(out, len, "%s", name);
     return 0;
 }
