@@ -885,6 +885,8 @@ static int unit_circle(double t, double *y, void *p)
     return 0;
 }
 static void ignore_step(const swim_ode_step *st, void *data) { (void)st; (void)data; }
+static double ev_y0(double t, const double *y, const double *yp, void *d) { (void)t; (void)yp; (void)d; return y[0]; }
+static void ev_ignore(const swim_ode_event_hit *h, void *d) { (void)h; (void)d; }
 
 static void test_registry(void)
 {
@@ -907,7 +909,7 @@ static void test_registry(void)
 
     swim_ode_system sys = { ho_rhs, 2, NULL, NULL };
     double y0[2] = { 1.0, 0.0 };
-    swim_ode_event ev = { NULL, NULL, 0, 0 };
+    swim_ode_event ev = { ev_y0, NULL, 0, 0 };
     for (i = 0; i < 7; i++) {
         for (int opt = 0; opt < 4; opt++) {
             swim_ode_options o;
@@ -916,7 +918,7 @@ static void test_registry(void)
             switch (opt) {
             case 0: o.project = unit_circle; need = SWIM_ODE_CAP_PROJECTION; break;
             case 1: o.on_step = ignore_step; need = SWIM_ODE_CAP_STEP_TRACE; break;
-            case 2: o.events = &ev; o.nevents = 1; need = SWIM_ODE_CAP_EVENTS; break;
+            case 2: o.events = &ev; o.nevents = 1; o.on_event = ev_ignore; need = SWIM_ODE_CAP_EVENTS; break;
             case 3: o.stiff_stop = 1; need = SWIM_ODE_CAP_STIFFNESS; break;
             }
             swim_ode *s = NULL;
@@ -962,6 +964,125 @@ static void test_cvode_projection(void)
            radius_err[1], radius_err[0]);
 }
 
+/* Events on the oscillator y = (cos t, -sin t): zeros of y0 at pi/2 + k pi, extremes of y0
+ * (zeros of y0' from the interpolant's derivative) at k pi, minima rising, maxima falling. */
+typedef struct {
+    int n;
+    double t[64], y0[64], y1[64];
+    int index[64], rising[64], terminal[64];
+} ev_log;
+static void ev_record(const swim_ode_event_hit *h, void *d)
+{
+    ev_log *L = d;
+    if (L->n >= 64)
+        return;
+    L->t[L->n] = h->t;
+    L->y0[L->n] = h->y[0];
+    L->y1[L->n] = h->y[1];
+    L->index[L->n] = h->index;
+    L->rising[L->n] = h->rising;
+    L->terminal[L->n] = h->terminal;
+    L->n++;
+}
+static double ev_dy0(double t, const double *y, const double *yp, void *d) { (void)t; (void)y; (void)d; return yp[0]; }
+
+static void test_events(void)
+{
+    swim_ode_system sys = { ho_rhs, 2, NULL, NULL };
+    const double y0[2] = { 1.0, 0.0 }, T = 20.0;
+    static const char *const methods[] = { "abm", "cvode-adams", "cvode-bdf" };
+    /* location error: the interpolant's and the global error of the run (printed) */
+    static const double tols[] = { 1e-10, 1e-10, 1e-10 };
+    for (int mth = 0; mth < 3; mth++) {
+        swim_ode_event ev[3] = {
+            { ev_y0, NULL, 0, 0 },     /* zeros of y0, either way */
+            { ev_dy0, NULL, +1, 0 },   /* minima of y0 */
+            { ev_dy0, NULL, -1, 0 },   /* maxima of y0 */
+        };
+        ev_log L;
+        memset(&L, 0, sizeof L);
+        swim_ode_options o;
+        swim_ode_options_default(&o);
+        o.rtol = 1e-12;
+        o.atol = 1e-14;
+        o.events = ev;
+        o.nevents = 3;
+        o.on_event = ev_record;
+        o.on_event_data = &L;
+        swim_ode *s = NULL;
+        int rc = swim_ode_create(methods[mth], &sys, &o, 0.0, y0, &s);
+        double y[2], worst = 0.0, worst_y = 0.0;
+        for (int k = 1; rc == 0 && k <= 40; k++)
+            rc = swim_ode_advance(s, T * k / 40, y);
+        CHECK(rc == 0, "%s: run with events (rc %d)", methods[mth], rc);
+        /* expected: k pi/2, k = 1..12 (t = 0 is not an event), in time order */
+        int want = (int)floor(T / (PI / 2));
+        CHECK(L.n == want, "%s: %d events (want %d)", methods[mth], L.n, want);
+        for (int i = 0; i < L.n && i < want; i++) {
+            int k = i + 1;
+            double te = k * PI / 2;
+            worst = fmax(worst, fabs(L.t[i] - te));
+            worst_y = fmax(worst_y, fabs(L.y0[i] - cos(te)) + fabs(L.y1[i] + sin(te)));
+            int idx = k % 2 ? 0 : ((k / 2) % 2 ? 1 : 2);   /* odd: zero; pi, 3pi: minimum; 2pi: maximum */
+            CHECK(L.index[i] == idx, "%s: event %d at %.6f has index %d (want %d)", methods[mth], i, L.t[i], L.index[i], idx);
+            if (idx == 0)
+                CHECK(L.rising[i] == (k % 4 == 3), "%s: direction of the zero at %.6f", methods[mth], L.t[i]);
+        }
+        CHECK(worst <= tols[mth], "%s: event times within %g of k pi/2 (worst %.3g)", methods[mth], tols[mth], worst);
+        CHECK(worst_y <= 10 * tols[mth], "%s: event states (worst %.3g)", methods[mth], worst_y);
+        swim_ode_stats st;
+        swim_ode_get_stats(s, &st);
+        CHECK(st.events == L.n && st.event_evals > 3 * st.steps, "%s: event counters (%ld events, %ld evaluations, %ld steps)",
+              methods[mth], st.events, st.event_evals, st.steps);
+        printf("events on the oscillator, %s, rtol 1e-12: %d events, worst |t - k pi/2| %.2g, %ld g evaluations for %ld steps\n",
+               methods[mth], L.n, worst, st.event_evals, st.steps);
+        swim_ode_free(s);
+    }
+
+    /* Terminal: the first falling zero of y0 (t = pi/2) ends the run there, with the state
+     * there, although the output times step over it; the object then refuses to go on. */
+    for (int mth = 0; mth < 3; mth++) {
+        swim_ode_event ev[2] = { { ev_dy0, NULL, +1, 0 }, { ev_y0, NULL, -1, 1 } };
+        ev_log L;
+        memset(&L, 0, sizeof L);
+        swim_ode_options o;
+        swim_ode_options_default(&o);
+        o.rtol = 1e-12;
+        o.atol = 1e-14;
+        o.events = ev;
+        o.nevents = 2;
+        o.on_event = ev_record;
+        o.on_event_data = &L;
+        swim_ode *s = NULL;
+        int rc = swim_ode_create(methods[mth], &sys, &o, 0.0, y0, &s);
+        double y[2] = { NAN, NAN };
+        int k = 1;
+        for (; rc == 0 && k <= 100; k++)
+            rc = swim_ode_advance(s, 0.3 * k, y);
+        k--;
+        CHECK(rc == SWIM_ODE_TERMINATED && k == 6, "%s: terminal event returned by the call whose tout passes pi/2 (rc %d, call %d)",
+              methods[mth], rc, k);
+        CHECK(fabs(swim_ode_time(s) - PI / 2) <= tols[mth] && fabs(y[0]) <= tols[mth] && fabs(y[1] + 1.0) <= tols[mth],
+              "%s: stopped at t = %.15g with y = (%.3g, %.15g)", methods[mth], swim_ode_time(s), y[0], y[1]);
+        CHECK(L.n == 1 && L.terminal[0] && L.index[0] == 1, "%s: one terminal event reported (%d)", methods[mth], L.n);
+        CHECK(swim_ode_advance(s, 10.0, y) == SWIM_ODE_EBADARG, "%s: no advance after a terminal event", methods[mth]);
+        swim_ode_free(s);
+    }
+
+    /* bad event lists */
+    swim_ode_event bad = { NULL, NULL, 0, 0 };
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.events = &bad;
+    o.nevents = 1;
+    o.on_event = ev_ignore;
+    swim_ode *s = NULL;
+    CHECK(swim_ode_create("abm", &sys, &o, 0.0, y0, &s) == SWIM_ODE_EBADARG && !s, "event without a function");
+    bad.g = ev_y0;
+    o.on_event = NULL;
+    CHECK(swim_ode_create("abm", &sys, &o, 0.0, y0, &s) == SWIM_ODE_EBADARG && !s, "events without on_event");
+}
+
 int main(void)
 {
     test_harmonic();
@@ -980,5 +1101,6 @@ int main(void)
     test_lookahead();
     test_registry();
     test_cvode_projection();
+    test_events();
     return check_report("test_ode");
 }

@@ -884,23 +884,40 @@ void abm_interp(const abm *a, double tout, double *yout, double *ypout)
     }
 }
 
-int abm_advance(abm *a, double tout, double *yout)
+int abm_step_toward(abm *a, double tout, int *done)
 {
-    if (!(tout > a->tout_last) || tout > a->tstop)
-        return SWIM_ODE_EBADARG;
+    *done = 0;
     if (!a->started) {
         int rc = start(a, tout);
         if (rc)
             return rc;
     }
-    while (a->t < tout) {
-        if (a->have_step && isfinite(a->tstop) && a->tstop - a->t <= 64.0 * UROUND * fmax(fabs(a->t), fabs(a->tstop)))
-            break;   /* at tstop up to rounding: extrapolate the last polynomial */
-        int acc, rc = abm_step(a, &acc);
+    if (a->t >= tout ||
+        (a->have_step && isfinite(a->tstop) && a->tstop - a->t <= 64.0 * UROUND * fmax(fabs(a->t), fabs(a->tstop)))) {
+        *done = 1;   /* covered, or at tstop up to rounding: extrapolate the last polynomial */
+        return SWIM_ODE_OK;
+    }
+    int acc;
+    do {
+        int rc = abm_step(a, &acc);
         if (rc)
             return rc;
-        if (acc && a->stiff_stop && a->stiff_suspected)
-            return SWIM_ODE_ESTIFF;
+    } while (!acc);
+    if (a->stiff_stop && a->stiff_suspected)
+        return SWIM_ODE_ESTIFF;
+    return SWIM_ODE_OK;
+}
+
+int abm_advance(abm *a, double tout, double *yout)
+{
+    if (!(tout > a->tout_last) || tout > a->tstop)
+        return SWIM_ODE_EBADARG;
+    for (;;) {
+        int done, rc = abm_step_toward(a, tout, &done);
+        if (rc)
+            return rc;
+        if (done)
+            break;
     }
     abm_interp(a, tout, yout, NULL);
     a->tout_last = tout;

@@ -2,6 +2,7 @@
  * ABM, GSL odeiv2 and CVODE. */
 #include "ode/ode.h"
 #include "ode/abm.h"
+#include "ode/events.h"
 #include "ode/ode_internal.h"
 
 #include <math.h>
@@ -16,6 +17,11 @@ struct swim_ode {
     const ode_backend *be;
     size_t n;
     double tout_last;
+    ode_events *events;       /* NULL without events */
+    int stop_pending;         /* a terminal event was located (at t_stop, state y_stop) */
+    int terminated;           /* ... and reported: the integration is over */
+    double t_stop;
+    double *y_stop;           /* n values (owned) */
 };
 
 static int abm_create_(const ode_method *m, const swim_ode_system *sys, const swim_ode_options *opt,
@@ -113,8 +119,14 @@ static int abm_advance_(void *p, double tout, double *yout) { return abm_advance
 static void abm_stats_(const void *p, swim_ode_stats *st) { abm_get_stats(p, st); }
 static double abm_time_(const void *p) { return abm_time(p); }
 static int abm_rhs_status_(const void *p) { return abm_rhs_status(p); }
+static int abm_step_(void *p, double tout, int *done) { return abm_step_toward(p, tout, done); }
+static int abm_dense_(void *p, double t, double *y, double *yp)
+{
+    abm_interp(p, t, y, yp);
+    return 0;
+}
 static const ode_backend abm_backend = { abm_destroy_, abm_advance_, abm_stats_, abm_time_, abm_rhs_status_,
-                                         NULL, NULL };
+                                         abm_step_, abm_dense_ };
 
 static int abm_create_(const ode_method *m, const swim_ode_system *sys, const swim_ode_options *opt,
                        double t0, const double *y0, void **impl, const ode_backend **be)
@@ -157,7 +169,8 @@ int swim_ode_create(const char *method, const swim_ode_system *sys, const swim_o
     else
         swim_ode_options_default(&o);
     size_t n = sys->dimension;
-    if (!valid_pos(o.rtol) || !valid_pos(o.atol) || !valid_pos(o.hmax) || !valid_pos(o.h0) ||
+    if ((o.nevents > 0 && (!o.events || !o.on_event)) || !(o.event_tol >= 0) ||
+        !valid_pos(o.rtol) || !valid_pos(o.atol) || !valid_pos(o.hmax) || !valid_pos(o.h0) ||
         isnan(o.tstop) || o.tstop <= t0 || o.max_steps < 0 || o.lookahead < 0 || o.lookahead > 12)
         return SWIM_ODE_EBADARG;
     int atol_pos = o.atol > 0;
@@ -187,8 +200,25 @@ int swim_ode_create(const char *method, const swim_ode_system *sys, const swim_o
     s->name = m->name;
     s->n = n;
     s->tout_last = t0;
+    for (size_t i = 0; i < o.nevents; i++)
+        if (!o.events[i].g) {
+            free(s);
+            return SWIM_ODE_EBADARG;
+        }
+    if (o.nevents > 0) {
+        s->events = ode_events_create(n, &o);
+        s->y_stop = malloc(n * sizeof(double));
+        if (!s->events || !s->y_stop) {
+            ode_events_free(s->events);
+            free(s->y_stop);
+            free(s);
+            return SWIM_ODE_ENOMEM;
+        }
+    }
     rc = m->create(m, sys, &o, t0, y0, &s->impl, &s->be);
     if (rc) {
+        ode_events_free(s->events);
+        free(s->y_stop);
         free(s);
         return rc;
     }
@@ -196,11 +226,44 @@ int swim_ode_create(const char *method, const swim_ode_system *sys, const swim_o
     return SWIM_ODE_OK;
 }
 
+/* Step by step, locating events after each accepted step; a terminal event
+ * beyond tout is kept (stop_pending) and returned by the call whose tout
+ * reaches it, without further steps. */
+static int advance_with_events(swim_ode *s, double tout, double *yout)
+{
+    const ode_backend *be = s->be;
+    while (!s->stop_pending) {
+        int done = 0;
+        double ta = be->time(s->impl);
+        int rc = be->step(s->impl, tout, &done);
+        if (rc)
+            return rc;
+        if (done)
+            break;
+        double te;
+        const double *ye;
+        rc = ode_events_step(s->events, be, s->impl, ta, be->time(s->impl), &te, &ye);
+        if (rc == SWIM_ODE_TERMINATED) {
+            s->stop_pending = 1;
+            s->t_stop = te;
+            memcpy(s->y_stop, ye, s->n * sizeof(double));
+        } else if (rc) {
+            return rc;
+        }
+    }
+    if (s->stop_pending && tout >= s->t_stop) {
+        memcpy(yout, s->y_stop, s->n * sizeof(double));
+        s->terminated = 1;
+        return SWIM_ODE_TERMINATED;
+    }
+    return be->dense(s->impl, tout, yout, NULL) ? SWIM_ODE_EFAIL : SWIM_ODE_OK;
+}
+
 int swim_ode_advance(swim_ode *s, double tout, double *yout)
 {
-    if (!s || !yout || !(tout > s->tout_last) || !isfinite(tout))
+    if (!s || !yout || !(tout > s->tout_last) || !isfinite(tout) || s->terminated)
         return SWIM_ODE_EBADARG;
-    int rc = s->be->advance(s->impl, tout, yout);
+    int rc = s->events ? advance_with_events(s, tout, yout) : s->be->advance(s->impl, tout, yout);
     if (rc == SWIM_ODE_OK)
         s->tout_last = tout;
     return rc;
@@ -211,10 +274,16 @@ int swim_ode_get_stats(const swim_ode *s, swim_ode_stats *st)
     if (!s || !st)
         return SWIM_ODE_EBADARG;
     s->be->stats(s->impl, st);
+    ode_events_counts(s->events, &st->event_evals, &st->events);
     return SWIM_ODE_OK;
 }
 
-double swim_ode_time(const swim_ode *s) { return s ? s->be->time(s->impl) : NAN; }
+double swim_ode_time(const swim_ode *s)
+{
+    if (!s)
+        return NAN;
+    return s->terminated ? s->t_stop : s->be->time(s->impl);
+}
 int swim_ode_rhs_status(const swim_ode *s) { return s ? s->be->rhs_status(s->impl) : 0; }
 const char *swim_ode_method_name(const swim_ode *s) { return s ? s->name : NULL; }
 
@@ -223,5 +292,7 @@ void swim_ode_free(swim_ode *s)
     if (!s)
         return;
     s->be->destroy(s->impl);
+    ode_events_free(s->events);
+    free(s->y_stop);
     free(s);
 }

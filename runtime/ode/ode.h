@@ -100,7 +100,8 @@ typedef struct {
  * SWIM_ODE_TERMINATED with y(t_event) in yout (from the interpolant) and
  * swim_ode_time() = t_event; later events of that step are not reported and
  * the object cannot advance further.  g must depend on (t, y, yp) only; a NaN
- * value counts as "no sign information" (no event across it).  Extremes of a
+ * value counts as "no sign information" (no event across it), and so does
+ * g = 0 exactly at the initial time (no event at t0, as in ode113).  Extremes of a
  * quantity q(y) are zeros of dq/dt = grad q . y': pass that as g (e.g. yp[i] for
  * a component, or a difference of q along yp). */
 typedef double (*swim_ode_event_func)(double t, const double *y, const double *yp, void *data);

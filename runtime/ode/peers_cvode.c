@@ -48,6 +48,7 @@ typedef struct {
     SUNContext ctx;
     void *mem;
     N_Vector y, atolv;
+    N_Vector ky;       /* work vector for CVodeGetDky */
     SUNMatrix A;
     SUNLinearSolver LS;
     SUNNonlinearSolver NLS;
@@ -134,20 +135,17 @@ static void cv_destroy(void *p)
         N_VDestroy(c->y);
     if (c->atolv)
         N_VDestroy(c->atolv);
+    if (c->ky)
+        N_VDestroy(c->ky);
     if (c->ctx)
         SUNContext_Free(&c->ctx);
     free(c->yproj);
     free(c);
 }
 
-static int cv_advance(void *p, double tout, double *yout)
+/* CVODE's return value as a SWIM_ODE_* status. */
+static int cv_status(const cv_peer *c, int rc)
 {
-    cv_peer *c = p;
-    realtype t = c->t;
-    int rc = CVode(c->mem, tout, c->y, &t, CV_NORMAL);
-    memcpy(yout, N_VGetArrayPointer(c->y), c->sys.dimension * sizeof(double));
-    CVodeGetCurrentTime(c->mem, &t);
-    c->t = t;
     if (rc >= 0)
         return SWIM_ODE_OK;
     if (c->fatal)
@@ -169,6 +167,47 @@ static int cv_advance(void *p, double tout, double *yout)
         return c->last_failed ? SWIM_ODE_ERHS : SWIM_ODE_EHMIN;
     default: return c->last_failed ? SWIM_ODE_ERHS : SWIM_ODE_EFAIL;
     }
+}
+
+static int cv_advance(void *p, double tout, double *yout)
+{
+    cv_peer *c = p;
+    realtype t = c->t;
+    int rc = CVode(c->mem, tout, c->y, &t, CV_NORMAL);
+    memcpy(yout, N_VGetArrayPointer(c->y), c->sys.dimension * sizeof(double));
+    CVodeGetCurrentTime(c->mem, &t);
+    c->t = t;
+    return cv_status(c, rc);
+}
+
+/* For events: one internal step (CV_ONE_STEP) unless tout is covered already. */
+static int cv_step(void *p, double tout, int *done)
+{
+    cv_peer *c = p;
+    *done = c->t >= tout;
+    if (*done)
+        return SWIM_ODE_OK;
+    realtype t = c->t;
+    int rc = CVode(c->mem, tout, c->y, &t, CV_ONE_STEP);
+    CVodeGetCurrentTime(c->mem, &t);
+    c->t = t;
+    return cv_status(c, rc);
+}
+
+/* CVODE's interpolant on its last step (CVodeGetDky, derivatives 0 and 1). */
+static int cv_dense(void *p, double t, double *y, double *yp)
+{
+    cv_peer *c = p;
+    const size_t n = c->sys.dimension;
+    if (CVodeGetDky(c->mem, t, 0, c->ky) != CV_SUCCESS)
+        return -1;
+    memcpy(y, N_VGetArrayPointer(c->ky), n * sizeof(double));
+    if (yp) {
+        if (CVodeGetDky(c->mem, t, 1, c->ky) != CV_SUCCESS)
+            return -1;
+        memcpy(yp, N_VGetArrayPointer(c->ky), n * sizeof(double));
+    }
+    return 0;
 }
 
 static void cv_stats(const void *p, swim_ode_stats *st)
@@ -197,7 +236,7 @@ static double cv_time(const void *p) { return ((const cv_peer *)p)->t; }
 static int cv_rhs_status(const void *p) { return ((const cv_peer *)p)->rhs_status; }
 
 static const ode_backend cv_backend = { cv_destroy, cv_advance, cv_stats, cv_time, cv_rhs_status,
-                                        NULL, NULL };
+                                        cv_step, cv_dense };
 
 int swim_ode_cvode_create(const ode_method *m, const swim_ode_system *sys, const swim_ode_options *opt,
                           double t0, const double *y0, void **impl, const ode_backend **be)
@@ -217,6 +256,7 @@ int swim_ode_cvode_create(const ode_method *m, const swim_ode_system *sys, const
     c->t = t0;
     int ok = SUNContext_Create(NULL, &c->ctx) == 0;
     if (ok) ok = (c->y = N_VNew_Serial((sunindextype)n, c->ctx)) != NULL;
+    if (ok) ok = (c->ky = N_VNew_Serial((sunindextype)n, c->ctx)) != NULL;
     if (ok) {
         memcpy(N_VGetArrayPointer(c->y), y0, n * sizeof(double));
         ok = (c->mem = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, c->ctx)) != NULL;
