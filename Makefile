@@ -110,7 +110,7 @@ $(BUILD)/gen/swim_kernel_n%.c: generator/generate.py $(wildcard generator/swimge
 $(BUILD)/gen/%.o: $(BUILD)/gen/%.c
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
-TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_specialized.py tests/test_hard.py tests/test_plot.sh
+TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_events.py tests/test_specialized.py tests/test_hard.py tests/test_plot.sh
 
 test: $(BIN)/swim $(TEST_BINS)
 	@SWIM_BIN=$(CURDIR)/$(BIN)/swim bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)

@@ -15,6 +15,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/run_events.h"
 #include "io/csv.h"
 #include "io/files.h"
 #include "io/json.h"
@@ -44,6 +45,7 @@ typedef struct {
     double switch_t;      /* time of a switch to the stiff fallback integrator, or -1 */
     double integrate_seconds;   /* time inside the integrator (steps, RHS, interpolation) */
     char used[64];        /* integrator(s) used */
+    swim_run_events *events;    /* located events, or NULL */
 } run_report;
 
 static int columns(const swim_scene *s, const char **names, char storage[][24])
@@ -154,6 +156,7 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
             r->res_volume, r->res_volume_rate, r->res_angular, r->res_locks);
     fprintf(f, "  \"jmin\": ");
     swim_json_number(f, r->jmin);
+    swim_run_events_json(r->events, f);
     fprintf(f, ",\n  \"stats\": {\"steps\": %ld, \"rhs_evaluations\": %ld, \"rejected_steps\": %ld, "
             "\"jacobian_evaluations\": %ld, \"last_step\": %.6g, \"last_order\": %d, \"stiffness_suspected\": %s,\n"
             "            \"order_histogram\": [",
@@ -197,6 +200,23 @@ static void trace_step(const swim_ode_step *st, void *data)
         tr->ok = 0;
 }
 
+/* The row of trajectory.csv at integrator state ys (event functions evaluate columns). */
+typedef struct {
+    const swim_scene *s;
+    swim_dynamics *d;
+    double *full;
+} row_ctx;
+
+static int packed_row(void *p, double t, const double *ys, double *row)
+{
+    row_ctx *c = p;
+    swim_diag g;
+    swim_dynamics_unpack(c->d, ys, c->full);
+    if (swim_dynamics_diagnostics(c->d, c->full, &g) != 0) return -1;
+    row_values(c->s, t, c->full, &g, row);
+    return 0;
+}
+
 /* Add the counters of `ode` to `total` (a run may use two integrators). */
 static void accumulate_stats(swim_ode_stats *total, const swim_ode *ode)
 {
@@ -227,7 +247,7 @@ int swim_cmd_run(int argc, char **argv)
                        {"output-step", 1, NULL},
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
                        {"generic", 0, NULL}, {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL},
-                       {"trace-steps", 1, NULL}};
+                       {"trace-steps", 1, NULL}, {"event", 1, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
@@ -281,6 +301,11 @@ int swim_cmd_run(int argc, char **argv)
         return 2;
     }
     char path[1024];
+    const char *names[8 + 4 * SWIM_NMAX + 64];
+    char storage[2 * SWIM_NMAX][24];
+    int ncol = columns(&s, names, storage);
+    swim_run_events *events = NULL;
+    if (swim_run_events_parse(&s, argc, argv, names, ncol, &events)) { swim_scene_free(&s); return 2; }
     step_trace trace = {.d = NULL, .full = NULL, .open = 0, .ok = 0};
     if ((v = swim_args_get(opts, nopts, "trace-steps"))) {
         if (!(swim_ode_capabilities(s.integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
@@ -311,9 +336,6 @@ int swim_cmd_run(int argc, char **argv)
         else
             fprintf(stderr, "swim run: using the generic kernel instead\n");
     }
-    const char *names[8 + 4 * SWIM_NMAX + 64];
-    char storage[2 * SWIM_NMAX][24];
-    int ncol = columns(&s, names, storage);
     swim_csv csv;
     snprintf(path, sizeof path, "%s/trajectory.csv", dir);
     if (swim_csv_open(&csv, path, names, ncol) != 0) {
@@ -349,9 +371,15 @@ int swim_cmd_run(int argc, char **argv)
         o.on_step = trace_step;
         o.on_step_data = &trace;
     }
+    row_ctx rowc = {&s, &d, calloc((size_t)d.dim, sizeof(double))};
+    if (events && (!rowc.full || swim_run_events_attach(events, &o, (size_t)sdim, packed_row, &rowc) != 0)) {
+        fprintf(stderr, "swim run: out of memory\n");
+        return 1;
+    }
     swim_ode *ode = NULL;
     run_report r;
     memset(&r, 0, sizeof r);
+    r.events = events;
     r.switch_t = -1.0;
     snprintf(r.used, sizeof r.used, "%s", s.integrator);
     swim_ode_stats total;
@@ -392,6 +420,7 @@ int swim_cmd_run(int argc, char **argv)
                     fprintf(stderr, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g\n",
                             ts, s.integrator, s.stiff_fallback, t_last);
                 r.switch_t = t_last;
+                swim_run_events_rewind(events, t_last);
                 snprintf(r.used, sizeof r.used, "%s+%s", s.integrator, s.stiff_fallback);
                 memcpy(ys, ys_last, sizeof(double) * sdim);
                 o.stiff_stop = 0;
@@ -399,6 +428,11 @@ int swim_cmd_run(int argc, char **argv)
                 if (!(swim_ode_capabilities(s.stiff_fallback) & SWIM_ODE_CAP_STEP_TRACE)) o.on_step = NULL;
                 rc = swim_ode_create(s.stiff_fallback, &sys, &o, t_last, ys, &ode);
                 if (rc == SWIM_ODE_OK) rc = swim_ode_advance(ode, t, ys);
+            }
+            if (rc == SWIM_ODE_TERMINATED) {   /* a :stop event: the last row is at its time */
+                t = swim_ode_time(ode);
+                snprintf(r.reason, sizeof r.reason, "stopped by event %s at t = %.10g", swim_run_events_stop_name(events), t);
+                rc = SWIM_ODE_OK;
             }
             if (rc == SWIM_ODE_OK) {
                 /* Rows come from the interpolant, which leaves the constraint manifold by the local
@@ -457,6 +491,7 @@ int swim_cmd_run(int argc, char **argv)
             snprintf(r.reason, sizeof r.reason, "interrupted (SIGINT) at t = %.6g", t);
             break;
         }
+        if (r.reason[0]) break;   /* stopped by an event */
         double now = wall();
         if (!quiet && now - last_progress > 1.0) {
             fprintf(stderr, "\rswim run: t = %.4g / %.4g (%.0f%%)   ", t, s.t_end, 100.0 * t / s.t_end);
@@ -465,7 +500,7 @@ int swim_cmd_run(int argc, char **argv)
     }
     if (!quiet && last_progress > t_start) fputc('\n', stderr);
     sigaction(SIGINT, &old, NULL);
-    if (r.status == 0) snprintf(r.reason, sizeof r.reason, "reached t_end = %.6g", s.t_end);
+    if (r.status == 0 && !r.reason[0]) snprintf(r.reason, sizeof r.reason, "reached t_end = %.6g", s.t_end);
     if (ode) accumulate_stats(&total, ode);
     swim_ode_stats st = total;
     if (snap) {
@@ -477,6 +512,7 @@ int swim_cmd_run(int argc, char **argv)
         swim_csv_close(&trace.csv);
         free(trace.full);
     }
+    swim_run_events_write_csv(events, dir);
     snprintf(path, sizeof path, "%s/summary.json", dir);
     write_summary(path, &s, dir, &r, y, &st, &d, &spz, wall() - t_start);
     printf("%s: %s (%s); %ld rows in %s/trajectory.csv\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);
@@ -487,6 +523,8 @@ int swim_cmd_run(int argc, char **argv)
            r.drift_abs, r.e0, r.res_volume, r.res_angular, r.res_locks, r.jmin);
     printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", y[0], y[1], y[2]);
     swim_ode_free(ode);
+    swim_run_events_free(events);
+    free(rowc.full);
     swim_specialized_close(&spz);
     free(ys);
     free(ys_last);

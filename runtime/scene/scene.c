@@ -198,13 +198,14 @@ static int check_initial_velocity(ctx *c, const toml_value *shape, swim_scene *s
 
 static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
 {
-    static const char *const top[] = {"title", "model", "shape", "elastic", "barrier", "damping", "forcing", "run", NULL};
+    static const char *const top[] = {"title", "model", "shape", "elastic", "barrier", "damping", "forcing", "run", "events", NULL};
     static const char *const k_model[] = {"modes", "rho0", "rhof", NULL};
     static const char *const k_shape[] = {"c0", "dc0", "free", NULL};
     static const char *const k_elastic[] = {"stiffness", "reference", NULL};
     static const char *const k_barrier[] = {"epsilon", "alpha", NULL};
     static const char *const k_damping[] = {"diagonal", NULL};
     static const char *const k_forcing[] = {"law", "direction", NULL};
+    static const char *const k_events[] = {"list", NULL};
     static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "stiff_fallback", "project_initial", "projection", "step_lookahead", NULL};
     int rc;
     c->table = NULL;
@@ -336,6 +337,24 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
         if (!s->forcing) ERR(c, toml_get_key_line(fo, "law"), "law", "\"%s\": %s", s->forcing_text, err);
         if (get_vector(c, fo, "direction", s->n, 1, s->direction, NULL)) return 2;
         for (int i = 0; i < s->n; i++) s->forced |= s->direction[i] != 0.0;
+    }
+    const toml_value *evt = get_table(c, root, "events", 0, &rc);
+    if (rc) return rc;
+    if (evt) {
+        c->table = "events";
+        if (check_keys(c, evt, k_events)) return 2;
+        const toml_value *list = toml_get(evt, "list");
+        int line = list ? toml_get_key_line(evt, "list") : toml_line(evt);
+        if (!list || toml_kind_of(list) != TOML_ARRAY)
+            ERR(c, line, "list", "expected an array of \"COLUMN:KIND[:stop]\" strings, e.g. [\"energy:max\"]");
+        if (toml_array_size(list) > sizeof s->events / sizeof s->events[0])
+            ERR(c, line, "list", "more than %zu events", sizeof s->events / sizeof s->events[0]);
+        for (size_t j = 0; j < toml_array_size(list); j++) {
+            const char *e = toml_string(toml_array_at(list, j));
+            if (!e || strlen(e) >= sizeof s->events[0]) ERR(c, line, "list", "item %zu is not a string of at most %zu characters", j + 1, sizeof s->events[0] - 1);
+            snprintf(s->events[s->nevents++], sizeof s->events[0], "%s", e);
+        }
+        s->events_line = line;
     }
     c->table = "shape";
     return check_initial_velocity(c, shape, s);

@@ -43,6 +43,8 @@ typedef struct {
     int projection;                   /* drift control after each step (ABM), default on */
     int step_lookahead;               /* ABM step-size look-ahead p (swim_ode_options.lookahead); -1 = the integrator default */
     double projection_change;         /* max |change| of dc0 when projected */
+    char events[32][128];             /* [events] list: "COLUMN:KIND[:stop]" entries (checked by swim run) */
+    int nevents, events_line;         /* how many; the line of the list, for messages */
 } swim_scene;
 
 /* 0 on success; 2 after printing a one-line error naming the file, the key and the value. */
