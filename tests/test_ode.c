@@ -1083,6 +1083,106 @@ static void test_events(void)
     CHECK(swim_ode_create("abm", &sys, &o, 0.0, y0, &s) == SWIM_ODE_EBADARG && !s, "events without on_event");
 }
 
+/* The exact-Jacobian hook on two stiff problems: Robertson's kinetics (y0 + y1 + y2 = 1) and
+ * Van der Pol with mu = 1000.  With the analytic Jacobian, cvode-bdf and msbdf spend fewer
+ * evaluations of f (no difference quotients) at the same accuracy against a tight reference. */
+static int robertson_rhs(double t, const double *y, double *f, void *p)
+{
+    (void)t; (void)p;
+    f[0] = -0.04 * y[0] + 1e4 * y[1] * y[2];
+    f[2] = 3e7 * y[1] * y[1];
+    f[1] = -f[0] - f[2];
+    return 0;
+}
+static int robertson_jac(double t, const double *y, double *J, void *p)
+{
+    (void)t; (void)p;
+    J[0] = -0.04; J[1] = 1e4 * y[2]; J[2] = 1e4 * y[1];
+    J[6] = 0.0; J[7] = 6e7 * y[1]; J[8] = 0.0;
+    J[3] = -J[0] - J[6]; J[4] = -J[1] - J[7]; J[5] = -J[2] - J[8];
+    return 0;
+}
+static int vdp_rhs(double t, const double *y, double *f, void *p)
+{
+    (void)t; (void)p;
+    f[0] = y[1];
+    f[1] = 1000.0 * (1.0 - y[0] * y[0]) * y[1] - y[0];
+    return 0;
+}
+static int vdp_jac(double t, const double *y, double *J, void *p)
+{
+    (void)t; (void)p;
+    J[0] = 0.0; J[1] = 1.0;
+    J[2] = -2000.0 * y[0] * y[1] - 1.0; J[3] = 1000.0 * (1.0 - y[0] * y[0]);
+    return 0;
+}
+static int counted_jac_calls;
+static int counted_vdp_jac(double t, const double *y, double *J, void *p)
+{
+    counted_jac_calls++;
+    return vdp_jac(t, y, J, p);
+}
+
+static void test_user_jacobian(void)
+{
+    struct { const char *name; swim_ode_func f; swim_ode_jacobian jac; size_t n; double y0[3], T; } prob[2] = {
+        { "Robertson", robertson_rhs, robertson_jac, 3, { 1.0, 0.0, 0.0 }, 40.0 },
+        { "Van der Pol mu = 1000", vdp_rhs, vdp_jac, 2, { 2.0, 0.0, 0.0 }, 1000.0 },
+    };
+    static const char *const methods[] = { "cvode-bdf", "msbdf" };
+    for (int pi = 0; pi < 2; pi++) {
+        /* reference: cvode-bdf, exact Jacobian, rtol 1e-12 */
+        swim_ode_system sj = { prob[pi].f, prob[pi].n, NULL, prob[pi].jac };
+        double ref[3], y[3];
+        swim_ode_stats st;
+        int rc;
+        swim_ode_options o;
+        swim_ode_options_default(&o);
+        o.rtol = 1e-12;
+        o.atol = 1e-16;
+        swim_ode *s = NULL;
+        rc = swim_ode_create("cvode-bdf", &sj, &o, 0.0, prob[pi].y0, &s);
+        if (rc == 0)
+            rc = swim_ode_advance(s, prob[pi].T, ref);
+        swim_ode_free(s);
+        CHECK(rc == 0, "%s: reference run (rc %d)", prob[pi].name, rc);
+        for (int m = 0; m < 2; m++) {
+            double err[2];
+            long nfe[2], nje[2];
+            for (int withj = 0; withj < 2; withj++) {
+                swim_ode_system sys = { prob[pi].f, prob[pi].n, NULL, withj ? prob[pi].jac : NULL };
+                run(methods[m], &sys, 1e-6, 1e-10, 0.0, prob[pi].y0, prob[pi].T, y, &st, &rc);
+                CHECK(rc == 0, "%s, %s, %s Jacobian: ran (rc %d)", prob[pi].name, methods[m], withj ? "exact" : "DQ", rc);
+                double e = 0.0, scale = 0.0;
+                for (size_t i = 0; i < prob[pi].n; i++) {
+                    e = fmax(e, fabs(y[i] - ref[i]));
+                    scale = fmax(scale, fabs(ref[i]));
+                }
+                err[withj] = e / scale;
+                nfe[withj] = st.rhs_evals;
+                nje[withj] = st.jac_evals;
+            }
+            CHECK(nfe[1] < nfe[0], "%s, %s: fewer evaluations of f with the exact Jacobian (%ld vs %ld)",
+                  prob[pi].name, methods[m], nfe[1], nfe[0]);
+            CHECK(nje[1] > 0, "%s, %s: the exact Jacobian is counted (%ld)", prob[pi].name, methods[m], nje[1]);
+            /* same accuracy: both at the level the tolerance gives, neither 10x worse than the other */
+            CHECK(err[1] <= 1e-3 && err[0] <= 1e-3 && err[1] <= 10 * err[0] && err[0] <= 10 * err[1],
+                  "%s, %s: error %.3g with the exact Jacobian, %.3g with differences", prob[pi].name, methods[m], err[1], err[0]);
+            printf("%s, %s, rtol 1e-6: %ld evaluations of f and %ld Jacobians (relative error %.2g) with the exact Jacobian; "
+                   "%ld and %ld (%.2g) with difference quotients\n",
+                   prob[pi].name, methods[m], nfe[1], nje[1], err[1], nfe[0], nje[0], err[0]);
+        }
+    }
+    /* integrators that need no Jacobian never call it */
+    counted_jac_calls = 0;
+    swim_ode_system sc = { vdp_rhs, 2, NULL, counted_vdp_jac };
+    double y0[2] = { 2.0, 0.0 }, y[2];
+    int rc;
+    run("abm", &sc, 1e-6, 1e-10, 0.0, y0, 1.0, y, NULL, &rc);
+    run("cvode-adams", &sc, 1e-6, 1e-10, 0.0, y0, 1.0, y, NULL, &rc);
+    CHECK(counted_jac_calls == 0, "abm and cvode-adams do not call the Jacobian (%d calls)", counted_jac_calls);
+}
+
 int main(void)
 {
     test_harmonic();
@@ -1102,5 +1202,6 @@ int main(void)
     test_registry();
     test_cvode_projection();
     test_events();
+    test_user_jacobian();
     return check_report("test_ode");
 }

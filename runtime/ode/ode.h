@@ -76,10 +76,11 @@ typedef struct {
     size_t dimension;
     void *params;
     /* NULL: integrators with SWIM_ODE_CAP_JACOBIAN form J by difference quotients
-     * (msbdf: forward differences, n + 2 calls of f; cvode-bdf: CVODE's own, n + 1).
-     * Given: cvode-bdf uses it as its dense Jacobian (CVodeSetJacFn); msbdf
-     * through gsl_odeiv2_system.jacobian, with df/dt, which GSL also asks for,
-     * by one forward difference in t (one call of f). */
+     * (msbdf: forward differences, n + 2 calls of f with df/dt; cvode-bdf: CVODE's
+     * own, n calls).  Given: cvode-bdf uses it as its dense Jacobian (CVodeSetJacFn);
+     * msbdf through gsl_odeiv2_system.jacobian, whose df/dt is set to 0: msbdf reads
+     * only df/dy (its Newton matrix is I - gamma J; GSL 2.7), so computing df/dt
+     * would cost a call of f for nothing.  Counted in swim_ode_stats.jac_evals. */
     swim_ode_jacobian jacobian;
 } swim_ode_system;
 

@@ -55,6 +55,7 @@ typedef struct {
     int bdf;
     int (*project)(double t, double *y, void *params);   /* swim's projection, or NULL */
     double *yproj;     /* work vector for the projection (n) */
+    double *jwork;     /* the caller's row-major Jacobian (n x n), or NULL */
     double t;
     long nfe_user;
     int rhs_status;    /* last nonzero value returned by the RHS */
@@ -91,6 +92,30 @@ static int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void *p)
     }
     c->fatal = 1;
     return -1;          /* unrecoverable */
+}
+
+/* CVLsJacFn: the caller's row-major J into CVODE's dense (column-major) matrix.  Return
+ * values as for the RHS: positive makes the linear-solver setup fail recoverably (CVODE
+ * retries with a smaller step), negative is fatal. */
+static int cv_jac(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *p, N_Vector t1, N_Vector t2, N_Vector t3)
+{
+    (void)fy; (void)t1; (void)t2; (void)t3;
+    cv_peer *c = p;
+    const size_t n = c->sys.dimension;
+    int rc = c->sys.jacobian(t, N_VGetArrayPointer(y), c->jwork, c->sys.params);
+    if (rc) {
+        c->rhs_status = rc;
+        c->last_failed = 1;
+        if (rc < 0)
+            c->fatal = 1;
+        return rc < 0 ? -1 : 1;
+    }
+    for (size_t j = 0; j < n; j++) {
+        realtype *col = SM_COLUMN_D(J, (sunindextype)j);
+        for (size_t i = 0; i < n; i++)
+            col[i] = c->jwork[i * n + j];
+    }
+    return 0;
 }
 
 /* CVProjFn: corr = P(ycur) - ycur with swim's in-place projection P. */
@@ -140,6 +165,7 @@ static void cv_destroy(void *p)
     if (c->ctx)
         SUNContext_Free(&c->ctx);
     free(c->yproj);
+    free(c->jwork);
     free(c);
 }
 
@@ -278,6 +304,10 @@ int swim_ode_cvode_create(const ode_method *m, const swim_ode_system *sys, const
             ok = (c->A = SUNDenseMatrix((sunindextype)n, (sunindextype)n, c->ctx)) != NULL;
             if (ok) ok = (c->LS = SUNLinSol_Dense(c->y, c->A, c->ctx)) != NULL;
             if (ok) ok = CVodeSetLinearSolver(c->mem, c->LS, c->A) == CV_SUCCESS;
+            if (ok && sys->jacobian) {
+                ok = (c->jwork = malloc(n * n * sizeof(double))) != NULL;
+                if (ok) ok = CVodeSetJacFn(c->mem, cv_jac) == CV_SUCCESS;
+            }
         } else {
             ok = (c->NLS = SUNNonlinSol_FixedPoint(c->y, 0, c->ctx)) != NULL;
             if (ok) ok = CVodeSetNonlinearSolver(c->mem, c->NLS) == CV_SUCCESS;

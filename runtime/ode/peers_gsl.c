@@ -67,6 +67,22 @@ static int gsl_rhs(double t, const double *y, double *f, void *p)
     return GSL_RHS_DOMAIN;
 }
 
+/* The caller's Jacobian.  msbdf, the one GSL stepper here that calls a Jacobian, reads only
+ * df/dy (its Newton matrix is I - gamma df/dy; GSL 2.7 msbdf.c never reads dfdt), so df/dt is
+ * set to 0 instead of being formed by an extra evaluation of f. */
+static int gsl_user_jac(double t, const double *y, double *dfdy, double *dfdt, void *p)
+{
+    gsl_peer *g = p;
+    size_t n = g->sys.dimension;
+    g->njac++;
+    int rc = g->sys.jacobian(t, y, dfdy, g->sys.params);
+    memset(dfdt, 0, n * sizeof(double));
+    if (rc == 0)
+        return GSL_SUCCESS;
+    g->rhs_status = rc;
+    return rc < 0 ? GSL_EBADFUNC : GSL_RHS_DOMAIN;   /* positive: msbdf's failure handler retries smaller */
+}
+
 /* Forward-difference Jacobian (n+2 RHS evaluations including df/dt). */
 static int gsl_jac(double t, const double *y, double *dfdy, double *dfdt, void *p)
 {
@@ -233,7 +249,7 @@ int swim_ode_gsl_create(const ode_method *m, const swim_ode_system *sys, const s
     g->opt.atol_vec = opt->atol_vec ? g->scale_abs : NULL;
     g->type = type;
     g->gsys.function = gsl_rhs;
-    g->gsys.jacobian = gsl_jac;
+    g->gsys.jacobian = sys->jacobian ? gsl_user_jac : gsl_jac;
     g->gsys.dimension = n;
     g->gsys.params = g;
     g->t = g->t0 = t0;
