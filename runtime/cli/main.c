@@ -20,7 +20,7 @@ static const command commands[] = {
      "simulate a scene: DIR/trajectory.csv, snapshots.json, summary.json\n"
      "           [--out DIR] [--t-end T] [--output-step DT] [--rtol R] [--atol A]\n"
      "           [--integrator NAME] [--generic] [--no-projection] [--step-lookahead P]\n"
-     "           [--trace-steps FILE] [--quiet]",
+     "           [--trace-steps FILE] [--event COLUMN:KIND[:stop]]... [--quiet]",
      "swim run models/example3.toml --out out/example3 --rtol=1e-10"},
     {"plot", swim_cmd_plot, "PNG figures of a run directory (matplotlib)", "swim plot out/example3"},
 };
