@@ -207,11 +207,16 @@ typedef struct {
     double *full;
 } row_ctx;
 
-static int packed_row(void *p, double t, const double *ys, double *row)
+static int packed_row(void *p, double t, const double *ys, int all, double *row)
 {
     row_ctx *c = p;
     swim_diag g;
     swim_dynamics_unpack(c->d, ys, c->full);
+    if (!all) {   /* t and the state columns only */
+        row[0] = t;
+        memcpy(row + 1, c->full, sizeof(double) * (3 + 2 * c->s->n));
+        return 0;
+    }
     if (swim_dynamics_diagnostics(c->d, c->full, &g) != 0) return -1;
     row_values(c->s, t, c->full, &g, row);
     return 0;
@@ -372,7 +377,7 @@ int swim_cmd_run(int argc, char **argv)
         o.on_step_data = &trace;
     }
     row_ctx rowc = {&s, &d, calloc((size_t)d.dim, sizeof(double))};
-    if (events && (!rowc.full || swim_run_events_attach(events, &o, (size_t)sdim, packed_row, &rowc) != 0)) {
+    if (events && (!rowc.full || swim_run_events_attach(events, &o, (size_t)sdim, 3 + 2 * s.n, packed_row, &rowc) != 0)) {
         fprintf(stderr, "swim run: out of memory\n");
         return 1;
     }

@@ -59,6 +59,8 @@ struct swim_run_events {
     void *ctx;
     size_t dim;              /* integrator state dimension */
     int ncol;                /* columns of a row */
+    int nstate;              /* state columns after t */
+    int all;                 /* some event needs a column beyond the state (diagnostics) */
     double *work;            /* perturbed state (dim) */
     double *rowv, *rowp[4];  /* row at y; rows at y + e y', y - e y', y + 2e y', y - 2e y' */
     /* cache: the point of the last evaluation */
@@ -180,7 +182,7 @@ static int eval_point(swim_run_events *ev, double t, const double *y, const doub
         ev->cache_value = ev->cache_deriv = 0;
     }
     if (!deriv && !ev->cache_value) {
-        if (ev->row(ev->ctx, t, y, ev->rowv))
+        if (ev->row(ev->ctx, t, y, ev->all, ev->rowv))
             return -1;
         ev->cache_value = 1;
     }
@@ -193,10 +195,10 @@ static int eval_point(swim_run_events *ev, double t, const double *y, const doub
         for (int k = 0; k < 4; k++) {
             for (size_t i = 0; i < n; i++)
                 ev->work[i] = y[i] + mult[k] * e * yp[i];
-            if (ev->row(ev->ctx, t, ev->work, ev->rowp[k]))
+            if (ev->row(ev->ctx, t, ev->work, ev->all, ev->rowp[k]))
                 return -1;
         }
-        for (int c = 0; c < ev->ncol; c++) {
+        for (int c = 0; c < (ev->all ? ev->ncol : 1 + ev->nstate); c++) {
             double d1 = (ev->rowp[0][c] - ev->rowp[1][c]) / (2.0 * e);
             double d2 = (ev->rowp[2][c] - ev->rowp[3][c]) / (4.0 * e);
             ev->drow[c] = (4.0 * d1 - d2) / 3.0;
@@ -237,11 +239,15 @@ static void on_event(const swim_ode_event_hit *hit, void *data)
         ev->stopped_by = hit->index;
 }
 
-int swim_run_events_attach(swim_run_events *ev, swim_ode_options *o, size_t state_dim, swim_run_row_func row,
-                           void *ctx)
+int swim_run_events_attach(swim_run_events *ev, swim_ode_options *o, size_t state_dim, int nstate,
+                           swim_run_row_func row, void *ctx)
 {
     if (!ev)
         return 0;
+    ev->all = 0;
+    ev->nstate = nstate;
+    for (int i = 0; i < ev->nspec; i++)
+        ev->all |= ev->specs[i].column > nstate;
     ev->row = row;
     ev->ctx = ctx;
     ev->dim = state_dim;

@@ -17,8 +17,10 @@
 
 typedef struct swim_run_events swim_run_events;
 
-/* The values of every column of trajectory.csv (names[0] = "t") at integrator state ys. */
-typedef int (*swim_run_row_func)(void *ctx, double t, const double *ys, double *row);
+/* The values of the columns of trajectory.csv (names[0] = "t") at integrator state ys: all of
+ * them, or with all = 0 only t and the state columns (x, y, theta, coordinates, velocities:
+ * no diagnostics needed). */
+typedef int (*swim_run_row_func)(void *ctx, double t, const double *ys, int all, double *row);
 
 /* Collects the scene's [events] list and every --event of argv, checks them against the
  * columns (names[0..ncol), names[0] = "t") and the integrator's capabilities.  0 with *out
@@ -26,10 +28,11 @@ typedef int (*swim_run_row_func)(void *ctx, double t, const double *ys, double *
 int swim_run_events_parse(const swim_scene *s, int argc, char **argv, const char *const *names, int ncol,
                           swim_run_events **out);
 
-/* Registers the events in o (o->events, o->on_event); row(ctx, ...) gives the columns,
- * state_dim is the integrator's state dimension.  0, or -1 when out of memory. */
-int swim_run_events_attach(swim_run_events *ev, swim_ode_options *o, size_t state_dim, swim_run_row_func row,
-                           void *ctx);
+/* Registers the events in o (o->events, o->on_event); row(ctx, ...) gives the columns, the
+ * first nstate of which (after t) are state columns; state_dim is the integrator's state
+ * dimension.  0, or -1 when out of memory. */
+int swim_run_events_attach(swim_run_events *ev, swim_ode_options *o, size_t state_dim, int nstate,
+                           swim_run_row_func row, void *ctx);
 
 /* The integrator was restarted at t (stiff fallback): forget events found after t. */
 void swim_run_events_rewind(swim_run_events *ev, double t);
