@@ -316,11 +316,13 @@ int swim_cmd_run(int argc, char **argv)
         if (!(swim_ode_capabilities(s.integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
             fprintf(stderr, "swim run: --trace-steps: integrator '%s' does not report its steps\n", s.integrator);
             swim_scene_free(&s);
+            swim_run_events_free(events);
             return 2;
         }
         if (swim_csv_open(&trace.csv, v, trace_columns, 9) != 0) {
             fprintf(stderr, "swim run: --trace-steps: cannot write '%s': %s\n", v, strerror(errno));
             swim_scene_free(&s);
+            swim_run_events_free(events);
             return 2;
         }
         trace.open = trace.ok = 1;
@@ -330,6 +332,7 @@ int swim_cmd_run(int argc, char **argv)
         fprintf(stderr, "swim run: out of memory\n");
         if (trace.open) swim_csv_close(&trace.csv);
         swim_scene_free(&s);
+        swim_run_events_free(events);
         return 1;
     }
     d.interrupt = (volatile int *)&interrupted;
@@ -348,6 +351,7 @@ int swim_cmd_run(int argc, char **argv)
         if (trace.open) swim_csv_close(&trace.csv);
         swim_dynamics_free(&d);
         swim_scene_free(&s);
+        swim_run_events_free(events);
         return 2;
     }
     snprintf(path, sizeof path, "%s/snapshots.json", dir);
@@ -379,6 +383,7 @@ int swim_cmd_run(int argc, char **argv)
     row_ctx rowc = {&s, &d, calloc((size_t)d.dim, sizeof(double))};
     if (events && (!rowc.full || swim_run_events_attach(events, &o, (size_t)sdim, 3 + 2 * s.n, packed_row, &rowc) != 0)) {
         fprintf(stderr, "swim run: out of memory\n");
+        swim_run_events_free(events);
         return 1;
     }
     swim_ode *ode = NULL;
