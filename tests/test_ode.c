@@ -1069,6 +1069,39 @@ static void test_events(void)
         swim_ode_free(s);
     }
 
+    /* A terminal event found in a step that reaches beyond the current tout is kept: the outputs
+     * before it still come (from the interpolant), and the call whose tout passes it stops. */
+    for (int mth = 0; mth < 3; mth++) {
+        swim_ode_event ev = { ev_y0, NULL, -1, 1 };
+        ev_log L;
+        memset(&L, 0, sizeof L);
+        swim_ode_options o;
+        swim_ode_options_default(&o);
+        o.rtol = 1e-12;
+        o.atol = 1e-14;
+        o.events = &ev;
+        o.nevents = 1;
+        o.on_event = ev_record;
+        o.on_event_data = &L;
+        swim_ode *s = NULL;
+        int rc = swim_ode_create(methods[mth], &sys, &o, 0.0, y0, &s);
+        double y[2], worst = 0.0;
+        int k = 1, early = 0;
+        for (; rc == 0 && k <= 300; k++) {
+            rc = swim_ode_advance(s, 0.01 * k, y);
+            if (rc == 0) {
+                worst = fmax(worst, fabs(y[0] - cos(0.01 * k)) + fabs(y[1] + sin(0.01 * k)));
+                early += L.n > 0;   /* outputs after the event was located, before its time */
+            }
+        }
+        k--;
+        CHECK(rc == SWIM_ODE_TERMINATED && k == 158, "%s: the call with tout = 1.58 stops (rc %d, call %d)", methods[mth], rc, k);
+        CHECK(early > 0, "%s: the event was located ahead of the outputs before it (%d outputs after)", methods[mth], early);
+        CHECK(worst <= 1e-10, "%s: outputs before the terminal event (worst error %.3g)", methods[mth], worst);
+        CHECK(fabs(y[0]) <= 1e-10 && fabs(swim_ode_time(s) - PI / 2) <= 1e-10, "%s: state at the event", methods[mth]);
+        swim_ode_free(s);
+    }
+
     /* bad event lists */
     swim_ode_event bad = { NULL, NULL, 0, 0 };
     swim_ode_options o;
