@@ -66,11 +66,13 @@ def test_fig48_instants():
 
 
 def test_events_do_not_change_the_run():
-    swimtest.run(EX3, "ev_none", "--t-end", "5")
-    swimtest.run(EX3, "ev_some", "--t-end", "5", *event_args(FIG48 + ["am1:zero", "y:max"]))
-    with open(os.path.join(TMP, "ev_none", "trajectory.csv"), "rb") as f1, \
-            open(os.path.join(TMP, "ev_some", "trajectory.csv"), "rb") as f2:
-        check(f1.read() == f2.read(), "trajectory.csv identical with and without events")
+    for integ in ("abm", "cvode-bdf"):
+        swimtest.run(EX3, "ev_none_" + integ, "--t-end", "5", "--integrator", integ)
+        swimtest.run(EX3, "ev_some_" + integ, "--t-end", "5", "--integrator", integ,
+                     *event_args(FIG48 + ["am1:zero", "y:max"]))
+        with open(os.path.join(TMP, "ev_none_" + integ, "trajectory.csv"), "rb") as f1, \
+                open(os.path.join(TMP, "ev_some_" + integ, "trajectory.csv"), "rb") as f2:
+            check(f1.read() == f2.read(), "%s: trajectory.csv identical with and without events" % integ)
 
 
 def test_period_and_displacement():
