@@ -10,6 +10,7 @@ flow of each frame come from `swim flow DIR --frames K` ($SWIM_BIN, or bin/swim 
 Each frame is drawn by matplotlib (Agg) into a raw RGB buffer piped to ffmpeg (H.264, yuv420p,
 playable by browsers). Progress goes to stderr.
 
+Also writes a still (the frame at one third) next to the video: DIR/animation.png.
 Defaults: 25 frames per second, duration = simulated time clamped to [4, 20] s.
 Exit status: 0 written, 1 failed (ffmpeg missing, swim flow failed), 2 bad arguments.
 """
@@ -122,6 +123,7 @@ def main(argv):
     duration = opts["duration"] or min(max(t1 - t0, 4.0), 20.0)
     frames = max(2, int(round(fps * duration)))
     out = opts["out"] or os.path.join(outdir, "animation.mp4")
+    poster = os.path.splitext(out)[0] + ".png"
     clock = time.time()
 
     print("swim animate: computing %d flow frames (swim flow)" % frames, file=sys.stderr)
@@ -247,6 +249,8 @@ def main(argv):
             else:
                 fig.canvas.draw()
             enc.stdin.write(fig.canvas.buffer_rgba())
+            if i == frames // 3:   # a still for the page (<video poster>) and for a quick look
+                plt.imsave(poster, np.asarray(fig.canvas.buffer_rgba()))
             now = time.time()
             if now - last > 1.0 or i == frames - 1:
                 print("\rswim animate: frame %d / %d (t = %.3g)   " % (i + 1, frames, s["t"]),
