@@ -862,7 +862,7 @@ def fig_phase3d(run):
     order = list(cols.keys())
     names.sort(key=order.index)
     from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the 3d projection)
-    fig = plt.figure(figsize=(12.0, 4.6 if len(names) > 2 else 5.0))
+    fig = plt.figure(figsize=(12.0, 4.0 if len(names) > 2 else 5.0))
     for i, name in enumerate(names):
         ax = fig.add_subplot(1, len(names), i + 1, projection="3d")
         q, dq = cols[name], cols["d" + name]
@@ -875,7 +875,7 @@ def fig_phase3d(run):
         ax.set_title("(%s, %s, t)" % (coord_label(name), coord_label(name, dot=True)))
         ax.view_init(elev=22, azim=-58)
     run.suptitle(fig, "phase curves in time")
-    fig.subplots_adjust(left=0.0, right=0.98, bottom=0.04, top=0.86, wspace=0.05)
+    fig.subplots_adjust(left=0.0, right=0.98, bottom=0.0, top=0.93, wspace=0.05)
     return save(fig, run, "phase3d")
 
 

@@ -30,7 +30,10 @@ import plot_run  # noqa: E402  (figures are drawn by the code behind `swim plot`
 SWIM = os.environ.get("SWIM_BIN") or os.path.join(ROOT, "bin", "swim")
 PYTHON = os.environ.get("PYTHON") or "/usr/bin/python3"
 
-# Events asked of `swim run` per scene (COLUMN:KIND): the instants the paper's figures mark.
+# Events asked of `swim run` per scene (COLUMN:KIND): the instants the paper's figures mark,
+# and for every scene the maxima of a_-1, the most active coordinate of every paper scene, whose
+# spacing is the period of a stroke (and the displacement between them the gain per stroke).
+STROKE = ("am1", "max")
 EVENTS = {
     # Fig. 4.4: the dashed line is where the rigid velocity vanishes; the motion is along y, so
     # that is a zero of the body's y-impulse (impulse = mass x velocity).
@@ -115,7 +118,7 @@ class SceneRun:
         if self.opts["t-end"]:
             cmd += ["--t-end", self.opts["t-end"]]
         if self.with_events:
-            for e in EVENTS.get(self.name, []):
+            for e in EVENTS.get(self.name, []) + [":".join(STROKE)]:
                 cmd += ["--event", e]
         t = time.time()
         p = subprocess.run(cmd, capture_output=True, text=True)
@@ -224,12 +227,20 @@ def y_text(r):
 
 
 def strokes(r):
-    """Stroke period from the maxima of the potential energy (or of the shape kinetic energy)."""
-    col = "potential" if np.ptp(r.col("potential")) > 1e-9 else "kinetic_shape"
-    ev = r.find_events(col, "max")
+    """(mean period, count, mean displacement) of the strokes, from the maxima of a_-1."""
+    ev = r.find_events(*STROKE)
     if len(ev) < 2:
         return None
-    return float(np.mean(np.diff(ev))), len(ev), col
+    y = np.interp(ev, r.col("t"), r.col("y"))
+    return float(np.mean(np.diff(ev))), len(ev), float(np.mean(np.diff(y)))
+
+
+def stroke_text(r):
+    p = strokes(r)
+    if not p:
+        return ""
+    return (" %d maxima of a₋₁ (strokes) spaced %s on average, the centre gaining %s in y "
+            "between them." % (p[1], fmt(p[0]), fmt(p[2])))
 
 
 def cap_fig41(r):
@@ -243,19 +254,16 @@ def cap_fig41(r):
 def cap_fig42(r):
     p = strokes(r)
     s = ("The paper plots y(t) for ten initial velocities β̇₀ from −2 to 2. Ours is the one "
-         "curve β̇₀ = −1 (the family needs the sweeps of another change): %s. " % y_text(r))
-    if p:
-        s += ("Period of the strokes %s (mean spacing of %d maxima of the %s energy), i.e. "
-              "%s per stroke." % (fmt(p[0]), p[1], p[2].replace("_", " "),
-                                  fmt(r.col("y")[-1] / r.col("t")[-1] * p[0])))
-    return s
+         "curve β̇₀ = −1 (the family of runs is not built here): %s." % y_text(r))
+    return s + stroke_text(r)
 
 
 def cap_fig43(r):
     return ("The paper shows ten screenshots over one stroke, t = 0 … 8.1: the body, its density "
             "(compression mainly along the boundary) and the fluid velocity. Ours at the same "
             "times: the same sequence, density highest near the boundary (max ρ₀/J over the run "
-            "%s, min J = %s)." % (fmt(1.0 / r.summary["jmin"]), fmt(r.summary["jmin"])))
+            "%s, min J = %s).%s" % (fmt(1.0 / r.summary["jmin"]), fmt(r.summary["jmin"]),
+                                    stroke_text(r)))
 
 
 def cap_fig44(r):
@@ -306,12 +314,7 @@ def fig48_marks(r):
 
 
 def cap_traj(r, paper):
-    p = strokes(r)
-    s = "%s Ours: %s." % (paper, y_text(r))
-    if p:
-        s += " Strokes every %s (mean spacing of %d maxima of the %s energy)." % (
-            fmt(p[0]), p[1], p[2].replace("_", " "))
-    return s
+    return "%s Ours: %s.%s" % (paper, y_text(r), stroke_text(r))
 
 
 def cap_energy(r, paper):
@@ -394,17 +397,20 @@ def cap_modes(r):
 
 
 def cap_fig51(r):
+    t, y = r.col("t"), r.col("y")
     return ("The paper shows sixteen screenshots over [0, 25]: the ball, at rest at t = 0, "
-            "deforms under the internal forces and swims along y. Ours at the same times: %s."
-            % y_text(r))
+            "deforms under the internal forces and swims along y. Ours at the same times: "
+            "y(25) = %s; over the whole run %s." % (fmt(np.interp(25.0, t, y)), y_text(r)))
 
 
 def cap_fig53(r):
     e, w = r.col("energy"), r.col("work")
-    return ("The paper: the energy is not conserved any more, it starts at 0 and follows the "
-            "work of the internal forces. Ours: E(0) = %s, E(T) = %s, work of forcing and damping "
-            "%s, so E − E(0) − work ≤ %s over the run (5.3)." % (
-                fmt(e[0], 2), fmt(e[-1]), fmt(w[-1]),
+    return ("The paper: the energy is not conserved any more, it starts at 0 (rest) and follows "
+            "the work of the internal forces. Ours: E(0) = %s, all of it the barrier energy W₂ of "
+            "the disc at rest (W₂(0) = %s), which the paper, saying the energy is 0 at rest, does "
+            "not count; E(T) = %s, "
+            "work of forcing and damping %s, and |E − E(0) − work| ≤ %s over the run (5.3)." % (
+                fmt(e[0], 3), fmt(r.col("w2")[0], 3), fmt(e[-1], 3), fmt(w[-1], 3),
                 fmt(np.abs(e - e[0] - w).max(), 2)))
 
 
