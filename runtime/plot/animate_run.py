@@ -108,6 +108,22 @@ def window(snaps, path_xy, size):
     return (cx - half, cx + half, cy - half, cy + half)
 
 
+def reuse_mesh(mesh, density):
+    """Moves the Gouraud mesh of the previous frame to this frame's grid, which has the same
+    shape (creating a new QuadMesh costs as much as drawing it). False when it cannot."""
+    if mesh is None or density is None or getattr(mesh, "_shading", None) != "gouraud":
+        return False
+    X, Y, R = density
+    coords = getattr(mesh, "_coordinates", None)
+    if coords is None or coords.shape != X.shape + (2,) or not np.isfinite(R).all():
+        return False
+    coords[..., 0] = X
+    coords[..., 1] = Y
+    mesh.set_array(R.ravel() if np.ndim(mesh.get_array()) == 1 else R)
+    mesh.stale = True
+    return True
+
+
 def main(argv):
     outdir, opts = parse_args(argv)
     if shutil.which("ffmpeg") is None:
@@ -203,7 +219,7 @@ def main(argv):
 
     cmd = ["ffmpeg", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgba",
            "-s", "%dx%d" % (WIDTH, HEIGHT), "-r", "%g" % fps, "-i", "-", "-an",
-           "-c:v", "libx264", "-preset", "veryfast", "-crf", "26", "-pix_fmt", "yuv420p",
+           "-c:v", "libx264", "-preset", "ultrafast", "-crf", "26", "-pix_fmt", "yuv420p",
            "-movflags", "+faststart", out + ".part.mp4"]
     enc = subprocess.Popen(cmd, stdin=subprocess.PIPE)
     mesh = None
@@ -219,13 +235,14 @@ def main(argv):
         background = fig.canvas.copy_from_bbox(fig.bbox)
     try:
         for i, s in enumerate(snaps):
-            if mesh is not None:
-                mesh.remove()
-                mesh = None
-            if s["density"] is not None:
-                mesh = plot_run.draw_density(axb, s["density"], norm)
-                if mesh is not None and background is not None:
-                    mesh.set_animated(True)
+            if not reuse_mesh(mesh, s["density"]):
+                if mesh is not None:
+                    mesh.remove()
+                    mesh = None
+                if s["density"] is not None:
+                    mesh = plot_run.draw_density(axb, s["density"], norm)
+                    if mesh is not None and background is not None:
+                        mesh.set_animated(True)
             if s["boundary"] is not None:
                 bx, by = s["boundary"]
                 outline.set_data(np.append(bx, bx[:1]), np.append(by, by[:1]))
