@@ -72,5 +72,34 @@ def test_2_checker_catches_faults():
     os.remove(os.path.join(OUT, "empty.png"))
 
 
+def test_3_instants_from_events_csv():
+    """The page takes Fig. 4.8's instants from DIR/events.csv (t,column,kind,value) when the run
+    has one -- here a synthetic file -- and falls back to the rows only without it."""
+    import build_paper
+    d = os.path.join(swimtest.TMP, "ev3")
+    p, rows, _ = swimtest.run("models/example3.toml", "ev3", "--t-end", "10")
+    r = build_paper.SceneRun("example3", swimtest.TMP, {}, False)
+    r.dir = d
+    r.rows = rows
+    r.events, r.events_source = [], None
+    from_rows = build_paper.fig48_marks(r)
+    check(from_rows is not None and max(abs(a - b) for a, b in
+                                        zip(from_rows, [3.17, 3.95, 6.07, 9.50])) < 0.01,
+          "Fig. 4.8 instants from the rows: %s" % from_rows)
+    planted = [3.1701, 3.9502, 6.0703, 9.5004]
+    with open(os.path.join(d, "events.csv"), "w") as fh:
+        fh.write("t,column,kind,value\n")
+        for t, (_, col, kind) in zip(planted, build_paper.FIG48):
+            fh.write("%r,%s,%s,0\n" % (t, col, kind))
+        fh.write("20.0,kinetic_rigid,max,0\n")
+    r.events = build_paper.plot_run.read_events(os.path.join(d, "events.csv"))
+    r.events_source = "events.csv"
+    check(build_paper.fig48_marks(r) == planted, "instants not from events.csv: %s"
+          % build_paper.fig48_marks(r))
+    check(r.find_events("potential", "zero") == [],
+          "with events.csv, a kind it lacks must not fall back to the rows")
+    check(build_paper.strokes(r) is None, "strokes found without a_-1 events in events.csv")
+
+
 if __name__ == "__main__":
     sys.exit(swimtest.main(globals(), "test_paper"))
