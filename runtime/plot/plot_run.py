@@ -719,7 +719,7 @@ def draw_panels(run, snaps, name, title):
 
     n = len(snaps)
     ncols = min(n, 5 if n != 6 else 3)
-    if n in (7, 8):
+    if n in (7, 8) or (n > 8 and n % 4 == 0 and n % 5 != 0):
         ncols = 4
     nrows = int(math.ceil(n / ncols))
     wx, wy = xlim[1] - xlim[0], ylim[1] - ylim[0]
