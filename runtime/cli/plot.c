@@ -1,5 +1,6 @@
 /* swim plot DIR: the figures of a run (runtime/plot/plot_run.py, matplotlib). */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -16,6 +17,13 @@ int swim_cmd_plot(int argc, char **argv)
     if (access(argv[2], R_OK) != 0) {
         fprintf(stderr, "swim plot: cannot read run directory '%s'\n", argv[2]);
         return 2;
+    }
+    /* The script calls back `swim flow` for the body pictures: tell it which binary this is. */
+    char self[1024];
+    ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (len > 0) {
+        self[len] = '\0';
+        setenv("SWIM_BIN", self, 1);
     }
     char script[1024];
     snprintf(script, sizeof script, "%s/runtime/plot/plot_run.py", SWIM_ROOT);

@@ -1,4 +1,6 @@
-/* swim run: one scene end to end -- trajectory.csv, snapshots.json and summary.json in DIR.
+/* swim run: one scene end to end -- trajectory.csv, summary.json and a copy of the scene
+ * (scene.toml, so that DIR is self-contained: `swim flow` and `swim plot` need nothing else) in DIR;
+ * snapshots.json only with --snapshots (otherwise `swim flow DIR` computes them when needed).
  *
  * Rows fall exactly on t0 + k*output_step and on t_end, produced by the integrator's own
  * interpolant. A run that stops early (NaN, step-size underflow, barrier crossed, SIGINT) keeps
@@ -252,7 +254,7 @@ int swim_cmd_run(int argc, char **argv)
                        {"output-step", 1, NULL},
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
                        {"generic", 0, NULL}, {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL},
-                       {"trace-steps", 1, NULL}, {"event", 1, NULL}};
+                       {"trace-steps", 1, NULL}, {"event", 1, NULL}, {"snapshots", 0, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
@@ -311,6 +313,13 @@ int swim_cmd_run(int argc, char **argv)
     int ncol = columns(&s, names, storage);
     swim_run_events *events = NULL;
     if (swim_run_events_parse(&s, argc, argv, names, ncol, &events)) { swim_scene_free(&s); return 2; }
+    snprintf(path, sizeof path, "%s/scene.toml", dir);
+    if (swim_copy_file(s.path, path) != 0) {
+        fprintf(stderr, "swim run: --out: cannot write '%s': %s\n", path, strerror(errno));
+        swim_scene_free(&s);
+        swim_run_events_free(events);
+        return 2;
+    }
     step_trace trace = {.d = NULL, .full = NULL, .open = 0, .ok = 0};
     if ((v = swim_args_get(opts, nopts, "trace-steps"))) {
         if (!(swim_ode_capabilities(s.integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
@@ -355,7 +364,9 @@ int swim_cmd_run(int argc, char **argv)
         return 2;
     }
     snprintf(path, sizeof path, "%s/snapshots.json", dir);
-    FILE *snap = fopen(path, "w");
+    FILE *snap = NULL;
+    if (swim_args_get(opts, nopts, "snapshots")) snap = fopen(path, "w");
+    else remove(path);   /* a stale file from an earlier run would not match this trajectory */
     if (snap) fputs("[\n", snap);
 
     const int sdim = swim_dynamics_state_dim(&d);
