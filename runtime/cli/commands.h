@@ -6,5 +6,6 @@
 int swim_cmd_inspect(int argc, char **argv);
 int swim_cmd_run(int argc, char **argv);
 int swim_cmd_plot(int argc, char **argv);
+int swim_cmd_sweep(int argc, char **argv);
 
 #endif
