@@ -50,6 +50,7 @@ help:
 	@echo "make            build bin/swim (installs missing Debian packages first)"
 	@echo "make deps       check/install: $(DEB_PKGS)"
 	@echo "make test       build and run every test program in tests/"
+	@echo "make mpi        bin/swim-mpi: swim sweep over MPI ranks (installs OpenMPI); make test-mpi tests it"
 	@echo "make sanitize   the test suite under AddressSanitizer + UndefinedBehaviorSanitizer"
 	@echo "make fuzz       fuzz the scene parser and the CLI arguments (libFuzzer, FUZZ_SECONDS=60)"
 	@echo "make bench      run the benchmarks (numbers quoted in README.md)"
@@ -110,9 +111,12 @@ $(BUILD)/gen/swim_kernel_n%.c: generator/generate.py $(wildcard generator/swimge
 $(BUILD)/gen/%.o: $(BUILD)/gen/%.c
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
-TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_specialized.py tests/test_hard.py tests/test_plot.sh
+TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_specialized.py tests/test_hard.py tests/test_plot.sh \
+                tests/test_sweep.py tests/test_sweep_mpi.py
 
+# bin/swim-mpi is built when OpenMPI is there or can be installed; test_sweep_mpi.py says when it is not.
 test: $(BIN)/swim $(TEST_BINS)
+	@$(MAKE) --no-print-directory mpi >/dev/null 2>&1 || echo "make mpi failed: the MPI sweep tests are skipped"
 	@SWIM_BIN=$(CURDIR)/$(BIN)/swim bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)
 
 # The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer (own build folder;
