@@ -215,4 +215,31 @@ def test_example1_time_scaling():
         check(math.isclose(ea, x * x * eb, rel_tol=1e-12), "s = %g: kinetic energy scales as s^2" % x)
 
 
+def test_plot_family_and_phase():
+    """swim plot on a sweep of Example 2a on the curve (4.17): the family and the phase portrait are
+    drawn, trapped and passing solutions told apart, the reduced energy m beta'^2/2 + V (from swim
+    inspect) equals swim's energy along every computed trajectory, flapping does not swim."""
+    red = subprocess.run([sys.executable, "runtime/plot/reduction_members.py", "--gamma", "0.5", "--beta0", "0",
+                          "--betadot", "0.6,-1.8,1.8"], capture_output=True, text=True, cwd=ROOT).stdout.split()
+    out = os.path.join(TMP, "phase2a")
+    p = subprocess.run([SWIM, "sweep", "models/example2a.toml", "--out", out, "--quiet", "--jobs", "2", "--t-end", "25",
+                        "--keep", "trajectories", *red], capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 0, "Example 2a family on (4.17): %s" % p.stderr)
+    p = subprocess.run([SWIM, "plot", out], capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 0 and "k = m'/2 to" in p.stdout, "swim plot DIR on a sweep: %s %s" % (p.stdout, p.stderr))
+    for f in ("family.png", "phase.png"):
+        path = os.path.join(out, f)
+        check(os.path.exists(path) and open(path, "rb").read(8) == b"\x89PNG\r\n\x1a\n", "%s written" % f)
+    mism = float(p.stdout.split("k = m'/2 to ")[1].split()[0])
+    check(mism < 1e-10, "the kernels' <Gamma, v, v> projected on the curve is m'/2 (%.1e)" % mism)
+    rows_ = {int(r["id"]): r for r in csv.DictReader(open(os.path.join(out, "periods.csv")))}
+    check([rows_[i]["kind"] for i in range(3)] == ["trapped", "passing", "passing"],
+          "beta'0 = 0.6 is trapped in the well at 0, +-1.8 pass (%s)" % [rows_[i]["kind"] for i in rows_])
+    check(all(float(r["energy_mismatch"]) < 1e-10 for r in rows_.values()),
+          "reduced energy = swim's energy along every trajectory (%s)" % [r["energy_mismatch"] for r in rows_.values()])
+    dy = [float(rows_[i]["dy_per_period"] or "nan") for i in range(3)]
+    check(abs(dy[0]) < 1e-4 and abs(dy[1]) > 0.4 and math.isclose(dy[1], -dy[2], rel_tol=1e-3),
+          "flapping: no net displacement; passing: the same displacement per period, opposite signs (%s)" % dy)
+
+
 sys.exit(swimtest.main(globals(), "test_sweep"))
