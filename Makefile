@@ -55,6 +55,8 @@ help:
 	@echo "make fuzz       fuzz the scene parser and the CLI arguments (libFuzzer, FUZZ_SECONDS=60)"
 	@echo "make bench      run the benchmarks (numbers quoted in README.md)"
 	@echo "make bench-accuracy  work-precision diagrams and table for every paper scene (~9 min)"
+	@echo "make bench-sweep     sweep throughput: --jobs 1/2, MPI 2/4 ranks, rank 0's cost (~3 min)"
+	@echo "make paper-families  Figs 4.1, 4.2, 4.5, 4.6, 4.7 (sweeps + swim plot) into out/families/"
 	@echo "make bench-drift     energy drift of the T = 1000 runs vs tolerance and step look-ahead (~30 s)"
 	@echo "make generate N=12   regenerate the kernel for one mode count into generated/"
 	@echo "make generate-all    regenerate the committed kernels (N = $(MODES))"

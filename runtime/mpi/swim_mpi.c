@@ -7,8 +7,8 @@
  * next request. Dealing one member per request balances members whose costs differ by orders of
  * magnitude. Rank 0 appends and flushes the rows, so members.csv has one writer. DIR must be on a
  * file system every rank sees (resume reads the summaries). K ranks run K-1 members at a time.
- * Rank 0 polls with a short sleep rather than blocking in MPI_Recv, which would spin a core that
- * the workers' members need. */
+ * Rank 0 polls with a short sleep (50 us, doubling while idle up to 2 ms) rather than blocking in
+ * MPI_Recv, which would spin a core that the workers' members need. */
 #include <mpi.h>
 
 #include <libgen.h>
@@ -51,15 +51,18 @@ static int deal(sweep_plan *p, int ranks)
     long next = 0, ran = 0, failed = 0, handled = 0;
     int active = ranks - 1;
     double busy = 0.0, t0 = now();
+    long nap = 50000;   /* ns; doubles while idle up to 2 ms: few wake-ups, at most 2 ms of latency */
     char msg[MSG_LEN];
     while (active > 0) {
         int flag = 0;
         MPI_Status st;
         MPI_Iprobe(MPI_ANY_SOURCE, TAG_RESULT, MPI_COMM_WORLD, &flag, &st);
         if (!flag) {
-            nanosleep(&(struct timespec){0, 100000}, NULL);
+            nanosleep(&(struct timespec){0, nap}, NULL);
+            nap = nap < 2000000 ? 2 * nap : 2000000;
             continue;
         }
+        nap = 50000;
         double tb = now();
         MPI_Recv(msg, MSG_LEN, MPI_CHAR, st.MPI_SOURCE, TAG_RESULT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         long id;

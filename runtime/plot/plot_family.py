@@ -255,6 +255,9 @@ def plot_family(d, sweep, members, title):
         ax.set_ylabel("y (centre of mass)")
         if len(kept) <= 14:
             ax.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False)
+        else:
+            sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(lo, hi))
+            fig.colorbar(sm, ax=ax, label="beta'(0)" if reduction else sweep["vary"][0]["key"])
         ax.set_title(title or "%s: y(t) of %d members" % (sweep["scene"], len(kept)))
         ax.grid(alpha=0.3)
     else:
@@ -371,7 +374,7 @@ def plot_phase(d, sweep, members, swim, title):
     ax2.set_title("net displacement per period (x: 0 by symmetry)")
     ax2.grid(alpha=0.3)
     if any(r is not None for _, _, r, _ in results):
-        ax2.legend()
+        ax2.legend(loc="center right")
     fig.tight_layout()
     path = os.path.join(d, "phase.png")
     fig.savefig(path, dpi=DPI)

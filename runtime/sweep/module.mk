@@ -38,3 +38,10 @@ fig-4-7: $(BIN)/swim
 	./$(BIN)/swim sweep models/example2c.toml --out $(FAMILIES)/fig4_7 --keep trajectories --quiet --t-end 40 \
 	  $$($(REDUCTION) --beta0 pi/3 --betadot 0.15,0.3,0.45,0.6,0.75,0.9,1.1,1.3,1.6,2.0,-0.9,-1.1,-1.3,-1.6,-2.0)
 	./$(BIN)/swim plot $(FAMILIES)/fig4_7
+
+# Sweep throughput (~2-3 min on 2 cores; not part of `make bench`): --jobs 1/2, MPI 2/4 ranks,
+# rank 0's cost per member. Builds bin/swim-mpi when it can.
+.PHONY: bench-sweep
+bench-sweep: $(BIN)/swim
+	@$(MAKE) --no-print-directory mpi >/dev/null 2>&1 || echo "make mpi failed: MPI rows skipped"
+	$(PYTHON) tests/bench/bench_sweep.py
