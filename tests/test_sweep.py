@@ -121,6 +121,21 @@ def test_bad_input():
           "swim run --set on a vector without an index: exit 2 (%s)" % p.stderr.strip())
 
 
+def test_summary_only():
+    """swim run --summary-only: the same summary (every row still computed) without the rows."""
+    p1, rw, full = swimtest.run(EX1, "full", "--t-end", "3")
+    p2, none, short = swimtest.run(EX1, "short", "--t-end", "3", "--summary-only")
+    out = os.path.join(TMP, "short")
+    check(p1.returncode == 0 and p2.returncode == 0 and rw is not None and none is None and
+          not os.path.exists(os.path.join(out, "snapshots.json")), "--summary-only writes no rows and no snapshots")
+    same = all(full[k] == short[k] for k in ("final_state", "jmin", "energy_drift_abs", "max_residuals", "rows"))
+    check(same and full["stats"]["steps"] == short["stats"]["steps"], "--summary-only: the same summary numbers")
+    st = short["stats"]
+    check(st["output_seconds"] < 0.2 * st["diagnostics_seconds"] and full["stats"]["output_seconds"] > 0,
+          "the summary splits integrate/diagnostics/output seconds (output %.2g s of %.2g s)"
+          % (st["output_seconds"], st["wall_seconds"]))
+
+
 def test_different_definition_refused():
     p, out = sweep("redef", "--t-end", "0.2", "--vary", "shape.dc0.bm2=0.1,0.2")
     check(p.returncode == 0, "first sweep ok")
