@@ -196,7 +196,8 @@ def test_resume_after_kill9_and_jobs():
     proc.wait()
     before = len(rows(out))
     time.sleep(0.2)
-    orphans = subprocess.run(["pgrep", "-f", "run " + EX1 + " --out " + out], capture_output=True, text=True).stdout.split()
+    # a member is a forked copy of the sweep (same command line) or an exec'd `swim run --out OUT/...`
+    orphans = subprocess.run(["pgrep", "-f", "--out " + out], capture_output=True, text=True).stdout.split()
     check(not orphans, "kill -9 of the sweep leaves no member running (%s)" % orphans)
     p, _ = sweep("resume", *args, jobs=2)
     r = rows(out)

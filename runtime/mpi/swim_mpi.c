@@ -37,6 +37,7 @@ static int member_program(sweep_plan *p)
     char self[1024];
     snprintf(self, sizeof self, "%s", p->exe);
     snprintf(p->exe, sizeof p->exe, "%s/swim", dirname(self));
+    p->in_process = 0;   /* a forked MPI rank execs at once: it never runs code beside MPI's state */
     if (access(p->exe, X_OK) != 0) {
         fprintf(stderr, "swim-mpi: cannot run %s (build it with make)\n", p->exe);
         return 2;

@@ -15,6 +15,7 @@
 #include <dirent.h>
 
 #include "cli/args.h"
+#include "cli/commands.h"
 #include "io/files.h"
 #include "io/json.h"
 #include "model/specialize.h"
@@ -234,6 +235,7 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
         return 2;
     }
     p->exe[len] = '\0';
+    p->in_process = 1;
     return 0;
 }
 
@@ -645,6 +647,12 @@ pid_t sweep_spawn(const sweep_plan *p, long m)
     signal(SIGTERM, SIG_DFL);
     int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd >= 0) { dup2(fd, 1); dup2(fd, 2); close(fd); }
+    if (p->in_process) {
+        /* _exit, not exit: the parent's atexit handlers and stdio buffers are not the member's */
+        int rc = swim_cmd_run(a, (char **)args);
+        fflush(NULL);
+        _exit(rc);
+    }
     execv(p->exe, (char *const *)args);
     fprintf(stderr, "swim %s: cannot start %s: %s\n", p->cmd, p->exe, strerror(errno));
     _exit(127);

@@ -2,9 +2,11 @@
  *
  * A sweep is a scene, a list of varied keys (each KEY=SPEC with SPEC = START:STOP:COUNT,
  * log:START:STOP:COUNT or V1,V2,...), their Cartesian product (or, with zip, their pairing), fixed
- * overrides and run options. Member i is `swim run SCENE --set KEY=V ...` run as a child process
- * of the same program (a crashing member cannot take the sweep down, and its numbers are those of a
- * single run, bit for bit) into DIR/members/ID.
+ * overrides and run options. Member i is `swim run SCENE --set KEY=V ...` run in a child process
+ * (a crashing member cannot take the sweep down, and its numbers are those of a single run, bit for
+ * bit) into DIR/members/ID: in bin/swim a forked copy of this process calls the run command directly
+ * (no exec: a member does not pay again for starting the program and loading its libraries),
+ * elsewhere (bin/swim-mpi) the child execs bin/swim.
  *
  * Files of DIR: sweep.json (the definition; a different definition in an existing DIR is refused),
  * members/ID/summary.json (+ trajectory.csv with --keep trajectories, + log.txt: the member's
@@ -40,6 +42,8 @@ typedef struct {
     char scene[512];
     char dir[900];
     char exe[1024];               /* the program members run with (`EXE run ...`) */
+    int in_process;               /* 1: the forked child runs `swim run` without exec (this program
+                                   * is bin/swim); 0: it execs exe */
     sweep_vary vary[SWEEP_MAX_VARY];
     int nvary, zip, keep_trajectories, generic, no_projection, quiet;
     long jobs;
