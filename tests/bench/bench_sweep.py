@@ -8,6 +8,7 @@ build/bench/sweep.csv. bin/swim-mpi rows are skipped when it is not built (make 
 import csv
 import os
 import re
+import resource
 import shutil
 import statistics
 import subprocess
@@ -35,8 +36,11 @@ def one(kind, n, extra=()):
         cmd = ["mpirun", "--oversubscribe", "--allow-run-as-root", "-np", str(n), MPI, "sweep", *FAMILY,
                "--out", out, *extra]
     t = time.monotonic()
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     p = subprocess.run(cmd, cwd=ROOT, env=ENV, capture_output=True, text=True)
     dt = time.monotonic() - t
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    one.cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)   # every descendant, reaped
     with open(os.path.join(out, "members.csv")) as fh:
         rows = list(csv.DictReader(fh))
     shutil.rmtree(out, ignore_errors=True)
@@ -46,6 +50,7 @@ def one(kind, n, extra=()):
 
 
 def main():
+    print("load average before: %.2f %.2f %.2f (on %d cores)" % (*os.getloadavg(), CORES))
     # warm the kernel cache so no configuration pays the generation
     subprocess.run([SWIM, "run", "models/example1.toml", "--out", tempfile.mkdtemp(), "--quiet", "--summary-only"],
                    cwd=ROOT, check=True, capture_output=True)
@@ -57,24 +62,28 @@ def main():
     results = []
     member_wall = []
     for kind, n, name, workers in configs:
-        times = []
+        times, cpus = [], []
         for _ in range(REPS):
             dt, _, rows = one(kind, n)
             times.append(dt)
+            cpus.append(one.cpu)
             if kind == "jobs" and n == 1:
                 member_wall += [float(r["wall_seconds"]) for r in rows]
         med = statistics.median(times)
-        results.append((name, workers, med, MEMBERS / med))
+        results.append((name, workers, med, MEMBERS / med, statistics.median(cpus) / MEMBERS))
     base = results[0][3]
-    print("\n200-member Example 1 family (T = 30, summaries only), %d cores, median of %d:" % (CORES, REPS))
-    print("| configuration | members running at once | seconds | members/s | speed-up | efficiency per core used |")
-    print("|---|---|---|---|---|---|")
+    print("\n%d-member Example 1 family (T = 30, summaries only), %d cores, median of %d:" % (MEMBERS, CORES, REPS))
+    print("| configuration | members running at once | seconds | members/s | speed-up | efficiency per core used "
+          "| CPU ms per member (all processes) |")
+    print("|---|---|---|---|---|---|---|")
     rows_out = []
-    for name, workers, med, rate in results:
+    for name, workers, med, rate, cpu in results:
         used = min(workers, CORES)
         eff = rate / (base * used)
-        print("| %s | %d | %.2f | %.1f | %.2f | %.0f %% |" % (name, workers, med, rate, rate / base, 100 * eff))
-        rows_out.append([name, workers, "%.3f" % med, "%.2f" % rate, "%.3f" % (rate / base), "%.3f" % eff])
+        print("| %s | %d | %.2f | %.1f | %.2f | %.0f %% | %.1f |" % (name, workers, med, rate, rate / base, 100 * eff,
+                                                                     1e3 * cpu))
+        rows_out.append([name, workers, "%.3f" % med, "%.2f" % rate, "%.3f" % (rate / base), "%.3f" % eff,
+                         "%.4f" % cpu])
     mean_member = statistics.median(member_wall)
     print("member: median %.1f ms inside swim run (wall_seconds of summary.json); %.1f ms per member end to end "
           "with --jobs 1" % (1e3 * mean_member, 1e3 / base))
@@ -86,16 +95,17 @@ def main():
             m = re.search(r"rank 0: (\d+) results handled, ([0-9.]+) s busy \(([0-9.]+) us per member\)", out)
             busy.append(float(m.group(3)))
         us = statistics.median(busy)
-        per_member = 1.0 / base    # seconds a worker spends on one T = 30 member, end to end
+        per_member = results[0][4]   # CPU seconds of one T = 30 member (--jobs 1): a worker's busy time
         feeds = per_member / (us * 1e-6)
         print("rank 0 on trivial members (T = 0.01, 4 ranks): %.1f us busy per member (median of %d) -> "
-              "%.0f members/s of dealing; with T = 30 members of %.0f ms one rank 0 can feed ~%.0f worker ranks"
-              % (us, REPS, 1e6 / us, 1e3 * per_member, feeds))
+              "%.0f members/s of dealing; a T = 30 member costs a worker %.1f ms of CPU, so one rank 0 can feed "
+              "~%.0f worker ranks busy with such members" % (us, REPS, 1e6 / us, 1e3 * per_member, feeds))
         rows_out.append(["rank0_us_per_member", "", "%.2f" % us, "%.0f" % (1e6 / us), "", "%.0f" % feeds])
     os.makedirs(os.path.join(ROOT, "build", "bench"), exist_ok=True)
     with open(os.path.join(ROOT, "build", "bench", "sweep.csv"), "w") as fh:
         w = csv.writer(fh)
-        w.writerow(["configuration", "workers", "seconds", "members_per_s", "speedup", "efficiency_or_ranks_fed"])
+        w.writerow(["configuration", "workers", "seconds", "members_per_s", "speedup", "efficiency_or_ranks_fed",
+                    "cpu_seconds_per_member"])
         w.writerows(rows_out)
 
 
