@@ -1,5 +1,5 @@
 """bin/swim-mpi sweep under mpirun with 3 ranks on loopback: the same members.csv numbers as
-swim sweep --jobs 1 (every column but the timings), a failing member recorded, and a resume after
+swim sweep --jobs 1 (every column but the timings), with members forked or exec'd (SWIM_MPI_EXEC=1), a failing member recorded, and a resume after
 every process of the sweep was killed with SIGKILL (no member lost or duplicated).
 
 Skipped (0 checks) when bin/swim-mpi is absent, unless SWIM_MPI=1 (make test-mpi) demands it."""
@@ -22,13 +22,13 @@ TIMING = {"integrate_seconds", "wall_seconds"}
 ENV = dict(os.environ, OMPI_MCA_btl="self,vader", OMPI_MCA_plm_rsh_agent="", OMPI_MCA_rmaps_base_oversubscribe="1")
 
 
-def mpirun(out, ranks=3, popen=False):
+def mpirun(out, ranks=3, popen=False, env=ENV):
     cmd = ["mpirun", "--oversubscribe", "--allow-run-as-root", "-np", str(ranks), MPI_BIN, "sweep", EX1,
            "--out", out, "--quiet", *ARGS]
     if popen:
         return subprocess.Popen(cmd, cwd=ROOT, env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                 start_new_session=True)
-    return subprocess.run(cmd, cwd=ROOT, env=ENV, capture_output=True, text=True, timeout=300)
+    return subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
 
 
 def by_id(out):
@@ -55,6 +55,10 @@ def test_mpi_matches_jobs1_and_resumes():
     check(p.returncode == 1 and "14 members, 8 completed, 6 failed" in p.stdout,
           "mpirun -np 3: 14 members, 8 completed, 6 failed (%r %r)" % (p.stdout, p.stderr[-300:]))
     check(by_id(out) == r1, "MPI with 3 ranks: the same numbers as --jobs 1 in every column but timings")
+
+    out = os.path.join(TMP, "mpi3-exec")
+    p = mpirun(out, env=dict(ENV, SWIM_MPI_EXEC="1"))
+    check(p.returncode == 1 and by_id(out) == r1, "SWIM_MPI_EXEC=1 (members exec bin/swim): the same numbers")
 
     # kill every process of the sweep (mpirun, ranks, members) mid-sweep, then resume
     out = os.path.join(TMP, "mpi-resume")
