@@ -71,6 +71,24 @@ def test_grid_expansion():
           "default --keep summaries: no trajectory.csv")
 
 
+def test_one_kernel_per_structure():
+    """Two structures (R on a_-1 zero or not) in a fresh kernel cache: the sweep generates both before
+    the members start, so every member loads its kernel from the cache, and members of one structure
+    share it."""
+    cache = os.path.join(TMP, "cache")
+    out = os.path.join(TMP, "structures")
+    p = subprocess.run([SWIM, "sweep", "models/example2a.toml", "--out", out, "--quiet", "--jobs", "2",
+                        "--vary", "elastic.stiffness[2]=0,0.5", "--vary", "run.t_end=0.5,1"], cwd=ROOT,
+                       capture_output=True, text=True, env=dict(os.environ, SWIM_CACHE=cache))
+    ks = [json.load(open(os.path.join(out, "members", "%05d" % i, "summary.json")))["kernel"] for i in range(4)]
+    check(p.returncode == 0 and all(k["kind"] == "specialized" and k["from_cache"] for k in ks),
+          "every member loaded a pre-generated kernel: %s" % [(k["kind"], k["from_cache"]) for k in ks])
+    check(ks[0]["cache"] == ks[1]["cache"] != ks[2]["cache"] == ks[3]["cache"],
+          "one kernel per structure, shared by its members")
+    check(sum(1 for e in os.listdir(cache) if os.path.isdir(os.path.join(cache, e))) == 2,
+          "two structures, two kernels in the cache")
+
+
 def test_zip_and_keep():
     p, out = sweep("zip", "--zip", "--keep", "trajectories", "--vary", "shape.dc0.bm2=-0.2,0.1",
                    "--vary", "run.t_end=0.3,0.6")

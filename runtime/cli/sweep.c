@@ -51,7 +51,7 @@ int swim_cmd_sweep(int argc, char **argv)
     sigaction(SIGTERM, &sa, &old_term);
 
     const double t0 = now();
-    long next = 0, running = 0, ran = 0, failed = 0, todo = p.members - p.already, lost = 0;
+    long next = 0, running = 0, ran = 0, failed = 0, lost = 0;
     double last_progress = t0;
     char row[2048];
     if (!p.quiet && p.already)
@@ -121,7 +121,6 @@ int swim_cmd_sweep(int argc, char **argv)
     }
     if (lost && !stop_signal)
         fprintf(stderr, "swim sweep: %ld members could not be recorded (see their members/ID/log.txt); rerun to retry them\n", lost);
-    (void)todo;
     free(running_pids);
     free(ids);
     sweep_free(&p);

@@ -552,9 +552,8 @@ static int rebuild_rows(sweep_plan *p)
 /* ---------------------------------------------------------------- prepare */
 
 /* One kernel per distinct structure, generated before any member starts (members then only load
- * it from the cache; none of them races to generate it). */
-#define MAX_STRUCTURES 64
-static int generate_kernels(const sweep_plan *p, char (*keys)[4096], const long *rep, int nkeys)
+ * it from the cache; none of them races to generate it). rep[k] is a member of structure k. */
+static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys)
 {
     for (int k = 0; k < nkeys; k++) {
         swim_scene s;
@@ -568,43 +567,56 @@ static int generate_kernels(const sweep_plan *p, char (*keys)[4096], const long 
             swim_specialized_close(&sp);
         swim_scene_free(&s);
     }
-    (void)keys;
     return 0;
 }
 
+#define KEY_LEN 4096
+
 int sweep_prepare(sweep_plan *p)
 {
-    static char keys[MAX_STRUCTURES][4096];
-    long rep[MAX_STRUCTURES];
-    int nkeys = 0;
-    char key[4096];
-    for (long m = 0; m < p->members; m++) {
+    char *keys = NULL, key[KEY_LEN];
+    long *rep = NULL;
+    int nkeys = 0, cap = 0, rc = 0;
+    for (long m = 0; m < p->members && !rc; m++) {
         swim_scene s;
-        if (load_member(p, m, &s)) return 2;
+        if ((rc = load_member(p, m, &s))) break;
         if (!p->generic) {
             swim_specialize_key(&s, key, sizeof key);
             int found = 0;
-            for (int k = 0; k < nkeys && !found; k++) found = strcmp(keys[k], key) == 0;
-            if (!found && nkeys < MAX_STRUCTURES) {
-                snprintf(keys[nkeys], sizeof keys[nkeys], "%s", key);
-                rep[nkeys++] = m;
+            for (int k = 0; k < nkeys && !found; k++) found = strcmp(keys + (size_t)k * KEY_LEN, key) == 0;
+            if (!found) {
+                if (nkeys == cap) {
+                    cap = cap ? 2 * cap : 8;
+                    char *nk = realloc(keys, (size_t)cap * KEY_LEN);
+                    long *nr = nk ? realloc(rep, (size_t)cap * sizeof *rep) : NULL;
+                    if (nk) keys = nk;
+                    if (nr) rep = nr;
+                    if (!nk || !nr) { fprintf(stderr, "swim %s: out of memory\n", p->cmd); rc = 1; }
+                }
+                if (!rc) {
+                    snprintf(keys + (size_t)nkeys * KEY_LEN, KEY_LEN, "%s", key);
+                    rep[nkeys++] = m;
+                }
             }
         }
         swim_scene_free(&s);
     }
-    int rc = setup_dir(p);
-    if (rc) return rc;
+    if (!rc) rc = setup_dir(p);
     char path[1100];
     snprintf(path, sizeof path, "%s/members", p->dir);
-    if (swim_mkdirs(path) != 0) {
+    if (!rc && swim_mkdirs(path) != 0) {
         fprintf(stderr, "swim %s: cannot create %s: %s\n", p->cmd, path, strerror(errno));
-        return 1;
+        rc = 1;
     }
-    p->finished = calloc((size_t)p->members, 1);
-    if (!p->finished) { fprintf(stderr, "swim %s: out of memory\n", p->cmd); return 1; }
-    if ((rc = rebuild_rows(p))) return rc;
-    if (p->already < p->members && (rc = generate_kernels(p, keys, rep, nkeys))) return rc;
-    return 0;
+    if (!rc && !(p->finished = calloc((size_t)p->members, 1))) {
+        fprintf(stderr, "swim %s: out of memory\n", p->cmd);
+        rc = 1;
+    }
+    if (!rc) rc = rebuild_rows(p);
+    if (!rc && p->already < p->members) rc = generate_kernels(p, rep, nkeys);
+    free(keys);
+    free(rep);
+    return rc;
 }
 
 /* ------------------------------------------------------------- members */
