@@ -128,7 +128,7 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
     const char *varies[SWEEP_MAX_VARY + 1], *sets[SWEEP_MAX_SETS];
     int nv = swim_args_take_all(cmd, &argc, argv, first, "vary", varies, SWEEP_MAX_VARY);
     if (nv < 0) return 2;
-    int ns = swim_args_take_all(cmd, &argc, argv, first, "set", sets, SWEEP_MAX_SETS - 8);
+    int ns = swim_args_take_all(cmd, &argc, argv, first, "set", sets, SWEEP_MAX_SETS - 5);   /* 5: --t-end, --rtol, ... */
     if (ns < 0) return 2;
     swim_opt opts[] = {{"out", 1, NULL}, {"zip", 0, NULL}, {"jobs", 1, NULL}, {"keep", 1, NULL},
                        {"t-end", 1, NULL}, {"output-step", 1, NULL}, {"rtol", 1, NULL},

@@ -26,7 +26,7 @@
 #include "scene/scene.h"
 
 #define SWEEP_MAX_VARY 8
-#define SWEEP_MAX_SETS 64
+#define SWEEP_MAX_SETS 48   /* with SWEEP_MAX_VARY: at most the 64 --set of swim run */
 #define SWEEP_MAX_MEMBERS 1000000L
 
 typedef struct {
