@@ -57,10 +57,13 @@ help:
 	@echo "make paper      run every paper scene, build out/paper/index.html (figures, animations; ~10 min)"
 	@echo "make paper-test make paper, then check the page in headless Chromium (out/paper/screenshot.png)"
 	@echo "make test       build and run every test program in tests/"
+	@echo "make mpi        bin/swim-mpi: swim sweep over MPI ranks (installs OpenMPI); make test-mpi tests it"
 	@echo "make sanitize   the test suite under AddressSanitizer + UndefinedBehaviorSanitizer"
 	@echo "make fuzz       fuzz the scene parser and the CLI arguments (libFuzzer, FUZZ_SECONDS=60)"
 	@echo "make bench      run the benchmarks (numbers quoted in README.md)"
 	@echo "make bench-accuracy  work-precision diagrams and table for every paper scene (~9 min)"
+	@echo "make bench-sweep     sweep throughput: --jobs 1/2, MPI 2/4 ranks, rank 0's cost (~3 min)"
+	@echo "make paper-families  Figs 4.1, 4.2, 4.5, 4.6, 4.7 (sweeps + swim plot) into out/families/"
 	@echo "make bench-drift     energy drift of the T = 1000 runs vs tolerance and step look-ahead (~30 s)"
 	@echo "make generate N=12   regenerate the kernel for one mode count into generated/"
 	@echo "make generate-all    regenerate the committed kernels (N = $(MODES))"
@@ -121,9 +124,12 @@ $(BUILD)/gen/%.o: $(BUILD)/gen/%.c
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
 TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_events.py tests/test_specialized.py tests/test_hard.py tests/test_plot.sh \
-                tests/test_flow.py tests/test_figures.py tests/test_animate.py tests/test_paper.py
+                tests/test_flow.py tests/test_figures.py tests/test_animate.py tests/test_paper.py \
+                tests/test_sweep.py tests/test_sweep_mpi.py
 
+# bin/swim-mpi is built when OpenMPI is there or can be installed; test_sweep_mpi.py says when it is not.
 test: $(BIN)/swim $(TEST_BINS) $(MEDIA_STAMP)
+	@$(MAKE) --no-print-directory mpi >/dev/null 2>&1 || echo "make mpi failed: the MPI sweep tests are skipped"
 	@SWIM_BIN=$(CURDIR)/$(BIN)/swim bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)
 
 # The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer (own build folder;

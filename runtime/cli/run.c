@@ -46,6 +46,8 @@ typedef struct {
     char reason[256];
     double switch_t;      /* time of a switch to the stiff fallback integrator, or -1 */
     double integrate_seconds;   /* time inside the integrator (steps, RHS, interpolation) */
+    double diagnostics_seconds; /* energies, impulses, residuals, min J of the output rows */
+    double output_seconds;      /* formatting and writing rows and snapshots */
     char used[64];        /* integrator(s) used */
     swim_run_events *events;    /* located events, or NULL */
 } run_report;
@@ -167,7 +169,8 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
     for (int i = 0; i < 13; i++) fprintf(f, "%s%ld", i ? ", " : "", st->order_hist[i]);
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
-    fprintf(f, "],\n            \"integrate_seconds\": %.6f,", r->integrate_seconds);
+    fprintf(f, "],\n            \"integrate_seconds\": %.6f, \"diagnostics_seconds\": %.6f, \"output_seconds\": %.6f,",
+            r->integrate_seconds, r->diagnostics_seconds, r->output_seconds);
     fprintf(f, "\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f, \"max_rss_kb\": %ld}\n}\n",
             d->rhs_seconds, wall_s, d->rhs_calls ? 1e9 * d->rhs_seconds / d->rhs_calls : 0.0, ru.ru_maxrss);
     fclose(f);
@@ -248,23 +251,43 @@ static void default_out(const char *scene_path, char *out, size_t len)
     if (dot && dot > out + 4) *dot = '\0';
 }
 
+/* --set KEY=VALUE (repeatable): overrides applied to the scene before it is validated. */
+#define MAX_SETS 64
+static int take_set_options(int *argc, char **argv, swim_override *sets)
+{
+    const char *vals[MAX_SETS];
+    int n = swim_args_take_all("run", argc, argv, 2, "set", vals, MAX_SETS);
+    for (int i = 0; i < n; i++) {
+        char err[256];
+        if (swim_override_parse(vals[i], &sets[i], err, sizeof err) != 0) {
+            fprintf(stderr, "swim run: --set: %s\n", err);
+            return -1;
+        }
+    }
+    return n;
+}
+
 int swim_cmd_run(int argc, char **argv)
 {
     swim_opt opts[] = {{"out", 1, NULL},  {"t-end", 1, NULL},      {"rtol", 1, NULL},
                        {"output-step", 1, NULL},
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
                        {"generic", 0, NULL}, {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL},
-                       {"trace-steps", 1, NULL}, {"event", 1, NULL}, {"snapshots", 0, NULL}};
+                       {"trace-steps", 1, NULL}, {"event", 1, NULL}, {"snapshots", 0, NULL},
+                       {"summary-only", 0, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
+    static swim_override sets[MAX_SETS];
+    const int nsets = take_set_options(&argc, argv, sets);
+    if (nsets < 0) return 2;
     if (swim_args_parse("run", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
     if (npos != 1) {
         fprintf(stderr, "swim run: expected one scene file, e.g. swim run models/example3.toml\n");
         return 2;
     }
     static swim_scene s;
-    if (swim_scene_load(pos[0], &s)) return 2;
+    if (swim_scene_load_with(pos[0], sets, nsets, &s)) return 2;
     const char *v;
     if ((v = swim_args_get(opts, nopts, "t-end"))) {
         if (swim_args_double("run", "t-end", v, &s.t_end)) return 2;
@@ -298,6 +321,9 @@ int swim_cmd_run(int argc, char **argv)
         s.step_lookahead = (int)p;
     }
     const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
+    /* A sweep member keeps only its summary: the rows are still computed (the summary's drift,
+     * residuals and min J come from them) but neither formatted nor written. */
+    const int summary_only = swim_args_get(opts, nopts, "summary-only") != NULL;
     if (swim_args_get(opts, nopts, "no-projection")) s.projection = 0;
     char dir[900];
     if ((v = swim_args_get(opts, nopts, "out"))) snprintf(dir, sizeof dir, "%s", v);
@@ -355,7 +381,8 @@ int swim_cmd_run(int argc, char **argv)
     }
     swim_csv csv;
     snprintf(path, sizeof path, "%s/trajectory.csv", dir);
-    if (swim_csv_open(&csv, path, names, ncol) != 0) {
+    if (summary_only) remove(path);   /* never leave another run's rows beside this summary */
+    if (!summary_only && swim_csv_open(&csv, path, names, ncol) != 0) {
         fprintf(stderr, "swim run: --out: cannot write '%s': %s\n", path, strerror(errno));
         if (trace.open) swim_csv_close(&trace.csv);
         swim_dynamics_free(&d);
@@ -365,7 +392,7 @@ int swim_cmd_run(int argc, char **argv)
     }
     snprintf(path, sizeof path, "%s/snapshots.json", dir);
     FILE *snap = NULL;
-    if (swim_args_get(opts, nopts, "snapshots")) snap = fopen(path, "w");
+    if (swim_args_get(opts, nopts, "snapshots") && !summary_only) snap = fopen(path, "w");
     else remove(path);   /* a stale file from an earlier run would not match this trajectory */
     if (snap) fputs("[\n", snap);
 
@@ -484,14 +511,18 @@ int swim_cmd_run(int argc, char **argv)
             }
         }
         swim_diag g;
-        if (swim_dynamics_diagnostics(&d, y, &g) != 0) {
+        double t_diag = wall();
+        int diag_rc = swim_dynamics_diagnostics(&d, y, &g);
+        r.diagnostics_seconds += wall() - t_diag;
+        if (diag_rc != 0) {
             r.status = 1;
             snprintf(r.reason, sizeof r.reason, "diagnostics failed at t = %.6g (K not positive definite)", t);
             break;
         }
         track(&r, t, &g, k == 0);
+        double t_out = wall();
         row_values(&s, t, y, &g, row);
-        if (swim_csv_row(&csv, row) != 0) {
+        if (!summary_only && swim_csv_row(&csv, row) != 0) {
             r.status = 1;
             snprintf(r.reason, sizeof r.reason, "write error on trajectory.csv at t = %.6g", t);
             break;
@@ -502,6 +533,7 @@ int swim_cmd_run(int argc, char **argv)
             swim_flow_snapshot(&d, t, y, snap);
             fflush(snap);
         }
+        r.output_seconds += wall() - t_out;
         if (!(g.jmin > 0)) {
             r.status = 1;
             snprintf(r.reason, sizeof r.reason, "the shape left the admissible set D at t = %.6g (min J = %.3g)", t, g.jmin);
@@ -528,7 +560,7 @@ int swim_cmd_run(int argc, char **argv)
         fputs("\n]\n", snap);
         fclose(snap);
     }
-    swim_csv_close(&csv);
+    if (!summary_only) swim_csv_close(&csv);
     if (trace.open) {
         swim_csv_close(&trace.csv);
         free(trace.full);
@@ -536,7 +568,10 @@ int swim_cmd_run(int argc, char **argv)
     swim_run_events_write_csv(events, dir);
     snprintf(path, sizeof path, "%s/summary.json", dir);
     write_summary(path, &s, dir, &r, y, &st, &d, &spz, wall() - t_start);
-    printf("%s: %s (%s); %ld rows in %s/trajectory.csv\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);
+    if (summary_only)
+        printf("%s: %s (%s); %ld rows computed, summary in %s/summary.json\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);
+    else
+        printf("%s: %s (%s); %ld rows in %s/trajectory.csv\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);
     printf("  %s kernel (state dimension %d)\n", d.spec ? "specialized" : "generic", sdim);
     printf("  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)\n",
            r.used, s.rtol, st.steps, st.rhs_evals, st.rejected, wall() - t_start, d.rhs_seconds);

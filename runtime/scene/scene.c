@@ -360,7 +360,8 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     return check_initial_velocity(c, shape, s);
 }
 
-int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *s)
+int swim_scene_parse_with(const char *text, size_t len, const char *path, const swim_override *ov,
+                          int nov, swim_scene *s)
 {
     memset(s, 0, sizeof *s);
     snprintf(s->path, sizeof s->path, "%s", path);
@@ -373,6 +374,12 @@ int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene 
         fprintf(stderr, "swim: %s:%d: %s\n", path, line, msg);
         return 2;
     }
+    for (int i = 0; i < nov; i++)
+        if (toml_set_number(root, ov[i].table, ov[i].key, ov[i].index, ov[i].value, err, sizeof err) != 0) {
+            fprintf(stderr, "swim: %s: --set %s: %s\n", path, ov[i].text, err);
+            toml_free(root);
+            return 2;
+        }
     ctx c = {path, NULL};
     int rc = load_tree(&c, root, s);
     toml_free(root);
@@ -380,7 +387,17 @@ int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene 
     return rc;
 }
 
+int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *s)
+{
+    return swim_scene_parse_with(text, len, path, NULL, 0, s);
+}
+
 int swim_scene_load(const char *path, swim_scene *s)
+{
+    return swim_scene_load_with(path, NULL, 0, s);
+}
+
+int swim_scene_load_with(const char *path, const swim_override *ov, int nov, swim_scene *s)
 {
     memset(s, 0, sizeof *s);
     FILE *f = fopen(path, "rb");
@@ -402,9 +419,91 @@ int swim_scene_load(const char *path, swim_scene *s)
         buf = nb;
     }
     fclose(f);
-    int rc = swim_scene_parse(buf, len, path, s);
+    int rc = swim_scene_parse_with(buf, len, path, ov, nov, s);
     free(buf);
     return rc;
+}
+
+/* a1 -> 0, b1 -> 1, amK -> 2K, bmK -> 2K + 1 (the storage order of models/README.md). */
+static long coord_index(const char *name)
+{
+    if (name[0] != 'a' && name[0] != 'b') return -1;
+    long odd = name[0] == 'b';
+    if (strcmp(name + 1, "1") == 0) return odd;
+    if (name[1] != 'm' || name[2] < '1' || name[2] > '9') return -1;
+    char *end;
+    long k = strtol(name + 2, &end, 10);
+    if (*end != '\0' || k < 1 || k > SWIM_KERNEL_MAX_MODES) return -1;
+    return 2 * k + odd;
+}
+
+static int word_ok(const char *w, size_t len)
+{
+    if (len == 0 || len >= 32) return 0;
+    for (size_t i = 0; i < len; i++)
+        if (!(w[i] == '_' || (w[i] >= 'a' && w[i] <= 'z') || (w[i] >= 'A' && w[i] <= 'Z') || (w[i] >= '0' && w[i] <= '9')))
+            return 0;
+    return 1;
+}
+
+int swim_override_key(const char *key, swim_override *o, char *err, size_t errlen)
+{
+    const char *dot = strchr(key, '.');
+    if (!dot || !word_ok(key, (size_t)(dot - key))) {
+        snprintf(err, errlen, "expected TABLE.KEY, TABLE.KEY[I] or TABLE.KEY.COORD (e.g. run.t_end, "
+                 "elastic.stiffness[4], shape.dc0.bm2), got '%s'", key);
+        return -1;
+    }
+    snprintf(o->table, sizeof o->table, "%.*s", (int)(dot - key), key);
+    const char *k = dot + 1, *br = strchr(k, '['), *dot2 = strchr(k, '.');
+    size_t klen = br ? (size_t)(br - k) : dot2 ? (size_t)(dot2 - k) : strlen(k);
+    if (!word_ok(k, klen)) {
+        snprintf(err, errlen, "bad key name in '%s'", key);
+        return -1;
+    }
+    snprintf(o->key, sizeof o->key, "%.*s", (int)klen, k);
+    o->index = -1;
+    if (br) {
+        char *end;
+        long i = strtol(br + 1, &end, 10);
+        if (end == br + 1 || *end != ']' || end[1] != '\0' || i < 0) {
+            snprintf(err, errlen, "bad index in '%s' (expected [I], I >= 0)", key);
+            return -1;
+        }
+        o->index = i;
+    } else if (dot2) {
+        o->index = coord_index(dot2 + 1);
+        if (o->index < 0) {
+            snprintf(err, errlen, "unknown coordinate '%s' in '%s' (names: a1, b1, am1, bm1, am2, ...)", dot2 + 1, key);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+int swim_override_parse(const char *text, swim_override *o, char *err, size_t errlen)
+{
+    memset(o, 0, sizeof *o);
+    snprintf(o->text, sizeof o->text, "%s", text);
+    const char *eq = strchr(text, '=');
+    if (!eq) {
+        snprintf(err, errlen, "expected KEY=VALUE, got '%s'", text);
+        return -1;
+    }
+    char key[128];
+    if ((size_t)(eq - text) >= sizeof key) {
+        snprintf(err, errlen, "key too long in '%s'", text);
+        return -1;
+    }
+    snprintf(key, sizeof key, "%.*s", (int)(eq - text), text);
+    if (swim_override_key(key, o, err, errlen) != 0) return -1;
+    char *end;
+    o->value = strtod(eq + 1, &end);
+    if (end == eq + 1 || *end != '\0' || !isfinite(o->value)) {
+        snprintf(err, errlen, "value '%s' of %s is not a finite number", eq + 1, key);
+        return -1;
+    }
+    return 0;
 }
 
 void swim_scene_free(swim_scene *s)
