@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """The companion page in a real browser: build a reduced page (Examples 1 and 3, t_end = 4,
-2-second animations) with the same builder as `make paper`, check its sections, then load it in
+2-second animations, and the family of Fig. 4.2 through its make target, 10 Example 1 members)
+with the same builder as `make paper`, check its sections, then load it in
 headless Chromium (tools/paper/browser_check.py): no console error, every image and video
 loads with a non-zero size, nothing fetched from the network, a screenshot written
 (build/paper-test/screenshot.png). The checker itself is checked on a broken copy of the page
@@ -25,7 +26,8 @@ def test_1_page():
     p = subprocess.run([os.environ.get("PYTHON", "/usr/bin/python3"),
                         os.path.join(swimtest.ROOT, "tools", "paper", "build_paper.py"),
                         "--scenes", "example1,example3", "--t-end", "4", "--duration", "2",
-                        "--out", OUT], capture_output=True, text=True, env=env)
+                        "--families", "fig-4-2", "--out", OUT],
+                       capture_output=True, text=True, env=env)
     check(p.returncode == 0, "build_paper failed: %s" % p.stderr[-800:])
     page = os.path.join(OUT, "index.html")
     with open(page) as fh:
@@ -35,6 +37,8 @@ def test_1_page():
     want = ["4.1", "4.2", "4.3", "4.4", "4.9", "4.10", "4.11", "4.12"]
     check(all(w in ids for w in want), "sections %s, want at least %s" % (ids, want))
     check(text.count("<video") == 2, "%d videos, want one per scene" % text.count("<video"))
+    check_family_section(text)
+    check_instants_from_events(text)
     check("Work-precision" in text, "no work-precision section")
     check(not re.search(r'(src|href)="(https?:)?//', text), "the page links to the network")
     shot = os.path.join(OUT, "screenshot.png")
@@ -44,6 +48,62 @@ def test_1_page():
     check(report is not None and len(report["images"]) >= 9 and len(report["videos"]) == 2,
           "browser saw %r" % ((report and (len(report["images"]), len(report["videos"]))),))
     check(os.path.exists(shot), "no screenshot")
+
+
+def check_family_section(text):
+    """Fig. 4.2 is the family's section: its figure from the sweep, the sweep's summary (members,
+    RHS evaluations, time) matching members.csv, and a caption with the family's numbers."""
+    import csv
+    m = re.search(r'<section id="fig4\.2">(.*?)</section>', text, re.S)
+    check(m is not None, "no section for Fig. 4.2")
+    if m is None:
+        return
+    sec = m.group(1)
+    check('src="families/fig4_2/family.png"' in sec, "Fig. 4.2 does not show the family figure")
+    check("<code>make fig-4-2</code>" in sec, "the make target is not named")
+    check(re.search(r"<pre class=\"cmd\">[^<]*swim sweep models/example1.toml --out [^<]*fig4_2[^<]*"
+                    r"--vary shape.dc0.bm2=[^<]*-0.707", sec) is not None,
+          "the sweep's command is not shown whole")
+    with open(os.path.join(OUT, "families", "fig4_2", "members.csv")) as fh:
+        rows = list(csv.DictReader(fh))
+    check(len(rows) == 10 and all(r["status"] == "completed" for r in rows),
+          "the family's members: %d rows" % len(rows))
+    rhs = sum(int(r["rhs_evaluations"]) for r in rows)
+    check("<th>members</th><td>10 (10 completed, 0 failed)</td>" in sec, "members not summarised")
+    check(("<td>%d in all," % rhs) in sec, "RHS evaluations %d not in the summary" % rhs)
+    check(re.search(r"<th>sweep</th><td>[0-9.]+ s with \d+ jobs</td>", sec) is not None,
+          "the sweep's time is missing")
+    ys = sorted(float(r["y"]) for r in rows)
+    cap = re.search(r"<figcaption>(.*?)</figcaption>", sec, re.S).group(1)
+    check("y(30) runs from %.4g" % ys[0] in cap and "to %.4g" % ys[-1] in cap,
+          "caption lacks the range of y(30) [%g, %g]: %s" % (ys[0], ys[-1], cap[:300]))
+    check("0.5093" in cap, "caption lacks the displacement per period: %s" % cap[:400])
+    check('<section id="fig4.1">' in text and "families/fig4_1" not in text,
+          "Fig. 4.1 without its family must fall back to the single run")
+
+
+def check_instants_from_events(text):
+    """Fig. 4.4's dashed instant is the first minimum of the rigid kinetic energy in the run's
+    events.csv (value 0); the stroke period of Example 3 is summary.json's periodic entry."""
+    import json
+    ev = os.path.join(OUT, "runs", "example1", "events.csv")
+    check(os.path.exists(ev), "swim run wrote no events.csv for Example 1")
+    if not os.path.exists(ev):
+        return
+    with open(ev) as fh:
+        rows = [ln.split(",") for ln in fh.read().split()[1:]]
+    tk = [float(r[0]) for r in rows if r[1] == "kinetic_rigid" and r[2] == "min"
+          and float(r[0]) > 1e-6]
+    cap = re.search(r'<section id="fig4\.4">.*?<figcaption>(.*?)</figcaption>', text, re.S)
+    check(tk and cap and ("t† = %.8g" % tk[0]) in cap.group(1) and "events.csv" in cap.group(1),
+          "Fig. 4.4's instant is not the first kinetic_rigid min of events.csv (%s): %s"
+          % (tk[:1], cap and cap.group(1)[:300]))
+    with open(os.path.join(OUT, "runs", "example3", "summary.json")) as fh:
+        per = [p for p in json.load(fh).get("periodic", []) if p["column"] == "am1"]
+    cap = re.search(r'<section id="fig4\.9">.*?<figcaption>(.*?)</figcaption>', text, re.S)
+    check(per and cap and ("period %.6g" % per[0]["period"]) in cap.group(1)
+          and ("Δy = %.6g" % per[0]["displacement_per_period"]["y"]) in cap.group(1),
+          "Fig. 4.9's caption lacks summary.json's stroke period: %s" % (cap and cap.group(1)))
 
 
 def test_2_checker_catches_faults():

@@ -2,6 +2,7 @@
 """The paper's companion page, reproduced: runs every paper scene and writes OUT/index.html.
 
 Usage: build_paper.py [--out DIR] [--scenes a,b,...] [--t-end T] [--fps F] [--duration S]
+                      [--families all|none|fig-4-1,fig-4-2,...]
 
 One section per figure of sections 4-5 of Munnier's paper, each with our figure and a caption
 saying what the paper's figure shows and what ours shows, in numbers where there are numbers;
@@ -12,6 +13,12 @@ The page is static and self-contained: every link is relative, nothing is fetche
 test builds one); a section whose scene is left out is left out. `swim run` gets --event options
 when it lists them in `swim run --help`; the marked instants then come from DIR/events.csv,
 otherwise from the output rows (said so on the page).
+
+The paper's families (Figs 4.1, 4.2, 4.5, 4.6, 4.7) are the sweeps of the Makefile's fig-4-N
+targets (runtime/sweep/module.mk), made fresh into OUT/families/ with
+`make fig-4-N FAMILIES=OUT/families`; each becomes its section, with the sweep's definition and
+summary. Without a family (--families none, or its target failed) the section shows the scene's
+single run instead and says so. --t-end does not apply to the families (their targets fix it).
 """
 import html
 import json
@@ -21,11 +28,14 @@ import subprocess
 import sys
 import time
 
+import re
+
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "runtime", "plot"))
 import plot_run  # noqa: E402  (figures are drawn by the code behind `swim plot`)
+import plot_family  # noqa: E402  (the sweep directories' reader and the curve (4.17))
 
 SWIM = os.environ.get("SWIM_BIN") or os.path.join(ROOT, "bin", "swim")
 PYTHON = os.environ.get("PYTHON") or "/usr/bin/python3"
@@ -35,15 +45,25 @@ PYTHON = os.environ.get("PYTHON") or "/usr/bin/python3"
 # spacing is the period of a stroke (and the displacement between them the gain per stroke).
 STROKE = ("am1", "max")
 EVENTS = {
-    # Fig. 4.4: the dashed line is where the rigid velocity vanishes; the motion is along y, so
-    # that is a zero of the body's y-impulse (impulse = mass x velocity).
-    "example1": ["impulse_body_y:zero"],
+    # Fig. 4.4: the dashed line is where the rigid velocity vanishes: a minimum of the rigid
+    # kinetic energy of value 0 (it touches 0 without changing sign, so not a `zero` event);
+    # the motion is along y, so the body's y-impulse (mass x velocity) has a zero there too,
+    # asked as an independent check of the same instant.
+    "example1": ["kinetic_rigid:min", "impulse_body_y:zero"],
     # Fig. 4.8: max and min of the rigid kinetic energy, min and max of the potential energy.
     "example3": ["kinetic_rigid:max", "kinetic_rigid:min", "potential:min", "potential:max"],
 }
 # The four instants of Fig. 4.8 as printed, with the event that defines each.
 FIG48 = [(3.17, "kinetic_rigid", "max"), (3.95, "potential", "min"),
          (6.07, "kinetic_rigid", "min"), (9.50, "potential", "max")]
+
+# The paper's families: (figure, make target of runtime/sweep/module.mk, directory it writes
+# under FAMILIES, the figure it draws, the scene).
+FAMILIES = [("4.1", "fig-4-1", "fig4_1", "phase.png", "example1"),
+            ("4.2", "fig-4-2", "fig4_2", "family.png", "example1"),
+            ("4.5", "fig-4-5", "fig4_5", "phase.png", "example2a"),
+            ("4.6", "fig-4-6", "fig4_6", "phase.png", "example2b"),
+            ("4.7", "fig-4-7", "fig4_7", "phase.png", "example2c")]
 
 SCENES = ["example1", "example2a", "example2b", "example2c", "example3", "example4", "example5",
           "example6", "example7", "selfpropelled"]
@@ -63,7 +83,7 @@ def log(msg):
 
 def parse_args(argv):
     opts = {"out": os.path.join(ROOT, "out", "paper"), "scenes": ",".join(SCENES),
-            "t-end": None, "fps": "15", "duration": None}
+            "t-end": None, "fps": "15", "duration": None, "families": "all"}
     i = 0
     while i < len(argv):
         a = argv[i]
@@ -89,6 +109,15 @@ def parse_args(argv):
                   file=sys.stderr)
             sys.exit(2)
     opts["scenes"] = scenes
+    targets = [f[1] for f in FAMILIES]
+    fam = opts["families"]
+    fam = targets if fam == "all" else [] if fam == "none" else [x for x in fam.split(",") if x]
+    for f in fam:
+        if f not in targets:
+            print("build_paper: --families: unknown family '%s' (all, none or some of %s)"
+                  % (f, ",".join(targets)), file=sys.stderr)
+            sys.exit(2)
+    opts["families"] = fam
     return opts
 
 
@@ -199,6 +228,120 @@ def row_events(t, v, kind):
     return out
 
 
+# ---------------------------------------------------------------- one family
+
+class Family:
+    """One of the paper's families: the sweep of a Makefile fig-4-N target, made into
+    OUT/families/DIRNAME, and what its files say."""
+
+    def __init__(self, fig, target, dirname, image, scene, out):
+        self.fig, self.target, self.scene, self.image = fig, target, scene, image
+        self.root = os.path.join(out, "families")
+        self.dir = os.path.join(self.root, dirname)
+        self.rel = "families/%s" % dirname
+        self.log = os.path.join(self.root, dirname + ".log")
+        self.ok = False
+
+    def make(self):
+        """Runs the target into a fresh directory (a sweep of an earlier binary is not reused),
+        timing it; the target's output (its commands, the sweep's summary line) goes to the log."""
+        if os.path.isdir(self.dir):
+            shutil.rmtree(self.dir)
+        os.makedirs(self.root, exist_ok=True)
+        cmd = ["make", "-C", ROOT, "--no-print-directory", "FAMILIES=" + self.root]
+        rel_bin = os.path.relpath(os.path.dirname(os.path.abspath(SWIM)), ROOT)
+        if not rel_bin.startswith(".."):
+            # the binary this page is built with, and never rebuilt from here (-o)
+            cmd += ["BIN=" + rel_bin, "-o", os.path.join(rel_bin, "swim")]
+        cmd.append(self.target)
+        # a make above us (make paper, make test) must not lend its jobserver to this one
+        env = {k: v for k, v in os.environ.items()
+               if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL", "MAKEOVERRIDES")}
+        env["SWIM_BIN"] = SWIM
+        t = time.time()
+        p = subprocess.run(cmd, capture_output=True, text=True, env=env)
+        self.seconds = time.time() - t
+        self.output = p.stdout + p.stderr
+        with open(self.log, "w") as fh:
+            fh.write("$ %s\n%s" % (" ".join(cmd), self.output))
+        if p.returncode != 0 or not os.path.exists(os.path.join(self.dir, self.image)):
+            log("%s failed (status %d), see %s: %s" % (self.target, p.returncode, self.log,
+                                                       self.output.strip()[-300:]))
+            return False
+        self.load()
+        self.ok = True
+        return True
+
+    def load(self):
+        self.sweep, self.members = plot_family.load_sweep(self.dir)
+        self.rows = [m["row"] for m in self.members]
+        self.periods = []
+        pp = os.path.join(self.dir, "periods.csv")
+        if os.path.exists(pp):
+            self.periods = plot_family.read_csv(pp)
+        # the sweep's own account: "... (N ran now in S s, R members/s with J jobs)"
+        m = re.search(r"(\d+) ran now in ([0-9.]+) s, ([0-9.]+) members/s with (\d+) jobs",
+                      self.output)
+        self.sweep_seconds = float(m.group(2)) if m else None
+        self.jobs = int(m.group(4)) if m else None
+        echoed = self.output.replace("\\\n", " ")    # make echoes continued lines as is
+        cmd = [ln for ln in echoed.splitlines() if " sweep " in ln and "--out" in ln]
+        self.command = re.sub(r"\s+", " ", cmd[0].strip()) if cmd else "make %s" % self.target
+
+    def total(self, column):
+        return sum(float(r[column]) for r in self.rows if r.get(column))
+
+    def betadots(self):
+        """beta'(0) of every kept member (they follow (4.17))."""
+        out = []
+        for m in self.members:
+            if m["traj"] is not None and plot_family.follows_reduction(m["traj"]):
+                out.append(float(plot_family.beta_of(m["traj"])[1][0]))
+        return out
+
+    def wells(self):
+        """Local minima of the potential V(beta) = W1(c(beta)) on the curve (4.17), from the scene
+        (with the sweep's fixed overrides): where the paper's wells must be. [] without
+        elasticity (V constant)."""
+        import tomllib
+        with open(os.path.join(ROOT, self.sweep["scene"]), "rb") as fh:
+            scene = tomllib.load(fh)
+        for kv in self.sweep.get("set", []):
+            k, v = kv.split("=", 1)
+            plot_family.apply_key(scene, k, float(v))
+        el = scene.get("elastic")
+        kept = [m for m in self.members if m["traj"] is not None]
+        if not el or not kept:
+            return []
+        gamma = plot_family.beta_of(kept[0]["traj"])[2]
+        n = 2 * (scene["model"]["modes"] + 1)
+        R = np.array(el["stiffness"], float)
+        cref = np.array(el["reference"], float)
+        grid = np.linspace(-np.pi, np.pi, 3600, endpoint=False)
+        V = np.array([0.5 * (c - cref) @ (R * (c - cref))
+                      for c in (plot_family.curve(gamma, b, n)[0] for b in grid)])
+        if V.max() - V.min() < 1e-12 * max(1.0, abs(V).max()):
+            return []
+        out = []
+        h = grid[1] - grid[0]
+        for i in range(len(V)):
+            a, b, c = V[i - 1], V[i], V[(i + 1) % len(V)]
+            if b < a and b <= c:
+                den = a - 2 * b + c
+                out.append(grid[i] + (0.5 * h * (a - c) / den if den else 0.0))
+        return sorted(out)
+
+
+def angle_text(b):
+    """beta as a number and, when it is one, as a multiple of pi/6."""
+    k = round(b / (np.pi / 6))
+    names = {0: "0", 2: "π/3", 3: "π/2", 4: "2π/3", 6: "π", -2: "−π/3", -3: "−π/2",
+             -4: "−2π/3", -6: "π"}
+    if abs(b - k * np.pi / 6) < 2e-3 and k in names:
+        return "%.4f (%s)" % (b, names[k]) if k else "0.0000"
+    return "%.4f" % b
+
+
 # ---------------------------------------------------------------- captions
 
 def fmt(x, digits=3):
@@ -227,20 +370,40 @@ def y_text(r):
 
 
 def strokes(r):
-    """(mean period, count, mean displacement) of the strokes, from the maxima of a_-1."""
+    """The strokes, from the maxima of a_-1: summary.json's "periodic" entry of the am1:max
+    events when swim run made one (period = mean spacing, displacement between successive
+    events located on the interpolant); else spacing of the events found and y interpolated
+    between output rows. None with fewer than two maxima."""
+    for p in (getattr(r, "summary", None) or {}).get("periodic", []) or []:
+        if (p.get("column"), p.get("kind")) == STROKE:
+            d = p["displacement_per_period"]
+            return {"period": p["period"], "count": p["periods"] + 1, "dy": d["y"], "dx": d["x"],
+                    "spread": p["period_max"] - p["period_min"], "source": "summary.json"}
     ev = r.find_events(*STROKE)
     if len(ev) < 2:
         return None
     y = np.interp(ev, r.col("t"), r.col("y"))
-    return float(np.mean(np.diff(ev))), len(ev), float(np.mean(np.diff(y)))
+    x = np.interp(ev, r.col("t"), r.col("x"))
+    sp = np.diff(ev)
+    return {"period": float(np.mean(sp)), "count": len(ev), "dy": float(np.mean(np.diff(y))),
+            "dx": float(np.mean(np.diff(x))), "spread": float(sp.max() - sp.min()),
+            "source": "the output rows"}
 
 
 def stroke_text(r):
     p = strokes(r)
     if not p:
         return ""
-    return (" %d maxima of a₋₁ (strokes) spaced %s on average, the centre gaining %s in y "
-            "between them." % (p[1], fmt(p[0]), fmt(p[2])))
+    s = (" Strokes (maxima of a₋₁, %d of them, from %s): period %s" % (
+        p["count"], p["source"], fmt(p["period"], 6)))
+    if p["count"] > 2:
+        s += (" (spacings within %s: periodic)" % fmt(p["spread"], 2) if
+              p["spread"] <= 1e-6 * p["period"] else
+              " on average (spacings spread over %s: not periodic)" % fmt(p["spread"], 3))
+    s += ", displacement per stroke Δy = %s" % fmt(p["dy"], 6)
+    if abs(p["dx"]) > 1e-9:
+        s += ", Δx = %s" % fmt(p["dx"], 4)
+    return s + "."
 
 
 def cap_fig41(r):
@@ -252,9 +415,9 @@ def cap_fig41(r):
 
 
 def cap_fig42(r):
-    p = strokes(r)
     s = ("The paper plots y(t) for ten initial velocities β̇₀ from −2 to 2. Ours is the one "
-         "curve β̇₀ = −1 (the family of runs is not built here): %s." % y_text(r))
+         "curve β̇₀ = −1 (the family's sweep was not made for this page: --families): %s."
+         % y_text(r))
     return s + stroke_text(r)
 
 
@@ -266,17 +429,40 @@ def cap_fig43(r):
                                     stroke_text(r)))
 
 
+def rigid_rest(r):
+    """[(t, value)] of the instants t > 0 where the rigid velocity vanishes: minima of the rigid
+    kinetic energy whose value is 0 to rounding (events.csv); without those, zeros of the body's
+    y-impulse (events.csv, else the output rows), value NaN."""
+    scale = max(float(np.abs(r.col("kinetic_rigid")).max()), 1e-300)
+    ev = [(e[0], e[3]) for e in r.events if e[1] == "kinetic_rigid" and e[2] == "min"
+          and e[0] > 1e-6 and abs(e[3]) <= 1e-12 * scale]
+    if ev:
+        return ev
+    return [(t, float("nan")) for t in r.find_events("impulse_body_y", "zero") if t > 1e-6]
+
+
 def cap_fig44(r):
-    z = [t for t in r.find_events("impulse_body_y", "zero") if t > 1e-6]
+    z = rigid_rest(r)
     src = "events.csv" if r.events_source else "the output rows (no events.csv)"
     s = ("The paper stacks the kinetic energies of the fluid, of the deformations and of the "
          "rigid motion (their sum is constant, no elasticity) and marks with a dashed line an "
-         "instant where the rigid velocity vanishes. ")
+         "instant t† where the rigid kinetic energy, hence the rigid velocity, is zero. ")
     if z:
-        s += ("Ours: the dashed line at t = %s, the first zero of the body's y-impulse after "
-              "t = 0 (from %s); %d such zeros over the run. " % (fmt(z[0], 4), src, len(z)))
+        t0, v0 = z[0]
+        if v0 == v0:
+            s += ("Ours: the dashed line at t† = %s, the first minimum of the rigid kinetic "
+                  "energy after t = 0, of value %s (zero to rounding; from %s)" % (
+                      fmt(t0, 8), fmt(v0, 2), src))
+            imp = [t for t in r.find_events("impulse_body_y", "zero") if t > 1e-6]
+            if imp:
+                d = min(abs(t - t0) for t in imp)
+                s += "; the body's y-impulse vanishes at the same instant to |Δt| = %s" % fmt(d, 2)
+            s += "; %d such instants over the run. " % len(z)
+        else:
+            s += ("Ours: the dashed line at t = %s, the first zero of the body's y-impulse after "
+                  "t = 0 (from %s); %d such zeros over the run. " % (fmt(t0, 4), src, len(z)))
     s += "Energy drift %s of E₀." % fmt(r.summary.get("energy_drift_rel", float("nan")), 2)
-    return s
+    return s + stroke_text(r)
 
 
 def cap_fig45(r, which):
@@ -305,10 +491,13 @@ def cap_fig48(r, marks):
 
 
 def fig48_marks(r):
+    """The four instants, each the event of its kind nearest the paper's time; None when one is
+    missing or the run ends before the paper's time (a shortened run would pick another)."""
+    t_end = float(r.col("t")[-1])
     marks = []
     for paper, col, kind in FIG48:
         ev = r.find_events(col, kind)
-        if ev:
+        if ev and t_end >= paper:
             marks.append(min(ev, key=lambda t: abs(t - paper)))
     return marks if len(marks) == 4 else None
 
@@ -414,6 +603,156 @@ def cap_fig53(r):
                 fmt(np.abs(e - e[0] - w).max(), 2)))
 
 
+# ------------------------------------------------------- family captions
+
+def family_numbers(f):
+    """Counts per kind and the displacement per period of the passing and trapped members
+    (periods.csv of swim plot)."""
+    kinds = {"passing": 0, "trapped": 0, "open": 0}
+    dy = {"passing": [], "trapped": []}
+    per = {"passing": [], "trapped": []}
+    for p in f.periods:
+        kinds[p["kind"]] = kinds.get(p["kind"], 0) + 1
+        if p["kind"] in dy and p["dy_per_period"]:
+            dy[p["kind"]].append(float(p["dy_per_period"]))
+            per[p["kind"]].append(float(p["period"]))
+    return kinds, dy, per
+
+
+def passing_text(dy, per):
+    if not dy["passing"]:
+        return ""
+    a = np.abs(dy["passing"])
+    return ("passing members move by |Δy| = %s … %s per period (one turn of β, periods %s … "
+            "%s), whatever their energy, in the direction opposite to β̇" % (
+                fmt(a.min(), 6), fmt(a.max(), 6), fmt(min(per["passing"]), 4),
+                fmt(max(per["passing"]), 4)))
+
+
+def cap_family41(f):
+    kinds, dy, per = family_numbers(f)
+    bd = f.betadots()
+    n = len(f.rows)
+    s = ("The paper's phase portrait (β from −π to π, β̇ from −1.5 to 1.5 on its axes): arrows "
+         "(β̇, β̈), solutions that are also level sets of the energy; no elasticity, so no well: "
+         "every solution is periodic and turns β through the whole circle. Ours: %d members "
+         "starting at β₀ = 0 with β̇₀ from %s to %s, run to t = %s; arrows and energy level sets "
+         "from the model (projection of the equations on the curve (4.17)), the members' "
+         "computed curves on top. The potential is constant (%s). %d of %d pass (blue: swim), "
+         "%d trapped" % (n, fmt(min(bd)), fmt(max(bd)), fmt(f.total("t_reached") / max(n, 1)),
+                         "no wells" if not f.wells() else "wells?!", kinds["passing"], n,
+                         kinds["trapped"]))
+    s += "; " + passing_text(dy, per) if dy["passing"] else ""
+    return s + " (right panel)."
+
+
+def cap_family42(f, r1):
+    ys = [(float(r["y"]), b) for r, b in zip(f.rows, f.betadots()) if r["y"]]
+    ys.sort()
+    s = ("The paper plots y(t) of the centre of mass for β̇₀ = 2, 1.55, 1.1, 0.65, 0.2, −0.2, "
+         "−0.65, −1.1, −1.55, −2 (γ = 0.5, β₀ = 0), from the bottom curve to the top one, on "
+         "axes t ∈ [0, 30], y ∈ [−4, 4]: periodic strokes, a net displacement along y growing "
+         "with |β̇₀|. Ours: one sweep of %d members (the same β̇₀, through ḃ₋₂(0) = γβ̇₀/√2), "
+         "one curve each: " % len(f.rows))
+    if ys:
+        T = max(float(r["t_reached"]) for r in f.rows)
+        s += ("y(%s) runs from %s (β̇₀ = %s, bottom) to %s (β̇₀ = %s, top), the same order as "
+              "the paper's and inside its y-range; ±β̇₀ mirror each other (largest |y(T; v) + "
+              "y(T; −v)| = %s)" % (fmt(T), fmt(ys[0][0], 4), fmt(ys[0][1]), fmt(ys[-1][0], 4),
+                                   fmt(ys[-1][1]), fmt(mirror_gap(f), 2)))
+    kinds, dy, per = family_numbers(f)
+    if dy["passing"]:
+        s += "; " + passing_text(dy, per)
+    s += ". x stays 0 and every member swims (no potential, no well)."
+    if r1 is not None:
+        p = strokes(r1)
+        if p:
+            s += (" The scene's own run (β̇₀ = −1, animated in Fig. 4.3's section): stroke period "
+                  "%s, Δy = %s "
+                  "per stroke (summary.json, periodic)." % (fmt(p["period"], 6), fmt(p["dy"], 6)))
+    return s
+
+
+def mirror_gap(f):
+    by = {}
+    for r, b in zip(f.rows, f.betadots()):
+        by[round(b, 9)] = float(r["y"])
+    gaps = [abs(y + by[-b]) for b, y in by.items() if -b in by]
+    return max(gaps) if gaps else float("nan")
+
+
+WELLS_PAPER = {"4.5": ("one well, at (0, 0): κⱼ = 0.5, reference the ellipse cref = (1, 0, γ, 0, …), "
+                       "β = 0", [0.0]),
+               "4.6": ("two wells, at (0, 0) and (π, 0): κ₃ = κ₄ = 0.2, κ₅ = κ₆ = 2, the ellipse "
+                       "c = (1, 0, −γ, 0, …) (β = π) a second minimum of W₁", [0.0, np.pi]),
+               "4.7": ("one well, at (π/3, 0): κⱼ = 0.5, reference the shape of Fig. 4.3(i), "
+                       "β = π/3", [np.pi / 3])}
+
+
+def cap_family_wells(f, which, r):
+    txt, want = WELLS_PAPER[which]
+    kinds, dy, per = family_numbers(f)
+    w = f.wells()
+    wrapped = sorted(np.pi - (np.pi - b) % (2 * np.pi) for b in w)    # in (-pi, pi]
+    miss = max((min(abs(np.angle(np.exp(1j * (a - b)))) for a in wrapped) for b in want),
+               default=float("nan")) if wrapped else float("nan")
+    s = ("The paper's phase portrait shows %s; solutions near a well stay in it and only flap "
+         "(Purcell's scallop: no net motion), the others swim like Example 1. Ours: %d members "
+         "(β̇₀ from %s to %s), wells of the potential V(β) = W₁(c(β)) at β = %s, β̇ = 0 (%s). "
+         "%d trapped (red), %d passing (blue)%s. " % (
+             txt, len(f.rows), fmt(min(f.betadots())), fmt(max(f.betadots())),
+             ", ".join(angle_text(b) for b in wrapped) or "none",
+             "where the paper puts them, to %s" % fmt(miss, 2) if miss < 1e-3 else
+             "NOT where the paper puts them: %s away" % fmt(miss, 3),
+             kinds["trapped"], kinds["passing"],
+             ", %d without a whole period in the run (dashed)" % kinds["open"]
+             if kinds.get("open") else ""))
+    if dy["trapped"]:
+        s += ("Net displacement per period: trapped |Δy| ≤ %s (zero up to the interpolation "
+              "between output rows: flapping)" %
+              fmt(np.abs(dy["trapped"]).max(), 2))
+        s += "; " + passing_text(dy, per) if dy["passing"] else ""
+        s += " (right panel). "
+    elif dy["passing"]:
+        s += passing_text(dy, per) + " (right panel). "
+    if r is not None:
+        y = r.col("y")
+        s += ("The scene's own run (below): it %s; %s.%s" % (
+            "swims" if abs(y[-1]) > 0.5 else "stays trapped and flaps", y_text(r),
+            stroke_text(r)))
+    return s
+
+
+def sweep_block(f):
+    sw = f.sweep
+    rows = f.rows
+    done = sum(r["status"] == "completed" for r in rows)
+    rhs = [int(r["rhs_evaluations"]) for r in rows if r.get("rhs_evaluations")]
+    vary = "; ".join("%s: %d values, %s … %s" % (v["key"], len(v["values"]),
+                                                  fmt(v["values"][0], 4), fmt(v["values"][-1], 4))
+                     for v in sw["vary"]) + (" (zipped)" if sw.get("zip") else "")
+    items = [("members", "%d (%d completed, %d failed)" % (len(rows), done, len(rows) - done)),
+             ("scene", sw["scene"]), ("varied", vary),
+             ("fixed overrides", ", ".join(sw.get("set", [])) or "none"),
+             ("t reached", ", ".join(sorted({fmt(float(r["t_reached"]), 4) for r in rows}))),
+             ("steps (all members)", "%d" % f.total("steps")),
+             ("RHS evaluations", "%d in all, %d … %d per member" % (sum(rhs), min(rhs), max(rhs))
+              if rhs else "—"),
+             ("integration (all members)", "%.3f s" % f.total("integrate_seconds")),
+             ("members' swim run time", "%.2f s in all" % f.total("wall_seconds")),
+             ("sweep", "%.2f s with %d jobs" % (f.sweep_seconds, f.jobs)
+              if f.sweep_seconds is not None else "—"),
+             ("make %s (sweep + swim plot)" % f.target, "%.1f s" % f.seconds)]
+    links = ", ".join('<a href="%s/%s">%s</a>' % (f.rel, n, n)
+                      for n in ("sweep.json", "members.csv", "periods.csv")
+                      if os.path.exists(os.path.join(f.dir, n)))
+    links += ', <a href="%s.log">build log</a>' % f.rel
+    return ('<div class="run sweep" id="sweep-%s"><h3>Sweep: <code>make %s</code> (%s)</h3>'
+            '<pre class="cmd">%s</pre><table>%s</table></div>' % (
+                f.target, f.target, links, esc(f.command),
+                "".join("<tr><th>%s</th><td>%s</td></tr>" % (esc(k), esc(v)) for k, v in items)))
+
+
 # ---------------------------------------------------------------- page
 
 CSS = """
@@ -427,6 +766,7 @@ video{width:100%;max-width:960px;background:#000;display:block}
 table{border-collapse:collapse;font-size:.9rem;margin:.4rem 0}td,th{border:1px solid #ccc;padding:.2rem .5rem;text-align:right}
 th{background:#eee}td:first-child,th:first-child{text-align:left}
 pre{background:#fff;border:1px solid #ddd;padding:.5rem;overflow:auto;font-size:.8rem;max-height:22rem}
+pre.cmd{white-space:pre-wrap;word-break:break-all}
 nav{font-size:.9rem;line-height:1.7;columns:3}nav a{display:block}
 .run{background:#f0f4f8;border:1px solid #cdd;padding:.6rem 1rem;margin:1rem 0}
 .note{color:#555;font-size:.9rem}
@@ -485,8 +825,7 @@ def main(argv):
         if name == "example3":
             marks = fig48_marks(r)
         elif name == "example1":
-            z = [t for t in r.find_events("impulse_body_y", "zero") if t > 1e-6]
-            marks = z[:1]
+            marks = [t for t, _ in rigid_rest(r)[:1]]
         r.marks = marks
         r.plots(marks)
         r.animate()
@@ -494,26 +833,58 @@ def main(argv):
         log("%s: run %.1f s, plots %.1f s, animation %.1f s" % (
             name, r.timings["run"], r.timings["plot"], r.timings.get("animate", 0)))
 
-    sections = []   # (id, title, scene, [images], caption)
+    fams = {}
+    for fig, target, dirname, image, scene in FAMILIES:
+        if target in opts["families"]:
+            f = Family(fig, target, dirname, image, scene, out)
+            if f.make():
+                fams[fig] = f
+                log("%s: %d members, make %s %.1f s" % (dirname, len(f.rows), target, f.seconds))
+
+    # (id, title, scene, [images relative to out], caption, family or None, show the run)
+    sections = []
 
     def add(fig, title, scene, images, caption):
         if scene in runs:
-            imgs = [i for i in images if i and os.path.exists(os.path.join(runs[scene].dir, i))]
-            sections.append((fig, title, scene, imgs, caption(runs[scene])))
+            r = runs[scene]
+            imgs = ["%s/%s" % (r.rel, i) for i in images
+                    if i and os.path.exists(os.path.join(r.dir, i))]
+            sections.append((fig, title, scene, imgs, caption(r), None, True))
 
-    add("4.1", "Phase portrait of β (Example 1)", "example1", ["phase.png"], cap_fig41)
-    add("4.2", "y(t) of the centre of mass (Example 1)", "example1", ["trajectory.png"], cap_fig42)
+    def add_family(fig, title, run_images, caption):
+        """Fig. FIG from its family when the sweep was made, with the scene run's RUN_IMAGES
+        (and its run block) after it; otherwise False."""
+        f = fams.get(fig)
+        if f is None:
+            return False
+        r = runs.get(f.scene)
+        imgs = ["%s/%s" % (f.rel, f.image)]
+        if r is not None:
+            imgs += ["%s/%s" % (r.rel, i) for i in run_images
+                     if os.path.exists(os.path.join(r.dir, i))]
+        sections.append((fig, title, f.scene, imgs, caption(f, r), f,
+                         r is not None and bool(run_images)))
+        return True
+
+    if not add_family("4.1", "Phase portrait of β (Example 1, a family)", [],
+                      lambda f, r: cap_family41(f)):
+        add("4.1", "Phase portrait of β (Example 1)", "example1", ["phase.png"], cap_fig41)
+    if not add_family("4.2", "y(t) for ten initial velocities (Example 1, a family)", [],
+                      cap_family42):
+        add("4.2", "y(t) of the centre of mass (Example 1)", "example1", ["trajectory.png"],
+            cap_fig42)
     if "example1" in runs:
         runs["example1"].fig43 = runs["example1"].panels(
             "fig4_3", [0.9 * k for k in range(10)], "one stroke (Fig. 4.3 times)")
     add("4.3", "Screenshots over a stroke (Example 1)", "example1", ["fig4_3.png"], cap_fig43)
     add("4.4", "Distribution of energy (Example 1)", "example1", ["energy.png"], cap_fig44)
-    add("4.5", "Phase portrait, one well (Example 2)", "example2a", ["phase.png", "trajectory.png"],
-        lambda r: cap_fig45(r, "4.5"))
-    add("4.6", "Phase portrait, two wells (Example 2)", "example2b", ["phase.png", "trajectory.png"],
-        lambda r: cap_fig45(r, "4.6"))
-    add("4.7", "Phase portrait, well at π/3 (Example 2)", "example2c",
-        ["phase.png", "trajectory.png"], lambda r: cap_fig45(r, "4.7"))
+    for fig, scene, title in (("4.5", "example2a", "Phase portrait, one well (Example 2)"),
+                              ("4.6", "example2b", "Phase portrait, two wells (Example 2)"),
+                              ("4.7", "example2c", "Phase portrait, well at π/3 (Example 2)")):
+        if not add_family(fig, title + ", a family", ["trajectory.png"],
+                          lambda f, r, fig=fig: cap_family_wells(f, fig, r)):
+            add(fig, title, scene, ["phase.png", "trajectory.png"],
+                lambda r, fig=fig: cap_fig45(r, fig))
     if "example3" in runs and runs["example3"].marks:
         add("4.8", "Four instants of Example 3", "example3", ["instants.png"],
             lambda r: cap_fig48(r, r.marks))
@@ -580,27 +951,34 @@ def main(argv):
             'what the paper\'s figure shows and what ours shows. The first section of each scene '
             'carries its run: the animation (body coloured by density ρ₀/J, fluid velocity, path '
             'of the centre of mass, energy with a time cursor), the scene file and the run '
-            'summary. Marked instants come from %s.</p>' % (
+            'summary. %sMarked instants come from %s.</p>' % (
+                ("Figs %s are families of runs, each one <code>swim sweep</code> (the make "
+                 "target named in its section) drawn by <code>swim plot</code>; their sections "
+                 "carry the sweep's definition and summary. " % ", ".join(sorted(fams)))
+                if fams else "",
                 "the runs' events.csv (swim run --event)" if with_events else
                 "the output rows (this swim run has no --event; extremes by parabolic "
                 "interpolation between rows)"),
             '<nav>' + "".join('<a href="#fig%s">Fig. %s — %s</a>' % (
-                f.replace("–", "-"), f, esc(t)) for f, t, _, _, _ in sections) +
+                f.replace("–", "-"), f, esc(t)) for f, t, *_ in sections) +
             ('<a href="#work-precision">Work-precision per scene</a>' if wp else "") + '</nav>']
     shown = set()
-    for fig, title, scene, imgs, caption in sections:
-        r = runs[scene]
+    for fig, title, scene, imgs, caption, fam, show_run in sections:
         body.append('<section id="fig%s"><h2>Fig. %s — %s</h2>' % (fig.replace("–", "-"), fig,
                                                                    esc(title)))
         for i in imgs:
-            body.append('<figure><img src="%s/%s" alt="Fig. %s, ours: %s" loading="lazy">'
-                        '</figure>' % (r.rel, i, fig, esc(i)))
+            body.append('<figure><img src="%s" alt="Fig. %s, ours: %s" loading="lazy">'
+                        '</figure>' % (i, fig, esc(os.path.basename(i))))
         body.append('<figcaption>%s</figcaption>' % esc(caption))
-        if scene in shown:
+        if fam is not None:
+            body.append(sweep_block(fam))
+        if not show_run:
+            pass
+        elif scene in shown:
             body.append('<p class="note">Run: <a href="#run-%s">%s</a> (animation, scene, '
                         'summary above).</p>' % (scene, esc(TITLES[scene])))
         else:
-            body.append(run_block(r))
+            body.append(run_block(runs[scene]))
             shown.add(scene)
         body.append('</section>')
     if wp:
@@ -611,8 +989,10 @@ def main(argv):
                     'docs/figures/scenes_work_precision_cpu.png).</figcaption></section>' % wp)
     total = time.time() - clock
     body.append('<p class="note">Built by tools/paper/build_paper.py in %.0f s (%s).</p>'
-                % (total, ", ".join("%s %.0f s" % (n, sum(r.timings.values()))
-                                    for n, r in runs.items())))
+                % (total, ", ".join(["%s %.0f s" % (n, sum(r.timings.values()))
+                                     for n, r in runs.items()] +
+                                    ["make %s %.0f s" % (f.target, f.seconds)
+                                     for f in fams.values()])))
     page = ('<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">'
             '<meta name="viewport" content="width=device-width, initial-scale=1">'
             '<title>swim — the paper\'s figures reproduced</title><style>%s</style></head>'
