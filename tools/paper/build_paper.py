@@ -702,7 +702,7 @@ def cap_family_wells(f, which, r):
          "%d trapped (red), %d passing (blue)%s. " % (
              txt, len(f.rows), fmt(min(f.betadots())), fmt(max(f.betadots())),
              ", ".join(angle_text(b) for b in wrapped) or "none",
-             "where the paper puts them, to %s" % fmt(miss, 2) if miss < 1e-3 else
+             "where the paper puts them: |Δβ| ≤ %s" % fmt(max(miss, 1e-16), 1) if miss < 1e-3 else
              "NOT where the paper puts them: %s away" % fmt(miss, 3),
              kinds["trapped"], kinds["passing"],
              ", %d without a whole period in the run (dashed)" % kinds["open"]
@@ -717,7 +717,7 @@ def cap_family_wells(f, which, r):
         s += passing_text(dy, per) + " (right panel). "
     if r is not None:
         y = r.col("y")
-        s += ("The scene's own run (below): it %s; %s.%s" % (
+        s += ("The scene's own run (below the sweep): it %s; %s.%s" % (
             "swims" if abs(y[-1]) > 0.5 else "stays trapped and flaps", y_text(r),
             stroke_text(r)))
     return s
@@ -966,12 +966,17 @@ def main(argv):
     for fig, title, scene, imgs, caption, fam, show_run in sections:
         body.append('<section id="fig%s"><h2>Fig. %s — %s</h2>' % (fig.replace("–", "-"), fig,
                                                                    esc(title)))
-        for i in imgs:
+        # a family: its figure, the caption and the sweep, then the scene's own run
+        first = imgs[:1] if fam is not None else imgs
+        for i in first:
             body.append('<figure><img src="%s" alt="Fig. %s, ours: %s" loading="lazy">'
                         '</figure>' % (i, fig, esc(os.path.basename(i))))
         body.append('<figcaption>%s</figcaption>' % esc(caption))
         if fam is not None:
             body.append(sweep_block(fam))
+            for i in imgs[1:]:
+                body.append('<figure><img src="%s" alt="the scene\'s own run: %s" '
+                            'loading="lazy"></figure>' % (i, esc(os.path.basename(i))))
         if not show_run:
             pass
         elif scene in shown:
