@@ -54,7 +54,7 @@ help:
 	@echo "make            build bin/swim (installs missing Debian packages first)"
 	@echo "make deps       check/install: $(DEB_PKGS)"
 	@echo "make deps-media check/install: $(MEDIA_PKGS) (for animations, the page and make test)"
-	@echo "make paper      run every paper scene, build out/paper/index.html (figures, animations; ~10 min)"
+	@echo "make paper      run every paper scene and family (fig-4-N sweeps), build out/paper/index.html (~3 min)"
 	@echo "make paper-test make paper, then check the page in headless Chromium (out/paper/screenshot.png)"
 	@echo "make test       build and run every test program in tests/"
 	@echo "make mpi        bin/swim-mpi: swim sweep over MPI ranks (installs OpenMPI); make test-mpi tests it"

@@ -364,6 +364,8 @@ def y_text(r):
     s = "y(%s) = %s" % (fmt(t[-1]), fmt(y[-1]))
     if np.abs(x).max() > 1e-6:
         s += ", x(%s) = %s" % (fmt(t[-1]), fmt(x[-1]))
+    elif np.abs(x).max() == 0:
+        s += " with x = 0 throughout (exactly)"
     else:
         s += " with x = 0 throughout (|x| ≤ %s)" % fmt(np.abs(x).max(), 2)
     return s
@@ -485,7 +487,7 @@ def cap_fig48(r, marks):
     parts = []
     for (paper, col, kind), ours in zip(FIG48, marks):
         parts.append("%s %s at %s (paper %s, Δ = %s)" % (col.replace("_", " "), kind,
-                                                        fmt(ours, 4), "%.2f" % paper,
+                                                        fmt(ours, 5), "%.2f" % paper,
                                                         fmt(ours - paper, 2)))
     return s + "; ".join(parts) + "."
 
