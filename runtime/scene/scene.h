@@ -17,9 +17,29 @@
 
 #define SWIM_NMAX (2 * (SWIM_KERNEL_MAX_MODES + 1))
 
+/* Bounds every run honours, whatever set the value (scene file or command line), checked in
+ * one place, swim_run_settings_check:
+ * - at most SWIM_ROWS_MAX output rows (t_end / output_step): 10^7 rows of a 16-mode scene are
+ *   already ~10 GB of CSV;
+ * - rtol in [SWIM_RTOL_MIN, SWIM_RTOL_MAX]: below 100 unit roundoffs (2.2e-14, ode113's floor)
+ *   double precision cannot meet the error test; above 0.1 the local error estimate no longer
+ *   bounds anything (rtol 10 "completes" with a 290 % energy error);
+ * - atol in (0, SWIM_ATOL_MAX]: the states are O(1) (shape coefficients, positions), so an
+ *   absolute tolerance above 0.1 would accept errors as large as the state itself. */
+#define SWIM_ROWS_MAX 1e7
+#define SWIM_RTOL_MIN 2.220446049250313e-14
+#define SWIM_RTOL_MAX 0.1
+#define SWIM_ATOL_MAX 0.1
+/* Scene files are a few kB (the largest paper scene is ~1 kB); a file over 1 MiB is refused
+ * before it is read, so a huge array cannot make the reader allocate gigabytes. */
+#define SWIM_SCENE_MAX_BYTES (1L << 20)
+
+/* The run settings, in the order of swim_run_settings_check's messages. */
+enum { SWIM_SET_T_END, SWIM_SET_OUTPUT_STEP, SWIM_SET_RTOL, SWIM_SET_ATOL, SWIM_SET_LAW, SWIM_SET_COUNT };
+
 typedef struct {
-    char path[512];
-    char title[256];
+    char *path;                       /* the scene file as named (owned) */
+    char *title;                      /* owned, "" when absent */
     int modes, n;
     const swim_kernel *kernel;
     double rho0, rhof;
@@ -34,7 +54,9 @@ typedef struct {
     double damping[SWIM_NMAX];
     int forced;                       /* F(t) = f(t) * direction (5.1) */
     swim_expr *forcing;
-    char forcing_text[512];
+    char *forcing_text;               /* the law as written (owned) */
+    double forcing_finite_until;      /* first time in (0, t_end] where the law was found not
+                                         finite (a sample, see swim_run_settings_check), or inf */
     double direction[SWIM_NMAX];
     double t_end, output_step, rtol, atol;
     char integrator[32];
@@ -43,7 +65,13 @@ typedef struct {
     int projection;                   /* drift control after each step (ABM), default on */
     int step_lookahead;               /* ABM step-size look-ahead p (swim_ode_options.lookahead); -1 = the integrator default */
     double projection_change;         /* max |change| of dc0 when projected */
+    int setting_line[SWIM_SET_COUNT]; /* line of each run setting in the file (0: absent) */
 } swim_scene;
+
+/* Which run settings came from the command line (nonzero: its messages name the option). */
+typedef struct {
+    int given[SWIM_SET_COUNT];
+} swim_run_overrides;
 
 /* 0 on success; 2 after printing a one-line error naming the file, the key and the value. */
 int swim_scene_load(const char *path, swim_scene *scene);
@@ -51,6 +79,13 @@ int swim_scene_load(const char *path, swim_scene *scene);
  * it in messages. */
 int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *scene);
 void swim_scene_free(swim_scene *scene);
+
+/* The one check of the run settings, whatever set them: the row cap and the tolerance bounds
+ * above, and the forcing law on the run's interval [0, t_end] -- not finite at t0 is an error;
+ * the first sampled time where it is not finite later is recorded in forcing_finite_until (the
+ * run stops there). 0, or 2 after one line on stderr naming the scene key (FILE:LINE:
+ * run.rtol: ...) or, for a setting in `cli`, the option (swim run: --rtol: ...). cli may be NULL. */
+int swim_run_settings_check(swim_scene *scene, const swim_run_overrides *cli);
 
 /* Name of real coordinate i in CSV headers and scenes: a1, b1, am1, bm1, am2, ... */
 void swim_coord_name(int i, char *buf, int len);
