@@ -88,6 +88,7 @@ typedef struct {
     int nsnap;
     step_trace trace;
     char *output_error;         /* the first output that could not be written, and why */
+    int outputs_bad;            /* an output failed (also when output_error could not be made) */
     /* integration */
     swim_dynamics d;
     int d_ready;
@@ -212,9 +213,9 @@ static int check_trace_path(const run_ctx *c)
 /* Record the first output error ("cannot write PATH: why"); later ones are consequences. */
 static void output_failed(run_ctx *c, const char *path, int err)
 {
-    if (c->output_error) return;
-    c->output_error = swim_strprintf("cannot write %s: %s", path, strerror(err ? err : EIO));
-    if (!c->output_error) c->output_error = NULL;   /* out of memory: the status still says failed */
+    c->outputs_bad = 1;
+    if (!c->output_error)   /* NULL when out of memory: outputs_bad still fails the run */
+        c->output_error = swim_strprintf("cannot write %s: %s", path, strerror(err ? err : EIO));
 }
 
 static int columns(const swim_scene *s, const char **names, char storage[][24])
@@ -427,6 +428,12 @@ static void stop_by_signal(run_ctx *c, double t)
     else stop(c, "terminated by %s at t = %.6g", sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal", t);
 }
 
+/* An output failed at t: the run stops, its reason is the output error. */
+static void stop_on_output(run_ctx *c, double t)
+{
+    stop(c, "%s (at t = %.6g)", c->output_error ? c->output_error : "an output could not be written", t);
+}
+
 /* Why the integrator could not reach t. */
 static void stop_on_integrator(run_ctx *c, int rc, double t)
 {
@@ -437,7 +444,7 @@ static void stop_on_integrator(run_ctx *c, int rc, double t)
     }
     /* A forcing law that is finite at t0 (checked when the scene is read) may not stay so. */
     if (s->forced && !isfinite(swim_expr_eval(s->forcing, c->d.last_rhs_t))) {
-        stop(c, "the forcing law is NaN or Inf at t = %.9g", c->d.last_rhs_t);
+        stop(c, "the forcing law is NaN or Inf at t = %.9g", fmin(c->d.last_rhs_t, s->forcing_finite_until));
         return;
     }
     if (rc == SWIM_ODE_ERHS)
@@ -505,7 +512,7 @@ static int emit_row(run_ctx *c, long k, long rows, long every, double t)
     row_values(&c->s, t, c->y, &g, c->row);
     if (swim_csv_row(&c->csv, c->row) != 0) {
         output_failed(c, c->csv_path, errno);
-        stop(c, "cannot write %s at t = %.6g: %s", c->csv_path, t, strerror(errno ? errno : EIO));
+        stop_on_output(c, t);
         return -1;
     }
     c->r.rows++;
@@ -513,7 +520,7 @@ static int emit_row(run_ctx *c, long k, long rows, long every, double t)
         if (c->nsnap++) fputs(",\n", c->snap);
         if (swim_flow_snapshot(&c->d, t, c->y, c->snap) != 0) {
             output_failed(c, c->snap_path, ENOMEM);
-            stop(c, "cannot write %s at t = %.6g: %s", c->snap_path, t, strerror(ENOMEM));
+            stop_on_output(c, t);
             return -1;
         }
     }
@@ -540,7 +547,7 @@ static void integrate(run_ctx *c)
         if (k == rows && fabs(t - s->t_end) < 1e-9 * s->output_step) t = s->t_end;
         if (k > rows && (rows * s->output_step >= s->t_end * (1 - 1e-12))) break;
         if (k > rows + 1) break;
-        if (s->forced && t > s->forcing_finite_until) {   /* found when the settings were checked */
+        if (s->forced && t >= s->forcing_finite_until) {   /* found when the settings were checked */
             stop(c, "the forcing law is NaN or Inf at t = %.9g; stopped before the step to t = %.6g",
                  s->forcing_finite_until, t);
             break;
@@ -552,7 +559,7 @@ static void integrate(run_ctx *c)
         if (emit_row(c, k, rows, every, t) != 0) break;
         if (c->trace.err) {
             output_failed(c, c->opt.trace, c->trace.err);
-            stop(c, "cannot write %s at t = %.6g: %s", c->opt.trace, t, strerror(c->trace.err));
+            stop_on_output(c, t);
             break;
         }
         if (stop_signal) {
@@ -670,12 +677,14 @@ static void close_outputs(run_ctx *c)
     const char *paths[2] = {c->csv_path, c->opt.trace};
     swim_csv *files[2] = {&c->csv, c->trace.open ? &c->trace.csv : NULL};
     for (int i = 0; i < 2; i++) {
-        if (!files[i] || !files[i]->f) continue;
+        if (!files[i] || !files[i]->line) continue;
         struct stat st = files[i]->st;
         errno = 0;
         if (swim_csv_close(files[i]) != 0) output_failed(c, paths[i], errno);
-        else if (!swim_still_names(paths[i], &st))
-            output_failed(c, paths[i], errno == ESTALE ? ESTALE : ENOENT);
+        else if (!swim_still_names(paths[i], &st) && !c->outputs_bad) {
+            c->outputs_bad = 1;
+            c->output_error = swim_strprintf("%s was removed or replaced during the run: its rows are lost", paths[i]);
+        }
     }
     fputs("\n]\n", c->snap);
     int bad = ferror(c->snap);
@@ -691,17 +700,17 @@ static void fill_summary(FILE *f, const run_ctx *c, double wall_s) { summary_jso
 static int report(run_ctx *c)
 {
     close_outputs(c);
-    if (c->output_error && c->r.status == 0)   /* the run completed, an output did not */
-        stop(c, "%s", c->output_error);
+    if (c->outputs_bad && c->r.status == 0)   /* the run completed, an output did not */
+        stop(c, "%s", c->output_error ? c->output_error : "an output could not be written");
     const double wall_s = wall() - c->t_start;
     if (write_whole(c->summary_path, fill_summary, c, wall_s) != 0) {
         int err = errno;
         swim_message(stderr, "swim run: cannot write %s: %s (the run %s: %s)", c->summary_path, strerror(err),
                      c->r.status ? "FAILED" : "completed", c->r.reason ? c->r.reason : "out of memory");
         c->r.status = 1;
-    } else if (c->output_error && !c->opt.quiet) {
-        swim_message(stderr, "swim run: %s", c->output_error);
     }
+    if (c->output_error && c->r.reason && !strstr(c->r.reason, c->output_error))
+        swim_message(stderr, "swim run: %s", c->output_error);   /* the reason names another cause */
     const swim_scene *s = &c->s;
     const swim_ode_stats *st = &c->total;
     swim_message(stdout, "%s: %s (%s); %ld rows in %s", s->path, c->r.status ? "FAILED" : "completed",

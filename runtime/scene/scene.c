@@ -60,6 +60,37 @@ double swim_area_constant(int n, const double *x)
     return mu2;
 }
 
+static int bounded(const double *a, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!(fabs(a[i]) <= SWIM_MAGNITUDE_MAX)) return 0;
+    return 1;
+}
+
+/* 1 when Mr, N, Md, K (and with v, <Gamma, v, v> and v^T K v / 2) are all within bounds. */
+static int model_bounded(const swim_kernel *k, const double *c, const double *v, double rho0, double rhof)
+{
+    const int n = k->dim;
+    double Mr[9], Nc[3 * SWIM_NMAX], Md[SWIM_NMAX * SWIM_NMAX], K[SWIM_NMAX * SWIM_NMAX], g[SWIM_NMAX];
+    k->mass(c, rho0, rhof, Mr, Nc, Md);
+    if (!bounded(Mr, 9) || !bounded(Nc, 3 * n) || !bounded(Md, n * n)) return 0;
+    if (k->reduced(c, v, rho0, rhof, K, NULL, v ? g : NULL) != 0 || !bounded(K, n * n)) return 0;
+    if (!v) return 1;
+    double e = 0.0;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) e += 0.5 * v[i] * K[i * n + j] * v[j];
+    return bounded(g, n) && bounded(&e, 1);
+}
+
+int swim_model_overflow(const swim_kernel *k, const double *c, const double *v, double rho0, double rhof)
+{
+    if (!model_bounded(k, c, NULL, 1.0, 1.0)) return SWIM_INPUT_SHAPE;
+    if (!model_bounded(k, c, NULL, rho0, 1.0)) return SWIM_INPUT_RHO0;
+    if (!model_bounded(k, c, NULL, rho0, rhof)) return SWIM_INPUT_RHOF;
+    if (v && !model_bounded(k, c, v, rho0, rhof)) return SWIM_INPUT_VELOCITY;
+    return SWIM_INPUT_OK;
+}
+
 /* Every key of table t must be in `allowed`. */
 static int check_keys(ctx *c, const toml_value *t, const char *const *allowed)
 {
@@ -310,6 +341,18 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (!(jmin > 0)) ERR(c, toml_get_key_line(shape, "c0"), "c0", "shape outside the admissible set D: min J = %.4g <= 0 on the unit circle (4.1)", jmin);
     double mu2 = swim_area_constant(s->n, s->c0);
     if (s->rhof_neutral) s->rhof = s->rho0 / mu2;
+    switch (swim_model_overflow(s->kernel, s->c0, s->dc0, s->rho0, s->rhof)) {
+    case SWIM_INPUT_SHAPE:
+        ERR(c, toml_get_key_line(shape, "c0"), "c0", "too large: the mass matrices at this shape exceed %g", SWIM_MAGNITUDE_MAX);
+    case SWIM_INPUT_RHO0:
+        c->table = "model";
+        ERR(c, toml_get_key_line(model, "rho0"), "rho0", "%g is too large for this shape: the mass matrices exceed %g", s->rho0, SWIM_MAGNITUDE_MAX);
+    case SWIM_INPUT_RHOF:
+        c->table = "model";
+        ERR(c, toml_get_key_line(model, "rhof"), "rhof", "%g is too large for this shape: the mass matrices exceed %g", s->rhof, SWIM_MAGNITUDE_MAX);
+    case SWIM_INPUT_VELOCITY:
+        ERR(c, toml_get_key_line(shape, "dc0"), "dc0", "too large: the kinetic energy or the Christoffel term exceeds %g", SWIM_MAGNITUDE_MAX);
+    }
 
     const toml_value *el = get_table(c, root, "elastic", 0, &rc);
     if (rc) return rc;
@@ -484,16 +527,14 @@ static int setting_error(const swim_scene *s, const swim_run_overrides *cli, int
     return 2;
 }
 
-/* The first time in [0, t_end] where the law is not finite, located to within a relative 1e-12
- * between two samples; inf when every sample is finite. Samples: t0, then LAW_SAMPLES equal
- * steps (a singularity between two samples is found by the run, which then stops there). */
-#define LAW_SAMPLES 65536
-static double first_nonfinite(const swim_expr *e, double t_end)
+/* The first time in (0, t_end] where the law is not finite among the samples t_k = k*step
+ * (k = 1..count, and t_end), located to within a relative 1e-12 after the last finite sample;
+ * inf when every sample is finite. */
+static double first_nonfinite(const swim_expr *e, double step, long count, double t_end)
 {
     double prev = 0.0;
-    if (!isfinite(swim_expr_eval(e, 0.0))) return 0.0;
-    for (long k = 1; k <= LAW_SAMPLES; k++) {
-        double t = k == LAW_SAMPLES ? t_end : t_end * ((double)k / LAW_SAMPLES);
+    for (long k = 1; k <= count + 1; k++) {
+        double t = k <= count ? fmin(k * step, t_end) : t_end;
         if (!isfinite(swim_expr_eval(e, t))) {
             double lo = prev, hi = t;   /* finite at lo, not at hi */
             while (hi - lo > 1e-12 * fmax(1.0, hi)) {
@@ -506,6 +547,17 @@ static double first_nonfinite(const swim_expr *e, double t_end)
         prev = t;
     }
     return INFINITY;
+}
+
+/* Samples of the law on the run's interval: 2^16 equal steps, and the output times (the
+ * rows; at most 10^6 of them), where an isolated singularity such as 1/(t-1) typically sits. */
+#define LAW_SAMPLES 65536
+#define LAW_ROW_SAMPLES 1000000L
+static double law_finite_until(const swim_scene *s)
+{
+    long rows = (long)fmin(floor(s->t_end / s->output_step), (double)LAW_ROW_SAMPLES);
+    return fmin(first_nonfinite(s->forcing, s->t_end / LAW_SAMPLES, LAW_SAMPLES, s->t_end),
+                first_nonfinite(s->forcing, s->output_step, rows, s->t_end));
 }
 
 int swim_run_settings_check(swim_scene *s, const swim_run_overrides *cli)
@@ -529,11 +581,10 @@ int swim_run_settings_check(swim_scene *s, const swim_run_overrides *cli)
         return setting_error(s, cli, SWIM_SET_ATOL, "%g is above %g: the states are of order 1", s->atol, SWIM_ATOL_MAX);
     s->forcing_finite_until = INFINITY;
     if (s->forcing) {
-        double bad = first_nonfinite(s->forcing, s->t_end);
-        if (bad == 0.0)
+        if (!isfinite(swim_expr_eval(s->forcing, 0.0)))
             return setting_error(s, NULL, SWIM_SET_LAW, "\"%s\" is not finite at t = 0, the start of the run (value %g)",
                                  s->forcing_text, swim_expr_eval(s->forcing, 0.0));
-        s->forcing_finite_until = bad;
+        s->forcing_finite_until = law_finite_until(s);
     }
     return 0;
 }

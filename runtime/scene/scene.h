@@ -87,6 +87,17 @@ void swim_scene_free(swim_scene *scene);
  * run.rtol: ...) or, for a setting in `cli`, the option (swim run: --rtol: ...). cli may be NULL. */
 int swim_run_settings_check(swim_scene *scene, const swim_run_overrides *cli);
 
+/* The model's numbers at a state must leave room for the products the right-hand side forms
+ * (K v, v^T K v, the constrained solve of (4.12)): every entry of Mr, N, Md, K, <Gamma, v, v>
+ * and the kinetic energy must be finite and at most SWIM_MAGNITUDE_MAX in size, so that a
+ * product of two of them is still a double. */
+#define SWIM_MAGNITUDE_MAX 1e150
+enum { SWIM_INPUT_OK, SWIM_INPUT_SHAPE, SWIM_INPUT_RHO0, SWIM_INPUT_RHOF, SWIM_INPUT_VELOCITY };
+/* Which input puts the model beyond SWIM_MAGNITUDE_MAX at shape c, velocity v (may be NULL),
+ * densities rho0, rhof: the first of shape (at unit densities, rest), rho0, rhof, velocity
+ * whose own value does it, or SWIM_INPUT_OK. Used by the scene reader and by swim inspect. */
+int swim_model_overflow(const swim_kernel *k, const double *c, const double *v, double rho0, double rhof);
+
 /* Name of real coordinate i in CSV headers and scenes: a1, b1, am1, bm1, am2, ... */
 void swim_coord_name(int i, char *buf, int len);
 /* mu^2 = sum_k k |c_k|^2 (2.5)/pi: the area constant of the shape. */
