@@ -51,7 +51,7 @@ help:
 	@echo "make deps       check/install: $(DEB_PKGS)"
 	@echo "make test       build and run every test program in tests/"
 	@echo "make sanitize   the test suite under AddressSanitizer + UndefinedBehaviorSanitizer"
-	@echo "make fuzz       fuzz the scene parser and the CLI arguments (libFuzzer, FUZZ_SECONDS=60)"
+	@echo "make fuzz       fuzz the scene parser, the CLI arguments, message quoting and run settings (libFuzzer, FUZZ_SECONDS=60)"
 	@echo "make bench      run the benchmarks (numbers quoted in README.md)"
 	@echo "make bench-accuracy  work-precision diagrams and table for every paper scene (~9 min)"
 	@echo "make bench-drift     energy drift of the T = 1000 runs vs tolerance and step look-ahead (~30 s)"
@@ -110,7 +110,7 @@ $(BUILD)/gen/swim_kernel_n%.c: generator/generate.py $(wildcard generator/swimge
 $(BUILD)/gen/%.o: $(BUILD)/gen/%.c
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
-TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_specialized.py tests/test_hard.py tests/test_plot.sh
+TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_specialized.py tests/test_hard.py tests/test_trust.py tests/test_plot.sh
 
 test: $(BIN)/swim $(TEST_BINS)
 	@SWIM_BIN=$(CURDIR)/$(BIN)/swim bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)
@@ -122,7 +122,8 @@ sanitize: | $(DEPS_STAMP)
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  $(MAKE) --no-print-directory BUILD=build/sanitize BIN=build/sanitize/bin OPT="$(SANITIZE_OPT)" test
 
-# Short coverage-guided fuzzing of the scene parser and the command-line arguments (libFuzzer,
+# Short coverage-guided fuzzing of the scene parser, the command-line arguments, the quoting of
+# user text in messages and the run-settings check (libFuzzer,
 # clang); FUZZ_SECONDS per target.
 FUZZ_SECONDS ?= 60
 fuzz: | $(DEPS_STAMP)

@@ -59,14 +59,15 @@ const char *swim_args_get(const swim_opt *opts, int nopts, const char *name)
 
 static int parse_number(const char *s, size_t len, double *out)
 {
-    char buf[64];
-    if (len == 0 || len >= sizeof buf) return -1;
-    memcpy(buf, s, len);
-    buf[len] = '\0';
+    if (len == 0) return -1;
+    char *buf = strndup(s, len);   /* strtod needs the item alone, of any length */
+    if (!buf) return -1;
     char *end;
     errno = 0;
     double v = strtod(buf, &end);
-    if (*end != '\0' || end == buf || errno == ERANGE || !isfinite(v)) return -1;
+    int bad = *end != '\0' || end == buf || errno == ERANGE || !isfinite(v);
+    free(buf);
+    if (bad) return -1;
     *out = v;
     return 0;
 }
