@@ -155,18 +155,22 @@ def test_trace_steps_on_full_disk():
 
 
 def test_output_folder_removed_mid_run():
+    """The folder is removed while the run is stopped (SIGSTOP), so the run cannot finish first."""
     out = os.path.join(TMP, "removed")
-    proc = subprocess.Popen([SWIM, "run", "models/example4.toml", "--out", out, "--t-end", "6", "--quiet"],
+    proc = subprocess.Popen([SWIM, "run", "models/example4.toml", "--out", out, "--t-end", "300", "--quiet"],
                             cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    for _ in range(200):   # wait for the first rows, then pull the folder away
-        if os.path.exists(os.path.join(out, "trajectory.csv")):
+    for _ in range(3000):   # wait for the first rows, then pull the folder away
+        if os.path.exists(os.path.join(out, "trajectory.csv")) and os.path.getsize(os.path.join(out, "trajectory.csv")) > 1000:
             break
         time.sleep(0.01)
+    proc.send_signal(signal.SIGSTOP)
     subprocess.run(["rm", "-rf", out])
+    proc.send_signal(signal.SIGCONT)
     stdout, stderr = proc.communicate(timeout=120)
     check(proc.returncode == 1, "output folder removed: exit %d, want 1" % proc.returncode)
-    check("summary.json" in stderr and ("removed" in stderr or "No such file" in stderr),
+    check("summary.json" in stderr and "removed" in stderr and "trajectory.csv" in stderr,
           "output folder removed: stderr should say so: " + stderr)
+    check("completed" not in stdout, "output folder removed: stdout says completed: " + stdout)
 
 
 # ---- 3. outputs named twice --------------------------------------------------------------------
