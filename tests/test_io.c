@@ -1,5 +1,5 @@
 /* Tests for runtime/io: the quoting of user text in messages (swim_quote, swim_message), the
- * atomic file replacement, canonical paths, and the CSV writer's whole-row guarantee on a
+ * JSON strings (always UTF-8), the atomic file replacement, canonical paths, and the CSV writer's whole-row guarantee on a
  * file that cannot grow (RLIMIT_FSIZE). */
 #include <errno.h>
 #include <signal.h>
@@ -13,6 +13,7 @@
 #include "check.h"
 #include "io/csv.h"
 #include "io/files.h"
+#include "io/json.h"
 #include "io/message.h"
 
 /* swim_quote of len bytes into a new string. */
@@ -77,6 +78,17 @@ static void test_message(void)
     char *s = swim_strprintf("%s-%d", "p", 42);
     CHECK(s && strcmp(s, "p-42") == 0, "strprintf: '%s'", s);
     free(s);
+}
+
+static void test_json_string(void)
+{
+    char *buf = NULL;
+    size_t n = 0;
+    FILE *m = open_memstream(&buf, &n);
+    swim_json_string(m, "a\"b\\c\nd\x1b\xff\xc3\xa9");
+    fclose(m);
+    CHECK(buf && strcmp(buf, "\"a\\\"b\\\\c\\nd\\u001b\\ufffd\xc3\xa9\"") == 0, "json string: %s", buf);
+    free(buf);
 }
 
 static char *slurp(const char *path)
@@ -174,6 +186,7 @@ int main(void)
     if (!mkdtemp(dir)) return 1;
     test_quote();
     test_message();
+    test_json_string();
     test_replace_and_paths(dir);
     test_csv_limit(dir);
     char cmd[64];

@@ -337,6 +337,22 @@ def test_messages_quote_user_text():
           "title with an escape: terminal clean, summary keeps the title: %r" % (p.stdout + p.stderr))
 
 
+def test_summary_of_a_non_utf8_file_name():
+    """File names are bytes: summary.json must still be UTF-8 JSON (the byte becomes U+FFFD)."""
+    path = os.path.join(TMP.encode(), b"latin\xe9.toml")
+    with open(path, "w") as fh:
+        fh.write(BASE)
+    out = os.path.join(TMP, "latin")
+    p = subprocess.run([SWIM.encode(), b"run", path, b"--out", out.encode(), b"--t-end", b"0.1", b"--quiet"],
+                       capture_output=True, cwd=ROOT)
+    try:
+        s = read_summary(out)
+        check(p.returncode == 0 and s["scene"].endswith("latin\ufffd.toml"), "non-UTF-8 name: %r" % (s and s["scene"]))
+    except ValueError as exc:
+        check(False, "non-UTF-8 name: summary.json is not UTF-8 JSON: %r" % exc)
+    check(b"latin\\xe9.toml" in p.stdout, "non-UTF-8 name: the report shows the byte escaped: %r" % p.stdout)
+
+
 def test_bom_directory_huge_file():
     path = os.path.join(TMP, "bom.toml")
     with open(path, "wb") as fh:

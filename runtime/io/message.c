@@ -3,9 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Length of the valid UTF-8 sequence at s (at most n bytes), or 0 if it is not one
- * (overlong forms, surrogates and code points above U+10FFFF are invalid). *cp gets the code point. */
-static size_t utf8_sequence(const unsigned char *s, size_t n, unsigned long *cp)
+size_t swim_utf8_sequence(const unsigned char *s, size_t n, unsigned long *cp)
 {
     size_t len;
     unsigned long c;
@@ -39,7 +37,7 @@ int swim_quote(FILE *f, const char *text, size_t len, size_t max)
     size_t i = 0, stop = max && len > max ? max : len;
     while (i < stop) {
         unsigned long cp;
-        size_t k = utf8_sequence(s + i, len - i, &cp);
+        size_t k = swim_utf8_sequence(s + i, len - i, &cp);
         if (k == 0) {
             fprintf(f, "\\x%02x", s[i]);
             i++;

@@ -26,6 +26,11 @@ int swim_quote(FILE *f, const char *text, size_t len, size_t max);
 void swim_message(FILE *f, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 void swim_vmessage(FILE *f, const char *fmt, va_list ap);
 
+/* Length of the valid UTF-8 sequence at s (n >= 1 bytes available), or 0 if it is not one
+ * (overlong forms, surrogates and code points above U+10FFFF are invalid); *cp gets the code
+ * point. */
+size_t swim_utf8_sequence(const unsigned char *s, size_t n, unsigned long *cp);
+
 /* The formatted text in a new malloc'd string (NULL when out of memory). */
 char *swim_strprintf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
