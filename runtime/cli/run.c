@@ -408,14 +408,10 @@ static void accumulate_stats(swim_ode_stats *total, const swim_ode *ode)
 static void end_run(run_ctx *c, int failed, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static void end_run(run_ctx *c, int failed, const char *fmt, ...)
 {
-    va_list ap, again;
+    va_list ap;
     va_start(ap, fmt);
-    va_copy(again, ap);
-    int n = vsnprintf(NULL, 0, fmt, ap);
     free(c->r.reason);
-    c->r.reason = n >= 0 ? malloc((size_t)n + 1) : NULL;   /* NULL: reported as out of memory */
-    if (c->r.reason) vsnprintf(c->r.reason, (size_t)n + 1, fmt, again);
-    va_end(again);
+    c->r.reason = swim_vstrprintf(fmt, ap);   /* NULL: reported as out of memory */
     va_end(ap);
     c->r.status = failed;
 }

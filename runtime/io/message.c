@@ -89,12 +89,17 @@ void swim_message(FILE *f, const char *fmt, ...)
     va_end(ap);
 }
 
+char *swim_vstrprintf(const char *fmt, va_list ap)
+{
+    int n;
+    return vformat(fmt, ap, &n);
+}
+
 char *swim_strprintf(const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    int n;
-    char *buf = vformat(fmt, ap, &n);
+    char *buf = swim_vstrprintf(fmt, ap);
     va_end(ap);
     return buf;
 }

@@ -33,5 +33,6 @@ size_t swim_utf8_sequence(const unsigned char *s, size_t n, unsigned long *cp);
 
 /* The formatted text in a new malloc'd string (NULL when out of memory). */
 char *swim_strprintf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+char *swim_vstrprintf(const char *fmt, va_list ap);
 
 #endif

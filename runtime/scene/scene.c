@@ -27,14 +27,8 @@ static void scene_error(const ctx *c, int line, const char *key, const char *fmt
 {
     va_list ap;
     va_start(ap, fmt);
-    char *msg = NULL;
-    int n = vsnprintf(NULL, 0, fmt, ap);
+    char *msg = swim_vstrprintf(fmt, ap);
     va_end(ap);
-    if (n >= 0 && (msg = malloc((size_t)n + 1))) {
-        va_start(ap, fmt);
-        vsnprintf(msg, (size_t)n + 1, fmt, ap);
-        va_end(ap);
-    }
     swim_message(stderr, "swim: %s:%d: %s%s%s: %s", c->path, line, c->table ? c->table : "",
                  c->table ? "." : "", key, msg ? msg : fmt);
     free(msg);
@@ -60,6 +54,7 @@ double swim_area_constant(int n, const double *x)
     return mu2;
 }
 
+/* Every |a_i| <= SWIM_MAGNITUDE_MAX (NaN fails too). */
 static int bounded(const double *a, int n)
 {
     for (int i = 0; i < n; i++)
@@ -450,7 +445,7 @@ static char *read_scene_file(const char *path, size_t *len)
         swim_message(stderr, "swim: %s: cannot open scene file: %s", path, strerror(errno));
         return NULL;
     }
-    struct stat st;
+    struct stat st = {0};
     const char *refusal = NULL;
     if (fstat(fileno(f), &st) != 0) refusal = strerror(errno);
     else if (S_ISDIR(st.st_mode)) refusal = "is a directory, not a scene file";
@@ -511,14 +506,8 @@ static int setting_error(const swim_scene *s, const swim_run_overrides *cli, int
 {
     va_list ap;
     va_start(ap, fmt);
-    char *msg = NULL;
-    int n = vsnprintf(NULL, 0, fmt, ap);
+    char *msg = swim_vstrprintf(fmt, ap);
     va_end(ap);
-    if (n >= 0 && (msg = malloc((size_t)n + 1))) {
-        va_start(ap, fmt);
-        vsnprintf(msg, (size_t)n + 1, fmt, ap);
-        va_end(ap);
-    }
     if (cli && cli->given[i] && setting_option[i])
         swim_message(stderr, "swim run: --%s: %s", setting_option[i], msg ? msg : fmt);
     else
