@@ -95,7 +95,7 @@ def test_disk_full_at_the_end():
         if mnt is None:
             return
         out = os.path.join(mnt, "end")
-        p = swim("run", "models/example3.toml", "--out", out, "--t-end", "2", "--quiet")
+        p = swim("run", "models/example3.toml", "--out", out, "--t-end", "2", "--quiet", "--snapshots")
         s = read_summary(out)
         check(p.returncode == 1, "disk full at the end (tmpfs): exit %d, want 1" % p.returncode)
         check(s is not None and s["status"] == "failed" and "snapshots.json" in s["reason"]
@@ -213,7 +213,7 @@ def test_sigterm_sighup():
     for sig, name in ((signal.SIGTERM, "SIGTERM"), (signal.SIGHUP, "SIGHUP")):
         out = os.path.join(TMP, "sig_" + name)
         proc = subprocess.Popen([SWIM, "run", "models/example4.toml", "--out", out, "--t-end", "100000",
-                                 "--quiet"], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                                 "--quiet", "--snapshots"], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
         time.sleep(1.0)
         proc.send_signal(sig)
         proc.wait(timeout=30)

@@ -1,5 +1,7 @@
-/* swim plot DIR: the figures of a run (runtime/plot/plot_run.py, matplotlib). */
+/* swim plot DIR: the figures of a run (runtime/plot/plot_run.py, matplotlib), or of a sweep when
+ * DIR holds sweep.json (runtime/plot/plot_family.py, which calls this program's `inspect`). */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -18,7 +20,21 @@ int swim_cmd_plot(int argc, char **argv)
         swim_message(stderr, "swim plot: cannot read run directory '%s'", argv[2]);
         return 2;
     }
-    const char *script = SWIM_ROOT "/runtime/plot/plot_run.py";
+    /* a sweep folder (sweep.json) gets the family figures, a run folder the run's */
+    char *probe = swim_path_join(argv[2], "sweep.json");
+    if (!probe) {
+        swim_message(stderr, "swim plot: out of memory");
+        return 1;
+    }
+    const int sweep = access(probe, R_OK) == 0;
+    free(probe);
+    const char *script = sweep ? SWIM_ROOT "/runtime/plot/plot_family.py" : SWIM_ROOT "/runtime/plot/plot_run.py";
+    /* the scripts call back `swim flow` / `swim inspect`: tell them which binary this is */
+    if (!getenv("SWIM_BIN")) {
+        char *self = realpath("/proc/self/exe", NULL);
+        if (self) setenv("SWIM_BIN", self, 1);
+        free(self);
+    }
     fflush(stdout);
     execl(SWIM_PYTHON, SWIM_PYTHON, script, argv[2], (char *)NULL);
     perror("swim plot: cannot start " SWIM_PYTHON);

@@ -1,4 +1,8 @@
-/* swim run: one scene end to end -- trajectory.csv, snapshots.json and summary.json in DIR.
+/* swim run: one scene end to end -- trajectory.csv, summary.json and a copy of the scene
+ * (scene.toml, so that DIR is self-contained: `swim flow` and `swim plot` need nothing else) in
+ * DIR; events.csv with --event or an [events] list; snapshots.json only with --snapshots
+ * (otherwise `swim flow DIR` computes them when needed); with --summary-only (a sweep member)
+ * neither trajectory.csv nor snapshots.json.
  *
  * The command reads as its four stages: options (scene + command line, validated together),
  * outputs (folder, files, checks that no output overwrites another or the scene), the
@@ -8,8 +12,9 @@
  * Rows fall exactly on t0 + k*output_step and on t_end, produced by the integrator's own
  * interpolant. A run that stops early (NaN, step-size underflow, barrier crossed, SIGINT,
  * SIGTERM, SIGHUP, an output that cannot be written) keeps every row it wrote (each row is
- * flushed) and says in summary.json where and why it stopped. summary.json and snapshots.json
- * are written whole at the end, atomically (swim_replace_file): a reader never sees a part. */
+ * flushed) and says in summary.json where and why it stopped; a run ended by a :stop event
+ * has its last row at the event and is completed. summary.json, snapshots.json, events.csv and
+ * scene.toml are written whole, atomically (swim_replace_file): a reader never sees a part. */
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
@@ -24,6 +29,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/run_events.h"
 #include "io/csv.h"
 #include "io/files.h"
 #include "io/json.h"
@@ -36,6 +42,7 @@
 
 #define SNAPSHOTS 10
 #define NCOLS_MAX (8 + 4 * SWIM_NMAX + 64)
+#define MAX_SETS 64   /* --set options */
 
 /* The signal that asked the run to stop (SIGINT, SIGTERM or SIGHUP: a terminal, a batch
  * scheduler, a closed session), 0 while none did. The RHS polls it, so a long step stops too. */
@@ -55,6 +62,10 @@ static double wall(void)
 typedef struct {
     const char *scene_file, *out, *trace;
     int quiet, generic;
+    int snapshots;      /* --snapshots: write snapshots.json */
+    int summary_only;   /* --summary-only: rows computed (the summary needs them), not written */
+    swim_override sets[MAX_SETS];   /* --set KEY=VALUE, applied before the scene is validated */
+    int nsets;
 } run_options;
 
 typedef struct {
@@ -64,7 +75,10 @@ typedef struct {
     char *reason;         /* why it stopped (owned) */
     double switch_t;      /* time of a switch to the stiff fallback integrator, or -1 */
     double integrate_seconds;   /* time inside the integrator (steps, RHS, interpolation) */
+    double diagnostics_seconds; /* energies, impulses, residuals, min J of the output rows */
+    double output_seconds;      /* formatting and writing rows and snapshots */
     char used[80];        /* integrator(s) used: two names of at most 31 characters */
+    int event_stop;       /* a :stop event ended the run (status completed, reason says which) */
 } run_report;
 
 /* --trace-steps FILE: one row per ABM step attempt, with the energy of each accepted state. */
@@ -76,13 +90,22 @@ typedef struct {
     int err;          /* errno of the first write error, 0 while none */
 } step_trace;
 
+/* The row of trajectory.csv at an integrator state (event functions evaluate columns). */
+typedef struct {
+    const swim_scene *s;
+    swim_dynamics *d;
+    double *full;
+} row_ctx;
+
 typedef struct {
     swim_scene s;
     run_options opt;
+    swim_run_events *events;    /* --event and [events] list, NULL without any */
     /* outputs */
-    char *dir, *csv_path, *snap_path, *summary_path;
+    char *dir, *csv_path, *snap_path, *summary_path, *scene_copy_path, *events_path;
     swim_csv csv;
-    FILE *snap;                 /* snapshots, in memory until the end (open_memstream) */
+    FILE *snap;                 /* snapshots, in memory until the end (open_memstream); NULL
+                                   without --snapshots */
     char *snap_buf;
     size_t snap_len;
     int nsnap;
@@ -101,6 +124,7 @@ typedef struct {
     double *y, *row, *ys, *ys_last, *ys_row;
     const char *names[NCOLS_MAX];
     char storage[2 * SWIM_NMAX][24];
+    row_ctx rowc;
     run_report r;
     double t_start;
 } run_ctx;
@@ -117,19 +141,63 @@ static int number_option(const swim_opt *opts, int nopts, const char *name, doub
     return v ? swim_args_double("run", name, v, dst) : 0;
 }
 
+static int columns(const swim_scene *s, const char **names, char storage[][24])
+{
+    int c = 0;
+    static const char *const head[] = {"t", "x", "y", "theta"};
+    static const char *const tail[] = {
+        "kinetic_fluid", "kinetic_shape", "kinetic_rigid", "potential", "energy",
+        "impulse_body_x", "impulse_body_y", "impulse_body_ang",
+        "impulse_fluid_rigid_x", "impulse_fluid_rigid_y", "impulse_fluid_rigid_ang",
+        "impulse_fluid_shape_x", "impulse_fluid_shape_y", "impulse_fluid_shape_ang",
+        "res_volume", "res_volume_rate", "res_angular", "res_locks", "jmin", "work", "w1", "w2"};
+    for (int i = 0; i < 4; i++) names[c++] = head[i];
+    for (int i = 0; i < s->n; i++) {
+        swim_coord_name(i, storage[i], 24);
+        names[c++] = storage[i];
+    }
+    for (int i = 0; i < s->n; i++) {
+        storage[s->n + i][0] = 'd';
+        swim_coord_name(i, storage[s->n + i] + 1, 23);
+        names[c++] = storage[s->n + i];
+    }
+    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) names[c++] = tail[i];
+    return c;
+}
+
+/* --set KEY=VALUE (repeatable), taken out of argv: overrides applied to the scene before it is
+ * validated. How many, or -1 after one line on stderr. */
+static int take_set_options(int *argc, char **argv, swim_override *sets)
+{
+    const char *vals[MAX_SETS];
+    int n = swim_args_take_all("run", argc, argv, 2, "set", vals, MAX_SETS);
+    if (n < 0) return -1;
+    for (int i = 0; i < n; i++) {
+        char err[256];
+        if (swim_override_parse(vals[i], &sets[i], err, sizeof err) != 0) {
+            swim_message(stderr, "swim run: --set: %s", err);
+            return -1;
+        }
+    }
+    return n;
+}
+
 /* Parse argv, load the scene, apply the command line over it and validate the result: the run
  * settings pass the same checks (swim_run_settings_check) whether they came from the scene or
- * from here. 0, or 2 after one line on stderr. */
+ * from here; the events (scene and --event) are checked against the columns and the integrator.
+ * 0, 2 after one line on stderr, or 1 (out of memory). */
 static int read_options(int argc, char **argv, run_ctx *c)
 {
     swim_opt opts[] = {{"out", 1, NULL},  {"t-end", 1, NULL},      {"rtol", 1, NULL},
                        {"output-step", 1, NULL},
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
                        {"generic", 0, NULL}, {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL},
-                       {"trace-steps", 1, NULL}};
+                       {"trace-steps", 1, NULL}, {"event", 1, NULL}, {"snapshots", 0, NULL},
+                       {"summary-only", 0, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
+    if ((c->opt.nsets = take_set_options(&argc, argv, c->opt.sets)) < 0) return 2;
     if (swim_args_parse("run", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
     if (npos != 1) {
         swim_message(stderr, "swim run: expected one scene file, e.g. swim run models/example3.toml");
@@ -137,7 +205,7 @@ static int read_options(int argc, char **argv, run_ctx *c)
     }
     swim_scene *s = &c->s;
     c->opt.scene_file = pos[0];
-    if (swim_scene_load(pos[0], s)) return 2;
+    if (swim_scene_load_with(pos[0], c->opt.sets, c->opt.nsets, s)) return 2;
     swim_run_overrides cli = {{0}};
     if (number_option(opts, nopts, "t-end", &s->t_end, &cli.given[SWIM_SET_T_END]) ||
         number_option(opts, nopts, "output-step", &s->output_step, &cli.given[SWIM_SET_OUTPUT_STEP]) ||
@@ -146,10 +214,8 @@ static int read_options(int argc, char **argv, run_ctx *c)
         return 2;
     const char *v;
     if ((v = swim_args_get(opts, nopts, "integrator"))) {
-        int known = 0;
-        for (const char *const *m = swim_ode_methods(); *m; m++) known |= strcmp(*m, v) == 0;
-        if (!known) {
-            swim_message(stderr, "swim run: --integrator: unknown integrator '%s' (abm, rk8pd, msadams, rkf45, msbdf, cvode-adams, cvode-bdf)", v);
+        if (!swim_ode_method_known(v)) {
+            swim_message(stderr, "swim run: --integrator: unknown integrator '%s' (%s)", v, swim_ode_method_list());
             return 2;
         }
         snprintf(s->integrator, sizeof s->integrator, "%s", v);   /* a known name: it fits */
@@ -165,7 +231,15 @@ static int read_options(int argc, char **argv, run_ctx *c)
     if (swim_args_get(opts, nopts, "no-projection")) s->projection = 0;
     c->opt.out = swim_args_get(opts, nopts, "out");
     c->opt.trace = swim_args_get(opts, nopts, "trace-steps");
-    return 0;
+    c->opt.summary_only = swim_args_get(opts, nopts, "summary-only") != NULL;
+    c->opt.snapshots = swim_args_get(opts, nopts, "snapshots") != NULL && !c->opt.summary_only;
+    if (c->opt.trace && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
+        swim_message(stderr, "swim run: --trace-steps: integrator '%s' does not report its steps", s->integrator);
+        return 2;
+    }
+    /* events name columns of trajectory.csv: checked against them, before any output */
+    c->ncol = columns(s, c->names, c->storage);
+    return swim_run_events_parse(s, argc, argv, c->names, c->ncol, &c->events);
 }
 
 /* ---- outputs ------------------------------------------------------------------------------ */
@@ -200,11 +274,13 @@ static int same_file(const char *a, const char *b)
  * two files, or truncate the scene. 0, or 2 after one line on stderr. */
 static int check_trace_path(const run_ctx *c)
 {
-    const char *const others[] = {c->csv_path, c->snap_path, c->summary_path, c->opt.scene_file};
+    const char *const others[] = {c->csv_path, c->snap_path, c->summary_path, c->scene_copy_path,
+                                  c->events_path, c->opt.scene_file};
+    const size_t nown = sizeof others / sizeof others[0] - 1;
     for (size_t i = 0; i < sizeof others / sizeof others[0]; i++)
         if (same_file(c->opt.trace, others[i])) {
             swim_message(stderr, "swim run: --trace-steps: '%s' is %s %s; choose another file", c->opt.trace,
-                         i < 3 ? "the run's own" : "the scene file", others[i]);
+                         i < nown ? "the run's own" : "the scene file", others[i]);
             return 2;
         }
     return 0;
@@ -218,33 +294,10 @@ static void output_failed(run_ctx *c, const char *path, int err)
         c->output_error = swim_strprintf("cannot write %s: %s", path, strerror(err ? err : EIO));
 }
 
-static int columns(const swim_scene *s, const char **names, char storage[][24])
-{
-    int c = 0;
-    static const char *const head[] = {"t", "x", "y", "theta"};
-    static const char *const tail[] = {
-        "kinetic_fluid", "kinetic_shape", "kinetic_rigid", "potential", "energy",
-        "impulse_body_x", "impulse_body_y", "impulse_body_ang",
-        "impulse_fluid_rigid_x", "impulse_fluid_rigid_y", "impulse_fluid_rigid_ang",
-        "impulse_fluid_shape_x", "impulse_fluid_shape_y", "impulse_fluid_shape_ang",
-        "res_volume", "res_volume_rate", "res_angular", "res_locks", "jmin", "work", "w1", "w2"};
-    for (int i = 0; i < 4; i++) names[c++] = head[i];
-    for (int i = 0; i < s->n; i++) {
-        swim_coord_name(i, storage[i], 24);
-        names[c++] = storage[i];
-    }
-    for (int i = 0; i < s->n; i++) {
-        storage[s->n + i][0] = 'd';
-        swim_coord_name(i, storage[s->n + i] + 1, 23);
-        names[c++] = storage[s->n + i];
-    }
-    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) names[c++] = tail[i];
-    return c;
-}
-
-/* Create DIR and open trajectory.csv, the trace and the in-memory snapshots; remove a summary
- * and snapshots left by an earlier run in DIR (they would describe another run). 0, 1 (out of
- * memory) or 2 (an output cannot be created; one line on stderr). */
+/* Create DIR, copy the scene into it, open trajectory.csv (not with --summary-only), the trace
+ * and the in-memory snapshots (--snapshots); remove a summary, snapshots, events and rows left
+ * by an earlier run in DIR that this run does not replace at once (they would describe another
+ * run). 0, 1 (out of memory) or 2 (an output cannot be created; one line on stderr). */
 static int open_outputs(run_ctx *c)
 {
     c->dir = c->opt.out ? strdup(c->opt.out) : default_out(c->s.path);
@@ -256,9 +309,13 @@ static int open_outputs(run_ctx *c)
     c->csv_path = swim_path_join(c->dir, "trajectory.csv");
     c->snap_path = swim_path_join(c->dir, "snapshots.json");
     c->summary_path = swim_path_join(c->dir, "summary.json");
-    if (!c->csv_path || !c->snap_path || !c->summary_path) goto oom;
-    for (int i = 0; i < 3; i++) {
-        const char *p = i == 0 ? c->csv_path : i == 1 ? c->snap_path : c->summary_path;
+    c->scene_copy_path = swim_path_join(c->dir, "scene.toml");
+    c->events_path = swim_path_join(c->dir, "events.csv");
+    if (!c->csv_path || !c->snap_path || !c->summary_path || !c->scene_copy_path || !c->events_path) goto oom;
+    /* (DIR/scene.toml may be the scene itself: the copy is then a no-op) */
+    const char *const written[] = {c->csv_path, c->snap_path, c->summary_path, c->events_path};
+    for (size_t i = 0; i < sizeof written / sizeof written[0]; i++) {
+        const char *p = written[i];
         if (same_file(p, c->opt.scene_file)) {
             swim_message(stderr, "swim run: --out: %s would overwrite the scene file %s", p, c->opt.scene_file);
             return 2;
@@ -272,21 +329,28 @@ static int open_outputs(run_ctx *c)
         }
         c->trace.open = 1;
     }
-    c->ncol = columns(&c->s, c->names, c->storage);
-    if (swim_csv_open(&c->csv, c->csv_path, c->names, c->ncol) != 0) {
+    if (swim_copy_file(c->opt.scene_file, c->scene_copy_path) != 0) {
+        swim_message(stderr, "swim run: --out: cannot write '%s': %s", c->scene_copy_path, strerror(errno));
+        return 2;
+    }
+    if (!c->opt.summary_only && swim_csv_open(&c->csv, c->csv_path, c->names, c->ncol) != 0) {
         swim_message(stderr, "swim run: --out: cannot write '%s': %s", c->csv_path, strerror(errno));
         return 2;
     }
-    for (int i = 0; i < 2; i++) {
-        const char *p = i ? c->summary_path : c->snap_path;
-        if (unlink(p) != 0 && errno != ENOENT) {
-            swim_message(stderr, "swim run: --out: cannot remove the old '%s': %s", p, strerror(errno));
+    const char *const stale[] = {c->summary_path, c->snap_path, c->events_path,
+                                 c->opt.summary_only ? c->csv_path : NULL};
+    for (size_t i = 0; i < sizeof stale / sizeof stale[0]; i++) {
+        if (!stale[i]) continue;
+        if (unlink(stale[i]) != 0 && errno != ENOENT) {
+            swim_message(stderr, "swim run: --out: cannot remove the old '%s': %s", stale[i], strerror(errno));
             return 2;
         }
     }
-    c->snap = open_memstream(&c->snap_buf, &c->snap_len);
-    if (!c->snap) goto oom;
-    fputs("[\n", c->snap);
+    if (c->opt.snapshots) {
+        c->snap = open_memstream(&c->snap_buf, &c->snap_len);
+        if (!c->snap) goto oom;
+        fputs("[\n", c->snap);
+    }
     return 0;
 oom:
     swim_message(stderr, "swim run: out of memory");
@@ -313,7 +377,10 @@ static void trace_step(const swim_ode_step *st, void *data)
         tr->err = errno ? errno : EIO;
 }
 
-/* Dynamics, the specialized kernel (or the generic one), state buffers and integrator options.
+static int packed_row(void *p, double t, const double *ys, int all, double *row);
+
+/* Dynamics, the specialized kernel (or the generic one), state buffers and integrator options
+ * (with the events attached).
  * 0, or 1 after one line on stderr (out of memory). */
 static int prepare(run_ctx *c)
 {
@@ -337,21 +404,28 @@ static int prepare(run_ctx *c)
     swim_dynamics_initial_state(&c->d, c->y);
     swim_dynamics_pack(&c->d, c->y, c->ys);
     memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
-    c->sys = (swim_ode_system){swim_dynamics_rhs, (size_t)c->sdim, &c->d};
+    c->sys = (swim_ode_system){swim_dynamics_rhs, (size_t)c->sdim, &c->d, NULL};
     swim_ode_options *o = &c->o;
     swim_ode_options_default(o);
     o->rtol = s->rtol;
     o->atol = s->atol;
     if (s->step_lookahead >= 0) o->lookahead = s->step_lookahead;
     s->step_lookahead = o->lookahead;   /* the summary records the value used */
-    o->stiff_stop = strcmp(s->integrator, "abm") == 0;   /* stop and report (or switch) on stiffness */
-    if (s->projection) o->project = swim_dynamics_project;  /* drift control (ABM only) */
+    const unsigned caps = swim_ode_capabilities(s->integrator);
+    o->stiff_stop = (caps & SWIM_ODE_CAP_STIFFNESS) != 0;   /* stop and report (or switch) on stiffness */
+    if (s->projection && (caps & SWIM_ODE_CAP_PROJECTION)) o->project = swim_dynamics_project;  /* drift control */
     if (c->trace.open) {
         c->trace.d = &c->d;
         c->trace.full = calloc((size_t)c->d.dim, sizeof(double));
         if (!c->trace.full) goto oom;
         o->on_step = trace_step;
         o->on_step_data = &c->trace;
+    }
+    if (c->events) {
+        c->rowc = (row_ctx){s, &c->d, calloc((size_t)c->d.dim, sizeof(double))};
+        if (!c->rowc.full ||
+            swim_run_events_attach(c->events, o, (size_t)c->sdim, 3 + 2 * s->n, packed_row, &c->rowc) != 0)
+            goto oom;
     }
     c->r.switch_t = -1.0;
     snprintf(c->r.used, sizeof c->r.used, "%s", s->integrator);
@@ -387,6 +461,23 @@ static void track(run_report *r, double t, const swim_diag *g, int first)
     r->res_volume_rate = fmax(r->res_volume_rate, fabs(g->res_volume_rate));
     r->res_angular = fmax(r->res_angular, fabs(g->res_angular));
     r->res_locks = fmax(r->res_locks, g->res_locks);
+}
+
+/* The columns at integrator state ys for the event functions (swim_run_row_func): all, or t and
+ * the state columns only (no diagnostics needed). */
+static int packed_row(void *p, double t, const double *ys, int all, double *row)
+{
+    row_ctx *rc = p;
+    swim_diag g;
+    swim_dynamics_unpack(rc->d, ys, rc->full);
+    if (!all) {
+        row[0] = t;
+        memcpy(row + 1, rc->full, sizeof(double) * (3 + 2 * rc->s->n));
+        return 0;
+    }
+    if (swim_dynamics_diagnostics(rc->d, rc->full, &g) != 0) return -1;
+    row_values(rc->s, t, rc->full, &g, row);
+    return 0;
 }
 
 /* Add the counters of `ode` to `total` (a run may use two integrators). */
@@ -465,34 +556,46 @@ static int switch_to_fallback(run_ctx *c, double t_last, double t)
         swim_message(stderr, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g",
                      ts, s->integrator, s->stiff_fallback, t_last);
     c->r.switch_t = t_last;
+    swim_run_events_rewind(c->events, t_last);   /* the fallback locates them again from t_last */
     snprintf(c->r.used, sizeof c->r.used, "%s+%s", s->integrator, s->stiff_fallback);
     memcpy(c->ys, c->ys_last, sizeof(double) * c->sdim);
     c->o.stiff_stop = 0;
+    const unsigned caps = swim_ode_capabilities(s->stiff_fallback);
+    if (!(caps & SWIM_ODE_CAP_PROJECTION)) c->o.project = NULL;
+    if (!(caps & SWIM_ODE_CAP_STEP_TRACE)) c->o.on_step = NULL;
     int rc = swim_ode_create(s->stiff_fallback, &c->sys, &c->o, t_last, c->ys, &c->ode);
     return rc == SWIM_ODE_OK ? swim_ode_advance(c->ode, t, c->ys) : rc;
 }
 
-/* Advance to output time t and leave the row's full state in c->y. An ODE status. */
-static int advance_to(run_ctx *c, double t, double *t_last)
+/* Advance to output time *t and leave the row's full state in c->y. A :stop event before *t
+ * ends the run there: *t becomes the event time, whose row is the last. An ODE status. */
+static int advance_to(run_ctx *c, double *t, double *t_last)
 {
     double ta = wall();
-    int rc = swim_ode_advance(c->ode, t, c->ys);
+    int rc = swim_ode_advance(c->ode, *t, c->ys);
     c->r.integrate_seconds += wall() - ta;
     if (rc == SWIM_ODE_ESTIFF && c->s.stiff_fallback[0] && c->r.switch_t < 0 && !stop_signal)
-        rc = switch_to_fallback(c, *t_last, t);
+        rc = switch_to_fallback(c, *t_last, *t);
+    if (rc == SWIM_ODE_TERMINATED) {   /* ys holds the state at the event */
+        *t = swim_ode_time(c->ode);
+        end_run(c, 0, "stopped by event %s at t = %.10g", swim_run_events_stop_name(c->events), *t);
+        c->r.event_stop = 1;
+        rc = SWIM_ODE_OK;
+    }
     if (rc != SWIM_ODE_OK) return rc;
+    const double tr = *t;
     /* Rows come from the interpolant, which leaves the constraint manifold by the local error
      * between two projected steps: project the row as well (a copy; the integrator's state is
      * untouched). */
-    if (c->o.project && c->ode && strcmp(swim_ode_method_name(c->ode), "abm") == 0) {
+    if (c->o.project && c->ode) {
         memcpy(c->ys_row, c->ys, sizeof(double) * c->sdim);
-        c->o.project(t, c->ys_row, &c->d);
+        c->o.project(tr, c->ys_row, &c->d);
         swim_dynamics_unpack(&c->d, c->ys_row, c->y);
     } else {
         swim_dynamics_unpack(&c->d, c->ys, c->y);
     }
     memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
-    *t_last = t;
+    *t_last = tr;
     return SWIM_ODE_OK;
 }
 
@@ -500,25 +603,33 @@ static int advance_to(run_ctx *c, double t, double *t_last)
 static int emit_row(run_ctx *c, long k, long rows, long every, double t)
 {
     swim_diag g;
-    if (swim_dynamics_diagnostics(&c->d, c->y, &g) != 0) {
+    const double t_diag = wall();
+    const int diag_rc = swim_dynamics_diagnostics(&c->d, c->y, &g);
+    c->r.diagnostics_seconds += wall() - t_diag;
+    if (diag_rc != 0) {
         stop(c, "diagnostics failed at t = %.6g (K not positive definite)", t);
         return -1;
     }
     track(&c->r, t, &g, k == 0);
+    const double t_out = wall();
+    int rc = 0;
     row_values(&c->s, t, c->y, &g, c->row);
-    if (swim_csv_row(&c->csv, c->row) != 0) {
+    if (!c->opt.summary_only && swim_csv_row(&c->csv, c->row) != 0) {
         output_failed(c, c->csv_path, errno);
-        stop_on_output(c, t);
-        return -1;
+        rc = -1;
     }
-    c->r.rows++;
-    if ((k % every == 0 || k > rows) && c->nsnap < SNAPSHOTS + 1) {
+    if (rc == 0) c->r.rows++;   /* with --summary-only: rows computed */
+    if (rc == 0 && c->snap && (k % every == 0 || k > rows || c->r.event_stop) && c->nsnap < SNAPSHOTS + 1) {
         if (c->nsnap++) fputs(",\n", c->snap);
         if (swim_flow_snapshot(&c->d, t, c->y, c->snap) != 0) {
             output_failed(c, c->snap_path, ENOMEM);
-            stop_on_output(c, t);
-            return -1;
+            rc = -1;
         }
+    }
+    c->r.output_seconds += wall() - t_out;
+    if (rc != 0) {
+        stop_on_output(c, t);
+        return -1;
     }
     if (!(g.jmin > 0)) {
         stop(c, "the shape left the admissible set D at t = %.6g (min J = %.3g)", t, g.jmin);
@@ -548,7 +659,7 @@ static void integrate(run_ctx *c)
                  s->forcing_finite_until, t);
             break;
         }
-        if (k > 0 && (rc = advance_to(c, t, &t_last)) != SWIM_ODE_OK) {
+        if (k > 0 && (rc = advance_to(c, &t, &t_last)) != SWIM_ODE_OK) {
             stop_on_integrator(c, rc, t);
             break;
         }
@@ -562,6 +673,7 @@ static void integrate(run_ctx *c)
             stop_by_signal(c, t);
             break;
         }
+        if (c->r.event_stop) break;   /* the row at the event was the last */
         double now = wall();
         if (!c->opt.quiet && now - last_progress > 1.0) {
             fprintf(stderr, "\rswim run: t = %.4g / %.4g (%.0f%%)   ", t, s->t_end, 100.0 * t / s->t_end);
@@ -569,7 +681,7 @@ static void integrate(run_ctx *c)
         }
     }
     if (!c->opt.quiet && last_progress > c->t_start) fputc('\n', stderr);
-    if (c->r.status == 0) end_run(c, 0, "reached t_end = %.6g", s->t_end);
+    if (c->r.status == 0 && !c->r.event_stop) end_run(c, 0, "reached t_end = %.6g", s->t_end);
     if (c->ode) accumulate_stats(&c->total, c->ode);
 }
 
@@ -611,7 +723,8 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
     fprintf(f, ", \"from_cache\": %s, \"generate_seconds\": %.3f, \"compile_seconds\": %.3f},\n",
             sp->from_cache ? "true" : "false", sp->generate_seconds, sp->compile_seconds);
     fprintf(f, "  \"projection\": {\"enabled\": %s, \"steps\": %ld, \"max_change\": %.3g},\n",
-            s->projection && strncmp(r->used, "abm", 3) == 0 ? "true" : "false", d->projections, d->max_projection);
+            s->projection && (swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_PROJECTION) ? "true" : "false",
+            d->projections, d->max_projection);
     fprintf(f, "  \"status\": \"%s\",\n  \"reason\": ", r->status ? "failed" : "completed");
     swim_json_string(f, r->reason ? r->reason : "out of memory");
     fprintf(f, ",\n  \"t_end\": %.17g,\n  \"t_reached\": %.17g,\n  \"rows\": %ld,\n", s->t_end, r->t_reached, r->rows);
@@ -631,6 +744,7 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
             r->res_volume, r->res_volume_rate, r->res_angular, r->res_locks);
     fprintf(f, "  \"jmin\": ");
     swim_json_number(f, r->jmin);
+    swim_run_events_json(c->events, f);   /* "events", "event_stop", "periodic" (with events) */
     fprintf(f, ",\n  \"stats\": {\"steps\": %ld, \"rhs_evaluations\": %ld, \"rejected_steps\": %ld, "
             "\"jacobian_evaluations\": %ld, \"last_step\": %.6g, \"last_order\": %d, \"stiffness_suspected\": %s,\n"
             "            \"order_histogram\": [",
@@ -639,7 +753,8 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
     for (int i = 0; i < 13; i++) fprintf(f, "%s%ld", i ? ", " : "", st->order_hist[i]);
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
-    fprintf(f, "],\n            \"integrate_seconds\": %.6f,", r->integrate_seconds);
+    fprintf(f, "],\n            \"integrate_seconds\": %.6f, \"diagnostics_seconds\": %.6f, \"output_seconds\": %.6f,",
+            r->integrate_seconds, r->diagnostics_seconds, r->output_seconds);
     fprintf(f, "\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f, \"max_rss_kb\": %ld}\n}\n",
             d->rhs_seconds, wall_s, d->rhs_calls ? 1e9 * d->rhs_seconds / d->rhs_calls : 0.0, ru.ru_maxrss);
 }
@@ -667,7 +782,8 @@ static int write_whole(const char *path, void (*fill)(FILE *, const run_ctx *, d
 
 /* Close trajectory.csv and the trace (checking that they still are the files named by their
  * paths: a folder removed during the run leaves writes that succeed into nothing), then write
- * snapshots.json. Any failure is an output error and fails the run. */
+ * snapshots.json (--snapshots) and events.csv (with events). Any failure is an output error and
+ * fails the run. */
 static void close_outputs(run_ctx *c)
 {
     const char *paths[2] = {c->csv_path, c->opt.trace};
@@ -682,11 +798,15 @@ static void close_outputs(run_ctx *c)
             c->output_error = swim_strprintf("%s was removed or replaced during the run: its rows are lost", paths[i]);
         }
     }
-    fputs("\n]\n", c->snap);
-    int bad = ferror(c->snap);
-    if (fclose(c->snap) != 0 || bad) output_failed(c, c->snap_path, ENOMEM);
-    else if (swim_replace_file(c->snap_path, c->snap_buf, c->snap_len) != 0) output_failed(c, c->snap_path, errno);
-    c->snap = NULL;
+    if (c->snap) {
+        fputs("\n]\n", c->snap);
+        int bad = ferror(c->snap);
+        if (fclose(c->snap) != 0 || bad) output_failed(c, c->snap_path, ENOMEM);
+        else if (swim_replace_file(c->snap_path, c->snap_buf, c->snap_len) != 0) output_failed(c, c->snap_path, errno);
+        c->snap = NULL;
+    }
+    if (c->events && swim_run_events_write_csv(c->events, c->events_path) != 0)
+        output_failed(c, c->events_path, errno);
 }
 
 static void fill_summary(FILE *f, const run_ctx *c, double wall_s) { summary_json(f, c, wall_s); }
@@ -709,8 +829,10 @@ static int report(run_ctx *c)
         swim_message(stderr, "swim run: %s", c->output_error);   /* the reason names another cause */
     const swim_scene *s = &c->s;
     const swim_ode_stats *st = &c->total;
-    swim_message(stdout, "%s: %s (%s); %ld rows in %s", s->path, c->r.status ? "FAILED" : "completed",
-                 c->r.reason ? c->r.reason : "out of memory", c->r.rows, c->csv_path);
+    swim_message(stdout, c->opt.summary_only ? "%s: %s (%s); %ld rows computed, summary in %s"
+                                             : "%s: %s (%s); %ld rows in %s",
+                 s->path, c->r.status ? "FAILED" : "completed", c->r.reason ? c->r.reason : "out of memory",
+                 c->r.rows, c->opt.summary_only ? c->summary_path : c->csv_path);
     printf("  %s kernel (state dimension %d)\n", c->d.spec ? "specialized" : "generic", c->sdim);
     swim_message(stdout, "  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)",
                  c->r.used, s->rtol, st->steps, st->rhs_evals, st->rejected, wall() - c->t_start, c->d.rhs_seconds);
@@ -732,6 +854,8 @@ static void release(run_ctx *c)
     if (c->snap) fclose(c->snap);
     free(c->snap_buf);
     free(c->trace.full);
+    free(c->rowc.full);
+    swim_run_events_free(c->events);
     swim_ode_free(c->ode);
     swim_specialized_close(&c->spz);
     if (c->d_ready) swim_dynamics_free(&c->d);
@@ -746,6 +870,8 @@ static void release(run_ctx *c)
     free(c->csv_path);
     free(c->snap_path);
     free(c->summary_path);
+    free(c->scene_copy_path);
+    free(c->events_path);
     swim_scene_free(&c->s);
     free(c);
 }

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 int swim_mkdirs(const char *path)
@@ -113,4 +114,36 @@ int swim_still_names(const char *path, const struct stat *st)
         return 0;
     }
     return 1;
+}
+
+int swim_copy_file(const char *src, const char *dst)
+{
+    char *a = swim_canonical_path(src), *b = swim_canonical_path(dst);
+    int same = a && b && strcmp(a, b) == 0;
+    free(a);
+    free(b);
+    if (same) return 0;
+    FILE *in = fopen(src, "rb");
+    if (!in) return -1;
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *m = open_memstream(&buf, &len);
+    if (!m) {
+        fclose(in);
+        errno = ENOMEM;
+        return -1;
+    }
+    char chunk[8192];
+    size_t k;
+    int bad = 0;
+    while ((k = fread(chunk, 1, sizeof chunk, in)) > 0)
+        if (fwrite(chunk, 1, k, m) != k) { bad = ENOMEM; break; }
+    if (!bad && ferror(in)) bad = errno ? errno : EIO;
+    fclose(in);
+    if (fclose(m) != 0 && !bad) bad = ENOMEM;
+    int rc = bad ? -1 : swim_replace_file(dst, buf, len);
+    int saved = bad ? bad : errno;
+    free(buf);
+    errno = saved;
+    return rc;
 }

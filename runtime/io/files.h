@@ -35,4 +35,8 @@ int swim_replace_file(const char *path, const void *data, size_t len);
  * another file or nothing (the file or its folder was removed or replaced), with errno set. */
 int swim_still_names(const char *path, const struct stat *st);
 
+/* Copies the file src to dst, replacing dst atomically (swim_replace_file): a reader never sees
+ * a partial copy. 0, or -1 with errno set. Copying a file onto itself is a no-op. */
+int swim_copy_file(const char *src, const char *dst);
+
 #endif
