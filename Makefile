@@ -59,7 +59,7 @@ help:
 	@echo "make test       build and run every test program in tests/"
 	@echo "make mpi        bin/swim-mpi: swim sweep over MPI ranks (installs OpenMPI); make test-mpi tests it"
 	@echo "make sanitize   the test suite under AddressSanitizer + UndefinedBehaviorSanitizer"
-	@echo "make fuzz       fuzz the scene parser and the CLI arguments (libFuzzer, FUZZ_SECONDS=60)"
+	@echo "make fuzz       fuzz the scene parser, the CLI arguments, message quoting and run settings (libFuzzer, FUZZ_SECONDS=60)"
 	@echo "make bench      run the benchmarks (numbers quoted in README.md)"
 	@echo "make bench-accuracy  work-precision diagrams and table for every paper scene (~9 min)"
 	@echo "make bench-sweep     sweep throughput: --jobs 1/2, MPI 2/4 ranks, rank 0's cost (~3 min)"
@@ -123,7 +123,7 @@ $(BUILD)/gen/swim_kernel_n%.c: generator/generate.py $(wildcard generator/swimge
 $(BUILD)/gen/%.o: $(BUILD)/gen/%.c
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
-TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_events.py tests/test_specialized.py tests/test_hard.py tests/test_plot.sh \
+TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_events.py tests/test_specialized.py tests/test_hard.py tests/test_trust.py tests/test_plot.sh \
                 tests/test_flow.py tests/test_figures.py tests/test_animate.py tests/test_paper.py \
                 tests/test_sweep.py tests/test_sweep_mpi.py
 
@@ -139,7 +139,8 @@ sanitize: | $(DEPS_STAMP)
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  $(MAKE) --no-print-directory BUILD=build/sanitize BIN=build/sanitize/bin OPT="$(SANITIZE_OPT)" test
 
-# Short coverage-guided fuzzing of the scene parser and the command-line arguments (libFuzzer,
+# Short coverage-guided fuzzing of the scene parser, the command-line arguments, the quoting of
+# user text in messages and the run-settings check (libFuzzer,
 # clang); FUZZ_SECONDS per target.
 FUZZ_SECONDS ?= 60
 fuzz: | $(DEPS_STAMP)

@@ -7,15 +7,16 @@
 
 #include "cli/commands.h"
 #include "io/files.h"
+#include "io/message.h"
 
 int swim_cmd_animate(int argc, char **argv)
 {
     if (argc < 3 || strncmp(argv[2], "--", 2) == 0) {
-        fprintf(stderr, "swim animate: expected a run directory first, e.g. swim animate out/example3 --fps 25\n");
+        swim_message(stderr, "swim animate: expected a run directory first, e.g. swim animate out/example3 --fps 25");
         return 2;
     }
     if (access(argv[2], R_OK) != 0) {
-        fprintf(stderr, "swim animate: cannot read run directory '%s'\n", argv[2]);
+        swim_message(stderr, "swim animate: cannot read run directory '%s'", argv[2]);
         return 2;
     }
     /* The script calls back `swim flow`: tell it which binary this is. */

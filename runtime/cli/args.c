@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/message.h"
+
 int swim_args_parse(const char *cmd, int argc, char **argv, int first, swim_opt *opts, int nopts,
                     const char **positional, int npos, int *npos_out)
 {
@@ -14,7 +16,7 @@ int swim_args_parse(const char *cmd, int argc, char **argv, int first, swim_opt 
         const char *a = argv[i];
         if (strncmp(a, "--", 2) != 0 || a[2] == '\0') {
             if (np >= npos) {
-                fprintf(stderr, "swim %s: unexpected argument '%s'\n", cmd, a);
+                swim_message(stderr, "swim %s: unexpected argument '%s'", cmd, a);
                 return 2;
             }
             positional[np++] = a;
@@ -26,12 +28,12 @@ int swim_args_parse(const char *cmd, int argc, char **argv, int first, swim_opt 
         for (int k = 0; k < nopts; k++)
             if (strlen(opts[k].name) == len && strncmp(opts[k].name, name, len) == 0) o = &opts[k];
         if (!o) {
-            fprintf(stderr, "swim %s: unknown option '--%.*s' (see swim --help)\n", cmd, (int)len, name);
+            swim_message(stderr, "swim %s: unknown option '--%.*s' (see swim --help)", cmd, (int)len, name);
             return 2;
         }
         if (!o->takes_value) {
             if (eq) {
-                fprintf(stderr, "swim %s: option '--%s' takes no value (got '%s')\n", cmd, o->name, eq + 1);
+                swim_message(stderr, "swim %s: option '--%s' takes no value (got '%s')", cmd, o->name, eq + 1);
                 return 2;
             }
             o->value = "";
@@ -40,7 +42,7 @@ int swim_args_parse(const char *cmd, int argc, char **argv, int first, swim_opt 
         } else if (i + 1 < argc) {
             o->value = argv[++i];   /* may start with '-': lists of numbers do */
         } else {
-            fprintf(stderr, "swim %s: option '--%s' needs a value\n", cmd, o->name);
+            swim_message(stderr, "swim %s: option '--%s' needs a value", cmd, o->name);
             return 2;
         }
     }
@@ -62,13 +64,13 @@ int swim_args_take_all(const char *cmd, int *argc, char **argv, int first, const
         const char *v = a[2 + len] == '=' ? a + 3 + len : NULL;
         if (!v) {
             if (i + 1 >= *argc) {
-                fprintf(stderr, "swim %s: option '--%s' needs a value\n", cmd, name);
+                swim_message(stderr, "swim %s: option '--%s' needs a value", cmd, name);
                 return -1;
             }
             v = argv[++i];
         }
         if (count >= cap) {
-            fprintf(stderr, "swim %s: more than %d '--%s' options\n", cmd, cap, name);
+            swim_message(stderr, "swim %s: more than %d '--%s' options", cmd, cap, name);
             return -1;
         }
         vals[count++] = v;
@@ -86,14 +88,15 @@ const char *swim_args_get(const swim_opt *opts, int nopts, const char *name)
 
 static int parse_number(const char *s, size_t len, double *out)
 {
-    char buf[64];
-    if (len == 0 || len >= sizeof buf) return -1;
-    memcpy(buf, s, len);
-    buf[len] = '\0';
+    if (len == 0) return -1;
+    char *buf = strndup(s, len);   /* strtod needs the item alone, of any length */
+    if (!buf) return -1;
     char *end;
     errno = 0;
     double v = strtod(buf, &end);
-    if (*end != '\0' || end == buf || errno == ERANGE || !isfinite(v)) return -1;
+    int bad = *end != '\0' || end == buf || errno == ERANGE || !isfinite(v);
+    free(buf);
+    if (bad) return -1;
     *out = v;
     return 0;
 }
@@ -101,7 +104,7 @@ static int parse_number(const char *s, size_t len, double *out)
 int swim_args_double(const char *cmd, const char *opt, const char *s, double *out)
 {
     if (parse_number(s, strlen(s), out) != 0) {
-        fprintf(stderr, "swim %s: --%s: '%s' is not a finite number\n", cmd, opt, s);
+        swim_message(stderr, "swim %s: --%s: '%s' is not a finite number", cmd, opt, s);
         return 2;
     }
     return 0;
@@ -113,11 +116,11 @@ int swim_args_int(const char *cmd, const char *opt, const char *s, long lo, long
     errno = 0;
     long v = strtol(s, &end, 10);
     if (*s == '\0' || *end != '\0' || errno == ERANGE) {
-        fprintf(stderr, "swim %s: --%s: '%s' is not an integer\n", cmd, opt, s);
+        swim_message(stderr, "swim %s: --%s: '%s' is not an integer", cmd, opt, s);
         return 2;
     }
     if (v < lo || v > hi) {
-        fprintf(stderr, "swim %s: --%s: %ld is out of range %ld..%ld\n", cmd, opt, v, lo, hi);
+        swim_message(stderr, "swim %s: --%s: %ld is out of range %ld..%ld", cmd, opt, v, lo, hi);
         return 2;
     }
     *out = v;
@@ -133,7 +136,7 @@ int swim_args_list(const char *cmd, const char *opt, const char *s, double *out,
         size_t len = comma ? (size_t)(comma - p) : strlen(p);
         double v;
         if (parse_number(p, len, &v) != 0) {
-            fprintf(stderr, "swim %s: --%s: item %d ('%.*s') is not a finite number\n", cmd, opt,
+            swim_message(stderr, "swim %s: --%s: item %d ('%.*s') is not a finite number", cmd, opt,
                     k + 1, (int)len, p);
             return 2;
         }

@@ -17,6 +17,7 @@
 #include "model/dynamics.h"
 #include "model/flow.h"
 #include "scene/scene.h"
+#include "io/message.h"
 
 #define MAX_TIMES 100000
 
@@ -40,7 +41,7 @@ static int read_trajectory(const char *path, const swim_scene *s, table *tb)
 {
     FILE *f = fopen(path, "r");
     if (!f) {
-        fprintf(stderr, "swim flow: cannot read %s: %s\n", path, strerror(errno));
+        swim_message(stderr, "swim flow: cannot read %s: %s", path, strerror(errno));
         return 2;
     }
     size_t cap = 1 << 16;
@@ -48,7 +49,7 @@ static int read_trajectory(const char *path, const swim_scene *s, table *tb)
     char *names[512];
     int nnames = 0;
     if (!line || !fgets(line, (int)cap, f)) {
-        fprintf(stderr, "swim flow: %s: empty file\n", path);
+        swim_message(stderr, "swim flow: %s: empty file", path);
         free(line);
         fclose(f);
         return 2;
@@ -70,8 +71,8 @@ static int read_trajectory(const char *path, const swim_scene *s, table *tb)
     }
     for (int i = 0; i < 1 + want; i++)
         if (idx[i] < 0) {
-            fprintf(stderr, "swim flow: %s: column %d of the state is missing (header does not match %s's %d modes)\n",
-                    path, i, s->path, s->modes);
+            swim_message(stderr, "swim flow: %s: column %d of the state is missing (header does not match %s's %d modes)",
+                         path, i, s->path, s->modes);
             free(header);
             free(line);
             fclose(f);
@@ -111,7 +112,7 @@ static int read_trajectory(const char *path, const swim_scene *s, table *tb)
     free(line);
     fclose(f);
     if (tb->rows == 0) {
-        fprintf(stderr, "swim flow: %s: no complete data row\n", path);
+        swim_message(stderr, "swim flow: %s: no complete data row", path);
         return 2;
     }
     return 0;
@@ -158,12 +159,12 @@ int swim_cmd_flow(int argc, char **argv)
     int npos = 0;
     if (swim_args_parse("flow", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
     if (npos != 1) {
-        fprintf(stderr, "swim flow: expected one run directory, e.g. swim flow out/example3 --frames 10\n");
+        swim_message(stderr, "swim flow: expected one run directory, e.g. swim flow out/example3 --frames 10");
         return 2;
     }
     const char *dir = pos[0], *v;
     if (swim_args_get(opts, nopts, "times") && swim_args_get(opts, nopts, "frames")) {
-        fprintf(stderr, "swim flow: give either --times or --frames, not both\n");
+        swim_message(stderr, "swim flow: give either --times or --frames, not both");
         return 2;
     }
     static double times[MAX_TIMES];
@@ -172,7 +173,7 @@ int swim_cmd_flow(int argc, char **argv)
     if ((v = swim_args_get(opts, nopts, "times"))) {
         if (swim_args_list("flow", "times", v, times, MAX_TIMES, &ntimes)) return 2;
         if (ntimes > MAX_TIMES) {
-            fprintf(stderr, "swim flow: --times: at most %d times, got %d\n", MAX_TIMES, ntimes);
+            swim_message(stderr, "swim flow: --times: at most %d times, got %d", MAX_TIMES, ntimes);
             return 2;
         }
     } else if ((v = swim_args_get(opts, nopts, "frames"))) {
@@ -183,7 +184,7 @@ int swim_cmd_flow(int argc, char **argv)
     static swim_scene s;
     FILE *probe = fopen(path, "r");
     if (!probe) {
-        fprintf(stderr, "swim flow: %s: %s (a run directory written by swim run has it)\n", path, strerror(errno));
+        swim_message(stderr, "swim flow: %s: %s (a run directory written by swim run has it)", path, strerror(errno));
         return 2;
     }
     fclose(probe);
@@ -200,7 +201,7 @@ int swim_cmd_flow(int argc, char **argv)
     if (ntimes > 0) {
         for (int i = 0; i < ntimes; i++)
             if (times[i] < t0 - 1e-9 || times[i] > t1 + 1e-9) {
-                fprintf(stderr, "swim flow: --times: %.10g is outside the run's rows [%.10g, %.10g]\n", times[i], t0, t1);
+                swim_message(stderr, "swim flow: --times: %.10g is outside the run's rows [%.10g, %.10g]", times[i], t0, t1);
                 free(tb.t);
                 free(tb.q);
                 swim_scene_free(&s);
@@ -221,10 +222,10 @@ int swim_cmd_flow(int argc, char **argv)
     swim_dynamics d;
     int rc = 0;
     if (!f) {
-        fprintf(stderr, "swim flow: --out: cannot write '%s': %s\n", out, strerror(errno));
+        swim_message(stderr, "swim flow: --out: cannot write '%s': %s", out, strerror(errno));
         rc = 2;
     } else if (swim_dynamics_init(&d, &s) != 0) {
-        fprintf(stderr, "swim flow: out of memory\n");
+        swim_message(stderr, "swim flow: out of memory");
         rc = 1;
     } else {
         double *y = calloc((size_t)d.dim, sizeof(double));
@@ -234,7 +235,7 @@ int swim_cmd_flow(int argc, char **argv)
             state_at(&tb, s.n, t, y);
             if (i) fputs(",\n", f);
             if (swim_flow_snapshot(&d, t, y, f) != 0) {
-                fprintf(stderr, "swim flow: cannot compute the flow at t = %.10g (K not positive definite?)\n", t);
+                swim_message(stderr, "swim flow: cannot compute the flow at t = %.10g (K not positive definite?)", t);
                 rc = 1;
             }
         }
@@ -243,11 +244,11 @@ int swim_cmd_flow(int argc, char **argv)
         swim_dynamics_free(&d);
         if (!to_stdout) {
             if (fclose(f) != 0 && rc == 0) {
-                fprintf(stderr, "swim flow: write error on %s\n", tmp);
+                swim_message(stderr, "swim flow: write error on %s", tmp);
                 rc = 1;
             }
             if (rc == 0 && rename(tmp, out) != 0) {
-                fprintf(stderr, "swim flow: cannot rename %s to %s: %s\n", tmp, out, strerror(errno));
+                swim_message(stderr, "swim flow: cannot rename %s to %s: %s", tmp, out, strerror(errno));
                 rc = 1;
             }
             if (rc != 0) remove(tmp);

@@ -1,4 +1,5 @@
 /* swim inspect: the mass matrices of section 3.2, K and the Christoffel symbol at one shape. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -6,7 +7,9 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "io/json.h"
+#include "io/message.h"
 #include "model/shape.h"
+#include "scene/scene.h"
 #include "swim_kernel.h"
 
 int swim_cmd_inspect(int argc, char **argv)
@@ -17,14 +20,14 @@ int swim_cmd_inspect(int argc, char **argv)
     if (swim_args_parse("inspect", argc, argv, 2, opts, nopts, NULL, 0, NULL)) return 2;
     const char *ms = swim_args_get(opts, nopts, "modes"), *ss = swim_args_get(opts, nopts, "shape");
     if (!ms || !ss) {
-        fprintf(stderr, "swim inspect: --modes and --shape are required\n");
+        swim_message(stderr, "swim inspect: --modes and --shape are required");
         return 2;
     }
     long N;
     if (swim_args_int("inspect", "modes", ms, 0, SWIM_KERNEL_MAX_MODES, &N)) return 2;
     const swim_kernel *k = swim_kernel_find((int)N);
     if (!k) {
-        fprintf(stderr, "swim inspect: --modes: no kernel for N = %ld in this build "
+        swim_message(stderr, "swim inspect: --modes: no kernel for N = %ld in this build "
                 "(make generate N=%ld, then make MODES=\"... %ld\")\n", N, N, N);
         return 2;
     }
@@ -33,15 +36,15 @@ int swim_cmd_inspect(int argc, char **argv)
     int count;
     if (swim_args_list("inspect", "shape", ss, x, n, &count)) return 2;
     if (count != n) {
-        fprintf(stderr, "swim inspect: --shape: N = %ld needs %d coordinates "
-                "(a1,b1,a-1,b-1,...), got %d\n", N, n, count);
+        swim_message(stderr, "swim inspect: --shape: N = %ld needs %d coordinates "
+                "(a1,b1,a-1,b-1,...), got %d", N, n, count);
         return 2;
     }
     const char *vs = swim_args_get(opts, nopts, "velocity");
     if (vs) {
         if (swim_args_list("inspect", "velocity", vs, v, n, &count)) return 2;
         if (count != n) {
-            fprintf(stderr, "swim inspect: --velocity: N = %ld needs %d components, got %d\n", N, n, count);
+            swim_message(stderr, "swim inspect: --velocity: N = %ld needs %d components, got %d", N, n, count);
             return 2;
         }
     }
@@ -50,28 +53,46 @@ int swim_cmd_inspect(int argc, char **argv)
     if (r0 && swim_args_double("inspect", "rho0", r0, &rho0)) return 2;
     if (rf && swim_args_double("inspect", "rhof", rf, &rhof)) return 2;
     if (!(rho0 > 0.0) || !(rhof > 0.0)) {
-        fprintf(stderr, "swim inspect: --%s: density must be > 0 (got %g)\n",
+        swim_message(stderr, "swim inspect: --%s: density must be > 0 (got %g)",
                 rho0 > 0.0 ? "rhof" : "rho0", rho0 > 0.0 ? rhof : rho0);
         return 2;
     }
     double jmin = swim_shape_jmin(k, x);
     if (!(jmin > 0.0)) {
-        fprintf(stderr, "swim inspect: --shape: %s is outside the admissible set D "
-                "(min J = %.6g <= 0 on the unit circle, (4.1))\n", ss, jmin);
+        swim_message(stderr, "swim inspect: --shape: %s is outside the admissible set D "
+                "(min J = %.6g <= 0 on the unit circle, (4.1))", ss, jmin);
+        return 2;
+    }
+
+    /* Numbers that overflow would print as null: refuse them, naming the option that did it. */
+    static const char *const culprit[] = {NULL, "shape", "rho0", "rhof", "velocity"};
+    int over = swim_model_overflow(k, x, vs ? v : NULL, rho0, rhof);
+    if (over != SWIM_INPUT_OK) {
+        swim_message(stderr, "swim inspect: --%s: too large: the mass matrices, K or the Christoffel term "
+                     "exceed %g at these values", culprit[over], SWIM_MAGNITUDE_MAX);
         return 2;
     }
 
     int full = swim_args_get(opts, nopts, "full") != NULL;
     double *buf = calloc((size_t)(9 + 3 * n + 3 * n * n + (full ? n * n * n : 0) + n), sizeof(double));
-    if (!buf) { fprintf(stderr, "swim inspect: out of memory\n"); return 1; }
+    if (!buf) { swim_message(stderr, "swim inspect: out of memory"); return 1; }
     double *Mr = buf, *Nc = Mr + 9, *Md = Nc + 3 * n, *K = Md + n * n, *gvv = K + n * n;
     double *G = gvv + n;
     k->mass(x, rho0, rhof, Mr, Nc, Md);
     if (k->reduced(x, vs ? v : NULL, rho0, rhof, K, NULL, vs ? gvv : NULL) != 0 ||
         (full && k->reduced_deriv(x, rho0, rhof, NULL, G) != 0)) {
-        fprintf(stderr, "swim inspect: Mr is not positive definite at this shape\n");
+        swim_message(stderr, "swim inspect: Mr is not positive definite at this shape");
         free(buf);
         return 1;
+    }
+    size_t count_out = (size_t)(9 + 3 * n + 2 * n * n + (vs ? n : 0));
+    int finite = 1;
+    for (size_t i = 0; i < count_out; i++) finite &= isfinite(buf[i]) != 0;
+    for (size_t i = 0; full && i < (size_t)n * n * n; i++) finite &= isfinite(G[i]) != 0;
+    if (!finite) {   /* within bounds but a derivative still overflowed */
+        swim_message(stderr, "swim inspect: --shape: the results are not finite at this shape");
+        free(buf);
+        return 2;
     }
     printf("{\n  \"modes\": %ld,\n  \"rho0\": ", N);
     swim_json_number(stdout, rho0);

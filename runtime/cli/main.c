@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "cli/commands.h"
+#include "io/message.h"
 #include "swim_kernel.h"
 
 typedef struct {
@@ -70,6 +71,6 @@ int main(int argc, char **argv)
                 }
             return commands[i].run(argc, argv);
         }
-    fprintf(stderr, "swim: unknown command '%s' (see swim --help)\n", argv[1]);
+    swim_message(stderr, "swim: unknown command '%s' (see swim --help)", argv[1]);
     return 2;
 }

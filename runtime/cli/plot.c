@@ -7,28 +7,33 @@
 
 #include "cli/commands.h"
 #include "io/files.h"
+#include "io/message.h"
 
 
 int swim_cmd_plot(int argc, char **argv)
 {
     if (argc != 3 || strncmp(argv[2], "--", 2) == 0) {
-        fprintf(stderr, "swim plot: expected one run directory, e.g. swim plot out/example3\n");
+        swim_message(stderr, "swim plot: expected one run directory, e.g. swim plot out/example3");
         return 2;
     }
     if (access(argv[2], R_OK) != 0) {
-        fprintf(stderr, "swim plot: cannot read run directory '%s'\n", argv[2]);
+        swim_message(stderr, "swim plot: cannot read run directory '%s'", argv[2]);
         return 2;
     }
-    char script[1024], probe[1100];
-    snprintf(probe, sizeof probe, "%s/sweep.json", argv[2]);
+    /* a sweep folder (sweep.json) gets the family figures, a run folder the run's */
+    char *probe = swim_path_join(argv[2], "sweep.json");
+    if (!probe) {
+        swim_message(stderr, "swim plot: out of memory");
+        return 1;
+    }
     const int sweep = access(probe, R_OK) == 0;
-    snprintf(script, sizeof script, "%s/runtime/plot/%s", SWIM_ROOT, sweep ? "plot_family.py" : "plot_run.py");
-    char self[1024];
-    ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);
+    free(probe);
+    const char *script = sweep ? SWIM_ROOT "/runtime/plot/plot_family.py" : SWIM_ROOT "/runtime/plot/plot_run.py";
     /* the scripts call back `swim flow` / `swim inspect`: tell them which binary this is */
-    if (len > 0 && !getenv("SWIM_BIN")) {
-        self[len] = '\0';
-        setenv("SWIM_BIN", self, 1);
+    if (!getenv("SWIM_BIN")) {
+        char *self = realpath("/proc/self/exe", NULL);
+        if (self) setenv("SWIM_BIN", self, 1);
+        free(self);
     }
     fflush(stdout);
     execl(SWIM_PYTHON, SWIM_PYTHON, script, argv[2], (char *)NULL);

@@ -1,19 +1,31 @@
 /* swim run: one scene end to end -- trajectory.csv, summary.json and a copy of the scene
- * (scene.toml, so that DIR is self-contained: `swim flow` and `swim plot` need nothing else) in DIR;
- * snapshots.json only with --snapshots (otherwise `swim flow DIR` computes them when needed).
+ * (scene.toml, so that DIR is self-contained: `swim flow` and `swim plot` need nothing else) in
+ * DIR; events.csv with --event or an [events] list; snapshots.json only with --snapshots
+ * (otherwise `swim flow DIR` computes them when needed); with --summary-only (a sweep member)
+ * neither trajectory.csv nor snapshots.json.
+ *
+ * The command reads as its four stages: options (scene + command line, validated together),
+ * outputs (folder, files, checks that no output overwrites another or the scene), the
+ * integration loop, and the report (outputs closed and checked, summary written, lines printed).
+ * Everything the stages own lives in one run_ctx, released by one function.
  *
  * Rows fall exactly on t0 + k*output_step and on t_end, produced by the integrator's own
- * interpolant. A run that stops early (NaN, step-size underflow, barrier crossed, SIGINT) keeps
- * every row it wrote (each row is flushed) and says in summary.json where and why it stopped. */
+ * interpolant. A run that stops early (NaN, step-size underflow, barrier crossed, SIGINT,
+ * SIGTERM, SIGHUP, an output that cannot be written) keeps every row it wrote (each row is
+ * flushed) and says in summary.json where and why it stopped; a run ended by a :stop event
+ * has its last row at the event and is completed. summary.json, snapshots.json, events.csv and
+ * scene.toml are written whole, atomically (swim_replace_file): a reader never sees a part. */
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "cli/args.h"
 #include "cli/commands.h"
@@ -21,6 +33,7 @@
 #include "io/csv.h"
 #include "io/files.h"
 #include "io/json.h"
+#include "io/message.h"
 #include "model/dynamics.h"
 #include "model/flow.h"
 #include "model/specialize.h"
@@ -28,9 +41,15 @@
 #include "scene/scene.h"
 
 #define SNAPSHOTS 10
+#define NCOLS_MAX (8 + 4 * SWIM_NMAX + 64)
+#define MAX_SETS 64   /* --set options */
 
-static volatile sig_atomic_t interrupted;
-static void on_sigint(int sig) { (void)sig; interrupted = 1; }
+/* The signal that asked the run to stop (SIGINT, SIGTERM or SIGHUP: a terminal, a batch
+ * scheduler, a closed session), 0 while none did. The RHS polls it, so a long step stops too. */
+static volatile sig_atomic_t stop_signal;
+static void on_stop_signal(int sig) { stop_signal = sig; }
+static const int stop_signals[] = {SIGINT, SIGTERM, SIGHUP};
+#define NSTOP ((int)(sizeof stop_signals / sizeof stop_signals[0]))
 
 static double wall(void)
 {
@@ -39,18 +58,88 @@ static double wall(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
+/* What the command line asked for besides the scene's own settings. */
+typedef struct {
+    const char *scene_file, *out, *trace;
+    int quiet, generic;
+    int snapshots;      /* --snapshots: write snapshots.json */
+    int summary_only;   /* --summary-only: rows computed (the summary needs them), not written */
+    swim_override sets[MAX_SETS];   /* --set KEY=VALUE, applied before the scene is validated */
+    int nsets;
+} run_options;
+
 typedef struct {
     double t_reached, jmin, e0, drift_abs, emax, res_volume, res_volume_rate, res_angular, res_locks;
     long rows;
     int status;           /* 0 completed, 1 failed */
-    char reason[256];
+    char *reason;         /* why it stopped (owned) */
     double switch_t;      /* time of a switch to the stiff fallback integrator, or -1 */
     double integrate_seconds;   /* time inside the integrator (steps, RHS, interpolation) */
     double diagnostics_seconds; /* energies, impulses, residuals, min J of the output rows */
     double output_seconds;      /* formatting and writing rows and snapshots */
-    char used[64];        /* integrator(s) used */
-    swim_run_events *events;    /* located events, or NULL */
+    char used[80];        /* integrator(s) used: two names of at most 31 characters */
+    int event_stop;       /* a :stop event ended the run (status completed, reason says which) */
 } run_report;
+
+/* --trace-steps FILE: one row per ABM step attempt, with the energy of each accepted state. */
+typedef struct {
+    swim_csv csv;
+    swim_dynamics *d;
+    double *full;     /* full state for the diagnostics */
+    int open;         /* csv is open */
+    int err;          /* errno of the first write error, 0 while none */
+} step_trace;
+
+/* The row of trajectory.csv at an integrator state (event functions evaluate columns). */
+typedef struct {
+    const swim_scene *s;
+    swim_dynamics *d;
+    double *full;
+} row_ctx;
+
+typedef struct {
+    swim_scene s;
+    run_options opt;
+    swim_run_events *events;    /* --event and [events] list, NULL without any */
+    /* outputs */
+    char *dir, *csv_path, *snap_path, *summary_path, *scene_copy_path, *events_path;
+    swim_csv csv;
+    FILE *snap;                 /* snapshots, in memory until the end (open_memstream); NULL
+                                   without --snapshots */
+    char *snap_buf;
+    size_t snap_len;
+    int nsnap;
+    step_trace trace;
+    char *output_error;         /* the first output that could not be written, and why */
+    int outputs_bad;            /* an output failed (also when output_error could not be made) */
+    /* integration */
+    swim_dynamics d;
+    int d_ready;
+    swim_specialized spz;
+    swim_ode *ode;
+    swim_ode_system sys;
+    swim_ode_options o;
+    swim_ode_stats total;
+    int sdim, ncol;
+    double *y, *row, *ys, *ys_last, *ys_row;
+    const char *names[NCOLS_MAX];
+    char storage[2 * SWIM_NMAX][24];
+    row_ctx rowc;
+    run_report r;
+    double t_start;
+} run_ctx;
+
+static const char *const trace_columns[] = {"t", "h", "order", "accepted", "err", "erk", "growth", "energy", "work"};
+
+/* ---- options ------------------------------------------------------------------------------ */
+
+/* A number option: parsed into *dst; *given says whether it was on the command line. */
+static int number_option(const swim_opt *opts, int nopts, const char *name, double *dst, int *given)
+{
+    const char *v = swim_args_get(opts, nopts, name);
+    *given = v != NULL;
+    return v ? swim_args_double("run", name, v, dst) : 0;
+}
 
 static int columns(const swim_scene *s, const char **names, char storage[][24])
 {
@@ -74,6 +163,276 @@ static int columns(const swim_scene *s, const char **names, char storage[][24])
     }
     for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) names[c++] = tail[i];
     return c;
+}
+
+/* --set KEY=VALUE (repeatable), taken out of argv: overrides applied to the scene before it is
+ * validated. How many, or -1 after one line on stderr. */
+static int take_set_options(int *argc, char **argv, swim_override *sets)
+{
+    const char *vals[MAX_SETS];
+    int n = swim_args_take_all("run", argc, argv, 2, "set", vals, MAX_SETS);
+    if (n < 0) return -1;
+    for (int i = 0; i < n; i++) {
+        char err[256];
+        if (swim_override_parse(vals[i], &sets[i], err, sizeof err) != 0) {
+            swim_message(stderr, "swim run: --set: %s", err);
+            return -1;
+        }
+    }
+    return n;
+}
+
+/* Parse argv, load the scene, apply the command line over it and validate the result: the run
+ * settings pass the same checks (swim_run_settings_check) whether they came from the scene or
+ * from here; the events (scene and --event) are checked against the columns and the integrator.
+ * 0, 2 after one line on stderr, or 1 (out of memory). */
+static int read_options(int argc, char **argv, run_ctx *c)
+{
+    swim_opt opts[] = {{"out", 1, NULL},  {"t-end", 1, NULL},      {"rtol", 1, NULL},
+                       {"output-step", 1, NULL},
+                       {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
+                       {"generic", 0, NULL}, {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL},
+                       {"trace-steps", 1, NULL}, {"event", 1, NULL}, {"snapshots", 0, NULL},
+                       {"summary-only", 0, NULL}};
+    const int nopts = (int)(sizeof opts / sizeof opts[0]);
+    const char *pos[1];
+    int npos = 0;
+    if ((c->opt.nsets = take_set_options(&argc, argv, c->opt.sets)) < 0) return 2;
+    if (swim_args_parse("run", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
+    if (npos != 1) {
+        swim_message(stderr, "swim run: expected one scene file, e.g. swim run models/example3.toml");
+        return 2;
+    }
+    swim_scene *s = &c->s;
+    c->opt.scene_file = pos[0];
+    if (swim_scene_load_with(pos[0], c->opt.sets, c->opt.nsets, s)) return 2;
+    swim_run_overrides cli = {{0}};
+    if (number_option(opts, nopts, "t-end", &s->t_end, &cli.given[SWIM_SET_T_END]) ||
+        number_option(opts, nopts, "output-step", &s->output_step, &cli.given[SWIM_SET_OUTPUT_STEP]) ||
+        number_option(opts, nopts, "rtol", &s->rtol, &cli.given[SWIM_SET_RTOL]) ||
+        number_option(opts, nopts, "atol", &s->atol, &cli.given[SWIM_SET_ATOL]))
+        return 2;
+    const char *v;
+    if ((v = swim_args_get(opts, nopts, "integrator"))) {
+        if (!swim_ode_method_known(v)) {
+            swim_message(stderr, "swim run: --integrator: unknown integrator '%s' (%s)", v, swim_ode_method_list());
+            return 2;
+        }
+        snprintf(s->integrator, sizeof s->integrator, "%s", v);   /* a known name: it fits */
+    }
+    if ((v = swim_args_get(opts, nopts, "step-lookahead"))) {
+        long p;
+        if (swim_args_int("run", "step-lookahead", v, 0, 12, &p)) return 2;
+        s->step_lookahead = (int)p;
+    }
+    if (swim_run_settings_check(s, &cli) != 0) return 2;
+    c->opt.quiet = swim_args_get(opts, nopts, "quiet") != NULL;
+    c->opt.generic = swim_args_get(opts, nopts, "generic") != NULL;
+    if (swim_args_get(opts, nopts, "no-projection")) s->projection = 0;
+    c->opt.out = swim_args_get(opts, nopts, "out");
+    c->opt.trace = swim_args_get(opts, nopts, "trace-steps");
+    c->opt.summary_only = swim_args_get(opts, nopts, "summary-only") != NULL;
+    c->opt.snapshots = swim_args_get(opts, nopts, "snapshots") != NULL && !c->opt.summary_only;
+    if (c->opt.trace && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
+        swim_message(stderr, "swim run: --trace-steps: integrator '%s' does not report its steps", s->integrator);
+        return 2;
+    }
+    /* events name columns of trajectory.csv: checked against them, before any output */
+    c->ncol = columns(s, c->names, c->storage);
+    return swim_run_events_parse(s, argc, argv, c->names, c->ncol, &c->events);
+}
+
+/* ---- outputs ------------------------------------------------------------------------------ */
+
+/* out/<scene file name without its extension> */
+static char *default_out(const char *scene_path)
+{
+    const char *base = strrchr(scene_path, '/');
+    base = base ? base + 1 : scene_path;
+    char *out = swim_path_join("out", base);
+    if (!out) return NULL;
+    char *dot = strrchr(out, '.');
+    if (dot && dot > out + 4) *dot = '\0';
+    return out;
+}
+
+/* 1 when a and b name the same file: the same canonical path, or (both existing) the same
+ * inode -- a second spelling, a symbolic link or a hard link of one file. */
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
+        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    char *ca = swim_canonical_path(a), *cb = swim_canonical_path(b);
+    int same = ca && cb && strcmp(ca, cb) == 0;
+    free(ca);
+    free(cb);
+    return same;
+}
+
+/* --trace-steps must not name one of the run's own outputs or the scene: it would interleave
+ * two files, or truncate the scene. 0, or 2 after one line on stderr. */
+static int check_trace_path(const run_ctx *c)
+{
+    const char *const others[] = {c->csv_path, c->snap_path, c->summary_path, c->scene_copy_path,
+                                  c->events_path, c->opt.scene_file};
+    const size_t nown = sizeof others / sizeof others[0] - 1;
+    for (size_t i = 0; i < sizeof others / sizeof others[0]; i++)
+        if (same_file(c->opt.trace, others[i])) {
+            swim_message(stderr, "swim run: --trace-steps: '%s' is %s %s; choose another file", c->opt.trace,
+                         i < nown ? "the run's own" : "the scene file", others[i]);
+            return 2;
+        }
+    return 0;
+}
+
+/* Record the first output error ("cannot write PATH: why"); later ones are consequences. */
+static void output_failed(run_ctx *c, const char *path, int err)
+{
+    c->outputs_bad = 1;
+    if (!c->output_error)   /* NULL when out of memory: outputs_bad still fails the run */
+        c->output_error = swim_strprintf("cannot write %s: %s", path, strerror(err ? err : EIO));
+}
+
+/* Create DIR, copy the scene into it, open trajectory.csv (not with --summary-only), the trace
+ * and the in-memory snapshots (--snapshots); remove a summary, snapshots, events and rows left
+ * by an earlier run in DIR that this run does not replace at once (they would describe another
+ * run). 0, 1 (out of memory) or 2 (an output cannot be created; one line on stderr). */
+static int open_outputs(run_ctx *c)
+{
+    c->dir = c->opt.out ? strdup(c->opt.out) : default_out(c->s.path);
+    if (!c->dir) goto oom;
+    if (swim_mkdirs(c->dir) != 0) {
+        swim_message(stderr, "swim run: --out: cannot create directory '%s': %s", c->dir, strerror(errno));
+        return 2;
+    }
+    c->csv_path = swim_path_join(c->dir, "trajectory.csv");
+    c->snap_path = swim_path_join(c->dir, "snapshots.json");
+    c->summary_path = swim_path_join(c->dir, "summary.json");
+    c->scene_copy_path = swim_path_join(c->dir, "scene.toml");
+    c->events_path = swim_path_join(c->dir, "events.csv");
+    if (!c->csv_path || !c->snap_path || !c->summary_path || !c->scene_copy_path || !c->events_path) goto oom;
+    /* (DIR/scene.toml may be the scene itself: the copy is then a no-op) */
+    const char *const written[] = {c->csv_path, c->snap_path, c->summary_path, c->events_path};
+    for (size_t i = 0; i < sizeof written / sizeof written[0]; i++) {
+        const char *p = written[i];
+        if (same_file(p, c->opt.scene_file)) {
+            swim_message(stderr, "swim run: --out: %s would overwrite the scene file %s", p, c->opt.scene_file);
+            return 2;
+        }
+    }
+    if (c->opt.trace) {
+        if (check_trace_path(c)) return 2;
+        if (swim_csv_open(&c->trace.csv, c->opt.trace, trace_columns, 9) != 0) {
+            swim_message(stderr, "swim run: --trace-steps: cannot write '%s': %s", c->opt.trace, strerror(errno));
+            return 2;
+        }
+        c->trace.open = 1;
+    }
+    if (swim_copy_file(c->opt.scene_file, c->scene_copy_path) != 0) {
+        swim_message(stderr, "swim run: --out: cannot write '%s': %s", c->scene_copy_path, strerror(errno));
+        return 2;
+    }
+    if (!c->opt.summary_only && swim_csv_open(&c->csv, c->csv_path, c->names, c->ncol) != 0) {
+        swim_message(stderr, "swim run: --out: cannot write '%s': %s", c->csv_path, strerror(errno));
+        return 2;
+    }
+    const char *const stale[] = {c->summary_path, c->snap_path, c->events_path,
+                                 c->opt.summary_only ? c->csv_path : NULL};
+    for (size_t i = 0; i < sizeof stale / sizeof stale[0]; i++) {
+        if (!stale[i]) continue;
+        if (unlink(stale[i]) != 0 && errno != ENOENT) {
+            swim_message(stderr, "swim run: --out: cannot remove the old '%s': %s", stale[i], strerror(errno));
+            return 2;
+        }
+    }
+    if (c->opt.snapshots) {
+        c->snap = open_memstream(&c->snap_buf, &c->snap_len);
+        if (!c->snap) goto oom;
+        fputs("[\n", c->snap);
+    }
+    return 0;
+oom:
+    swim_message(stderr, "swim run: out of memory");
+    return 1;
+}
+
+/* ---- integration -------------------------------------------------------------------------- */
+
+static void trace_step(const swim_ode_step *st, void *data)
+{
+    step_trace *tr = data;
+    if (tr->err)
+        return;
+    double v[9] = {st->t, st->h, st->order, st->accepted, st->err, st->erk, st->growth, NAN, NAN};
+    swim_diag g;
+    if (st->y) {
+        swim_dynamics_unpack(tr->d, st->y, tr->full);
+        if (swim_dynamics_diagnostics(tr->d, tr->full, &g) == 0) {
+            v[7] = g.energy;
+            v[8] = g.work;
+        }
+    }
+    if (swim_csv_row(&tr->csv, v) != 0)
+        tr->err = errno ? errno : EIO;
+}
+
+static int packed_row(void *p, double t, const double *ys, int all, double *row);
+
+/* Dynamics, the specialized kernel (or the generic one), state buffers and integrator options
+ * (with the events attached).
+ * 0, or 1 after one line on stderr (out of memory). */
+static int prepare(run_ctx *c)
+{
+    swim_scene *s = &c->s;
+    if (swim_dynamics_init(&c->d, s) != 0) goto oom;
+    c->d_ready = 1;
+    c->d.interrupt = (volatile int *)&stop_signal;
+    if (!c->opt.generic) {
+        if (swim_specialize(s, &c->spz, !c->opt.quiet) == 0)
+            swim_dynamics_use_scene_kernel(&c->d, c->spz.kernel);
+        else
+            swim_message(stderr, "swim run: using the generic kernel instead");
+    }
+    c->sdim = swim_dynamics_state_dim(&c->d);
+    c->y = calloc((size_t)c->d.dim, sizeof(double));
+    c->row = calloc((size_t)c->ncol, sizeof(double));
+    c->ys = calloc((size_t)c->sdim, sizeof(double));
+    c->ys_last = calloc((size_t)c->sdim, sizeof(double));
+    c->ys_row = calloc((size_t)c->sdim, sizeof(double));
+    if (!c->y || !c->row || !c->ys || !c->ys_last || !c->ys_row) goto oom;
+    swim_dynamics_initial_state(&c->d, c->y);
+    swim_dynamics_pack(&c->d, c->y, c->ys);
+    memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
+    c->sys = (swim_ode_system){swim_dynamics_rhs, (size_t)c->sdim, &c->d, NULL};
+    swim_ode_options *o = &c->o;
+    swim_ode_options_default(o);
+    o->rtol = s->rtol;
+    o->atol = s->atol;
+    if (s->step_lookahead >= 0) o->lookahead = s->step_lookahead;
+    s->step_lookahead = o->lookahead;   /* the summary records the value used */
+    const unsigned caps = swim_ode_capabilities(s->integrator);
+    o->stiff_stop = (caps & SWIM_ODE_CAP_STIFFNESS) != 0;   /* stop and report (or switch) on stiffness */
+    if (s->projection && (caps & SWIM_ODE_CAP_PROJECTION)) o->project = swim_dynamics_project;  /* drift control */
+    if (c->trace.open) {
+        c->trace.d = &c->d;
+        c->trace.full = calloc((size_t)c->d.dim, sizeof(double));
+        if (!c->trace.full) goto oom;
+        o->on_step = trace_step;
+        o->on_step_data = &c->trace;
+    }
+    if (c->events) {
+        c->rowc = (row_ctx){s, &c->d, calloc((size_t)c->d.dim, sizeof(double))};
+        if (!c->rowc.full ||
+            swim_run_events_attach(c->events, o, (size_t)c->sdim, 3 + 2 * s->n, packed_row, &c->rowc) != 0)
+            goto oom;
+    }
+    c->r.switch_t = -1.0;
+    snprintf(c->r.used, sizeof c->r.used, "%s", s->integrator);
+    return 0;
+oom:
+    swim_message(stderr, "swim run: out of memory");
+    return 1;
 }
 
 static int row_values(const swim_scene *s, double t, const double *y, const swim_diag *g, double *v)
@@ -104,22 +463,246 @@ static void track(run_report *r, double t, const swim_diag *g, int first)
     r->res_locks = fmax(r->res_locks, g->res_locks);
 }
 
-static void write_summary(const char *path, const swim_scene *s, const char *dir, const run_report *r,
-                          const double *y, const swim_ode_stats *st, const swim_dynamics *d,
-                          const swim_specialized *sp, double wall_s)
+/* The columns at integrator state ys for the event functions (swim_run_row_func): all, or t and
+ * the state columns only (no diagnostics needed). */
+static int packed_row(void *p, double t, const double *ys, int all, double *row)
 {
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        fprintf(stderr, "swim run: cannot write %s: %s\n", path, strerror(errno));
+    row_ctx *rc = p;
+    swim_diag g;
+    swim_dynamics_unpack(rc->d, ys, rc->full);
+    if (!all) {
+        row[0] = t;
+        memcpy(row + 1, rc->full, sizeof(double) * (3 + 2 * rc->s->n));
+        return 0;
+    }
+    if (swim_dynamics_diagnostics(rc->d, rc->full, &g) != 0) return -1;
+    row_values(rc->s, t, rc->full, &g, row);
+    return 0;
+}
+
+/* Add the counters of `ode` to `total` (a run may use two integrators). */
+static void accumulate_stats(swim_ode_stats *total, const swim_ode *ode)
+{
+    swim_ode_stats st;
+    if (swim_ode_get_stats(ode, &st) != SWIM_ODE_OK) return;
+    total->steps += st.steps;
+    total->rhs_evals += st.rhs_evals;
+    total->rejected += st.rejected;
+    total->jac_evals += st.jac_evals;
+    for (int i = 0; i < 13; i++) total->order_hist[i] += st.order_hist[i];
+    total->last_h = st.last_h;
+    total->last_order = st.last_order;
+    total->stiff_suspected |= st.stiff_suspected;
+}
+
+/* Why the run ended (printf-like); `failed` sets the status. */
+static void end_run(run_ctx *c, int failed, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void end_run(run_ctx *c, int failed, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    free(c->r.reason);
+    c->r.reason = swim_vstrprintf(fmt, ap);   /* NULL: reported as out of memory */
+    va_end(ap);
+    c->r.status = failed;
+}
+#define stop(c, ...) end_run((c), 1, __VA_ARGS__)
+
+static void stop_by_signal(run_ctx *c, double t)
+{
+    int sig = stop_signal;
+    if (sig == SIGINT) stop(c, "interrupted (SIGINT) at t = %.6g", t);
+    else stop(c, "terminated by %s at t = %.6g", sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal", t);
+}
+
+/* An output failed at t: the run stops, its reason is the output error. */
+static void stop_on_output(run_ctx *c, double t)
+{
+    stop(c, "%s (at t = %.6g)", c->output_error ? c->output_error : "an output could not be written", t);
+}
+
+/* Why the integrator could not reach t. */
+static void stop_on_integrator(run_ctx *c, int rc, double t)
+{
+    const swim_scene *s = &c->s;
+    if (stop_signal) {
+        stop_by_signal(c, c->r.t_reached);
         return;
     }
+    /* A forcing law that is finite at t0 (checked when the scene is read) may not stay so. */
+    if (s->forced && !isfinite(swim_expr_eval(s->forcing, c->d.last_rhs_t))) {
+        stop(c, "the forcing law is NaN or Inf at t = %.9g", fmin(c->d.last_rhs_t, s->forcing_finite_until));
+        return;
+    }
+    if (rc == SWIM_ODE_ERHS)
+        stop(c, "%s near t = %.6g", swim_dynamics_strerror(swim_ode_rhs_status(c->ode)), c->d.last_rhs_t);
+    else if (rc == SWIM_ODE_ESTIFF)
+        stop(c, "stiffness detected near t = %.6g: Adams PECE is "
+             "stability-limited here; rerun with --integrator cvode-bdf (or msbdf), or set "
+             "[run] stiff_fallback = \"cvode-bdf\" in the scene", c->ode ? swim_ode_time(c->ode) : t);
+    else
+        stop(c, "%s near t = %.6g", swim_ode_strerror(rc), c->ode ? swim_ode_time(c->ode) : t);
+}
+
+/* Restart from the last output row (exact state there) with the stiff fallback integrator. */
+static int switch_to_fallback(run_ctx *c, double t_last, double t)
+{
+    const swim_scene *s = &c->s;
+    double ts = swim_ode_time(c->ode);
+    accumulate_stats(&c->total, c->ode);
+    swim_ode_free(c->ode);
+    c->ode = NULL;
+    if (!c->opt.quiet)
+        swim_message(stderr, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g",
+                     ts, s->integrator, s->stiff_fallback, t_last);
+    c->r.switch_t = t_last;
+    swim_run_events_rewind(c->events, t_last);   /* the fallback locates them again from t_last */
+    snprintf(c->r.used, sizeof c->r.used, "%s+%s", s->integrator, s->stiff_fallback);
+    memcpy(c->ys, c->ys_last, sizeof(double) * c->sdim);
+    c->o.stiff_stop = 0;
+    const unsigned caps = swim_ode_capabilities(s->stiff_fallback);
+    if (!(caps & SWIM_ODE_CAP_PROJECTION)) c->o.project = NULL;
+    if (!(caps & SWIM_ODE_CAP_STEP_TRACE)) c->o.on_step = NULL;
+    int rc = swim_ode_create(s->stiff_fallback, &c->sys, &c->o, t_last, c->ys, &c->ode);
+    return rc == SWIM_ODE_OK ? swim_ode_advance(c->ode, t, c->ys) : rc;
+}
+
+/* Advance to output time *t and leave the row's full state in c->y. A :stop event before *t
+ * ends the run there: *t becomes the event time, whose row is the last. An ODE status. */
+static int advance_to(run_ctx *c, double *t, double *t_last)
+{
+    double ta = wall();
+    int rc = swim_ode_advance(c->ode, *t, c->ys);
+    c->r.integrate_seconds += wall() - ta;
+    if (rc == SWIM_ODE_ESTIFF && c->s.stiff_fallback[0] && c->r.switch_t < 0 && !stop_signal)
+        rc = switch_to_fallback(c, *t_last, *t);
+    if (rc == SWIM_ODE_TERMINATED) {   /* ys holds the state at the event */
+        *t = swim_ode_time(c->ode);
+        end_run(c, 0, "stopped by event %s at t = %.10g", swim_run_events_stop_name(c->events), *t);
+        c->r.event_stop = 1;
+        rc = SWIM_ODE_OK;
+    }
+    if (rc != SWIM_ODE_OK) return rc;
+    const double tr = *t;
+    /* Rows come from the interpolant, which leaves the constraint manifold by the local error
+     * between two projected steps: project the row as well (a copy; the integrator's state is
+     * untouched). */
+    if (c->o.project && c->ode) {
+        memcpy(c->ys_row, c->ys, sizeof(double) * c->sdim);
+        c->o.project(tr, c->ys_row, &c->d);
+        swim_dynamics_unpack(&c->d, c->ys_row, c->y);
+    } else {
+        swim_dynamics_unpack(&c->d, c->ys, c->y);
+    }
+    memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
+    *t_last = tr;
+    return SWIM_ODE_OK;
+}
+
+/* Diagnostics, the CSV row and maybe a snapshot at t. 0, or -1 when the run must stop. */
+static int emit_row(run_ctx *c, long k, long rows, long every, double t)
+{
+    swim_diag g;
+    const double t_diag = wall();
+    const int diag_rc = swim_dynamics_diagnostics(&c->d, c->y, &g);
+    c->r.diagnostics_seconds += wall() - t_diag;
+    if (diag_rc != 0) {
+        stop(c, "diagnostics failed at t = %.6g (K not positive definite)", t);
+        return -1;
+    }
+    track(&c->r, t, &g, k == 0);
+    const double t_out = wall();
+    int rc = 0;
+    row_values(&c->s, t, c->y, &g, c->row);
+    if (!c->opt.summary_only && swim_csv_row(&c->csv, c->row) != 0) {
+        output_failed(c, c->csv_path, errno);
+        rc = -1;
+    }
+    if (rc == 0) c->r.rows++;   /* with --summary-only: rows computed */
+    if (rc == 0 && c->snap && (k % every == 0 || k > rows || c->r.event_stop) && c->nsnap < SNAPSHOTS + 1) {
+        if (c->nsnap++) fputs(",\n", c->snap);
+        if (swim_flow_snapshot(&c->d, t, c->y, c->snap) != 0) {
+            output_failed(c, c->snap_path, ENOMEM);
+            rc = -1;
+        }
+    }
+    c->r.output_seconds += wall() - t_out;
+    if (rc != 0) {
+        stop_on_output(c, t);
+        return -1;
+    }
+    if (!(g.jmin > 0)) {
+        stop(c, "the shape left the admissible set D at t = %.6g (min J = %.3g)", t, g.jmin);
+        return -1;
+    }
+    return 0;
+}
+
+/* The output loop: rows at k*output_step up to t_end, stopping at the first failure. */
+static void integrate(run_ctx *c)
+{
+    const swim_scene *s = &c->s;
+    c->t_start = wall();
+    double last_progress = c->t_start, t_last = 0.0;
+    int rc = swim_ode_create(s->integrator, &c->sys, &c->o, 0.0, c->ys, &c->ode);
+    const long rows = (long)floor(s->t_end / s->output_step + 1e-9);
+    const long every = rows / (SNAPSHOTS - 1) > 0 ? rows / (SNAPSHOTS - 1) : 1;
+    if (rc != SWIM_ODE_OK)
+        stop(c, "integrator '%s' could not start: %s", s->integrator, swim_ode_strerror(rc));
+    for (long k = 0; rc == SWIM_ODE_OK; k++) {
+        double t = k <= rows ? k * s->output_step : s->t_end;
+        if (k == rows && fabs(t - s->t_end) < 1e-9 * s->output_step) t = s->t_end;
+        if (k > rows && (rows * s->output_step >= s->t_end * (1 - 1e-12))) break;
+        if (k > rows + 1) break;
+        if (s->forced && t >= s->forcing_finite_until) {   /* found when the settings were checked */
+            stop(c, "the forcing law is NaN or Inf at t = %.9g; stopped before the step to t = %.6g",
+                 s->forcing_finite_until, t);
+            break;
+        }
+        if (k > 0 && (rc = advance_to(c, &t, &t_last)) != SWIM_ODE_OK) {
+            stop_on_integrator(c, rc, t);
+            break;
+        }
+        if (emit_row(c, k, rows, every, t) != 0) break;
+        if (c->trace.err) {
+            output_failed(c, c->opt.trace, c->trace.err);
+            stop_on_output(c, t);
+            break;
+        }
+        if (stop_signal) {
+            stop_by_signal(c, t);
+            break;
+        }
+        if (c->r.event_stop) break;   /* the row at the event was the last */
+        double now = wall();
+        if (!c->opt.quiet && now - last_progress > 1.0) {
+            fprintf(stderr, "\rswim run: t = %.4g / %.4g (%.0f%%)   ", t, s->t_end, 100.0 * t / s->t_end);
+            last_progress = now;
+        }
+    }
+    if (!c->opt.quiet && last_progress > c->t_start) fputc('\n', stderr);
+    if (c->r.status == 0 && !c->r.event_stop) end_run(c, 0, "reached t_end = %.6g", s->t_end);
+    if (c->ode) accumulate_stats(&c->total, c->ode);
+}
+
+/* ---- report ------------------------------------------------------------------------------- */
+
+/* The summary as JSON text on f (a memory stream). */
+static void summary_json(FILE *f, const run_ctx *c, double wall_s)
+{
+    const swim_scene *s = &c->s;
+    const run_report *r = &c->r;
+    const swim_ode_stats *st = &c->total;
+    const swim_dynamics *d = &c->d;
+    const swim_specialized *sp = &c->spz;
+    const double *y = c->y;
     char name[24];
     fprintf(f, "{\n  \"scene\": ");
     swim_json_string(f, s->path);
     fprintf(f, ",\n  \"title\": ");
     swim_json_string(f, s->title);
     fprintf(f, ",\n  \"out\": ");
-    swim_json_string(f, dir);
+    swim_json_string(f, c->dir);
     fprintf(f, ",\n  \"modes\": %d,\n  \"rho0\": %.17g,\n  \"rhof\": %.17g,\n  \"integrator\": ", s->modes, s->rho0, s->rhof);
     swim_json_string(f, r->used);
     fprintf(f, ",\n  \"integrator_switch_t\": ");
@@ -140,9 +723,10 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
     fprintf(f, ", \"from_cache\": %s, \"generate_seconds\": %.3f, \"compile_seconds\": %.3f},\n",
             sp->from_cache ? "true" : "false", sp->generate_seconds, sp->compile_seconds);
     fprintf(f, "  \"projection\": {\"enabled\": %s, \"steps\": %ld, \"max_change\": %.3g},\n",
-            s->projection && (swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_PROJECTION) ? "true" : "false", d->projections, d->max_projection);
+            s->projection && (swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_PROJECTION) ? "true" : "false",
+            d->projections, d->max_projection);
     fprintf(f, "  \"status\": \"%s\",\n  \"reason\": ", r->status ? "failed" : "completed");
-    swim_json_string(f, r->reason);
+    swim_json_string(f, r->reason ? r->reason : "out of memory");
     fprintf(f, ",\n  \"t_end\": %.17g,\n  \"t_reached\": %.17g,\n  \"rows\": %ld,\n", s->t_end, r->t_reached, r->rows);
     fprintf(f, "  \"initial_velocity_projected\": %s,\n  \"projection_change\": %.3g,\n",
             s->projection_change > 0 ? "true" : "false", s->projection_change);
@@ -160,7 +744,7 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
             r->res_volume, r->res_volume_rate, r->res_angular, r->res_locks);
     fprintf(f, "  \"jmin\": ");
     swim_json_number(f, r->jmin);
-    swim_run_events_json(r->events, f);
+    swim_run_events_json(c->events, f);   /* "events", "event_stop", "periodic" (with events) */
     fprintf(f, ",\n  \"stats\": {\"steps\": %ld, \"rhs_evaluations\": %ld, \"rejected_steps\": %ld, "
             "\"jacobian_evaluations\": %ld, \"last_step\": %.6g, \"last_order\": %d, \"stiffness_suspected\": %s,\n"
             "            \"order_histogram\": [",
@@ -173,421 +757,147 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
             r->integrate_seconds, r->diagnostics_seconds, r->output_seconds);
     fprintf(f, "\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f, \"max_rss_kb\": %ld}\n}\n",
             d->rhs_seconds, wall_s, d->rhs_calls ? 1e9 * d->rhs_seconds / d->rhs_calls : 0.0, ru.ru_maxrss);
-    fclose(f);
 }
 
-/* --trace-steps FILE: one row per ABM step attempt, with the energy of each accepted state. */
-typedef struct {
-    swim_csv csv;
-    swim_dynamics *d;
-    double *full;     /* full state for the diagnostics */
-    int open;         /* csv is open */
-    int ok;           /* no write error so far */
-} step_trace;
-
-static const char *const trace_columns[] = {"t", "h", "order", "accepted", "err", "erk", "growth", "energy", "work"};
-
-static void trace_step(const swim_ode_step *st, void *data)
+/* Format with `fill` into memory, then replace `path` atomically. 0, or -1 with errno set. */
+static int write_whole(const char *path, void (*fill)(FILE *, const run_ctx *, double), const run_ctx *c, double wall_s)
 {
-    step_trace *tr = data;
-    if (!tr->ok)
-        return;
-    double v[9] = {st->t, st->h, st->order, st->accepted, st->err, st->erk, st->growth, NAN, NAN};
-    swim_diag g;
-    if (st->y) {
-        swim_dynamics_unpack(tr->d, st->y, tr->full);
-        if (swim_dynamics_diagnostics(tr->d, tr->full, &g) == 0) {
-            v[7] = g.energy;
-            v[8] = g.work;
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *m = open_memstream(&buf, &len);
+    if (!m) return -1;
+    fill(m, c, wall_s);
+    int bad = ferror(m);
+    if (fclose(m) != 0 || bad) {
+        free(buf);
+        errno = ENOMEM;
+        return -1;
+    }
+    int rc = swim_replace_file(path, buf, len);
+    int saved = errno;
+    free(buf);
+    errno = saved;
+    return rc;
+}
+
+/* Close trajectory.csv and the trace (checking that they still are the files named by their
+ * paths: a folder removed during the run leaves writes that succeed into nothing), then write
+ * snapshots.json (--snapshots) and events.csv (with events). Any failure is an output error and
+ * fails the run. */
+static void close_outputs(run_ctx *c)
+{
+    const char *paths[2] = {c->csv_path, c->opt.trace};
+    swim_csv *files[2] = {&c->csv, c->trace.open ? &c->trace.csv : NULL};
+    for (int i = 0; i < 2; i++) {
+        if (!files[i] || !files[i]->line) continue;
+        struct stat st = files[i]->st;
+        errno = 0;
+        if (swim_csv_close(files[i]) != 0) output_failed(c, paths[i], errno);
+        else if (!swim_still_names(paths[i], &st) && !c->outputs_bad) {
+            c->outputs_bad = 1;
+            c->output_error = swim_strprintf("%s was removed or replaced during the run: its rows are lost", paths[i]);
         }
     }
-    if (swim_csv_row(&tr->csv, v) != 0)
-        tr->ok = 0;
-}
-
-/* The row of trajectory.csv at integrator state ys (event functions evaluate columns). */
-typedef struct {
-    const swim_scene *s;
-    swim_dynamics *d;
-    double *full;
-} row_ctx;
-
-static int packed_row(void *p, double t, const double *ys, int all, double *row)
-{
-    row_ctx *c = p;
-    swim_diag g;
-    swim_dynamics_unpack(c->d, ys, c->full);
-    if (!all) {   /* t and the state columns only */
-        row[0] = t;
-        memcpy(row + 1, c->full, sizeof(double) * (3 + 2 * c->s->n));
-        return 0;
+    if (c->snap) {
+        fputs("\n]\n", c->snap);
+        int bad = ferror(c->snap);
+        if (fclose(c->snap) != 0 || bad) output_failed(c, c->snap_path, ENOMEM);
+        else if (swim_replace_file(c->snap_path, c->snap_buf, c->snap_len) != 0) output_failed(c, c->snap_path, errno);
+        c->snap = NULL;
     }
-    if (swim_dynamics_diagnostics(c->d, c->full, &g) != 0) return -1;
-    row_values(c->s, t, c->full, &g, row);
-    return 0;
+    if (c->events && swim_run_events_write_csv(c->events, c->events_path) != 0)
+        output_failed(c, c->events_path, errno);
 }
 
-/* Add the counters of `ode` to `total` (a run may use two integrators). */
-static void accumulate_stats(swim_ode_stats *total, const swim_ode *ode)
-{
-    swim_ode_stats st;
-    if (swim_ode_get_stats(ode, &st) != SWIM_ODE_OK) return;
-    total->steps += st.steps;
-    total->rhs_evals += st.rhs_evals;
-    total->rejected += st.rejected;
-    total->jac_evals += st.jac_evals;
-    for (int i = 0; i < 13; i++) total->order_hist[i] += st.order_hist[i];
-    total->last_h = st.last_h;
-    total->last_order = st.last_order;
-    total->stiff_suspected |= st.stiff_suspected;
-}
+static void fill_summary(FILE *f, const run_ctx *c, double wall_s) { summary_json(f, c, wall_s); }
 
-static void default_out(const char *scene_path, char *out, size_t len)
+/* Outputs closed, the summary written, the report printed. The exit status: 0 only when the
+ * run reached t_end and every output was written. */
+static int report(run_ctx *c)
 {
-    const char *base = strrchr(scene_path, '/');
-    base = base ? base + 1 : scene_path;
-    snprintf(out, len, "out/%s", base);
-    char *dot = strrchr(out, '.');
-    if (dot && dot > out + 4) *dot = '\0';
-}
-
-/* --set KEY=VALUE (repeatable): overrides applied to the scene before it is validated. */
-#define MAX_SETS 64
-static int take_set_options(int *argc, char **argv, swim_override *sets)
-{
-    const char *vals[MAX_SETS];
-    int n = swim_args_take_all("run", argc, argv, 2, "set", vals, MAX_SETS);
-    for (int i = 0; i < n; i++) {
-        char err[256];
-        if (swim_override_parse(vals[i], &sets[i], err, sizeof err) != 0) {
-            fprintf(stderr, "swim run: --set: %s\n", err);
-            return -1;
-        }
+    close_outputs(c);
+    if (c->outputs_bad && c->r.status == 0)   /* the run completed, an output did not */
+        stop(c, "%s", c->output_error ? c->output_error : "an output could not be written");
+    const double wall_s = wall() - c->t_start;
+    if (write_whole(c->summary_path, fill_summary, c, wall_s) != 0) {
+        int err = errno;
+        swim_message(stderr, "swim run: cannot write %s: %s (the run %s: %s)", c->summary_path, strerror(err),
+                     c->r.status ? "FAILED" : "completed", c->r.reason ? c->r.reason : "out of memory");
+        c->r.status = 1;
     }
-    return n;
+    if (c->output_error && c->r.reason && !strstr(c->r.reason, c->output_error))
+        swim_message(stderr, "swim run: %s", c->output_error);   /* the reason names another cause */
+    const swim_scene *s = &c->s;
+    const swim_ode_stats *st = &c->total;
+    swim_message(stdout, c->opt.summary_only ? "%s: %s (%s); %ld rows computed, summary in %s"
+                                             : "%s: %s (%s); %ld rows in %s",
+                 s->path, c->r.status ? "FAILED" : "completed", c->r.reason ? c->r.reason : "out of memory",
+                 c->r.rows, c->opt.summary_only ? c->summary_path : c->csv_path);
+    printf("  %s kernel (state dimension %d)\n", c->d.spec ? "specialized" : "generic", c->sdim);
+    swim_message(stdout, "  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)",
+                 c->r.used, s->rtol, st->steps, st->rhs_evals, st->rejected, wall() - c->t_start, c->d.rhs_seconds);
+    printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g\n",
+           c->r.drift_abs, c->r.e0, c->r.res_volume, c->r.res_angular, c->r.res_locks, c->r.jmin);
+    printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", c->y[0], c->y[1], c->y[2]);
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        swim_message(stderr, "swim run: cannot write the report to the standard output: %s", strerror(errno ? errno : EIO));
+        return 1;
+    }
+    return c->r.status ? 1 : 0;
+}
+
+/* The one cleanup: everything any stage may have created, whatever stage stopped. */
+static void release(run_ctx *c)
+{
+    swim_csv_close(&c->csv);
+    if (c->trace.open) swim_csv_close(&c->trace.csv);
+    if (c->snap) fclose(c->snap);
+    free(c->snap_buf);
+    free(c->trace.full);
+    free(c->rowc.full);
+    swim_run_events_free(c->events);
+    swim_ode_free(c->ode);
+    swim_specialized_close(&c->spz);
+    if (c->d_ready) swim_dynamics_free(&c->d);
+    free(c->y);
+    free(c->row);
+    free(c->ys);
+    free(c->ys_last);
+    free(c->ys_row);
+    free(c->r.reason);
+    free(c->output_error);
+    free(c->dir);
+    free(c->csv_path);
+    free(c->snap_path);
+    free(c->summary_path);
+    free(c->scene_copy_path);
+    free(c->events_path);
+    swim_scene_free(&c->s);
+    free(c);
 }
 
 int swim_cmd_run(int argc, char **argv)
 {
-    swim_opt opts[] = {{"out", 1, NULL},  {"t-end", 1, NULL},      {"rtol", 1, NULL},
-                       {"output-step", 1, NULL},
-                       {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
-                       {"generic", 0, NULL}, {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL},
-                       {"trace-steps", 1, NULL}, {"event", 1, NULL}, {"snapshots", 0, NULL},
-                       {"summary-only", 0, NULL}};
-    const int nopts = (int)(sizeof opts / sizeof opts[0]);
-    const char *pos[1];
-    int npos = 0;
-    static swim_override sets[MAX_SETS];
-    const int nsets = take_set_options(&argc, argv, sets);
-    if (nsets < 0) return 2;
-    if (swim_args_parse("run", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
-    if (npos != 1) {
-        fprintf(stderr, "swim run: expected one scene file, e.g. swim run models/example3.toml\n");
-        return 2;
-    }
-    static swim_scene s;
-    if (swim_scene_load_with(pos[0], sets, nsets, &s)) return 2;
-    const char *v;
-    if ((v = swim_args_get(opts, nopts, "t-end"))) {
-        if (swim_args_double("run", "t-end", v, &s.t_end)) return 2;
-        if (!(s.t_end > 0)) { fprintf(stderr, "swim run: --t-end: must be > 0, got %s\n", v); return 2; }
-    }
-    if ((v = swim_args_get(opts, nopts, "output-step"))) {
-        if (swim_args_double("run", "output-step", v, &s.output_step)) return 2;
-        if (!(s.output_step > 0) || s.t_end / s.output_step > 1e7) {
-            fprintf(stderr, "swim run: --output-step: must be > 0 and give at most 10^7 rows, got %s\n", v);
-            return 2;
-        }
-    }
-    if ((v = swim_args_get(opts, nopts, "rtol"))) {
-        if (swim_args_double("run", "rtol", v, &s.rtol)) return 2;
-        if (!(s.rtol > 0)) { fprintf(stderr, "swim run: --rtol: must be > 0, got %s\n", v); return 2; }
-    }
-    if ((v = swim_args_get(opts, nopts, "atol"))) {
-        if (swim_args_double("run", "atol", v, &s.atol)) return 2;
-        if (!(s.atol > 0)) { fprintf(stderr, "swim run: --atol: must be > 0, got %s\n", v); return 2; }
-    }
-    if ((v = swim_args_get(opts, nopts, "integrator"))) {
-        if (!swim_ode_method_known(v) || strlen(v) >= sizeof s.integrator) {
-            fprintf(stderr, "swim run: --integrator: unknown integrator '%s' (%s)\n", v, swim_ode_method_list());
-            return 2;
-        }
-        snprintf(s.integrator, sizeof s.integrator, "%s", v);
-    }
-    if ((v = swim_args_get(opts, nopts, "step-lookahead"))) {
-        long p;
-        if (swim_args_int("run", "step-lookahead", v, 0, 12, &p)) return 2;
-        s.step_lookahead = (int)p;
-    }
-    const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
-    /* A sweep member keeps only its summary: the rows are still computed (the summary's drift,
-     * residuals and min J come from them) but neither formatted nor written. */
-    const int summary_only = swim_args_get(opts, nopts, "summary-only") != NULL;
-    if (swim_args_get(opts, nopts, "no-projection")) s.projection = 0;
-    char dir[900];
-    if ((v = swim_args_get(opts, nopts, "out"))) snprintf(dir, sizeof dir, "%s", v);
-    else default_out(s.path, dir, sizeof dir);
-    if (swim_mkdirs(dir) != 0) {
-        fprintf(stderr, "swim run: --out: cannot create directory '%s': %s\n", dir, strerror(errno));
-        swim_scene_free(&s);
-        return 2;
-    }
-    char path[1024];
-    const char *names[8 + 4 * SWIM_NMAX + 64];
-    char storage[2 * SWIM_NMAX][24];
-    int ncol = columns(&s, names, storage);
-    swim_run_events *events = NULL;
-    if (swim_run_events_parse(&s, argc, argv, names, ncol, &events)) { swim_scene_free(&s); return 2; }
-    snprintf(path, sizeof path, "%s/scene.toml", dir);
-    if (swim_copy_file(s.path, path) != 0) {
-        fprintf(stderr, "swim run: --out: cannot write '%s': %s\n", path, strerror(errno));
-        swim_scene_free(&s);
-        swim_run_events_free(events);
-        return 2;
-    }
-    step_trace trace = {.d = NULL, .full = NULL, .open = 0, .ok = 0};
-    if ((v = swim_args_get(opts, nopts, "trace-steps"))) {
-        if (!(swim_ode_capabilities(s.integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
-            fprintf(stderr, "swim run: --trace-steps: integrator '%s' does not report its steps\n", s.integrator);
-            swim_scene_free(&s);
-            swim_run_events_free(events);
-            return 2;
-        }
-        if (swim_csv_open(&trace.csv, v, trace_columns, 9) != 0) {
-            fprintf(stderr, "swim run: --trace-steps: cannot write '%s': %s\n", v, strerror(errno));
-            swim_scene_free(&s);
-            swim_run_events_free(events);
-            return 2;
-        }
-        trace.open = trace.ok = 1;
-    }
-    swim_dynamics d;
-    if (swim_dynamics_init(&d, &s) != 0) {
-        fprintf(stderr, "swim run: out of memory\n");
-        if (trace.open) swim_csv_close(&trace.csv);
-        swim_scene_free(&s);
-        swim_run_events_free(events);
+    run_ctx *c = calloc(1, sizeof *c);
+    if (!c) {
+        swim_message(stderr, "swim run: out of memory");
         return 1;
     }
-    d.interrupt = (volatile int *)&interrupted;
-    swim_specialized spz;
-    memset(&spz, 0, sizeof spz);
-    if (!swim_args_get(opts, nopts, "generic")) {
-        if (swim_specialize(&s, &spz, !quiet) == 0)
-            swim_dynamics_use_scene_kernel(&d, spz.kernel);
-        else
-            fprintf(stderr, "swim run: using the generic kernel instead\n");
-    }
-    swim_csv csv;
-    snprintf(path, sizeof path, "%s/trajectory.csv", dir);
-    if (summary_only) remove(path);   /* never leave another run's rows beside this summary */
-    if (!summary_only && swim_csv_open(&csv, path, names, ncol) != 0) {
-        fprintf(stderr, "swim run: --out: cannot write '%s': %s\n", path, strerror(errno));
-        if (trace.open) swim_csv_close(&trace.csv);
-        swim_dynamics_free(&d);
-        swim_scene_free(&s);
-        swim_run_events_free(events);
-        return 2;
-    }
-    snprintf(path, sizeof path, "%s/snapshots.json", dir);
-    FILE *snap = NULL;
-    if (swim_args_get(opts, nopts, "snapshots") && !summary_only) snap = fopen(path, "w");
-    else remove(path);   /* a stale file from an earlier run would not match this trajectory */
-    if (snap) fputs("[\n", snap);
-
-    const int sdim = swim_dynamics_state_dim(&d);
-    double *y = calloc((size_t)d.dim, sizeof(double)), *row = calloc((size_t)ncol, sizeof(double));
-    double *ys = calloc((size_t)sdim, sizeof(double));
-    swim_dynamics_initial_state(&d, y);
-    swim_dynamics_pack(&d, y, ys);
-    swim_ode_system sys = {swim_dynamics_rhs, (size_t)sdim, &d, NULL};
-    swim_ode_options o;
-    swim_ode_options_default(&o);
-    o.rtol = s.rtol;
-    o.atol = s.atol;
-    if (s.step_lookahead >= 0) o.lookahead = s.step_lookahead;
-    s.step_lookahead = o.lookahead;   /* the summary records the value used */
-    const unsigned caps = swim_ode_capabilities(s.integrator);
-    o.stiff_stop = (caps & SWIM_ODE_CAP_STIFFNESS) != 0;   /* stop and report (or switch) on stiffness */
-    if (s.projection && (caps & SWIM_ODE_CAP_PROJECTION)) o.project = swim_dynamics_project;  /* drift control */
-    if (trace.open) {
-        trace.d = &d;
-        trace.full = calloc((size_t)d.dim, sizeof(double));
-        trace.ok = trace.full != NULL;
-        o.on_step = trace_step;
-        o.on_step_data = &trace;
-    }
-    row_ctx rowc = {&s, &d, calloc((size_t)d.dim, sizeof(double))};
-    if (events && (!rowc.full || swim_run_events_attach(events, &o, (size_t)sdim, 3 + 2 * s.n, packed_row, &rowc) != 0)) {
-        fprintf(stderr, "swim run: out of memory\n");
-        swim_run_events_free(events);
-        return 1;
-    }
-    swim_ode *ode = NULL;
-    run_report r;
-    memset(&r, 0, sizeof r);
-    r.events = events;
-    r.switch_t = -1.0;
-    snprintf(r.used, sizeof r.used, "%s", s.integrator);
-    swim_ode_stats total;
-    memset(&total, 0, sizeof total);
-    double *ys_last = calloc((size_t)sdim, sizeof(double)), t_last = 0.0;
-    double *ys_row = calloc((size_t)sdim, sizeof(double));
-    memcpy(ys_last, ys, sizeof(double) * sdim);
-    struct sigaction sa, old;
+    struct sigaction sa, old[NSTOP];
     memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_sigint;
-    sigaction(SIGINT, &sa, &old);
-    const double t_start = wall();
-    double last_progress = t_start;
-    int rc = swim_ode_create(s.integrator, &sys, &o, 0.0, ys, &ode);
-    const long rows = (long)floor(s.t_end / s.output_step + 1e-9);
-    const long every = rows / (SNAPSHOTS - 1) > 0 ? rows / (SNAPSHOTS - 1) : 1;
-    int nsnap = 0;
-    if (rc != SWIM_ODE_OK) {
-        r.status = 1;
-        snprintf(r.reason, sizeof r.reason, "integrator '%s' could not start: %s", s.integrator, swim_ode_strerror(rc));
+    sa.sa_handler = on_stop_signal;
+    stop_signal = 0;
+    int rc = read_options(argc, argv, c);
+    if (rc == 0) rc = open_outputs(c);
+    if (rc == 0) {
+        for (int i = 0; i < NSTOP; i++) sigaction(stop_signals[i], &sa, &old[i]);
+        rc = prepare(c);
+        if (rc == 0) {
+            integrate(c);
+            rc = report(c);
+        }
+        for (int i = 0; i < NSTOP; i++) sigaction(stop_signals[i], &old[i], NULL);
     }
-    for (long k = 0; rc == SWIM_ODE_OK; k++) {
-        double t = k <= rows ? k * s.output_step : s.t_end;
-        if (k == rows && fabs(t - s.t_end) < 1e-9 * s.output_step) t = s.t_end;
-        if (k > rows && (rows * s.output_step >= s.t_end * (1 - 1e-12))) break;
-        if (k > rows + 1) break;
-        if (k > 0) {
-            double ta = wall();
-            rc = swim_ode_advance(ode, t, ys);
-            r.integrate_seconds += wall() - ta;
-            if (rc == SWIM_ODE_ESTIFF && s.stiff_fallback[0] && r.switch_t < 0) {
-                /* Restart the stiff integrator from the last output row (exact state there). */
-                double ts = swim_ode_time(ode);
-                accumulate_stats(&total, ode);
-                swim_ode_free(ode);
-                ode = NULL;
-                if (!quiet)
-                    fprintf(stderr, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g\n",
-                            ts, s.integrator, s.stiff_fallback, t_last);
-                r.switch_t = t_last;
-                swim_run_events_rewind(events, t_last);
-                snprintf(r.used, sizeof r.used, "%s+%s", s.integrator, s.stiff_fallback);
-                memcpy(ys, ys_last, sizeof(double) * sdim);
-                o.stiff_stop = 0;
-                if (!(swim_ode_capabilities(s.stiff_fallback) & SWIM_ODE_CAP_PROJECTION)) o.project = NULL;
-                if (!(swim_ode_capabilities(s.stiff_fallback) & SWIM_ODE_CAP_STEP_TRACE)) o.on_step = NULL;
-                rc = swim_ode_create(s.stiff_fallback, &sys, &o, t_last, ys, &ode);
-                if (rc == SWIM_ODE_OK) rc = swim_ode_advance(ode, t, ys);
-            }
-            if (rc == SWIM_ODE_TERMINATED) {   /* a :stop event: the last row is at its time */
-                t = swim_ode_time(ode);
-                snprintf(r.reason, sizeof r.reason, "stopped by event %s at t = %.10g", swim_run_events_stop_name(events), t);
-                rc = SWIM_ODE_OK;
-            }
-            if (rc == SWIM_ODE_OK) {
-                /* Rows come from the interpolant, which leaves the constraint manifold by the local
-                 * error between two projected steps: project the row as well (a copy; the
-                 * integrator's state is untouched). */
-                if (o.project && ode) {
-                    memcpy(ys_row, ys, sizeof(double) * sdim);
-                    o.project(t, ys_row, &d);
-                    swim_dynamics_unpack(&d, ys_row, y);
-                } else {
-                    swim_dynamics_unpack(&d, ys, y);
-                }
-                memcpy(ys_last, ys, sizeof(double) * sdim);
-                t_last = t;
-            }
-            if (rc != SWIM_ODE_OK) {
-                int rs = swim_ode_rhs_status(ode);
-                r.status = 1;
-                if (rc == SWIM_ODE_ERHS)
-                    snprintf(r.reason, sizeof r.reason, "%s near t = %.6g", swim_dynamics_strerror(rs), d.last_rhs_t);
-                else if (rc == SWIM_ODE_ESTIFF)
-                    snprintf(r.reason, sizeof r.reason, "stiffness detected near t = %.6g: Adams PECE is "
-                             "stability-limited here; rerun with --integrator cvode-bdf (or msbdf), or set "
-                             "[run] stiff_fallback = \"cvode-bdf\" in the scene", ode ? swim_ode_time(ode) : t);
-                else
-                    snprintf(r.reason, sizeof r.reason, "%s near t = %.6g", swim_ode_strerror(rc), swim_ode_time(ode));
-                break;
-            }
-        }
-        swim_diag g;
-        double t_diag = wall();
-        int diag_rc = swim_dynamics_diagnostics(&d, y, &g);
-        r.diagnostics_seconds += wall() - t_diag;
-        if (diag_rc != 0) {
-            r.status = 1;
-            snprintf(r.reason, sizeof r.reason, "diagnostics failed at t = %.6g (K not positive definite)", t);
-            break;
-        }
-        track(&r, t, &g, k == 0);
-        double t_out = wall();
-        row_values(&s, t, y, &g, row);
-        if (!summary_only && swim_csv_row(&csv, row) != 0) {
-            r.status = 1;
-            snprintf(r.reason, sizeof r.reason, "write error on trajectory.csv at t = %.6g", t);
-            break;
-        }
-        r.rows++;
-        if (snap && (k % every == 0 || k > rows) && nsnap < SNAPSHOTS + 1) {
-            if (nsnap++) fputs(",\n", snap);
-            swim_flow_snapshot(&d, t, y, snap);
-            fflush(snap);
-        }
-        r.output_seconds += wall() - t_out;
-        if (!(g.jmin > 0)) {
-            r.status = 1;
-            snprintf(r.reason, sizeof r.reason, "the shape left the admissible set D at t = %.6g (min J = %.3g)", t, g.jmin);
-            break;
-        }
-        if (interrupted) {
-            r.status = 1;
-            snprintf(r.reason, sizeof r.reason, "interrupted (SIGINT) at t = %.6g", t);
-            break;
-        }
-        if (r.reason[0]) break;   /* stopped by an event */
-        double now = wall();
-        if (!quiet && now - last_progress > 1.0) {
-            fprintf(stderr, "\rswim run: t = %.4g / %.4g (%.0f%%)   ", t, s.t_end, 100.0 * t / s.t_end);
-            last_progress = now;
-        }
-    }
-    if (!quiet && last_progress > t_start) fputc('\n', stderr);
-    sigaction(SIGINT, &old, NULL);
-    if (r.status == 0 && !r.reason[0]) snprintf(r.reason, sizeof r.reason, "reached t_end = %.6g", s.t_end);
-    if (ode) accumulate_stats(&total, ode);
-    swim_ode_stats st = total;
-    if (snap) {
-        fputs("\n]\n", snap);
-        fclose(snap);
-    }
-    if (!summary_only) swim_csv_close(&csv);
-    if (trace.open) {
-        swim_csv_close(&trace.csv);
-        free(trace.full);
-    }
-    swim_run_events_write_csv(events, dir);
-    snprintf(path, sizeof path, "%s/summary.json", dir);
-    write_summary(path, &s, dir, &r, y, &st, &d, &spz, wall() - t_start);
-    if (summary_only)
-        printf("%s: %s (%s); %ld rows computed, summary in %s/summary.json\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);
-    else
-        printf("%s: %s (%s); %ld rows in %s/trajectory.csv\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);
-    printf("  %s kernel (state dimension %d)\n", d.spec ? "specialized" : "generic", sdim);
-    printf("  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)\n",
-           r.used, s.rtol, st.steps, st.rhs_evals, st.rejected, wall() - t_start, d.rhs_seconds);
-    printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g\n",
-           r.drift_abs, r.e0, r.res_volume, r.res_angular, r.res_locks, r.jmin);
-    printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", y[0], y[1], y[2]);
-    swim_ode_free(ode);
-    swim_run_events_free(events);
-    free(rowc.full);
-    swim_specialized_close(&spz);
-    free(ys);
-    free(ys_last);
-    free(ys_row);
-    free(y);
-    free(row);
-    swim_dynamics_free(&d);
-    swim_scene_free(&s);
-    return r.status ? 1 : 0;
+    release(c);
+    return rc;
 }

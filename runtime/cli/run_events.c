@@ -22,7 +22,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/files.h"
 #include "io/json.h"
+#include "io/message.h"
 
 enum { KIND_ZERO, KIND_MIN, KIND_MAX };
 static const char *const kind_names[] = {"zero", "min", "max"};
@@ -124,7 +126,7 @@ int swim_run_events_parse(const swim_scene *s, int argc, char **argv, const char
         if (n == SWIM_RUN_MAX_EVENTS || parse_one(s->events[i], names, ncol, &specs[n], why, sizeof why)) {
             if (n == SWIM_RUN_MAX_EVENTS)
                 snprintf(why, sizeof why, "more than %d events", SWIM_RUN_MAX_EVENTS);
-            fprintf(stderr, "swim: %s:%d: events.list: %s\n", s->path, s->events_line, why);
+            swim_message(stderr, "swim: %s:%d: events.list: %s", s->path, s->events_line, why);
             return 2;
         }
         n++;
@@ -141,7 +143,7 @@ int swim_run_events_parse(const swim_scene *s, int argc, char **argv, const char
         if (n == SWIM_RUN_MAX_EVENTS || parse_one(v, names, ncol, &specs[n], why, sizeof why)) {
             if (n == SWIM_RUN_MAX_EVENTS)
                 snprintf(why, sizeof why, "more than %d events", SWIM_RUN_MAX_EVENTS);
-            fprintf(stderr, "swim run: --event: %s\n", why);
+            swim_message(stderr, "swim run: --event: %s", why);
             return 2;
         }
         n++;
@@ -149,18 +151,18 @@ int swim_run_events_parse(const swim_scene *s, int argc, char **argv, const char
     if (n == 0)
         return 0;
     if (!(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
-        fprintf(stderr, "swim run: --event: integrator '%s' cannot locate events (it has no dense output)\n", s->integrator);
+        swim_message(stderr, "swim run: --event: integrator '%s' cannot locate events (it has no dense output)", s->integrator);
         return 2;
     }
     if (s->stiff_fallback[0] && !(swim_ode_capabilities(s->stiff_fallback) & SWIM_ODE_CAP_EVENTS)) {
-        fprintf(stderr, "swim: %s: run.stiff_fallback: integrator '%s' cannot locate the events asked for\n", s->path,
-                s->stiff_fallback);
+        swim_message(stderr, "swim: %s: run.stiff_fallback: integrator '%s' cannot locate the events asked for", s->path,
+                     s->stiff_fallback);
         return 2;
     }
     swim_run_events *ev = calloc(1, sizeof *ev);
     if (!ev) {
-        fprintf(stderr, "swim run: out of memory\n");
-        return 2;
+        swim_message(stderr, "swim run: out of memory");
+        return 1;
     }
     ev->nspec = n;
     ev->ncol = ncol;
@@ -358,15 +360,15 @@ void swim_run_events_json(const swim_run_events *ev, FILE *f)
     fprintf(f, "%s]", first ? "" : "\n  ");
 }
 
-int swim_run_events_write_csv(const swim_run_events *ev, const char *dir)
+int swim_run_events_write_csv(const swim_run_events *ev, const char *path)
 {
     if (!ev)
         return 0;
-    char path[1100];
-    snprintf(path, sizeof path, "%s/events.csv", dir);
-    FILE *f = fopen(path, "w");
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
     if (!f) {
-        fprintf(stderr, "swim run: cannot write %s: %s\n", path, strerror(errno));
+        errno = ENOMEM;
         return -1;
     }
     fprintf(f, "t,column,kind,value\n");
@@ -374,11 +376,17 @@ int swim_run_events_write_csv(const swim_run_events *ev, const char *dir)
         const record *e = &ev->rec[r];
         fprintf(f, "%.17g,%s,%s,%.17g\n", e->t, ev->specs[e->spec].name, kind_names[ev->specs[e->spec].kind], e->value);
     }
-    if (fclose(f) != 0) {
-        fprintf(stderr, "swim run: write error on %s\n", path);
+    int bad = ferror(f);
+    if (fclose(f) != 0 || bad) {
+        free(buf);
+        errno = ENOMEM;
         return -1;
     }
-    return 0;
+    int rc = swim_replace_file(path, buf, len);
+    int saved = errno;
+    free(buf);
+    errno = saved;
+    return rc;
 }
 
 void swim_run_events_free(swim_run_events *ev)

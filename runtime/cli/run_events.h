@@ -24,7 +24,7 @@ typedef int (*swim_run_row_func)(void *ctx, double t, const double *ys, int all,
 
 /* Collects the scene's [events] list and every --event of argv, checks them against the
  * columns (names[0..ncol), names[0] = "t") and the integrator's capabilities.  0 with *out
- * (NULL when there are no events), or 2 after one line on stderr. */
+ * (NULL when there are no events), 2 after one line on stderr (bad input) or 1 (out of memory). */
 int swim_run_events_parse(const swim_scene *s, int argc, char **argv, const char *const *names, int ncol,
                           swim_run_events **out);
 
@@ -43,8 +43,9 @@ const char *swim_run_events_stop_name(const swim_run_events *ev);
 /* ",\n  "events": [...],\n  "periodic": [...]" for summary.json (nothing when ev is NULL). */
 void swim_run_events_json(const swim_run_events *ev, FILE *f);
 
-/* DIR/events.csv: t,column,kind,value.  0, or -1 (message printed). */
-int swim_run_events_write_csv(const swim_run_events *ev, const char *dir);
+/* events.csv (t,column,kind,value) written whole at `path`, atomically (swim_replace_file);
+ * nothing when ev is NULL.  0, or -1 with errno set (nothing printed: the caller reports it). */
+int swim_run_events_write_csv(const swim_run_events *ev, const char *path);
 
 void swim_run_events_free(swim_run_events *ev);
 

@@ -11,6 +11,7 @@
 
 #include "cli/commands.h"
 #include "sweep/sweep.h"
+#include "io/message.h"
 
 static volatile sig_atomic_t stop_signal;
 static pid_t *running_pids;   /* slots; 0 = free */
@@ -43,7 +44,7 @@ int swim_cmd_sweep(int argc, char **argv)
     slots = p.jobs;
     running_pids = calloc((size_t)slots, sizeof *running_pids);
     long *ids = calloc((size_t)slots, sizeof *ids);
-    if (!running_pids || !ids) { fprintf(stderr, "swim sweep: out of memory\n"); return 1; }
+    if (!running_pids || !ids) { swim_message(stderr, "swim sweep: out of memory"); return 1; }
     struct sigaction sa, old_int, old_term;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_stop;   /* no SA_RESTART: waitpid returns EINTR */
@@ -55,7 +56,7 @@ int swim_cmd_sweep(int argc, char **argv)
     double last_progress = t0;
     char row[2048];
     if (!p.quiet && p.already)
-        fprintf(stderr, "swim sweep: resuming %s: %ld of %ld members already finished\n", p.dir, p.already, p.members);
+        swim_message(stderr, "swim sweep: resuming %s: %ld of %ld members already finished", p.dir, p.already, p.members);
     for (;;) {
         while (!stop_signal && running < slots && next < p.members) {
             long m = next++;
@@ -64,7 +65,7 @@ int swim_cmd_sweep(int argc, char **argv)
             while (running_pids[slot]) slot++;
             pid_t pid = sweep_spawn(&p, m);
             if (pid < 0) {
-                fprintf(stderr, "swim sweep: cannot start member %ld: %s\n", m, strerror(errno));
+                swim_message(stderr, "swim sweep: cannot start member %ld: %s", m, strerror(errno));
                 stop_signal = -1;
                 break;
             }
@@ -87,7 +88,7 @@ int swim_cmd_sweep(int argc, char **argv)
         int bad = 0;
         if (sweep_collect(&p, ids[slot], status, stop_signal != 0, row, sizeof row, &bad)) {
             if (sweep_append_row(rows, row) != 0) {
-                fprintf(stderr, "swim sweep: write error on %s/members.csv\n", p.dir);
+                swim_message(stderr, "swim sweep: write error on %s/members.csv", p.dir);
                 stop_signal = -1;
             }
             ran++;
@@ -108,9 +109,9 @@ int swim_cmd_sweep(int argc, char **argv)
     const double seconds = now() - t0;
     const long finished = p.already + ran, all_failed = p.already_failed + failed;
     if (stop_signal) {
-        fprintf(stderr, "swim sweep: %s: stopped%s after %ld of %ld members (%ld failed); run the same command "
-                "again to resume\n", p.dir, stop_signal == SIGINT ? " by SIGINT" : stop_signal == SIGTERM ? " by SIGTERM" : "",
-                finished, p.members, all_failed);
+        swim_message(stderr, "swim sweep: %s: stopped%s after %ld of %ld members (%ld failed); run the same command "
+                     "again to resume", p.dir, stop_signal == SIGINT ? " by SIGINT" : stop_signal == SIGTERM ? " by SIGTERM" : "",
+                     finished, p.members, all_failed);
         rc = 1;
     } else {
         printf("%s: %ld members, %ld completed, %ld failed (%ld ran now in %.3f s, %.2f members/s with %ld jobs%s)\n",
@@ -120,7 +121,7 @@ int swim_cmd_sweep(int argc, char **argv)
         rc = all_failed || finished < p.members ? 1 : 0;
     }
     if (lost && !stop_signal)
-        fprintf(stderr, "swim sweep: %ld members could not be recorded (see their members/ID/log.txt); rerun to retry them\n", lost);
+        swim_message(stderr, "swim sweep: %ld members could not be recorded (see their members/ID/log.txt); rerun to retry them", lost);
     free(running_pids);
     free(ids);
     sweep_free(&p);

@@ -1,55 +1,149 @@
 #include "io/files.h"
 
 #include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 int swim_mkdirs(const char *path)
 {
-    char buf[1024];
-    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf) {
-        errno = ENAMETOOLONG;
-        return -1;
-    }
-    for (char *p = buf + 1; *p; p++)
+    char *buf = strdup(path);
+    if (!buf) return -1;
+    int rc = 0;
+    for (char *p = buf + 1; *p && rc == 0; p++)
         if (*p == '/') {
             *p = '\0';
-            if (mkdir(buf, 0777) != 0 && errno != EEXIST) return -1;
+            if (mkdir(buf, 0777) != 0 && errno != EEXIST) rc = -1;
             *p = '/';
         }
-    if (mkdir(buf, 0777) != 0 && errno != EEXIST) return -1;
+    if (rc == 0 && mkdir(buf, 0777) != 0 && errno != EEXIST) rc = -1;
     struct stat st;
-    if (stat(buf, &st) != 0) return -1;
-    if (!S_ISDIR(st.st_mode)) {
+    if (rc == 0 && stat(buf, &st) != 0) rc = -1;
+    if (rc == 0 && !S_ISDIR(st.st_mode)) {
         errno = ENOTDIR;
-        return -1;
+        rc = -1;
+    }
+    int saved = errno;
+    free(buf);
+    errno = saved;
+    return rc;
+}
+
+char *swim_path_join(const char *dir, const char *name)
+{
+    size_t a = strlen(dir), b = strlen(name);
+    char *p = malloc(a + b + 2);
+    if (!p) return NULL;
+    memcpy(p, dir, a);
+    p[a] = '/';
+    memcpy(p + a + 1, name, b + 1);
+    return p;
+}
+
+char *swim_canonical_path(const char *path)
+{
+    char *full = realpath(path, NULL);
+    if (full || errno != ENOENT) return full;
+    /* Not there yet: resolve the folder, keep the name. */
+    char *copy = strdup(path);
+    if (!copy) return NULL;
+    char *slash = strrchr(copy, '/');
+    const char *name = slash ? slash + 1 : copy;
+    char *dir = slash ? (slash == copy ? realpath("/", NULL) : (*slash = '\0', realpath(copy, NULL)))
+                      : realpath(".", NULL);
+    full = dir ? swim_path_join(dir, name) : NULL;
+    int saved = errno;
+    free(dir);
+    free(copy);
+    errno = saved;
+    return full;
+}
+
+static int write_all(int fd, const char *p, size_t len)
+{
+    while (len > 0) {
+        ssize_t k = write(fd, p, len);
+        if (k < 0) {
+            if (errno == EINTR) continue;
+            return -1;
+        }
+        p += k;
+        len -= (size_t)k;
     }
     return 0;
 }
 
-int swim_copy_file(const char *src, const char *dst)
+int swim_replace_file(const char *path, const void *data, size_t len)
 {
-    char a[4096], b[4096];
-    if (realpath(src, a) && realpath(dst, b) && strcmp(a, b) == 0) return 0;
-    FILE *in = fopen(src, "rb");
-    if (!in) return -1;
-    FILE *out = fopen(dst, "wb");
-    if (!out) {
-        int e = errno;
-        fclose(in);
-        errno = e;
+    size_t n = strlen(path);
+    char *tmp = malloc(n + sizeof ".tmp.XXXXXX");
+    if (!tmp) return -1;
+    memcpy(tmp, path, n);
+    memcpy(tmp + n, ".tmp.XXXXXX", sizeof ".tmp.XXXXXX");
+    int fd = mkstemp(tmp);
+    if (fd < 0) {
+        int saved = errno;
+        free(tmp);
+        errno = saved;
         return -1;
     }
-    char buf[8192];
+    mode_t mask = umask(0);   /* mkstemp makes the file 0600; give it the mode fopen would */
+    umask(mask);
+    int rc = fchmod(fd, 0666 & ~mask);
+    if (rc == 0) rc = write_all(fd, data, len);
+    if (rc == 0) rc = fsync(fd);
+    int saved = errno;
+    if (close(fd) != 0 && rc == 0) { rc = -1; saved = errno; }
+    if (rc == 0 && rename(tmp, path) != 0) { rc = -1; saved = errno; }
+    if (rc != 0) unlink(tmp);
+    free(tmp);
+    errno = saved;
+    return rc;
+}
+
+int swim_still_names(const char *path, const struct stat *st)
+{
+    struct stat now;
+    if (stat(path, &now) != 0) return 0;
+    if (now.st_dev != st->st_dev || now.st_ino != st->st_ino) {
+        errno = ESTALE;
+        return 0;
+    }
+    return 1;
+}
+
+int swim_copy_file(const char *src, const char *dst)
+{
+    char *a = swim_canonical_path(src), *b = swim_canonical_path(dst);
+    int same = a && b && strcmp(a, b) == 0;
+    free(a);
+    free(b);
+    if (same) return 0;
+    FILE *in = fopen(src, "rb");
+    if (!in) return -1;
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *m = open_memstream(&buf, &len);
+    if (!m) {
+        fclose(in);
+        errno = ENOMEM;
+        return -1;
+    }
+    char chunk[8192];
     size_t k;
     int bad = 0;
-    while ((k = fread(buf, 1, sizeof buf, in)) > 0)
-        if (fwrite(buf, 1, k, out) != k) { bad = 1; break; }
-    bad |= ferror(in);
+    while ((k = fread(chunk, 1, sizeof chunk, in)) > 0)
+        if (fwrite(chunk, 1, k, m) != k) { bad = ENOMEM; break; }
+    if (!bad && ferror(in)) bad = errno ? errno : EIO;
     fclose(in);
-    if (fclose(out) != 0) bad = 1;
-    if (bad && errno == 0) errno = EIO;
-    return bad ? -1 : 0;
+    if (fclose(m) != 0 && !bad) bad = ENOMEM;
+    int rc = bad ? -1 : swim_replace_file(dst, buf, len);
+    int saved = bad ? bad : errno;
+    free(buf);
+    errno = saved;
+    return rc;
 }

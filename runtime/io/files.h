@@ -1,8 +1,12 @@
 /* files.h -- the file-system helpers the runtime shares, and where the installed tree is.
  * SWIM_ROOT (the source tree, for the generator and the plot script), SWIM_PYTHON, SWIM_CC and
- * SWIM_KERNEL_CFLAGS are set by the Makefile when it compiles the files that use them. */
+ * SWIM_KERNEL_CFLAGS are set by the Makefile when it compiles the files that use them.
+ * Paths have no length limit here: every path is a malloc'd string the caller frees. */
 #ifndef SWIM_FILES_H
 #define SWIM_FILES_H
+
+#include <stddef.h>
+#include <sys/stat.h>
 
 #ifndef SWIM_ROOT
 #define SWIM_ROOT "."
@@ -14,8 +18,25 @@
 /* mkdir -p; 0, or -1 with errno set (also when the path exists but is not a directory). */
 int swim_mkdirs(const char *path);
 
-/* Copies the file src to dst (replaced if present); 0, or -1 with errno set. Copying a file onto
- * itself is a no-op. */
+/* "dir/name" in a new string, NULL when out of memory. */
+char *swim_path_join(const char *dir, const char *name);
+
+/* The absolute path with every symbolic link resolved, also for a file that does not exist yet
+ * (its folder must): two spellings of one file give the same string. NULL with errno set. */
+char *swim_canonical_path(const char *path);
+
+/* Replaces `path` with the len bytes of data, atomically: they go to a temporary file in the
+ * same folder, are flushed to the disk, and the file is renamed over `path` (rename(2) is
+ * atomic within a file system). Readers see the old file, no file, or the whole new one, never
+ * a part. 0, or -1 with errno set (the temporary file is removed). */
+int swim_replace_file(const char *path, const void *data, size_t len);
+
+/* 1 if `path` still names the file whose fstat is *st (same device and inode), 0 if it names
+ * another file or nothing (the file or its folder was removed or replaced), with errno set. */
+int swim_still_names(const char *path, const struct stat *st);
+
+/* Copies the file src to dst, replacing dst atomically (swim_replace_file): a reader never sees
+ * a partial copy. 0, or -1 with errno set. Copying a file onto itself is a no-op. */
 int swim_copy_file(const char *src, const char *dst);
 
 #endif

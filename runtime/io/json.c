@@ -1,6 +1,9 @@
 #include "io/json.h"
 
 #include <math.h>
+#include <string.h>
+
+#include "io/message.h"
 
 void swim_json_number(FILE *f, double v)
 {
@@ -32,13 +35,22 @@ void swim_json_matrix(FILE *f, const double *m, int rows, int cols, int indent)
 
 void swim_json_string(FILE *f, const char *s)
 {
+    const unsigned char *p = (const unsigned char *)s;
+    size_t len = strlen(s);
     fputc('"', f);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\') fprintf(f, "\\%c", c);
-        else if (c == '\n') fputs("\\n", f);
-        else if (c < 0x20) fprintf(f, "\\u%04x", c);
-        else fputc(c, f);
+    for (size_t i = 0; i < len;) {
+        unsigned long cp;
+        size_t k = swim_utf8_sequence(p + i, len - i, &cp);
+        if (k == 0) {   /* a byte of no UTF-8 text (file names may hold any): JSON needs UTF-8 */
+            fputs("\\ufffd", f);
+            i++;
+            continue;
+        }
+        if (cp == '"' || cp == '\\') fprintf(f, "\\%c", (int)cp);
+        else if (cp == '\n') fputs("\\n", f);
+        else if (cp < 0x20 || cp == 0x7F) fprintf(f, "\\u%04lx", cp);
+        else fwrite(p + i, 1, k, f);
+        i += k;
     }
     fputc('"', f);
 }

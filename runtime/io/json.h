@@ -9,7 +9,7 @@ void swim_json_number(FILE *f, double v);
 void swim_json_vector(FILE *f, const double *v, int n);
 /* [[row0], [row1], ...] for a row-major rows x cols matrix; indent = spaces before rows. */
 void swim_json_matrix(FILE *f, const double *m, int rows, int cols, int indent);
-/* A JSON string literal with escapes. */
+/* A JSON string literal with escapes; bytes that are not UTF-8 become U+FFFD (JSON text is UTF-8). */
 void swim_json_string(FILE *f, const char *s);
 
 #endif

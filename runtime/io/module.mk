@@ -1,1 +1,2 @@
-RUNTIME_SRCS += runtime/io/json.c runtime/io/csv.c runtime/io/files.c
+RUNTIME_SRCS += runtime/io/json.c runtime/io/csv.c runtime/io/files.c runtime/io/message.c
+TEST_SRCS    += tests/test_io.c

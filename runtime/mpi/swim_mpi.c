@@ -19,6 +19,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "io/message.h"
 #include "sweep/sweep.h"
 
 
@@ -44,7 +45,7 @@ static int member_program(sweep_plan *p)
     snprintf(self, sizeof self, "%s", p->exe);
     snprintf(p->exe, sizeof p->exe, "%s/swim", dirname(self));
     if (access(p->exe, X_OK) != 0) {
-        fprintf(stderr, "swim-mpi: cannot run %s (build it with make)\n", p->exe);
+        swim_message(stderr, "swim-mpi: cannot run %s (build it with make)", p->exe);
         return 2;
     }
     return 0;
@@ -75,7 +76,7 @@ static int deal(sweep_plan *p, int ranks)
         int finished, bad, off = 0;
         if (sscanf(msg, "%ld %d %d %n", &id, &finished, &bad, &off) == 3 && id >= 0) {
             if (finished) {
-                if (sweep_append_row(rows, msg + off) != 0) fprintf(stderr, "swim-mpi: write error on members.csv\n");
+                if (sweep_append_row(rows, msg + off) != 0) swim_message(stderr, "swim-mpi: write error on members.csv");
                 ran++;
                 failed += bad;
             }
@@ -124,11 +125,11 @@ int main(int argc, char **argv)
     static sweep_plan p;
     int rc = 0;
     if (argc < 2 || strcmp(argv[1], "sweep") != 0) {
-        if (rank == 0) fprintf(stderr, "usage: mpirun -np K swim-mpi sweep SCENE --out DIR --vary KEY=SPEC ... (as swim sweep)\n");
+        if (rank == 0) swim_message(stderr, "usage: mpirun -np K swim-mpi sweep SCENE --out DIR --vary KEY=SPEC ... (as swim sweep)");
         rc = 2;
     } else if (ranks < 2) {
-        if (rank == 0) fprintf(stderr, "swim-mpi: needs at least 2 ranks (rank 0 deals, the others run members); "
-                               "on one machine without MPI use swim sweep --jobs J\n");
+        if (rank == 0) swim_message(stderr, "swim-mpi: needs at least 2 ranks (rank 0 deals, the others run members); "
+                                    "on one machine without MPI use swim sweep --jobs J");
         rc = 2;
     } else {
         rc = sweep_parse(&p, "sweep", argc, argv, 2);

@@ -1,11 +1,15 @@
 #include "scene/scene.h"
 
+#include <errno.h>
+#include <stdarg.h>
 #include <lapacke.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
+#include "io/message.h"
 #include "model/constraints.h"
 #include "model/shape.h"
 #include "ode/ode.h"
@@ -16,13 +20,24 @@ typedef struct {
     const char *table;   /* current table name, for messages */
 } ctx;
 
-#define ERR(c, line, key, ...)                                                  \
-    do {                                                                        \
-        fprintf(stderr, "swim: %s:%d: %s%s%s: ", (c)->path, (line),             \
-                (c)->table ? (c)->table : "", (c)->table ? "." : "", (key));    \
-        fprintf(stderr, __VA_ARGS__);                                           \
-        fputc('\n', stderr);                                                    \
-        return 2;                                                               \
+/* One line "swim: FILE:LINE: TABLE.KEY: message" on stderr (user text quoted by swim_message). */
+static void scene_error(const ctx *c, int line, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static void scene_error(const ctx *c, int line, const char *key, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    char *msg = swim_vstrprintf(fmt, ap);
+    va_end(ap);
+    swim_message(stderr, "swim: %s:%d: %s%s%s: %s", c->path, line, c->table ? c->table : "",
+                 c->table ? "." : "", key, msg ? msg : fmt);
+    free(msg);
+}
+
+#define ERR(c, line, key, ...)                        \
+    do {                                              \
+        scene_error((c), (line), (key), __VA_ARGS__); \
+        return 2;                                     \
     } while (0)
 
 void swim_coord_name(int i, char *buf, int len)
@@ -37,6 +52,38 @@ double swim_area_constant(int n, const double *x)
     double mu2 = x[0] * x[0] + x[1] * x[1];
     for (int i = 2; i < n; i += 2) mu2 -= (i / 2) * (x[i] * x[i] + x[i + 1] * x[i + 1]);
     return mu2;
+}
+
+/* Every |a_i| <= SWIM_MAGNITUDE_MAX (NaN fails too). */
+static int bounded(const double *a, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!(fabs(a[i]) <= SWIM_MAGNITUDE_MAX)) return 0;
+    return 1;
+}
+
+/* 1 when Mr, N, Md, K (and with v, <Gamma, v, v> and v^T K v / 2) are all within bounds. */
+static int model_bounded(const swim_kernel *k, const double *c, const double *v, double rho0, double rhof)
+{
+    const int n = k->dim;
+    double Mr[9], Nc[3 * SWIM_NMAX], Md[SWIM_NMAX * SWIM_NMAX], K[SWIM_NMAX * SWIM_NMAX], g[SWIM_NMAX];
+    k->mass(c, rho0, rhof, Mr, Nc, Md);
+    if (!bounded(Mr, 9) || !bounded(Nc, 3 * n) || !bounded(Md, n * n)) return 0;
+    if (k->reduced(c, v, rho0, rhof, K, NULL, v ? g : NULL) != 0 || !bounded(K, n * n)) return 0;
+    if (!v) return 1;
+    double e = 0.0;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) e += 0.5 * v[i] * K[i * n + j] * v[j];
+    return bounded(g, n) && bounded(&e, 1);
+}
+
+int swim_model_overflow(const swim_kernel *k, const double *c, const double *v, double rho0, double rhof)
+{
+    if (!model_bounded(k, c, NULL, 1.0, 1.0)) return SWIM_INPUT_SHAPE;
+    if (!model_bounded(k, c, NULL, rho0, 1.0)) return SWIM_INPUT_RHO0;
+    if (!model_bounded(k, c, NULL, rho0, rhof)) return SWIM_INPUT_RHOF;
+    if (v && !model_bounded(k, c, v, rho0, rhof)) return SWIM_INPUT_VELOCITY;
+    return SWIM_INPUT_OK;
 }
 
 /* Every key of table t must be in `allowed`. */
@@ -100,10 +147,10 @@ static const toml_value *get_table(ctx *c, const toml_value *root, const char *n
     const toml_value *t = toml_get(root, name);
     *rc = 0;
     if (!t && required) {
-        fprintf(stderr, "swim: %s:1: [%s]: missing table\n", c->path, name);
+        swim_message(stderr, "swim: %s:1: [%s]: missing table", c->path, name);
         *rc = 2;
     } else if (t && toml_kind_of(t) != TOML_TABLE) {
-        fprintf(stderr, "swim: %s:%d: %s: expected a table [%s], got a %s\n", c->path,
+        swim_message(stderr, "swim: %s:%d: %s: expected a table [%s], got a %s", c->path,
                 toml_get_key_line(root, name), name, name, toml_kind_name(toml_kind_of(t)));
         *rc = 2;
         t = NULL;
@@ -191,8 +238,8 @@ static int check_initial_velocity(ctx *c, const toml_value *shape, swim_scene *s
         ERR(c, line, "dc0", "cannot project onto the constraints: they are dependent at c0");
     s->projection_change = 0.0;
     for (int i = 0; i < s->n; i++) s->projection_change = fmax(s->projection_change, fabs(s->dc0[i] - before[i]));
-    fprintf(stderr, "swim: %s:%d: shape.dc0: violated %s by %.3g; projected onto the constraints "
-            "(largest change %.3g)\n", c->path, line, what, worst, s->projection_change);
+    swim_message(stderr, "swim: %s:%d: shape.dc0: violated %s by %.3g; projected onto the constraints "
+                 "(largest change %.3g)", c->path, line, what, worst, s->projection_change);
     return 0;
 }
 
@@ -213,7 +260,8 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     const toml_value *title = toml_get(root, "title");
     if (title) {
         if (!toml_string(title)) ERR(c, toml_get_key_line(root, "title"), "title", "expected a string");
-        snprintf(s->title, sizeof s->title, "%s", toml_string(title));
+        free(s->title);
+        if (!(s->title = strdup(toml_string(title)))) ERR(c, toml_get_key_line(root, "title"), "title", "out of memory");
     }
 
     const toml_value *model = get_table(c, root, "model", 1, &rc);
@@ -245,17 +293,15 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (rc) return rc;
     c->table = "run";
     if (check_keys(c, run, k_run)) return 2;
+    /* Bounds and the row cap: swim_run_settings_check, once the forcing law is read too. */
     if (get_number(c, run, "t_end", 1, &s->t_end)) return 2;
-    if (!(s->t_end > 0)) ERR(c, toml_get_key_line(run, "t_end"), "t_end", "must be > 0, got %g", s->t_end);
     if (get_number(c, run, "output_step", 1, &s->output_step)) return 2;
-    if (!(s->output_step > 0)) ERR(c, toml_get_key_line(run, "output_step"), "output_step", "must be > 0, got %g", s->output_step);
-    if (s->t_end / s->output_step > 1e7) ERR(c, toml_get_key_line(run, "output_step"), "output_step", "%g gives more than 10^7 rows for t_end = %g", s->output_step, s->t_end);
     s->rtol = 1e-8;
     s->atol = 1e-10;
     if (get_number(c, run, "rtol", 0, &s->rtol)) return 2;
-    if (!(s->rtol > 0)) ERR(c, toml_get_key_line(run, "rtol"), "rtol", "must be > 0, got %g", s->rtol);
     if (get_number(c, run, "atol", 0, &s->atol)) return 2;
-    if (!(s->atol > 0)) ERR(c, toml_get_key_line(run, "atol"), "atol", "must be > 0, got %g", s->atol);
+    static const char *const setting_keys[] = {"t_end", "output_step", "rtol", "atol"};
+    for (int i = 0; i < 4; i++) s->setting_line[i] = toml_get_key_line(run, setting_keys[i]);
     snprintf(s->integrator, sizeof s->integrator, "abm");
     if (get_integrator(c, run, "integrator", s->integrator, sizeof s->integrator)) return 2;
     if (get_integrator(c, run, "stiff_fallback", s->stiff_fallback, sizeof s->stiff_fallback)) return 2;
@@ -289,6 +335,18 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (!(jmin > 0)) ERR(c, toml_get_key_line(shape, "c0"), "c0", "shape outside the admissible set D: min J = %.4g <= 0 on the unit circle (4.1)", jmin);
     double mu2 = swim_area_constant(s->n, s->c0);
     if (s->rhof_neutral) s->rhof = s->rho0 / mu2;
+    switch (swim_model_overflow(s->kernel, s->c0, s->dc0, s->rho0, s->rhof)) {
+    case SWIM_INPUT_SHAPE:
+        ERR(c, toml_get_key_line(shape, "c0"), "c0", "too large: the mass matrices at this shape exceed %g", SWIM_MAGNITUDE_MAX);
+    case SWIM_INPUT_RHO0:
+        c->table = "model";
+        ERR(c, toml_get_key_line(model, "rho0"), "rho0", "%g is too large for this shape: the mass matrices exceed %g", s->rho0, SWIM_MAGNITUDE_MAX);
+    case SWIM_INPUT_RHOF:
+        c->table = "model";
+        ERR(c, toml_get_key_line(model, "rhof"), "rhof", "%g is too large for this shape: the mass matrices exceed %g", s->rhof, SWIM_MAGNITUDE_MAX);
+    case SWIM_INPUT_VELOCITY:
+        ERR(c, toml_get_key_line(shape, "dc0"), "dc0", "too large: the kinetic energy or the Christoffel term exceeds %g", SWIM_MAGNITUDE_MAX);
+    }
 
     const toml_value *el = get_table(c, root, "elastic", 0, &rc);
     if (rc) return rc;
@@ -332,7 +390,8 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
         const toml_value *law = toml_get(fo, "law");
         if (!law || !toml_string(law)) ERR(c, law ? toml_get_key_line(fo, "law") : toml_line(fo), "law", "expected a string expression in t, e.g. \"sin(t)\"");
         char err[160];
-        snprintf(s->forcing_text, sizeof s->forcing_text, "%s", toml_string(law));
+        s->setting_line[SWIM_SET_LAW] = toml_get_key_line(fo, "law");
+        if (!(s->forcing_text = strdup(toml_string(law)))) ERR(c, toml_get_key_line(fo, "law"), "law", "out of memory");
         s->forcing = swim_expr_compile(s->forcing_text, err, sizeof err);
         if (!s->forcing) ERR(c, toml_get_key_line(fo, "law"), "law", "\"%s\": %s", s->forcing_text, err);
         if (get_vector(c, fo, "direction", s->n, 1, s->direction, NULL)) return 2;
@@ -356,6 +415,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
         }
         s->events_line = line;
     }
+    if (swim_run_settings_check(s, NULL)) return 2;
     c->table = "shape";
     return check_initial_velocity(c, shape, s);
 }
@@ -364,20 +424,34 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
                           int nov, swim_scene *s)
 {
     memset(s, 0, sizeof *s);
-    snprintf(s->path, sizeof s->path, "%s", path);
-    char err[256];
+    s->forcing_finite_until = INFINITY;
+    s->path = strdup(path);
+    s->title = strdup("");
+    if (!s->path || !s->title) {
+        swim_message(stderr, "swim: %s: out of memory", path);
+        swim_scene_free(s);
+        return 2;
+    }
+    /* A UTF-8 byte order mark (some editors write one) is not part of the TOML text. */
+    if (len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0) {
+        text += 3;
+        len -= 3;
+    }
+    char err[512];
     toml_value *root = toml_parse(text, len, err, sizeof err);
     if (!root) {
         int line = 0;
         const char *msg = err;
         if (sscanf(err, "line %d:", &line) == 1 && strchr(err, ':')) msg = strchr(err, ':') + 2;
-        fprintf(stderr, "swim: %s:%d: %s\n", path, line, msg);
+        swim_message(stderr, "swim: %s:%d: %s", path, line, msg);
+        swim_scene_free(s);
         return 2;
     }
     for (int i = 0; i < nov; i++)
         if (toml_set_number(root, ov[i].table, ov[i].key, ov[i].index, ov[i].value, err, sizeof err) != 0) {
-            fprintf(stderr, "swim: %s: --set %s: %s\n", path, ov[i].text, err);
+            swim_message(stderr, "swim: %s: --set %s: %s", path, ov[i].text, err);
             toml_free(root);
+            swim_scene_free(s);
             return 2;
         }
     ctx c = {path, NULL};
@@ -385,6 +459,43 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
     toml_free(root);
     if (rc) swim_scene_free(s);
     return rc;
+}
+
+/* The whole file in a new buffer, refused before reading when it is not a regular file of at
+ * most SWIM_SCENE_MAX_BYTES (a pipe is read up to that size). NULL after one line on stderr. */
+static char *read_scene_file(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        swim_message(stderr, "swim: %s: cannot open scene file: %s", path, strerror(errno));
+        return NULL;
+    }
+    struct stat st = {0};
+    const char *refusal = NULL;
+    if (fstat(fileno(f), &st) != 0) refusal = strerror(errno);
+    else if (S_ISDIR(st.st_mode)) refusal = "is a directory, not a scene file";
+    else if (S_ISREG(st.st_mode) && st.st_size > SWIM_SCENE_MAX_BYTES) refusal = "too large for a scene file";
+    if (refusal) {
+        if (S_ISREG(st.st_mode))
+            swim_message(stderr, "swim: %s: %s (%lld bytes; the limit is %ld)", path, refusal,
+                         (long long)st.st_size, SWIM_SCENE_MAX_BYTES);
+        else
+            swim_message(stderr, "swim: %s: %s", path, refusal);
+        fclose(f);
+        return NULL;
+    }
+    char *buf = malloc(SWIM_SCENE_MAX_BYTES + 1);
+    size_t got = buf ? fread(buf, 1, SWIM_SCENE_MAX_BYTES + 1, f) : 0;
+    int bad = buf && ferror(f);
+    fclose(f);
+    if (!buf || bad || got > SWIM_SCENE_MAX_BYTES) {
+        swim_message(stderr, "swim: %s: %s", path, !buf ? "out of memory" : bad ? "read error"
+                     : "too large for a scene file (the limit is 1 MiB)");
+        free(buf);
+        return NULL;
+    }
+    *len = got;
+    return buf;
 }
 
 int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *s)
@@ -400,25 +511,9 @@ int swim_scene_load(const char *path, swim_scene *s)
 int swim_scene_load_with(const char *path, const swim_override *ov, int nov, swim_scene *s)
 {
     memset(s, 0, sizeof *s);
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        fprintf(stderr, "swim: %s: cannot open scene file\n", path);
-        return 2;
-    }
-    size_t cap = 1 << 16, len = 0;
-    char *buf = malloc(cap);
-    for (;;) {
-        if (!buf) { fclose(f); fprintf(stderr, "swim: %s: out of memory\n", path); return 2; }
-        size_t got = fread(buf + len, 1, cap - len, f);
-        len += got;
-        if (len < cap) break;
-        if (cap >= (1u << 24)) { free(buf); fclose(f); fprintf(stderr, "swim: %s: file larger than 16 MiB\n", path); return 2; }
-        cap *= 2;
-        char *nb = realloc(buf, cap);
-        if (!nb) free(buf);
-        buf = nb;
-    }
-    fclose(f);
+    size_t len;
+    char *buf = read_scene_file(path, &len);
+    if (!buf) return 2;
     int rc = swim_scene_parse_with(buf, len, path, ov, nov, s);
     free(buf);
     return rc;
@@ -484,6 +579,10 @@ int swim_override_key(const char *key, swim_override *o, char *err, size_t errle
 int swim_override_parse(const char *text, swim_override *o, char *err, size_t errlen)
 {
     memset(o, 0, sizeof *o);
+    if (strlen(text) >= sizeof o->text) {   /* o->text is passed on whole (sweep members) */
+        snprintf(err, errlen, "'%.40s...' is longer than %zu characters", text, sizeof o->text - 1);
+        return -1;
+    }
     snprintf(o->text, sizeof o->text, "%s", text);
     const char *eq = strchr(text, '=');
     if (!eq) {
@@ -509,5 +608,93 @@ int swim_override_parse(const char *text, swim_override *o, char *err, size_t er
 void swim_scene_free(swim_scene *s)
 {
     swim_expr_free(s->forcing);
+    free(s->path);
+    free(s->title);
+    free(s->forcing_text);
     s->forcing = NULL;
+    s->path = s->title = s->forcing_text = NULL;
+}
+
+/* ---- run settings ---------------------------------------------------------------------------- */
+
+static const char *const setting_key[SWIM_SET_COUNT] = {"run.t_end", "run.output_step", "run.rtol", "run.atol", "forcing.law"};
+static const char *const setting_option[SWIM_SET_COUNT] = {"t-end", "output-step", "rtol", "atol", NULL};
+
+/* One line naming setting i where it came from: the option, or FILE:LINE: key. */
+static int setting_error(const swim_scene *s, const swim_run_overrides *cli, int i, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static int setting_error(const swim_scene *s, const swim_run_overrides *cli, int i, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    char *msg = swim_vstrprintf(fmt, ap);
+    va_end(ap);
+    if (cli && cli->given[i] && setting_option[i])
+        swim_message(stderr, "swim run: --%s: %s", setting_option[i], msg ? msg : fmt);
+    else
+        swim_message(stderr, "swim: %s:%d: %s: %s", s->path, s->setting_line[i], setting_key[i], msg ? msg : fmt);
+    free(msg);
+    return 2;
+}
+
+/* The first time in (0, t_end] where the law is not finite among the samples t_k = k*step
+ * (k = 1..count, and t_end), located to within a relative 1e-12 after the last finite sample;
+ * inf when every sample is finite. */
+static double first_nonfinite(const swim_expr *e, double step, long count, double t_end)
+{
+    double prev = 0.0;
+    for (long k = 1; k <= count + 1; k++) {
+        double t = k <= count ? fmin(k * step, t_end) : t_end;
+        if (!isfinite(swim_expr_eval(e, t))) {
+            double lo = prev, hi = t;   /* finite at lo, not at hi */
+            while (hi - lo > 1e-12 * fmax(1.0, hi)) {
+                double mid = 0.5 * (lo + hi);
+                if (isfinite(swim_expr_eval(e, mid))) lo = mid;
+                else hi = mid;
+            }
+            return hi;
+        }
+        prev = t;
+    }
+    return INFINITY;
+}
+
+/* Samples of the law on the run's interval: 2^16 equal steps, and the output times (the
+ * rows; at most 10^6 of them), where an isolated singularity such as 1/(t-1) typically sits. */
+#define LAW_SAMPLES 65536
+#define LAW_ROW_SAMPLES 1000000L
+static double law_finite_until(const swim_scene *s)
+{
+    long rows = (long)fmin(floor(s->t_end / s->output_step), (double)LAW_ROW_SAMPLES);
+    return fmin(first_nonfinite(s->forcing, s->t_end / LAW_SAMPLES, LAW_SAMPLES, s->t_end),
+                first_nonfinite(s->forcing, s->output_step, rows, s->t_end));
+}
+
+int swim_run_settings_check(swim_scene *s, const swim_run_overrides *cli)
+{
+    /* With both t_end and output_step from the scene, a row-count problem is output_step's
+     * (its line is the one to change); with one from the command line, it is that option's. */
+    int rows_key = cli && cli->given[SWIM_SET_T_END] && !cli->given[SWIM_SET_OUTPUT_STEP] ? SWIM_SET_T_END
+                                                                                        : SWIM_SET_OUTPUT_STEP;
+    if (!(s->t_end > 0)) return setting_error(s, cli, SWIM_SET_T_END, "must be > 0, got %g", s->t_end);
+    if (!(s->output_step > 0)) return setting_error(s, cli, SWIM_SET_OUTPUT_STEP, "must be > 0, got %g", s->output_step);
+    if (!(s->t_end / s->output_step <= SWIM_ROWS_MAX))
+        return setting_error(s, cli, rows_key, "output_step %g gives more than 10^7 rows for t_end = %g",
+                             s->output_step, s->t_end);
+    if (!(s->rtol > 0)) return setting_error(s, cli, SWIM_SET_RTOL, "must be > 0, got %g", s->rtol);
+    if (!(s->rtol >= SWIM_RTOL_MIN && s->rtol <= SWIM_RTOL_MAX))
+        return setting_error(s, cli, SWIM_SET_RTOL, "%g is outside [%.2g, %g]: below 100 unit roundoffs the error "
+                             "test cannot be met in double precision, above %g it bounds nothing",
+                             s->rtol, SWIM_RTOL_MIN, SWIM_RTOL_MAX, SWIM_RTOL_MAX);
+    if (!(s->atol > 0)) return setting_error(s, cli, SWIM_SET_ATOL, "must be > 0, got %g", s->atol);
+    if (!(s->atol <= SWIM_ATOL_MAX))
+        return setting_error(s, cli, SWIM_SET_ATOL, "%g is above %g: the states are of order 1", s->atol, SWIM_ATOL_MAX);
+    s->forcing_finite_until = INFINITY;
+    if (s->forcing) {
+        if (!isfinite(swim_expr_eval(s->forcing, 0.0)))
+            return setting_error(s, NULL, SWIM_SET_LAW, "\"%s\" is not finite at t = 0, the start of the run (value %g)",
+                                 s->forcing_text, swim_expr_eval(s->forcing, 0.0));
+        s->forcing_finite_until = law_finite_until(s);
+    }
+    return 0;
 }

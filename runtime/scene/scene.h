@@ -17,9 +17,29 @@
 
 #define SWIM_NMAX (2 * (SWIM_KERNEL_MAX_MODES + 1))
 
+/* Bounds every run honours, whatever set the value (scene file or command line), checked in
+ * one place, swim_run_settings_check:
+ * - at most SWIM_ROWS_MAX output rows (t_end / output_step): 10^7 rows of a 16-mode scene are
+ *   already ~10 GB of CSV;
+ * - rtol in [SWIM_RTOL_MIN, SWIM_RTOL_MAX]: below 100 unit roundoffs (2.2e-14, ode113's floor)
+ *   double precision cannot meet the error test; above 0.1 the local error estimate no longer
+ *   bounds anything (rtol 10 "completes" with a 290 % energy error);
+ * - atol in (0, SWIM_ATOL_MAX]: the states are O(1) (shape coefficients, positions), so an
+ *   absolute tolerance above 0.1 would accept errors as large as the state itself. */
+#define SWIM_ROWS_MAX 1e7
+#define SWIM_RTOL_MIN 2.220446049250313e-14
+#define SWIM_RTOL_MAX 0.1
+#define SWIM_ATOL_MAX 0.1
+/* Scene files are a few kB (the largest paper scene is ~1 kB); a file over 1 MiB is refused
+ * before it is read, so a huge array cannot make the reader allocate gigabytes. */
+#define SWIM_SCENE_MAX_BYTES (1L << 20)
+
+/* The run settings, in the order of swim_run_settings_check's messages. */
+enum { SWIM_SET_T_END, SWIM_SET_OUTPUT_STEP, SWIM_SET_RTOL, SWIM_SET_ATOL, SWIM_SET_LAW, SWIM_SET_COUNT };
+
 typedef struct {
-    char path[512];
-    char title[256];
+    char *path;                       /* the scene file as named (owned) */
+    char *title;                      /* owned, "" when absent */
     int modes, n;
     const swim_kernel *kernel;
     double rho0, rhof;
@@ -34,7 +54,9 @@ typedef struct {
     double damping[SWIM_NMAX];
     int forced;                       /* F(t) = f(t) * direction (5.1) */
     swim_expr *forcing;
-    char forcing_text[512];
+    char *forcing_text;               /* the law as written (owned) */
+    double forcing_finite_until;      /* first time in (0, t_end] where the law was found not
+                                         finite (a sample, see swim_run_settings_check), or inf */
     double direction[SWIM_NMAX];
     double t_end, output_step, rtol, atol;
     char integrator[32];
@@ -43,9 +65,15 @@ typedef struct {
     int projection;                   /* drift control after each step (ABM), default on */
     int step_lookahead;               /* ABM step-size look-ahead p (swim_ode_options.lookahead); -1 = the integrator default */
     double projection_change;         /* max |change| of dc0 when projected */
+    int setting_line[SWIM_SET_COUNT]; /* line of each run setting in the file (0: absent) */
     char events[32][128];             /* [events] list: "COLUMN:KIND[:stop]" entries (checked by swim run) */
     int nevents, events_line;         /* how many; the line of the list, for messages */
 } swim_scene;
+
+/* Which run settings came from the command line (nonzero: its messages name the option). */
+typedef struct {
+    int given[SWIM_SET_COUNT];
+} swim_run_overrides;
 
 /* 0 on success; 2 after printing a one-line error naming the file, the key and the value. */
 int swim_scene_load(const char *path, swim_scene *scene);
@@ -54,6 +82,23 @@ int swim_scene_load(const char *path, swim_scene *scene);
 int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *scene);
 void swim_scene_free(swim_scene *scene);
 
+/* The one check of the run settings, whatever set them: the row cap and the tolerance bounds
+ * above, and the forcing law on the run's interval [0, t_end] -- not finite at t0 is an error;
+ * the first sampled time where it is not finite later is recorded in forcing_finite_until (the
+ * run stops there). 0, or 2 after one line on stderr naming the scene key (FILE:LINE:
+ * run.rtol: ...) or, for a setting in `cli`, the option (swim run: --rtol: ...). cli may be NULL. */
+int swim_run_settings_check(swim_scene *scene, const swim_run_overrides *cli);
+
+/* The model's numbers at a state must leave room for the products the right-hand side forms
+ * (K v, v^T K v, the constrained solve of (4.12)): every entry of Mr, N, Md, K, <Gamma, v, v>
+ * and the kinetic energy must be finite and at most SWIM_MAGNITUDE_MAX in size, so that a
+ * product of two of them is still a double. */
+#define SWIM_MAGNITUDE_MAX 1e150
+enum { SWIM_INPUT_OK, SWIM_INPUT_SHAPE, SWIM_INPUT_RHO0, SWIM_INPUT_RHOF, SWIM_INPUT_VELOCITY };
+/* Which input puts the model beyond SWIM_MAGNITUDE_MAX at shape c, velocity v (may be NULL),
+ * densities rho0, rhof: the first of shape (at unit densities, rest), rho0, rhof, velocity
+ * whose own value does it, or SWIM_INPUT_OK. Used by the scene reader and by swim inspect. */
+int swim_model_overflow(const swim_kernel *k, const double *c, const double *v, double rho0, double rhof);
 /* An override `KEY=VALUE` (swim run --set, swim sweep --vary) applied to the parsed TOML tree
  * before the scene is validated, so an overridden value is checked like one in the file. KEY is
  * `table.key` (a number), `table.key[I]` (item I, 0-based, of a vector) or `table.key.NAME`

@@ -20,6 +20,7 @@
 #include "io/json.h"
 #include "model/specialize.h"
 #include "ode/ode.h"
+#include "io/message.h"
 
 /* ------------------------------------------------------------------ specs */
 
@@ -110,11 +111,11 @@ static int add_set(sweep_plan *p, const char *text)
 {
     char err[256];
     if (p->nsets >= SWEEP_MAX_SETS) {
-        fprintf(stderr, "swim %s: more than %d overrides\n", p->cmd, SWEEP_MAX_SETS);
+        swim_message(stderr, "swim %s: more than %d overrides", p->cmd, SWEEP_MAX_SETS);
         return 2;
     }
     if (swim_override_parse(text, &p->sets[p->nsets], err, sizeof err) != 0) {
-        fprintf(stderr, "swim %s: --set: %s\n", p->cmd, err);
+        swim_message(stderr, "swim %s: --set: %s", p->cmd, err);
         return 2;
     }
     p->nsets++;
@@ -139,19 +140,19 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
     int npos = 0;
     if (swim_args_parse(cmd, argc, argv, first, opts, nopts, pos, 1, &npos)) return 2;
     if (npos != 1) {
-        fprintf(stderr, "swim %s: expected one scene file, e.g. swim %s models/example1.toml --out out/fam "
-                "--vary shape.dc0.bm2=-1:1:11\n", cmd, cmd);
+        swim_message(stderr, "swim %s: expected one scene file, e.g. swim %s models/example1.toml --out out/fam "
+                     "--vary shape.dc0.bm2=-1:1:11", cmd, cmd);
         return 2;
     }
     snprintf(p->scene, sizeof p->scene, "%s", pos[0]);
     const char *v = swim_args_get(opts, nopts, "out");
     if (!v || !*v) {
-        fprintf(stderr, "swim %s: --out DIR is required (the sweep's directory)\n", cmd);
+        swim_message(stderr, "swim %s: --out DIR is required (the sweep's directory)", cmd);
         return 2;
     }
     snprintf(p->dir, sizeof p->dir, "%s", v);
     if (nv == 0) {
-        fprintf(stderr, "swim %s: at least one --vary KEY=SPEC is required\n", cmd);
+        swim_message(stderr, "swim %s: at least one --vary KEY=SPEC is required", cmd);
         return 2;
     }
     p->nvary = nv;
@@ -160,22 +161,22 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
         const char *eq = strchr(varies[i], '=');
         char err[300];
         if (!eq || eq == varies[i] || (size_t)(eq - varies[i]) >= sizeof w->key) {
-            fprintf(stderr, "swim %s: --vary: expected KEY=SPEC, got '%s'\n", cmd, varies[i]);
+            swim_message(stderr, "swim %s: --vary: expected KEY=SPEC, got '%s'", cmd, varies[i]);
             return 2;
         }
         snprintf(w->key, sizeof w->key, "%.*s", (int)(eq - varies[i]), varies[i]);
         snprintf(w->spec, sizeof w->spec, "%s", eq + 1);
         if (swim_override_key(w->key, &w->tmpl, err, sizeof err) != 0) {
-            fprintf(stderr, "swim %s: --vary %s: %s\n", cmd, varies[i], err);
+            swim_message(stderr, "swim %s: --vary %s: %s", cmd, varies[i], err);
             return 2;
         }
         for (int j = 0; j < i; j++)
             if (strcmp(p->vary[j].key, w->key) == 0) {
-                fprintf(stderr, "swim %s: --vary %s: key varied twice\n", cmd, w->key);
+                swim_message(stderr, "swim %s: --vary %s: key varied twice", cmd, w->key);
                 return 2;
             }
         if (sweep_parse_spec(w->spec, &w->values, &w->count, err, sizeof err) != 0) {
-            fprintf(stderr, "swim %s: --vary %s: %s\n", cmd, w->key, err);
+            swim_message(stderr, "swim %s: --vary %s: %s", cmd, w->key, err);
             return 2;
         }
     }
@@ -183,13 +184,13 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
     p->members = p->zip ? p->vary[0].count : 1;
     for (int i = 0; i < nv; i++) {
         if (p->zip && p->vary[i].count != p->members) {
-            fprintf(stderr, "swim %s: --zip: --vary %s has %ld values but --vary %s has %ld (zip pairs them, "
-                    "so the counts must agree)\n", cmd, p->vary[0].key, p->vary[0].count, p->vary[i].key, p->vary[i].count);
+            swim_message(stderr, "swim %s: --zip: --vary %s has %ld values but --vary %s has %ld (zip pairs them, "
+                         "so the counts must agree)", cmd, p->vary[0].key, p->vary[0].count, p->vary[i].key, p->vary[i].count);
             return 2;
         }
         if (!p->zip) {
             if (p->members > SWEEP_MAX_MEMBERS / p->vary[i].count) {
-                fprintf(stderr, "swim %s: the grid has more than %ld members\n", cmd, SWEEP_MAX_MEMBERS);
+                swim_message(stderr, "swim %s: the grid has more than %ld members", cmd, SWEEP_MAX_MEMBERS);
                 return 2;
             }
             p->members *= p->vary[i].count;
@@ -201,7 +202,7 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
     if ((v = swim_args_get(opts, nopts, "keep"))) {
         if (strcmp(v, "trajectories") == 0) p->keep_trajectories = 1;
         else if (strcmp(v, "summaries") != 0) {
-            fprintf(stderr, "swim %s: --keep: expected 'summaries' (default) or 'trajectories', got '%s'\n", cmd, v);
+            swim_message(stderr, "swim %s: --keep: expected 'summaries' (default) or 'trajectories', got '%s'", cmd, v);
             return 2;
         }
     }
@@ -221,7 +222,7 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
         int known = 0;
         for (const char *const *m = swim_ode_methods(); *m; m++) known |= strcmp(*m, v) == 0;
         if (!known || strlen(v) >= sizeof p->integrator) {
-            fprintf(stderr, "swim %s: --integrator: unknown integrator '%s'\n", cmd, v);
+            swim_message(stderr, "swim %s: --integrator: unknown integrator '%s'", cmd, v);
             return 2;
         }
         snprintf(p->integrator, sizeof p->integrator, "%s", v);
@@ -231,7 +232,7 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
     p->quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     ssize_t len = readlink("/proc/self/exe", p->exe, sizeof p->exe - 1);
     if (len <= 0) {
-        fprintf(stderr, "swim %s: cannot find the program itself (/proc/self/exe)\n", cmd);
+        swim_message(stderr, "swim %s: cannot find the program itself (/proc/self/exe)", cmd);
         return 2;
     }
     p->exe[len] = '\0';
@@ -292,7 +293,7 @@ static int load_member(const sweep_plan *p, long m, swim_scene *s)
             msg[strcspn(msg, "\n")] = '\0';
         }
         const char *text = strncmp(msg, "swim: ", 6) == 0 ? msg + 6 : msg;
-        fprintf(stderr, "swim %s: %s: %s\n", p->cmd, label, text);
+        swim_message(stderr, "swim %s: %s: %s", p->cmd, label, text);
     }
     if (cap) fclose(cap);
     return rc;
@@ -383,19 +384,19 @@ static int setup_dir(const sweep_plan *p)
 {
     char path[1100];
     if (swim_mkdirs(p->dir) != 0) {
-        fprintf(stderr, "swim %s: --out: cannot create directory '%s': %s\n", p->cmd, p->dir, strerror(errno));
+        swim_message(stderr, "swim %s: --out: cannot create directory '%s': %s", p->cmd, p->dir, strerror(errno));
         return 2;
     }
     char *def = definition(p);
-    if (!def) { fprintf(stderr, "swim %s: out of memory\n", p->cmd); return 1; }
+    if (!def) { swim_message(stderr, "swim %s: out of memory", p->cmd); return 1; }
     snprintf(path, sizeof path, "%s/sweep.json", p->dir);
     char *old = read_file(path, NULL);
     if (old) {
         int same = strcmp(old, def) == 0;
         free(old);
         if (!same) {
-            fprintf(stderr, "swim %s: %s holds a different sweep (its sweep.json differs from this command's "
-                    "definition or the scene file changed); use another --out\n", p->cmd, p->dir);
+            swim_message(stderr, "swim %s: %s holds a different sweep (its sweep.json differs from this command's "
+                         "definition or the scene file changed); use another --out", p->cmd, p->dir);
             free(def);
             return 2;
         }
@@ -406,8 +407,8 @@ static int setup_dir(const sweep_plan *p)
     struct dirent *e;
     while (dh && (e = readdir(dh)))
         if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && strcmp(e->d_name, "sweep.json.tmp")) {
-            fprintf(stderr, "swim %s: --out: '%s' is not empty and holds no sweep.json (not a sweep directory)\n",
-                    p->cmd, p->dir);
+            swim_message(stderr, "swim %s: --out: '%s' is not empty and holds no sweep.json (not a sweep directory)",
+                         p->cmd, p->dir);
             closedir(dh);
             free(def);
             return 2;
@@ -416,7 +417,7 @@ static int setup_dir(const sweep_plan *p)
     int rc = write_atomic(path, def);
     free(def);
     if (rc) {
-        fprintf(stderr, "swim %s: cannot write %s: %s\n", p->cmd, path, strerror(errno));
+        swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, path, strerror(errno));
         return 1;
     }
     return 0;
@@ -481,7 +482,8 @@ static int summary_finished(const char *text)
     json_string_at(json_find(text, "reason"), reason, sizeof reason);
     if (!status[0]) return 0;
     if (strcmp(status, "crashed") != 0 && !json_find(text, "max_rss_kb")) return 0;
-    return strncmp(reason, "interrupted", 11) != 0;
+    /* a member stopped by a signal (SIGINT, or the SIGTERM a stopping sweep sends) is unfinished */
+    return strncmp(reason, "interrupted", 11) != 0 && strncmp(reason, "terminated by", 13) != 0;
 }
 
 static const char *const row_numbers[][2] = {
@@ -520,7 +522,7 @@ static int rebuild_rows(sweep_plan *p)
     char path[1100], mpath[1100], row[2048];
     snprintf(path, sizeof path, "%s/members.csv.tmp", p->dir);
     FILE *f = fopen(path, "w");
-    if (!f) { fprintf(stderr, "swim %s: cannot write %s: %s\n", p->cmd, path, strerror(errno)); return 1; }
+    if (!f) { swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, path, strerror(errno)); return 1; }
     csv_header(p, f);
     p->already = p->already_failed = 0;
     for (long m = 0; m < p->members; m++) {
@@ -543,7 +545,7 @@ static int rebuild_rows(sweep_plan *p)
     char final[1100];
     snprintf(final, sizeof final, "%s/members.csv", p->dir);
     if (bad || rename(path, final) != 0) {
-        fprintf(stderr, "swim %s: cannot write %s: %s\n", p->cmd, final, strerror(errno));
+        swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, final, strerror(errno));
         return 1;
     }
     return 0;
@@ -561,8 +563,8 @@ static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys)
         swim_specialized sp;
         memset(&sp, 0, sizeof sp);
         if (swim_specialize(&s, &sp, !p->quiet) != 0)
-            fprintf(stderr, "swim %s: member %ld's structure has no specialized kernel; its members use the generic one\n",
-                    p->cmd, rep[k]);
+            swim_message(stderr, "swim %s: member %ld's structure has no specialized kernel; its members use the generic one",
+                         p->cmd, rep[k]);
         else
             swim_specialized_close(&sp);
         swim_scene_free(&s);
@@ -591,7 +593,7 @@ int sweep_prepare(sweep_plan *p)
                     long *nr = nk ? realloc(rep, (size_t)cap * sizeof *rep) : NULL;
                     if (nk) keys = nk;
                     if (nr) rep = nr;
-                    if (!nk || !nr) { fprintf(stderr, "swim %s: out of memory\n", p->cmd); rc = 1; }
+                    if (!nk || !nr) { swim_message(stderr, "swim %s: out of memory", p->cmd); rc = 1; }
                 }
                 if (!rc) {
                     snprintf(keys + (size_t)nkeys * KEY_LEN, KEY_LEN, "%s", key);
@@ -605,11 +607,11 @@ int sweep_prepare(sweep_plan *p)
     char path[1100];
     snprintf(path, sizeof path, "%s/members", p->dir);
     if (!rc && swim_mkdirs(path) != 0) {
-        fprintf(stderr, "swim %s: cannot create %s: %s\n", p->cmd, path, strerror(errno));
+        swim_message(stderr, "swim %s: cannot create %s: %s", p->cmd, path, strerror(errno));
         rc = 1;
     }
     if (!rc && !(p->finished = calloc((size_t)p->members, 1))) {
-        fprintf(stderr, "swim %s: out of memory\n", p->cmd);
+        swim_message(stderr, "swim %s: out of memory", p->cmd);
         rc = 1;
     }
     if (!rc) rc = rebuild_rows(p);
@@ -666,7 +668,7 @@ pid_t sweep_spawn(const sweep_plan *p, long m)
         _exit(rc);
     }
     execv(p->exe, (char *const *)args);
-    fprintf(stderr, "swim %s: cannot start %s: %s\n", p->cmd, p->exe, strerror(errno));
+    swim_message(stderr, "swim %s: cannot start %s: %s", p->cmd, p->exe, strerror(errno));
     _exit(127);
 }
 
@@ -731,7 +733,7 @@ FILE *sweep_open_rows(const sweep_plan *p)
     char path[1100];
     snprintf(path, sizeof path, "%s/members.csv", p->dir);
     FILE *f = fopen(path, "a");
-    if (!f) fprintf(stderr, "swim %s: cannot append to %s: %s\n", p->cmd, path, strerror(errno));
+    if (!f) swim_message(stderr, "swim %s: cannot append to %s: %s", p->cmd, path, strerror(errno));
     return f;
 }
 

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Fuzz the TOML reader, the whole scene reader and the command-line arguments with libFuzzer
+# Fuzz the TOML reader, the whole scene reader, the command-line arguments, the quoting of user
+# text in messages and the run-settings check with libFuzzer
 # (clang, ASan + UBSan); each target runs for SECONDS (default 30).
 #   bash tests/fuzz/run_fuzz.sh [SECONDS]
 # Seeds: models/*.toml and tests/fuzz/corpus/*; the working corpus, a dictionary and any crash
@@ -27,7 +28,7 @@ FLAGS=(-g -O1 -std=c11 -D_XOPEN_SOURCE=700 -fsanitize=fuzzer,address,undefined
 "${PYTHON:-/usr/bin/python3}" generator/generate.py --table 0 1 2 3 4 5 6 7 --out "$out/kernel_table.c"
 runtime_srcs=$(ls runtime/*/*.c | grep -v -e 'runtime/cli/main.c' -e 'runtime/mpi/')   # bin/swim-mpi is built by make mpi
 libs=(-ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lm)
-for t in scene cli; do
+for t in scene cli quote settings; do
     "$CLANG" "${FLAGS[@]}" "tests/fuzz/fuzz_$t.c" $runtime_srcs generated/swim_kernel_n[0-7].c \
         "$out/kernel_table.c" -o "$out/fuzz_$t" "${libs[@]}"
 done
@@ -78,17 +79,21 @@ DICT
 
 # Corpora: TOML seeds for the two parsers (the scene target starts from the paper's scenes),
 # argument lists for the CLI target.
-mkdir -p "$out/corpus_scene" "$out/corpus_cli"
+mkdir -p "$out/corpus_scene" "$out/corpus_cli" "$out/corpus_quote" "$out/corpus_settings"
 cp -f models/*.toml models/hard/*.toml "$out/corpus_scene/" 2>/dev/null || true
 cp -f tests/fuzz/corpus_cli/* "$out/corpus_cli/"
+# quote: a title with an escape sequence, a newline, invalid UTF-8; settings: example3's values
+# (t_end 30, output_step 0.05, rtol 1e-10, atol 1e-12) with a law singular at t = 1.
+printf 'ti\x1b[2Jtle\nnext \xff\xc2\x9b \xe2\x80\xae' > "$out/corpus_quote/seed_escape"
+"${PYTHON:-/usr/bin/python3}" -c "import struct,sys; sys.stdout.buffer.write(struct.pack('<4d', 30, 0.05, 1e-10, 1e-12) + b'\x03' + b'1/(t-1)')" \
+    > "$out/corpus_settings/seed_example3"
 
 status=0
-for t in toml scene cli; do
+for t in toml scene cli quote settings; do
     corpus="$out/corpus"
-    [ "$t" = scene ] && corpus="$out/corpus_scene"
-    [ "$t" = cli ] && corpus="$out/corpus_cli"
+    [ "$t" != toml ] && corpus="$out/corpus_$t"
     dict=()
-    [ "$t" != cli ] && dict=(-dict="$out/toml.dict")
+    [ "$t" = toml ] || [ "$t" = scene ] && dict=(-dict="$out/toml.dict")
     echo "fuzzing $t for ${secs}s"
     set +e
     "$out/fuzz_$t" "$corpus" "${dict[@]}" -max_total_time="$secs" -max_len=4096 -timeout=10 \
@@ -106,4 +111,4 @@ if [ "$status" -ne 0 ]; then
     ls -1 "$out/artifacts" >&2 || true
     exit 1
 fi
-echo "fuzz: 3 passed, 0 failed"
+echo "fuzz: 5 passed, 0 failed"

@@ -1,0 +1,52 @@
+/* libFuzzer target: the run-settings check (swim_run_settings_check in runtime/scene/scene.c)
+ * on any t_end, output_step, rtol, atol, command-line origin and forcing law. Invariants: it
+ * returns 0 or 2; when it accepts, the bounds documented in scene.h hold, and the law is
+ * finite at t0 and up to the recorded forcing_finite_until. The input: 4 doubles, 1 byte of
+ * origin flags, then the law text. */
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene/scene.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    if (size < 4 * sizeof(double) + 1 || size > 512) return 0;
+    static swim_scene s;
+    memset(&s, 0, sizeof s);
+    double v[4];
+    memcpy(v, data, sizeof v);
+    s.t_end = v[0];
+    s.output_step = v[1];
+    s.rtol = v[2];
+    s.atol = v[3];
+    s.path = "fuzz.toml";
+    swim_run_overrides cli;
+    for (int i = 0; i < SWIM_SET_COUNT; i++) cli.given[i] = (data[sizeof v] >> i) & 1;
+    size_t lawlen = size - sizeof v - 1;
+    char *law = malloc(lawlen + 1), err[160];
+    if (!law) return 0;
+    memcpy(law, data + sizeof v + 1, lawlen);
+    law[lawlen] = '\0';
+    s.forcing = lawlen ? swim_expr_compile(law, err, sizeof err) : NULL;
+    s.forcing_text = law;
+    s.forced = s.forcing != NULL;
+    int rc = swim_run_settings_check(&s, (data[sizeof v] & 0x80) ? NULL : &cli);
+    if (rc != 0 && rc != 2) abort();
+    if (rc == 0) {
+        if (!(s.t_end > 0) || !(s.output_step > 0) || !(s.t_end / s.output_step <= SWIM_ROWS_MAX)) abort();
+        if (!(s.rtol >= SWIM_RTOL_MIN && s.rtol <= SWIM_RTOL_MAX) || !(s.atol > 0 && s.atol <= SWIM_ATOL_MAX)) abort();
+        if (s.forcing) {
+            if (!isfinite(swim_expr_eval(s.forcing, 0.0))) abort();
+            double u = s.forcing_finite_until;
+            if (!(u > 0)) abort();
+            /* a recorded onset is a time where the law was evaluated and found not finite */
+            if (isfinite(u) && (u > s.t_end || isfinite(swim_expr_eval(s.forcing, u)))) abort();
+        }
+    }
+    swim_expr_free(s.forcing);
+    free(law);
+    return 0;
+}

@@ -1,0 +1,196 @@
+/* Tests for runtime/io: the quoting of user text in messages (swim_quote, swim_message), the
+ * JSON strings (always UTF-8), the atomic file replacement, canonical paths, and the CSV writer's whole-row guarantee on a
+ * file that cannot grow (RLIMIT_FSIZE). */
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "io/csv.h"
+#include "io/files.h"
+#include "io/json.h"
+#include "io/message.h"
+
+/* swim_quote of len bytes into a new string. */
+static char *quoted(const char *text, size_t len, size_t max)
+{
+    char *buf = NULL;
+    size_t n = 0;
+    FILE *m = open_memstream(&buf, &n);
+    swim_quote(m, text, len, max);
+    fclose(m);
+    return buf;
+}
+
+static void test_quote(void)
+{
+    static const struct { const char *in; size_t len; const char *out; } cases[] = {
+        {"plain text", 10, "plain text"},
+        {"two\nlines", 9, "two\\nlines"},
+        {"cr\r tab\t", 8, "cr\\r tab\\t"},
+        {"\x1b[2J clear", 10, "\\x1b[2J clear"},
+        {"back\\slash", 10, "back\\\\slash"},
+        {"caf\xc3\xa9", 5, "caf\xc3\xa9"},                 /* valid UTF-8 passes */
+        {"csi \xc2\x9b" "2J", 8, "csi \\u009b2J"},          /* C1 CSI */
+        {"bad \xff\xfe", 6, "bad \\xff\\xfe"},              /* invalid bytes */
+        {"over \xc0\xaf", 7, "over \\xc0\\xaf"},            /* overlong '/' */
+        {"nul\0x", 5, "nul\\x00x"},
+        {"del\x7f", 4, "del\\x7f"},
+        {"rtl \xe2\x80\xae", 7, "rtl \\u202e"},             /* bidi override */
+        {"cut \xe2\x82", 6, "cut \\xe2\\x82"},              /* truncated sequence */
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char *q = quoted(cases[i].in, cases[i].len, 0);
+        CHECK(q && strcmp(q, cases[i].out) == 0, "quote case %zu: got '%s', want '%s'", i, q, cases[i].out);
+        free(q);
+    }
+    char *q = quoted("abcdefghij", 10, 4);
+    CHECK(q && strcmp(q, "abcd... (6 more bytes)") == 0, "quote with a limit: '%s'", q);
+    free(q);
+}
+
+static void test_message(void)
+{
+    char *buf = NULL;
+    size_t n = 0;
+    FILE *m = open_memstream(&buf, &n);
+    swim_message(m, "swim: %s: %d", "a\nb\x1b", 7);
+    fclose(m);
+    CHECK(buf && strcmp(buf, "swim: a\\nb\\x1b: 7\n") == 0, "message: '%s'", buf);
+    free(buf);
+    /* a message longer than SWIM_MESSAGE_MAX is cut, and still one line */
+    char *big = malloc(100000);
+    memset(big, 'x', 99999);
+    big[99999] = '\0';
+    buf = NULL;
+    m = open_memstream(&buf, &n);
+    swim_message(m, "%s", big);
+    fclose(m);
+    CHECK(n < SWIM_MESSAGE_MAX + 100 && strchr(buf, '\n') == buf + n - 1 && strstr(buf, "more bytes"),
+          "long message: %zu bytes", n);
+    free(buf);
+    free(big);
+    char *s = swim_strprintf("%s-%d", "p", 42);
+    CHECK(s && strcmp(s, "p-42") == 0, "strprintf: '%s'", s);
+    free(s);
+}
+
+static void test_json_string(void)
+{
+    char *buf = NULL;
+    size_t n = 0;
+    FILE *m = open_memstream(&buf, &n);
+    swim_json_string(m, "a\"b\\c\nd\x1b\xff\xc3\xa9");
+    fclose(m);
+    CHECK(buf && strcmp(buf, "\"a\\\"b\\\\c\\nd\\u001b\\ufffd\xc3\xa9\"") == 0, "json string: %s", buf);
+    free(buf);
+}
+
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    char *buf = calloc(1, 4096);
+    size_t n = fread(buf, 1, 4095, f);
+    buf[n] = '\0';
+    fclose(f);
+    return buf;
+}
+
+static void test_replace_and_paths(const char *dir)
+{
+    char *path = swim_path_join(dir, "summary.json");
+    CHECK(swim_replace_file(path, "old\n", 4) == 0, "replace: first write");
+    CHECK(swim_replace_file(path, "new text\n", 9) == 0, "replace: second write");
+    char *got = slurp(path);
+    CHECK(got && strcmp(got, "new text\n") == 0, "replace: content '%s'", got);
+    free(got);
+    struct stat st;
+    CHECK(stat(path, &st) == 0 && (st.st_mode & 0777) == (0666 & ~(unsigned)umask(022)), "replace: mode %o", st.st_mode & 0777);
+    /* a folder that does not exist: -1 with errno, nothing left behind */
+    char *missing = swim_path_join(dir, "nowhere/summary.json");
+    errno = 0;
+    CHECK(swim_replace_file(missing, "x", 1) == -1 && errno == ENOENT, "replace into a missing folder: errno %d", errno);
+    free(missing);
+
+    /* canonical paths: spellings of one file, existing or not */
+    char *a = swim_canonical_path(path);
+    char *twisted = malloc(strlen(dir) * 2 + 64);
+    sprintf(twisted, "%s/./../%s/summary.json", dir, strrchr(dir, '/') + 1);
+    char *b = swim_canonical_path(twisted);
+    CHECK(a && b && strcmp(a, b) == 0, "canonical: '%s' vs '%s'", a, b);
+    free(a);
+    free(b);
+    char *fresh = swim_path_join(dir, "not_yet.csv");
+    sprintf(twisted, "%s/./not_yet.csv", dir);
+    a = swim_canonical_path(fresh);
+    b = swim_canonical_path(twisted);
+    CHECK(a && b && strcmp(a, b) == 0 && a[0] == '/', "canonical of a new file: '%s' vs '%s'", a, b);
+    free(a);
+    free(b);
+    free(fresh);
+    free(twisted);
+    free(path);
+
+    /* mkdir -p with a path longer than any fixed buffer had room for */
+    char *deep = strdup(dir);
+    for (int i = 0; i < 12; i++) {
+        char *next = swim_path_join(deep, "dddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddddd");
+        free(deep);
+        deep = next;
+    }
+    CHECK(swim_mkdirs(deep) == 0 && stat(deep, &st) == 0 && S_ISDIR(st.st_mode), "mkdirs of %zu characters", strlen(deep));
+    free(deep);
+}
+
+/* The CSV writer on a file that cannot grow past 300 bytes: the row that does not fit fails
+ * with EFBIG and is cut off again, so the file holds whole rows only. */
+static void test_csv_limit(const char *dir)
+{
+    char *path = swim_path_join(dir, "limited.csv");
+    const char *names[] = {"t", "x", "y"};
+    struct rlimit old, lim = {300, 300};
+    getrlimit(RLIMIT_FSIZE, &old);
+    lim.rlim_max = old.rlim_max;
+    signal(SIGXFSZ, SIG_IGN);
+    swim_csv w;
+    CHECK(swim_csv_open(&w, path, names, 3) == 0, "csv open");
+    setrlimit(RLIMIT_FSIZE, &lim);
+    int rows = 0, rc = 0, err = 0;
+    for (int k = 0; k < 100 && rc == 0; k++) {
+        double v[3] = {k * 0.1, 1.0 / 3.0, -2.0 / 7.0};
+        rc = swim_csv_row(&w, v);
+        if (rc == 0) rows++;
+        else err = errno;
+    }
+    setrlimit(RLIMIT_FSIZE, &old);
+    CHECK(rc == -1 && err == EFBIG, "csv: the limit is reported (rc %d, errno %d)", rc, err);
+    CHECK(swim_csv_close(&w) == 0, "csv close");
+    CHECK(swim_csv_close(&w) == 0, "csv close twice is harmless");
+    char *got = slurp(path);
+    int lines = 0;
+    for (char *p = got; p && *p; p++) lines += *p == '\n';
+    CHECK(got && got[strlen(got) - 1] == '\n' && lines == rows + 1, "csv: %d whole rows + header, %d lines", rows, lines);
+    free(got);
+    free(path);
+}
+
+int main(void)
+{
+    char dir[] = "/tmp/swim-test-io-XXXXXX";
+    if (!mkdtemp(dir)) return 1;
+    test_quote();
+    test_message();
+    test_json_string();
+    test_replace_and_paths(dir);
+    test_csv_limit(dir);
+    char cmd[64];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);
+    return check_report("test_io");
+}
