@@ -20,9 +20,9 @@
 #include <string.h>
 
 #include "check.h"
-#include "model/shape.h"
+#include "shape/shape.h"
 #include "reference/ref_model.h"
-#include "swim_kernel.h"
+#include "kernel/swim_kernel.h"
 
 #define NMAX (2 * (SWIM_KERNEL_MAX_MODES + 1))
 

@@ -6,8 +6,9 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "io/json.h"
-#include "model/shape.h"
-#include "swim_kernel.h"
+#include "shape/shape.h"
+#include "codegen/codegen.h"
+#include "kernel/swim_kernel.h"
 
 int swim_cmd_inspect(int argc, char **argv)
 {
@@ -22,13 +23,7 @@ int swim_cmd_inspect(int argc, char **argv)
     }
     long N;
     if (swim_args_int("inspect", "modes", ms, 0, SWIM_KERNEL_MAX_MODES, &N)) return 2;
-    const swim_kernel *k = swim_kernel_find((int)N);
-    if (!k) {
-        fprintf(stderr, "swim inspect: --modes: no kernel for N = %ld in this build "
-                "(make generate N=%ld, then make MODES=\"... %ld\")\n", N, N, N);
-        return 2;
-    }
-    const int n = k->dim;
+    const int n = 2 * ((int)N + 1);
     double x[2 * (SWIM_KERNEL_MAX_MODES + 1)], v[2 * (SWIM_KERNEL_MAX_MODES + 1)];
     int count;
     if (swim_args_list("inspect", "shape", ss, x, n, &count)) return 2;
@@ -54,16 +49,19 @@ int swim_cmd_inspect(int argc, char **argv)
                 rho0 > 0.0 ? "rhof" : "rho0", rho0 > 0.0 ? rhof : rho0);
         return 2;
     }
-    double jmin = swim_shape_jmin(k, x);
+    double jmin = swim_shape_jmin((int)N, x);
     if (!(jmin > 0.0)) {
         fprintf(stderr, "swim inspect: --shape: %s is outside the admissible set D "
                 "(min J = %.6g <= 0 on the unit circle, (4.1))\n", ss, jmin);
         return 2;
     }
 
+    swim_compiled kc;   /* linked in, cached, or generated now (progress on stderr) */
+    if (swim_codegen_kernel((int)N, &kc, 1) != 0) return 1;
+    const swim_kernel *k = kc.kernel;
     int full = swim_args_get(opts, nopts, "full") != NULL;
     double *buf = calloc((size_t)(9 + 3 * n + 3 * n * n + (full ? n * n * n : 0) + n), sizeof(double));
-    if (!buf) { fprintf(stderr, "swim inspect: out of memory\n"); return 1; }
+    if (!buf) { fprintf(stderr, "swim inspect: out of memory\n"); { swim_compiled_close(&kc); return 1; } }
     double *Mr = buf, *Nc = Mr + 9, *Md = Nc + 3 * n, *K = Md + n * n, *gvv = K + n * n;
     double *G = gvv + n;
     k->mass(x, rho0, rhof, Mr, Nc, Md);
@@ -71,7 +69,7 @@ int swim_cmd_inspect(int argc, char **argv)
         (full && k->reduced_deriv(x, rho0, rhof, NULL, G) != 0)) {
         fprintf(stderr, "swim inspect: Mr is not positive definite at this shape\n");
         free(buf);
-        return 1;
+        { swim_compiled_close(&kc); return 1; }
     }
     printf("{\n  \"modes\": %ld,\n  \"rho0\": ", N);
     swim_json_number(stdout, rho0);
@@ -101,5 +99,6 @@ int swim_cmd_inspect(int argc, char **argv)
     }
     printf("\n}\n");
     free(buf);
+    swim_compiled_close(&kc);
     return 0;
 }

@@ -1,2 +1,1 @@
 RUNTIME_SRCS += runtime/cli/args.c runtime/cli/inspect.c runtime/cli/run.c runtime/cli/plot.c
-$(BUILD)/runtime/cli/plot.o: CPPFLAGS += -DSWIM_ROOT='"$(CURDIR)"' -DSWIM_PYTHON='"$(PYTHON)"'

@@ -1,4 +1,5 @@
 /* swim plot DIR: the figures of a run (runtime/plot/plot_run.py, matplotlib). */
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
@@ -17,10 +18,12 @@ int swim_cmd_plot(int argc, char **argv)
         fprintf(stderr, "swim plot: cannot read run directory '%s'\n", argv[2]);
         return 2;
     }
-    char script[1024];
-    snprintf(script, sizeof script, "%s/runtime/plot/plot_run.py", SWIM_ROOT);
+    const char *share = swim_share_dir(), *python = swim_python();
+    if (!share) return 1;
+    char script[4200];
+    snprintf(script, sizeof script, "%s/runtime/plot/plot_run.py", share);
     fflush(stdout);
-    execl(SWIM_PYTHON, SWIM_PYTHON, script, argv[2], (char *)NULL);
-    perror("swim plot: cannot start " SWIM_PYTHON);
+    execlp(python, python, script, argv[2], (char *)NULL);
+    fprintf(stderr, "swim plot: cannot start %s: %s\n", python, strerror(errno));
     return 1;
 }

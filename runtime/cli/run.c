@@ -20,7 +20,7 @@
 #include "io/json.h"
 #include "model/dynamics.h"
 #include "model/flow.h"
-#include "model/specialize.h"
+#include "codegen/codegen.h"
 #include "ode/ode.h"
 #include "scene/scene.h"
 
@@ -100,7 +100,7 @@ static void track(run_report *r, double t, const swim_diag *g, int first)
 
 static void write_summary(const char *path, const swim_scene *s, const char *dir, const run_report *r,
                           const double *y, const swim_ode_stats *st, const swim_dynamics *d,
-                          const swim_specialized *sp, double wall_s)
+                          const swim_compiled *sp, double wall_s)
 {
     FILE *f = fopen(path, "w");
     if (!f) {
@@ -129,8 +129,8 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
             s->elastic ? "true" : "false", s->barrier ? "true" : "false", s->damped ? "true" : "false",
             s->forced ? "true" : "false");
     fprintf(f, "  \"kernel\": {\"kind\": \"%s\", \"state_dimension\": %d, \"cache\": ",
-            d->spec ? "specialized" : "generic", swim_dynamics_state_dim(d));
-    swim_json_string(f, d->spec ? sp->dir : "");
+            d->generic ? "generic" : "specialized", swim_dynamics_state_dim(d));
+    swim_json_string(f, sp->dir);
     fprintf(f, ", \"from_cache\": %s, \"generate_seconds\": %.3f, \"compile_seconds\": %.3f},\n",
             sp->from_cache ? "true" : "false", sp->generate_seconds, sp->compile_seconds);
     fprintf(f, "  \"projection\": {\"enabled\": %s, \"steps\": %ld, \"max_change\": %.3g},\n",
@@ -292,22 +292,28 @@ int swim_cmd_run(int argc, char **argv)
         }
         trace.open = trace.ok = 1;
     }
+    /* The kernel of N modes (diagnostics) and the right-hand side: linked in, cached, or
+     * generated and compiled now (runtime/codegen). */
+    swim_compiled kn, spz;
+    const int generic = swim_args_get(opts, nopts, "generic") != NULL;
+    if (swim_codegen_kernel(s.modes, &kn, !quiet) != 0 || swim_codegen_scene(&s, generic, &spz, !quiet) != 0) {
+        fprintf(stderr, "swim run: %s: no kernel for this scene, nothing computed\n", s.path);
+        swim_compiled_close(&kn);
+        if (trace.open) swim_csv_close(&trace.csv);
+        swim_scene_free(&s);
+        return 1;
+    }
     swim_dynamics d;
-    if (swim_dynamics_init(&d, &s) != 0) {
+    if (swim_dynamics_init(&d, &s, kn.kernel) != 0) {
         fprintf(stderr, "swim run: out of memory\n");
+        swim_compiled_close(&spz);
+        swim_compiled_close(&kn);
         if (trace.open) swim_csv_close(&trace.csv);
         swim_scene_free(&s);
         return 1;
     }
     d.interrupt = (volatile int *)&interrupted;
-    swim_specialized spz;
-    memset(&spz, 0, sizeof spz);
-    if (!swim_args_get(opts, nopts, "generic")) {
-        if (swim_specialize(&s, &spz, !quiet) == 0)
-            swim_dynamics_use_scene_kernel(&d, spz.kernel);
-        else
-            fprintf(stderr, "swim run: using the generic kernel instead\n");
-    }
+    swim_dynamics_use_scene_kernel(&d, spz.scene, generic);
     const char *names[8 + 4 * SWIM_NMAX + 64];
     char storage[2 * SWIM_NMAX][24];
     int ncol = columns(&s, names, storage);
@@ -474,14 +480,15 @@ int swim_cmd_run(int argc, char **argv)
     snprintf(path, sizeof path, "%s/summary.json", dir);
     write_summary(path, &s, dir, &r, y, &st, &d, &spz, wall() - t_start);
     printf("%s: %s (%s); %ld rows in %s/trajectory.csv\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);
-    printf("  %s kernel (state dimension %d)\n", d.spec ? "specialized" : "generic", sdim);
+    printf("  %s kernel (state dimension %d)\n", d.generic ? "generic" : "specialized", sdim);
     printf("  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)\n",
            r.used, s.rtol, st.steps, st.rhs_evals, st.rejected, wall() - t_start, d.rhs_seconds);
     printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g\n",
            r.drift_abs, r.e0, r.res_volume, r.res_angular, r.res_locks, r.jmin);
     printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", y[0], y[1], y[2]);
     swim_ode_free(ode);
-    swim_specialized_close(&spz);
+    swim_compiled_close(&spz);
+    swim_compiled_close(&kn);
     free(ys);
     free(ys_last);
     free(ys_row);

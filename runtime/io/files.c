@@ -2,7 +2,10 @@
 
 #include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 int swim_mkdirs(const char *path)
 {
@@ -25,4 +28,52 @@ int swim_mkdirs(const char *path)
         return -1;
     }
     return 0;
+}
+
+static int has_sources(const char *root)
+{
+    char a[4200], b[4200];
+    snprintf(a, sizeof a, "%s/generator/generate.py", root);
+    snprintf(b, sizeof b, "%s/runtime/kernel/swim_kernel.h", root);
+    return access(a, R_OK) == 0 && access(b, R_OK) == 0;
+}
+
+const char *swim_share_dir(void)
+{
+    static char root[4096];
+    static int done;
+    if (done) return root[0] ? root : NULL;
+    done = 1;
+    const char *env = getenv("SWIM_SHARE");
+    if (env && *env) {
+        snprintf(root, sizeof root, "%s", env);
+        if (has_sources(root)) return root;
+        fprintf(stderr, "swim: SWIM_SHARE=%s holds no generator/generate.py and runtime/kernel/\n", env);
+        root[0] = '\0';
+        return NULL;
+    }
+    char exe[4096];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n > 0) {
+        exe[n] = '\0';
+        for (int up = 0; up < 4; up++) {   /* bin/swim, build/tests/x, build/tests/bench/x */
+            char *slash = strrchr(exe, '/');
+            if (!slash) break;
+            *slash = '\0';
+            snprintf(root, sizeof root, "%s/share/swim", exe);
+            if (has_sources(root)) return root;
+            snprintf(root, sizeof root, "%s", exe);
+            if (has_sources(root)) return root;
+        }
+    }
+    root[0] = '\0';
+    fprintf(stderr, "swim: cannot find the generator (generator/ and runtime/kernel/ next to the "
+            "executable, or PREFIX/share/swim); set SWIM_SHARE\n");
+    return NULL;
+}
+
+const char *swim_python(void)
+{
+    const char *p = getenv("SWIM_PYTHON");
+    return p && *p ? p : SWIM_PYTHON;
 }

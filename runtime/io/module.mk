@@ -1,1 +1,2 @@
 RUNTIME_SRCS += runtime/io/json.c runtime/io/csv.c runtime/io/files.c
+$(BUILD)/runtime/io/files.o: CPPFLAGS += -DSWIM_PYTHON='"$(PYTHON)"'

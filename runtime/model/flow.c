@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "io/json.h"
+#include "kernel/coords.h"
 
 #define NB 256          /* boundary points */
 #define NRAD 12         /* density grid radii */
@@ -12,9 +13,10 @@
 #define ARROW_RINGS 4
 #define ARROW_ANG 24
 
-static double complex coef(const double *x, int k)   /* c_k, zero outside 1, -1..-N */
+static double complex coef(const double *x, int k)   /* c_k for k = 1, -1..-N */
 {
-    return x[k == 1 ? 0 : -2 * k] + I * x[(k == 1 ? 0 : -2 * k) + 1];
+    const int i = swim_coord_index(k);
+    return x[i] + I * x[i + 1];
 }
 
 /* phi(z) = c_1 z + sum_{k<=-1} c_k z^k and phi'(z) (2.2). */

@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "model/constraints.h"
-#include "model/shape.h"
+#include "shape/constraints.h"
+#include "shape/shape.h"
 #include "ode/ode.h"
 #include "scene/toml.h"
 
@@ -24,20 +24,6 @@ typedef struct {
         fputc('\n', stderr);                                                    \
         return 2;                                                               \
     } while (0)
-
-void swim_coord_name(int i, char *buf, int len)
-{
-    int m = i / 2;
-    if (m == 0) snprintf(buf, (size_t)len, "%c1", i % 2 ? 'b' : 'a');
-    else snprintf(buf, (size_t)len, "%cm%d", i % 2 ? 'b' : 'a', m);
-}
-
-double swim_area_constant(int n, const double *x)
-{
-    double mu2 = x[0] * x[0] + x[1] * x[1];
-    for (int i = 2; i < n; i += 2) mu2 -= (i / 2) * (x[i] * x[i] + x[i + 1] * x[i + 1]);
-    return mu2;
-}
 
 /* Every key of table t must be in `allowed`. */
 static int check_keys(ctx *c, const toml_value *t, const char *const *allowed)
@@ -228,8 +214,6 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (N < 0 || N > SWIM_KERNEL_MAX_MODES) ERR(c, toml_get_key_line(model, "modes"), "modes", "%lld is out of range 0..%d", N, SWIM_KERNEL_MAX_MODES);
     s->modes = (int)N;
     s->n = 2 * (s->modes + 1);
-    s->kernel = swim_kernel_find(s->modes);
-    if (!s->kernel) ERR(c, toml_get_key_line(model, "modes"), "modes", "no kernel for N = %lld in this build (make generate N=%lld, then make MODES=\"0 1 ... %lld\")", N, N, N);
     if (get_number(c, model, "rho0", 1, &s->rho0)) return 2;
     if (!(s->rho0 > 0)) ERR(c, toml_get_key_line(model, "rho0"), "rho0", "density must be > 0, got %g", s->rho0);
     const toml_value *rf = toml_get(model, "rhof");
@@ -286,7 +270,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (get_vector(c, shape, "c0", s->n, 1, s->c0, NULL)) return 2;
     if (get_vector(c, shape, "dc0", s->n, 1, s->dc0, NULL)) return 2;
     if (parse_free(c, shape, s)) return 2;
-    double jmin = swim_shape_jmin(s->kernel, s->c0);
+    double jmin = swim_shape_jmin(s->modes, s->c0);
     if (!(jmin > 0)) ERR(c, toml_get_key_line(shape, "c0"), "c0", "shape outside the admissible set D: min J = %.4g <= 0 on the unit circle (4.1)", jmin);
     double mu2 = swim_area_constant(s->n, s->c0);
     if (s->rhof_neutral) s->rhof = s->rho0 / mu2;

@@ -12,8 +12,9 @@
 
 #include <stddef.h>
 
+#include "kernel/coords.h"
+#include "kernel/swim_kernel.h"
 #include "scene/expr.h"
-#include "swim_kernel.h"
 
 #define SWIM_NMAX (2 * (SWIM_KERNEL_MAX_MODES + 1))
 
@@ -21,7 +22,6 @@ typedef struct {
     char path[512];
     char title[256];
     int modes, n;
-    const swim_kernel *kernel;
     double rho0, rhof;
     int rhof_neutral;                 /* rhof = rho0 / mu^2 (2.10) */
     double c0[SWIM_NMAX], dc0[SWIM_NMAX];
@@ -52,9 +52,6 @@ int swim_scene_load(const char *path, swim_scene *scene);
 int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *scene);
 void swim_scene_free(swim_scene *scene);
 
-/* Name of real coordinate i in CSV headers and scenes: a1, b1, am1, bm1, am2, ... */
-void swim_coord_name(int i, char *buf, int len);
-/* mu^2 = sum_k k |c_k|^2 (2.5)/pi: the area constant of the shape. */
-double swim_area_constant(int n, const double *x);
+/* Coordinate names, modes and mu^2: kernel/coords.h. */
 
 #endif

@@ -8,7 +8,7 @@
 #include <time.h>
 
 #include "model/dynamics.h"
-#include "model/specialize.h"
+#include "codegen/codegen.h"
 #include "scene/scene.h"
 #include "bench/timing.h"
 
