@@ -103,7 +103,7 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(BUILD)/libswimtest.a $(BUILD)/libswim.a
 
 $(BUILD)/tests/%.o: CPPFLAGS += -Itests
 
-TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_specialized.py tests/test_hard.py tests/test_plot.sh
+TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_specialized.py tests/test_codegen.py tests/test_install.sh tests/test_hard.py tests/test_plot.sh
 
 # Tests keep their kernel cache in the build folder, not in the user's ~/.cache/swim.
 test: $(BIN)/swim $(TEST_BINS)
@@ -130,7 +130,7 @@ FUZZ_SECONDS ?= 60
 fuzz: | $(DEPS_STAMP)
 	bash tests/fuzz/run_fuzz.sh $(FUZZ_SECONDS)
 
-BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_drift.py
+BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_latency.py tests/bench/bench_drift.py
 
 bench: $(BIN)/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs
 	@bash tests/bench/run_bench.sh $(BENCH_SCRIPTS) $(BENCH_BINS)
