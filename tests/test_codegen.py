@@ -89,7 +89,7 @@ def test_any_modes():
               "N = %d: y(1) = %r, Example 3 (N = 7) gives %r" % (N, s["final_state"]["y"], y7))
         p, s = swim_run(scene, "n%d-again" % N, env)
         check(s and s["kernel"]["from_cache"], "N = %d: second run did not reuse the kernel" % N)
-    shape = ",".join(["1", "0", "0.2", "0.1"] + ["0.01", "0"] * 19)
+    shape = ",".join(["1", "0", "0.2", "0.1"] + ["0.0005", "0"] * 19)
     p = subprocess.run([SWIM, "inspect", "--modes", "20", "--shape", shape], capture_output=True, text=True, env=env)
     check(p.returncode == 0, "inspect --modes 20 failed: %s" % p.stderr[-300:])
     if p.returncode == 0:

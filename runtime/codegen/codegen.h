@@ -38,7 +38,7 @@ typedef struct {
     const swim_scene_kernel *scene;       /* a scene's right-hand side (swim_codegen_scene) */
     void *handle;                         /* dlopen handle, owned (NULL when linked in) */
     char dir[SWIM_CODEGEN_PATH];          /* its cache entry ("" when linked in) */
-    char source[SWIM_CODEGEN_PATH];       /* its generated C file */
+    char source[SWIM_CODEGEN_PATH + 16];  /* its generated C file */
     int from_cache, generic;
     double generate_seconds, compile_seconds;
 } swim_compiled;

@@ -32,7 +32,7 @@ int swim_mkdirs(const char *path)
 
 static int has_sources(const char *root)
 {
-    char a[4200], b[4200];
+    char a[4300], b[4300];
     snprintf(a, sizeof a, "%s/generator/generate.py", root);
     snprintf(b, sizeof b, "%s/runtime/kernel/swim_kernel.h", root);
     return access(a, R_OK) == 0 && access(b, R_OK) == 0;
@@ -40,7 +40,7 @@ static int has_sources(const char *root)
 
 const char *swim_share_dir(void)
 {
-    static char root[4096];
+    static char root[4200];
     static int done;
     if (done) return root[0] ? root : NULL;
     done = 1;

@@ -74,7 +74,7 @@ def main():
         base_later.append(timed([SWIM, "inspect", "--modes", "1", "--shape", "1,0,0.2,0.1"], env)[0])
     b = statistics.median(base_later)
     for N in MODES:
-        sh = ",".join(["1", "0", "0.2", "0.1"] + ["0.01", "0"] * max(N - 1, 0)) if N >= 1 else "1,0"
+        sh = ",".join(["1", "0", "0.2", "0.1"] + ["0.0005", "0"] * max(N - 1, 0)) if N >= 1 else "1,0"
         iw, icpu, ig, ic = timed([SWIM, "inspect", "--modes", str(N), "--shape", sh], env)
         sc = scene(N, tmp)
         rw, _, rg, rc = timed([SWIM, "run", sc, "--out", os.path.join(tmp, "out%d" % N), "--t-end", "0.1"], env)
