@@ -16,8 +16,18 @@ import sympy as sp
 from .cprint import KernelPrinter, emit_assignments
 from .law import parse_law
 from .model import SwimmerModel
-from .template import (INCLUDE_ASSEMBLY, INCLUDE_SCENE_RHS, KERNEL_HEAD, SCENE_PIECES,
+from .template import (INCLUDE_ASSEMBLY, INCLUDE_SCENE_RHS, KERNEL_HEAD,
+                       QUICK_OPTIMIZATION_BEGIN, QUICK_OPTIMIZATION_END, SCENE_PIECES,
                        SYMBOLIC_CORE, SYMBOLIC_DERIV, SYMBOLIC_JACOBIAN, TABLE)
+
+QUICK_ABOVE = 16   # coordinates carried above which the SymPy code is compiled at -O1
+
+
+def _symbolic(m, text):
+    """The SymPy part of a kernel, at -O1 when the kernel is large (template.py says why)."""
+    if m.n <= QUICK_ABOVE:
+        return text
+    return QUICK_OPTIMIZATION_BEGIN + text + QUICK_OPTIMIZATION_END
 
 SCENE_FORMAT = 2
 
@@ -132,8 +142,9 @@ def kernel_source(modes, command):
                options=options("SWIM_KERNEL_JACOBIAN", "SWIM_KERNEL_FULL",
                                "SWIM_KERNEL_NAME swim_kernel_n%d" % modes))
     d.update(e.jacobian_subs(), dS_body=e.deriv_subs())
-    return ("".join(t.substitute(d) for t in (KERNEL_HEAD, SYMBOLIC_CORE, SYMBOLIC_DERIV,
-                                              SYMBOLIC_JACOBIAN))
+    return (KERNEL_HEAD.substitute(d)
+            + _symbolic(m, "".join(t.substitute(d) for t in (SYMBOLIC_CORE, SYMBOLIC_DERIV,
+                                                              SYMBOLIC_JACOBIAN)))
             + INCLUDE_ASSEMBLY)
 
 
@@ -224,11 +235,12 @@ def scene_kernel_source(structure, command):
                structure=c_string(structure["key"]), law=c_comment(law),
                free_index=", ".join(str(i) for i in m.free),
                force_body=force_body, constraint_body=_scene_constraints(e, m))
-    pieces = [KERNEL_HEAD, SYMBOLIC_CORE]
+    pieces = [SYMBOLIC_CORE]
     if structure.get("barrier"):
         d.update(e.jacobian_subs())
         pieces.append(SYMBOLIC_JACOBIAN)
-    text = "".join(t.substitute(d) for t in pieces) + INCLUDE_ASSEMBLY
+    text = (KERNEL_HEAD.substitute(d) + _symbolic(m, "".join(t.substitute(d) for t in pieces))
+            + INCLUDE_ASSEMBLY)
     return text + "\n" + SCENE_PIECES.substitute(d) + INCLUDE_SCENE_RHS
 
 

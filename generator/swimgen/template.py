@@ -140,3 +140,18 @@ $constraint_body
 
 INCLUDE_ASSEMBLY = '#include "kernel/assembly.h"\n'
 INCLUDE_SCENE_RHS = '#include "kernel/scene_rhs.h"\n'
+
+# Straight-line SymPy code of large kernels: GCC's -O3 spends most of its time on it for no gain
+# (measured at N = 20: compile 10.4 s -> 6.3 s of CPU, K + Gamma no slower); the hand-written
+# loops of kernel/assembly.h keep the command line's optimization.
+QUICK_OPTIMIZATION_BEGIN = """\
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC push_options
+#pragma GCC optimize ("O1")
+#endif
+"""
+QUICK_OPTIMIZATION_END = """\
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC pop_options
+#endif
+"""
