@@ -24,8 +24,16 @@
 #define SWIM_SCENE_MAX_ROWS 2
 #endif
 
+/* Inlined at each call so that n is a compile-time constant there (NX for K): fixed trip counts
+ * the compiler unrolls, as in kernel/assembly.h. */
+#if defined(__GNUC__)
+#define SWIM_INLINE static inline __attribute__((always_inline))
+#else
+#define SWIM_INLINE static inline
+#endif
+
 /* K = L L^T in place (L lower, row-major); -1 when K is not positive definite. */
-static int chol_factor(double *K, int n)
+SWIM_INLINE int chol_factor(double *K, int n)
 {
     for (int j = 0; j < n; j++) {
         double d = K[n * j + j];
@@ -43,7 +51,7 @@ static int chol_factor(double *K, int n)
 }
 
 /* a = K^-1 b for the Cholesky factor L of chol_factor. */
-static void chol_solve(const double *L, int n, const double *b, double *a)
+SWIM_INLINE void chol_solve(const double *L, int n, const double *b, double *a)
 {
     double z[NX > SWIM_SCENE_MAX_ROWS ? NX : SWIM_SCENE_MAX_ROWS];
     for (int i = 0; i < n; i++) {
@@ -58,41 +66,113 @@ static void chol_solve(const double *L, int n, const double *b, double *a)
     }
 }
 
-/* The constraint rows of (4.12) on the carried coordinates: G1 and G2 unless they vanish there
- * (then they hold trivially), and with lock multipliers e_i for every locked coordinate.
- * Returns the number of rows m; r[0..m) gets -(DG[v]).v. */
+#ifdef SWIM_SCENE_LOCK_MULTIPLIERS
+/* The constraint rows of (4.12): G1 and G2 unless they vanish on the free coordinates (then they
+ * hold trivially: locked velocities are 0), and e_i for every locked coordinate. Returns the
+ * number of rows m; r[0..m) gets -(DG[v]).v. */
 static int constraint_system(const double *x, const double *v, const swim_scene_params *p,
-                             double G[][NX], double *r)
+                             double G[][NX], double *r, int *lock)
 {
     double G12[2][NX], curv = 0.0, norm[2] = {0.0, 0.0};
     scene_constraints(x, v, G12, &curv);
     int m = 0;
-#ifdef SWIM_SCENE_LOCK_MULTIPLIERS
-    /* Only the free part decides whether G1, G2 constrain anything (locked velocities are 0). */
     for (int j = 0; j < 2; j++)
         for (int k = 0; k < NX; k++)
             if (p->free_mask[free_index[k]]) norm[j] += G12[j][k] * G12[j][k];
-#else
-    (void)p;
-    for (int j = 0; j < 2; j++)
-        for (int k = 0; k < NX; k++) norm[j] += G12[j][k] * G12[j][k];
-#endif
     const double scale = norm[0] + norm[1] + 1e-300;
     for (int j = 0; j < 2; j++)
         if (norm[j] > 1e-26 * scale) {
             memcpy(G[m], G12[j], sizeof G12[j]);
+            lock[m] = -1;
             r[m++] = j == 0 ? -curv : 0.0;   /* (DG2[v]).v = 0 (ERRATA C2) */
         }
-#ifdef SWIM_SCENE_LOCK_MULTIPLIERS
     for (int k = 0; k < NX; k++)
         if (!p->free_mask[free_index[k]]) {
             memset(G[m], 0, sizeof G[m]);
             G[m][k] = 1.0;
+            lock[m] = k;   /* the row is e_k: its products are entries */
             r[m++] = 0.0;
         }
-#endif
     return m;
 }
+
+/* acc = K^-1 (f + G^T lambda) with (G K^-1 G^T) lambda = -(DG[v]).v - G K^-1 f (4.12), for the
+ * Cholesky factor L of K. */
+static int accelerations(const double *L, const double *x, const double *v,
+                         const swim_scene_params *p, const double *f, double *acc)
+{
+    double G[SWIM_SCENE_MAX_ROWS][NX], Z[SWIM_SCENE_MAX_ROWS][NX];
+    double A[SWIM_SCENE_MAX_ROWS * SWIM_SCENE_MAX_ROWS], r[SWIM_SCENE_MAX_ROWS];
+    double lam[SWIM_SCENE_MAX_ROWS];
+    int lock[SWIM_SCENE_MAX_ROWS];
+    const int m = constraint_system(x, v, p, G, r, lock);
+    chol_solve(L, NX, f, acc);
+    for (int j = 0; j < m; j++) chol_solve(L, NX, G[j], Z[j]);
+    for (int i = 0; i < m; i++) {
+        if (lock[i] >= 0) {
+            r[i] -= acc[lock[i]];
+            for (int j = 0; j < m; j++) A[m * i + j] = Z[j][lock[i]];
+            continue;
+        }
+        for (int k = 0; k < NX; k++) r[i] -= G[i][k] * acc[k];
+        for (int j = 0; j < m; j++) {
+            double s = 0.0;
+            for (int k = 0; k < NX; k++) s += G[i][k] * Z[j][k];
+            A[m * i + j] = s;
+        }
+    }
+    if (m == 0) return 0;
+    /* G K^-1 G^T is positive definite when the rows are independent */
+    if (chol_factor(A, m) != 0) return SWIM_RHS_ECONSTRAINT;
+    double dmin = INFINITY, dmax = 0.0;
+    for (int i = 0; i < m; i++) {
+        dmin = fmin(dmin, A[m * i + i]);
+        dmax = fmax(dmax, A[m * i + i]);
+    }
+    if (!(dmin > 1e-7 * dmax)) return SWIM_RHS_ECONSTRAINT;   /* cond > 1e14 */
+    chol_solve(A, m, r, lam);
+    for (int k = 0; k < NX; k++)
+        for (int j = 0; j < m; j++) acc[k] += lam[j] * Z[j][k];
+    return 0;
+}
+#else
+/* The same with locks by deletion: the rows are G1 (2.8) and G2 (2.14) on the free coordinates;
+ * one that vanishes there holds trivially and is dropped (ERRATA C2). */
+static int accelerations(const double *L, const double *x, const double *v,
+                         const swim_scene_params *p, const double *f, double *acc)
+{
+    (void)p;
+    double G[2][NX], Z[2][NX], curv = 0.0;
+    scene_constraints(x, v, G, &curv);
+    chol_solve(L, NX, f, acc);
+    chol_solve(L, NX, G[0], Z[0]);
+    chol_solve(L, NX, G[1], Z[1]);
+    double A[2][2], r[2], lam[2] = {0.0, 0.0};
+    for (int i = 0; i < 2; i++) {
+        r[i] = 0.0;
+        for (int k = 0; k < NX; k++) r[i] -= G[i][k] * acc[k];
+        for (int j = 0; j < 2; j++) {
+            A[i][j] = 0.0;
+            for (int k = 0; k < NX; k++) A[i][j] += G[i][k] * Z[j][k];
+        }
+    }
+    r[0] -= curv;
+    const double scale = fabs(A[0][0]) + fabs(A[1][1]) + 1e-300;
+    const int use0 = A[0][0] > 1e-13 * scale, use1 = A[1][1] > 1e-13 * scale;
+    if (use0 && use1) {
+        const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+        if (!(fabs(det) > 1e-13 * A[0][0] * A[1][1])) return SWIM_RHS_ECONSTRAINT;
+        lam[0] = (r[0] * A[1][1] - A[0][1] * r[1]) / det;
+        lam[1] = (A[0][0] * r[1] - A[1][0] * r[0]) / det;
+    } else if (use0) {
+        lam[0] = r[0] / A[0][0];
+    } else if (use1) {
+        lam[1] = r[1] / A[1][1];
+    }
+    for (int k = 0; k < NX; k++) acc[k] += lam[0] * Z[0][k] + lam[1] * Z[1][k];
+    return 0;
+}
+#endif
 
 static int scene_rhs(double t, const double *y, double *dy, const swim_scene_params *p)
 {
@@ -112,40 +192,15 @@ static int scene_rhs(double t, const double *y, double *dy, const swim_scene_par
         for (int i = 0; i < NX; i++) f[i] -= gW[i];
     }
 #endif
-    /* (4.10)-(4.12): K c'' = f + G^T lambda with G c'' = -(DG[v]).v, i.e.
-     * (G K^-1 G^T) lambda = -(DG[v]).v - G K^-1 f. */
+    /* (4.10)-(4.12): K c'' = f + G^T lambda, G c'' = -(DG[v]).v */
     if (chol_factor(K, NX) != 0) return SWIM_RHS_EMASS;
-    double a[NX], G[SWIM_SCENE_MAX_ROWS][NX], Z[SWIM_SCENE_MAX_ROWS][NX];
-    double A[SWIM_SCENE_MAX_ROWS * SWIM_SCENE_MAX_ROWS], r[SWIM_SCENE_MAX_ROWS];
-    double lam[SWIM_SCENE_MAX_ROWS];
-    const int m = constraint_system(x, v, p, G, r);
-    chol_solve(K, NX, f, a);
-    for (int j = 0; j < m; j++) chol_solve(K, NX, G[j], Z[j]);
-    for (int i = 0; i < m; i++) {
-        for (int k = 0; k < NX; k++) r[i] -= G[i][k] * a[k];
-        for (int j = 0; j < m; j++) {
-            double s = 0.0;
-            for (int k = 0; k < NX; k++) s += G[i][k] * Z[j][k];
-            A[m * i + j] = s;
-        }
-    }
-    if (m > 0) {
-        /* G K^-1 G^T is positive definite when the rows are independent */
-        if (chol_factor(A, m) != 0) return SWIM_RHS_ECONSTRAINT;
-        double dmin = INFINITY, dmax = 0.0;
-        for (int i = 0; i < m; i++) {
-            dmin = fmin(dmin, A[m * i + i]);
-            dmax = fmax(dmax, A[m * i + i]);
-        }
-        if (!(dmin > 1e-7 * dmax)) return SWIM_RHS_ECONSTRAINT;   /* cond(A) > 1e14 */
-        chol_solve(A, m, r, lam);
-    }
+    double acc[NX];
+    const int rc = accelerations(K, x, v, p, f, acc);
+    if (rc != 0) return rc;
     double qs[3] = {0.0, 0.0, 0.0};
     for (int k = 0; k < NX; k++) {
-        double acc = a[k];
-        for (int j = 0; j < m; j++) acc += lam[j] * Z[j][k];
         dy[3 + k] = v[k];
-        dy[3 + NX + k] = acc;
+        dy[3 + NX + k] = acc[k];
         qs[0] += P[k] * v[k];
         qs[1] += P[NX + k] * v[k];
         qs[2] += P[2 * NX + k] * v[k];
