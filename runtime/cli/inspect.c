@@ -61,7 +61,11 @@ int swim_cmd_inspect(int argc, char **argv)
     const swim_kernel *k = kc.kernel;
     int full = swim_args_get(opts, nopts, "full") != NULL;
     double *buf = calloc((size_t)(9 + 3 * n + 3 * n * n + (full ? n * n * n : 0) + n), sizeof(double));
-    if (!buf) { fprintf(stderr, "swim inspect: out of memory\n"); { swim_compiled_close(&kc); return 1; } }
+    if (!buf) {
+        fprintf(stderr, "swim inspect: out of memory\n");
+        swim_compiled_close(&kc);
+        return 1;
+    }
     double *Mr = buf, *Nc = Mr + 9, *Md = Nc + 3 * n, *K = Md + n * n, *gvv = K + n * n;
     double *G = gvv + n;
     k->mass(x, rho0, rhof, Mr, Nc, Md);
@@ -69,7 +73,8 @@ int swim_cmd_inspect(int argc, char **argv)
         (full && k->reduced_deriv(x, rho0, rhof, NULL, G) != 0)) {
         fprintf(stderr, "swim inspect: Mr is not positive definite at this shape\n");
         free(buf);
-        { swim_compiled_close(&kc); return 1; }
+        swim_compiled_close(&kc);
+        return 1;
     }
     printf("{\n  \"modes\": %ld,\n  \"rho0\": ", N);
     swim_json_number(stdout, rho0);
