@@ -296,7 +296,7 @@ int swim_cmd_run(int argc, char **argv)
      * generated and compiled now (runtime/codegen). */
     swim_compiled kn, spz;
     const int generic = swim_args_get(opts, nopts, "generic") != NULL;
-    if (swim_codegen_kernel(s.modes, &kn, !quiet) != 0 || swim_codegen_scene(&s, generic, &spz, !quiet) != 0) {
+    if (swim_codegen_kernel(s.modes, &kn, quiet ? 0 : 2) != 0 || swim_codegen_scene(&s, generic, &spz, quiet ? 0 : 2) != 0) {
         fprintf(stderr, "swim run: %s: no kernel for this scene, nothing computed\n", s.path);
         swim_compiled_close(&kn);
         if (trace.open) swim_csv_close(&trace.csv);

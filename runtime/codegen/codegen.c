@@ -342,7 +342,7 @@ static int obtain_in(const char *croot, const char *root, const entry_spec *e, s
     if (verify_entry(out->dir, e->key, why, sizeof why) == 0 && load_entry(out->dir, e, out) == 0) {
         snprintf(out->source, sizeof out->source, "%s/kernel.c", out->dir);
         out->from_cache = 1;
-        if (verbose) fprintf(stderr, "swim: %s from cache %s\n", e->what, out->dir);
+        if (verbose > 1) fprintf(stderr, "swim: %s from cache %s\n", e->what, out->dir);
         return 0;
     }
     if (swim_mkdirs(out->dir) != 0) return -2;
@@ -358,7 +358,7 @@ static int obtain_in(const char *croot, const char *root, const entry_spec *e, s
         close(fd);
         snprintf(out->source, sizeof out->source, "%s/kernel.c", out->dir);
         out->from_cache = 1;
-        if (verbose) fprintf(stderr, "swim: %s from cache %s (built by another process)\n", e->what, out->dir);
+        if (verbose > 1) fprintf(stderr, "swim: %s from cache %s (built by another process)\n", e->what, out->dir);
         return 0;
     }
     if (state < 0)

@@ -43,6 +43,9 @@ typedef struct {
     double generate_seconds, compile_seconds;
 } swim_compiled;
 
+/* verbose: 0 quiet (damage and fallback notices only), 1 also progress of a generation,
+ * 2 also where a cached kernel came from. */
+
 /* The kernel of N modes (0 <= N <= SWIM_KERNEL_MAX_MODES). 0, or -1 after one line on stderr. */
 int swim_codegen_kernel(int modes, swim_compiled *out, int verbose);
 /* The right-hand side for the scene's structure (generic: see above). 0, or -1 after one line. */
