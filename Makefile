@@ -25,6 +25,9 @@ PREFIX     ?= /usr/local
 
 # Debian packages a fresh machine lacks (checked by `make deps`).
 DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev python3-sympy python3-numpy python3-matplotlib
+# Installed on demand by the targets that need them (animations, the page and its browser test):
+# ffmpeg pulls ~90 packages and chromium ~280 MB, too much for a plain build.
+MEDIA_PKGS := ffmpeg chromium
 
 RUNTIME_SRCS :=
 TEST_SRCS    :=
@@ -41,30 +44,40 @@ TESTLIB_OBJS := $(TEST_LIB_SRCS:%.c=$(BUILD)/%.o)
 TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 DEPS_STAMP  := $(BUILD)/.deps-ok
+MEDIA_STAMP := $(BUILD)/.deps-media-ok
 
-.PHONY: FORCE all deps help install test sanitize fuzz bench bench-accuracy bench-drift generate generate-all run readme-figures clean
+.PHONY: FORCE all deps deps-media paper paper-test help install test sanitize fuzz bench bench-accuracy bench-drift generate generate-all run readme-figures clean
 all: $(BIN)/swim
 
 help:
 	@echo "make            build bin/swim (installs missing Debian packages first)"
 	@echo "make deps       check/install: $(DEB_PKGS)"
+	@echo "make deps-media check/install: $(MEDIA_PKGS) (for animations, the page and make test)"
+	@echo "make paper      run every paper scene, build out/paper/index.html (figures, animations; ~10 min)"
+	@echo "make paper-test make paper, then check the page in headless Chromium (out/paper/screenshot.png)"
 	@echo "make test       build and run every test program in tests/"
+	@echo "make mpi        bin/swim-mpi: swim sweep over MPI ranks (installs OpenMPI); make test-mpi tests it"
 	@echo "make sanitize   the test suite under AddressSanitizer + UndefinedBehaviorSanitizer"
 	@echo "make fuzz       fuzz the scene parser and the CLI arguments (libFuzzer, FUZZ_SECONDS=60)"
 	@echo "make bench      run the benchmarks (numbers quoted in README.md)"
 	@echo "make bench-accuracy  work-precision diagrams and table for every paper scene (~9 min)"
+	@echo "make bench-sweep     sweep throughput: --jobs 1/2, MPI 2/4 ranks, rank 0's cost (~3 min)"
+	@echo "make paper-families  Figs 4.1, 4.2, 4.5, 4.6, 4.7 (sweeps + swim plot) into out/families/"
 	@echo "make bench-drift     energy drift of the T = 1000 runs vs tolerance and step look-ahead (~30 s)"
 	@echo "make generate N=12   regenerate the kernel for one mode count into generated/"
 	@echo "make generate-all    regenerate the committed kernels (N = $(MODES))"
-	@echo "make install PREFIX=/usr/local   bin/swim + its generator, kernel headers and plot script"
+	@echo "make install PREFIX=/usr/local   bin/swim (and bin/swim-mpi if built) + the generator, kernel headers and plot scripts"
 	@echo "make run        main job: simulate models/example3.toml and plot it"
 	@echo "make readme-figures  rebuild docs/figures/ from the main job"
 	@echo "make clean      remove build/ and bin/"
 
 # Install what a fresh Debian machine lacks (as root), or say exactly what is missing.
 deps: $(DEPS_STAMP)
-$(DEPS_STAMP):
-	@missing=""; for p in $(DEB_PKGS); do \
+deps-media: $(MEDIA_STAMP)
+$(DEPS_STAMP): PKGS := $(DEB_PKGS)
+$(MEDIA_STAMP): PKGS := $(MEDIA_PKGS)
+$(DEPS_STAMP) $(MEDIA_STAMP):
+	@missing=""; for p in $(PKGS); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -103,18 +116,24 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(BUILD)/libswimtest.a $(BUILD)/libswim.a
 
 $(BUILD)/tests/%.o: CPPFLAGS += -Itests
 
-TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_specialized.py tests/test_codegen.py tests/test_install.sh tests/test_hard.py tests/test_plot.sh
+TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_events.py tests/test_specialized.py tests/test_codegen.py \
+                tests/test_install.sh tests/test_hard.py tests/test_plot.sh \
+                tests/test_flow.py tests/test_figures.py tests/test_animate.py tests/test_paper.py \
+                tests/test_sweep.py tests/test_sweep_mpi.py
 
 # Tests keep their kernel cache in the build folder, not in the user's ~/.cache/swim.
-test: $(BIN)/swim $(TEST_BINS)
+# bin/swim-mpi is built when OpenMPI is there or can be installed; test_sweep_mpi.py says when it is not.
+test: $(BIN)/swim $(TEST_BINS) $(MEDIA_STAMP)
+	@$(MAKE) --no-print-directory mpi >/dev/null 2>&1 || echo "make mpi failed: the MPI sweep tests are skipped"
 	@SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)
 
 # bin/swim finds PREFIX/share/swim from its own location, so the tree can be moved as a whole.
 SHARE_FILES := $(shell find generator runtime/kernel -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null) \
-               runtime/plot/plot_run.py
+               $(wildcard runtime/plot/*.py)
 install: $(BIN)/swim
 	install -d $(DESTDIR)$(PREFIX)/bin
 	install -m 755 $(BIN)/swim $(DESTDIR)$(PREFIX)/bin/swim
+	if [ -x $(BIN)/swim-mpi ]; then install -m 755 $(BIN)/swim-mpi $(DESTDIR)$(PREFIX)/bin/swim-mpi; fi
 	for f in $(SHARE_FILES); do install -D -m 644 $$f $(DESTDIR)$(PREFIX)/share/swim/$$f || exit 1; done
 
 # The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer (own build folder;
@@ -144,6 +163,13 @@ generate-all: | $(DEPS_STAMP)
 run: $(BIN)/swim
 	./$(BIN)/swim run models/example3.toml --out out/example3
 	./$(BIN)/swim plot out/example3
+
+# The paper's companion page: every scene of models/, one section per figure of sections 4-5.
+paper: $(BIN)/swim $(MEDIA_STAMP)
+	SWIM_BIN=$(CURDIR)/$(BIN)/swim $(PYTHON) tools/paper/build_paper.py --out out/paper
+
+paper-test: paper
+	$(PYTHON) tools/paper/browser_check.py out/paper/index.html --screenshot out/paper/screenshot.png
 
 # Work-precision per paper scene (issue 7): build/bench/accuracy/{accuracy.csv,table.md,*.png}.
 bench-accuracy: $(BIN)/swim

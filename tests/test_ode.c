@@ -160,7 +160,7 @@ static double run(const char *method, const swim_ode_system *sys, double rtol, d
 
 static void test_harmonic(void)
 {
-    swim_ode_system sys = { ho_rhs, 2, NULL };
+    swim_ode_system sys = { ho_rhs, 2, NULL, NULL };
     double y0[2] = { 1.0, 0.0 }, y[2];
     swim_ode_options o;
     swim_ode_options_default(&o);
@@ -208,7 +208,7 @@ static void test_harmonic(void)
 
 static void test_kepler(void)
 {
-    swim_ode_system sys = { kepler_rhs, 4, NULL };
+    swim_ode_system sys = { kepler_rhs, 4, NULL, NULL };
     double y0[4], y[4];
     kepler_init(0.5, y0);
     double E0 = 0.5 * (y0[2] * y0[2] + y0[3] * y0[3]) - 1.0 / hypot(y0[0], y0[1]);
@@ -240,7 +240,7 @@ static void test_kepler(void)
 
 static void test_arenstorf(void)
 {
-    swim_ode_system sys = { arenstorf_rhs, 4, NULL };
+    swim_ode_system sys = { arenstorf_rhs, 4, NULL, NULL };
     const double *y0 = AREN_Y0;
     double y[4];
     int rc;
@@ -279,7 +279,7 @@ static void kepler_exact(double e, double t, double *y)
  * 1e-8 between 30 and 150 tol at the neighbouring tolerances). */
 static void test_proportionality(void)
 {
-    swim_ode_system sys = { kepler_rhs, 4, NULL };
+    swim_ode_system sys = { kepler_rhs, 4, NULL, NULL };
     double y0[4], y[4], ye[4];
     kepler_init(0.5, y0);
     double d0 = 0, d1 = 0;
@@ -332,7 +332,7 @@ static void test_proportionality(void)
  * and 1.5e-11 at 1e-15.  The bounds leave a factor ~4..7 of room. */
 static void test_no_floor(void)
 {
-    swim_ode_system sys = { kepler_rhs, 4, NULL };
+    swim_ode_system sys = { kepler_rhs, 4, NULL, NULL };
     double y0[4], y[4], err[2];
     const double tol[2] = { 1e-12, 1e-15 }, bound[2] = { 1e-8, 1e-10 };
     kepler_init(0.5, y0);
@@ -350,7 +350,7 @@ static void test_no_floor(void)
 /* dense output between steps, and outputs never shorten steps */
 static void test_interpolant(void)
 {
-    swim_ode_system sys = { kepler_rhs, 4, NULL };
+    swim_ode_system sys = { kepler_rhs, 4, NULL, NULL };
     double y0[4], y[4];
     kepler_init(0.5, y0);
     swim_ode_options o;
@@ -389,7 +389,7 @@ static void test_interpolant(void)
     CHECK(memcmp(y, yr, sizeof y) == 0, "same final value with and without dense output");
 
     /* the interpolant reproduces the step end points and is smooth in between */
-    swim_ode_system hs = { ho_rhs, 2, NULL };
+    swim_ode_system hs = { ho_rhs, 2, NULL, NULL };
     double z0[2] = { 1.0, 0.0 };
     abm *ab;
     abm_create(&hs, &o, 0.0, z0, &ab);
@@ -412,7 +412,7 @@ static void test_interpolant(void)
 /* a rejected step leaves the complete state bit-for-bit unchanged */
 static void test_reject_restore(void)
 {
-    swim_ode_system sys = { pulse_rhs, 2, NULL };
+    swim_ode_system sys = { pulse_rhs, 2, NULL, NULL };
     double y0[2] = { 1.0, 0.0 };
     swim_ode_options o;
     swim_ode_options_default(&o);
@@ -461,7 +461,7 @@ static void test_reject_restore(void)
 
 static void test_bad_args(void)
 {
-    swim_ode_system sys = { ho_rhs, 2, NULL };
+    swim_ode_system sys = { ho_rhs, 2, NULL, NULL };
     double y0[2] = { 1.0, 0.0 }, y[2];
     swim_ode_options o;
     swim_ode *s = NULL;
@@ -504,7 +504,7 @@ static void test_bad_args(void)
     swim_ode_free(s);
 
     /* a RHS failure no step can avoid (42 > 0: a persistent domain failure) is passed back with its value */
-    swim_ode_system fs = { failing_rhs, 1, NULL };
+    swim_ode_system fs = { failing_rhs, 1, NULL, NULL };
     for (const char *const *m = swim_ode_methods(); *m; m++) {
         swim_ode_options_default(&o);
         swim_ode_create(*m, &fs, &o, 0.0, y0, &s);
@@ -538,7 +538,7 @@ static void test_domain_failures(void)
         for (int b = 0; b < 2; b++) {
             for (int loose = 0; loose < 2; loose++) {
                 dom_par d = { .bound = bounds[b] };
-                swim_ode_system sys = { dom_rhs, 1, &d };
+                swim_ode_system sys = { dom_rhs, 1, &d, NULL };
                 swim_ode_options_default(&o);
                 o.rtol = loose ? 1e-3 : 1e-8;
                 o.atol = loose ? 1e-3 : 1e-8;
@@ -566,7 +566,7 @@ static void test_domain_failures(void)
         /* fatal: -7 at t > 1 stops at once */
         {
             dom_par d = { .bound = 2.0, .fatal_t = 1.0, .fatal_rc = -7 };
-            swim_ode_system sys = { dom_rhs, 1, &d };
+            swim_ode_system sys = { dom_rhs, 1, &d, NULL };
             swim_ode_options_default(&o);
             o.rtol = o.atol = 1e-8;
             swim_ode_create(*m, &sys, &o, 0.0, y0, &s);
@@ -580,7 +580,7 @@ static void test_domain_failures(void)
         /* a domain failure no step can avoid: +1 for all t > 1 ends the run, not hangs */
         for (int loose = 0; loose < 2; loose++) {
             dom_par d = { .bound = 2.0, .fatal_t = 1.0, .fatal_rc = 1 };
-            swim_ode_system sys = { dom_rhs, 1, &d };
+            swim_ode_system sys = { dom_rhs, 1, &d, NULL };
             swim_ode_options_default(&o);
             o.rtol = o.atol = loose ? 1e-4 : 1e-10;
             swim_ode_create(*m, &sys, &o, 0.0, y0, &s);
@@ -595,7 +595,7 @@ static void test_domain_failures(void)
         /* a positive value at (t0, y0) is fatal: the initial state itself is invalid */
         {
             dom_par d = { .bound = 0.1 };
-            swim_ode_system sys = { dom_rhs, 1, &d };
+            swim_ode_system sys = { dom_rhs, 1, &d, NULL };
             swim_ode_options_default(&o);
             o.h0 = 0.01;
             swim_ode_create(*m, &sys, &o, 0.0, y0, &s);
@@ -618,7 +618,7 @@ static void test_failure_sweep(void)
         for (long n = 0; n < 80; n++) {
             for (int neg = 0; neg < 2; neg++) {
                 sweep_par q = { .inj_call = n, .inj_rc = neg ? -7 : 1 };
-                swim_ode_system sys = { sweep_rhs, 1, &q };
+                swim_ode_system sys = { sweep_rhs, 1, &q, NULL };
                 swim_ode_options o;
                 swim_ode_options_default(&o);
                 o.rtol = o.atol = 1e-8;
@@ -658,7 +658,7 @@ static void test_abm_domain_restore(void)
     const double tols[2] = { 1e-9, 1e-14 };
     for (int it = 0; it < 2; it++) {
         inject_par q = { 0, -1 };
-        swim_ode_system sys = { inject_rhs, 4, &q };
+        swim_ode_system sys = { inject_rhs, 4, &q, NULL };
         double y0[4], y[4];
         kepler_init(0.5, y0);
         swim_ode_options o;
@@ -710,7 +710,7 @@ static void test_abm_domain_restore(void)
     }
 
     /* a failing projection still stops the run */
-    swim_ode_system hs = { ho_rhs, 2, NULL };
+    swim_ode_system hs = { ho_rhs, 2, NULL, NULL };
     double z0[2] = { 1.0, 0.0 }, z[2];
     swim_ode_options o;
     swim_ode_options_default(&o);
@@ -725,7 +725,7 @@ static void test_abm_domain_restore(void)
 
 static void test_options(void)
 {
-    swim_ode_system sys = { ho_rhs, 2, NULL };
+    swim_ode_system sys = { ho_rhs, 2, NULL, NULL };
     double y0[2] = { 1.0, 0.0 }, y[2], y2[2];
     swim_ode_options o;
     swim_ode *s;
@@ -764,7 +764,7 @@ static void test_options(void)
 
 static void test_stiffness(void)
 {
-    swim_ode_system sys = { stiff_rhs, 1, NULL };
+    swim_ode_system sys = { stiff_rhs, 1, NULL, NULL };
     double y0[1] = { 1.0 }, y[1];
     swim_ode_options o;
     swim_ode_options_default(&o);
@@ -791,7 +791,7 @@ static void test_stiffness(void)
     run("msbdf", &sys, 1e-6, 1e-6, 0.0, y0, 10.0, y, &sb, &rc);
     CHECK(rc == 0 && fabs(y[0] - cos(10.0)) < 1e-4 && sb.jac_evals > 0, "msbdf with FD Jacobian on the stiff problem");
     /* no false alarm on long nonstiff runs at loose and tight tolerances */
-    swim_ode_system hs = { ho_rhs, 2, NULL };
+    swim_ode_system hs = { ho_rhs, 2, NULL, NULL };
     double z0[2] = { 1.0, 0.0 }, z[2];
     double tols[3] = { 1e-4, 1e-8, 1e-12 };
     for (int i = 0; i < 3; i++) {
@@ -834,7 +834,7 @@ static double closure(const swim_ode_system *sys, const double *y0, double T, do
  * either rule scatter by 10x. */
 static void test_lookahead(void)
 {
-    swim_ode_system sa = { arenstorf_rhs, 4, NULL }, sk = { kepler_rhs, 4, NULL };
+    swim_ode_system sa = { arenstorf_rhs, 4, NULL, NULL }, sk = { kepler_rhs, 4, NULL, NULL };
     const double *ya = AREN_Y0;
     double yk[4];
     kepler_init(0.9, yk);
@@ -873,6 +873,349 @@ static void test_lookahead(void)
     CHECK(swim_ode_create("abm", &sa, &o, 0.0, ya, &s) == SWIM_ODE_EBADARG && !s, "lookahead -1 rejected");
 }
 
+
+/* The registry: one list of names, capabilities as documented in ode.h, and an option a
+ * method cannot honour refused with SWIM_ODE_EUNSUPPORTED rather than ignored. */
+static int unit_circle(double t, double *y, void *p)
+{
+    (void)t; (void)p;
+    double r = sqrt(y[0] * y[0] + y[1] * y[1]);
+    y[0] /= r;
+    y[1] /= r;
+    return 0;
+}
+static void ignore_step(const swim_ode_step *st, void *data) { (void)st; (void)data; }
+static double ev_y0(double t, const double *y, const double *yp, void *d) { (void)t; (void)yp; (void)d; return y[0]; }
+static void ev_ignore(const swim_ode_event_hit *h, void *d) { (void)h; (void)d; }
+
+static void test_registry(void)
+{
+    static const char *const want[] = {"abm", "rk8pd", "msadams", "rkf45", "msbdf", "cvode-adams", "cvode-bdf"};
+    static const unsigned caps[] = {
+        SWIM_ODE_CAP_PROJECTION | SWIM_ODE_CAP_STEP_TRACE | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_STIFFNESS,
+        0, 0, 0, SWIM_ODE_CAP_JACOBIAN, SWIM_ODE_CAP_EVENTS,
+        SWIM_ODE_CAP_PROJECTION | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_JACOBIAN};
+    const char *const *m = swim_ode_methods();
+    int i = 0;
+    for (; m[i]; i++) {
+        CHECK(i < 7 && strcmp(m[i], want[i]) == 0, "method %d is %s", i, m[i]);
+        if (i < 7)
+            CHECK(swim_ode_capabilities(m[i]) == caps[i], "capabilities of %s: %u", m[i], swim_ode_capabilities(m[i]));
+    }
+    CHECK(i == 7, "7 methods (%d)", i);
+    CHECK(!swim_ode_method_known("ode45") && swim_ode_capabilities("ode45") == 0, "unknown name");
+    CHECK(strcmp(swim_ode_method_list(), "abm, rk8pd, msadams, rkf45, msbdf, cvode-adams, cvode-bdf") == 0,
+          "method list for messages: %s", swim_ode_method_list());
+
+    swim_ode_system sys = { ho_rhs, 2, NULL, NULL };
+    double y0[2] = { 1.0, 0.0 };
+    swim_ode_event ev = { ev_y0, NULL, 0, 0 };
+    for (i = 0; i < 7; i++) {
+        for (int opt = 0; opt < 4; opt++) {
+            swim_ode_options o;
+            swim_ode_options_default(&o);
+            unsigned need = 0;
+            switch (opt) {
+            case 0: o.project = unit_circle; need = SWIM_ODE_CAP_PROJECTION; break;
+            case 1: o.on_step = ignore_step; need = SWIM_ODE_CAP_STEP_TRACE; break;
+            case 2: o.events = &ev; o.nevents = 1; o.on_event = ev_ignore; need = SWIM_ODE_CAP_EVENTS; break;
+            case 3: o.stiff_stop = 1; need = SWIM_ODE_CAP_STIFFNESS; break;
+            }
+            swim_ode *s = NULL;
+            int rc = swim_ode_create(want[i], &sys, &o, 0.0, y0, &s);
+            if (caps[i] & need)
+                CHECK(rc != SWIM_ODE_EUNSUPPORTED, "%s accepts option %d (rc %d)", want[i], opt, rc);
+            else
+                CHECK(rc == SWIM_ODE_EUNSUPPORTED && !s, "%s refuses option %d (rc %d)", want[i], opt, rc);
+            swim_ode_free(s);
+        }
+    }
+}
+
+/* CVODE-BDF's projection (CVodeSetProjFn): the harmonic oscillator stays on the unit
+ * circle to rounding with it, and drifts off it by the local errors without it. */
+static void test_cvode_projection(void)
+{
+    swim_ode_system sys = { ho_rhs, 2, NULL, NULL };
+    double y0[2] = { 1.0, 0.0 }, y[2];
+    double radius_err[2];
+    for (int proj = 0; proj < 2; proj++) {
+        swim_ode_options o;
+        swim_ode_options_default(&o);
+        o.rtol = 1e-6;
+        o.atol = 1e-9;
+        if (proj)
+            o.project = unit_circle;
+        swim_ode *s = NULL;
+        int rc = swim_ode_create("cvode-bdf", &sys, &o, 0.0, y0, &s);
+        double worst = 0.0;
+        for (int k = 1; rc == 0 && k <= 200; k++) {
+            rc = swim_ode_advance(s, 0.5 * k, y);
+            worst = fmax(worst, fabs(hypot(y[0], y[1]) - 1.0));
+        }
+        CHECK(rc == 0, "cvode-bdf %s projection ran (rc %d)", proj ? "with" : "without", rc);
+        radius_err[proj] = worst;
+        swim_ode_free(s);
+    }
+    /* outputs come from CVODE's interpolant between projected steps: off by its local error */
+    CHECK(radius_err[1] < 1e-2 * radius_err[0],
+          "projection keeps |y| = 1: %.3g with, %.3g without", radius_err[1], radius_err[0]);
+    printf("cvode-bdf on the oscillator, 100 time units, rtol 1e-6: max ||y| - 1| %.3g with projection, %.3g without\n",
+           radius_err[1], radius_err[0]);
+}
+
+/* Events on the oscillator y = (cos t, -sin t): zeros of y0 at pi/2 + k pi, extremes of y0
+ * (zeros of y0' from the interpolant's derivative) at k pi, minima rising, maxima falling. */
+typedef struct {
+    int n;
+    double t[64], y0[64], y1[64];
+    int index[64], rising[64], terminal[64];
+} ev_log;
+static void ev_record(const swim_ode_event_hit *h, void *d)
+{
+    ev_log *L = d;
+    if (L->n >= 64)
+        return;
+    L->t[L->n] = h->t;
+    L->y0[L->n] = h->y[0];
+    L->y1[L->n] = h->y[1];
+    L->index[L->n] = h->index;
+    L->rising[L->n] = h->rising;
+    L->terminal[L->n] = h->terminal;
+    L->n++;
+}
+static double ev_dy0(double t, const double *y, const double *yp, void *d) { (void)t; (void)y; (void)d; return yp[0]; }
+
+static void test_events(void)
+{
+    swim_ode_system sys = { ho_rhs, 2, NULL, NULL };
+    const double y0[2] = { 1.0, 0.0 }, T = 20.0;
+    static const char *const methods[] = { "abm", "cvode-adams", "cvode-bdf" };
+    /* location error: the interpolant's and the global error of the run (printed) */
+    static const double tols[] = { 1e-10, 1e-10, 1e-10 };
+    for (int mth = 0; mth < 3; mth++) {
+        swim_ode_event ev[3] = {
+            { ev_y0, NULL, 0, 0 },     /* zeros of y0, either way */
+            { ev_dy0, NULL, +1, 0 },   /* minima of y0 */
+            { ev_dy0, NULL, -1, 0 },   /* maxima of y0 */
+        };
+        ev_log L;
+        memset(&L, 0, sizeof L);
+        swim_ode_options o;
+        swim_ode_options_default(&o);
+        o.rtol = 1e-12;
+        o.atol = 1e-14;
+        o.events = ev;
+        o.nevents = 3;
+        o.on_event = ev_record;
+        o.on_event_data = &L;
+        swim_ode *s = NULL;
+        int rc = swim_ode_create(methods[mth], &sys, &o, 0.0, y0, &s);
+        double y[2], worst = 0.0, worst_y = 0.0;
+        for (int k = 1; rc == 0 && k <= 40; k++)
+            rc = swim_ode_advance(s, T * k / 40, y);
+        CHECK(rc == 0, "%s: run with events (rc %d)", methods[mth], rc);
+        /* expected: k pi/2, k = 1..12 (t = 0 is not an event), in time order */
+        int want = (int)floor(T / (PI / 2));
+        CHECK(L.n == want, "%s: %d events (want %d)", methods[mth], L.n, want);
+        for (int i = 0; i < L.n && i < want; i++) {
+            int k = i + 1;
+            double te = k * PI / 2;
+            worst = fmax(worst, fabs(L.t[i] - te));
+            worst_y = fmax(worst_y, fabs(L.y0[i] - cos(te)) + fabs(L.y1[i] + sin(te)));
+            int idx = k % 2 ? 0 : ((k / 2) % 2 ? 1 : 2);   /* odd: zero; pi, 3pi: minimum; 2pi: maximum */
+            CHECK(L.index[i] == idx, "%s: event %d at %.6f has index %d (want %d)", methods[mth], i, L.t[i], L.index[i], idx);
+            if (idx == 0)
+                CHECK(L.rising[i] == (k % 4 == 3), "%s: direction of the zero at %.6f", methods[mth], L.t[i]);
+        }
+        CHECK(worst <= tols[mth], "%s: event times within %g of k pi/2 (worst %.3g)", methods[mth], tols[mth], worst);
+        CHECK(worst_y <= 10 * tols[mth], "%s: event states (worst %.3g)", methods[mth], worst_y);
+        swim_ode_stats st;
+        swim_ode_get_stats(s, &st);
+        CHECK(st.events == L.n && st.event_evals > 3 * st.steps, "%s: event counters (%ld events, %ld evaluations, %ld steps)",
+              methods[mth], st.events, st.event_evals, st.steps);
+        printf("events on the oscillator, %s, rtol 1e-12: %d events, worst |t - k pi/2| %.2g, %ld g evaluations for %ld steps\n",
+               methods[mth], L.n, worst, st.event_evals, st.steps);
+        swim_ode_free(s);
+    }
+
+    /* Terminal: the first falling zero of y0 (t = pi/2) ends the run there, with the state
+     * there, although the output times step over it; the object then refuses to go on. */
+    for (int mth = 0; mth < 3; mth++) {
+        swim_ode_event ev[2] = { { ev_dy0, NULL, +1, 0 }, { ev_y0, NULL, -1, 1 } };
+        ev_log L;
+        memset(&L, 0, sizeof L);
+        swim_ode_options o;
+        swim_ode_options_default(&o);
+        o.rtol = 1e-12;
+        o.atol = 1e-14;
+        o.events = ev;
+        o.nevents = 2;
+        o.on_event = ev_record;
+        o.on_event_data = &L;
+        swim_ode *s = NULL;
+        int rc = swim_ode_create(methods[mth], &sys, &o, 0.0, y0, &s);
+        double y[2] = { NAN, NAN };
+        int k = 1;
+        for (; rc == 0 && k <= 100; k++)
+            rc = swim_ode_advance(s, 0.3 * k, y);
+        k--;
+        CHECK(rc == SWIM_ODE_TERMINATED && k == 6, "%s: terminal event returned by the call whose tout passes pi/2 (rc %d, call %d)",
+              methods[mth], rc, k);
+        CHECK(fabs(swim_ode_time(s) - PI / 2) <= tols[mth] && fabs(y[0]) <= tols[mth] && fabs(y[1] + 1.0) <= tols[mth],
+              "%s: stopped at t = %.15g with y = (%.3g, %.15g)", methods[mth], swim_ode_time(s), y[0], y[1]);
+        CHECK(L.n == 1 && L.terminal[0] && L.index[0] == 1, "%s: one terminal event reported (%d)", methods[mth], L.n);
+        CHECK(swim_ode_advance(s, 10.0, y) == SWIM_ODE_EBADARG, "%s: no advance after a terminal event", methods[mth]);
+        swim_ode_free(s);
+    }
+
+    /* A terminal event found in a step that reaches beyond the current tout is kept: the outputs
+     * before it still come (from the interpolant), and the call whose tout passes it stops. */
+    for (int mth = 0; mth < 3; mth++) {
+        swim_ode_event ev = { ev_y0, NULL, -1, 1 };
+        ev_log L;
+        memset(&L, 0, sizeof L);
+        swim_ode_options o;
+        swim_ode_options_default(&o);
+        o.rtol = 1e-12;
+        o.atol = 1e-14;
+        o.events = &ev;
+        o.nevents = 1;
+        o.on_event = ev_record;
+        o.on_event_data = &L;
+        swim_ode *s = NULL;
+        int rc = swim_ode_create(methods[mth], &sys, &o, 0.0, y0, &s);
+        double y[2], worst = 0.0;
+        int k = 1, early = 0;
+        for (; rc == 0 && k <= 300; k++) {
+            rc = swim_ode_advance(s, 0.01 * k, y);
+            if (rc == 0) {
+                worst = fmax(worst, fabs(y[0] - cos(0.01 * k)) + fabs(y[1] + sin(0.01 * k)));
+                early += L.n > 0;   /* outputs after the event was located, before its time */
+            }
+        }
+        k--;
+        CHECK(rc == SWIM_ODE_TERMINATED && k == 158, "%s: the call with tout = 1.58 stops (rc %d, call %d)", methods[mth], rc, k);
+        CHECK(early > 0, "%s: the event was located ahead of the outputs before it (%d outputs after)", methods[mth], early);
+        CHECK(worst <= 1e-10, "%s: outputs before the terminal event (worst error %.3g)", methods[mth], worst);
+        CHECK(fabs(y[0]) <= 1e-10 && fabs(swim_ode_time(s) - PI / 2) <= 1e-10, "%s: state at the event", methods[mth]);
+        swim_ode_free(s);
+    }
+
+    /* bad event lists */
+    swim_ode_event bad = { NULL, NULL, 0, 0 };
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.events = &bad;
+    o.nevents = 1;
+    o.on_event = ev_ignore;
+    swim_ode *s = NULL;
+    CHECK(swim_ode_create("abm", &sys, &o, 0.0, y0, &s) == SWIM_ODE_EBADARG && !s, "event without a function");
+    bad.g = ev_y0;
+    o.on_event = NULL;
+    CHECK(swim_ode_create("abm", &sys, &o, 0.0, y0, &s) == SWIM_ODE_EBADARG && !s, "events without on_event");
+}
+
+/* The exact-Jacobian hook on two stiff problems: Robertson's kinetics (y0 + y1 + y2 = 1) and
+ * Van der Pol with mu = 1000.  With the analytic Jacobian, cvode-bdf and msbdf spend fewer
+ * evaluations of f (no difference quotients) at the same accuracy against a tight reference. */
+static int robertson_rhs(double t, const double *y, double *f, void *p)
+{
+    (void)t; (void)p;
+    f[0] = -0.04 * y[0] + 1e4 * y[1] * y[2];
+    f[2] = 3e7 * y[1] * y[1];
+    f[1] = -f[0] - f[2];
+    return 0;
+}
+static int robertson_jac(double t, const double *y, double *J, void *p)
+{
+    (void)t; (void)p;
+    J[0] = -0.04; J[1] = 1e4 * y[2]; J[2] = 1e4 * y[1];
+    J[6] = 0.0; J[7] = 6e7 * y[1]; J[8] = 0.0;
+    J[3] = -J[0] - J[6]; J[4] = -J[1] - J[7]; J[5] = -J[2] - J[8];
+    return 0;
+}
+static int vdp_rhs(double t, const double *y, double *f, void *p)
+{
+    (void)t; (void)p;
+    f[0] = y[1];
+    f[1] = 1000.0 * (1.0 - y[0] * y[0]) * y[1] - y[0];
+    return 0;
+}
+static int vdp_jac(double t, const double *y, double *J, void *p)
+{
+    (void)t; (void)p;
+    J[0] = 0.0; J[1] = 1.0;
+    J[2] = -2000.0 * y[0] * y[1] - 1.0; J[3] = 1000.0 * (1.0 - y[0] * y[0]);
+    return 0;
+}
+static int counted_jac_calls;
+static int counted_vdp_jac(double t, const double *y, double *J, void *p)
+{
+    counted_jac_calls++;
+    return vdp_jac(t, y, J, p);
+}
+
+static void test_user_jacobian(void)
+{
+    struct { const char *name; swim_ode_func f; swim_ode_jacobian jac; size_t n; double y0[3], T; } prob[2] = {
+        { "Robertson", robertson_rhs, robertson_jac, 3, { 1.0, 0.0, 0.0 }, 40.0 },
+        { "Van der Pol mu = 1000", vdp_rhs, vdp_jac, 2, { 2.0, 0.0, 0.0 }, 1000.0 },
+    };
+    static const char *const methods[] = { "cvode-bdf", "msbdf" };
+    for (int pi = 0; pi < 2; pi++) {
+        /* reference: cvode-bdf, exact Jacobian, rtol 1e-12 */
+        swim_ode_system sj = { prob[pi].f, prob[pi].n, NULL, prob[pi].jac };
+        double ref[3], y[3];
+        swim_ode_stats st;
+        int rc;
+        swim_ode_options o;
+        swim_ode_options_default(&o);
+        o.rtol = 1e-12;
+        o.atol = 1e-16;
+        swim_ode *s = NULL;
+        rc = swim_ode_create("cvode-bdf", &sj, &o, 0.0, prob[pi].y0, &s);
+        if (rc == 0)
+            rc = swim_ode_advance(s, prob[pi].T, ref);
+        swim_ode_free(s);
+        CHECK(rc == 0, "%s: reference run (rc %d)", prob[pi].name, rc);
+        for (int m = 0; m < 2; m++) {
+            double err[2];
+            long nfe[2], nje[2];
+            for (int withj = 0; withj < 2; withj++) {
+                swim_ode_system sys = { prob[pi].f, prob[pi].n, NULL, withj ? prob[pi].jac : NULL };
+                run(methods[m], &sys, 1e-6, 1e-10, 0.0, prob[pi].y0, prob[pi].T, y, &st, &rc);
+                CHECK(rc == 0, "%s, %s, %s Jacobian: ran (rc %d)", prob[pi].name, methods[m], withj ? "exact" : "DQ", rc);
+                double e = 0.0, scale = 0.0;
+                for (size_t i = 0; i < prob[pi].n; i++) {
+                    e = fmax(e, fabs(y[i] - ref[i]));
+                    scale = fmax(scale, fabs(ref[i]));
+                }
+                err[withj] = e / scale;
+                nfe[withj] = st.rhs_evals;
+                nje[withj] = st.jac_evals;
+            }
+            CHECK(nfe[1] < nfe[0], "%s, %s: fewer evaluations of f with the exact Jacobian (%ld vs %ld)",
+                  prob[pi].name, methods[m], nfe[1], nfe[0]);
+            CHECK(nje[1] > 0, "%s, %s: the exact Jacobian is counted (%ld)", prob[pi].name, methods[m], nje[1]);
+            /* same accuracy: both at the level the tolerance gives, neither 10x worse than the other */
+            CHECK(err[1] <= 1e-3 && err[0] <= 1e-3 && err[1] <= 10 * err[0] && err[0] <= 10 * err[1],
+                  "%s, %s: error %.3g with the exact Jacobian, %.3g with differences", prob[pi].name, methods[m], err[1], err[0]);
+            printf("%s, %s, rtol 1e-6: %ld evaluations of f and %ld Jacobians (relative error %.2g) with the exact Jacobian; "
+                   "%ld and %ld (%.2g) with difference quotients\n",
+                   prob[pi].name, methods[m], nfe[1], nje[1], err[1], nfe[0], nje[0], err[0]);
+        }
+    }
+    /* integrators that need no Jacobian never call it */
+    counted_jac_calls = 0;
+    swim_ode_system sc = { vdp_rhs, 2, NULL, counted_vdp_jac };
+    double y0[2] = { 2.0, 0.0 }, y[2];
+    int rc;
+    run("abm", &sc, 1e-6, 1e-10, 0.0, y0, 1.0, y, NULL, &rc);
+    run("cvode-adams", &sc, 1e-6, 1e-10, 0.0, y0, 1.0, y, NULL, &rc);
+    CHECK(counted_jac_calls == 0, "abm and cvode-adams do not call the Jacobian (%d calls)", counted_jac_calls);
+}
+
 int main(void)
 {
     test_harmonic();
@@ -889,5 +1232,9 @@ int main(void)
     test_options();
     test_stiffness();
     test_lookahead();
+    test_registry();
+    test_cvode_projection();
+    test_events();
+    test_user_jacobian();
     return check_report("test_ode");
 }

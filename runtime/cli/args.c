@@ -48,6 +48,35 @@ int swim_args_parse(const char *cmd, int argc, char **argv, int first, swim_opt 
     return 0;
 }
 
+int swim_args_take_all(const char *cmd, int *argc, char **argv, int first, const char *name,
+                       const char **vals, int cap)
+{
+    int count = 0, out = first;
+    size_t len = strlen(name);
+    for (int i = first; i < *argc; i++) {
+        const char *a = argv[i];
+        if (strncmp(a, "--", 2) != 0 || strncmp(a + 2, name, len) != 0 || (a[2 + len] != '\0' && a[2 + len] != '=')) {
+            argv[out++] = argv[i];
+            continue;
+        }
+        const char *v = a[2 + len] == '=' ? a + 3 + len : NULL;
+        if (!v) {
+            if (i + 1 >= *argc) {
+                fprintf(stderr, "swim %s: option '--%s' needs a value\n", cmd, name);
+                return -1;
+            }
+            v = argv[++i];
+        }
+        if (count >= cap) {
+            fprintf(stderr, "swim %s: more than %d '--%s' options\n", cmd, cap, name);
+            return -1;
+        }
+        vals[count++] = v;
+    }
+    *argc = out;
+    return count;
+}
+
 const char *swim_args_get(const swim_opt *opts, int nopts, const char *name)
 {
     for (int k = 0; k < nopts; k++)

@@ -14,6 +14,12 @@ typedef struct {
 int swim_args_parse(const char *cmd, int argc, char **argv, int first, swim_opt *opts, int nopts,
                     const char **positional, int npos, int *npos_out);
 
+/* A repeatable option (`--set A=1 --set B=2`): removes every `--name V` and `--name=V` from
+ * argv[first..*argc), compacting argv and *argc, and stores the values in vals (at most cap).
+ * Returns their count, or -1 after printing "swim CMD: ..." (value missing, more than cap). */
+int swim_args_take_all(const char *cmd, int *argc, char **argv, int first, const char *name,
+                       const char **vals, int cap);
+
 const char *swim_args_get(const swim_opt *opts, int nopts, const char *name);
 
 /* Strict number parsing: the whole string, finite. 0 or 2 (message printed, naming opt). */

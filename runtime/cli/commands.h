@@ -6,5 +6,8 @@
 int swim_cmd_inspect(int argc, char **argv);
 int swim_cmd_run(int argc, char **argv);
 int swim_cmd_plot(int argc, char **argv);
+int swim_cmd_flow(int argc, char **argv);
+int swim_cmd_animate(int argc, char **argv);
+int swim_cmd_sweep(int argc, char **argv);
 
 #endif

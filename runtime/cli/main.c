@@ -17,12 +17,26 @@ static const command commands[] = {
      "mass matrices, reduced mass K and Christoffel symbol at one shape, as JSON",
      "swim inspect --modes 1 --shape 1,0,0.2,0 --velocity 0,0,0.1,0.3 --full"},
     {"run", swim_cmd_run,
-     "simulate a scene: DIR/trajectory.csv, snapshots.json, summary.json\n"
+     "simulate a scene: DIR/trajectory.csv, summary.json, scene.toml (a copy)\n"
      "           [--out DIR] [--t-end T] [--output-step DT] [--rtol R] [--atol A]\n"
      "           [--integrator NAME] [--generic] [--no-projection] [--step-lookahead P]\n"
-     "           [--trace-steps FILE] [--quiet]",
+     "           [--trace-steps FILE] [--event COLUMN:KIND[:stop]]... [--snapshots] [--quiet]\n"
+     "           [--set KEY=VALUE ...] [--summary-only]",
      "swim run models/example3.toml --out out/example3 --rtol=1e-10"},
-    {"plot", swim_cmd_plot, "PNG figures of a run directory (matplotlib)", "swim plot out/example3"},
+    {"flow", swim_cmd_flow,
+     "body, density rho0/J and fluid velocity at chosen times of a run, as JSON\n"
+     "           [--times t1,t2,...|--frames K] [--out FILE|-] (default: 10 frames, DIR/snapshots.json)",
+     "swim flow out/example3 --times 3.17,3.95,6.07,9.5 --out fig48.json"},
+    {"animate", swim_cmd_animate,
+     "DIR/animation.mp4: body, flow, path and energy over time (ffmpeg)\n"
+     "           [--fps F] [--duration S] [--out FILE]",
+     "swim animate out/example3 --fps 25 --duration 15"},
+    {"sweep", swim_cmd_sweep,
+     "a family of runs: DIR/members.csv, sweep.json, members/ID/summary.json\n"
+     "           --out DIR --vary KEY=SPEC [--vary ...] [--zip] [--jobs J] [--keep trajectories]\n"
+     "           [--set KEY=VALUE ...] [run options]; SPEC: START:STOP:COUNT, log:START:STOP:COUNT, V1,V2,...",
+     "swim sweep models/example1.toml --out out/fig42 --vary shape.dc0.bm2=-0.7,0.7 --keep trajectories"},
+    {"plot", swim_cmd_plot, "PNG figures of a run directory, or of a sweep directory (matplotlib)", "swim plot out/example3"},
 };
 
 static void usage(FILE *f)

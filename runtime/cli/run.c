@@ -1,4 +1,6 @@
-/* swim run: one scene end to end -- trajectory.csv, snapshots.json and summary.json in DIR.
+/* swim run: one scene end to end -- trajectory.csv, summary.json and a copy of the scene
+ * (scene.toml, so that DIR is self-contained: `swim flow` and `swim plot` need nothing else) in DIR;
+ * snapshots.json only with --snapshots (otherwise `swim flow DIR` computes them when needed).
  *
  * Rows fall exactly on t0 + k*output_step and on t_end, produced by the integrator's own
  * interpolant. A run that stops early (NaN, step-size underflow, barrier crossed, SIGINT) keeps
@@ -15,6 +17,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/run_events.h"
 #include "io/csv.h"
 #include "io/files.h"
 #include "io/json.h"
@@ -43,7 +46,10 @@ typedef struct {
     char reason[256];
     double switch_t;      /* time of a switch to the stiff fallback integrator, or -1 */
     double integrate_seconds;   /* time inside the integrator (steps, RHS, interpolation) */
+    double diagnostics_seconds; /* energies, impulses, residuals, min J of the output rows */
+    double output_seconds;      /* formatting and writing rows and snapshots */
     char used[64];        /* integrator(s) used */
+    swim_run_events *events;    /* located events, or NULL */
 } run_report;
 
 static int columns(const swim_scene *s, const char **names, char storage[][24])
@@ -134,7 +140,7 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
     fprintf(f, ", \"from_cache\": %s, \"generate_seconds\": %.3f, \"compile_seconds\": %.3f},\n",
             sp->from_cache ? "true" : "false", sp->generate_seconds, sp->compile_seconds);
     fprintf(f, "  \"projection\": {\"enabled\": %s, \"steps\": %ld, \"max_change\": %.3g},\n",
-            s->projection && strncmp(r->used, "abm", 3) == 0 ? "true" : "false", d->projections, d->max_projection);
+            s->projection && (swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_PROJECTION) ? "true" : "false", d->projections, d->max_projection);
     fprintf(f, "  \"status\": \"%s\",\n  \"reason\": ", r->status ? "failed" : "completed");
     swim_json_string(f, r->reason);
     fprintf(f, ",\n  \"t_end\": %.17g,\n  \"t_reached\": %.17g,\n  \"rows\": %ld,\n", s->t_end, r->t_reached, r->rows);
@@ -154,6 +160,7 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
             r->res_volume, r->res_volume_rate, r->res_angular, r->res_locks);
     fprintf(f, "  \"jmin\": ");
     swim_json_number(f, r->jmin);
+    swim_run_events_json(r->events, f);
     fprintf(f, ",\n  \"stats\": {\"steps\": %ld, \"rhs_evaluations\": %ld, \"rejected_steps\": %ld, "
             "\"jacobian_evaluations\": %ld, \"last_step\": %.6g, \"last_order\": %d, \"stiffness_suspected\": %s,\n"
             "            \"order_histogram\": [",
@@ -162,7 +169,8 @@ static void write_summary(const char *path, const swim_scene *s, const char *dir
     for (int i = 0; i < 13; i++) fprintf(f, "%s%ld", i ? ", " : "", st->order_hist[i]);
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
-    fprintf(f, "],\n            \"integrate_seconds\": %.6f,", r->integrate_seconds);
+    fprintf(f, "],\n            \"integrate_seconds\": %.6f, \"diagnostics_seconds\": %.6f, \"output_seconds\": %.6f,",
+            r->integrate_seconds, r->diagnostics_seconds, r->output_seconds);
     fprintf(f, "\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f, \"max_rss_kb\": %ld}\n}\n",
             d->rhs_seconds, wall_s, d->rhs_calls ? 1e9 * d->rhs_seconds / d->rhs_calls : 0.0, ru.ru_maxrss);
     fclose(f);
@@ -197,6 +205,28 @@ static void trace_step(const swim_ode_step *st, void *data)
         tr->ok = 0;
 }
 
+/* The row of trajectory.csv at integrator state ys (event functions evaluate columns). */
+typedef struct {
+    const swim_scene *s;
+    swim_dynamics *d;
+    double *full;
+} row_ctx;
+
+static int packed_row(void *p, double t, const double *ys, int all, double *row)
+{
+    row_ctx *c = p;
+    swim_diag g;
+    swim_dynamics_unpack(c->d, ys, c->full);
+    if (!all) {   /* t and the state columns only */
+        row[0] = t;
+        memcpy(row + 1, c->full, sizeof(double) * (3 + 2 * c->s->n));
+        return 0;
+    }
+    if (swim_dynamics_diagnostics(c->d, c->full, &g) != 0) return -1;
+    row_values(c->s, t, c->full, &g, row);
+    return 0;
+}
+
 /* Add the counters of `ode` to `total` (a run may use two integrators). */
 static void accumulate_stats(swim_ode_stats *total, const swim_ode *ode)
 {
@@ -221,23 +251,43 @@ static void default_out(const char *scene_path, char *out, size_t len)
     if (dot && dot > out + 4) *dot = '\0';
 }
 
+/* --set KEY=VALUE (repeatable): overrides applied to the scene before it is validated. */
+#define MAX_SETS 64
+static int take_set_options(int *argc, char **argv, swim_override *sets)
+{
+    const char *vals[MAX_SETS];
+    int n = swim_args_take_all("run", argc, argv, 2, "set", vals, MAX_SETS);
+    for (int i = 0; i < n; i++) {
+        char err[256];
+        if (swim_override_parse(vals[i], &sets[i], err, sizeof err) != 0) {
+            fprintf(stderr, "swim run: --set: %s\n", err);
+            return -1;
+        }
+    }
+    return n;
+}
+
 int swim_cmd_run(int argc, char **argv)
 {
     swim_opt opts[] = {{"out", 1, NULL},  {"t-end", 1, NULL},      {"rtol", 1, NULL},
                        {"output-step", 1, NULL},
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
                        {"generic", 0, NULL}, {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL},
-                       {"trace-steps", 1, NULL}};
+                       {"trace-steps", 1, NULL}, {"event", 1, NULL}, {"snapshots", 0, NULL},
+                       {"summary-only", 0, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
+    static swim_override sets[MAX_SETS];
+    const int nsets = take_set_options(&argc, argv, sets);
+    if (nsets < 0) return 2;
     if (swim_args_parse("run", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
     if (npos != 1) {
         fprintf(stderr, "swim run: expected one scene file, e.g. swim run models/example3.toml\n");
         return 2;
     }
     static swim_scene s;
-    if (swim_scene_load(pos[0], &s)) return 2;
+    if (swim_scene_load_with(pos[0], sets, nsets, &s)) return 2;
     const char *v;
     if ((v = swim_args_get(opts, nopts, "t-end"))) {
         if (swim_args_double("run", "t-end", v, &s.t_end)) return 2;
@@ -259,10 +309,8 @@ int swim_cmd_run(int argc, char **argv)
         if (!(s.atol > 0)) { fprintf(stderr, "swim run: --atol: must be > 0, got %s\n", v); return 2; }
     }
     if ((v = swim_args_get(opts, nopts, "integrator"))) {
-        int known = 0;
-        for (const char *const *m = swim_ode_methods(); *m; m++) known |= strcmp(*m, v) == 0;
-        if (!known || strlen(v) >= sizeof s.integrator) {
-            fprintf(stderr, "swim run: --integrator: unknown integrator '%s' (abm, rk8pd, msadams, rkf45, msbdf, cvode-adams, cvode-bdf)\n", v);
+        if (!swim_ode_method_known(v) || strlen(v) >= sizeof s.integrator) {
+            fprintf(stderr, "swim run: --integrator: unknown integrator '%s' (%s)\n", v, swim_ode_method_list());
             return 2;
         }
         snprintf(s.integrator, sizeof s.integrator, "%s", v);
@@ -273,6 +321,9 @@ int swim_cmd_run(int argc, char **argv)
         s.step_lookahead = (int)p;
     }
     const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
+    /* A sweep member keeps only its summary: the rows are still computed (the summary's drift,
+     * residuals and min J come from them) but neither formatted nor written. */
+    const int summary_only = swim_args_get(opts, nopts, "summary-only") != NULL;
     if (swim_args_get(opts, nopts, "no-projection")) s.projection = 0;
     char dir[900];
     if ((v = swim_args_get(opts, nopts, "out"))) snprintf(dir, sizeof dir, "%s", v);
@@ -283,11 +334,30 @@ int swim_cmd_run(int argc, char **argv)
         return 2;
     }
     char path[1024];
+    const char *names[8 + 4 * SWIM_NMAX + 64];
+    char storage[2 * SWIM_NMAX][24];
+    int ncol = columns(&s, names, storage);
+    swim_run_events *events = NULL;
+    if (swim_run_events_parse(&s, argc, argv, names, ncol, &events)) { swim_scene_free(&s); return 2; }
+    snprintf(path, sizeof path, "%s/scene.toml", dir);
+    if (swim_copy_file(s.path, path) != 0) {
+        fprintf(stderr, "swim run: --out: cannot write '%s': %s\n", path, strerror(errno));
+        swim_scene_free(&s);
+        swim_run_events_free(events);
+        return 2;
+    }
     step_trace trace = {.d = NULL, .full = NULL, .open = 0, .ok = 0};
     if ((v = swim_args_get(opts, nopts, "trace-steps"))) {
+        if (!(swim_ode_capabilities(s.integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
+            fprintf(stderr, "swim run: --trace-steps: integrator '%s' does not report its steps\n", s.integrator);
+            swim_scene_free(&s);
+            swim_run_events_free(events);
+            return 2;
+        }
         if (swim_csv_open(&trace.csv, v, trace_columns, 9) != 0) {
             fprintf(stderr, "swim run: --trace-steps: cannot write '%s': %s\n", v, strerror(errno));
             swim_scene_free(&s);
+            swim_run_events_free(events);
             return 2;
         }
         trace.open = trace.ok = 1;
@@ -301,6 +371,7 @@ int swim_cmd_run(int argc, char **argv)
         swim_compiled_close(&kn);
         if (trace.open) swim_csv_close(&trace.csv);
         swim_scene_free(&s);
+        swim_run_events_free(events);
         return 1;
     }
     swim_dynamics d;
@@ -310,24 +381,28 @@ int swim_cmd_run(int argc, char **argv)
         swim_compiled_close(&kn);
         if (trace.open) swim_csv_close(&trace.csv);
         swim_scene_free(&s);
+        swim_run_events_free(events);
         return 1;
     }
     d.interrupt = (volatile int *)&interrupted;
     swim_dynamics_use_scene_kernel(&d, spz.scene, generic);
-    const char *names[8 + 4 * SWIM_NMAX + 64];
-    char storage[2 * SWIM_NMAX][24];
-    int ncol = columns(&s, names, storage);
     swim_csv csv;
     snprintf(path, sizeof path, "%s/trajectory.csv", dir);
-    if (swim_csv_open(&csv, path, names, ncol) != 0) {
+    if (summary_only) remove(path);   /* never leave another run's rows beside this summary */
+    if (!summary_only && swim_csv_open(&csv, path, names, ncol) != 0) {
         fprintf(stderr, "swim run: --out: cannot write '%s': %s\n", path, strerror(errno));
         if (trace.open) swim_csv_close(&trace.csv);
         swim_dynamics_free(&d);
+        swim_compiled_close(&spz);
+        swim_compiled_close(&kn);
         swim_scene_free(&s);
+        swim_run_events_free(events);
         return 2;
     }
     snprintf(path, sizeof path, "%s/snapshots.json", dir);
-    FILE *snap = fopen(path, "w");
+    FILE *snap = NULL;
+    if (swim_args_get(opts, nopts, "snapshots") && !summary_only) snap = fopen(path, "w");
+    else remove(path);   /* a stale file from an earlier run would not match this trajectory */
     if (snap) fputs("[\n", snap);
 
     const int sdim = swim_dynamics_state_dim(&d);
@@ -335,15 +410,16 @@ int swim_cmd_run(int argc, char **argv)
     double *ys = calloc((size_t)sdim, sizeof(double));
     swim_dynamics_initial_state(&d, y);
     swim_dynamics_pack(&d, y, ys);
-    swim_ode_system sys = {swim_dynamics_rhs, (size_t)sdim, &d};
+    swim_ode_system sys = {swim_dynamics_rhs, (size_t)sdim, &d, NULL};
     swim_ode_options o;
     swim_ode_options_default(&o);
     o.rtol = s.rtol;
     o.atol = s.atol;
     if (s.step_lookahead >= 0) o.lookahead = s.step_lookahead;
     s.step_lookahead = o.lookahead;   /* the summary records the value used */
-    o.stiff_stop = strcmp(s.integrator, "abm") == 0;   /* stop and report (or switch) on stiffness */
-    if (s.projection) o.project = swim_dynamics_project;  /* drift control (ABM only) */
+    const unsigned caps = swim_ode_capabilities(s.integrator);
+    o.stiff_stop = (caps & SWIM_ODE_CAP_STIFFNESS) != 0;   /* stop and report (or switch) on stiffness */
+    if (s.projection && (caps & SWIM_ODE_CAP_PROJECTION)) o.project = swim_dynamics_project;  /* drift control */
     if (trace.open) {
         trace.d = &d;
         trace.full = calloc((size_t)d.dim, sizeof(double));
@@ -351,9 +427,16 @@ int swim_cmd_run(int argc, char **argv)
         o.on_step = trace_step;
         o.on_step_data = &trace;
     }
+    row_ctx rowc = {&s, &d, calloc((size_t)d.dim, sizeof(double))};
+    if (events && (!rowc.full || swim_run_events_attach(events, &o, (size_t)sdim, 3 + 2 * s.n, packed_row, &rowc) != 0)) {
+        fprintf(stderr, "swim run: out of memory\n");
+        swim_run_events_free(events);
+        return 1;
+    }
     swim_ode *ode = NULL;
     run_report r;
     memset(&r, 0, sizeof r);
+    r.events = events;
     r.switch_t = -1.0;
     snprintf(r.used, sizeof r.used, "%s", s.integrator);
     swim_ode_stats total;
@@ -394,17 +477,25 @@ int swim_cmd_run(int argc, char **argv)
                     fprintf(stderr, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g\n",
                             ts, s.integrator, s.stiff_fallback, t_last);
                 r.switch_t = t_last;
+                swim_run_events_rewind(events, t_last);
                 snprintf(r.used, sizeof r.used, "%s+%s", s.integrator, s.stiff_fallback);
                 memcpy(ys, ys_last, sizeof(double) * sdim);
                 o.stiff_stop = 0;
+                if (!(swim_ode_capabilities(s.stiff_fallback) & SWIM_ODE_CAP_PROJECTION)) o.project = NULL;
+                if (!(swim_ode_capabilities(s.stiff_fallback) & SWIM_ODE_CAP_STEP_TRACE)) o.on_step = NULL;
                 rc = swim_ode_create(s.stiff_fallback, &sys, &o, t_last, ys, &ode);
                 if (rc == SWIM_ODE_OK) rc = swim_ode_advance(ode, t, ys);
+            }
+            if (rc == SWIM_ODE_TERMINATED) {   /* a :stop event: the last row is at its time */
+                t = swim_ode_time(ode);
+                snprintf(r.reason, sizeof r.reason, "stopped by event %s at t = %.10g", swim_run_events_stop_name(events), t);
+                rc = SWIM_ODE_OK;
             }
             if (rc == SWIM_ODE_OK) {
                 /* Rows come from the interpolant, which leaves the constraint manifold by the local
                  * error between two projected steps: project the row as well (a copy; the
                  * integrator's state is untouched). */
-                if (o.project && ode && strcmp(swim_ode_method_name(ode), "abm") == 0) {
+                if (o.project && ode) {
                     memcpy(ys_row, ys, sizeof(double) * sdim);
                     o.project(t, ys_row, &d);
                     swim_dynamics_unpack(&d, ys_row, y);
@@ -429,14 +520,18 @@ int swim_cmd_run(int argc, char **argv)
             }
         }
         swim_diag g;
-        if (swim_dynamics_diagnostics(&d, y, &g) != 0) {
+        double t_diag = wall();
+        int diag_rc = swim_dynamics_diagnostics(&d, y, &g);
+        r.diagnostics_seconds += wall() - t_diag;
+        if (diag_rc != 0) {
             r.status = 1;
             snprintf(r.reason, sizeof r.reason, "diagnostics failed at t = %.6g (K not positive definite)", t);
             break;
         }
         track(&r, t, &g, k == 0);
+        double t_out = wall();
         row_values(&s, t, y, &g, row);
-        if (swim_csv_row(&csv, row) != 0) {
+        if (!summary_only && swim_csv_row(&csv, row) != 0) {
             r.status = 1;
             snprintf(r.reason, sizeof r.reason, "write error on trajectory.csv at t = %.6g", t);
             break;
@@ -447,6 +542,7 @@ int swim_cmd_run(int argc, char **argv)
             swim_flow_snapshot(&d, t, y, snap);
             fflush(snap);
         }
+        r.output_seconds += wall() - t_out;
         if (!(g.jmin > 0)) {
             r.status = 1;
             snprintf(r.reason, sizeof r.reason, "the shape left the admissible set D at t = %.6g (min J = %.3g)", t, g.jmin);
@@ -457,6 +553,7 @@ int swim_cmd_run(int argc, char **argv)
             snprintf(r.reason, sizeof r.reason, "interrupted (SIGINT) at t = %.6g", t);
             break;
         }
+        if (r.reason[0]) break;   /* stopped by an event */
         double now = wall();
         if (!quiet && now - last_progress > 1.0) {
             fprintf(stderr, "\rswim run: t = %.4g / %.4g (%.0f%%)   ", t, s.t_end, 100.0 * t / s.t_end);
@@ -465,21 +562,25 @@ int swim_cmd_run(int argc, char **argv)
     }
     if (!quiet && last_progress > t_start) fputc('\n', stderr);
     sigaction(SIGINT, &old, NULL);
-    if (r.status == 0) snprintf(r.reason, sizeof r.reason, "reached t_end = %.6g", s.t_end);
+    if (r.status == 0 && !r.reason[0]) snprintf(r.reason, sizeof r.reason, "reached t_end = %.6g", s.t_end);
     if (ode) accumulate_stats(&total, ode);
     swim_ode_stats st = total;
     if (snap) {
         fputs("\n]\n", snap);
         fclose(snap);
     }
-    swim_csv_close(&csv);
+    if (!summary_only) swim_csv_close(&csv);
     if (trace.open) {
         swim_csv_close(&trace.csv);
         free(trace.full);
     }
+    swim_run_events_write_csv(events, dir);
     snprintf(path, sizeof path, "%s/summary.json", dir);
     write_summary(path, &s, dir, &r, y, &st, &d, &spz, wall() - t_start);
-    printf("%s: %s (%s); %ld rows in %s/trajectory.csv\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);
+    if (summary_only)
+        printf("%s: %s (%s); %ld rows computed, summary in %s/summary.json\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);
+    else
+        printf("%s: %s (%s); %ld rows in %s/trajectory.csv\n", s.path, r.status ? "FAILED" : "completed", r.reason, r.rows, dir);
     printf("  %s kernel (state dimension %d)\n", d.generic ? "generic" : "specialized", sdim);
     printf("  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)\n",
            r.used, s.rtol, st.steps, st.rhs_evals, st.rejected, wall() - t_start, d.rhs_seconds);
@@ -487,6 +588,8 @@ int swim_cmd_run(int argc, char **argv)
            r.drift_abs, r.e0, r.res_volume, r.res_angular, r.res_locks, r.jmin);
     printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", y[0], y[1], y[2]);
     swim_ode_free(ode);
+    swim_run_events_free(events);
+    free(rowc.full);
     swim_compiled_close(&spz);
     swim_compiled_close(&kn);
     free(ys);

@@ -77,3 +77,28 @@ const char *swim_python(void)
     const char *p = getenv("SWIM_PYTHON");
     return p && *p ? p : SWIM_PYTHON;
 }
+
+int swim_copy_file(const char *src, const char *dst)
+{
+    char a[4096], b[4096];
+    if (realpath(src, a) && realpath(dst, b) && strcmp(a, b) == 0) return 0;
+    FILE *in = fopen(src, "rb");
+    if (!in) return -1;
+    FILE *out = fopen(dst, "wb");
+    if (!out) {
+        int e = errno;
+        fclose(in);
+        errno = e;
+        return -1;
+    }
+    char buf[8192];
+    size_t k;
+    int bad = 0;
+    while ((k = fread(buf, 1, sizeof buf, in)) > 0)
+        if (fwrite(buf, 1, k, out) != k) { bad = 1; break; }
+    bad |= ferror(in);
+    fclose(in);
+    if (fclose(out) != 0) bad = 1;
+    if (bad && errno == 0) errno = EIO;
+    return bad ? -1 : 0;
+}

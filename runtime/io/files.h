@@ -19,4 +19,8 @@ const char *swim_python(void);
 /* mkdir -p; 0, or -1 with errno set (also when the path exists but is not a directory). */
 int swim_mkdirs(const char *path);
 
+/* Copies the file src to dst (replaced if present); 0, or -1 with errno set. Copying a file onto
+ * itself is a no-op. */
+int swim_copy_file(const char *src, const char *dst);
+
 #endif

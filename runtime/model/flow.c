@@ -71,10 +71,12 @@ int swim_flow_snapshot(swim_dynamics *d, double t, const double *y, FILE *f)
     for (int i = 0; i < NRAD; i++)
         for (int j = 0; j < NANG; j++) {
             double r = (double)i / (NRAD - 1), th = 2 * M_PI * j / (NANG - 1);
-            double complex z = r * cexp(I * th), zb = conj(z), w = coef(c, 1) * z, h = 0.0;
+            double complex z = r * cexp(I * th), zb = conj(z), w = coef(c, 1) * z, h = 0.0, p = 1.0;
+            /* powers by products, not cpow: cpow(0, 0) is NaN, which left a hole at the centre */
             for (int k = 1; k <= N; k++) {
-                w += coef(c, -k) * cpow(zb, k);          /* chi (2.1) */
-                h += k * coef(c, -k) * cpow(zb, k - 1);   /* (2.4) */
+                h += k * coef(c, -k) * p;   /* (2.4), p = zb^(k-1) */
+                p *= zb;
+                w += coef(c, -k) * p;       /* chi (2.1) */
             }
             double J = creal(coef(c, 1) * conj(coef(c, 1))) - creal(h * conj(h));
             WORLD(w, dx[i * NANG + j], dy[i * NANG + j]);

@@ -70,48 +70,75 @@
 #define ABM_GROWTH_CAP 4.0       /* largest per-step error growth the look-ahead extrapolates */
 
 struct abm {
-    size_t n;
-    swim_ode_func f;
-    void *par;
-    double rtol, atol, *atolv;
-    double hmax, tstop;
-    long max_steps;
-    int stiff_stop;
+    /* problem and options (fixed after abm_create) */
+    size_t n;                    /* dimension */
+    swim_ode_func f;             /* right-hand side */
+    void *par;                   /* its params (borrowed) */
+    double rtol, atol;           /* scalar tolerances */
+    double *atolv;               /* per-component atol (owned copy) or NULL */
+    double hmax, tstop;          /* largest step (INFINITY = none); never step past tstop */
+    long max_steps;              /* accepted steps allowed */
+    int stiff_stop;              /* the caller wants SWIM_ODE_ESTIFF when the diagnostic fires */
     int lookahead;               /* p of the look-ahead (0 = STEP's rule) */
-    int (*project)(double t, double *y, void *params);
-    void (*on_step)(const swim_ode_step *step, void *data);
-    void *on_step_data;
+    int (*project)(double t, double *y, void *params);          /* optional projection of y_{n+1} */
+    void (*on_step)(const swim_ode_step *step, void *data);     /* optional step report */
+    void *on_step_data;          /* its data */
 
+    /* solution */
     double t;                    /* t_n */
     double tc;                   /* compensated-summation carry for t (t_n = t + tc exactly up to rounding) */
     double *y;                   /* y_n */
     double *yc;                  /* compensated-summation carry for y */
     double *yn, *ycn;            /* y_{n+1} and its carry during a step attempt (swapped with y, yc on acceptance) */
     double *base;                /* the one allocation holding all vectors */
-    double *phi, *phin;          /* difference tables, NROW rows of n (row i at i*n) */
-    double *p, *pinc, *fp, *rw;  /* predictor, its increment, f at p / at y_{n+1}, 1/weights */
+
+    /* method state */
+    double *phi, *phin;          /* difference tables phi_i(n), phi_i(n+1): NROW rows of n (row i at i*n) */
+    double *p, *pinc, *fp;       /* predictor p, its increment p - y_n, f at p (then at y_{n+1}) */
+    double *rw;                  /* 1/weights of this step (weighted max norm) */
     double *rwp;                 /* 1/weights of the last accepted step (look-ahead) */
-
-    double psi[KM + 3], alpha[KM + 3], beta[KM + 3], sig[KM + 3];
-    double g[KM + 3], v[KM + 3], w[KM + 3], gstar[KM + 3];
-    double psi_save[KM + 3], v_save[KM + 3];
-
-    double h, hold;
-    int k, kold, ns, phase1, ifail, started, compensate, have_step;
-    double la_erk, la_h;         /* erk and h of the last accepted step, for the look-ahead (0: none) */
+    double psi[KM + 3];          /* psi_i = t_{n+1} - t_{n+1-i} */
+    double alpha[KM + 3];        /* alpha_i = h / psi_i */
+    double beta[KM + 3];         /* beta_i: phi*_i = beta_i phi_i(n) */
+    double sig[KM + 3];          /* sigma_i: error-estimate factors for variable steps */
+    double g[KM + 3];            /* integration coefficients g_{i,1} */
+    double v[KM + 3], w[KM + 3]; /* g_{ns,q} carried over runs of equal steps; working column */
+    double gstar[KM + 3];        /* |gamma*_m|, error constants of the order-m Adams-Moulton formula */
+    double psi_save[KM + 3], v_save[KM + 3];   /* step history before this attempt changed it */
+    double h, hold;              /* step size of this attempt; of the last accepted step */
+    int k, kold;                 /* order of this attempt; of the last accepted step */
+    int ns;                      /* steps taken with the current h (coefficients reused while ns > k) */
+    int phase1;                  /* start phase: order and step grow until an estimate says stop */
+    int ifail;                   /* failed attempts in a row (error test or domain) */
+    int started;                 /* f(t0, y0) and the first step size are set */
+    int compensate;              /* use compensated summation for y (tolerance near rounding) */
+    int have_step;               /* an accepted step exists (the interpolant is valid) */
     int h_clamped;               /* current h limited by hmax or tstop */
     int saved;                   /* psi_save/v_save hold the history of this attempt */
     int domfail;                 /* domain failures of f in a row (since the last accepted step) */
 
+    /* one step attempt */
+    int ns_save;                 /* ns before the attempt, restored on rejection */
+    double tnew, tcnew;          /* t_{n+1} of the attempt and its carry */
+    double round;                /* rounding level 2u max|y/w| of the attempt's norm */
+
+    /* look-ahead */
+    double la_erk, la_h;         /* erk and h of the last accepted step (0: none) */
+
+    /* stiffness diagnostic: blocks of STIFF_BLOCK accepted steps */
+    int blk_n, blk_low, blk_clamped, blk_cuts;   /* steps, low-order steps, clamped steps, step cuts */
+    long blk_rej0;               /* rejected count at the start of the block */
+    double blk_hmin, blk_hmax;   /* range of h in the block */
+    int stiff_run;               /* stiff-looking blocks in a row */
+    int stiff_suspected;         /* the diagnostic has fired */
+
     /* statistics */
-    long steps, nfe, rejected, hist[KM + 1];
-    double last_h;
-    int last_order, stiff_run, stiff_suspected;
-    int blk_n, blk_low, blk_clamped, blk_cuts;
-    long blk_rej0;
-    double blk_hmin, blk_hmax;
-    int rhs_status;
-    double tout_last;
+    long steps, nfe, rejected;   /* accepted steps, f evaluations, rejected attempts */
+    long hist[KM + 1];           /* accepted steps per order */
+    double last_h;               /* size of the last accepted step */
+    int last_order;              /* its order */
+    int rhs_status;              /* last nonzero value of f or of the projection */
+    double tout_last;            /* last output time (outputs must increase) */
 };
 
 /* Evaluate f; returns 0, or the (nonzero) value returned by f, which is also
@@ -373,205 +400,244 @@ static int domain_failure(abm *a, int ns_save, double h)
     return SWIM_ODE_OK;
 }
 
-int abm_step(abm *a, int *accepted)
-{
-    *accepted = 0;
-    const size_t n = a->n;
-    const int k = a->k;
-    double h = a->h;
+/* Error estimates of one attempt, from phi_{k+1}(n+1) and its neighbours. */
+typedef struct {
+    double err;           /* error-test value of the order-k formula (<= 1 passes) */
+    double erk;           /* estimated error at order k for a step of this size (STEP's erk) */
+    double erkm1, erkm2;  /* the same at orders k-1, k-2 (0 when k is too low) */
+    double sk_last;       /* norm of phi_{k+1}(n+1) in the last step's weights (look-ahead) */
+    int knew;             /* order the estimates suggest: k or lower */
+    int want_rho;         /* the look-ahead's growth factor can be formed */
+} abm_estimate;
 
+/* Stop before the attempt: too many steps, step size underflow, or a tolerance
+ * below what double precision can hold (round = 2u max|y/w| > 1/2). */
+static int check_attempt(abm *a)
+{
     if (a->steps >= a->max_steps)
         return SWIM_ODE_EMAXSTEPS;
-    if (!(h >= 4.0 * UROUND * fabs(a->t)) || !(h > 0))
+    if (!(a->h >= 4.0 * UROUND * fabs(a->t)) || !(a->h > 0))
         return SWIM_ODE_EHMIN;
-
-    /* Can double precision hold the requested accuracy?  round = 2u max|y/w|. */
-    const double round = 2.0 * UROUND * set_weights(a);
-    if (0.5 < round)
+    a->round = 2.0 * UROUND * set_weights(a);
+    if (0.5 < a->round)
         return SWIM_ODE_ETOLTOOSMALL;
-    a->compensate = 0.5 < 1e3 * round;
-    int ns_save = a->ns;
+    a->compensate = 0.5 < 1e3 * a->round;
+    return SWIM_ODE_OK;
+}
 
-    a->saved = 0;
-    coefficients(a);
-
-    /* Predict.  phin rows 1..k get the partial sums sum_{j>=i} phi*_j.
-     * Loops run over rows outside and components inside so that the inner
-     * loops are independent and vectorise. */
-    const double *g = a->g, *beta = a->beta;
-    double *phi = a->phi, *phin = a->phin;
+/* Predictor of order k: p = y_n + h sum_{i<=k} g_i phi*_i; phin rows 1..k get the
+ * partial sums sum_{j>=i} phi*_j that the corrector and the new differences need.
+ * Blocks of 4 components with the order index inside keep the partial sums in
+ * registers (4 independent chains); the tail runs one component at a time. */
+static void predict(abm *a)
+{
+    const size_t n = a->n;
+    const int k = a->k;
+    const double h = a->h;
+    const double *g = a->g, *beta = a->beta, *phi = a->phi;
+    double *phin = a->phin;
     double *restrict pinc = a->pinc, *restrict pp = a->p;
-    {
-        /* Blocks of 4 components; the order index runs inside so that the
-         * partial sums stay in registers (4 independent chains). */
-        const double *restrict yy = a->y, *restrict yc = a->yc;
-        size_t l = 0;
-        for (; l + 4 <= n; l += 4) {
-            double c0 = 0, c1 = 0, c2 = 0, c3 = 0, a0 = 0, a1 = 0, a2 = 0, a3 = 0;
-            for (int i = k; i >= 1; i--) {
-                const double *restrict s1 = phi + i * n + l;
-                double *restrict d1 = phin + i * n + l;
-                const double bi = beta[i], gi = g[i];
-                double p0 = bi * s1[0], p1 = bi * s1[1], p2 = bi * s1[2], p3 = bi * s1[3];
-                c0 += p0; c1 += p1; c2 += p2; c3 += p3;
-                d1[0] = c0; d1[1] = c1; d1[2] = c2; d1[3] = c3;
-                a0 += gi * p0; a1 += gi * p1; a2 += gi * p2; a3 += gi * p3;
-            }
-            pinc[l] = h * a0; pinc[l + 1] = h * a1; pinc[l + 2] = h * a2; pinc[l + 3] = h * a3;
+    const double *restrict yy = a->y, *restrict yc = a->yc;
+    size_t l = 0;
+    for (; l + 4 <= n; l += 4) {
+        double c0 = 0, c1 = 0, c2 = 0, c3 = 0, a0 = 0, a1 = 0, a2 = 0, a3 = 0;
+        for (int i = k; i >= 1; i--) {
+            const double *restrict s1 = phi + i * n + l;
+            double *restrict d1 = phin + i * n + l;
+            const double bi = beta[i], gi = g[i];
+            double p0 = bi * s1[0], p1 = bi * s1[1], p2 = bi * s1[2], p3 = bi * s1[3];
+            c0 += p0; c1 += p1; c2 += p2; c3 += p3;
+            d1[0] = c0; d1[1] = c1; d1[2] = c2; d1[3] = c3;
+            a0 += gi * p0; a1 += gi * p1; a2 += gi * p2; a3 += gi * p3;
         }
-        for (; l < n; l++) {
-            double c0 = 0, a0 = 0;
-            for (int i = k; i >= 1; i--) {
-                double p0 = beta[i] * phi[i * n + l];
-                c0 += p0;
-                phin[i * n + l] = c0;
-                a0 += g[i] * p0;
-            }
-            pinc[l] = h * a0;
-        }
-        for (l = 0; l < n; l++)
-            pp[l] = yy[l] + (pinc[l] + yc[l]);
+        pinc[l] = h * a0; pinc[l + 1] = h * a1; pinc[l + 2] = h * a2; pinc[l + 3] = h * a3;
     }
-    /* t_{n+1} = t_n + h with compensated summation: over 10^5..10^6 steps the
-     * rounding of t += h would otherwise drift t by up to steps * ulp(t)/2 (a
-     * systematic shift for runs of equal steps), i.e. the solution would be
-     * reported at, and a time-dependent f evaluated at, the wrong times. */
+    for (; l < n; l++) {
+        double c0 = 0, a0 = 0;
+        for (int i = k; i >= 1; i--) {
+            double p0 = beta[i] * phi[i * n + l];
+            c0 += p0;
+            phin[i * n + l] = c0;
+            a0 += g[i] * p0;
+        }
+        pinc[l] = h * a0;
+    }
+    for (l = 0; l < n; l++)
+        pp[l] = yy[l] + (pinc[l] + yc[l]);
+}
+
+/* t_{n+1} = t_n + h with compensated summation: over 10^5..10^6 steps the
+ * rounding of t += h would otherwise drift t by up to steps * ulp(t)/2 (a
+ * systematic shift for runs of equal steps), i.e. the solution would be
+ * reported at, and a time-dependent f evaluated at, the wrong times.  A step
+ * clamped to tstop lands on it exactly. */
+static void next_time(abm *a)
+{
+    const double h = a->h;
     double tau = h + a->tc, tnew = a->t + tau, tcnew = tau - (tnew - a->t);
     if (a->h_clamped && a->t + h >= a->tstop) {
         tnew = a->tstop;
         tcnew = 0.0;
     }
-    int rc = eval(a, tnew, a->p, a->fp);
-    if (rc < 0)
-        return SWIM_ODE_ERHS;
-    if (rc > 0)
-        return domain_failure(a, ns_save, h);
+    a->tnew = tnew;
+    a->tcnew = tcnew;
+}
 
-    /* Error estimates at orders k, k-1, k-2 from phi_{k+1}, phi_k, phi_{k-1} at n+1,
-     * in the weighted max norm (the norm of ode113): an RMS norm divides by n, so
-     * components whose error is zero (locked coordinates, constants) would
-     * loosen the test on the others by sqrt(n / active). */
+/* Error estimates at orders k, k-1, k-2 from phi_{k+1}, phi_k, phi_{k-1} at n+1
+ * (a->fp holds f(t_{n+1}, p)), in the weighted max norm (the norm of ode113):
+ * an RMS norm divides by n, so components whose error is zero (locked
+ * coordinates, constants) would loosen the test on the others by sqrt(n / active). */
+static void estimate_errors(const abm *a, abm_estimate *e)
+{
+    const size_t n = a->n;
+    const int k = a->k;
+    const double *phin = a->phin;
     double sk = 0.0, skm1 = 0.0, skm2 = 0.0;
     const double *restrict c1 = phin + n, *restrict ck = phin + k * n, *restrict ckm1 = phin + (k - 1) * n;
     const double *restrict fpv = a->fp, *restrict rwv = a->rw;
     if (k >= 3) {
         for (size_t l = 0; l < n; l++) {
-            double e = fpv[l] - c1[l], r = rwv[l];
-            double q0 = fabs(e * r), q1 = fabs((ck[l] + e) * r), q2 = fabs((ckm1[l] + e) * r);
+            double d = fpv[l] - c1[l], r = rwv[l];
+            double q0 = fabs(d * r), q1 = fabs((ck[l] + d) * r), q2 = fabs((ckm1[l] + d) * r);
             sk = MAXD(sk, q0);
             skm1 = MAXD(skm1, q1);
             skm2 = MAXD(skm2, q2);
         }
     } else {
         for (size_t l = 0; l < n; l++) {
-            double e = fpv[l] - c1[l], r = rwv[l];
-            double q0 = fabs(e * r), q1 = fabs((ck[l] + e) * r);
+            double d = fpv[l] - c1[l], r = rwv[l];
+            double q0 = fabs(d * r), q1 = fabs((ck[l] + d) * r);
             sk = MAXD(sk, q0);
             skm1 = MAXD(skm1, q1);
         }
     }
     /* For the look-ahead: the same estimate in the norm of the last step (its weights), so
      * that its growth measures the solution, not weights that change with |y|. */
-    double sk_last = 0.0;
-    const int want_rho = (a->lookahead > 0 || a->on_step) && a->la_erk > 10.0 * round;
-    if (want_rho) {
+    e->sk_last = 0.0;
+    e->want_rho = (a->lookahead > 0 || a->on_step) && a->la_erk > 10.0 * a->round;
+    if (e->want_rho) {
         const double *restrict rpv = a->rwp;
+        double s = 0.0;
         for (size_t l = 0; l < n; l++)
-            sk_last = MAXD(sk_last, fabs((fpv[l] - c1[l]) * rpv[l]));
+            s = MAXD(s, fabs((fpv[l] - c1[l]) * rpv[l]));
+        e->sk_last = s;
     }
-    const double absh = fabs(h);
-    const double *sig = a->sig, *gs = a->gstar;
-    double erk = absh * sig[k + 1] * gs[k] * sk;
-    const double erk_k = erk;
-    double err = absh * (g[k] - g[k + 1]) * sk;
-    double erkm1 = 0.0, erkm2 = 0.0;
-    int knew = k;
+    const double absh = fabs(a->h);
+    const double *sig = a->sig, *gs = a->gstar, *g = a->g;
+    e->erk = absh * sig[k + 1] * gs[k] * sk;
+    e->err = absh * (g[k] - g[k + 1]) * sk;
+    e->erkm1 = e->erkm2 = 0.0;
+    e->knew = k;
     if (k >= 2) {
-        erkm1 = absh * sig[k] * gs[k - 1] * skm1;
+        e->erkm1 = absh * sig[k] * gs[k - 1] * skm1;
         if (k >= 3) {
-            erkm2 = absh * sig[k - 1] * gs[k - 2] * skm2;
-            if (MAXD(erkm1, erkm2) <= erk)
-                knew = k - 1;
-        } else if (erkm1 <= 0.5 * erk) {
-            knew = 1;
+            e->erkm2 = absh * sig[k - 1] * gs[k - 2] * skm2;
+            if (MAXD(e->erkm1, e->erkm2) <= e->erk)
+                e->knew = k - 1;
+        } else if (e->erkm1 <= 0.5 * e->erk) {
+            e->knew = 1;
         }
     }
+}
 
-    if (!(err <= 1.0)) {
-        /* Rejected: the old table was never touched; put back the history. */
-        restore_history(a, ns_save);
-        a->rejected++;
-        a->la_erk = 0.0;
-        a->phase1 = 0;
-        if (a->on_step) {
-            swim_ode_step s = {tnew, h, k, 0, err, erk_k, 0.0, NULL};
-            a->on_step(&s, a->on_step_data);
+/* The error test failed: the old table was never touched; put back the step
+ * history, halve the step (more after the third failure in a row, which also
+ * drops to order 1). */
+static int reject(abm *a, const abm_estimate *e)
+{
+    const double h = a->h;
+    restore_history(a, a->ns_save);
+    a->rejected++;
+    a->la_erk = 0.0;
+    a->phase1 = 0;
+    if (a->on_step) {
+        swim_ode_step s = {a->tnew, h, a->k, 0, e->err, e->erk, 0.0, NULL};
+        a->on_step(&s, a->on_step_data);
+    }
+    a->ifail++;
+    double fac = 0.5;
+    if (a->ifail > 3 && 0.5 < 0.25 * e->erk)
+        fac = sqrt(0.5 / e->erk);
+    a->k = a->ifail >= 3 ? 1 : e->knew;
+    a->h = clamp_h(a, fac * h);
+    if (!(a->h >= 4.0 * UROUND * fabs(a->t)))
+        return SWIM_ODE_EHMIN;
+    return SWIM_ODE_OK;
+}
+
+/* Corrector with local extrapolation: y_{n+1} = p + h g_{k+1} phi_{k+1}(n+1),
+ * written into the second buffers yn, ycn (y, yc stay as they are until the
+ * final evaluation has succeeded). */
+static void correct(abm *a)
+{
+    const size_t n = a->n;
+    const double gk1h = a->h * a->g[a->k + 1];
+    const double *restrict fpv = a->fp, *restrict c1 = a->phin + n;
+    const double *restrict yo = a->y, *restrict yco = a->yc, *restrict pi = a->pinc;
+    double *restrict yn = a->yn, *restrict ycn = a->ycn;
+    if (a->compensate) {
+        for (size_t l = 0; l < n; l++) {
+            double d = pi[l] + gk1h * (fpv[l] - c1[l]);
+            double tau = d + yco[l];
+            double y1 = yo[l] + tau;
+            ycn[l] = tau - (y1 - yo[l]);
+            yn[l] = y1;
         }
-        a->ifail++;
-        double fac = 0.5;
-        if (a->ifail > 3 && 0.5 < 0.25 * erk)
-            fac = sqrt(0.5 / erk);
-        if (a->ifail >= 3)
-            knew = 1;
-        a->k = knew;
-        a->h = clamp_h(a, fac * h);
-        if (!(a->h >= 4.0 * UROUND * fabs(a->t)))
-            return SWIM_ODE_EHMIN;
+    } else {
+        for (size_t l = 0; l < n; l++) {
+            yn[l] = yo[l] + (pi[l] + gk1h * (fpv[l] - c1[l]));
+            ycn[l] = 0.0;
+        }
+    }
+}
+
+/* Optional projection of y_{n+1} onto the caller's invariant manifold, before
+ * the final evaluation so that the derivative history is the projected one. */
+static int project(abm *a)
+{
+    if (!a->project)
         return SWIM_ODE_OK;
-    }
-
-    /* Passed the error test: correct into the second buffers yn, ycn (y, yc
-     * stay as they are until the final evaluation has succeeded). */
-    const double gk1h = h * g[k + 1];
-    {
-        const double *restrict yo = a->y, *restrict yco = a->yc, *restrict pi = a->pinc;
-        double *restrict yn = a->yn, *restrict ycn = a->ycn;
-        if (a->compensate) {
-            for (size_t l = 0; l < n; l++) {
-                double d = pi[l] + gk1h * (fpv[l] - c1[l]);
-                double tau = d + yco[l];
-                double y1 = yo[l] + tau;
-                ycn[l] = tau - (y1 - yo[l]);
-                yn[l] = y1;
-            }
-        } else {
-            for (size_t l = 0; l < n; l++) {
-                yn[l] = yo[l] + (pi[l] + gk1h * (fpv[l] - c1[l]));
-                ycn[l] = 0.0;
-            }
-        }
-    }
-    if (a->project) {
-        rc = a->project(tnew, a->yn, a->par);
-        if (rc) {
-            a->rhs_status = rc;
-            return SWIM_ODE_ERHS;
-        }
-        memset(a->ycn, 0, n * sizeof(double));   /* the carries belonged to the unprojected y */
-    }
-    rc = eval(a, tnew, a->yn, a->fp);
-    if (rc < 0)
+    int rc = a->project(a->tnew, a->yn, a->par);
+    if (rc) {
+        a->rhs_status = rc;
         return SWIM_ODE_ERHS;
-    if (rc > 0)
-        return domain_failure(a, ns_save, h);
-    /* Accepted: y_{n+1} becomes current, update the differences. */
-    {
-        double *sw = a->y;
-        a->y = a->yn;
-        a->yn = sw;
-        sw = a->yc;
-        a->yc = a->ycn;
-        a->ycn = sw;
     }
-    a->t = tnew;
-    a->tc = tcnew;
-    a->kold = k;
-    a->hold = h;
+    memset(a->ycn, 0, a->n * sizeof(double));   /* the carries belonged to the unprojected y */
+    return SWIM_ODE_OK;
+}
+
+/* The attempt passed: y_{n+1} and t_{n+1} become current. */
+static void accept(abm *a)
+{
+    double *sw = a->y;
+    a->y = a->yn;
+    a->yn = sw;
+    sw = a->yc;
+    a->yc = a->ycn;
+    a->ycn = sw;
+    a->t = a->tnew;
+    a->tc = a->tcnew;
+    a->kold = a->k;
+    a->hold = a->h;
     a->ifail = 0;
     a->domfail = 0;
-    /* raising the order is only considered after k+1 equal steps; then
-     * beta_{k+1} = 1 and phi_{k+2}(n+1) = phi_{k+1}(n+1) - phi_{k+1}(n). */
-    int want_up = !a->phase1 && knew == k && k < KM && k + 1 <= a->ns;
+    a->have_step = 1;
+    a->steps++;
+    a->hist[a->k]++;
+    a->last_h = a->h;
+    a->last_order = a->k;
+}
+
+/* Differences at n+1 (a->fp holds f(t_{n+1}, y_{n+1})): phi_{k+1}(n+1) = f - sum phi*_i,
+ * phi_i(n+1) = phi*_i + ... + phi_{k+1}(n+1), and, when raising the order is to be
+ * considered, phi_{k+2}(n+1) = phi_{k+1}(n+1) - phi_{k+1}(n) (beta_{k+1} = 1 after k+1
+ * equal steps).  Returns the weighted norm of phi_{k+2}(n+1) (0 when not formed). */
+static double update_differences(abm *a, int want_up)
+{
+    const size_t n = a->n;
+    const int k = a->k;
+    double *phi = a->phi, *phin = a->phin;
+    const double *restrict fpv = a->fp, *restrict c1 = phin + n, *restrict rwv = a->rw;
     double *restrict ek1 = phin + (k + 1) * n, *restrict ek2 = phin + (k + 2) * n;
     const double *restrict ok1 = phi + (k + 1) * n;
     double sk2 = 0.0;
@@ -585,80 +651,95 @@ int abm_step(abm *a, int *accepted)
             sk2 = MAXD(sk2, d);
         }
     }
-    {
-        size_t l = 0;
-        for (; l + 4 <= n; l += 4) {
-            const double e0 = ek1[l], e1 = ek1[l + 1], e2 = ek1[l + 2], e3 = ek1[l + 3];
-            for (int i = 1; i <= k; i++) {
-                double *restrict row = phin + i * n + l;
-                row[0] += e0; row[1] += e1; row[2] += e2; row[3] += e3;
-            }
+    size_t l = 0;
+    for (; l + 4 <= n; l += 4) {
+        const double e0 = ek1[l], e1 = ek1[l + 1], e2 = ek1[l + 2], e3 = ek1[l + 3];
+        for (int i = 1; i <= k; i++) {
+            double *restrict row = phin + i * n + l;
+            row[0] += e0; row[1] += e1; row[2] += e2; row[3] += e3;
         }
-        for (; l < n; l++)
-            for (int i = 1; i <= k; i++)
-                phin[i * n + l] += ek1[l];
     }
+    for (; l < n; l++)
+        for (int i = 1; i <= k; i++)
+            phin[i * n + l] += ek1[l];
     a->phi = phin;
     a->phin = phi;
-    a->have_step = 1;
-    a->steps++;
-    a->hist[k]++;
-    a->last_h = h;
-    a->last_order = k;
+    return sk2;
+}
 
-    /* Order for the next step. */
+/* Order for the next step from the estimates at k-2 .. k+1 (k+1 only after
+ * k+1 equal steps); sets a->k and returns the estimate at the chosen order. */
+static double choose_order(abm *a, const abm_estimate *e, int want_up, double sk2)
+{
+    const int k = a->k;
+    double erk = e->erk;
     int kn = k;
-    if (knew == k - 1 || k == KM)
+    if (e->knew == k - 1 || k == KM)
         a->phase1 = 0;
     if (a->phase1) {
         kn = k + 1;
-    } else if (knew == k - 1) {
+    } else if (e->knew == k - 1) {
         kn = k - 1;
-        erk = erkm1;
+        erk = e->erkm1;
     } else if (want_up) {
-        double erkp1 = absh * gs[k + 1] * sk2;
+        double erkp1 = fabs(a->h) * a->gstar[k + 1] * sk2;
         if (k == 1) {
             if (erkp1 < 0.5 * erk) {
                 kn = 2;
                 erk = erkp1;
             }
-        } else if (erkm1 <= MIND(erk, erkp1)) {
+        } else if (e->erkm1 <= MIND(erk, erkp1)) {
             kn = k - 1;
-            erk = erkm1;
+            erk = e->erkm1;
         } else if (erkp1 < erk) {
             kn = k + 1;
             erk = erkp1;
         }
     }
     a->k = kn;
+    return erk;
+}
 
-    /* Look-ahead (see the top of the file): at an unchanged order, extrapolate a
-     * growing error estimate p steps ahead. */
+/* Look-ahead (see the top of the file): at an unchanged order k, extrapolate a
+ * growing error estimate p steps ahead.  *erk is the estimate for the next
+ * step; returns the growth rho (0 when it was not formed), for the step report. */
+static double look_ahead(abm *a, const abm_estimate *e, int k, double *erk)
+{
+    const double h = a->h;
     double la_rho = 0.0;
-    if (kn == k && !a->phase1) {
-        double e = erk;
-        /* estimates within 10x of the rounding level grow and shrink with noise: no trend */
-        if (want_rho && e > 10.0 * round) {
-            double rho = absh * sig[k + 1] * gs[k] * sk_last / a->la_erk;
-            if (a->la_h != h)
-                rho *= pow(a->la_h / h, k + 1);
-            la_rho = rho;   /* reported to on_step even when the look-ahead is off */
-            if (a->lookahead > 0 && rho > 1.0) {
-                rho = MIND(rho, ABM_GROWTH_CAP);
-                for (int i = 0; i < a->lookahead; i++)
-                    erk *= rho;
-            }
-        }
-        a->la_erk = e;
-        a->la_h = h;
-        double *sw = a->rwp;     /* this step's weights become the reference norm */
-        a->rwp = a->rw;
-        a->rw = sw;
-    } else {
+    if (a->k != k || a->phase1) {
         a->la_erk = 0.0;
+        return la_rho;
     }
+    double est = *erk;
+    /* estimates within 10x of the rounding level grow and shrink with noise: no trend */
+    if (e->want_rho && est > 10.0 * a->round) {
+        double rho = fabs(h) * a->sig[k + 1] * a->gstar[k] * e->sk_last / a->la_erk;
+        if (a->la_h != h)
+            rho *= pow(a->la_h / h, k + 1);
+        la_rho = rho;   /* reported to on_step even when the look-ahead is off */
+        if (a->lookahead > 0 && rho > 1.0) {
+            rho = MIND(rho, ABM_GROWTH_CAP);
+            for (int i = 0; i < a->lookahead; i++)
+                *erk *= rho;
+        }
+    }
+    a->la_erk = est;
+    a->la_h = h;
+    double *sw = a->rwp;     /* this step's weights become the reference norm */
+    a->rwp = a->rw;
+    a->rw = sw;
+    return la_rho;
+}
 
-    /* Step size: double, keep, or reduce by a factor in [0.5, 0.9]. */
+/* Step size for the next step at order a->k: double, keep, or reduce by a factor
+ * in [0.5, 0.9], so that runs of equal steps reuse the coefficients.  Sets a->h;
+ * *was_clamped says whether the step just taken was limited by hmax/tstop, and
+ * the return value whether the error control cut the step. */
+static int choose_step(abm *a, double erk, int *was_clamped)
+{
+    const double h = a->h;
+    const int kn = a->k;
     double hn;
     if (a->phase1 || 0.5 >= erk * (double)(2 << kn)) {
         hn = 2.0 * h;
@@ -672,45 +753,95 @@ int abm_step(abm *a, int *accepted)
     double hmin = 4.0 * UROUND * fabs(a->t);
     if (hn < hmin)
         hn = hmin;
-    int was_clamped = a->h_clamped;
+    *was_clamped = a->h_clamped;
     hn = clamp_h(a, hn);
-    if (was_clamped && hn == h) /* re-clamping to the same hmax keeps the run of equal steps */
+    if (*was_clamped && hn == h) /* re-clamping to the same hmax keeps the run of equal steps */
         hn = h;
     a->h = hn;
+    return cut;
+}
 
-    /* Stiffness diagnostic.  Accepted steps are grouped in blocks of
-     * STIFF_BLOCK.  A block looks stability-limited when most of its steps are
-     * at order <= 4, the step size stays within a factor 16 (pinned), the
-     * steps were not cut by hmax/tstop, and the error control keeps cutting the
-     * step (error-test failures, or reductions after accepted steps, which the
-     * look-ahead makes where failures would come) although the step does not
-     * grow: an unstable parasitic mode, not the solution, is being controlled.
-     * STIFF_BLOCKS such blocks in a row raise the flag. */
-    if (!a->phase1) {
-        if (a->blk_n == 0) {
-            a->blk_hmin = a->blk_hmax = h;
-            a->blk_low = a->blk_clamped = a->blk_cuts = 0;
-            a->blk_rej0 = a->rejected;
-        }
-        a->blk_n++;
-        a->blk_low += k <= 4;
-        a->blk_clamped += was_clamped;
-        a->blk_cuts += cut;
-        a->blk_hmin = fmin(a->blk_hmin, h);
-        a->blk_hmax = fmax(a->blk_hmax, h);
-        if (a->blk_n == STIFF_BLOCK) {
-            long cuts = a->rejected - a->blk_rej0 + a->blk_cuts;
-            int stiff_like = a->blk_low >= STIFF_BLOCK / 2 && a->blk_clamped == 0 &&
-                             a->blk_hmax <= 16.0 * a->blk_hmin && cuts >= STIFF_BLOCK / 20;
-            a->stiff_run = stiff_like ? a->stiff_run + 1 : 0;
-            if (a->stiff_run >= STIFF_BLOCKS)
-                a->stiff_suspected = 1;
-            a->blk_n = 0;
-        }
+/* Stiffness diagnostic.  Accepted steps are grouped in blocks of STIFF_BLOCK.
+ * A block looks stability-limited when most of its steps are at order <= 4,
+ * the step size stays within a factor 16 (pinned), the steps were not cut by
+ * hmax/tstop, and the error control keeps cutting the step (error-test
+ * failures, or reductions after accepted steps, which the look-ahead makes
+ * where failures would come) although the step does not grow: an unstable
+ * parasitic mode, not the solution, is being controlled.  STIFF_BLOCKS such
+ * blocks in a row raise the flag.  k and h are those of the step just taken. */
+static void stiffness_diagnostic(abm *a, int k, double h, int was_clamped, int cut)
+{
+    if (a->phase1)
+        return;
+    if (a->blk_n == 0) {
+        a->blk_hmin = a->blk_hmax = h;
+        a->blk_low = a->blk_clamped = a->blk_cuts = 0;
+        a->blk_rej0 = a->rejected;
     }
+    a->blk_n++;
+    a->blk_low += k <= 4;
+    a->blk_clamped += was_clamped;
+    a->blk_cuts += cut;
+    a->blk_hmin = fmin(a->blk_hmin, h);
+    a->blk_hmax = fmax(a->blk_hmax, h);
+    if (a->blk_n == STIFF_BLOCK) {
+        long cuts = a->rejected - a->blk_rej0 + a->blk_cuts;
+        int stiff_like = a->blk_low >= STIFF_BLOCK / 2 && a->blk_clamped == 0 &&
+                         a->blk_hmax <= 16.0 * a->blk_hmin && cuts >= STIFF_BLOCK / 20;
+        a->stiff_run = stiff_like ? a->stiff_run + 1 : 0;
+        if (a->stiff_run >= STIFF_BLOCKS)
+            a->stiff_suspected = 1;
+        a->blk_n = 0;
+    }
+}
 
+/* One PECE step attempt of order k and size h:
+ *   coefficients -> predict -> evaluate f(p) -> estimate -> [reject]
+ *   -> correct -> project -> evaluate f(y_{n+1}) -> accept -> differences
+ *   -> order -> look-ahead -> step size -> stiffness -> report.
+ * A positive value of f at either evaluation is a domain failure (restore,
+ * smaller step); a negative one ends the integration. */
+int abm_step(abm *a, int *accepted)
+{
+    *accepted = 0;
+    int rc = check_attempt(a);
+    if (rc)
+        return rc;
+    a->ns_save = a->ns;
+    a->saved = 0;
+    coefficients(a);
+    predict(a);
+    next_time(a);
+    rc = eval(a, a->tnew, a->p, a->fp);
+    if (rc < 0)
+        return SWIM_ODE_ERHS;
+    if (rc > 0)
+        return domain_failure(a, a->ns_save, a->h);
+    abm_estimate e;
+    estimate_errors(a, &e);
+    if (!(e.err <= 1.0))
+        return reject(a, &e);
+
+    const int k = a->k;
+    const double h = a->h;
+    correct(a);
+    if ((rc = project(a)))
+        return rc;
+    rc = eval(a, a->tnew, a->yn, a->fp);
+    if (rc < 0)
+        return SWIM_ODE_ERHS;
+    if (rc > 0)
+        return domain_failure(a, a->ns_save, h);
+    accept(a);
+    const int want_up = !a->phase1 && e.knew == k && k < KM && k + 1 <= a->ns;
+    const double sk2 = update_differences(a, want_up);
+    double erk = choose_order(a, &e, want_up, sk2);
+    const double la_rho = look_ahead(a, &e, k, &erk);
+    int was_clamped;
+    const int cut = choose_step(a, erk, &was_clamped);
+    stiffness_diagnostic(a, k, h, was_clamped, cut);
     if (a->on_step) {
-        swim_ode_step s = {a->t, h, k, 1, err, erk_k, la_rho, a->y};
+        swim_ode_step s = {a->t, h, k, 1, e.err, e.erk, la_rho, a->y};
         a->on_step(&s, a->on_step_data);
     }
     *accepted = 1;
@@ -753,23 +884,40 @@ void abm_interp(const abm *a, double tout, double *yout, double *ypout)
     }
 }
 
-int abm_advance(abm *a, double tout, double *yout)
+int abm_step_toward(abm *a, double tout, int *done)
 {
-    if (!(tout > a->tout_last) || tout > a->tstop)
-        return SWIM_ODE_EBADARG;
+    *done = 0;
     if (!a->started) {
         int rc = start(a, tout);
         if (rc)
             return rc;
     }
-    while (a->t < tout) {
-        if (a->have_step && isfinite(a->tstop) && a->tstop - a->t <= 64.0 * UROUND * fmax(fabs(a->t), fabs(a->tstop)))
-            break;   /* at tstop up to rounding: extrapolate the last polynomial */
-        int acc, rc = abm_step(a, &acc);
+    if (a->t >= tout ||
+        (a->have_step && isfinite(a->tstop) && a->tstop - a->t <= 64.0 * UROUND * fmax(fabs(a->t), fabs(a->tstop)))) {
+        *done = 1;   /* covered, or at tstop up to rounding: extrapolate the last polynomial */
+        return SWIM_ODE_OK;
+    }
+    int acc;
+    do {
+        int rc = abm_step(a, &acc);
         if (rc)
             return rc;
-        if (acc && a->stiff_stop && a->stiff_suspected)
-            return SWIM_ODE_ESTIFF;
+    } while (!acc);
+    if (a->stiff_stop && a->stiff_suspected)
+        return SWIM_ODE_ESTIFF;
+    return SWIM_ODE_OK;
+}
+
+int abm_advance(abm *a, double tout, double *yout)
+{
+    if (!(tout > a->tout_last) || tout > a->tstop)
+        return SWIM_ODE_EBADARG;
+    for (;;) {
+        int done, rc = abm_step_toward(a, tout, &done);
+        if (rc)
+            return rc;
+        if (done)
+            break;
     }
     abm_interp(a, tout, yout, NULL);
     a->tout_last = tout;

@@ -22,6 +22,12 @@ void abm_free(abm *a);
  * accepted, 0 if it was rejected (state restored exactly, smaller h/order). */
 int abm_step(abm *a, int *accepted);
 
+/* One accepted step (after as many rejected attempts as it takes), or *done = 1
+ * without a step when tout is covered (t >= tout, or tstop reached up to
+ * rounding).  SWIM_ODE_ESTIFF after the step when stiff_stop is set and the
+ * diagnostic has fired. */
+int abm_step_toward(abm *a, double tout, int *done);
+
 /* Step until tout is covered (t >= tout or tstop reached) and interpolate. */
 int abm_advance(abm *a, double tout, double *yout);
 

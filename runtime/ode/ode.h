@@ -1,18 +1,38 @@
 /* swim ODE integrators behind one interface.
  *
  * A problem is described GSL-style by a swim_ode_system (right-hand side,
- * dimension, opaque params).  swim_ode_create() picks an integrator by name at
- * run time: "abm" (default, our Adams-Bashforth-Moulton code of the ode113 /
- * Shampine-Gordon class), the GSL odeiv2 steppers "rk8pd", "msadams", "rkf45",
- * "msbdf" (Jacobian by finite differences), and SUNDIALS CVODE "cvode-adams"
- * (fixed-point iteration) and "cvode-bdf" (dense Newton, difference-quotient
- * Jacobian).
+ * dimension, opaque params, optional exact Jacobian).  swim_ode_create() picks
+ * an integrator by name at run time from one registry: "abm" (default, our
+ * Adams-Bashforth-Moulton code of the ode113 / Shampine-Gordon class), the GSL
+ * odeiv2 steppers "rk8pd", "msadams", "rkf45", "msbdf", and SUNDIALS CVODE
+ * "cvode-adams" (fixed-point iteration) and "cvode-bdf" (dense Newton).
+ *
+ * Capabilities.  What an integrator can do beyond y' = f(t, y) is a set of
+ * SWIM_ODE_CAP_* flags, queried by name with swim_ode_capabilities() -- callers
+ * never test integrator names.  An option an integrator cannot honour
+ * (projection, step report, events, stiffness stop) makes swim_ode_create()
+ * return SWIM_ODE_EUNSUPPORTED instead of being ignored:
+ *
+ *   name         projection  step trace  events  user Jacobian  stiffness diagnostic
+ *   abm              x           x         x          -               x
+ *   rk8pd            -           -         -          -               -
+ *   msadams          -           -         -          -               -
+ *   rkf45            -           -         -          -               -
+ *   msbdf            -           -         -          x               -
+ *   cvode-adams      -           -         x          -               -
+ *   cvode-bdf        x           -         x          x               -
+ *
+ * A Jacobian in the system is information, not a request: integrators without
+ * SWIM_ODE_CAP_JACOBIAN need none and do not call it.  The GSL steppers have no
+ * dense output (GSL's driver shortens the last step onto tout), so they offer
+ * no events; CVODE projects through CVodeSetProjFn (SUNDIALS >= 5.3, BDF only).
  *
  * Ownership: a swim_ode object owns all of its internal memory and is released
- * with swim_ode_free().  It copies y0, the options and atol_vec at creation, so
- * the caller may reuse those arrays.  The system's params pointer is borrowed
- * and must stay valid while the integrator is used.  yout arrays belong to the
- * caller.  Integration runs forward in time only.
+ * with swim_ode_free().  It copies y0, the options, atol_vec and the event
+ * list (not the event functions' data) at creation, so the caller may reuse
+ * those arrays.  The system's params pointer and the events' data pointers are
+ * borrowed and must stay valid while the integrator is used.  yout arrays
+ * belong to the caller.  Integration runs forward in time only.
  */
 #ifndef SWIM_ODE_ODE_H
 #define SWIM_ODE_ODE_H
@@ -45,11 +65,63 @@
  * there (which a function of (t, y) cannot produce) ends the run. */
 typedef int (*swim_ode_func)(double t, const double *y, double *dydt, void *params);
 
+/* Optional exact Jacobian J = df/dy at (t, y): dense, row-major, J[i*n + j] =
+ * df_i/dy_j, n = dimension; J is owned by the integrator and must be filled
+ * completely.  Return values as for swim_ode_func (positive: (t, y) outside
+ * the domain, the integrator retries smaller; negative: fatal). */
+typedef int (*swim_ode_jacobian)(double t, const double *y, double *J, void *params);
+
 typedef struct {
     swim_ode_func function;
     size_t dimension;
     void *params;
+    /* NULL: integrators with SWIM_ODE_CAP_JACOBIAN form J by difference quotients
+     * (msbdf: forward differences, n + 2 calls of f with df/dt; cvode-bdf: CVODE's
+     * own, n calls).  Given: cvode-bdf uses it as its dense Jacobian (CVodeSetJacFn);
+     * msbdf through gsl_odeiv2_system.jacobian, whose df/dt is set to 0: msbdf reads
+     * only df/dy (its Newton matrix is I - gamma J; GSL 2.7), so computing df/dt
+     * would cost a call of f for nothing.  Counted in swim_ode_stats.jac_evals. */
+    swim_ode_jacobian jacobian;
 } swim_ode_system;
+
+/* Events.  An event function g(t, y, y') is a scalar evaluated on the
+ * integrator's interpolant: y = y(t) and yp = y'(t), the derivative of that
+ * interpolant (for Adams methods the polynomial through the stored f values,
+ * exact f at the step ends).  An event is a change of sign of g within a step
+ * (0 counts as positive); direction filters it:
+ *   +1  rising  (g goes from < 0 to >= 0; for g = dq/dt: a minimum of q),
+ *   -1  falling (from >= 0 to < 0; for g = dq/dt: a maximum of q),
+ *    0  either.
+ * After every accepted step the sign of each g at the step end is compared
+ * with its sign at the previous step end; on a change the time is located on
+ * the step's interpolant by the Illinois variant of regula falsi (bracketing,
+ * superlinear; bisection when it stalls) to a bracket of
+ * max(event_tol, 4u|t|), then reported through on_event in time order.  A
+ * terminal event ends the integration there: swim_ode_advance() returns
+ * SWIM_ODE_TERMINATED with y(t_event) in yout (from the interpolant) and
+ * swim_ode_time() = t_event; later events of that step are not reported and
+ * the object cannot advance further.  g must depend on (t, y, yp) only; a NaN
+ * value counts as "no sign information" (no event across it), and so does
+ * g = 0 exactly at the initial time (no event at t0, as in ode113).  Extremes of a
+ * quantity q(y) are zeros of dq/dt = grad q . y': pass that as g (e.g. yp[i] for
+ * a component, or a difference of q along yp). */
+typedef double (*swim_ode_event_func)(double t, const double *y, const double *yp, void *data);
+
+typedef struct {
+    swim_ode_event_func g;
+    void *data;            /* borrowed, passed to g */
+    int direction;         /* +1, -1 or 0 as above */
+    int terminal;          /* nonzero: stop at the first occurrence */
+} swim_ode_event;
+
+typedef struct {
+    int index;             /* position of the event in swim_ode_options.events */
+    double t;              /* located time */
+    const double *y;       /* y(t) from the interpolant (valid during the call only) */
+    const double *yp;      /* y'(t) from the interpolant (valid during the call only) */
+    int rising;            /* 1: g went from < 0 to >= 0, 0: the other way */
+    int terminal;          /* the event ends the integration */
+} swim_ode_event_hit;
 
 /* One ABM step attempt, as passed to swim_ode_options.on_step (diagnostics, e.g. swim run
  * --trace-steps). Attempts that f refused (domain failures) are not reported. */
@@ -75,18 +147,29 @@ typedef struct {
     int lookahead;              /* ABM: when the error estimate grows by rho per step, the step-size
                                    decision uses rho^lookahead times it (abm.c); 0..12, 0 = the
                                    classic Shampine-Gordon rule; default 6 */
-    /* Optional projection onto an invariant manifold (ABM only; the peers ignore it): called
-     * after each accepted step with the corrected y_{n+1}, which it may modify in place, before
+    /* Optional projection onto an invariant manifold (SWIM_ODE_CAP_PROJECTION): called after
+     * each accepted step with the corrected y_{n+1}, which it may modify in place.  ABM: before
      * the final evaluation f(t_{n+1}, y_{n+1}) of PECE -- so the derivative history of the
-     * method is the one of the projected states. Nonzero return: stop with SWIM_ODE_ERHS. */
+     * method is the one of the projected states.  cvode-bdf: as CVODE's projection function
+     * (the difference projected - corrected becomes CVODE's correction of its history; the
+     * error estimate is not projected).  Nonzero return: stop with SWIM_ODE_ERHS. */
     int (*project)(double t, double *y, void *params);
-    /* Optional report of every ABM step attempt (the peers ignore it), with its own data. */
+    /* Optional report of every ABM step attempt (SWIM_ODE_CAP_STEP_TRACE), with its own data. */
     void (*on_step)(const swim_ode_step *step, void *data);
     void *on_step_data;
+    /* Optional events (integrators with SWIM_ODE_CAP_EVENTS): nevents entries, the
+     * array is copied.  Each located event is passed to on_event (required when
+     * nevents > 0) with on_event_data. */
+    const swim_ode_event *events;
+    size_t nevents;
+    void (*on_event)(const swim_ode_event_hit *hit, void *data);
+    void *on_event_data;
+    double event_tol;           /* width of the final bracket in t; 0 = default 1e-13 */
 } swim_ode_options;
 
 /* rtol = 1e-6, atol = 1e-9, no hmax, automatic h0, tstop = INFINITY,
- * max_steps = 10^7, stiff_stop = 0, lookahead = 6, no projection. */
+ * max_steps = 10^7, stiff_stop = 0, lookahead = 6, no projection, no step
+ * report, no events. */
 void swim_ode_options_default(swim_ode_options *opt);
 
 typedef struct {
@@ -94,7 +177,9 @@ typedef struct {
     long rhs_evals;        /* calls of the right-hand side (including Jacobian differencing) */
     long rejected;         /* rejected step attempts (error test failures, convergence failures,
                               positive right-hand-side values) */
-    long jac_evals;        /* Jacobian evaluations (BDF methods) */
+    long jac_evals;        /* Jacobian evaluations (BDF methods; by differences or the user's) */
+    long event_evals;      /* evaluations of event functions */
+    long events;           /* events located */
     long order_hist[13];   /* accepted steps per order (ABM, CVODE); index = order */
     double last_h;         /* last step size taken */
     int last_order;        /* order of the last step (0 when the method does not report it) */
@@ -110,21 +195,45 @@ enum {
     SWIM_ODE_ESTIFF,        /* stiffness suspected (ABM with stiff_stop) */
     SWIM_ODE_EMAXSTEPS,     /* max_steps reached */
     SWIM_ODE_ENOMEM,        /* allocation failed */
-    SWIM_ODE_EFAIL          /* peer library failure */
+    SWIM_ODE_EFAIL,         /* peer library failure */
+    SWIM_ODE_EUNSUPPORTED,  /* an option the integrator cannot honour (see the capabilities) */
+    SWIM_ODE_TERMINATED     /* not an error: a terminal event ended the integration */
 };
+
+/* Capabilities of an integrator (bit flags, see the table at the top). */
+enum {
+    SWIM_ODE_CAP_PROJECTION = 1,   /* swim_ode_options.project */
+    SWIM_ODE_CAP_STEP_TRACE = 2,   /* swim_ode_options.on_step */
+    SWIM_ODE_CAP_EVENTS = 4,       /* swim_ode_options.events */
+    SWIM_ODE_CAP_JACOBIAN = 8,     /* uses swim_ode_system.jacobian (and differences without it) */
+    SWIM_ODE_CAP_STIFFNESS = 16    /* stiffness diagnostic (swim_ode_options.stiff_stop) */
+};
+
+/* The registry.  swim_ode_methods(): NULL-terminated list of names, in the order
+ * of the table above.  swim_ode_method_known(): 1 if name is one of them.
+ * swim_ode_capabilities(): the SWIM_ODE_CAP_* flags of name (0 if unknown).
+ * swim_ode_method_list(): the names as "abm, rk8pd, ..." for messages (static). */
+const char *const *swim_ode_methods(void);
+int swim_ode_method_known(const char *name);
+unsigned swim_ode_capabilities(const char *name);
+const char *swim_ode_method_list(void);
 
 typedef struct swim_ode swim_ode;   /* opaque; owns its memory; the caller owns y arrays */
 
-/* method NULL or "" selects "abm".  On success *out receives a new object. */
+/* method NULL or "" selects "abm".  On success *out receives a new object.
+ * SWIM_ODE_EUNSUPPORTED when opt asks for something the method lacks. */
 int swim_ode_create(const char *method, const swim_ode_system *sys, const swim_ode_options *opt,
                     double t0, const double *y0, swim_ode **out);
 /* Integrate until tout is covered and write y(tout) (from the method's own
  * interpolant where it has one) into yout (caller-owned, length dimension).
  * tout must be > t0 and increase strictly between calls, and not exceed tstop.
- * After an error the object should be freed. */
+ * Events located on the way are reported through on_event; a terminal one at
+ * t_e <= tout ends the call with SWIM_ODE_TERMINATED and y(t_e) in yout (one
+ * found in the last step beyond tout is kept for the next call).  After an
+ * error or SWIM_ODE_TERMINATED the object should be freed. */
 int swim_ode_advance(swim_ode *s, double tout, double *yout);
 int swim_ode_get_stats(const swim_ode *s, swim_ode_stats *st);
-double swim_ode_time(const swim_ode *s);  /* time reached by the internal steps */
+double swim_ode_time(const swim_ode *s);  /* time reached by the internal steps (t_event after a terminal event) */
 /* Last nonzero value returned by the right-hand side (or by the projection),
  * 0 if none; after SWIM_ODE_ERHS the value that ended the run.  It may be a
  * recovered positive value after a successful advance. */
@@ -132,6 +241,5 @@ int swim_ode_rhs_status(const swim_ode *s);
 const char *swim_ode_method_name(const swim_ode *s);
 void swim_ode_free(swim_ode *s);
 const char *swim_ode_strerror(int status);
-const char *const *swim_ode_methods(void); /* NULL-terminated list of names */
 
 #endif

@@ -2,6 +2,12 @@
  * and "cvode-bdf" (BDF, dense Newton with CVODE's difference-quotient
  * Jacobian).  Output at tout comes from CVODE's own interpolant (CV_NORMAL).
  *
+ * Projection (cvode-bdf): swim's projection maps y to a point of the manifold
+ * in place; CVODE (>= 5.3, BDF only) wants the correction, projected minus
+ * corrected y, which it adds to the solution and its Nordsieck history.  The
+ * error estimate is not projected (CVodeSetProjErrEst off): the projection
+ * function has no use for it.
+ *
  * Right-hand-side failures: CVODE's convention is swim's.  A positive value is
  * recoverable: CVODE counts a nonlinear-solver failure, cuts the step (by
  * eta_cf = 1/4) and retries; a positive value inside the difference-quotient
@@ -28,6 +34,7 @@
 
 #include <cvode/cvode.h>
 #include <cvode/cvode_ls.h>
+#include <cvode/cvode_proj.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
@@ -41,10 +48,14 @@ typedef struct {
     SUNContext ctx;
     void *mem;
     N_Vector y, atolv;
+    N_Vector ky;       /* work vector for CVodeGetDky */
     SUNMatrix A;
     SUNLinearSolver LS;
     SUNNonlinearSolver NLS;
     int bdf;
+    int (*project)(double t, double *y, void *params);   /* swim's projection, or NULL */
+    double *yproj;     /* work vector for the projection (n) */
+    double *jwork;     /* the caller's row-major Jacobian (n x n), or NULL */
     double t;
     long nfe_user;
     int rhs_status;    /* last nonzero value returned by the RHS */
@@ -83,6 +94,50 @@ static int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void *p)
     return -1;          /* unrecoverable */
 }
 
+/* CVLsJacFn: the caller's row-major J into CVODE's dense (column-major) matrix.  Return
+ * values as for the RHS: positive makes the linear-solver setup fail recoverably (CVODE
+ * retries with a smaller step), negative is fatal. */
+static int cv_jac(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *p, N_Vector t1, N_Vector t2, N_Vector t3)
+{
+    (void)fy; (void)t1; (void)t2; (void)t3;
+    cv_peer *c = p;
+    const size_t n = c->sys.dimension;
+    int rc = c->sys.jacobian(t, N_VGetArrayPointer(y), c->jwork, c->sys.params);
+    if (rc) {
+        c->rhs_status = rc;
+        c->last_failed = 1;
+        if (rc < 0)
+            c->fatal = 1;
+        return rc < 0 ? -1 : 1;
+    }
+    for (size_t j = 0; j < n; j++) {
+        realtype *col = SM_COLUMN_D(J, (sunindextype)j);
+        for (size_t i = 0; i < n; i++)
+            col[i] = c->jwork[i * n + j];
+    }
+    return 0;
+}
+
+/* CVProjFn: corr = P(ycur) - ycur with swim's in-place projection P. */
+static int cv_project(realtype t, N_Vector ycur, N_Vector corr, realtype eps, N_Vector err, void *p)
+{
+    (void)eps; (void)err;
+    cv_peer *c = p;
+    const size_t n = c->sys.dimension;
+    const double *y = N_VGetArrayPointer(ycur);
+    double *d = N_VGetArrayPointer(corr);
+    memcpy(c->yproj, y, n * sizeof(double));
+    int rc = c->project(t, c->yproj, c->sys.params);
+    if (rc) {
+        c->rhs_status = rc;
+        c->fatal = 1;
+        return -1;      /* unrecoverable: the run stops with SWIM_ODE_ERHS */
+    }
+    for (size_t i = 0; i < n; i++)
+        d[i] = c->yproj[i] - y[i];
+    return 0;
+}
+
 static void cv_silent(int code, const char *module, const char *function, char *msg, void *data)
 {
     (void)code; (void)module; (void)function; (void)msg; (void)data;
@@ -105,19 +160,18 @@ static void cv_destroy(void *p)
         N_VDestroy(c->y);
     if (c->atolv)
         N_VDestroy(c->atolv);
+    if (c->ky)
+        N_VDestroy(c->ky);
     if (c->ctx)
         SUNContext_Free(&c->ctx);
+    free(c->yproj);
+    free(c->jwork);
     free(c);
 }
 
-static int cv_advance(void *p, double tout, double *yout)
+/* CVODE's return value as a SWIM_ODE_* status. */
+static int cv_status(const cv_peer *c, int rc)
 {
-    cv_peer *c = p;
-    realtype t = c->t;
-    int rc = CVode(c->mem, tout, c->y, &t, CV_NORMAL);
-    memcpy(yout, N_VGetArrayPointer(c->y), c->sys.dimension * sizeof(double));
-    CVodeGetCurrentTime(c->mem, &t);
-    c->t = t;
     if (rc >= 0)
         return SWIM_ODE_OK;
     if (c->fatal)
@@ -139,6 +193,47 @@ static int cv_advance(void *p, double tout, double *yout)
         return c->last_failed ? SWIM_ODE_ERHS : SWIM_ODE_EHMIN;
     default: return c->last_failed ? SWIM_ODE_ERHS : SWIM_ODE_EFAIL;
     }
+}
+
+static int cv_advance(void *p, double tout, double *yout)
+{
+    cv_peer *c = p;
+    realtype t = c->t;
+    int rc = CVode(c->mem, tout, c->y, &t, CV_NORMAL);
+    memcpy(yout, N_VGetArrayPointer(c->y), c->sys.dimension * sizeof(double));
+    CVodeGetCurrentTime(c->mem, &t);
+    c->t = t;
+    return cv_status(c, rc);
+}
+
+/* For events: one internal step (CV_ONE_STEP) unless tout is covered already. */
+static int cv_step(void *p, double tout, int *done)
+{
+    cv_peer *c = p;
+    *done = c->t >= tout;
+    if (*done)
+        return SWIM_ODE_OK;
+    realtype t = c->t;
+    int rc = CVode(c->mem, tout, c->y, &t, CV_ONE_STEP);
+    CVodeGetCurrentTime(c->mem, &t);
+    c->t = t;
+    return cv_status(c, rc);
+}
+
+/* CVODE's interpolant on its last step (CVodeGetDky, derivatives 0 and 1). */
+static int cv_dense(void *p, double t, double *y, double *yp)
+{
+    cv_peer *c = p;
+    const size_t n = c->sys.dimension;
+    if (CVodeGetDky(c->mem, t, 0, c->ky) != CV_SUCCESS)
+        return -1;
+    memcpy(y, N_VGetArrayPointer(c->ky), n * sizeof(double));
+    if (yp) {
+        if (CVodeGetDky(c->mem, t, 1, c->ky) != CV_SUCCESS)
+            return -1;
+        memcpy(yp, N_VGetArrayPointer(c->ky), n * sizeof(double));
+    }
+    return 0;
 }
 
 static void cv_stats(const void *p, swim_ode_stats *st)
@@ -166,15 +261,18 @@ static void cv_stats(const void *p, swim_ode_stats *st)
 static double cv_time(const void *p) { return ((const cv_peer *)p)->t; }
 static int cv_rhs_status(const void *p) { return ((const cv_peer *)p)->rhs_status; }
 
-static const ode_backend cv_backend = { cv_destroy, cv_advance, cv_stats, cv_time, cv_rhs_status };
+static const ode_backend cv_backend = { cv_destroy, cv_advance, cv_stats, cv_time, cv_rhs_status,
+                                        cv_step, cv_dense };
 
-int swim_ode_cvode_create(const char *method, const swim_ode_system *sys, const swim_ode_options *opt,
+int swim_ode_cvode_create(const ode_method *m, const swim_ode_system *sys, const swim_ode_options *opt,
                           double t0, const double *y0, void **impl, const ode_backend **be)
 {
     int bdf;
-    if (strcmp(method, "cvode-adams") == 0) bdf = 0;
-    else if (strcmp(method, "cvode-bdf") == 0) bdf = 1;
-    else return SWIM_ODE_EBADARG;
+    switch (m->variant) {
+    case ODE_CVODE_ADAMS: bdf = 0; break;
+    case ODE_CVODE_BDF: bdf = 1; break;
+    default: return SWIM_ODE_EBADARG;
+    }
     size_t n = sys->dimension;
     cv_peer *c = calloc(1, sizeof *c);
     if (!c)
@@ -184,6 +282,7 @@ int swim_ode_cvode_create(const char *method, const swim_ode_system *sys, const 
     c->t = t0;
     int ok = SUNContext_Create(NULL, &c->ctx) == 0;
     if (ok) ok = (c->y = N_VNew_Serial((sunindextype)n, c->ctx)) != NULL;
+    if (ok) ok = (c->ky = N_VNew_Serial((sunindextype)n, c->ctx)) != NULL;
     if (ok) {
         memcpy(N_VGetArrayPointer(c->y), y0, n * sizeof(double));
         ok = (c->mem = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, c->ctx)) != NULL;
@@ -205,6 +304,10 @@ int swim_ode_cvode_create(const char *method, const swim_ode_system *sys, const 
             ok = (c->A = SUNDenseMatrix((sunindextype)n, (sunindextype)n, c->ctx)) != NULL;
             if (ok) ok = (c->LS = SUNLinSol_Dense(c->y, c->A, c->ctx)) != NULL;
             if (ok) ok = CVodeSetLinearSolver(c->mem, c->LS, c->A) == CV_SUCCESS;
+            if (ok && sys->jacobian) {
+                ok = (c->jwork = malloc(n * n * sizeof(double))) != NULL;
+                if (ok) ok = CVodeSetJacFn(c->mem, cv_jac) == CV_SUCCESS;
+            }
         } else {
             ok = (c->NLS = SUNNonlinSol_FixedPoint(c->y, 0, c->ctx)) != NULL;
             if (ok) ok = CVodeSetNonlinearSolver(c->mem, c->NLS) == CV_SUCCESS;
@@ -214,6 +317,12 @@ int swim_ode_cvode_create(const char *method, const swim_ode_system *sys, const 
     if (ok && opt->hmax > 0) ok = CVodeSetMaxStep(c->mem, opt->hmax) == CV_SUCCESS;
     if (ok && opt->h0 > 0) ok = CVodeSetInitStep(c->mem, opt->h0) == CV_SUCCESS;
     if (ok && isfinite(opt->tstop)) ok = CVodeSetStopTime(c->mem, opt->tstop) == CV_SUCCESS;
+    if (ok && opt->project) {
+        c->project = opt->project;
+        ok = (c->yproj = malloc(n * sizeof(double))) != NULL;
+        if (ok) ok = CVodeSetProjFn(c->mem, cv_project) == CV_SUCCESS;
+        if (ok) ok = CVodeSetProjErrEst(c->mem, SUNFALSE) == CV_SUCCESS;
+    }
     if (!ok) {
         cv_destroy(c);
         return SWIM_ODE_EFAIL;

@@ -67,6 +67,22 @@ static int gsl_rhs(double t, const double *y, double *f, void *p)
     return GSL_RHS_DOMAIN;
 }
 
+/* The caller's Jacobian.  msbdf, the one GSL stepper here that calls a Jacobian, reads only
+ * df/dy (its Newton matrix is I - gamma df/dy; GSL 2.7 msbdf.c never reads dfdt), so df/dt is
+ * set to 0 instead of being formed by an extra evaluation of f. */
+static int gsl_user_jac(double t, const double *y, double *dfdy, double *dfdt, void *p)
+{
+    gsl_peer *g = p;
+    size_t n = g->sys.dimension;
+    g->njac++;
+    int rc = g->sys.jacobian(t, y, dfdy, g->sys.params);
+    memset(dfdt, 0, n * sizeof(double));
+    if (rc == 0)
+        return GSL_SUCCESS;
+    g->rhs_status = rc;
+    return rc < 0 ? GSL_EBADFUNC : GSL_RHS_DOMAIN;   /* positive: msbdf's failure handler retries smaller */
+}
+
 /* Forward-difference Jacobian (n+2 RHS evaluations including df/dt). */
 static int gsl_jac(double t, const double *y, double *dfdy, double *dfdt, void *p)
 {
@@ -193,17 +209,21 @@ static void gsl_stats(const void *p, swim_ode_stats *st)
 static double gsl_time(const void *p) { return ((const gsl_peer *)p)->t; }
 static int gsl_rhs_status(const void *p) { return ((const gsl_peer *)p)->rhs_status; }
 
-static const ode_backend gsl_backend = { gsl_destroy, gsl_advance, gsl_stats, gsl_time, gsl_rhs_status };
+/* No dense output: the event hooks stay NULL (the registry gives no SWIM_ODE_CAP_EVENTS). */
+static const ode_backend gsl_backend = { gsl_destroy, gsl_advance, gsl_stats, gsl_time, gsl_rhs_status,
+                                         NULL, NULL };
 
-int swim_ode_gsl_create(const char *method, const swim_ode_system *sys, const swim_ode_options *opt,
+int swim_ode_gsl_create(const ode_method *m, const swim_ode_system *sys, const swim_ode_options *opt,
                         double t0, const double *y0, void **impl, const ode_backend **be)
 {
     const gsl_odeiv2_step_type *type = NULL;
-    if (strcmp(method, "rk8pd") == 0) type = gsl_odeiv2_step_rk8pd;
-    else if (strcmp(method, "msadams") == 0) type = gsl_odeiv2_step_msadams;
-    else if (strcmp(method, "rkf45") == 0) type = gsl_odeiv2_step_rkf45;
-    else if (strcmp(method, "msbdf") == 0) type = gsl_odeiv2_step_msbdf;
-    else return SWIM_ODE_EBADARG;
+    switch (m->variant) {
+    case ODE_GSL_RK8PD: type = gsl_odeiv2_step_rk8pd; break;
+    case ODE_GSL_MSADAMS: type = gsl_odeiv2_step_msadams; break;
+    case ODE_GSL_RKF45: type = gsl_odeiv2_step_rkf45; break;
+    case ODE_GSL_MSBDF: type = gsl_odeiv2_step_msbdf; break;
+    default: return SWIM_ODE_EBADARG;
+    }
     if (opt->rtol == 0 && !opt->atol_vec && opt->atol == 0)
         return SWIM_ODE_EBADARG;
     /* GSL's default handler aborts the program; errors are reported by status here. */
@@ -229,7 +249,7 @@ int swim_ode_gsl_create(const char *method, const swim_ode_system *sys, const sw
     g->opt.atol_vec = opt->atol_vec ? g->scale_abs : NULL;
     g->type = type;
     g->gsys.function = gsl_rhs;
-    g->gsys.jacobian = gsl_jac;
+    g->gsys.jacobian = sys->jacobian ? gsl_user_jac : gsl_jac;
     g->gsys.dimension = n;
     g->gsys.params = g;
     g->t = g->t0 = t0;

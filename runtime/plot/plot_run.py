@@ -1,16 +1,31 @@
 #!/usr/bin/env python3
 """Figures of one `swim run` output directory.
 
-Usage: plot_run.py DIR [--only NAME ...]
+Usage: plot_run.py DIR [--only NAME ...] [--mark t1,t2,...]
 
-Reads DIR/trajectory.csv, DIR/summary.json and DIR/snapshots.json (written by
-`swim run SCENE --out DIR`) and writes into DIR, printing each path written:
+Reads DIR/trajectory.csv, DIR/summary.json, DIR/events.csv (if present) and
+the body pictures: DIR/snapshots.json if present, otherwise computed by
+`swim flow DIR` (from DIR/scene.toml and the trajectory; the binary is $SWIM_BIN
+or bin/swim of this tree). Writes into DIR, printing each path written:
 
   trajectory.png  centre-of-mass path y vs x, and y(t)          (paper Figs 4.2, 4.9, 4.17)
   energy.png      energy distribution, absolute and in percent   (Figs 4.4, 4.11, 4.16, 4.20)
   impulse.png     linear impulses of body and fluid and their sum (Fig 4.12)
-  phase.png       phase portraits of the most active free coordinates (Figs 4.10, 4.14)
-  snapshots.png   body density, outline, path and fluid velocity  (Figs 4.3, 4.8)
+  phase.png       phase portraits of the most active free coordinates
+  snapshots.png   body density, outline, path and fluid velocity  (Figs 4.3, 4.15, 4.18, 4.22)
+  instants.png    the body at the marked instants                  (Fig 4.8)
+  phase3d.png     (coordinate, velocity, t) curves                 (Figs 4.10, 4.14, 4.19)
+  modes.png       mode amplitudes (k+1)^2 |c_-k|^2 over time        (Figs 4.24, 4.25)
+  path.png        the path of the centre of mass with the body along it (Figs 4.13, 5.1)
+
+Only the figures that say something about the run are drawn: instants.png when
+there are marks, phase3d.png for scenes with at most 8 free coordinates,
+modes.png for scenes with at least 3 free complex modes, path.png when the
+centre of mass travels at least 0.6 body diameters.
+
+Marks (dashed lines on energy.png and impulse.png, the panels of instants.png)
+are the times given with --mark, otherwise the events of DIR/events.csv
+(columns t,column,kind,value; at most 12 distinct times are marked).
 
 NAME is one of the figure names above (with or without ".png"). A figure whose
 input is missing or unusable is skipped with a message on stderr. The CSV may
@@ -20,7 +35,9 @@ figure was written, 1 otherwise.
 import json
 import math
 import os
+import subprocess
 import sys
+import tempfile
 
 import numpy as np
 import matplotlib
@@ -30,7 +47,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.colors import Normalize  # noqa: E402
 
-FIGURES = ("trajectory", "energy", "impulse", "phase", "snapshots")
+FIGURES = ("trajectory", "energy", "impulse", "phase", "snapshots", "instants", "phase3d",
+           "modes", "path")
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+MAX_MARKS = 12
 FIGSIZE = (12.0, 5.0)
 DPI = 110
 
@@ -139,6 +159,58 @@ def coord_label(name, dot=False):
     return r"$%s_{%s}$" % (sym, idx)
 
 
+def swim_binary():
+    return os.environ.get("SWIM_BIN") or os.path.join(ROOT, "bin", "swim")
+
+
+def read_events(path):
+    """Rows (t, column, kind, value) of an events.csv, sorted by time; [] when absent."""
+    if not os.path.exists(path):
+        return []
+    events = []
+    try:
+        with open(path, "r", errors="replace") as fh:
+            lines = fh.read().splitlines()
+        head = [h.strip() for h in lines[0].split(",")] if lines else []
+        if not all(k in head for k in ("t", "column", "kind")):
+            warn("%s: header %s lacks t,column,kind; ignored" % (path, ",".join(head)))
+            return []
+        it, ic, ik = head.index("t"), head.index("column"), head.index("kind")
+        iv = head.index("value") if "value" in head else None
+        for line in lines[1:]:
+            f = line.split(",")
+            if len(f) != len(head):
+                continue
+            try:
+                t = float(f[it])
+                v = float(f[iv]) if iv is not None else math.nan
+            except ValueError:
+                continue
+            if math.isfinite(t):
+                events.append((t, f[ic].strip(), f[ik].strip(), v))
+    except OSError as e:
+        warn("%s: unreadable (%s)" % (path, e))
+    events.sort(key=lambda e: e[0])
+    return events
+
+
+def marks_from_events(events):
+    """At most MAX_MARKS distinct times (events closer than 1e-6 share a line)."""
+    marks = []
+    for t, col, kind, _ in events:
+        label = "%s %s" % (col, kind)
+        if marks and abs(marks[-1][0] - t) < 1e-6:
+            marks[-1] = (marks[-1][0], marks[-1][1] + ", " + label)
+        elif len(marks) < MAX_MARKS:
+            marks.append((t, label))
+    return marks
+
+
+def draw_marks(ax, run, t=None):
+    for tm, _ in run.marks or []:
+        ax.axvline(tm, color="k", ls="--", lw=0.9, alpha=0.8)
+
+
 # ---------------------------------------------------------------- context
 
 class Run:
@@ -171,17 +243,57 @@ class Run:
         except Exception as e:  # noqa: BLE001
             self.csv_error = "%s: %s" % (tp, e)
 
-        np_ = os.path.join(outdir, "snapshots.json")
-        if os.path.exists(np_):
+        self.events = read_events(os.path.join(outdir, "events.csv"))
+        self.marks = None   # list of (t, label); set by main()
+        self._snapshots_loaded = False
+
+    def load_snapshots(self):
+        """DIR/snapshots.json, computed by `swim flow DIR` (and kept) when missing."""
+        if self._snapshots_loaded:
+            return
+        self._snapshots_loaded = True
+        np_ = os.path.join(self.dir, "snapshots.json")
+        if not os.path.exists(np_):
             try:
-                s = read_json(np_)
-                self.snapshots = s if isinstance(s, list) else None
-                if self.snapshots is None:
-                    self.snap_error = "%s: not a JSON list" % np_
-            except Exception as e:  # noqa: BLE001
-                self.snap_error = "%s: unreadable (%s)" % (np_, e)
-        else:
-            self.snap_error = "%s missing" % np_
+                self.snapshots = self.flow(frames=10, out=np_)
+            except Skip as e:
+                self.snap_error = str(e)
+            return
+        try:
+            s = read_json(np_)
+            self.snapshots = s if isinstance(s, list) else None
+            if self.snapshots is None:
+                self.snap_error = "%s: not a JSON list" % np_
+        except Exception as e:  # noqa: BLE001
+            self.snap_error = "%s: unreadable (%s)" % (np_, e)
+
+    def flow(self, times=None, frames=None, out=None):
+        """Body pictures at the given times (or K evenly spaced frames) from `swim flow`."""
+        swim = swim_binary()
+        if not os.path.exists(os.path.join(self.dir, "scene.toml")):
+            raise Skip("%s/scene.toml missing (run directory from an older swim run?)" % self.dir)
+        tmp = None
+        if out is None:
+            fd, tmp = tempfile.mkstemp(suffix=".json", prefix="flow-", dir=self.dir)
+            os.close(fd)
+        cmd = [swim, "flow", self.dir, "--out", out or tmp]
+        if times is not None:
+            cmd += ["--times", ",".join("%.17g" % t for t in times)]
+        elif frames is not None:
+            cmd += ["--frames", str(int(frames))]
+        try:
+            p = subprocess.run(cmd, capture_output=True, text=True)
+            if p.returncode != 0:
+                raise Skip("swim flow failed: %s" % p.stderr.strip()[:300])
+            s = read_json(out or tmp)
+            if not isinstance(s, list):
+                raise Skip("swim flow wrote no list")
+            return s
+        except OSError as e:
+            raise Skip("cannot run %s: %s" % (swim, e))
+        finally:
+            if tmp and os.path.exists(tmp):
+                os.remove(tmp)
 
     def name(self):
         title = self.summary.get("title")
@@ -316,6 +428,7 @@ def fig_energy(run):
     if work is not None and absmax(work) > 1e-12 * max(absmax(total), 1e-300):
         ax1.plot(t, work, color="k", lw=1.0, ls=":", label="work of forcing + damping")
     mark_failure(ax1, run, t)
+    draw_marks(ax1, run)
     ax1.set_xlabel("time t")
     ax1.set_ylabel("energy")
     ax1.set_title("Distribution of energy (stacked)")
@@ -342,6 +455,7 @@ def fig_energy(run):
         ax2.text(0.5, 0.5, "total energy is ~0 at all times", ha="center",
                  transform=ax2.transAxes)
     mark_failure(ax2, run, t)
+    draw_marks(ax2, run)
     ax2.set_xlabel("time t")
     ax2.set_ylabel("share of total energy (%)")
     ax2.set_title("Distribution of energy (percent)")
@@ -389,6 +503,7 @@ def fig_impulse(run):
         ax.plot(t, total, color="k", lw=1.2, ls="--", label="sum (should be 0)")
         ax.axhline(0, color="0.5", lw=0.6)
         mark_failure(ax, run, t)
+        draw_marks(ax, run)
         ax.set_xlabel("time t")
         ax.set_ylabel("%s-component of linear impulse" % c)
         ax.set_title("Linear impulse, %s-component" % c)
@@ -473,11 +588,9 @@ def _close_polar(X, Y, R):
     return X, Y, R
 
 
-def fig_snapshots(run):
-    if run.snapshots is None:
-        raise Skip(run.snap_error or "no snapshots")
+def parse_snapshots(raw):
     snaps = []
-    for i, s in enumerate(run.snapshots):
+    for i, s in enumerate(raw):
         try:
             snap = {"t": float(s["t"])}
             b = s.get("boundary") or {}
@@ -508,10 +621,53 @@ def fig_snapshots(run):
     if not snaps:
         raise Skip("no usable snapshot (no boundary nor density)")
     snaps.sort(key=lambda s: s["t"])
+    return snaps
+
+
+def fig_snapshots(run):
+    run.load_snapshots()
+    if run.snapshots is None:
+        raise Skip(run.snap_error or "no snapshots")
+    snaps = parse_snapshots(run.snapshots)
     if len(snaps) > 12:
         pick = np.unique(np.linspace(0, len(snaps) - 1, 12).round().astype(int))
         snaps = [snaps[i] for i in pick]
+    return draw_panels(run, snaps, "snapshots",
+                       "snapshots (colour: density of the body, arrows: fluid velocity)")
 
+
+def fig_instants(run):
+    if not run.marks:
+        raise Skip("no marked instants (no --mark and no events.csv)")
+    t = run.cols["t"] if run.cols is not None and "t" in run.cols else None
+    times = [tm for tm, _ in run.marks]
+    if t is not None and finite_any(t):
+        times = [tm for tm in times if np.nanmin(t) - 1e-9 <= tm <= np.nanmax(t) + 1e-9]
+    if not times:
+        raise Skip("no marked instant inside the run")
+    snaps = parse_snapshots(run.flow(times=times))
+    labels = {round(tm, 6): lab for tm, lab in run.marks}
+    for s in snaps:
+        s["label"] = labels.get(round(s["t"], 6))
+    return draw_panels(run, snaps, "instants",
+                       "the body at the marked instants (colour: density, arrows: fluid velocity)")
+
+
+def draw_density(ax, density, norm):
+    X, Y, R = density
+    if np.isfinite(R).all():
+        return ax.pcolormesh(X, Y, R, shading="gouraud", cmap="viridis", norm=norm,
+                             rasterized=True)
+    if min(R.shape) > 1:
+        # Gouraud shading cannot leave holes: use flat cells (mean of the four
+        # corners) and leave blank the cells touching a NaN
+        cell = 0.25 * (R[:-1, :-1] + R[1:, :-1] + R[:-1, 1:] + R[1:, 1:])
+        return ax.pcolormesh(X, Y, np.ma.masked_invalid(cell), shading="flat",
+                             cmap="viridis", norm=norm, rasterized=True)
+    return None
+
+
+def draw_panels(run, snaps, name, title):
     # path of the centre of mass (may be absent)
     path = None
     if run.cols is not None and all(k in run.cols for k in ("t", "x", "y")):
@@ -563,7 +719,7 @@ def fig_snapshots(run):
 
     n = len(snaps)
     ncols = min(n, 5 if n != 6 else 3)
-    if n in (7, 8):
+    if n in (7, 8) or (n > 8 and n % 4 == 0 and n % 5 != 0):
         ncols = 4
     nrows = int(math.ceil(n / ncols))
     wx, wy = xlim[1] - xlim[0], ylim[1] - ylim[0]
@@ -579,16 +735,7 @@ def fig_snapshots(run):
             continue
         s = snaps[k]
         if s["density"] is not None:
-            X, Y, R = s["density"]
-            if np.isfinite(R).all():
-                mappable = ax.pcolormesh(X, Y, R, shading="gouraud", cmap="viridis",
-                                         norm=norm, rasterized=True)
-            elif min(R.shape) > 1:
-                # Gouraud shading cannot leave holes: use flat cells (mean of the four
-                # corners) and leave blank the cells touching a NaN
-                cell = 0.25 * (R[:-1, :-1] + R[1:, :-1] + R[:-1, 1:] + R[1:, 1:])
-                mappable = ax.pcolormesh(X, Y, np.ma.masked_invalid(cell), shading="flat",
-                                         cmap="viridis", norm=norm, rasterized=True)
+            mappable = draw_density(ax, s["density"], norm) or mappable
         if s["boundary"] is not None:
             bx, by = s["boundary"]
             ax.plot(np.append(bx, bx[:1]), np.append(by, by[:1]), color="k", lw=1.2)
@@ -613,12 +760,15 @@ def fig_snapshots(run):
         ax.set_ylim(ylim)
         ax.set_aspect("equal")
         ax.set_title("t = %.3g" % s["t"])
+        if s.get("label"):
+            ax.text(0.5, -0.02, s["label"].replace(", ", "\n"), transform=ax.transAxes,
+                    ha="center", va="top", fontsize=7.5, color="0.25")
         if k % ncols == 0:
             ax.set_ylabel("y")
         if k // ncols == nrows - 1 or k + ncols >= n:
             ax.set_xlabel("x")
             ax.tick_params(labelbottom=True)
-    run.suptitle(fig, "snapshots (colour: density of the body, arrows: fluid velocity)")
+    run.suptitle(fig, title)
     fig.tight_layout(rect=(0, 0.04 if quiver_done is not None else 0, 0.9, 1))
     if mappable is not None:
         cax = fig.add_axes((0.915, 0.15, 0.015, 0.7))
@@ -632,18 +782,191 @@ def fig_snapshots(run):
         ax0 = axes.ravel()[0]
         ax0.quiverkey(quiver_done, 0.5, 0.015, vref, "fluid speed %.3g" % vref,
                       coordinates="figure", labelpos="E", color="tab:green")
-    return save(fig, run, "snapshots")
+    return save(fig, run, name)
+
+
+def free_modes(run):
+    """Complex modes with a free coordinate, as Fourier indices k (1, -1, -2, ...)."""
+    ks = set()
+    for name in run.free_coords():
+        idx = name[1:]
+        k = -int(idx[1:]) if idx.startswith("m") else int(idx)
+        ks.add(k)
+    return sorted(ks, key=lambda k: (k < 0, abs(k)))
+
+
+def mode_weight(k):
+    # The paper's Figs 4.24-4.25 weigh c_1 by 1 and c_-k by (k+1)^2: the square of the Fourier
+    # index of the boundary term e^{-i(k+1)theta} times that of the derivative.
+    return 1.0 if k == 1 else float((1 - k) ** 2)
+
+
+def mode_name(k):
+    return "1" if k == 1 else str(k)
+
+
+def fig_modes(run):
+    cols = run.cols
+    (t,) = need(cols, "t")
+    ks = free_modes(run)
+    if len(ks) < 3:
+        raise Skip("fewer than 3 free complex modes (%d)" % len(ks))
+    amp = {}
+    for k in ks:
+        a = "a" + ("1" if k == 1 else "m%d" % -k)
+        b = "b" + ("1" if k == 1 else "m%d" % -k)
+        if a in cols and b in cols:
+            amp[k] = mode_weight(k) * (cols[a] ** 2 + cols[b] ** 2)
+    if len(amp) < 3:
+        raise Skip("mode columns missing")
+    low = [k for k in amp if k in (1, -1, -2)]
+    high = [k for k in amp if k not in (1, -1, -2)]
+    groups = [g for g in (low, high) if g]
+    fig, axes = plt.subplots(1, len(groups), figsize=FIGSIZE, squeeze=False)
+    colours = ["k", "tab:red", "tab:blue", "tab:purple", "tab:green", "tab:orange", "tab:brown",
+               "tab:olive"]
+    for ax, g in zip(axes[0], groups):
+        for i, k in enumerate(g):
+            w = mode_weight(k)
+            lab = (r"$|c_{%s}|^2$" % mode_name(k)) if w == 1 else (r"$%d\,|c_{%s}|^2$" % (w, mode_name(k)))
+            ax.plot(t, amp[k], color=colours[i % len(colours)], lw=1.3, label=lab)
+        mark_failure(ax, run, t)
+        ax.set_xlabel("time t")
+        ax.set_ylabel(r"weighted mode amplitude $(k+1)^2|c_{-k}|^2$")
+        ax.set_title("modes excited at t = 0" if g is low and high else
+                     ("modes not excited at t = 0" if g is high else "mode amplitudes"))
+        ax.grid(alpha=0.3)
+        ax.legend(loc="best")
+    run.suptitle(fig, "amplitudes of the shape modes")
+    fig.tight_layout()
+    return save(fig, run, "modes")
+
+
+def fig_phase3d(run):
+    cols = run.cols
+    (t,) = need(cols, "t")
+    free = run.free_coords()
+    if len(free) > 8:
+        raise Skip("%d free coordinates: modes.png shows them" % len(free))
+    cand = []
+    for name in free:
+        if name in cols and ("d" + name) in cols and span(cols[name]) > 1e-9:
+            q, dq = cols[name], cols["d" + name]
+            # a coordinate at rest at t = 0 that gets excited is what Fig. 4.19 is about
+            at_rest = abs(q[0]) < 1e-12 and abs(dq[0]) < 1e-12
+            cand.append((not at_rest, -span(q), name))
+    if not cand:
+        raise Skip("no free coordinate varies")
+    cand.sort()
+    names = [n for _, _, n in cand[:4]]
+    order = list(cols.keys())
+    names.sort(key=order.index)
+    from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the 3d projection)
+    fig = plt.figure(figsize=(12.0, 4.0 if len(names) > 2 else 5.0))
+    for i, name in enumerate(names):
+        ax = fig.add_subplot(1, len(names), i + 1, projection="3d")
+        q, dq = cols[name], cols["d" + name]
+        ok = np.isfinite(q) & np.isfinite(dq)
+        ax.plot(q[ok], dq[ok], t[ok], color="tab:blue", lw=0.9)
+        ax.set_xlabel(coord_label(name), labelpad=-2)
+        ax.set_ylabel(coord_label(name, dot=True), labelpad=-2)
+        ax.set_zlabel("t", labelpad=-2)
+        ax.tick_params(labelsize=7, pad=0)
+        ax.set_title("(%s, %s, t)" % (coord_label(name), coord_label(name, dot=True)))
+        ax.view_init(elev=22, azim=-58)
+    run.suptitle(fig, "phase curves in time")
+    fig.subplots_adjust(left=0.0, right=0.98, bottom=0.0, top=0.93, wspace=0.05)
+    return save(fig, run, "phase3d")
+
+
+def fig_path(run):
+    t, x, y = need(run.cols, "t", "x", "y")
+    ok = np.isfinite(x) & np.isfinite(y)
+    if not ok.any():
+        raise Skip("x, y are all NaN")
+    first = parse_snapshots(run.flow(times=[float(t[ok][0])]))[0]
+    if first["boundary"] is None:
+        raise Skip("no body outline")
+    size = max(span(first["boundary"][0]), span(first["boundary"][1]))
+    travel = float(np.hypot(x[ok] - x[ok][0], y[ok] - y[ok][0]).max())
+    if travel < 0.6 * size:
+        raise Skip("the centre of mass travels %.3g, less than 0.6 body diameters (%.3g)"
+                   % (travel, size))
+    count = int(min(16, max(4, round(4 * travel / size) + 1)))
+    times = list(np.linspace(float(t[ok][0]), float(t[ok][-1]), count))
+    snaps = parse_snapshots(run.flow(times=times))
+    rhos = np.concatenate([s["density"][2].ravel() for s in snaps if s["density"] is not None]
+                          or [np.zeros(0)])
+    rhos = rhos[np.isfinite(rhos)]
+    vmin, vmax = (np.percentile(rhos, [0.5, 99.5]) if rhos.size else (0.0, 1.0))
+    if vmax <= vmin:
+        vmin, vmax = vmin - 0.5, vmax + 0.5
+    norm = Normalize(vmin, vmax)
+    xs = np.concatenate([s["boundary"][0] for s in snaps if s["boundary"] is not None] + [x[ok]])
+    ys = np.concatenate([s["boundary"][1] for s in snaps if s["boundary"] is not None] + [y[ok]])
+    wx, wy = span(xs) + 0.4, span(ys) + 0.4
+    height = min(max(11.0 * wy / max(wx, 1e-9) + 1.0, 3.5), 9.0)
+    width = 12.0 if height < 9.0 else min(12.0, max(9.0, 8.0 * wx / wy + 1.5))
+    fig, ax = plt.subplots(figsize=(width, height))
+    cmap = plt.get_cmap("plasma")
+    mappable = None
+    for i, s in enumerate(snaps):
+        # the bodies overlap along the path: density only for the first and the last one
+        if s["density"] is not None and i in (0, len(snaps) - 1):
+            mappable = draw_density(ax, s["density"], norm) or mappable
+        if s["boundary"] is not None:
+            bx, by = s["boundary"]
+            ax.plot(np.append(bx, bx[:1]), np.append(by, by[:1]),
+                    color=cmap(0.85 * i / max(len(snaps) - 1, 1)), lw=1.3)
+    ax.plot(x, y, color="k", ls="--", lw=1.0, label="centre of mass")
+    for s in snaps:
+        px, py = s["pos"]
+        ax.plot(px, py, "o", color="k", ms=3.5, zorder=5)
+    ax.set_aspect("equal")
+    ax.set_xlim(np.nanmin(xs) - 0.2, np.nanmax(xs) + 0.2)
+    ax.set_ylim(np.nanmin(ys) - 0.2, np.nanmax(ys) + 0.2)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.grid(alpha=0.25)
+    ax.set_title("%d instants from t = %.3g to %.3g, every %.3g (outline colour: time, dark to "
+                 "light; density at the first and last)"
+                 % (len(snaps), times[0], times[-1], times[1] - times[0]), fontsize=9)
+    run.suptitle(fig, "the body along its path")
+    fig.tight_layout(rect=(0, 0, 0.9, 1))
+    if mappable is not None:
+        cax = fig.add_axes((0.915, 0.15, 0.015, 0.7))
+        fig.colorbar(mappable, cax=cax).set_label(r"density $\rho = \rho_0 / J$")
+    return save(fig, run, "path")
 
 
 DRAW = {"trajectory": fig_trajectory, "energy": fig_energy, "impulse": fig_impulse,
-        "phase": fig_phase, "snapshots": fig_snapshots}
+        "phase": fig_phase, "snapshots": fig_snapshots, "instants": fig_instants,
+        "phase3d": fig_phase3d, "modes": fig_modes, "path": fig_path}
 
 
 # ---------------------------------------------------------------- main
 
 def parse_args(argv):
-    usage = "usage: plot_run.py DIR [--only NAME ...]   (NAME: %s)" % ", ".join(FIGURES)
-    outdir, only, mode = None, [], None
+    usage = ("usage: plot_run.py DIR [--only NAME ...] [--mark t1,t2,...]   (NAME: %s)"
+             % ", ".join(FIGURES))
+    outdir, only, mode, marks = None, [], None, None
+    argv = list(argv)
+    while "--mark" in argv or any(a.startswith("--mark=") for a in argv):
+        i = next(i for i, a in enumerate(argv) if a == "--mark" or a.startswith("--mark="))
+        if argv[i] == "--mark":
+            if i + 1 >= len(argv):
+                print("plot_run: --mark needs a list of times\n" + usage, file=sys.stderr)
+                sys.exit(2)
+            text = argv[i + 1]
+            del argv[i:i + 2]
+        else:
+            text = argv[i].split("=", 1)[1]
+            del argv[i]
+        try:
+            marks = (marks or []) + [float(x) for x in text.split(",") if x.strip()]
+        except ValueError:
+            print("plot_run: --mark: '%s' is not a list of numbers" % text, file=sys.stderr)
+            sys.exit(2)
     for a in argv:
         if a in ("-h", "--help"):
             print(__doc__.strip())
@@ -670,11 +993,11 @@ def parse_args(argv):
     if mode == "only" and not only:
         print("plot_run: --only needs at least one NAME\n" + usage, file=sys.stderr)
         sys.exit(2)
-    return outdir, only
+    return outdir, only, marks
 
 
 def main(argv):
-    outdir, only = parse_args(argv)
+    outdir, only, marks = parse_args(argv)
     if not os.path.isdir(outdir):
         warn("%s is not a directory" % outdir)
         return 1
@@ -687,6 +1010,10 @@ def main(argv):
         else:
             warn("unknown figure '%s' (known: %s)" % (name, ", ".join(FIGURES)))
     run = Run(outdir)
+    if marks is not None:
+        run.marks = [(tm, None) for tm in sorted(marks)]
+    else:
+        run.marks = marks_from_events(run.events)
     if run.csv_error:
         warn(run.csv_error)
     written = 0
@@ -697,6 +1024,9 @@ def main(argv):
             written += 1
         except Skip as e:
             warn("%s.png skipped: %s" % (name, e))
+            stale = os.path.join(outdir, name + ".png")
+            if not only and os.path.exists(stale):
+                os.remove(stale)   # a figure from an earlier run of another scene
         except Exception as e:  # noqa: BLE001 - a plotting bug must not cost the other figures
             warn("%s.png skipped: %s: %s" % (name, type(e).__name__, e))
         finally:

@@ -105,10 +105,8 @@ static int get_integrator(ctx *c, const toml_value *t, const char *key, char *ou
     const char *name = toml_string(v);
     int line = toml_get_key_line(t, key);
     if (!name) ERR(c, line, key, "expected a string (an integrator name)");
-    int known = 0;
-    for (const char *const *m = swim_ode_methods(); *m; m++) known |= strcmp(*m, name) == 0;
-    if (!known || strlen(name) >= len)
-        ERR(c, line, key, "unknown integrator \"%s\" (abm, rk8pd, msadams, rkf45, msbdf, cvode-adams, cvode-bdf)", name);
+    if (!swim_ode_method_known(name) || strlen(name) >= len)
+        ERR(c, line, key, "unknown integrator \"%s\" (%s)", name, swim_ode_method_list());
     snprintf(out, len, "%s", name);
     return 0;
 }
@@ -186,13 +184,14 @@ static int check_initial_velocity(ctx *c, const toml_value *shape, swim_scene *s
 
 static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
 {
-    static const char *const top[] = {"title", "model", "shape", "elastic", "barrier", "damping", "forcing", "run", NULL};
+    static const char *const top[] = {"title", "model", "shape", "elastic", "barrier", "damping", "forcing", "run", "events", NULL};
     static const char *const k_model[] = {"modes", "rho0", "rhof", NULL};
     static const char *const k_shape[] = {"c0", "dc0", "free", NULL};
     static const char *const k_elastic[] = {"stiffness", "reference", NULL};
     static const char *const k_barrier[] = {"epsilon", "alpha", NULL};
     static const char *const k_damping[] = {"diagonal", NULL};
     static const char *const k_forcing[] = {"law", "direction", NULL};
+    static const char *const k_events[] = {"list", NULL};
     static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "stiff_fallback", "project_initial", "projection", "step_lookahead", NULL};
     int rc;
     c->table = NULL;
@@ -323,11 +322,30 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
         if (get_vector(c, fo, "direction", s->n, 1, s->direction, NULL)) return 2;
         for (int i = 0; i < s->n; i++) s->forced |= s->direction[i] != 0.0;
     }
+    const toml_value *evt = get_table(c, root, "events", 0, &rc);
+    if (rc) return rc;
+    if (evt) {
+        c->table = "events";
+        if (check_keys(c, evt, k_events)) return 2;
+        const toml_value *list = toml_get(evt, "list");
+        int line = list ? toml_get_key_line(evt, "list") : toml_line(evt);
+        if (!list || toml_kind_of(list) != TOML_ARRAY)
+            ERR(c, line, "list", "expected an array of \"COLUMN:KIND[:stop]\" strings, e.g. [\"energy:max\"]");
+        if (toml_array_size(list) > sizeof s->events / sizeof s->events[0])
+            ERR(c, line, "list", "more than %zu events", sizeof s->events / sizeof s->events[0]);
+        for (size_t j = 0; j < toml_array_size(list); j++) {
+            const char *e = toml_string(toml_array_at(list, j));
+            if (!e || strlen(e) >= sizeof s->events[0]) ERR(c, line, "list", "item %zu is not a string of at most %zu characters", j + 1, sizeof s->events[0] - 1);
+            snprintf(s->events[s->nevents++], sizeof s->events[0], "%s", e);
+        }
+        s->events_line = line;
+    }
     c->table = "shape";
     return check_initial_velocity(c, shape, s);
 }
 
-int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *s)
+int swim_scene_parse_with(const char *text, size_t len, const char *path, const swim_override *ov,
+                          int nov, swim_scene *s)
 {
     memset(s, 0, sizeof *s);
     snprintf(s->path, sizeof s->path, "%s", path);
@@ -340,6 +358,12 @@ int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene 
         fprintf(stderr, "swim: %s:%d: %s\n", path, line, msg);
         return 2;
     }
+    for (int i = 0; i < nov; i++)
+        if (toml_set_number(root, ov[i].table, ov[i].key, ov[i].index, ov[i].value, err, sizeof err) != 0) {
+            fprintf(stderr, "swim: %s: --set %s: %s\n", path, ov[i].text, err);
+            toml_free(root);
+            return 2;
+        }
     ctx c = {path, NULL};
     int rc = load_tree(&c, root, s);
     toml_free(root);
@@ -347,7 +371,17 @@ int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene 
     return rc;
 }
 
+int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *s)
+{
+    return swim_scene_parse_with(text, len, path, NULL, 0, s);
+}
+
 int swim_scene_load(const char *path, swim_scene *s)
+{
+    return swim_scene_load_with(path, NULL, 0, s);
+}
+
+int swim_scene_load_with(const char *path, const swim_override *ov, int nov, swim_scene *s)
 {
     memset(s, 0, sizeof *s);
     FILE *f = fopen(path, "rb");
@@ -369,9 +403,91 @@ int swim_scene_load(const char *path, swim_scene *s)
         buf = nb;
     }
     fclose(f);
-    int rc = swim_scene_parse(buf, len, path, s);
+    int rc = swim_scene_parse_with(buf, len, path, ov, nov, s);
     free(buf);
     return rc;
+}
+
+/* a1 -> 0, b1 -> 1, amK -> 2K, bmK -> 2K + 1 (the storage order of models/README.md). */
+static long coord_index(const char *name)
+{
+    if (name[0] != 'a' && name[0] != 'b') return -1;
+    long odd = name[0] == 'b';
+    if (strcmp(name + 1, "1") == 0) return odd;
+    if (name[1] != 'm' || name[2] < '1' || name[2] > '9') return -1;
+    char *end;
+    long k = strtol(name + 2, &end, 10);
+    if (*end != '\0' || k < 1 || k > SWIM_KERNEL_MAX_MODES) return -1;
+    return 2 * k + odd;
+}
+
+static int word_ok(const char *w, size_t len)
+{
+    if (len == 0 || len >= 32) return 0;
+    for (size_t i = 0; i < len; i++)
+        if (!(w[i] == '_' || (w[i] >= 'a' && w[i] <= 'z') || (w[i] >= 'A' && w[i] <= 'Z') || (w[i] >= '0' && w[i] <= '9')))
+            return 0;
+    return 1;
+}
+
+int swim_override_key(const char *key, swim_override *o, char *err, size_t errlen)
+{
+    const char *dot = strchr(key, '.');
+    if (!dot || !word_ok(key, (size_t)(dot - key))) {
+        snprintf(err, errlen, "expected TABLE.KEY, TABLE.KEY[I] or TABLE.KEY.COORD (e.g. run.t_end, "
+                 "elastic.stiffness[4], shape.dc0.bm2), got '%s'", key);
+        return -1;
+    }
+    snprintf(o->table, sizeof o->table, "%.*s", (int)(dot - key), key);
+    const char *k = dot + 1, *br = strchr(k, '['), *dot2 = strchr(k, '.');
+    size_t klen = br ? (size_t)(br - k) : dot2 ? (size_t)(dot2 - k) : strlen(k);
+    if (!word_ok(k, klen)) {
+        snprintf(err, errlen, "bad key name in '%s'", key);
+        return -1;
+    }
+    snprintf(o->key, sizeof o->key, "%.*s", (int)klen, k);
+    o->index = -1;
+    if (br) {
+        char *end;
+        long i = strtol(br + 1, &end, 10);
+        if (end == br + 1 || *end != ']' || end[1] != '\0' || i < 0) {
+            snprintf(err, errlen, "bad index in '%s' (expected [I], I >= 0)", key);
+            return -1;
+        }
+        o->index = i;
+    } else if (dot2) {
+        o->index = coord_index(dot2 + 1);
+        if (o->index < 0) {
+            snprintf(err, errlen, "unknown coordinate '%s' in '%s' (names: a1, b1, am1, bm1, am2, ...)", dot2 + 1, key);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+int swim_override_parse(const char *text, swim_override *o, char *err, size_t errlen)
+{
+    memset(o, 0, sizeof *o);
+    snprintf(o->text, sizeof o->text, "%s", text);
+    const char *eq = strchr(text, '=');
+    if (!eq) {
+        snprintf(err, errlen, "expected KEY=VALUE, got '%s'", text);
+        return -1;
+    }
+    char key[128];
+    if ((size_t)(eq - text) >= sizeof key) {
+        snprintf(err, errlen, "key too long in '%s'", text);
+        return -1;
+    }
+    snprintf(key, sizeof key, "%.*s", (int)(eq - text), text);
+    if (swim_override_key(key, o, err, errlen) != 0) return -1;
+    char *end;
+    o->value = strtod(eq + 1, &end);
+    if (end == eq + 1 || *end != '\0' || !isfinite(o->value)) {
+        snprintf(err, errlen, "value '%s' of %s is not a finite number", eq + 1, key);
+        return -1;
+    }
+    return 0;
 }
 
 void swim_scene_free(swim_scene *s)

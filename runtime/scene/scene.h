@@ -43,6 +43,8 @@ typedef struct {
     int projection;                   /* drift control after each step (ABM), default on */
     int step_lookahead;               /* ABM step-size look-ahead p (swim_ode_options.lookahead); -1 = the integrator default */
     double projection_change;         /* max |change| of dc0 when projected */
+    char events[32][128];             /* [events] list: "COLUMN:KIND[:stop]" entries (checked by swim run) */
+    int nevents, events_line;         /* how many; the line of the list, for messages */
 } swim_scene;
 
 /* 0 on success; 2 after printing a one-line error naming the file, the key and the value. */
@@ -51,6 +53,29 @@ int swim_scene_load(const char *path, swim_scene *scene);
  * it in messages. */
 int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *scene);
 void swim_scene_free(swim_scene *scene);
+
+/* An override `KEY=VALUE` (swim run --set, swim sweep --vary) applied to the parsed TOML tree
+ * before the scene is validated, so an overridden value is checked like one in the file. KEY is
+ * `table.key` (a number), `table.key[I]` (item I, 0-based, of a vector) or `table.key.NAME`
+ * (the item of the shape coordinate NAME: a1, b1, am1, bm1, am2, ...), e.g. `run.t_end`,
+ * `elastic.stiffness[4]`, `shape.dc0.bm2`, `barrier.epsilon`. */
+typedef struct {
+    char table[32], key[32];
+    long index;          /* -1: the value itself */
+    double value;
+    char text[160];      /* KEY=VALUE as given, for messages */
+} swim_override;
+
+/* Parses KEY (the part before '=') into o->table, o->key, o->index. 0, or -1 with a reason. */
+int swim_override_key(const char *key, swim_override *o, char *err, size_t errlen);
+/* Parses KEY=VALUE (VALUE a finite number). 0, or -1 with a one-line reason in err. */
+int swim_override_parse(const char *text, swim_override *o, char *err, size_t errlen);
+/* swim_scene_load / swim_scene_parse with overrides applied first; an override that does not
+ * fit the file (no such table, not a number, index out of range) is one line
+ * "swim: FILE: --set KEY=VALUE: reason" and 2. */
+int swim_scene_load_with(const char *path, const swim_override *ov, int nov, swim_scene *scene);
+int swim_scene_parse_with(const char *text, size_t len, const char *path, const swim_override *ov,
+                          int nov, swim_scene *scene);
 
 /* Coordinate names, modes and mu^2: kernel/coords.h. */
 

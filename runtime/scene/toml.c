@@ -1370,3 +1370,66 @@ double toml_number(const toml_value *v)
 
 int toml_bool(const toml_value *v) { return v && v->kind == TOML_BOOL ? v->b : 0; }
 int toml_is_number(const toml_value *v) { return v && (v->kind == TOML_INT || v->kind == TOML_FLOAT); }
+
+/* ------------------------------------------------------------------ overrides */
+
+static void set_scalar(toml_value *v, double value)
+{
+    /* An integral value keeps an integer an integer, so `model.modes` stays one. */
+    if (v->kind == TOML_INT && value == floor(value) && fabs(value) < 9.0e15) {
+        v->i = (long long)value;
+    } else {
+        v->kind = TOML_FLOAT;
+        v->f = value;
+    }
+}
+
+int toml_set_number(toml_value *root, const char *table, const char *key, long index, double value,
+                    char *err, size_t errlen)
+{
+    char dummy[1];
+    if (!err || errlen == 0) { err = dummy; errlen = sizeof dummy; }
+    size_t k = root && root->kind == TOML_TABLE ? tab_find(root, table) : NOT_FOUND;
+    toml_value *t = k == NOT_FOUND ? NULL : root->ent[k].val;
+    if (!t || t->kind != TOML_TABLE) {
+        snprintf(err, errlen, "the scene has no table [%s]", table);
+        return -1;
+    }
+    k = tab_find(t, key);
+    if (k == NOT_FOUND) {
+        if (index >= 0) {
+            snprintf(err, errlen, "the scene has no array %s.%s", table, key);
+            return -1;
+        }
+        char *kc = malloc(strlen(key) + 1);
+        toml_value *v = node_new(TOML_FLOAT, 0, t->depth + 1);
+        if (!kc || !v || tab_add(t, strcpy(kc, key), 0, v) != 0) {
+            free(kc);
+            free(v);
+            snprintf(err, errlen, "out of memory");
+            return -1;
+        }
+        v->f = value;
+        return 0;
+    }
+    toml_value *v = t->ent[k].val;
+    if (index >= 0) {
+        if (v->kind != TOML_ARRAY) {
+            snprintf(err, errlen, "%s.%s is a %s, not an array", table, key, toml_kind_name(v->kind));
+            return -1;
+        }
+        if ((size_t)index >= v->n) {
+            snprintf(err, errlen, "index %ld is out of range: %s.%s has %zu items (0..%zu)", index, table,
+                     key, v->n, v->n ? v->n - 1 : 0);
+            return -1;
+        }
+        v = v->items[index];
+    }
+    if (v->kind != TOML_INT && v->kind != TOML_FLOAT) {
+        snprintf(err, errlen, "%s.%s%s is a %s, not a number", table, key, index >= 0 ? "[i]" : "",
+                 toml_kind_name(v->kind));
+        return -1;
+    }
+    set_scalar(v, value);
+    return 0;
+}

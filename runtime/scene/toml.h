@@ -83,4 +83,13 @@ double toml_number(const toml_value *v);      /* integer or float as double; NaN
 int toml_bool(const toml_value *v);           /* 1/0; 0 if not a boolean */
 int toml_is_number(const toml_value *v);      /* 1 if integer or float */
 
+/* Overrides (`--set table.key=value`): put the number `value` at root[table][key] (index < 0)
+ * or at item `index` (0-based) of the array root[table][key]. An integer stays an integer when
+ * `value` is integral, otherwise the node becomes a float; an absent key of an existing table
+ * is added (the scene reader then judges whether it is allowed). The replaced node must be a
+ * number. Returns 0, or -1 with a one-line reason in err (no table, not a number, index out of
+ * range, out of memory); the tree is unchanged on error. */
+int toml_set_number(toml_value *root, const char *table, const char *key, long index, double value,
+                    char *err, size_t errlen);
+
 #endif

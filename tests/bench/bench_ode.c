@@ -209,7 +209,7 @@ static int record_rhs(double t, const double *y, double *f, void *p)
 
 static int solve(const problem *p, const char *method, double tol, double *y, swim_ode_stats *st)
 {
-    swim_ode_system sys = { p->f, p->n, NULL };
+    swim_ode_system sys = { p->f, p->n, NULL, NULL };
     swim_ode_options o;
     swim_ode_options_default(&o);
     o.rtol = tol;
@@ -335,7 +335,7 @@ int main(int argc, char **argv)
     {
         static double rec[20000][NMAX];
         recorder r = { p->f, rec, 20000, 0, p->n };
-        swim_ode_system sys = { record_rhs, p->n, &r };
+        swim_ode_system sys = { record_rhs, p->n, &r, NULL };
         swim_ode_options o;
         swim_ode_options_default(&o);
         o.rtol = o.atol = 1e-9;

@@ -1,0 +1,51 @@
+/* Events of `swim run`: instants where a column of trajectory.csv crosses zero or has a
+ * minimum or maximum, located by the integrator (ode.h, "Events"), written to DIR/events.csv
+ * and summary.json, with the period and displacement per period of each event sequence.
+ *
+ * An event is "COLUMN:KIND[:stop]" (--event, repeatable, and the scene's [events] list):
+ * KIND zero (sign change of the column), min or max (sign change of its time derivative,
+ * rising for a minimum, falling for a maximum); ":stop" ends the run at the first one. */
+#ifndef SWIM_CLI_RUN_EVENTS_H
+#define SWIM_CLI_RUN_EVENTS_H
+
+#include <stdio.h>
+
+#include "ode/ode.h"
+#include "scene/scene.h"
+
+#define SWIM_RUN_MAX_EVENTS 32
+
+typedef struct swim_run_events swim_run_events;
+
+/* The values of the columns of trajectory.csv (names[0] = "t") at integrator state ys: all of
+ * them, or with all = 0 only t and the state columns (x, y, theta, coordinates, velocities:
+ * no diagnostics needed). */
+typedef int (*swim_run_row_func)(void *ctx, double t, const double *ys, int all, double *row);
+
+/* Collects the scene's [events] list and every --event of argv, checks them against the
+ * columns (names[0..ncol), names[0] = "t") and the integrator's capabilities.  0 with *out
+ * (NULL when there are no events), or 2 after one line on stderr. */
+int swim_run_events_parse(const swim_scene *s, int argc, char **argv, const char *const *names, int ncol,
+                          swim_run_events **out);
+
+/* Registers the events in o (o->events, o->on_event); row(ctx, ...) gives the columns, the
+ * first nstate of which (after t) are state columns; state_dim is the integrator's state
+ * dimension.  0, or -1 when out of memory. */
+int swim_run_events_attach(swim_run_events *ev, swim_ode_options *o, size_t state_dim, int nstate,
+                           swim_run_row_func row, void *ctx);
+
+/* The integrator was restarted at t (stiff fallback): forget events found after t. */
+void swim_run_events_rewind(swim_run_events *ev, double t);
+
+/* Which event ended the run (after SWIM_ODE_TERMINATED): "COLUMN:KIND". */
+const char *swim_run_events_stop_name(const swim_run_events *ev);
+
+/* ",\n  "events": [...],\n  "periodic": [...]" for summary.json (nothing when ev is NULL). */
+void swim_run_events_json(const swim_run_events *ev, FILE *f);
+
+/* DIR/events.csv: t,column,kind,value.  0, or -1 (message printed). */
+int swim_run_events_write_csv(const swim_run_events *ev, const char *dir);
+
+void swim_run_events_free(swim_run_events *ev);
+
+#endif

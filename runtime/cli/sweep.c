@@ -1,0 +1,128 @@
+/* swim sweep: a family of runs of one scene on this machine, up to --jobs members at a time
+ * (runtime/sweep/sweep.h has the files, the resume rules and the member processes). */
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "cli/commands.h"
+#include "sweep/sweep.h"
+
+static volatile sig_atomic_t stop_signal;
+static pid_t *running_pids;   /* slots; 0 = free */
+static long slots;
+
+/* SIGINT/SIGTERM: stop launching and end the running members now (kill is async-signal-safe);
+ * they are unfinished and rerun when the same command resumes the sweep. */
+static void on_stop(int sig)
+{
+    stop_signal = sig;
+    for (long i = 0; i < slots; i++)
+        if (running_pids[i] > 0) kill(running_pids[i], SIGTERM);
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+int swim_cmd_sweep(int argc, char **argv)
+{
+    static sweep_plan p;
+    int rc = sweep_parse(&p, "sweep", argc, argv, 2);
+    if (rc) return rc;
+    if ((rc = sweep_prepare(&p))) { sweep_free(&p); return rc; }
+    FILE *rows = sweep_open_rows(&p);
+    if (!rows) { sweep_free(&p); return 1; }
+    slots = p.jobs;
+    running_pids = calloc((size_t)slots, sizeof *running_pids);
+    long *ids = calloc((size_t)slots, sizeof *ids);
+    if (!running_pids || !ids) { fprintf(stderr, "swim sweep: out of memory\n"); return 1; }
+    struct sigaction sa, old_int, old_term;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_stop;   /* no SA_RESTART: waitpid returns EINTR */
+    sigaction(SIGINT, &sa, &old_int);
+    sigaction(SIGTERM, &sa, &old_term);
+
+    const double t0 = now();
+    long next = 0, running = 0, ran = 0, failed = 0, lost = 0;
+    double last_progress = t0;
+    char row[2048];
+    if (!p.quiet && p.already)
+        fprintf(stderr, "swim sweep: resuming %s: %ld of %ld members already finished\n", p.dir, p.already, p.members);
+    for (;;) {
+        while (!stop_signal && running < slots && next < p.members) {
+            long m = next++;
+            if (p.finished[m]) continue;
+            long slot = 0;
+            while (running_pids[slot]) slot++;
+            pid_t pid = sweep_spawn(&p, m);
+            if (pid < 0) {
+                fprintf(stderr, "swim sweep: cannot start member %ld: %s\n", m, strerror(errno));
+                stop_signal = -1;
+                break;
+            }
+            ids[slot] = m;
+            running_pids[slot] = pid;
+            running++;
+        }
+        if (running == 0) break;
+        int status;
+        pid_t pid = waitpid(-1, &status, 0);
+        if (pid < 0) {
+            if (errno == EINTR) continue;
+            break;
+        }
+        long slot = 0;
+        while (slot < slots && running_pids[slot] != pid) slot++;
+        if (slot == slots) continue;
+        running_pids[slot] = 0;
+        running--;
+        int bad = 0;
+        if (sweep_collect(&p, ids[slot], status, stop_signal != 0, row, sizeof row, &bad)) {
+            if (sweep_append_row(rows, row) != 0) {
+                fprintf(stderr, "swim sweep: write error on %s/members.csv\n", p.dir);
+                stop_signal = -1;
+            }
+            ran++;
+            failed += bad;
+        } else {
+            lost++;
+        }
+        double t = now();
+        if (!p.quiet && t - last_progress > 1.0) {
+            fprintf(stderr, "\rswim sweep: %ld / %ld members (%ld failed)   ", p.already + ran, p.members, p.already_failed + failed);
+            last_progress = t;
+        }
+    }
+    if (!p.quiet && last_progress > t0) fputc('\n', stderr);
+    sigaction(SIGINT, &old_int, NULL);
+    sigaction(SIGTERM, &old_term, NULL);
+    fclose(rows);
+    const double seconds = now() - t0;
+    const long finished = p.already + ran, all_failed = p.already_failed + failed;
+    if (stop_signal) {
+        fprintf(stderr, "swim sweep: %s: stopped%s after %ld of %ld members (%ld failed); run the same command "
+                "again to resume\n", p.dir, stop_signal == SIGINT ? " by SIGINT" : stop_signal == SIGTERM ? " by SIGTERM" : "",
+                finished, p.members, all_failed);
+        rc = 1;
+    } else {
+        printf("%s: %ld members, %ld completed, %ld failed (%ld ran now in %.3f s, %.2f members/s with %ld jobs%s)\n",
+               p.dir, p.members, finished - all_failed, all_failed, ran, seconds, seconds > 0 ? ran / seconds : 0.0,
+               p.jobs, p.already ? "; the others were finished before" : "");
+        printf("  rows in %s/members.csv, definition in %s/sweep.json\n", p.dir, p.dir);
+        rc = all_failed || finished < p.members ? 1 : 0;
+    }
+    if (lost && !stop_signal)
+        fprintf(stderr, "swim sweep: %ld members could not be recorded (see their members/ID/log.txt); rerun to retry them\n", lost);
+    free(running_pids);
+    free(ids);
+    sweep_free(&p);
+    return rc;
+}

@@ -1,0 +1,756 @@
+#define _GNU_SOURCE   /* open_memstream, prctl */
+#include "sweep/sweep.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <signal.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <dirent.h>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "io/files.h"
+#include "io/json.h"
+#include "codegen/codegen.h"
+#include "ode/ode.h"
+
+/* ------------------------------------------------------------------ specs */
+
+static int parse_double(const char *s, size_t len, double *out)
+{
+    char buf[64];
+    if (len == 0 || len >= sizeof buf) return -1;
+    memcpy(buf, s, len);
+    buf[len] = '\0';
+    char *end;
+    errno = 0;
+    double v = strtod(buf, &end);
+    if (*end != '\0' || errno == ERANGE || !isfinite(v)) return -1;
+    *out = v;
+    return 0;
+}
+
+/* START:STOP:COUNT, the endpoints exact (the last value is STOP itself, not START + (COUNT-1)h). */
+static int parse_range(const char *spec, int logarithmic, double **values, long *count, char *err, size_t errlen)
+{
+    const char *c1 = strchr(spec, ':'), *c2 = c1 ? strchr(c1 + 1, ':') : NULL;
+    double a, b;
+    char *end;
+    if (!c1 || !c2 || strchr(c2 + 1, ':') || parse_double(spec, (size_t)(c1 - spec), &a) ||
+        parse_double(c1 + 1, (size_t)(c2 - c1 - 1), &b)) {
+        snprintf(err, errlen, "expected %sSTART:STOP:COUNT with finite numbers, got '%s'", logarithmic ? "log:" : "", spec);
+        return -1;
+    }
+    errno = 0;
+    long n = strtol(c2 + 1, &end, 10);
+    if (c2[1] == '\0' || *end != '\0' || errno || n < 1 || n > SWEEP_MAX_MEMBERS) {
+        snprintf(err, errlen, "COUNT must be an integer 1..%ld, got '%s'", SWEEP_MAX_MEMBERS, c2 + 1);
+        return -1;
+    }
+    if (logarithmic && !(a > 0 && b > 0)) {
+        snprintf(err, errlen, "log:START:STOP:COUNT needs START > 0 and STOP > 0, got '%s'", spec);
+        return -1;
+    }
+    double *v = malloc(sizeof(double) * (size_t)n);
+    if (!v) { snprintf(err, errlen, "out of memory"); return -1; }
+    for (long i = 0; i < n; i++) {
+        double f = n > 1 ? (double)i / (double)(n - 1) : 0.0;
+        v[i] = logarithmic ? exp(log(a) + f * (log(b) - log(a))) : a + f * (b - a);
+    }
+    v[0] = a;
+    if (n > 1) v[n - 1] = b;
+    *values = v;
+    *count = n;
+    return 0;
+}
+
+int sweep_parse_spec(const char *spec, double **values, long *count, char *err, size_t errlen)
+{
+    if (strncmp(spec, "log:", 4) == 0) return parse_range(spec + 4, 1, values, count, err, errlen);
+    if (strchr(spec, ':')) return parse_range(spec, 0, values, count, err, errlen);
+    long n = 1;
+    for (const char *q = spec; *q; q++) n += *q == ',';
+    double *v = malloc(sizeof(double) * (size_t)n);
+    if (!v) { snprintf(err, errlen, "out of memory"); return -1; }
+    const char *q = spec;
+    for (long i = 0; i < n; i++) {
+        const char *comma = strchr(q, ',');
+        size_t len = comma ? (size_t)(comma - q) : strlen(q);
+        if (parse_double(q, len, &v[i])) {
+            snprintf(err, errlen, "item %ld ('%.*s') of '%s' is not a finite number (SPEC: START:STOP:COUNT, "
+                     "log:START:STOP:COUNT or V1,V2,...)", i + 1, (int)len, q, spec);
+            free(v);
+            return -1;
+        }
+        q = comma ? comma + 1 : q + len;
+    }
+    *values = v;
+    *count = n;
+    return 0;
+}
+
+double sweep_value(const sweep_plan *p, long m, int v)
+{
+    if (p->zip) return p->vary[v].values[m];
+    long stride = 1;
+    for (int w = p->nvary - 1; w > v; w--) stride *= p->vary[w].count;
+    return p->vary[v].values[(m / stride) % p->vary[v].count];
+}
+
+/* --------------------------------------------------------------- options */
+
+static int add_set(sweep_plan *p, const char *text)
+{
+    char err[256];
+    if (p->nsets >= SWEEP_MAX_SETS) {
+        fprintf(stderr, "swim %s: more than %d overrides\n", p->cmd, SWEEP_MAX_SETS);
+        return 2;
+    }
+    if (swim_override_parse(text, &p->sets[p->nsets], err, sizeof err) != 0) {
+        fprintf(stderr, "swim %s: --set: %s\n", p->cmd, err);
+        return 2;
+    }
+    p->nsets++;
+    return 0;
+}
+
+int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first)
+{
+    memset(p, 0, sizeof *p);
+    snprintf(p->cmd, sizeof p->cmd, "%s", cmd);
+    const char *varies[SWEEP_MAX_VARY + 1], *sets[SWEEP_MAX_SETS];
+    int nv = swim_args_take_all(cmd, &argc, argv, first, "vary", varies, SWEEP_MAX_VARY);
+    if (nv < 0) return 2;
+    int ns = swim_args_take_all(cmd, &argc, argv, first, "set", sets, SWEEP_MAX_SETS - 5);   /* 5: --t-end, --rtol, ... */
+    if (ns < 0) return 2;
+    swim_opt opts[] = {{"out", 1, NULL}, {"zip", 0, NULL}, {"jobs", 1, NULL}, {"keep", 1, NULL},
+                       {"t-end", 1, NULL}, {"output-step", 1, NULL}, {"rtol", 1, NULL},
+                       {"atol", 1, NULL}, {"integrator", 1, NULL}, {"generic", 0, NULL},
+                       {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL}, {"quiet", 0, NULL}};
+    const int nopts = (int)(sizeof opts / sizeof opts[0]);
+    const char *pos[1];
+    int npos = 0;
+    if (swim_args_parse(cmd, argc, argv, first, opts, nopts, pos, 1, &npos)) return 2;
+    if (npos != 1) {
+        fprintf(stderr, "swim %s: expected one scene file, e.g. swim %s models/example1.toml --out out/fam "
+                "--vary shape.dc0.bm2=-1:1:11\n", cmd, cmd);
+        return 2;
+    }
+    snprintf(p->scene, sizeof p->scene, "%s", pos[0]);
+    const char *v = swim_args_get(opts, nopts, "out");
+    if (!v || !*v) {
+        fprintf(stderr, "swim %s: --out DIR is required (the sweep's directory)\n", cmd);
+        return 2;
+    }
+    snprintf(p->dir, sizeof p->dir, "%s", v);
+    if (nv == 0) {
+        fprintf(stderr, "swim %s: at least one --vary KEY=SPEC is required\n", cmd);
+        return 2;
+    }
+    p->nvary = nv;
+    for (int i = 0; i < nv; i++) {
+        sweep_vary *w = &p->vary[i];
+        const char *eq = strchr(varies[i], '=');
+        char err[300];
+        if (!eq || eq == varies[i] || (size_t)(eq - varies[i]) >= sizeof w->key) {
+            fprintf(stderr, "swim %s: --vary: expected KEY=SPEC, got '%s'\n", cmd, varies[i]);
+            return 2;
+        }
+        snprintf(w->key, sizeof w->key, "%.*s", (int)(eq - varies[i]), varies[i]);
+        snprintf(w->spec, sizeof w->spec, "%s", eq + 1);
+        if (swim_override_key(w->key, &w->tmpl, err, sizeof err) != 0) {
+            fprintf(stderr, "swim %s: --vary %s: %s\n", cmd, varies[i], err);
+            return 2;
+        }
+        for (int j = 0; j < i; j++)
+            if (strcmp(p->vary[j].key, w->key) == 0) {
+                fprintf(stderr, "swim %s: --vary %s: key varied twice\n", cmd, w->key);
+                return 2;
+            }
+        if (sweep_parse_spec(w->spec, &w->values, &w->count, err, sizeof err) != 0) {
+            fprintf(stderr, "swim %s: --vary %s: %s\n", cmd, w->key, err);
+            return 2;
+        }
+    }
+    p->zip = swim_args_get(opts, nopts, "zip") != NULL;
+    p->members = p->zip ? p->vary[0].count : 1;
+    for (int i = 0; i < nv; i++) {
+        if (p->zip && p->vary[i].count != p->members) {
+            fprintf(stderr, "swim %s: --zip: --vary %s has %ld values but --vary %s has %ld (zip pairs them, "
+                    "so the counts must agree)\n", cmd, p->vary[0].key, p->vary[0].count, p->vary[i].key, p->vary[i].count);
+            return 2;
+        }
+        if (!p->zip) {
+            if (p->members > SWEEP_MAX_MEMBERS / p->vary[i].count) {
+                fprintf(stderr, "swim %s: the grid has more than %ld members\n", cmd, SWEEP_MAX_MEMBERS);
+                return 2;
+            }
+            p->members *= p->vary[i].count;
+        }
+    }
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    p->jobs = cores > 0 ? cores : 1;
+    if ((v = swim_args_get(opts, nopts, "jobs")) && swim_args_int(cmd, "jobs", v, 1, 4096, &p->jobs)) return 2;
+    if ((v = swim_args_get(opts, nopts, "keep"))) {
+        if (strcmp(v, "trajectories") == 0) p->keep_trajectories = 1;
+        else if (strcmp(v, "summaries") != 0) {
+            fprintf(stderr, "swim %s: --keep: expected 'summaries' (default) or 'trajectories', got '%s'\n", cmd, v);
+            return 2;
+        }
+    }
+    /* Run options that are scene values become overrides, so every member validates them. */
+    static const char *const as_set[][2] = {{"t-end", "run.t_end"}, {"output-step", "run.output_step"},
+                                            {"rtol", "run.rtol"}, {"atol", "run.atol"},
+                                            {"step-lookahead", "run.step_lookahead"}};
+    for (size_t i = 0; i < sizeof as_set / sizeof as_set[0]; i++)
+        if ((v = swim_args_get(opts, nopts, as_set[i][0]))) {
+            char text[200];
+            snprintf(text, sizeof text, "%s=%s", as_set[i][1], v);
+            if (add_set(p, text)) return 2;
+        }
+    for (int i = 0; i < ns; i++)
+        if (add_set(p, sets[i])) return 2;
+    if ((v = swim_args_get(opts, nopts, "integrator"))) {
+        int known = 0;
+        for (const char *const *m = swim_ode_methods(); *m; m++) known |= strcmp(*m, v) == 0;
+        if (!known || strlen(v) >= sizeof p->integrator) {
+            fprintf(stderr, "swim %s: --integrator: unknown integrator '%s'\n", cmd, v);
+            return 2;
+        }
+        snprintf(p->integrator, sizeof p->integrator, "%s", v);
+    }
+    p->generic = swim_args_get(opts, nopts, "generic") != NULL;
+    p->no_projection = swim_args_get(opts, nopts, "no-projection") != NULL;
+    p->quiet = swim_args_get(opts, nopts, "quiet") != NULL;
+    ssize_t len = readlink("/proc/self/exe", p->exe, sizeof p->exe - 1);
+    if (len <= 0) {
+        fprintf(stderr, "swim %s: cannot find the program itself (/proc/self/exe)\n", cmd);
+        return 2;
+    }
+    p->exe[len] = '\0';
+    p->in_process = 1;
+    return 0;
+}
+
+void sweep_free(sweep_plan *p)
+{
+    for (int i = 0; i < p->nvary; i++) free(p->vary[i].values);
+    free(p->finished);
+    p->finished = NULL;
+}
+
+/* --------------------------------------------------------- member scenes */
+
+/* The overrides of member m: the fixed ones, then one per varied key. */
+static int member_overrides(const sweep_plan *p, long m, swim_override *ov)
+{
+    int n = 0;
+    for (int i = 0; i < p->nsets; i++) ov[n++] = p->sets[i];
+    for (int v = 0; v < p->nvary; v++) {
+        ov[n] = p->vary[v].tmpl;
+        ov[n].value = sweep_value(p, m, v);
+        snprintf(ov[n].text, sizeof ov[n].text, "%s=%.17g", p->vary[v].key, ov[n].value);
+        n++;
+    }
+    return n;
+}
+
+static void member_label(const sweep_plan *p, long m, char *buf, size_t len)
+{
+    int k = snprintf(buf, len, "member %ld (", m);
+    for (int v = 0; v < p->nvary && k > 0 && (size_t)k < len; v++)
+        k += snprintf(buf + k, len - (size_t)k, "%s%s=%.17g", v ? ", " : "", p->vary[v].key, sweep_value(p, m, v));
+    if (k > 0 && (size_t)k < len) snprintf(buf + k, len - (size_t)k, ")");
+}
+
+/* Loads member m's scene with stderr captured: the loader's one-line message is re-emitted with
+ * the member named in front of it. 0 or 2. */
+static int load_member(const sweep_plan *p, long m, swim_scene *s)
+{
+    swim_override ov[SWEEP_MAX_SETS + SWEEP_MAX_VARY];
+    int nov = member_overrides(p, m, ov);
+    fflush(stderr);
+    FILE *cap = tmpfile();
+    int saved = dup(2);
+    if (cap && saved >= 0) dup2(fileno(cap), 2);
+    int rc = swim_scene_load_with(p->scene, ov, nov, s);
+    fflush(stderr);
+    if (cap && saved >= 0) { dup2(saved, 2); close(saved); }
+    if (rc != 0) {
+        char label[600], msg[1024] = "";
+        member_label(p, m, label, sizeof label);
+        if (cap) {
+            rewind(cap);
+            if (!fgets(msg, sizeof msg, cap)) msg[0] = '\0';
+            msg[strcspn(msg, "\n")] = '\0';
+        }
+        const char *text = strncmp(msg, "swim: ", 6) == 0 ? msg + 6 : msg;
+        fprintf(stderr, "swim %s: %s: %s\n", p->cmd, label, text);
+    }
+    if (cap) fclose(cap);
+    return rc;
+}
+
+/* ------------------------------------------------------------- sweep.json */
+
+static uint64_t fnv1a(const unsigned char *s, size_t n)
+{
+    uint64_t h = 1469598103934665603ull;
+    for (size_t i = 0; i < n; i++) { h ^= s[i]; h *= 1099511628211ull; }
+    return h;
+}
+
+static char *read_file(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    size_t cap = 4096, n = 0;
+    char *buf = malloc(cap + 1);
+    while (buf) {
+        size_t got = fread(buf + n, 1, cap - n, f);
+        n += got;
+        if (n < cap) break;
+        if (cap > (64u << 20)) { free(buf); buf = NULL; break; }
+        cap *= 2;
+        char *nb = realloc(buf, cap + 1);
+        if (!nb) free(buf);
+        buf = nb;
+    }
+    fclose(f);
+    if (buf) { buf[n] = '\0'; if (len) *len = n; }
+    return buf;
+}
+
+/* The definition: everything that decides the members' results, nothing that does not (jobs, MPI
+ * ranks, --quiet), so a sweep may be resumed with other resources. */
+static char *definition(const sweep_plan *p)
+{
+    size_t len = 0, n = 0;
+    char *text = read_file(p->scene, &n), *out = NULL;
+    FILE *f = open_memstream(&out, &len);
+    if (!f) { free(text); return NULL; }
+    fprintf(f, "{\n  \"scene\": ");
+    swim_json_string(f, p->scene);
+    fprintf(f, ",\n  \"scene_fnv1a64\": \"%016llx\",\n  \"members\": %ld,\n  \"zip\": %s,\n  \"vary\": [",
+            text ? (unsigned long long)fnv1a((unsigned char *)text, n) : 0ull, p->members, p->zip ? "true" : "false");
+    for (int v = 0; v < p->nvary; v++) {
+        fprintf(f, "%s\n    {\"key\": ", v ? "," : "");
+        swim_json_string(f, p->vary[v].key);
+        fprintf(f, ", \"spec\": ");
+        swim_json_string(f, p->vary[v].spec);
+        fprintf(f, ", \"values\": ");
+        swim_json_vector(f, p->vary[v].values, (int)p->vary[v].count);
+        fputc('}', f);
+    }
+    fprintf(f, "\n  ],\n  \"set\": [");
+    for (int i = 0; i < p->nsets; i++) {
+        fprintf(f, "%s", i ? ", " : "");
+        swim_json_string(f, p->sets[i].text);
+    }
+    fprintf(f, "],\n  \"integrator\": ");
+    swim_json_string(f, p->integrator);
+    fprintf(f, ",\n  \"generic\": %s,\n  \"no_projection\": %s,\n  \"keep\": \"%s\"\n}\n",
+            p->generic ? "true" : "false", p->no_projection ? "true" : "false",
+            p->keep_trajectories ? "trajectories" : "summaries");
+    fclose(f);
+    free(text);
+    return out;
+}
+
+static int write_atomic(const char *path, const char *text)
+{
+    char tmp[1100];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f) return -1;
+    int bad = fputs(text, f) < 0;
+    bad |= fflush(f) != 0;
+    bad |= fsync(fileno(f)) != 0;
+    bad |= fclose(f) != 0;
+    if (bad || rename(tmp, path) != 0) { remove(tmp); return -1; }
+    return 0;
+}
+
+/* A new sweep needs an empty (or absent) directory; an existing one must hold the same definition. */
+static int setup_dir(const sweep_plan *p)
+{
+    char path[1100];
+    if (swim_mkdirs(p->dir) != 0) {
+        fprintf(stderr, "swim %s: --out: cannot create directory '%s': %s\n", p->cmd, p->dir, strerror(errno));
+        return 2;
+    }
+    char *def = definition(p);
+    if (!def) { fprintf(stderr, "swim %s: out of memory\n", p->cmd); return 1; }
+    snprintf(path, sizeof path, "%s/sweep.json", p->dir);
+    char *old = read_file(path, NULL);
+    if (old) {
+        int same = strcmp(old, def) == 0;
+        free(old);
+        if (!same) {
+            fprintf(stderr, "swim %s: %s holds a different sweep (its sweep.json differs from this command's "
+                    "definition or the scene file changed); use another --out\n", p->cmd, p->dir);
+            free(def);
+            return 2;
+        }
+        free(def);
+        return 0;
+    }
+    DIR *dh = opendir(p->dir);
+    struct dirent *e;
+    while (dh && (e = readdir(dh)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && strcmp(e->d_name, "sweep.json.tmp")) {
+            fprintf(stderr, "swim %s: --out: '%s' is not empty and holds no sweep.json (not a sweep directory)\n",
+                    p->cmd, p->dir);
+            closedir(dh);
+            free(def);
+            return 2;
+        }
+    if (dh) closedir(dh);
+    int rc = write_atomic(path, def);
+    free(def);
+    if (rc) {
+        fprintf(stderr, "swim %s: cannot write %s: %s\n", p->cmd, path, strerror(errno));
+        return 1;
+    }
+    return 0;
+}
+
+/* ---------------------------------------------------------- summary.json */
+
+/* Pointer to the value of "key" in text (after from), or NULL. */
+static const char *json_find(const char *text, const char *key)
+{
+    char pat[80];
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    const char *q = text ? strstr(text, pat) : NULL;
+    return q ? q + strlen(pat) : NULL;
+}
+
+/* Copies a JSON number token (or "" for null / absent) into out, verbatim: rows carry the exact
+ * digits of the summary. */
+static void json_token(const char *v, char *out, size_t len)
+{
+    out[0] = '\0';
+    if (!v || strncmp(v, "null", 4) == 0) return;
+    size_t n = strspn(v, "0123456789+-.eEinfa");
+    if (n >= len) n = len - 1;
+    memcpy(out, v, n);
+    out[n] = '\0';
+}
+
+static void json_string_at(const char *v, char *out, size_t len)
+{
+    size_t k = 0;
+    out[0] = '\0';
+    if (!v || *v != '"') return;
+    for (v++; *v && *v != '"' && k + 1 < len; v++) {
+        if (*v == '\\' && v[1]) {
+            v++;
+            if (*v == 'n') out[k++] = ' ';
+            else if (*v == 'u') { out[k++] = '?'; v += strlen(v) >= 5 ? 4 : 0; }
+            else out[k++] = *v;
+        } else {
+            out[k++] = *v;
+        }
+    }
+    out[k] = '\0';
+}
+
+static void member_dir(const sweep_plan *p, long m, char *buf, size_t len)
+{
+    snprintf(buf, len, "%s/members/%05ld", p->dir, m);
+}
+
+/* 1 when the text is a whole summary (written by swim run to the end, or by the sweep for a
+ * crashed member) of a run that was not interrupted. */
+static int summary_finished(const char *text)
+{
+    if (!text) return 0;
+    size_t n = strlen(text);
+    while (n && (text[n - 1] == '\n' || text[n - 1] == ' ')) n--;
+    if (!n || text[n - 1] != '}') return 0;
+    char status[32], reason[64];
+    json_string_at(json_find(text, "status"), status, sizeof status);
+    json_string_at(json_find(text, "reason"), reason, sizeof reason);
+    if (!status[0]) return 0;
+    if (strcmp(status, "crashed") != 0 && !json_find(text, "max_rss_kb")) return 0;
+    return strncmp(reason, "interrupted", 11) != 0;
+}
+
+static const char *const row_numbers[][2] = {
+    {"t_reached", NULL}, {"x", "final_state"}, {"y", "final_state"}, {"theta", "final_state"},
+    {"energy_drift_rel", NULL}, {"energy_drift_abs", NULL}, {"jmin", NULL}, {"steps", NULL},
+    {"rhs_evaluations", NULL}, {"integrate_seconds", NULL}, {"wall_seconds", NULL}};
+
+static void csv_header(const sweep_plan *p, FILE *f)
+{
+    fprintf(f, "id");
+    for (int v = 0; v < p->nvary; v++) fprintf(f, ",%s", p->vary[v].key);
+    fprintf(f, ",status,reason,t_reached,x,y,theta,energy_drift_rel,energy_balance_abs,jmin,steps,"
+            "rhs_evaluations,integrate_seconds,wall_seconds\n");
+}
+
+static void format_row(const sweep_plan *p, long m, const char *text, char *row, size_t len)
+{
+    char status[32], reason[400], tok[64];
+    json_string_at(json_find(text, "status"), status, sizeof status);
+    json_string_at(json_find(text, "reason"), reason, sizeof reason);
+    for (char *c = reason; *c; c++) if (*c == '"') *c = '\'';
+    int k = snprintf(row, len, "%ld", m);
+    for (int v = 0; v < p->nvary && (size_t)k < len; v++) k += snprintf(row + k, len - (size_t)k, ",%.17g", sweep_value(p, m, v));
+    if ((size_t)k < len) k += snprintf(row + k, len - (size_t)k, ",%s,\"%s\"", status, reason);
+    for (size_t i = 0; i < sizeof row_numbers / sizeof row_numbers[0] && (size_t)k < len; i++) {
+        const char *base = row_numbers[i][1] ? json_find(text, row_numbers[i][1]) : text;
+        json_token(json_find(base, row_numbers[i][0]), tok, sizeof tok);
+        k += snprintf(row + k, len - (size_t)k, ",%s", tok);
+    }
+    if ((size_t)k < len) snprintf(row + k, len - (size_t)k, "\n");
+}
+
+/* Rebuild members.csv from the summaries of the finished members, in member order. */
+static int rebuild_rows(sweep_plan *p)
+{
+    char path[1100], mpath[1100], row[2048];
+    snprintf(path, sizeof path, "%s/members.csv.tmp", p->dir);
+    FILE *f = fopen(path, "w");
+    if (!f) { fprintf(stderr, "swim %s: cannot write %s: %s\n", p->cmd, path, strerror(errno)); return 1; }
+    csv_header(p, f);
+    p->already = p->already_failed = 0;
+    for (long m = 0; m < p->members; m++) {
+        member_dir(p, m, mpath, sizeof mpath);
+        strncat(mpath, "/summary.json", sizeof mpath - strlen(mpath) - 1);
+        char *text = read_file(mpath, NULL);
+        p->finished[m] = (unsigned char)summary_finished(text);
+        if (p->finished[m]) {
+            format_row(p, m, text, row, sizeof row);
+            fputs(row, f);
+            p->already++;
+            char status[32];
+            json_string_at(json_find(text, "status"), status, sizeof status);
+            p->already_failed += strcmp(status, "completed") != 0;
+        }
+        free(text);
+    }
+    int bad = fflush(f) != 0;
+    bad |= fclose(f) != 0;
+    char final[1100];
+    snprintf(final, sizeof final, "%s/members.csv", p->dir);
+    if (bad || rename(path, final) != 0) {
+        fprintf(stderr, "swim %s: cannot write %s: %s\n", p->cmd, final, strerror(errno));
+        return 1;
+    }
+    return 0;
+}
+
+/* ---------------------------------------------------------------- prepare */
+
+/* One kernel per distinct structure (and the kernel of its N modes, for the diagnostics),
+ * generated before any member starts: members then only load them from the cache and none of
+ * them races to generate one. rep[k] is a member of structure k. A structure without a kernel
+ * stops the sweep before any member runs: each of its members would fail the same way. */
+static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys)
+{
+    const int verbose = p->quiet ? 0 : 1;
+    for (int k = 0; k < nkeys; k++) {
+        swim_scene s;
+        if (load_member(p, rep[k], &s)) return 2;
+        swim_compiled kn, sc;
+        int bad = swim_codegen_kernel(s.modes, &kn, verbose) != 0;
+        if (!bad) {
+            bad = swim_codegen_scene(&s, p->generic, &sc, verbose) != 0;
+            if (!bad) swim_compiled_close(&sc);
+            swim_compiled_close(&kn);
+        }
+        swim_scene_free(&s);
+        if (bad) {
+            fprintf(stderr, "swim %s: no kernel for the structure of member %ld, no member run\n", p->cmd, rep[k]);
+            return 1;
+        }
+    }
+    return 0;
+}
+
+int sweep_prepare(sweep_plan *p)
+{
+    char **keys = NULL;
+    long *rep = NULL;
+    int nkeys = 0, cap = 0, rc = 0;
+    for (long m = 0; m < p->members && !rc; m++) {
+        swim_scene s;
+        if ((rc = load_member(p, m, &s))) break;
+        char *key = swim_codegen_scene_key(&s, p->generic);
+        swim_scene_free(&s);
+        if (!key) {
+            fprintf(stderr, "swim %s: out of memory\n", p->cmd);
+            rc = 1;
+            break;
+        }
+        int found = 0;
+        for (int k = 0; k < nkeys && !found; k++) found = strcmp(keys[k], key) == 0;
+        if (found) {
+            free(key);
+            continue;
+        }
+        if (nkeys == cap) {
+            cap = cap ? 2 * cap : 8;
+            char **nk = realloc(keys, (size_t)cap * sizeof *keys);
+            long *nr = nk ? realloc(rep, (size_t)cap * sizeof *rep) : NULL;
+            if (nk) keys = nk;
+            if (nr) rep = nr;
+            if (!nk || !nr) {
+                fprintf(stderr, "swim %s: out of memory\n", p->cmd);
+                free(key);
+                rc = 1;
+                break;
+            }
+        }
+        keys[nkeys] = key;
+        rep[nkeys++] = m;
+    }
+    if (!rc) rc = setup_dir(p);
+    char path[1100];
+    snprintf(path, sizeof path, "%s/members", p->dir);
+    if (!rc && swim_mkdirs(path) != 0) {
+        fprintf(stderr, "swim %s: cannot create %s: %s\n", p->cmd, path, strerror(errno));
+        rc = 1;
+    }
+    if (!rc && !(p->finished = calloc((size_t)p->members, 1))) {
+        fprintf(stderr, "swim %s: out of memory\n", p->cmd);
+        rc = 1;
+    }
+    if (!rc) rc = rebuild_rows(p);
+    if (!rc && p->already < p->members) rc = generate_kernels(p, rep, nkeys);
+    for (int k = 0; k < nkeys; k++) free(keys[k]);
+    free(keys);
+    free(rep);
+    return rc;
+}
+
+/* ------------------------------------------------------------- members */
+
+pid_t sweep_spawn(const sweep_plan *p, long m)
+{
+    char dir[1100], path[1200];
+    member_dir(p, m, dir, sizeof dir);
+    if (swim_mkdirs(dir) != 0) return -1;
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    remove(path);   /* a partial summary of an interrupted attempt must not outlive it */
+    swim_override ov[SWEEP_MAX_SETS + SWEEP_MAX_VARY];
+    int nov = member_overrides(p, m, ov);
+    const char *args[16 + 2 * (SWEEP_MAX_SETS + SWEEP_MAX_VARY)];
+    int a = 0;
+    args[a++] = p->exe;
+    args[a++] = "run";
+    args[a++] = p->scene;
+    args[a++] = "--out";
+    args[a++] = dir;
+    args[a++] = "--quiet";
+    if (!p->keep_trajectories) args[a++] = "--summary-only";
+    if (p->generic) args[a++] = "--generic";
+    if (p->no_projection) args[a++] = "--no-projection";
+    if (p->integrator[0]) { args[a++] = "--integrator"; args[a++] = p->integrator; }
+    for (int i = 0; i < nov; i++) { args[a++] = "--set"; args[a++] = ov[i].text; }
+    args[a] = NULL;
+    snprintf(path, sizeof path, "%s/log.txt", dir);
+    const pid_t parent = getpid();
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid != 0) return pid;
+    /* child */
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(127);
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, NULL);
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
+    int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) { dup2(fd, 1); dup2(fd, 2); close(fd); }
+    if (p->in_process) {
+        /* _exit, not exit: the parent's atexit handlers and stdio buffers are not the member's */
+        int rc = swim_cmd_run(a, (char **)args);
+        fflush(NULL);
+        _exit(rc);
+    }
+    execv(p->exe, (char *const *)args);
+    fprintf(stderr, "swim %s: cannot start %s: %s\n", p->cmd, p->exe, strerror(errno));
+    _exit(127);
+}
+
+/* The last line of the member's log, for the reason of a member that died without a summary. */
+static void last_log_line(const char *dir, char *out, size_t len)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%s/log.txt", dir);
+    char *text = read_file(path, NULL);
+    out[0] = '\0';
+    if (!text) return;
+    size_t n = strlen(text);
+    while (n && text[n - 1] == '\n') text[--n] = '\0';
+    char *nl = strrchr(text, '\n');
+    snprintf(out, len, "%s", nl ? nl + 1 : text);
+    for (char *c = out; *c; c++) if (*c == '"' || *c == '\\' || (unsigned char)*c < 0x20) *c = '\'';
+    free(text);
+}
+
+int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char *row, size_t len, int *failed)
+{
+    char dir[1100], path[1200];
+    member_dir(p, m, dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    char *text = read_file(path, NULL);
+    int done = summary_finished(text);
+    int exited_normally = WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 1);
+    if (!done && interrupted) { free(text); return 0; }
+    if (!done || !exited_normally) {
+        /* Died without a (whole) summary: say so in one, so the row and a resume agree. */
+        char reason[600], last[400];
+        last_log_line(dir, last, sizeof last);
+        if (WIFSIGNALED(status))
+            snprintf(reason, sizeof reason, "member process killed by signal %d (%s)", WTERMSIG(status), strsignal(WTERMSIG(status)));
+        else
+            snprintf(reason, sizeof reason, "member process exited with status %d: %s", WEXITSTATUS(status), last);
+        if (done && !exited_normally) {
+            /* a whole summary but an abnormal exit: keep the summary, it says what happened */
+        } else {
+            free(text);
+            FILE *f = open_memstream(&text, &(size_t){0});
+            if (!f) return 0;
+            fprintf(f, "{\n  \"scene\": ");
+            swim_json_string(f, p->scene);
+            fprintf(f, ",\n  \"status\": \"crashed\",\n  \"reason\": ");
+            swim_json_string(f, reason);
+            fprintf(f, "\n}\n");
+            fclose(f);
+            if (write_atomic(path, text) != 0) { free(text); return 0; }
+        }
+    }
+    char status_s[32];
+    json_string_at(json_find(text, "status"), status_s, sizeof status_s);
+    *failed = strcmp(status_s, "completed") != 0;
+    format_row(p, m, text, row, len);
+    free(text);
+    return 1;
+}
+
+FILE *sweep_open_rows(const sweep_plan *p)
+{
+    char path[1100];
+    snprintf(path, sizeof path, "%s/members.csv", p->dir);
+    FILE *f = fopen(path, "a");
+    if (!f) fprintf(stderr, "swim %s: cannot append to %s: %s\n", p->cmd, path, strerror(errno));
+    return f;
+}
+
+int sweep_append_row(FILE *f, const char *row)
+{
+    if (fputs(row, f) < 0 || fflush(f) != 0) return -1;
+    return 0;
+}
