@@ -13,15 +13,15 @@ CC         ?= gcc
 OPT        ?= -O3 -march=native
 CFLAGS     ?= $(OPT) -g
 CFLAGS     += -std=c11 -D_XOPEN_SOURCE=700 -Wall -Wextra -Wno-unused-parameter -MMD -MP
-CPPFLAGS   += -Iruntime -Igenerated -I/usr/include/sundials
+CPPFLAGS   += -Iruntime -I/usr/include/sundials
 LDLIBS     += -ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lm
 BUILD      ?= build
 BIN        ?= bin
-# Mode counts whose kernels are committed (generated/) and linked into bin/swim, and mode counts
-# generated at build time into build/gen/ and linked as well (tests use 12, hard scenes 15).
+# Mode counts whose kernels are committed (generated/) and linked into bin/swim; any other N up
+# to SWIM_KERNEL_MAX_MODES is generated, compiled and cached by bin/swim on first use.
 MODES      ?= 0 1 2 3 4 5 6 7
-EXTRA_MODES ?= 12 15
 N          ?= 7
+PREFIX     ?= /usr/local
 
 # Debian packages a fresh machine lacks (checked by `make deps`).
 DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev python3-sympy python3-numpy python3-matplotlib
@@ -38,8 +38,7 @@ include $(wildcard runtime/*/module.mk) $(wildcard tests/*/module.mk)
 
 KERNEL_SRCS := $(foreach n,$(MODES),generated/swim_kernel_n$(n).c)
 LIB_SRCS    := $(RUNTIME_SRCS) $(KERNEL_SRCS)
-LIB_OBJS    := $(LIB_SRCS:%.c=$(BUILD)/%.o) $(BUILD)/kernel_table.o \
-               $(foreach n,$(EXTRA_MODES),$(BUILD)/gen/swim_kernel_n$(n).o)
+LIB_OBJS    := $(LIB_SRCS:%.c=$(BUILD)/%.o) $(BUILD)/kernel_table.o
 export PYTHONHASHSEED := 0
 TESTLIB_OBJS := $(TEST_LIB_SRCS:%.c=$(BUILD)/%.o)
 TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
@@ -47,7 +46,7 @@ BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 DEPS_STAMP  := $(BUILD)/.deps-ok
 MEDIA_STAMP := $(BUILD)/.deps-media-ok
 
-.PHONY: FORCE all deps deps-media paper paper-test help test sanitize fuzz bench bench-accuracy bench-drift generate generate-all run readme-figures clean
+.PHONY: FORCE all deps deps-media paper paper-test help install test sanitize fuzz bench bench-accuracy bench-drift generate generate-all run readme-figures clean
 all: $(BIN)/swim
 
 help:
@@ -67,6 +66,7 @@ help:
 	@echo "make bench-drift     energy drift of the T = 1000 runs vs tolerance and step look-ahead (~30 s)"
 	@echo "make generate N=12   regenerate the kernel for one mode count into generated/"
 	@echo "make generate-all    regenerate the committed kernels (N = $(MODES))"
+	@echo "make install PREFIX=/usr/local   bin/swim (and bin/swim-mpi if built) + the generator, kernel headers and plot scripts"
 	@echo "make run        main job: simulate models/example3.toml and plot it"
 	@echo "make readme-figures  rebuild docs/figures/ from the main job"
 	@echo "make clean      remove build/ and bin/"
@@ -96,7 +96,7 @@ $(BUILD)/%.o: %.c | $(DEPS_STAMP)
 
 # The table of kernels linked in; rewritten only when MODES changes.
 $(BUILD)/kernel_table.c: FORCE | $(DEPS_STAMP)
-	@$(PYTHON) generator/generate.py --table $(MODES) $(EXTRA_MODES) --out $@
+	@$(PYTHON) generator/generate.py --table $(MODES) --out $@
 
 $(BUILD)/kernel_table.o: $(BUILD)/kernel_table.c
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
@@ -116,21 +116,25 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(BUILD)/libswimtest.a $(BUILD)/libswim.a
 
 $(BUILD)/tests/%.o: CPPFLAGS += -Itests
 
-# Kernels outside the committed set (EXTRA_MODES), generated at build time.
-$(BUILD)/gen/swim_kernel_n%.c: generator/generate.py $(wildcard generator/swimgen/*.py) | $(DEPS_STAMP)
-	$(PYTHON) generator/generate.py --modes $* --out $(BUILD)/gen --quiet
-
-$(BUILD)/gen/%.o: $(BUILD)/gen/%.c
-	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
-
-TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_events.py tests/test_specialized.py tests/test_hard.py tests/test_trust.py tests/test_plot.sh \
+TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_events.py tests/test_specialized.py tests/test_codegen.py \
+                tests/test_install.sh tests/test_hard.py tests/test_trust.py tests/test_plot.sh \
                 tests/test_flow.py tests/test_figures.py tests/test_animate.py tests/test_paper.py \
                 tests/test_sweep.py tests/test_sweep_mpi.py
 
+# Tests keep their kernel cache in the build folder, not in the user's ~/.cache/swim.
 # bin/swim-mpi is built when OpenMPI is there or can be installed; test_sweep_mpi.py says when it is not.
 test: $(BIN)/swim $(TEST_BINS) $(MEDIA_STAMP)
 	@$(MAKE) --no-print-directory mpi >/dev/null 2>&1 || echo "make mpi failed: the MPI sweep tests are skipped"
-	@SWIM_BIN=$(CURDIR)/$(BIN)/swim bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)
+	@SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)
+
+# bin/swim finds PREFIX/share/swim from its own location, so the tree can be moved as a whole.
+SHARE_FILES := $(shell find generator runtime/kernel -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null) \
+               $(wildcard runtime/plot/*.py)
+install: $(BIN)/swim
+	install -d $(DESTDIR)$(PREFIX)/bin
+	install -m 755 $(BIN)/swim $(DESTDIR)$(PREFIX)/bin/swim
+	if [ -x $(BIN)/swim-mpi ]; then install -m 755 $(BIN)/swim-mpi $(DESTDIR)$(PREFIX)/bin/swim-mpi; fi
+	for f in $(SHARE_FILES); do install -D -m 644 $$f $(DESTDIR)$(PREFIX)/share/swim/$$f || exit 1; done
 
 # The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer (own build folder;
 # specialized kernels are compiled with the same flags into their own cache entries).
@@ -146,7 +150,7 @@ FUZZ_SECONDS ?= 60
 fuzz: | $(DEPS_STAMP)
 	bash tests/fuzz/run_fuzz.sh $(FUZZ_SECONDS)
 
-BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_drift.py
+BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_latency.py tests/bench/bench_drift.py
 
 bench: $(BIN)/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs
 	@bash tests/bench/run_bench.sh $(BENCH_SCRIPTS) $(BENCH_BINS)
@@ -188,5 +192,5 @@ clean:
 	rm -rf $(BUILD) bin
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
-# Keep intermediate objects and generated sources (no rebuild on every make test).
-.SECONDARY: $(TEST_BINS:%=%.o) $(foreach n,$(EXTRA_MODES),$(BUILD)/gen/swim_kernel_n$(n).c)
+# Keep intermediate objects (no rebuild on every make test).
+.SECONDARY: $(TEST_BINS:%=%.o)

@@ -7,15 +7,15 @@
  * the potentials, columns: r*_1, r*_2, omega, then the velocity coordinates).
  */
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
-#include "swim_kernel.h"
 
 #define NFULL 16   /* length of the shape vector x */
 #define NX 16      /* velocity coordinates carried by this kernel */
 #define NR 16
 #define NP 19
-#define KPI 3.14159265358979323846
+#define SWIM_KERNEL_JACOBIAN
+#define SWIM_KERNEL_FULL
+#define SWIM_KERNEL_NAME swim_kernel_n7
 
 /* ---- symbolic pieces (SymPy) ---------------------------------------------------------- */
 
@@ -844,6 +844,9 @@ static double inertia(const double *x, double *grad)
 /* Body part of Md over pi rho0: 1/(|k|+1) (ERRATA A7). */
 static const double body_shape[NX] = {0.5, 0.5, 0.5, 0.5, 0.3333333333333333, 0.3333333333333333, 0.25, 0.25, 0.2, 0.2, 0.16666666666666666, 0.16666666666666666, 0.14285714285714285, 0.14285714285714285, 0.125, 0.125};
 
+/* The factor j of the weighted product u.s = sum_j j (u1_j s1_j + u2_j s2_j), per row of S. */
+static const double weight[NR] = {1.0, 1.0, 2.0, 2.0, 3.0, 3.0, 4.0, 4.0, 5.0, 5.0, 6.0, 6.0, 7.0, 7.0, 8.0, 8.0};
+
 /* dS[r][row][col] = dS[row][col]/dx_r (zero entries are not written: caller clears). */
 static void boundary_data_deriv(const double *x, double *dS)
 {
@@ -1297,6 +1300,7 @@ static void boundary_data_deriv(const double *x, double *dS)
     dS[4848] = 7.0/8.0;
 }
 
+/* J(c) on the unit circle (2.4), ERRATA B2, and its gradient. */
 static void jacobian_circle(const double *x, const double *cs, const double *sn,
                             double *J, double *dJ)
 {
@@ -1354,288 +1358,4 @@ static void jacobian_circle(const double *x, const double *cs, const double *sn,
     }
 }
 
-
-static int barrier_sums(const double *x, const double *cs, const double *sn, int Q, double alpha,
-                        double *sum, double *gsum, double *jlow)
-{
-    const int w = NFULL / 2 - 1 > 0 ? NFULL / 2 - 1 : 1;   /* max(N, 1) columns per node */
-    double s = 0.0, lo = INFINITY, dJ[NX], J;
-    if (gsum)
-        for (int i = 0; i < NX; i++) gsum[i] = 0.0;
-    for (int q = 0; q < Q; q++) {
-        jacobian_circle(x, cs + (size_t)q * w, sn + (size_t)q * w, &J, gsum ? dJ : NULL);
-        if (J < lo) lo = J;
-        if (!(J > 0.0)) {
-            *jlow = lo;
-            return -1;
-        }
-        /* J^-alpha; alpha = 1/2 and 1 avoid pow() on the hot path */
-        const double ja = alpha == 0.5 ? 1.0 / sqrt(J) : alpha == 1.0 ? 1.0 / J : pow(J, -alpha);
-        s += ja;
-        if (gsum) {
-            const double t = ja / J;
-            for (int i = 0; i < NX; i++) gsum[i] += t * dJ[i];
-        }
-    }
-    *sum = s;
-    *jlow = lo;
-    return 0;
-}
-/* ---- assembly (fixed-size loops) ------------------------------------------------------ */
-
-typedef struct {
-    double S[NR][NP];   /* boundary data */
-    double U[NR][NX];   /* S E with E = [P; I]: data of the reduced velocities */
-    double P[3][NX];    /* -Mr^-1 Nc */
-    double Mr[9], Nc[3 * NX], Ic, gI[NX];
-} work_t;
-
-/* The factor j of the weighted product u.s = sum_j j (u1_j s1_j + u2_j s2_j), per row of S. */
-static const double weight[NR] = {1.0, 1.0, 2.0, 2.0, 3.0, 3.0, 4.0, 4.0, 5.0, 5.0, 6.0, 6.0, 7.0, 7.0, 8.0, 8.0};
-
-/* M = rho_f pi S^T W S + rho_0 pi diag(1, 1, I, 1/(|k|+1)) restricted to the rigid rows. */
-static void rigid_blocks(work_t *w, double f, double b)
-{
-    double acc[3][NP];
-    for (int p = 0; p < 3; p++) {
-        double row[NP] = {0.0};   /* one output row held in registers across the sum over r */
-        for (int r = 0; r < NR; r++) {
-            const double t = f * weight[r] * w->S[r][p];
-            for (int q = 0; q < NP; q++)
-                row[q] += t * w->S[r][q];
-        }
-        memcpy(acc[p], row, sizeof row);
-    }
-    for (int p = 0; p < 3; p++) {
-        for (int q = 0; q < 3; q++)
-            w->Mr[3 * p + q] = acc[p < q ? p : q][p < q ? q : p];  /* exactly symmetric */
-        for (int k = 0; k < NX; k++)
-            w->Nc[NX * p + k] = acc[p][3 + k];
-    }
-    w->Mr[0] += b;
-    w->Mr[4] += b;
-    w->Mr[8] += b * w->Ic;
-}
-
-/* P = -Mr^-1 Nc by a 3x3 Cholesky factorization; -1 if Mr is not positive definite. */
-static int schur_factor(work_t *w)
-{
-    const double *M = w->Mr;
-    double l00 = M[0];
-    if (!(l00 > 0.0)) return -1;
-    l00 = sqrt(l00);
-    double l10 = M[3] / l00, l20 = M[6] / l00;
-    double l11 = M[4] - l10 * l10;
-    if (!(l11 > 0.0)) return -1;
-    l11 = sqrt(l11);
-    double l21 = (M[7] - l20 * l10) / l11;
-    double l22 = M[8] - l20 * l20 - l21 * l21;
-    if (!(l22 > 0.0)) return -1;
-    l22 = sqrt(l22);
-    for (int k = 0; k < NX; k++) {
-        double y0 = w->Nc[k] / l00;
-        double y1 = (w->Nc[NX + k] - l10 * y0) / l11;
-        double y2 = (w->Nc[2 * NX + k] - l20 * y0 - l21 * y1) / l22;
-        double z2 = y2 / l22;
-        double z1 = (y1 - l21 * z2) / l11;
-        double z0 = (y0 - l10 * z1 - l20 * z2) / l00;
-        w->P[0][k] = -z0;
-        w->P[1][k] = -z1;
-        w->P[2][k] = -z2;
-    }
-    for (int r = 0; r < NR; r++)
-        for (int k = 0; k < NX; k++)
-            w->U[r][k] = w->S[r][3 + k] + w->S[r][0] * w->P[0][k] + w->S[r][1] * w->P[1][k]
-                       + w->S[r][2] * w->P[2][k];
-    return 0;
-}
-
-static int setup(const double *x, double rho0, double rhof, work_t *w)
-{
-    boundary_data(x, w->S);
-    w->Ic = inertia(x, w->gI);
-    rigid_blocks(w, rhof * KPI, rho0 * KPI);
-    return schur_factor(w);
-}
-
-/* K = E^T M E = rho_f pi U^T W U + P^T diag(b, b, b I) P + diag(b / (|k|+1)). */
-static void reduced_matrix(const work_t *w, double f, double b, double *K)
-{
-    double acc[NX][NX];
-    for (int i = 0; i < NX; i++) {
-        double row[NX] = {0.0};   /* one output row held in registers across the sum over r */
-        for (int r = 0; r < NR; r++) {
-            const double t = f * weight[r] * w->U[r][i];
-            for (int j = 0; j < NX; j++)
-                row[j] += t * w->U[r][j];
-        }
-        memcpy(acc[i], row, sizeof row);
-    }
-    for (int i = 0; i < NX; i++)
-        for (int j = i; j < NX; j++) {
-            double s = acc[i][j] + b * (w->P[0][i] * w->P[0][j] + w->P[1][i] * w->P[1][j]
-                                        + w->Ic * w->P[2][i] * w->P[2][j]);
-            if (i == j) s += b * body_shape[i];
-            K[NX * i + j] = K[NX * j + i] = s;
-        }
-}
-
-static int reduced(const double *x, const double *v, double rho0, double rhof,
-                   double *K, double *P, double *gvv)
-{
-    work_t w;
-    const double f = rhof * KPI, b = rho0 * KPI;
-    if (setup(x, rho0, rhof, &w) != 0) return -1;
-    if (K) reduced_matrix(&w, f, b, K);
-    if (P) memcpy(P, w.P, sizeof w.P);
-    if (!v || !gvv) return 0;
-
-    /* X = (q, v) with q = P v: the velocity that minimizes X^T M X for this v (Lemma 4.3). */
-    double X[NP], ws[NR], dX[NR], a[NP], D[NR][NP];
-    for (int p = 0; p < 3; p++) {
-        double s = 0.0;
-        for (int k = 0; k < NX; k++) s += w.P[p][k] * v[k];
-        X[p] = s;
-    }
-    for (int k = 0; k < NX; k++) X[3 + k] = v[k];
-    for (int r = 0; r < NR; r++) {
-        double s = 0.0;
-        for (int k = 0; k < NX; k++) s += w.U[r][k] * v[k];
-        ws[r] = weight[r] * s;
-    }
-    boundary_data_dir(x, v, D);
-    for (int q = 0; q < NP; q++) a[q] = 0.0;
-    for (int r = 0; r < NR; r++) {
-        double s = 0.0;
-        for (int q = 0; q < NP; q++) {
-            a[q] += D[r][q] * ws[r];
-            s += D[r][q] * X[q];
-        }
-        dX[r] = weight[r] * s;
-    }
-    double g[NX];
-    boundary_data_bigrad(x, ws, X, g);
-    double dIv = 0.0;
-    for (int k = 0; k < NX; k++) dIv += w.gI[k] * v[k];
-    const double q2 = X[2];
-    /* [D_v(K v)]_i = (E^T (D_v M) X)_i;  d_i(v^T K v)/2 = X^T (d_i M) X / 2 at fixed X. */
-    for (int i = 0; i < NX; i++) {
-        double s = a[3 + i] + w.P[0][i] * a[0] + w.P[1][i] * a[1] + w.P[2][i] * a[2];
-        for (int r = 0; r < NR; r++) s += w.U[r][i] * dX[r];
-        gvv[i] = f * (s - g[i]) + b * (dIv * q2 * w.P[2][i] - 0.5 * w.gI[i] * q2 * q2);
-    }
-    return 0;
-}
-
-static void mass(const double *x, double rho0, double rhof, double *Mr, double *Nc, double *Md)
-{
-    work_t w;
-    const double f = rhof * KPI, b = rho0 * KPI;
-    boundary_data(x, w.S);
-    w.Ic = inertia(x, NULL);
-    rigid_blocks(&w, f, b);
-    if (Mr) memcpy(Mr, w.Mr, sizeof w.Mr);
-    if (Nc) memcpy(Nc, w.Nc, sizeof w.Nc);
-    if (Md) {
-        double acc[NX][NX] = {{0.0}};
-        for (int r = 0; r < NR; r++)
-            for (int i = 0; i < NX; i++) {
-                const double t = f * weight[r] * w.S[r][3 + i];
-                for (int j = 0; j < NX; j++)
-                    acc[i][j] += t * w.S[r][3 + j];
-            }
-        for (int i = 0; i < NX; i++)
-            for (int j = i; j < NX; j++)
-                Md[NX * i + j] = Md[NX * j + i] = acc[i][j] + (i == j ? b * body_shape[i] : 0.0);
-    }
-}
-
-static int mass_deriv(const double *x, double rho0, double rhof,
-                      double *dMr, double *dNc, double *dMd)
-{
-    const double f = rhof * KPI, b = rho0 * KPI;
-    double S[NR][NP], gI[NX];
-    double *dS = calloc((size_t)NX * NR * NP, sizeof(double));
-    if (!dS) return -2;
-    boundary_data(x, S);
-    boundary_data_deriv(x, dS);
-    inertia(x, gI);
-    for (int r = 0; r < NX; r++) {
-        const double (*dSr)[NP] = (const double (*)[NP])(dS + (size_t)r * NR * NP);
-        for (int p = 0; p < NP; p++)
-            for (int q = p; q < NP; q++) {
-                double s = 0.0;
-                for (int row = 0; row < NR; row++)
-                    s += weight[row] * (dSr[row][p] * S[row][q] + S[row][p] * dSr[row][q]);
-                s *= f;
-                if (p == 2 && q == 2) s += b * gI[r];
-                if (q < 3) {
-                    if (dMr) dMr[9 * r + 3 * p + q] = dMr[9 * r + 3 * q + p] = s;
-                } else if (p < 3) {
-                    if (dNc) dNc[3 * NX * r + NX * p + q - 3] = s;
-                } else if (dMd) {
-                    dMd[(size_t)NX * NX * r + NX * (p - 3) + q - 3] = s;
-                    dMd[(size_t)NX * NX * r + NX * (q - 3) + p - 3] = s;
-                }
-            }
-    }
-    free(dS);
-    return 0;
-}
-
-static int reduced_deriv(const double *x, double rho0, double rhof, double *dK, double *Gamma)
-{
-    const double f = rhof * KPI, b = rho0 * KPI;
-    work_t w;
-    if (setup(x, rho0, rhof, &w) != 0) return -1;
-    double *dS = calloc((size_t)NX * NR * NP, sizeof(double));
-    double *dKw = dK ? dK : malloc(sizeof(double) * NX * NX * NX);
-    if (!dS || !dKw) { free(dS); if (!dK) free(dKw); return -2; }
-    boundary_data_deriv(x, dS);
-    double V[NR][NX];
-    /* d_r K = E^T (d_r M) E: the terms with d_r E cancel because M E = [0; K]. */
-    for (int r = 0; r < NX; r++) {
-        const double (*dSr)[NP] = (const double (*)[NP])(dS + (size_t)r * NR * NP);
-        double *dKr = dKw + (size_t)NX * NX * r;
-        for (int row = 0; row < NR; row++)
-            for (int k = 0; k < NX; k++)
-                V[row][k] = dSr[row][3 + k] + dSr[row][0] * w.P[0][k] + dSr[row][1] * w.P[1][k]
-                          + dSr[row][2] * w.P[2][k];
-        for (int i = 0; i < NX; i++)
-            for (int j = i; j < NX; j++) {
-                double s = 0.0;
-                for (int row = 0; row < NR; row++)
-                    s += weight[row] * (V[row][i] * w.U[row][j] + w.U[row][i] * V[row][j]);
-                s = f * s + b * w.gI[r] * w.P[2][i] * w.P[2][j];
-                dKr[NX * i + j] = dKr[NX * j + i] = s;
-            }
-    }
-    if (Gamma)
-        for (int i = 0; i < NX; i++)
-            for (int j = 0; j < NX; j++)
-                for (int l = 0; l < NX; l++)
-                    Gamma[((size_t)NX * i + j) * NX + l] =
-                        0.5 * (dKw[((size_t)NX * l + i) * NX + j] + dKw[((size_t)NX * j + i) * NX + l]
-                               - dKw[((size_t)NX * i + j) * NX + l]);
-    free(dS);
-    if (!dK) free(dKw);
-    return 0;
-}
-
-static void boundary_data_flat(const double *x, double *S)
-{
-    boundary_data(x, (double (*)[NP])S);
-}
-
-const swim_kernel swim_kernel_n7 = {
-    .modes = 7,
-    .dim = NX,
-    .mass = mass,
-    .mass_deriv = mass_deriv,
-    .reduced = reduced,
-    .reduced_deriv = reduced_deriv,
-    .jacobian_circle = jacobian_circle,
-    .barrier_sums = barrier_sums,
-    .inertia = inertia,
-    .boundary_data = boundary_data_flat,
-};
+#include "kernel/assembly.h"

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """swim generator: derive the N-mode model with SymPy and write specialized C kernels.
 
-    generate.py --modes 0 1 2 7 --out generated        kernels + the contract header
+    generate.py --modes 0 1 2 7 --out generated        kernels (the contract they implement is
+                                                       the hand-written runtime/kernel/swim_kernel.h)
     generate.py --table 0 1 2 7 --out build/table.c    the table of kernels linked into a build
     generate.py --scene structure.json --out k.c       a kernel specialized to one scene structure
 
@@ -16,10 +17,10 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from swimgen.emit import (header_source, kernel_source, scene_kernel_source,  # noqa: E402
-                          table_source)
+from swimgen.emit import kernel_source, scene_kernel_source, table_source  # noqa: E402
+from swimgen.law import LawError  # noqa: E402
 
-MAX_MODES = 20
+MAX_MODES = 32   # SWIM_KERNEL_MAX_MODES in runtime/kernel/swim_kernel.h
 
 
 def write_if_changed(path, text):
@@ -27,9 +28,11 @@ def write_if_changed(path, text):
     if os.path.exists(path):
         with open(path, encoding="utf-8") as fh:
             old = fh.read()
-    if old != text:
-        with open(path, "w", encoding="utf-8") as fh:
+    if old != text:   # written under a temporary name, then renamed: never a partial file
+        tmp = "%s.tmp%d" % (path, os.getpid())
+        with open(tmp, "w", encoding="utf-8") as fh:
             fh.write(text)
+        os.replace(tmp, path)
 
 
 def main(argv=None):
@@ -53,6 +56,9 @@ def main(argv=None):
                 structure = json.load(fh)
             text = scene_kernel_source(structure, "generator/generate.py --scene %s --out %s"
                                        % (os.path.basename(args.scene), os.path.basename(args.out)))
+        except LawError as exc:
+            print("generate.py: --scene %s: forcing law: %s" % (args.scene, exc), file=sys.stderr)
+            return 2
         except (OSError, ValueError, KeyError, TypeError) as exc:
             print("generate.py: --scene %s: %s" % (args.scene, exc), file=sys.stderr)
             return 2
@@ -67,8 +73,6 @@ def main(argv=None):
         return 0
 
     os.makedirs(args.out, exist_ok=True)
-    write_if_changed(os.path.join(args.out, "swim_kernel.h"),
-                     header_source("generator/generate.py --modes N --out %s" % args.out))
     for k in args.modes:
         t0 = time.perf_counter()
         cmd = "generator/generate.py --modes %d --out %s" % (k, args.out)

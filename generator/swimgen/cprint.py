@@ -6,8 +6,9 @@ from sympy.printing.precedence import precedence
 
 
 class KernelPrinter(C99CodePrinter):
-    """C99 printer that maps model symbols to array elements and prints small powers as
-    products (x*x rather than pow(x, 2): exact, and much cheaper)."""
+    """C99 printer that maps model symbols to array elements (or any C lvalue text: `names`),
+    prints small powers as products (x*x rather than pow(x, 2): exact, and much cheaper) and
+    constants as literals."""
 
     def __init__(self, names):
         super().__init__()
@@ -16,6 +17,16 @@ class KernelPrinter(C99CodePrinter):
     def _print_Symbol(self, expr):
         name = self._names.get(expr)
         return name if name is not None else super()._print_Symbol(expr)
+
+    def _print_Pi(self, expr):
+        return "3.14159265358979323846"   # M_PI is not in strict C11
+
+    def _print_Exp1(self, expr):
+        return "2.71828182845904523536"
+
+    def _print_Step(self, expr):
+        """Heaviside with step(0) = 1 (swimgen.law.Step, the runtime's `step`)."""
+        return "((%s) >= 0.0 ? 1.0 : 0.0)" % self._print(expr.args[0])
 
     def _print_Pow(self, expr):
         if expr.exp.is_Integer and 2 <= int(expr.exp) <= 4:

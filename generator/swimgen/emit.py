@@ -1,19 +1,35 @@
 """Turns a SwimmerModel into C text (one place decides what is computed).
 
-kernel_source: the generic kernel for N modes (all coordinates free), linked into bin/swim.
-scene_kernel_source: a kernel specialized to one scene structure (issue 5): locked coordinates
-removed (those locked at 0 folded away), effects the scene lacks not emitted at all, the forcing
-law compiled in, and the whole right-hand side of (4.10)-(4.12), (3.21) in one function.
+kernel_source: the kernel for N modes (all coordinates free: mass matrices, their derivatives,
+K, Gamma, J), linked into bin/swim for N = 0..7 and generated at run time for any other N.
+scene_kernel_source: a kernel for one scene structure: the coordinates it carries (locked ones
+removed and those locked at 0 folded away, or all of them with locks held by multipliers), the
+effects present and the forcing law, with the whole right-hand side of (4.10)-(4.12), (3.21)
+(runtime/kernel/scene_rhs.h) behind one function.
+
+Every formula is a SymPy expression printed by cprint.KernelPrinter; the fixed assembly is
+hand-written C in runtime/kernel/ that the emitted file includes.
 """
 
 import sympy as sp
 
 from .cprint import KernelPrinter, emit_assignments
+from .law import parse_law
 from .model import SwimmerModel
-from .template import (ASSEMBLY_FULL, ASSEMBLY_REDUCED, HEADER, KERNEL_HEAD,
-                       SCENE_RHS, SYMBOLIC_CORE, SYMBOLIC_DERIV, SYMBOLIC_JACOBIAN, TABLE)
+from .template import (INCLUDE_ASSEMBLY, INCLUDE_SCENE_RHS, KERNEL_HEAD,
+                       QUICK_OPTIMIZATION_BEGIN, QUICK_OPTIMIZATION_END, SCENE_PIECES,
+                       SYMBOLIC_CORE, SYMBOLIC_DERIV, SYMBOLIC_JACOBIAN, TABLE)
 
-SCENE_FORMAT = 1
+QUICK_ABOVE = 16   # coordinates carried above which the SymPy code is compiled at -O1
+
+
+def _symbolic(m, text):
+    """The SymPy part of a kernel, at -O1 when the kernel is large (template.py says why)."""
+    if m.n <= QUICK_ABOVE:
+        return text
+    return QUICK_OPTIMIZATION_BEGIN + text + QUICK_OPTIMIZATION_END
+
+SCENE_FORMAT = 2
 
 
 def banner(command):
@@ -24,6 +40,24 @@ def banner(command):
 def coord_name(i):
     m = i // 2
     return ("%s1" if m == 0 else "%sm%d" % ("%s", m)) % ("b" if i % 2 else "a")
+
+
+def c_string(text):
+    """`text` as the body of a C string literal."""
+    out = []
+    for ch in text:
+        if ch in '"\\':
+            out.append("\\" + ch)
+        elif " " <= ch <= "~":
+            out.append(ch)
+        else:
+            out.append("\\%03o" % (ord(ch) & 0xFF))
+    # "??" sequences are trigraphs in strict C11: break them
+    return "".join(out).replace("??", "?\\?")
+
+
+def c_comment(text):
+    return "".join(ch if " " <= ch <= "~" else "?" for ch in text).replace("*/", "* /")
 
 
 class _Emitter:
@@ -42,6 +76,7 @@ class _Emitter:
                              ("cs", self.cs), ("sn", self.sn)):
             for i, s in enumerate(syms):
                 names[s] = "%s[%d]" % (prefix, i)
+        self.names = names
         self.pr = KernelPrinter(names)
 
     def body(self, assignments, indent="    ", unused=("x",)):
@@ -94,20 +129,91 @@ class _Emitter:
         return dict(J_body=J_body, dJ_body=dJ_body)
 
 
+def options(*lines):
+    return "".join("#define %s\n" % l for l in lines)
+
+
 def kernel_source(modes, command):
     m = SwimmerModel(modes)
     e = _Emitter(m)
     d = e.subs(filename="swim_kernel_n%d.c" % modes,
                what="mass matrices, reduced mass matrix and Christoffel symbol for N = %d." % modes,
-               banner=banner(command))
+               banner=banner(command),
+               options=options("SWIM_KERNEL_JACOBIAN", "SWIM_KERNEL_FULL",
+                               "SWIM_KERNEL_NAME swim_kernel_n%d" % modes))
     d.update(e.jacobian_subs(), dS_body=e.deriv_subs())
-    return "".join(t.substitute(d) for t in (KERNEL_HEAD, SYMBOLIC_CORE, SYMBOLIC_DERIV,
-                                             SYMBOLIC_JACOBIAN, ASSEMBLY_REDUCED, ASSEMBLY_FULL))
+    return (KERNEL_HEAD.substitute(d)
+            + _symbolic(m, "".join(t.substitute(d) for t in (SYMBOLIC_CORE, SYMBOLIC_DERIV,
+                                                              SYMBOLIC_JACOBIAN)))
+            + INCLUDE_ASSEMBLY)
+
+
+def _scene_forces(e, m, structure):
+    """f_k and the power as expressions (printed with one cse), run-time values as p->... ."""
+    pos = {i: f for f, i in enumerate(m.free)}
+    t = sp.Symbol("t", real=True)
+    names = dict(e.names)
+    names[t] = "t"
+    par = {}
+
+    def param(kind, i):
+        s = sp.Symbol("%s_%d" % (kind, i), real=True)
+        names[s] = "p->%s[%d]" % (kind, i)
+        return s
+
+    g = sp.symbols("g0:%d" % m.n, real=True)
+    for k, s in enumerate(g):
+        names[s] = "g[%d]" % k
+    f = [-g[k] for k in range(m.n)]
+    power = sp.Integer(0)
+    for i in structure.get("elastic", []):
+        if i in pos:   # W1 = 1/2 (c - cref)^T R (c - cref) (ERRATA E2)
+            f[pos[i]] -= param("stiffness", i) * (m.coord(i) - param("reference", i))
+    for i in structure.get("damping", []):
+        if i in pos:   # -D cdot (4.15)
+            term = param("damping", i) * e.v[pos[i]]
+            f[pos[i]] -= term
+            power -= term * e.v[pos[i]]
+    fo = structure.get("forcing")
+    law = "-"
+    if fo and any(i in pos for i in fo["direction"]):
+        law = fo["law"]
+        ft = parse_law(law, t)   # F(t) = f(t) direction (5.1)
+        for i in fo["direction"]:
+            if i in pos:
+                f[pos[i]] += ft * param("direction", i)
+                power += ft * param("direction", i) * e.v[pos[i]]
+    pr = KernelPrinter(names)
+    lines = emit_assignments([("f[%d]" % k, fk) for k, fk in enumerate(f)] + [("*power", power)],
+                             pr)
+    used = "".join(lines)
+    unused = ["    (void)%s;" % a for a in ("t", "x", "v", "p") if not _mentions(used, a)]
+    return "\n".join(unused + lines), law
+
+
+def _mentions(code, name):
+    import re
+    return re.search(r"(?<![A-Za-z0-9_>])%s(?![A-Za-z0-9_])" % re.escape(name), code) is not None
+
+
+def _scene_constraints(e, m):
+    rows = []
+    curv = sp.Integer(0)
+    for f, i in enumerate(m.free):
+        k = m.mode_of(i)
+        ak = abs(k) + 1
+        rows.append(("G[0][%d]" % f, sp.Integer(k) * m.coord(i)))
+        rows.append(("G[1][%d]" % f, (m.coord(i + 1) if i % 2 == 0 else -m.coord(i - 1)) / ak))
+        curv += k * e.v[f] ** 2
+    lines = emit_assignments(rows + [("*curv", curv)], e.pr)
+    if not any("x[" in l for l in lines):
+        lines.insert(0, "    (void)x;")
+    return "\n".join(lines)
 
 
 def scene_kernel_source(structure, command):
-    """structure: dict written by runtime/model/specialize.c (keys: key, format, modes, free,
-    zero, elastic, barrier, damping, forcing)."""
+    """structure: dict written by runtime/codegen (keys: key, format, modes, free, zero,
+    multipliers, elastic, barrier, damping, forcing = null or {law, direction})."""
     if structure.get("format") != SCENE_FORMAT:
         raise ValueError("scene structure format %r, expected %d" % (structure.get("format"),
                                                                      SCENE_FORMAT))
@@ -117,64 +223,25 @@ def scene_kernel_source(structure, command):
     if m.n == 0:
         raise ValueError("a scene kernel needs at least one free coordinate")
     e = _Emitter(m)
-    pos = {i: f for f, i in enumerate(m.free)}
-    force = []
-    elastic = [i for i in structure.get("elastic", []) if i in pos]
-    if elastic:
-        force.append("    /* W1 = 1/2 (c - cref)^T R (c - cref) (ERRATA E2) */")
-        force += ["    f[%d] -= p->stiffness[%d] * (x[%d] - p->reference[%d]);" % (pos[i], i, i, i)
-                  for i in elastic]
+    force_body, law = _scene_forces(e, m, structure)
+    opts = []
     if structure.get("barrier"):
-        force += ["    {   /* W2 (section 4.1.1): quadrature by the runtime on barrier_sums */",
-                  "        double gW[NX];",
-                  "        if (p->barrier(x, gW, p->barrier_ctx) != 0) return SWIM_RHS_EBARRIER;",
-                  "        for (int i = 0; i < NX; i++) f[i] -= gW[i];",
-                  "    }"]
-    damping = [i for i in structure.get("damping", []) if i in pos]
-    if damping:
-        force.append("    /* -D cdot (4.15) */")
-        for i in damping:
-            force.append("    f[%d] -= p->damping[%d] * v[%d];" % (pos[i], i, pos[i]))
-            force.append("    power -= p->damping[%d] * v[%d] * v[%d];" % (i, pos[i], pos[i]))
-    forcing_fn = ""
-    fo = structure.get("forcing")
-    if fo and [i for i in fo["direction"] if i in pos]:
-        forcing_fn = ("/* F(t) = f(t) direction (5.1), f compiled from the scene's law \"%s\" */\n"
-                      "static double forcing_law(double t)\n{\n    return %s;\n}\n"
-                      % (fo["law"].replace("*/", "* /"), fo["c"]))
-        force.append("    {   /* F(t) (5.1) */")
-        force.append("        const double ft = forcing_law(t);")
-        for i in fo["direction"]:
-            if i in pos:
-                force.append("        f[%d] += ft * p->direction[%d];" % (pos[i], i))
-                force.append("        power += ft * p->direction[%d] * v[%d];" % (i, pos[i]))
-        force.append("    }")
-    rows = []
-    for f, i in enumerate(m.free):
-        k = m.mode_of(i)
-        ak = abs(k) + 1
-        g1 = sp.Integer(k) * m.coord(i)
-        g2 = (m.coord(i + 1) if i % 2 == 0 else -m.coord(i - 1)) / ak
-        rows.append("    G[0][%d] = %s;" % (f, e.pr.doprint(g1)))
-        rows.append("    G[1][%d] = %s;" % (f, e.pr.doprint(g2)))
-        rows.append("    curv += %d.0 * v[%d] * v[%d];" % (k, f, f))
+        opts += ["SWIM_KERNEL_JACOBIAN", "SWIM_SCENE_BARRIER"]
+    if structure.get("multipliers"):
+        opts.append("SWIM_SCENE_LOCK_MULTIPLIERS")
     d = e.subs(filename="scene kernel",
                what="right-hand side specialized to one scene structure.",
-               banner=banner(command), structure=structure["key"].replace('"', "'"),
-               free_index=", ".join(str(i) for i in m.free), forcing_fn=forcing_fn,
-               barrier_entry="barrier_sums" if structure.get("barrier") else "NULL",
-               force_terms="\n".join(force),
-               constraint_rows="\n".join(rows))
-    pieces = [KERNEL_HEAD, SYMBOLIC_CORE]
+               banner=banner(command), options=options(*opts),
+               structure=c_string(structure["key"]), law=c_comment(law),
+               free_index=", ".join(str(i) for i in m.free),
+               force_body=force_body, constraint_body=_scene_constraints(e, m))
+    pieces = [SYMBOLIC_CORE]
     if structure.get("barrier"):
         d.update(e.jacobian_subs())
         pieces.append(SYMBOLIC_JACOBIAN)
-    pieces += [ASSEMBLY_REDUCED, SCENE_RHS]
-    return "".join(t.substitute(d) for t in pieces)
-
-
-def header_source(command):
-    return HEADER.replace("$banner", banner(command))
+    text = (KERNEL_HEAD.substitute(d) + _symbolic(m, "".join(t.substitute(d) for t in pieces))
+            + INCLUDE_ASSEMBLY)
+    return text + "\n" + SCENE_PIECES.substitute(d) + INCLUDE_SCENE_RHS
 
 
 def table_source(modes_list, command):

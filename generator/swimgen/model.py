@@ -24,6 +24,24 @@ the exact product rule in the emitted C (see template.py).
 import sympy as sp
 
 
+def _diff_polynomial(e, sym):
+    """d e / d sym for an expanded polynomial, term by term: the entries of S are multilinear
+    (sym appears to the first power), which this handles without SymPy's general machinery;
+    any other term goes through sp.diff."""
+    out = []
+    for term in sp.Add.make_args(e):
+        factors = list(sp.Mul.make_args(term))
+        if sym in factors:
+            factors.remove(sym)
+            if not any(f.has(sym) for f in factors):
+                out.append(sp.Mul(*factors))
+                continue
+            factors.append(sym)
+        if term.has(sym):
+            out.append(sp.diff(term, sym))
+    return sp.Add(*out)
+
+
 class SwimmerModel:
     """Symbols and exact expressions for one mode count N."""
 
@@ -134,7 +152,7 @@ class SwimmerModel:
                         r = self.free_position(sym)
                         if r is None:
                             continue
-                        d = sp.diff(e, sym)
+                        d = _diff_polynomial(e, sym)
                         if d != 0:
                             out[(r, row, col)] = d
             self._dS = out
@@ -142,10 +160,10 @@ class SwimmerModel:
 
     def directional_dS(self, v):
         """D_v S = sum_r v_r dS/dx_r, as rows of expressions in x and the symbols v."""
-        rows = [[sp.Integer(0)] * self.ncols for _ in range(self.nrows)]
+        terms = [[[] for _ in range(self.ncols)] for _ in range(self.nrows)]
         for (r, row, col), d in self.dS().items():
-            rows[row][col] += v[r] * d
-        return rows
+            terms[row][col].append(v[r] * d)
+        return [[sp.Add(*t) for t in row] for row in terms]   # one Add: sums are built once
 
     def bilinear_gradient(self, w, X):
         """Gradient in x of f = sum_{row,col} w_row S[row][col] X_col at fixed w, X.
@@ -153,10 +171,10 @@ class SwimmerModel:
         With w = W S X this is (S X)^T W (d_i S) X, so that the identity
         d_i (v^T K v) = X^T (d_i M) X at fixed X = (-Mr^-1 N v, v) needs no tensor.
         """
-        g = [sp.Integer(0)] * self.n
+        terms = [[] for _ in range(self.n)]
         for (r, row, col), d in self.dS().items():
-            g[r] += w[row] * X[col] * d
-        return g
+            terms[r].append(w[row] * X[col] * d)
+        return [sp.Add(*t) for t in terms]
 
     # -- body terms (2.11), (2.17) ------------------------------------------------------
     def inertia_sum(self):

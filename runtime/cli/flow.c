@@ -14,6 +14,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "codegen/codegen.h"
 #include "model/dynamics.h"
 #include "model/flow.h"
 #include "scene/scene.h"
@@ -212,6 +213,15 @@ int swim_cmd_flow(int argc, char **argv)
         ntimes = (int)frames;
         for (int i = 0; i < ntimes; i++) times[i] = ntimes > 1 ? t0 + (t1 - t0) * i / (ntimes - 1) : t0;
     }
+    /* The kernel of N modes (boundary data and K): linked in, cached, or generated now. */
+    swim_compiled kn;
+    if (swim_codegen_kernel(s.modes, &kn, 1) != 0) {
+        swim_message(stderr, "swim flow: %s: no kernel for N = %d, nothing computed", dir, s.modes);
+        free(tb.t);
+        free(tb.q);
+        swim_scene_free(&s);
+        return 1;
+    }
     if ((v = swim_args_get(opts, nopts, "out"))) snprintf(out, sizeof out, "%s", v);
     else snprintf(out, sizeof out, "%s/snapshots.json", dir);
     const int to_stdout = strcmp(out, "-") == 0;
@@ -224,7 +234,7 @@ int swim_cmd_flow(int argc, char **argv)
     if (!f) {
         swim_message(stderr, "swim flow: --out: cannot write '%s': %s", out, strerror(errno));
         rc = 2;
-    } else if (swim_dynamics_init(&d, &s) != 0) {
+    } else if (swim_dynamics_init(&d, &s, kn.kernel) != 0) {
         swim_message(stderr, "swim flow: out of memory");
         rc = 1;
     } else {
@@ -256,6 +266,7 @@ int swim_cmd_flow(int argc, char **argv)
             rc = 1;
         }
     }
+    swim_compiled_close(&kn);
     free(tb.t);
     free(tb.q);
     swim_scene_free(&s);

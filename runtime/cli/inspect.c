@@ -8,9 +8,10 @@
 #include "cli/commands.h"
 #include "io/json.h"
 #include "io/message.h"
-#include "model/shape.h"
+#include "shape/shape.h"
+#include "codegen/codegen.h"
+#include "kernel/swim_kernel.h"
 #include "scene/scene.h"
-#include "swim_kernel.h"
 
 int swim_cmd_inspect(int argc, char **argv)
 {
@@ -25,13 +26,7 @@ int swim_cmd_inspect(int argc, char **argv)
     }
     long N;
     if (swim_args_int("inspect", "modes", ms, 0, SWIM_KERNEL_MAX_MODES, &N)) return 2;
-    const swim_kernel *k = swim_kernel_find((int)N);
-    if (!k) {
-        swim_message(stderr, "swim inspect: --modes: no kernel for N = %ld in this build "
-                "(make generate N=%ld, then make MODES=\"... %ld\")\n", N, N, N);
-        return 2;
-    }
-    const int n = k->dim;
+    const int n = 2 * ((int)N + 1);
     double x[2 * (SWIM_KERNEL_MAX_MODES + 1)], v[2 * (SWIM_KERNEL_MAX_MODES + 1)];
     int count;
     if (swim_args_list("inspect", "shape", ss, x, n, &count)) return 2;
@@ -57,25 +52,32 @@ int swim_cmd_inspect(int argc, char **argv)
                 rho0 > 0.0 ? "rhof" : "rho0", rho0 > 0.0 ? rhof : rho0);
         return 2;
     }
-    double jmin = swim_shape_jmin(k, x);
+    double jmin = swim_shape_jmin((int)N, x);
     if (!(jmin > 0.0)) {
         swim_message(stderr, "swim inspect: --shape: %s is outside the admissible set D "
                 "(min J = %.6g <= 0 on the unit circle, (4.1))", ss, jmin);
         return 2;
     }
 
+    swim_compiled kc;   /* linked in, cached, or generated now (progress on stderr) */
+    if (swim_codegen_kernel((int)N, &kc, 1) != 0) return 1;
+    const swim_kernel *k = kc.kernel;
     /* Numbers that overflow would print as null: refuse them, naming the option that did it. */
     static const char *const culprit[] = {NULL, "shape", "rho0", "rhof", "velocity"};
     int over = swim_model_overflow(k, x, vs ? v : NULL, rho0, rhof);
     if (over != SWIM_INPUT_OK) {
         swim_message(stderr, "swim inspect: --%s: too large: the mass matrices, K or the Christoffel term "
                      "exceed %g at these values", culprit[over], SWIM_MAGNITUDE_MAX);
+        swim_compiled_close(&kc);
         return 2;
     }
-
     int full = swim_args_get(opts, nopts, "full") != NULL;
     double *buf = calloc((size_t)(9 + 3 * n + 3 * n * n + (full ? n * n * n : 0) + n), sizeof(double));
-    if (!buf) { swim_message(stderr, "swim inspect: out of memory"); return 1; }
+    if (!buf) {
+        swim_message(stderr, "swim inspect: out of memory");
+        swim_compiled_close(&kc);
+        return 1;
+    }
     double *Mr = buf, *Nc = Mr + 9, *Md = Nc + 3 * n, *K = Md + n * n, *gvv = K + n * n;
     double *G = gvv + n;
     k->mass(x, rho0, rhof, Mr, Nc, Md);
@@ -83,6 +85,7 @@ int swim_cmd_inspect(int argc, char **argv)
         (full && k->reduced_deriv(x, rho0, rhof, NULL, G) != 0)) {
         swim_message(stderr, "swim inspect: Mr is not positive definite at this shape");
         free(buf);
+        swim_compiled_close(&kc);
         return 1;
     }
     size_t count_out = (size_t)(9 + 3 * n + 2 * n * n + (vs ? n : 0));
@@ -92,6 +95,7 @@ int swim_cmd_inspect(int argc, char **argv)
     if (!finite) {   /* within bounds but a derivative still overflowed */
         swim_message(stderr, "swim inspect: --shape: the results are not finite at this shape");
         free(buf);
+        swim_compiled_close(&kc);
         return 2;
     }
     printf("{\n  \"modes\": %ld,\n  \"rho0\": ", N);
@@ -122,5 +126,6 @@ int swim_cmd_inspect(int argc, char **argv)
     }
     printf("\n}\n");
     free(buf);
+    swim_compiled_close(&kc);
     return 0;
 }

@@ -4,7 +4,7 @@
 
 #include "cli/commands.h"
 #include "io/message.h"
-#include "swim_kernel.h"
+#include "kernel/swim_kernel.h"
 
 typedef struct {
     const char *name;
@@ -49,7 +49,8 @@ static void usage(FILE *f)
                 commands[i].example);
     fprintf(f, "\nkernels linked in: N =");
     for (int i = 0; i < count && i < 64; i++) fprintf(f, " %d", modes[i]);
-    fprintf(f, "\noptions take `--name value` or `--name=value`.\n");
+    fprintf(f, "; any other N up to %d is generated and cached on first use\n", SWIM_KERNEL_MAX_MODES);
+    fprintf(f, "options take `--name value` or `--name=value`.\n");
 }
 
 int main(int argc, char **argv)

@@ -1,5 +1,6 @@
 /* swim plot DIR: the figures of a run (runtime/plot/plot_run.py, matplotlib), or of a sweep when
  * DIR holds sweep.json (runtime/plot/plot_family.py, which calls this program's `inspect`). */
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,6 +21,8 @@ int swim_cmd_plot(int argc, char **argv)
         swim_message(stderr, "swim plot: cannot read run directory '%s'", argv[2]);
         return 2;
     }
+    const char *share = swim_share_dir(), *python = swim_python();
+    if (!share) return 1;
     /* a sweep folder (sweep.json) gets the family figures, a run folder the run's */
     char *probe = swim_path_join(argv[2], "sweep.json");
     if (!probe) {
@@ -28,7 +31,11 @@ int swim_cmd_plot(int argc, char **argv)
     }
     const int sweep = access(probe, R_OK) == 0;
     free(probe);
-    const char *script = sweep ? SWIM_ROOT "/runtime/plot/plot_family.py" : SWIM_ROOT "/runtime/plot/plot_run.py";
+    char *script = swim_strprintf("%s/runtime/plot/%s", share, sweep ? "plot_family.py" : "plot_run.py");
+    if (!script) {
+        swim_message(stderr, "swim plot: out of memory");
+        return 1;
+    }
     /* the scripts call back `swim flow` / `swim inspect`: tell them which binary this is */
     if (!getenv("SWIM_BIN")) {
         char *self = realpath("/proc/self/exe", NULL);
@@ -36,7 +43,8 @@ int swim_cmd_plot(int argc, char **argv)
         free(self);
     }
     fflush(stdout);
-    execl(SWIM_PYTHON, SWIM_PYTHON, script, argv[2], (char *)NULL);
-    perror("swim plot: cannot start " SWIM_PYTHON);
+    execlp(python, python, script, argv[2], (char *)NULL);
+    swim_message(stderr, "swim plot: cannot start %s: %s", python, strerror(errno));
+    free(script);
     return 1;
 }

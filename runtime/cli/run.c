@@ -36,7 +36,7 @@
 #include "io/message.h"
 #include "model/dynamics.h"
 #include "model/flow.h"
-#include "model/specialize.h"
+#include "codegen/codegen.h"
 #include "ode/ode.h"
 #include "scene/scene.h"
 
@@ -115,7 +115,7 @@ typedef struct {
     /* integration */
     swim_dynamics d;
     int d_ready;
-    swim_specialized spz;
+    swim_compiled kn, spz;      /* the kernel of N modes and the scene's right-hand side */
     swim_ode *ode;
     swim_ode_system sys;
     swim_ode_options o;
@@ -379,21 +379,37 @@ static void trace_step(const swim_ode_step *st, void *data)
 
 static int packed_row(void *p, double t, const double *ys, int all, double *row);
 
-/* Dynamics, the specialized kernel (or the generic one), state buffers and integrator options
+/* The kernel of N modes (diagnostics) and the scene's right-hand side: linked in, cached, or
+ * generated and compiled now (runtime/codegen); `--generic` is the generated generic structure,
+ * there is no second implementation to fall back on. Then the magnitude check of the initial
+ * state, which needs the kernel. Before any output is touched: 0; 1 when no kernel could be
+ * had, 2 for a scene whose numbers overflow (one line on stderr each). */
+static int acquire_kernels(run_ctx *c)
+{
+    const swim_scene *s = &c->s;
+    /* progress of a generation only: a scene refused below or an output refused next gets its
+     * one line alone (where a cached kernel came from is said by prepare) */
+    const int verbose = c->opt.quiet ? 0 : 1;
+    if (swim_codegen_kernel(s->modes, &c->kn, verbose) != 0 ||
+        swim_codegen_scene(s, c->opt.generic, &c->spz, verbose) != 0) {
+        swim_message(stderr, "swim run: %s: no kernel for this scene, nothing computed", s->path);
+        return 1;
+    }
+    return swim_scene_check_model(s, c->kn.kernel);
+}
+
+/* Dynamics on the kernels of acquire_kernels, state buffers and integrator options
  * (with the events attached).
  * 0, or 1 after one line on stderr (out of memory). */
 static int prepare(run_ctx *c)
 {
     swim_scene *s = &c->s;
-    if (swim_dynamics_init(&c->d, s) != 0) goto oom;
+    if (swim_dynamics_init(&c->d, s, c->kn.kernel) != 0) goto oom;
     c->d_ready = 1;
     c->d.interrupt = (volatile int *)&stop_signal;
-    if (!c->opt.generic) {
-        if (swim_specialize(s, &c->spz, !c->opt.quiet) == 0)
-            swim_dynamics_use_scene_kernel(&c->d, c->spz.kernel);
-        else
-            swim_message(stderr, "swim run: using the generic kernel instead");
-    }
+    swim_dynamics_use_scene_kernel(&c->d, c->spz.scene, c->opt.generic);
+    if (!c->opt.quiet && c->spz.from_cache)
+        swim_message(stderr, "swim: scene kernel from cache %s", c->spz.dir);
     c->sdim = swim_dynamics_state_dim(&c->d);
     c->y = calloc((size_t)c->d.dim, sizeof(double));
     c->row = calloc((size_t)c->ncol, sizeof(double));
@@ -694,7 +710,7 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
     const run_report *r = &c->r;
     const swim_ode_stats *st = &c->total;
     const swim_dynamics *d = &c->d;
-    const swim_specialized *sp = &c->spz;
+    const swim_compiled *sp = &c->spz;
     const double *y = c->y;
     char name[24];
     fprintf(f, "{\n  \"scene\": ");
@@ -718,8 +734,8 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
             s->elastic ? "true" : "false", s->barrier ? "true" : "false", s->damped ? "true" : "false",
             s->forced ? "true" : "false");
     fprintf(f, "  \"kernel\": {\"kind\": \"%s\", \"state_dimension\": %d, \"cache\": ",
-            d->spec ? "specialized" : "generic", swim_dynamics_state_dim(d));
-    swim_json_string(f, d->spec ? sp->dir : "");
+            d->generic ? "generic" : "specialized", swim_dynamics_state_dim(d));
+    swim_json_string(f, sp->dir);
     fprintf(f, ", \"from_cache\": %s, \"generate_seconds\": %.3f, \"compile_seconds\": %.3f},\n",
             sp->from_cache ? "true" : "false", sp->generate_seconds, sp->compile_seconds);
     fprintf(f, "  \"projection\": {\"enabled\": %s, \"steps\": %ld, \"max_change\": %.3g},\n",
@@ -833,7 +849,7 @@ static int report(run_ctx *c)
                                              : "%s: %s (%s); %ld rows in %s",
                  s->path, c->r.status ? "FAILED" : "completed", c->r.reason ? c->r.reason : "out of memory",
                  c->r.rows, c->opt.summary_only ? c->summary_path : c->csv_path);
-    printf("  %s kernel (state dimension %d)\n", c->d.spec ? "specialized" : "generic", c->sdim);
+    printf("  %s kernel (state dimension %d)\n", c->d.generic ? "generic" : "specialized", c->sdim);
     swim_message(stdout, "  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)",
                  c->r.used, s->rtol, st->steps, st->rhs_evals, st->rejected, wall() - c->t_start, c->d.rhs_seconds);
     printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g\n",
@@ -857,8 +873,9 @@ static void release(run_ctx *c)
     free(c->rowc.full);
     swim_run_events_free(c->events);
     swim_ode_free(c->ode);
-    swim_specialized_close(&c->spz);
     if (c->d_ready) swim_dynamics_free(&c->d);
+    swim_compiled_close(&c->spz);   /* after everything that may still point into the kernels */
+    swim_compiled_close(&c->kn);
     free(c->y);
     free(c->row);
     free(c->ys);
@@ -888,6 +905,7 @@ int swim_cmd_run(int argc, char **argv)
     sa.sa_handler = on_stop_signal;
     stop_signal = 0;
     int rc = read_options(argc, argv, c);
+    if (rc == 0) rc = acquire_kernels(c);
     if (rc == 0) rc = open_outputs(c);
     if (rc == 0) {
         for (int i = 0; i < NSTOP; i++) sigaction(stop_signals[i], &sa, &old[i]);

@@ -1,4 +1,5 @@
 #include "io/files.h"
+#include "io/message.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -75,6 +76,54 @@ static int write_all(int fd, const char *p, size_t len)
         len -= (size_t)k;
     }
     return 0;
+}
+
+static int has_sources(const char *root)
+{
+    char a[4300], b[4300];
+    snprintf(a, sizeof a, "%s/generator/generate.py", root);
+    snprintf(b, sizeof b, "%s/runtime/kernel/swim_kernel.h", root);
+    return access(a, R_OK) == 0 && access(b, R_OK) == 0;
+}
+
+const char *swim_share_dir(void)
+{
+    static char root[4200];
+    static int done;
+    if (done) return root[0] ? root : NULL;
+    done = 1;
+    const char *env = getenv("SWIM_SHARE");
+    if (env && *env) {
+        snprintf(root, sizeof root, "%s", env);
+        if (has_sources(root)) return root;
+        swim_message(stderr, "swim: SWIM_SHARE=%s holds no generator/generate.py and runtime/kernel/", env);
+        root[0] = '\0';
+        return NULL;
+    }
+    char exe[4096];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n > 0) {
+        exe[n] = '\0';
+        for (int up = 0; up < 4; up++) {   /* bin/swim, build/tests/x, build/tests/bench/x */
+            char *slash = strrchr(exe, '/');
+            if (!slash) break;
+            *slash = '\0';
+            snprintf(root, sizeof root, "%s/share/swim", exe);
+            if (has_sources(root)) return root;
+            snprintf(root, sizeof root, "%s", exe);
+            if (has_sources(root)) return root;
+        }
+    }
+    root[0] = '\0';
+    swim_message(stderr, "swim: cannot find the generator (generator/ and runtime/kernel/ next to the "
+                 "executable, or PREFIX/share/swim); set SWIM_SHARE");
+    return NULL;
+}
+
+const char *swim_python(void)
+{
+    const char *p = getenv("SWIM_PYTHON");
+    return p && *p ? p : SWIM_PYTHON;
 }
 
 int swim_replace_file(const char *path, const void *data, size_t len)

@@ -1,19 +1,24 @@
-/* files.h -- the file-system helpers the runtime shares, and where the installed tree is.
- * SWIM_ROOT (the source tree, for the generator and the plot script), SWIM_PYTHON, SWIM_CC and
- * SWIM_KERNEL_CFLAGS are set by the Makefile when it compiles the files that use them.
- * Paths have no length limit here: every path is a malloc'd string the caller frees. */
+/* files.h -- the file-system helpers the runtime shares, and where its data files are.
+ * SWIM_PYTHON (the interpreter for the generator and the plots; $SWIM_PYTHON overrides it at run
+ * time) is set by the Makefile. Paths have no length limit here: every path is a malloc'd string
+ * the caller frees. */
 #ifndef SWIM_FILES_H
 #define SWIM_FILES_H
 
 #include <stddef.h>
 #include <sys/stat.h>
 
-#ifndef SWIM_ROOT
-#define SWIM_ROOT "."
-#endif
 #ifndef SWIM_PYTHON
 #define SWIM_PYTHON "/usr/bin/python3"
 #endif
+
+/* The folder holding generator/, runtime/kernel/ and runtime/plot/: $SWIM_SHARE if set, else
+ * found from the executable's own path (/proc/self/exe): the source tree's root for bin/swim
+ * (or build/tests/...), PREFIX/share/swim for PREFIX/bin/swim. NULL (after one line on stderr)
+ * when there is none. */
+const char *swim_share_dir(void);
+/* The Python interpreter to run: $SWIM_PYTHON or SWIM_PYTHON. */
+const char *swim_python(void);
 
 /* mkdir -p; 0, or -1 with errno set (also when the path exists but is not a directory). */
 int swim_mkdirs(const char *path);

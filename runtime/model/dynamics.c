@@ -1,14 +1,12 @@
 #include "model/dynamics.h"
 
-#include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#include "model/constraints.h"
-
-#define SYSV_LWORK 64
+#include "kernel/coords.h"
+#include "shape/constraints.h"
 
 const char *swim_dynamics_strerror(int code)
 {
@@ -23,25 +21,19 @@ const char *swim_dynamics_strerror(int code)
     }
 }
 
-int swim_dynamics_init(swim_dynamics *d, const swim_scene *s)
+int swim_dynamics_init(swim_dynamics *d, const swim_scene *s, const swim_kernel *k)
 {
     memset(d, 0, sizeof *d);
     d->scene = s;
-    d->k = s->kernel;
+    d->k = k;
     d->n = s->n;
     d->dim = 3 + 2 * s->n + 1;
     int n = d->n, mmax = n + 2;
     d->K = malloc(sizeof(double) * n * n);
     d->P = malloc(sizeof(double) * 3 * n);
-    d->gvv = malloc(sizeof(double) * n);
-    d->rhs = malloc(sizeof(double) * n * (mmax + 1));
     d->G = malloc(sizeof(double) * n * mmax);
-    d->A = malloc(sizeof(double) * (mmax * mmax + mmax));
-    d->grad = malloc(sizeof(double) * n);
-    d->ipiv_work = malloc(sizeof(double) * SYSV_LWORK * mmax);
-    d->ipiv = malloc(sizeof(int) * mmax);
     d->proj = malloc(sizeof(double) * d->dim);
-    if (!d->K || !d->P || !d->gvv || !d->rhs || !d->G || !d->A || !d->grad || !d->ipiv_work || !d->ipiv || !d->proj ||
+    if (!d->K || !d->P || !d->G || !d->proj ||
         (s->barrier && swim_circle_init(&d->circle, s->modes, SWIM_BARRIER_MAX_NODES) != 0)) {
         swim_dynamics_free(d);
         return -1;
@@ -52,11 +44,9 @@ int swim_dynamics_init(swim_dynamics *d, const swim_scene *s)
 
 void swim_dynamics_free(swim_dynamics *d)
 {
-    free(d->K); free(d->P); free(d->gvv); free(d->rhs); free(d->G); free(d->A); free(d->grad);
-    free(d->ipiv_work); free(d->ipiv); free(d->proj);
+    free(d->K); free(d->P); free(d->G); free(d->proj);
     swim_circle_free(&d->circle);
-    d->K = d->P = d->gvv = d->rhs = d->G = d->A = d->grad = d->ipiv_work = d->proj = NULL;
-    d->ipiv = NULL;
+    d->K = d->P = d->G = d->proj = NULL;
 }
 
 void swim_dynamics_initial_state(const swim_dynamics *d, double *y)
@@ -74,109 +64,27 @@ static double seconds(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-/* Generalized force f = -<Gamma, v, v> - grad W - D v + F(t); also the power F.v - v^T D v. */
-static int generalized_force(swim_dynamics *d, double t, const double *c, const double *v,
-                             double *f, double *power)
-{
-    const swim_scene *s = d->scene;
-    const int n = d->n;
-    double pw = 0.0;
-    for (int i = 0; i < n; i++) f[i] = -d->gvv[i];
-    if (s->elastic)
-        for (int i = 0; i < n; i++) f[i] -= s->stiffness[i] * (c[i] - s->reference[i]);
-    if (s->barrier) {
-        if (!isfinite(swim_barrier_adaptive(&d->circle, d->k->barrier_sums, d->n, c, s->epsilon,
-                                            s->alpha, d->grad, NULL, NULL)))
-            return SWIM_DYN_EBARRIER;
-        for (int i = 0; i < n; i++) f[i] -= d->grad[i];
-    }
-    if (s->damped)
-        for (int i = 0; i < n; i++) {
-            f[i] -= s->damping[i] * v[i];
-            pw -= s->damping[i] * v[i] * v[i];
-        }
-    if (s->forced) {
-        double ft = swim_expr_eval(s->forcing, t);
-        for (int i = 0; i < n; i++) {
-            f[i] += ft * s->direction[i];
-            pw += ft * s->direction[i] * v[i];
-        }
-    }
-    *power = pw;
-    return 0;
-}
-
-static int rhs_body(swim_dynamics *d, double t, const double *y, double *dy)
-{
-    const swim_scene *s = d->scene;
-    const int n = d->n, dim = d->dim;
-    const double *c = y + 3, *v = y + 3 + n;
-    for (int i = 0; i < dim; i++)
-        if (!isfinite(y[i])) return SWIM_DYN_ENAN;
-    if (d->k->reduced(c, v, s->rho0, s->rhof, d->K, d->P, d->gvv) != 0) return SWIM_DYN_EMASS;
-    double *B = d->rhs, power;
-    int rc = generalized_force(d, t, c, v, B, &power);
-    if (rc) return rc;
-    /* Columns 1..m of B: G^T (G row-major m x n is G^T column-major n x m). */
-    const int m = swim_constraint_rows(n, c, s->free_mask, B + n);
-    /* K is symmetric, so its row-major storage is also column-major. */
-    if (LAPACKE_dpotrf_work(LAPACK_COL_MAJOR, 'L', n, d->K, n) != 0) return SWIM_DYN_EMASS;
-    memcpy(d->G, B + n, sizeof(double) * n * m);
-    LAPACKE_dpotrs_work(LAPACK_COL_MAJOR, 'L', n, m + 1, d->K, n, B, n);
-    /* (4.12): (G K^-1 G^T) lambda = -(DG[v]).v - G K^-1 f */
-    double *A = d->A, *lam = d->A + m * m;
-    for (int i = 0; i < m; i++) {
-        const double *gi = d->G + (size_t)i * n;
-        double s0 = 0.0;
-        for (int k = 0; k < n; k++) s0 += gi[k] * B[k];
-        lam[i] = -s0;
-        for (int j = 0; j < m; j++) {
-            const double *zj = B + (size_t)(j + 1) * n;
-            double sj = 0.0;
-            for (int k = 0; k < n; k++) sj += gi[k] * zj[k];
-            A[i + j * m] = sj;
-        }
-    }
-    lam[0] -= swim_constraint_curvature_g1(n, v);
-    if (LAPACKE_dsysv_work(LAPACK_COL_MAJOR, 'L', m, 1, A, m, d->ipiv, lam, m, d->ipiv_work,
-                           SYSV_LWORK * m) != 0)
-        return SWIM_DYN_ECONSTRAINT;
-    double *acc = dy + 3 + n;
-    for (int k = 0; k < n; k++) acc[k] = B[k];
-    for (int j = 0; j < m; j++) {
-        const double *zj = B + (size_t)(j + 1) * n;
-        for (int k = 0; k < n; k++) acc[k] += lam[j] * zj[k];
-    }
-    /* (3.21): q' = R(theta) q*, q* = P cdot */
-    double qs[3] = {0.0, 0.0, 0.0};
-    for (int p = 0; p < 3; p++)
-        for (int k = 0; k < n; k++) qs[p] += d->P[p * n + k] * v[k];
-    const double ct = cos(y[2]), st = sin(y[2]);
-    dy[0] = ct * qs[0] - st * qs[1];
-    dy[1] = st * qs[0] + ct * qs[1];
-    dy[2] = qs[2];
-    memcpy(dy + 3, v, sizeof(double) * n);
-    dy[3 + 2 * n] = power;
-    for (int i = 0; i < dim; i++)
-        if (!isfinite(dy[i])) return SWIM_DYN_ENAN;
-    return 0;
-}
-
-/* The barrier callback of scene kernels: the same adaptive quadrature as the generic path, on
- * the scene kernel's own J (gradient on the free coordinates). */
+/* The barrier callback of scene kernels: the adaptive quadrature of shape/shape.h on the scene
+ * kernel's own J (gradient on the coordinates it carries). A generic kernel always asks; without
+ * a barrier in the scene the gradient is zero. */
 static int scene_barrier(const double *x, double *grad, void *ctx)
 {
     swim_dynamics *d = ctx;
     const swim_scene *s = d->scene;
+    if (!s->barrier) {
+        memset(grad, 0, sizeof(double) * d->spec->nfree);
+        return 0;
+    }
     double W = swim_barrier_adaptive(&d->circle, d->spec->barrier_sums, d->spec->nfree, x,
                                      s->epsilon, s->alpha, grad, NULL, NULL);
     return isfinite(W) ? 0 : SWIM_RHS_EBARRIER;
 }
 
-void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *spec)
+void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *spec, int generic)
 {
     const swim_scene *s = d->scene;
     d->spec = spec;
+    d->generic = generic;
     swim_scene_params *p = &d->spec_params;
     memset(p, 0, sizeof *p);
     p->rho0 = s->rho0;
@@ -186,21 +94,18 @@ void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *s
     p->reference = s->reference;
     p->damping = s->damping;
     p->direction = s->direction;
+    p->free_mask = s->free_mask;
     p->barrier = scene_barrier;
     p->barrier_ctx = d;
 }
 
 int swim_dynamics_state_dim(const swim_dynamics *d)
 {
-    return d->spec ? 4 + 2 * d->spec->nfree : d->dim;
+    return 4 + 2 * d->spec->nfree;
 }
 
 void swim_dynamics_pack(const swim_dynamics *d, const double *full, double *state)
 {
-    if (!d->spec) {
-        memcpy(state, full, sizeof(double) * d->dim);
-        return;
-    }
     const int n = d->n, nf = d->spec->nfree;
     memcpy(state, full, 3 * sizeof(double));
     for (int f = 0; f < nf; f++) {
@@ -212,10 +117,6 @@ void swim_dynamics_pack(const swim_dynamics *d, const double *full, double *stat
 
 void swim_dynamics_unpack(const swim_dynamics *d, const double *state, double *full)
 {
-    if (!d->spec) {
-        memcpy(full, state, sizeof(double) * d->dim);
-        return;
-    }
     const int n = d->n, nf = d->spec->nfree;
     memcpy(full, state, 3 * sizeof(double));
     memcpy(full + 3, d->scene->c0, sizeof(double) * n);   /* locked coordinates keep c0 */
@@ -233,8 +134,7 @@ int swim_dynamics_rhs(double t, const double *y, double *dy, void *params)
     double t0 = seconds();
     int rc;
     if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;   /* fatal: negative */
-    else if (d->spec) rc = d->spec->rhs(t, y, dy, &d->spec_params);
-    else rc = rhs_body(d, t, y, dy);
+    else rc = d->spec->rhs(t, y, dy, &d->spec_params);
     d->rhs_seconds += seconds() - t0;
     d->rhs_calls++;
     d->last_rhs_t = t;
@@ -266,10 +166,8 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
         for (int j = 0; j < n; j++) T += v[i] * Md[i * n + j] * v[j];
     T *= 0.5;
     o->kinetic_rigid = 0.5 * b * (q[0] * q[0] + q[1] * q[1] + Ic * q[2] * q[2]);
-    for (int i = 0; i < n; i++) {
-        int ak = i < 2 ? 1 : i / 2;
-        o->kinetic_shape += 0.5 * b * v[i] * v[i] / (ak + 1);   /* (2.17) */
-    }
+    for (int i = 0; i < n; i++)
+        o->kinetic_shape += 0.5 * b * v[i] * v[i] / (abs(swim_coord_mode(i)) + 1);   /* (2.17) */
     o->kinetic_fluid = T - o->kinetic_rigid - o->kinetic_shape;
     if (s->elastic)
         for (int i = 0; i < n; i++) o->w1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
@@ -285,14 +183,9 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
         fr[p] = -body[p];
         for (int r = 0; r < 3; r++) fr[p] += Mr[3 * p + r] * q[r];
     }
-    const double ct = cos(y[2]), st = sin(y[2]);
-    const double *src[3] = {body, fr, Ncv};
-    double *dst[3] = {o->impulse_body, o->impulse_fluid_rigid, o->impulse_fluid_shape};
-    for (int a = 0; a < 3; a++) {
-        dst[a][0] = ct * src[a][0] - st * src[a][1];
-        dst[a][1] = st * src[a][0] + ct * src[a][1];
-        dst[a][2] = src[a][2];
-    }
+    swim_to_fixed_frame(y[2], body, o->impulse_body);
+    swim_to_fixed_frame(y[2], fr, o->impulse_fluid_rigid);
+    swim_to_fixed_frame(y[2], Ncv, o->impulse_fluid_shape);
     memcpy(o->rigid_velocity, q, sizeof q);
     o->res_volume = swim_area_constant(n, c) - swim_area_constant(n, s->c0);
     double *G = d->G;
@@ -305,7 +198,7 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
         int i = swim_constraint_locked_index(n, s->free_mask, j);
         o->res_locks = fmax(o->res_locks, fabs(c[i] - s->c0[i]) + fabs(v[i]));
     }
-    o->jmin = swim_shape_jmin(d->k, c);
+    o->jmin = swim_shape_jmin(s->modes, c);
     free(Nc);
     free(Md);
     return 0;
@@ -331,8 +224,7 @@ int swim_dynamics_project(double t, double *ys, void *params)
         double r = swim_area_constant(n, c) - mu0, gg = 0.0;
         double g[2 * (SWIM_KERNEL_MAX_MODES + 1)];
         for (int i = 0; i < n; i++) {
-            int k = i < 2 ? 1 : -(i / 2);
-            g[i] = s->free_mask[i] ? 2.0 * k * c[i] : 0.0;
+            g[i] = s->free_mask[i] ? 2.0 * swim_coord_mode(i) * c[i] : 0.0;
             gg += g[i] * g[i];
         }
         if (!(gg > 0.0) || r == 0.0) break;

@@ -1,5 +1,11 @@
 /* dynamics.h -- the ODE of sections 4-5 in first-order form, and the diagnostics of a state.
  *
+ * The equations themselves are generated (runtime/codegen: a scene kernel, whose right-hand
+ * side is runtime/kernel/scene_rhs.h around SymPy's expressions); this module wires them to the
+ * integrator: state packing, the barrier quadrature they call back, drift control after each
+ * step, and the diagnostics of an output row (energies, impulses, residuals, min J), which use
+ * the kernel of N modes.
+ *
  * State y (dimension 3 + 2n + 1):
  *   y[0..2]      q = (r_1, r_2, theta): centre of mass and orientation in the fixed frame
  *   y[3..3+n)    c: shape coordinates (a_1, b_1, a_-1, b_-1, ..., a_-N, b_-N)
@@ -11,14 +17,13 @@
  *   q' = R(theta) q*,  q* = -Mr^-1 N c'                                         (3.20)-(3.21)
  *   W = W1 + W2, W1 = 1/2 (c - cref)^T R (c - cref) (ERRATA E2), W2 of section 4.1.1.
  * Units: lengths in units of the reference radius, densities rho0, rhof as given; time as in
- * the paper's scenes. Linear solves: LAPACK Cholesky (dpotrf/dpotrs) for K and a symmetric
- * solve (dsysv) for the multipliers.
+ * the paper's scenes.
  */
 #ifndef SWIM_DYNAMICS_H
 #define SWIM_DYNAMICS_H
 
-#include "model/shape.h"
 #include "scene/scene.h"
+#include "shape/shape.h"
 
 /* Values returned by the right-hand side (passed through the integrator); the first five are
  * the SWIM_RHS_* codes that scene kernels return too. They are returned positive -- the state is
@@ -36,15 +41,15 @@ const char *swim_dynamics_strerror(int code);
 
 typedef struct {
     const swim_scene *scene;     /* borrowed */
-    const swim_kernel *k;        /* generic kernel: diagnostics, and the RHS unless `spec` */
-    const swim_scene_kernel *spec;   /* scene kernel (borrowed) or NULL */
+    const swim_kernel *k;        /* kernel of N modes (borrowed): diagnostics, flow pictures */
+    const swim_scene_kernel *spec;   /* the right-hand side (borrowed); set before integrating */
+    int generic;                 /* spec carries every coordinate, locks by multipliers */
     swim_scene_params spec_params;
     int n, dim, m;               /* shape coordinates, full state dimension, constraint rows */
     swim_circle circle;          /* quadrature nodes for W2 */
     volatile int *interrupt;     /* set asynchronously to stop (may be NULL) */
     /* workspace (owned) */
-    double *K, *P, *gvv, *rhs, *G, *A, *grad, *ipiv_work, *proj;
-    int *ipiv;
+    double *K, *P, *G, *proj;
     /* statistics */
     long rhs_calls, projections;
     double max_projection;       /* largest change made by swim_dynamics_project */
@@ -52,18 +57,20 @@ typedef struct {
     double last_rhs_t;
 } swim_dynamics;
 
-int swim_dynamics_init(swim_dynamics *d, const swim_scene *scene);   /* 0 or -1 (memory) */
+/* k: the kernel of N = scene->modes modes. 0, or -1 (out of memory). */
+int swim_dynamics_init(swim_dynamics *d, const swim_scene *scene, const swim_kernel *k);
 void swim_dynamics_free(swim_dynamics *d);
 void swim_dynamics_initial_state(const swim_dynamics *d, double *y);
 
-/* Integrate with a scene kernel: the integrator's state is then (q, c_free, cdot_free, work). */
-void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *spec);
+/* The right-hand side to integrate: the integrator's state is then (q, c_carried, cdot_carried,
+ * work); `generic` says that it carries every coordinate and holds locks by multipliers. */
+void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *spec, int generic);
 int swim_dynamics_state_dim(const swim_dynamics *d);
-/* Full state (dim) <-> integrator state (state_dim); identical without a scene kernel. */
+/* Full state (dim) <-> integrator state (state_dim). */
 void swim_dynamics_pack(const swim_dynamics *d, const double *full, double *state);
 void swim_dynamics_unpack(const swim_dynamics *d, const double *state, double *full);
 
-/* Drift control (issue 6): (2.8) is enforced by (4.12) only at the acceleration level, so the
+/* Drift control: (2.8) is enforced by (4.12) only at the acceleration level, so the
  * volume and the velocity constraints drift with the integration error. After each accepted
  * step the integrator calls this (swim_ode_options.project): it restores the locks exactly, puts
  * c back on the volume manifold sum_k k|c_k|^2 = mu0^2 by Newton steps along its gradient 2 G1,
@@ -72,7 +79,7 @@ void swim_dynamics_unpack(const swim_dynamics *d, const double *state, double *f
 int swim_dynamics_project(double t, double *y, void *params);
 
 /* The right-hand side on the integrator's state, in the form of swim_ode_func
- * (params = swim_dynamics *). */
+ * (params = swim_dynamics *); needs swim_dynamics_use_scene_kernel first. */
 int swim_dynamics_rhs(double t, const double *y, double *dydt, void *params);
 
 typedef struct {

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "io/json.h"
+#include "kernel/coords.h"
 
 #define NB 256          /* boundary points */
 #define NRAD 12         /* density grid radii */
@@ -12,9 +13,10 @@
 #define ARROW_RINGS 4
 #define ARROW_ANG 24
 
-static double complex coef(const double *x, int k)   /* c_k, zero outside 1, -1..-N */
+static double complex coef(const double *x, int k)   /* c_k for k = 1, -1..-N */
 {
-    return x[k == 1 ? 0 : -2 * k] + I * x[(k == 1 ? 0 : -2 * k) + 1];
+    const int i = swim_coord_index(k);
+    return x[i] + I * x[i + 1];
 }
 
 /* phi(z) = c_1 z + sum_{k<=-1} c_k z^k and phi'(z) (2.2). */
@@ -36,7 +38,6 @@ int swim_flow_snapshot(swim_dynamics *d, double t, const double *y, FILE *f)
     const swim_scene *s = d->scene;
     const int N = s->modes, n = s->n, R = n, P = n + 3;
     const double *c = y + 3, *v = y + 3 + n;
-    const double ct = cos(y[2]), st = sin(y[2]);
     double *S = malloc(sizeof(double) * R * P), X[3 + 2 * (SWIM_KERNEL_MAX_MODES + 1)];
     double *buf = malloc(sizeof(double) * (2 * NB + 3 * NRAD * NANG + 4 * ARROW_RINGS * ARROW_ANG));
     if (!S || !buf) { free(S); free(buf); return -1; }
@@ -60,7 +61,9 @@ int swim_flow_snapshot(swim_dynamics *d, double t, const double *y, FILE *f)
     double *bx = buf, *by = bx + NB, *dx = by + NB, *dy = dx + NRAD * NANG, *rho = dy + NRAD * NANG;
     double *ax = rho + NRAD * NANG, *ay = ax + ARROW_RINGS * ARROW_ANG;
     double *au = ay + ARROW_RINGS * ARROW_ANG, *av = au + ARROW_RINGS * ARROW_ANG;
-#define WORLD(w, X_, Y_) do { X_ = y[0] + ct * creal(w) - st * cimag(w); Y_ = y[1] + st * creal(w) + ct * cimag(w); } while (0)
+    /* body frame -> fixed frame (3.21) */
+#define WORLD(w, X_, Y_) do { double b_[3] = {creal(w), cimag(w), 0.0}, f_[3]; \
+        swim_to_fixed_frame(y[2], b_, f_); X_ = y[0] + f_[0]; Y_ = y[1] + f_[1]; } while (0)
     for (int q = 0; q < NB; q++) {
         double complex w = phi(c, N, cexp(I * 2 * M_PI * q / (NB - 1)), NULL);
         WORLD(w, bx[q], by[q]);
@@ -88,8 +91,10 @@ int swim_flow_snapshot(swim_dynamics *d, double t, const double *y, FILE *f)
             double complex u = conj(dF / dphi);   /* u1 + i u2 in the body frame */
             int a = i * ARROW_ANG + j;
             WORLD(w, ax[a], ay[a]);
-            au[a] = ct * creal(u) - st * cimag(u);
-            av[a] = st * creal(u) + ct * cimag(u);
+            double ub[3] = {creal(u), cimag(u), 0.0}, uf[3];
+            swim_to_fixed_frame(y[2], ub, uf);
+            au[a] = uf[0];
+            av[a] = uf[1];
         }
 #undef WORLD
     fprintf(f, "{\"t\": %.10g, \"x\": %.10g, \"y\": %.10g, \"theta\": %.10g,\n \"boundary\": {\"X\": ", t, y[0], y[1], y[2]);

@@ -22,4 +22,4 @@ $(BIN)/swim-mpi: runtime/mpi/swim_mpi.c $(BUILD)/libswim.a $(BIN)/swim | mpi-dep
 
 # The MPI sweep tests alone (they also run from `make test` when bin/swim-mpi can be built).
 test-mpi: $(BIN)/swim $(BIN)/swim-mpi
-	@SWIM_BIN=$(CURDIR)/$(BIN)/swim SWIM_MPI=1 bash tests/run_tests.sh tests/test_sweep_mpi.py
+	@SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim SWIM_MPI=1 bash tests/run_tests.sh tests/test_sweep_mpi.py

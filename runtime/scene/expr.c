@@ -18,14 +18,16 @@ static const struct { const char *name; fun1 f; } funcs[] = {
 #define FUN_ABS 9
 #define FUN_STEP 13
 #define NFUNCS (int)(sizeof funcs / sizeof funcs[0])
-#define MAX_CODE 256
 #define MAX_DEPTH 64
+/* The program has no length limit (a law of any length is compiled whole); its evaluation stack
+ * grows only with nesting, by at most a few entries per level, so MAX_DEPTH bounds it. */
+#define MAX_STACK (4 * MAX_DEPTH + 8)
 
 typedef struct { int op; int fn; double v; } instr;
 
 struct swim_expr {
-    instr code[MAX_CODE];
-    int len, stack;
+    instr *code;
+    int len, cap, stack;
 };
 
 typedef struct {
@@ -45,8 +47,15 @@ static void fail(parser *ps, const char *msg)
 
 static void emit(parser *ps, int op, int fn, double v)
 {
-    if (ps->e->len >= MAX_CODE) { fail(ps, "expression too long"); return; }
-    ps->e->code[ps->e->len++] = (instr){op, fn, v};
+    swim_expr *e = ps->e;
+    if (e->len == e->cap) {
+        int cap = e->cap ? 2 * e->cap : 64;
+        instr *code = realloc(e->code, (size_t)cap * sizeof *code);
+        if (!code) { fail(ps, "out of memory"); return; }
+        e->code = code;
+        e->cap = cap;
+    }
+    e->code[e->len++] = (instr){op, fn, v};
 }
 
 static void skip(parser *ps) { while (*ps->p == ' ' || *ps->p == '\t') ps->p++; }
@@ -160,19 +169,24 @@ swim_expr *swim_expr_compile(const char *text, char *err, size_t errlen)
     expr_sum(&ps);
     skip(&ps);
     if (!ps.failed && *ps.p) fail(&ps, "unexpected text after the expression");
-    if (ps.failed) { free(e); return NULL; }
+    if (ps.failed) { swim_expr_free(e); return NULL; }
     int depth = 0;
     for (int i = 0; i < e->len; i++) {
         int op = e->code[i].op;
         depth += (op == OP_NUM || op == OP_T) ? 1 : (op == OP_NEG || op == OP_FUN) ? 0 : -1;
         if (depth > e->stack) e->stack = depth;
     }
+    if (e->stack > MAX_STACK) {
+        if (err) snprintf(err, errlen, "expression nested too deeply");
+        swim_expr_free(e);
+        return NULL;
+    }
     return e;
 }
 
 double swim_expr_eval(const swim_expr *e, double t)
 {
-    double st[MAX_CODE];
+    double st[MAX_STACK];
     int sp = 0;
     for (int i = 0; i < e->len; i++) {
         const instr *in = &e->code[i];
@@ -194,7 +208,7 @@ double swim_expr_eval(const swim_expr *e, double t)
 int swim_expr_to_c(const swim_expr *e, char *buf, size_t len)
 {
     /* Rebuild infix text with full parentheses from the stack program. */
-    char *st[MAX_CODE];
+    char *st[MAX_STACK];
     int sp = 0, ok = 1;
     for (int i = 0; i < e->len && ok; i++) {
         const instr *in = &e->code[i];
@@ -228,4 +242,8 @@ int swim_expr_to_c(const swim_expr *e, char *buf, size_t len)
     return n;
 }
 
-void swim_expr_free(swim_expr *e) { free(e); }
+void swim_expr_free(swim_expr *e)
+{
+    if (e) free(e->code);
+    free(e);
+}

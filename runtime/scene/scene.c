@@ -10,8 +10,8 @@
 #include <sys/stat.h>
 
 #include "io/message.h"
-#include "model/constraints.h"
-#include "model/shape.h"
+#include "shape/constraints.h"
+#include "shape/shape.h"
 #include "ode/ode.h"
 #include "scene/toml.h"
 
@@ -39,20 +39,6 @@ static void scene_error(const ctx *c, int line, const char *key, const char *fmt
         scene_error((c), (line), (key), __VA_ARGS__); \
         return 2;                                     \
     } while (0)
-
-void swim_coord_name(int i, char *buf, int len)
-{
-    int m = i / 2;
-    if (m == 0) snprintf(buf, (size_t)len, "%c1", i % 2 ? 'b' : 'a');
-    else snprintf(buf, (size_t)len, "%cm%d", i % 2 ? 'b' : 'a', m);
-}
-
-double swim_area_constant(int n, const double *x)
-{
-    double mu2 = x[0] * x[0] + x[1] * x[1];
-    for (int i = 2; i < n; i += 2) mu2 -= (i / 2) * (x[i] * x[i] + x[i + 1] * x[i + 1]);
-    return mu2;
-}
 
 /* Every |a_i| <= SWIM_MAGNITUDE_MAX (NaN fails too). */
 static int bounded(const double *a, int n)
@@ -84,6 +70,24 @@ int swim_model_overflow(const swim_kernel *k, const double *c, const double *v, 
     if (!model_bounded(k, c, NULL, rho0, rhof)) return SWIM_INPUT_RHOF;
     if (v && !model_bounded(k, c, v, rho0, rhof)) return SWIM_INPUT_VELOCITY;
     return SWIM_INPUT_OK;
+}
+
+int swim_scene_check_model(const swim_scene *s, const swim_kernel *k)
+{
+    ctx c = {.path = s->path, .table = "shape"};
+    switch (swim_model_overflow(k, s->c0, s->dc0, s->rho0, s->rhof)) {
+    case SWIM_INPUT_SHAPE:
+        ERR(&c, s->line_c0, "c0", "too large: the mass matrices at this shape exceed %g", SWIM_MAGNITUDE_MAX);
+    case SWIM_INPUT_RHO0:
+        c.table = "model";
+        ERR(&c, s->line_rho0, "rho0", "%g is too large for this shape: the mass matrices exceed %g", s->rho0, SWIM_MAGNITUDE_MAX);
+    case SWIM_INPUT_RHOF:
+        c.table = "model";
+        ERR(&c, s->line_rhof, "rhof", "%g is too large for this shape: the mass matrices exceed %g", s->rhof, SWIM_MAGNITUDE_MAX);
+    case SWIM_INPUT_VELOCITY:
+        ERR(&c, s->line_dc0, "dc0", "too large: the kinetic energy or the Christoffel term exceeds %g", SWIM_MAGNITUDE_MAX);
+    }
+    return 0;
 }
 
 /* Every key of table t must be in `allowed`. */
@@ -275,8 +279,6 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (N < 0 || N > SWIM_KERNEL_MAX_MODES) ERR(c, toml_get_key_line(model, "modes"), "modes", "%lld is out of range 0..%d", N, SWIM_KERNEL_MAX_MODES);
     s->modes = (int)N;
     s->n = 2 * (s->modes + 1);
-    s->kernel = swim_kernel_find(s->modes);
-    if (!s->kernel) ERR(c, toml_get_key_line(model, "modes"), "modes", "no kernel for N = %lld in this build (make generate N=%lld, then make MODES=\"0 1 ... %lld\")", N, N, N);
     if (get_number(c, model, "rho0", 1, &s->rho0)) return 2;
     if (!(s->rho0 > 0)) ERR(c, toml_get_key_line(model, "rho0"), "rho0", "density must be > 0, got %g", s->rho0);
     const toml_value *rf = toml_get(model, "rhof");
@@ -331,22 +333,16 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (get_vector(c, shape, "c0", s->n, 1, s->c0, NULL)) return 2;
     if (get_vector(c, shape, "dc0", s->n, 1, s->dc0, NULL)) return 2;
     if (parse_free(c, shape, s)) return 2;
-    double jmin = swim_shape_jmin(s->kernel, s->c0);
+    double jmin = swim_shape_jmin(s->modes, s->c0);
     if (!(jmin > 0)) ERR(c, toml_get_key_line(shape, "c0"), "c0", "shape outside the admissible set D: min J = %.4g <= 0 on the unit circle (4.1)", jmin);
     double mu2 = swim_area_constant(s->n, s->c0);
     if (s->rhof_neutral) s->rhof = s->rho0 / mu2;
-    switch (swim_model_overflow(s->kernel, s->c0, s->dc0, s->rho0, s->rhof)) {
-    case SWIM_INPUT_SHAPE:
-        ERR(c, toml_get_key_line(shape, "c0"), "c0", "too large: the mass matrices at this shape exceed %g", SWIM_MAGNITUDE_MAX);
-    case SWIM_INPUT_RHO0:
-        c->table = "model";
-        ERR(c, toml_get_key_line(model, "rho0"), "rho0", "%g is too large for this shape: the mass matrices exceed %g", s->rho0, SWIM_MAGNITUDE_MAX);
-    case SWIM_INPUT_RHOF:
-        c->table = "model";
-        ERR(c, toml_get_key_line(model, "rhof"), "rhof", "%g is too large for this shape: the mass matrices exceed %g", s->rhof, SWIM_MAGNITUDE_MAX);
-    case SWIM_INPUT_VELOCITY:
-        ERR(c, toml_get_key_line(shape, "dc0"), "dc0", "too large: the kinetic energy or the Christoffel term exceeds %g", SWIM_MAGNITUDE_MAX);
-    }
+    /* The magnitude check needs the kernel of N modes, which may have to be generated: the
+     * lines are kept for swim_scene_check_model, called once the kernel is at hand. */
+    s->line_c0 = toml_get_key_line(shape, "c0");
+    s->line_dc0 = toml_get_key_line(shape, "dc0");
+    s->line_rho0 = toml_get_key_line(model, "rho0");
+    s->line_rhof = toml_get_key_line(model, "rhof");
 
     const toml_value *el = get_table(c, root, "elastic", 0, &rc);
     if (rc) return rc;

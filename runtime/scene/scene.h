@@ -12,8 +12,9 @@
 
 #include <stddef.h>
 
+#include "kernel/coords.h"
+#include "kernel/swim_kernel.h"
 #include "scene/expr.h"
-#include "swim_kernel.h"
 
 #define SWIM_NMAX (2 * (SWIM_KERNEL_MAX_MODES + 1))
 
@@ -41,7 +42,6 @@ typedef struct {
     char *path;                       /* the scene file as named (owned) */
     char *title;                      /* owned, "" when absent */
     int modes, n;
-    const swim_kernel *kernel;
     double rho0, rhof;
     int rhof_neutral;                 /* rhof = rho0 / mu^2 (2.10) */
     double c0[SWIM_NMAX], dc0[SWIM_NMAX];
@@ -66,6 +66,7 @@ typedef struct {
     int step_lookahead;               /* ABM step-size look-ahead p (swim_ode_options.lookahead); -1 = the integrator default */
     double projection_change;         /* max |change| of dc0 when projected */
     int setting_line[SWIM_SET_COUNT]; /* line of each run setting in the file (0: absent) */
+    int line_c0, line_dc0, line_rho0, line_rhof;  /* for swim_scene_check_model's messages */
     char events[32][128];             /* [events] list: "COLUMN:KIND[:stop]" entries (checked by swim run) */
     int nevents, events_line;         /* how many; the line of the list, for messages */
 } swim_scene;
@@ -99,6 +100,11 @@ enum { SWIM_INPUT_OK, SWIM_INPUT_SHAPE, SWIM_INPUT_RHO0, SWIM_INPUT_RHOF, SWIM_I
  * densities rho0, rhof: the first of shape (at unit densities, rest), rho0, rhof, velocity
  * whose own value does it, or SWIM_INPUT_OK. Used by the scene reader and by swim inspect. */
 int swim_model_overflow(const swim_kernel *k, const double *c, const double *v, double rho0, double rhof);
+/* swim_model_overflow on the scene's initial state with k, its kernel of N modes (which may
+ * have to be generated, so the scene reader cannot run it): 0, or 2 after one line on stderr
+ * naming the file, line and key (shape.c0, model.rho0, model.rhof, shape.dc0). Every command
+ * that computes with a scene calls it before any output is touched. */
+int swim_scene_check_model(const swim_scene *s, const swim_kernel *k);
 /* An override `KEY=VALUE` (swim run --set, swim sweep --vary) applied to the parsed TOML tree
  * before the scene is validated, so an overridden value is checked like one in the file. KEY is
  * `table.key` (a number), `table.key[I]` (item I, 0-based, of a vector) or `table.key.NAME`
@@ -122,9 +128,6 @@ int swim_scene_load_with(const char *path, const swim_override *ov, int nov, swi
 int swim_scene_parse_with(const char *text, size_t len, const char *path, const swim_override *ov,
                           int nov, swim_scene *scene);
 
-/* Name of real coordinate i in CSV headers and scenes: a1, b1, am1, bm1, am2, ... */
-void swim_coord_name(int i, char *buf, int len);
-/* mu^2 = sum_k k |c_k|^2 (2.5)/pi: the area constant of the shape. */
-double swim_area_constant(int n, const double *x);
+/* Coordinate names, modes and mu^2: kernel/coords.h. */
 
 #endif

@@ -18,7 +18,7 @@
 #include "cli/commands.h"
 #include "io/files.h"
 #include "io/json.h"
-#include "model/specialize.h"
+#include "codegen/codegen.h"
 #include "ode/ode.h"
 #include "io/message.h"
 
@@ -553,55 +553,68 @@ static int rebuild_rows(sweep_plan *p)
 
 /* ---------------------------------------------------------------- prepare */
 
-/* One kernel per distinct structure, generated before any member starts (members then only load
- * it from the cache; none of them races to generate it). rep[k] is a member of structure k. */
+/* One kernel per distinct structure (and the kernel of its N modes, for the diagnostics),
+ * generated before any member starts: members then only load them from the cache and none of
+ * them races to generate one. rep[k] is a member of structure k. A structure without a kernel
+ * stops the sweep before any member runs: each of its members would fail the same way. */
 static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys)
 {
+    const int verbose = p->quiet ? 0 : 1;
     for (int k = 0; k < nkeys; k++) {
         swim_scene s;
         if (load_member(p, rep[k], &s)) return 2;
-        swim_specialized sp;
-        memset(&sp, 0, sizeof sp);
-        if (swim_specialize(&s, &sp, !p->quiet) != 0)
-            swim_message(stderr, "swim %s: member %ld's structure has no specialized kernel; its members use the generic one",
-                         p->cmd, rep[k]);
-        else
-            swim_specialized_close(&sp);
+        swim_compiled kn, sc;
+        int bad = swim_codegen_kernel(s.modes, &kn, verbose) != 0;
+        if (!bad) {
+            bad = swim_codegen_scene(&s, p->generic, &sc, verbose) != 0;
+            if (!bad) swim_compiled_close(&sc);
+            swim_compiled_close(&kn);
+        }
         swim_scene_free(&s);
+        if (bad) {
+            swim_message(stderr, "swim %s: no kernel for the structure of member %ld, no member run", p->cmd, rep[k]);
+            return 1;
+        }
     }
     return 0;
 }
 
-#define KEY_LEN 4096
-
 int sweep_prepare(sweep_plan *p)
 {
-    char *keys = NULL, key[KEY_LEN];
+    char **keys = NULL;
     long *rep = NULL;
     int nkeys = 0, cap = 0, rc = 0;
     for (long m = 0; m < p->members && !rc; m++) {
         swim_scene s;
         if ((rc = load_member(p, m, &s))) break;
-        if (!p->generic) {
-            swim_specialize_key(&s, key, sizeof key);
-            int found = 0;
-            for (int k = 0; k < nkeys && !found; k++) found = strcmp(keys + (size_t)k * KEY_LEN, key) == 0;
-            if (!found) {
-                if (nkeys == cap) {
-                    cap = cap ? 2 * cap : 8;
-                    char *nk = realloc(keys, (size_t)cap * KEY_LEN);
-                    long *nr = nk ? realloc(rep, (size_t)cap * sizeof *rep) : NULL;
-                    if (nk) keys = nk;
-                    if (nr) rep = nr;
-                    if (!nk || !nr) { swim_message(stderr, "swim %s: out of memory", p->cmd); rc = 1; }
-                }
-                if (!rc) {
-                    snprintf(keys + (size_t)nkeys * KEY_LEN, KEY_LEN, "%s", key);
-                    rep[nkeys++] = m;
-                }
+        char *key = swim_codegen_scene_key(&s, p->generic);
+        swim_scene_free(&s);
+        if (!key) {
+            swim_message(stderr, "swim %s: out of memory", p->cmd);
+            rc = 1;
+            break;
+        }
+        int found = 0;
+        for (int k = 0; k < nkeys && !found; k++) found = strcmp(keys[k], key) == 0;
+        if (found) {
+            free(key);
+            continue;
+        }
+        if (nkeys == cap) {
+            cap = cap ? 2 * cap : 8;
+            char **nk = realloc(keys, (size_t)cap * sizeof *keys);
+            long *nr = nk ? realloc(rep, (size_t)cap * sizeof *rep) : NULL;
+            if (nk) keys = nk;
+            if (nr) rep = nr;
+            if (!nk || !nr) {
+                swim_message(stderr, "swim %s: out of memory", p->cmd);
+                free(key);
+                rc = 1;
+                break;
             }
         }
-        swim_scene_free(&s);
+        keys[nkeys] = key;
+        rep[nkeys++] = m;
     }
     if (!rc) rc = setup_dir(p);
     char path[1100];
@@ -616,6 +629,7 @@ int sweep_prepare(sweep_plan *p)
     }
     if (!rc) rc = rebuild_rows(p);
     if (!rc && p->already < p->members) rc = generate_kernels(p, rep, nkeys);
+    for (int k = 0; k < nkeys; k++) free(keys[k]);
     free(keys);
     free(rep);
     return rc;

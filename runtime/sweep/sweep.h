@@ -65,9 +65,9 @@ double sweep_value(const sweep_plan *p, long m, int v);
 
 /* Everything before the first member runs: every member validated as a scene (a bad one: one line
  * naming the member and the key, 2), DIR set up (sweep.json written, or compared with the one there:
- * a different definition is 2), the specialized kernel of every distinct structure generated once,
- * the finished members found and members.csv rebuilt from their summaries. 0, 1 (I/O error,
- * printed) or 2. */
+ * a different definition is 2), the finished members found and members.csv rebuilt from their
+ * summaries, the kernel of every distinct structure (runtime/codegen) generated once. 0, 1 (I/O
+ * error or a structure without a kernel, printed) or 2. */
 int sweep_prepare(sweep_plan *p);
 
 /* Starts member m as a child process (stdout/stderr to its log.txt); its pid, or -1. The child

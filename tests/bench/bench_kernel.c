@@ -7,7 +7,7 @@
 #include <time.h>
 
 #include "reference/ref_model.h"
-#include "swim_kernel.h"
+#include "kernel/swim_kernel.h"
 #include "bench/timing.h"
 
 #define CAT_(a, b) a##b

@@ -15,9 +15,9 @@ for N in ${BENCH_MODES:-1 3 5 7 10 15 20}; do
     PYTHONHASHSEED=0 "$PYTHON" generator/generate.py --modes "$N" --out "$out" --quiet
     t1=$(date +%s.%N)
     lines=$(wc -l < "$out/swim_kernel_n$N.c")
-    "$CC" ${OPT:--O3 -march=native} -std=c11 -Igenerated -c "$out/swim_kernel_n$N.c" -o "$out/k$N.o"
+    "$CC" ${OPT:--O3 -march=native} -std=c11 -Iruntime -c "$out/swim_kernel_n$N.c" -o "$out/k$N.o"
     t2=$(date +%s.%N)
-    "$CC" ${OPT:--O3 -march=native} -std=c11 -D_XOPEN_SOURCE=700 -DBENCH_N="$N" -Igenerated -Itests \
+    "$CC" ${OPT:--O3 -march=native} -std=c11 -D_XOPEN_SOURCE=700 -DBENCH_N="$N" -Iruntime -Itests \
         tests/bench/bench_kernel.c tests/reference/ref_model.c "$out/k$N.o" -o "$out/bench_n$N" -lm
     row=$("$out/bench_n$N")
     gen=$(awk -v a="$t0" -v b="$t1" "BEGIN{print b-a}"); gcc_s=$(awk -v a="$t1" -v b="$t2" "BEGIN{print b-a}")

@@ -1,6 +1,7 @@
 /* ns per right-hand-side evaluation of each scene given on the command line, generic kernel
- * (locks through multipliers, LAPACK) vs the scene-specialized kernel, at the scene's initial
- * state. Medians of 7 repetitions, each ~50 ms. One CSV row per scene on stdout:
+ * (every coordinate carried, locks through multipliers) vs the scene-specialized kernel, both
+ * generated (runtime/codegen), at the scene's initial state. Medians of 7 repetitions, each
+ * ~50 ms. One CSV row per scene on stdout:
  * scene,n_free,state_generic,state_specialized,c_lines,ns_generic,ns_specialized */
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,7 +9,7 @@
 #include <time.h>
 
 #include "model/dynamics.h"
-#include "model/specialize.h"
+#include "codegen/codegen.h"
 #include "scene/scene.h"
 #include "bench/timing.h"
 
@@ -48,21 +49,24 @@ int main(int argc, char **argv)
     for (int a = 1; a < argc; a++) {
         static swim_scene s;
         swim_dynamics d;
-        swim_specialized sp;
-        if (swim_scene_load(argv[a], &s) != 0 || swim_dynamics_init(&d, &s) != 0) return 1;
-        if (swim_specialize(&s, &sp, 0) != 0) return 1;
+        swim_compiled gen, sp;
+        if (swim_scene_load(argv[a], &s) != 0 || swim_dynamics_init(&d, &s, NULL) != 0) return 1;
+        if (swim_codegen_scene(&s, 1, &gen, 0) != 0 || swim_codegen_scene(&s, 0, &sp, 0) != 0) return 1;
         double *y = calloc((size_t)d.dim, sizeof(double)), *ys = calloc((size_t)d.dim, sizeof(double));
         double *dy = calloc((size_t)d.dim, sizeof(double));
         swim_dynamics_initial_state(&d, y);
-        double ns_gen = time_rhs(&d, y, dy);
-        swim_dynamics_use_scene_kernel(&d, sp.kernel);
+        swim_dynamics_use_scene_kernel(&d, gen.scene, 1);
+        swim_dynamics_pack(&d, y, ys);
+        double ns_gen = time_rhs(&d, ys, dy);
+        swim_dynamics_use_scene_kernel(&d, sp.scene, 0);
         swim_dynamics_pack(&d, y, ys);
         double ns_spec = time_rhs(&d, ys, dy);
-        int nf = sp.kernel->nfree;
+        int nf = sp.scene->nfree;
         printf("%s,%d,%d,%d,%ld,%.1f,%.1f\n", argv[a], nf, d.dim, 4 + 2 * nf, count_lines(sp.source), ns_gen, ns_spec);
         fflush(stdout);
         free(y); free(ys); free(dy);
-        swim_specialized_close(&sp);
+        swim_compiled_close(&sp);
+        swim_compiled_close(&gen);
         swim_dynamics_free(&d);
         swim_scene_free(&s);
     }

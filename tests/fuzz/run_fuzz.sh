@@ -22,7 +22,7 @@ out=build/fuzz
 mkdir -p "$out/corpus" "$out/artifacts"
 
 FLAGS=(-g -O1 -std=c11 -D_XOPEN_SOURCE=700 -fsanitize=fuzzer,address,undefined
-       -fno-sanitize-recover=undefined -Iruntime -Igenerated -I/usr/include/sundials)
+       -fno-sanitize-recover=undefined -Iruntime -I/usr/include/sundials)
 "$CLANG" "${FLAGS[@]}" tests/fuzz/fuzz_toml.c runtime/scene/toml.c -o "$out/fuzz_toml" -lm
 # The scene and CLI targets link the runtime with the committed kernels (N = 0..7).
 "${PYTHON:-/usr/bin/python3}" generator/generate.py --table 0 1 2 3 4 5 6 7 --out "$out/kernel_table.c"

@@ -1,4 +1,6 @@
-#include "model/shape.h"
+#include "shape/shape.h"
+
+#include "kernel/coords.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -50,26 +52,28 @@ void swim_circle_free(swim_circle *c)
     c->cs = c->sn = NULL;
 }
 
-static double j_at(const swim_kernel *k, const double *x, double theta)
+/* J(c) at z = e^{i theta} (2.4), ERRATA B2: |c_1|^2 - |h|^2, h = sum_{m=1}^N m c_-m conj(z)^(m-1). */
+static double j_at(int modes, const double *x, double theta)
 {
-    double cs[SWIM_KERNEL_MAX_MODES + 1], sn[SWIM_KERNEL_MAX_MODES + 1], J;
     const double c1 = cos(theta), s1 = sin(theta);
-    cs[0] = 1.0;
-    sn[0] = 0.0;
-    for (int m = 1; m < k->modes; m++) {   /* e^{i m theta} by repeated rotation */
-        cs[m] = cs[m - 1] * c1 - sn[m - 1] * s1;
-        sn[m] = sn[m - 1] * c1 + cs[m - 1] * s1;
+    double cm = 1.0, sm = 0.0, re = 0.0, im = 0.0;   /* cos, sin of (m-1) theta by rotation */
+    for (int m = 1; m <= modes; m++) {
+        const int i = swim_coord_index(-m);
+        re += m * (x[i] * cm + x[i + 1] * sm);
+        im += m * (x[i + 1] * cm - x[i] * sm);
+        const double c = cm * c1 - sm * s1;
+        sm = sm * c1 + cm * s1;
+        cm = c;
     }
-    k->jacobian_circle(x, cs, sn, &J, NULL);
-    return J;
+    return x[0] * x[0] + x[1] * x[1] - re * re - im * im;
 }
 
-double swim_shape_jmin(const swim_kernel *k, const double *x)
+double swim_shape_jmin(int modes, const double *x)
 {
-    const int samples = 64 * (k->modes + 1);
+    const int samples = 64 * (modes + 1);
     double best = INFINITY, tbest = 0.0;
     for (int q = 0; q < samples; q++) {
-        double th = TWO_PI * q / samples, J = j_at(k, x, th);
+        double th = TWO_PI * q / samples, J = j_at(modes, x, th);
         if (!(J >= best)) {   /* also catches NaN */
             best = J;
             tbest = th;
@@ -80,10 +84,10 @@ double swim_shape_jmin(const swim_kernel *k, const double *x)
      * spacing around the best sample holds the minimum for any sensible N. */
     const double g = 0.5 * (sqrt(5.0) - 1.0);
     double a = tbest - TWO_PI / samples, b = tbest + TWO_PI / samples;
-    double c = b - g * (b - a), d = a + g * (b - a), fc = j_at(k, x, c), fd = j_at(k, x, d);
+    double c = b - g * (b - a), d = a + g * (b - a), fc = j_at(modes, x, c), fd = j_at(modes, x, d);
     for (int it = 0; it < 60; it++) {
-        if (fc < fd) { b = d; d = c; fd = fc; c = b - g * (b - a); fc = j_at(k, x, c); }
-        else         { a = c; c = d; fc = fd; d = a + g * (b - a); fd = j_at(k, x, d); }
+        if (fc < fd) { b = d; d = c; fd = fc; c = b - g * (b - a); fc = j_at(modes, x, c); }
+        else         { a = c; c = d; fc = fd; d = a + g * (b - a); fd = j_at(modes, x, d); }
     }
     double fm = fc < fd ? fc : fd;
     return fm < best ? fm : best;

@@ -1,4 +1,6 @@
-#include "model/constraints.h"
+#include "shape/constraints.h"
+
+#include "kernel/coords.h"
 
 #include <lapacke.h>
 #include <stdlib.h>
@@ -9,7 +11,7 @@ int swim_constraint_rows(int n, const double *x, const int *free_mask, double *G
     int m = 2;
     memset(G, 0, sizeof(double) * (size_t)n * (size_t)(n + 2));
     for (int i = 0; i < n; i += 2) {
-        int k = i == 0 ? 1 : -(i / 2), ak = k < 0 ? -k : k;
+        const int k = swim_coord_mode(i), ak = abs(k);
         G[i] = k * x[i];
         G[i + 1] = k * x[i + 1];
         G[n + i] = x[i + 1] / (ak + 1);
@@ -30,9 +32,7 @@ int swim_constraint_locked_index(int n, const int *free_mask, int row)
 
 double swim_constraint_curvature_g1(int n, const double *v)
 {
-    double s = v[0] * v[0] + v[1] * v[1];
-    for (int i = 2; i < n; i += 2) s -= (i / 2) * (v[i] * v[i] + v[i + 1] * v[i + 1]);
-    return s;
+    return swim_area_constant(n, v);   /* the same quadratic form, sum_k k |v_k|^2 */
 }
 
 int swim_constraint_project(int n, int m, const double *G, double *v)

@@ -9,10 +9,10 @@
  * resolution by taking Q = 256 sqrt(0.008 / min J) nodes (a power of two, up to 65536, min J
  * measured on the nodes themselves), so W2 stays accurate down to min J ~ 1e-7.
  */
-#ifndef SWIM_SHAPE_H
-#define SWIM_SHAPE_H
+#ifndef SWIM_SHAPE_SHAPE_H
+#define SWIM_SHAPE_SHAPE_H
 
-#include "swim_kernel.h"
+#include "kernel/swim_kernel.h"
 
 #define SWIM_BARRIER_NODES 256          /* base rule */
 #define SWIM_BARRIER_MAX_NODES 65536    /* finest rule of the adaptive quadrature */
@@ -36,7 +36,7 @@ void swim_circle_free(swim_circle *c);
 
 /* min over the closed disk of J (on the circle by the maximum principle, (4.1)): the smallest of
  * 64(N+1) samples (J has frequencies up to N-1), refined by golden-section search. */
-double swim_shape_jmin(const swim_kernel *k, const double *x);
+double swim_shape_jmin(int modes, const double *x);
 
 /* W2 and (if grad != NULL) its gradient (ERRATA B3, ngrad entries as `sums` gives them) on all the
  * nodes of `circle`. Also returns the smallest J met on the nodes in *jnodes (may be NULL).

@@ -1,0 +1,58 @@
+/* codegen.h -- kernels generated, compiled and cached at run time.
+ *
+ * Two kinds of kernels come from here:
+ *   - the kernel of N modes (swim_kernel: mass matrices, K, Gamma, J; diagnostics and
+ *     `swim inspect`): linked in for N = 0..7 (generated/), generated on first use for any
+ *     other N up to SWIM_KERNEL_MAX_MODES;
+ *   - the right-hand side of a scene (swim_scene_kernel), generated for the scene's structure:
+ *     N, which coordinates are free, which locked ones are 0 (folded away), which effects are
+ *     present (free coordinates with R != 0, with D != 0, the barrier, the forcing law and the
+ *     coordinates it drives). `generic` asks for the structure "every coordinate carried, locks
+ *     held by multipliers, every effect present" instead. Initial values, t_end, tolerances,
+ *     densities and the values of R, cref, D, epsilon, alpha are run-time parameters: changing
+ *     them never regenerates.
+ *
+ * The cache: $SWIM_CACHE, else $XDG_CACHE_HOME/swim, else ~/.cache/swim. One folder per entry,
+ * named by a hash of its key: the structure (or N), the kernel ABI, the compiler and its flags,
+ * and a hash of every file under the generator folder and of the hand-written C the kernels
+ * include (runtime/kernel/). Files are written under temporary names and renamed; the manifest,
+ * written last, holds the key and the size and hash of kernel.c and kernel.so, and is checked
+ * before dlopen, so a truncated or empty file is rebuilt (one line on stderr) rather than loaded.
+ * Concurrent first uses wait on a lock file in the entry; a cache that cannot be written is
+ * replaced for this run by a private temporary folder (one line on stderr).
+ *
+ * The generator and the headers are found relative to the executable (/proc/self/exe): in the
+ * source tree (bin/swim -> generator/, runtime/kernel/) or an installation (PREFIX/bin/swim ->
+ * PREFIX/share/swim/generator/, PREFIX/share/swim/runtime/kernel/); $SWIM_SHARE overrides.
+ */
+#ifndef SWIM_CODEGEN_H
+#define SWIM_CODEGEN_H
+
+#include "kernel/swim_kernel.h"
+#include "scene/scene.h"
+
+#define SWIM_CODEGEN_PATH 4096
+
+typedef struct {
+    const swim_kernel *kernel;            /* the kernel of N modes */
+    const swim_scene_kernel *scene;       /* a scene's right-hand side (swim_codegen_scene) */
+    void *handle;                         /* dlopen handle, owned (NULL when linked in) */
+    char dir[SWIM_CODEGEN_PATH];          /* its cache entry ("" when linked in) */
+    char source[SWIM_CODEGEN_PATH + 16];  /* its generated C file */
+    int from_cache, generic;
+    double generate_seconds, compile_seconds;
+} swim_compiled;
+
+/* verbose: 0 quiet (damage and fallback notices only), 1 also progress of a generation,
+ * 2 also where a cached kernel came from. */
+
+/* The kernel of N modes (0 <= N <= SWIM_KERNEL_MAX_MODES). 0, or -1 after one line on stderr. */
+int swim_codegen_kernel(int modes, swim_compiled *out, int verbose);
+/* The right-hand side for the scene's structure (generic: see above). 0, or -1 after one line. */
+int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int verbose);
+void swim_compiled_close(swim_compiled *c);
+
+/* The structure key of a scene as the cache uses it (malloc'd, caller frees), or NULL. */
+char *swim_codegen_scene_key(const swim_scene *s, int generic);
+
+#endif
