@@ -14,7 +14,7 @@ OPT        ?= -O3 -march=native
 CFLAGS     ?= $(OPT) -g
 CFLAGS     += -std=c11 -D_XOPEN_SOURCE=700 -Wall -Wextra -Wno-unused-parameter -MMD -MP
 CPPFLAGS   += -Iruntime -I/usr/include/sundials
-LDLIBS     += -ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lm
+LDLIBS     += -ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lquadmath -lm
 BUILD      ?= build
 BIN        ?= bin
 # Mode counts whose kernels are committed (generated/) and linked into bin/swim; any other N up

@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "shape/barrier.h"
 #include "shape/shape.h"
 #include "reference/ref_model.h"
 #include "codegen/codegen.h"
@@ -196,29 +197,30 @@ static void check_derivatives(const swim_kernel *k, int trials)
     free(dMr); free(dNc); free(dMd); free(dK); free(G); free(fd); free(Gfd);
 }
 
+/* W2 and its gradient (shape/barrier.h) against the reference (tests/reference, trapezoidal rule
+ * on 2048 nodes, exact to rounding at these shapes) and against Richardson differences of W2. */
 static void check_barrier(const swim_kernel *k)
 {
     const int N = k->modes, n = k->dim;
-    swim_circle c;
-    CHECK(swim_circle_init(&c, N, SWIM_BARRIER_NODES) == 0, "circle");
+    swim_barrier_quad *b = swim_barrier_quad_new(N);
+    CHECK(b != NULL, "barrier quadrature");
     for (int t = 0; t < 4; t++) {
-        double x[NMAX], g[NMAX], rg[NMAX], eps = 0.03, alpha = t % 2 ? 1.0 : 0.5;
+        double x[NMAX], g[NMAX], rg[NMAX], eps = 0.03, alpha = t % 2 ? 1.0 : 0.5, W;
         random_shape(N, x, 0.8);
-        double W = swim_barrier(&c, k->barrier_sums, k->dim, x, eps, alpha, g, NULL);
-        double rW = ref_barrier(N, x, eps, alpha, SWIM_BARRIER_NODES, rg);
+        CHECK(swim_barrier_w2(b, x, eps, alpha, &W, g, NULL) == SWIM_BARRIER_OK, "W2 inside D");
+        double rW = ref_barrier(N, x, eps, alpha, 2048, rg);
         CHECK_CLOSE(W, rW, 1e-13, "W2 vs reference");
         CHECK(max_diff(g, rg, n) <= 1e-12 * fmax(max_abs(rg, n), 1.0), "N=%d: grad W2 vs reference", N);
-        /* Richardson differences of W2 itself. */
         double worst = 0.0;
         for (int r = 0; r < n; r++) {
             double xp[NMAX], D[3];
             for (int lev = 0; lev < 3; lev++) {
-                double h = 1e-3 / (1 << lev);
+                double h = 1e-3 / (1 << lev), wp, wm;
                 memcpy(xp, x, sizeof(double) * n);
                 xp[r] += h;
-                double wp = swim_barrier(&c, k->barrier_sums, k->dim, xp, eps, alpha, NULL, NULL);
+                swim_barrier_w2(b, xp, eps, alpha, &wp, NULL, NULL);
                 xp[r] -= 2 * h;
-                double wm = swim_barrier(&c, k->barrier_sums, k->dim, xp, eps, alpha, NULL, NULL);
+                swim_barrier_w2(b, xp, eps, alpha, &wm, NULL, NULL);
                 D[lev] = (wp - wm) / (2 * h);
             }
             double r1 = (4 * D[1] - D[0]) / 3, r2 = (4 * D[2] - D[1]) / 3, d = (16 * r2 - r1) / 15;
@@ -226,62 +228,53 @@ static void check_barrier(const swim_kernel *k)
         }
         CHECK(worst <= 1e-8 * fmax(max_abs(g, n), 1.0), "N=%d: grad W2 vs differences %.3g", N, worst);
     }
-    double x0[NMAX] = {1.0};
-    CHECK_CLOSE(swim_barrier(&c, k->barrier_sums, k->dim, x0, 0.03, 0.5, NULL, NULL), M_PI * 0.03 / 0.5, 1e-15,
-                "W2 at the unit circle = pi eps / alpha (ERRATA B2)");
-    swim_circle_free(&c);
+    double x0[NMAX] = {1.0}, W0;
+    swim_barrier_w2(b, x0, 0.03, 0.5, &W0, NULL, NULL);
+    CHECK_CLOSE(W0, M_PI * 0.03 / 0.5, 1e-15, "W2 at the unit circle = pi eps / alpha (ERRATA B2)");
+    swim_barrier_quad_free(b);
 }
 
-/* Trapezoidal rule for W2: geometric convergence in the node count at a shape near the
- * boundary of D (Example 7's initial shape, min J = 0.0396, ERRATA D5). */
-static void check_quadrature_convergence(void)
+/* Example 7's initial shape (min J = 0.0396, ERRATA D5): the nested trapezoidal rule stops well
+ * below the 256 nodes ERRATA B4 used, at the reference's value. */
+static void check_quadrature_nodes(void)
 {
-    const swim_kernel *k = swim_kernel_find(7);
     double x[16] = {1, 0, 0.5, 0, 0, 0.24};
-    double jmin = swim_shape_jmin(k->modes, x);
+    double jmin = swim_shape_jmin(7, x);
     CHECK(fabs(jmin - 0.0396) < 5e-5, "Example 7 initial min J %.6f (ERRATA D5: 0.0396)", jmin);
-    swim_circle ref;
-    swim_circle_init(&ref, 7, 2048);
-    double Wref = swim_barrier(&ref, k->barrier_sums, k->dim, x, 0.03, 0.5, NULL, NULL);
-    swim_circle_free(&ref);
-    double prev = INFINITY;
-    printf("  W2 trapezoidal rule at min J = %.4f: nodes -> relative error\n", jmin);
-    for (int Q = 16; Q <= 512; Q *= 2) {
-        swim_circle c;
-        swim_circle_init(&c, 7, Q);
-        double e = fabs(swim_barrier(&c, k->barrier_sums, k->dim, x, 0.03, 0.5, NULL, NULL) - Wref) / Wref;
-        swim_circle_free(&c);
-        printf("    %4d  %.2e\n", Q, e);
-        if (Q <= 128) CHECK(e < 0.5 * prev || e < 1e-15, "no geometric decrease at Q=%d (%.3g after %.3g)", Q, e, prev);
-        if (Q == SWIM_BARRIER_NODES) CHECK(e <= 1e-13, "W2 with %d nodes: relative error %.3g", Q, e);
-        prev = e;
-    }
+    swim_barrier_quad *b = swim_barrier_quad_new(7);
+    swim_barrier_info info;
+    double W, g[16], rg[16];
+    swim_barrier_w2(b, x, 0.03, 0.5, &W, g, &info);
+    double Wref = ref_barrier(7, x, 0.03, 0.5, 4096, rg);
+    printf("  W2 at min J = %.4f: %s rule, %d nodes, relative error %.1e\n", jmin,
+           info.graded ? "graded" : "trapezoidal", info.nodes, fabs(W - Wref) / Wref);
+    CHECK(!info.graded && info.nodes <= 256, "Example 7: %d nodes", info.nodes);
+    CHECK(fabs(W - Wref) <= 1e-13 * Wref, "Example 7: W2 %.17g vs %.17g", W, Wref);
+    CHECK(max_diff(g, rg, 16) <= 1e-12 * max_abs(rg, 16), "Example 7: grad W2");
+    swim_barrier_quad_free(b);
 }
 
-/* Near the boundary of D the fixed 256-node rule is no longer enough; the adaptive rule takes
- * more nodes and matches a 65536-node rule. Shape with |c_-1| + 2|c_-2| = sqrt(1 - 1e-4). */
-static void check_adaptive_quadrature(void)
+/* Near the boundary of D (min J = 1e-4) a 256-node trapezoidal rule is visibly off; the graded
+ * rule matches a 65536-node trapezoidal rule with a few hundred nodes. */
+static void check_near_boundary_quadrature(void)
 {
-    const swim_kernel *k = swim_kernel_find(2);
     double x[6] = {1, 0, 0.5, 0, 0, 0.5 * (sqrt(1 - 1e-4) - 0.5)};
-    double jmin = swim_shape_jmin(k->modes, x);
+    double jmin = swim_shape_jmin(2, x);
     CHECK(fabs(jmin - 1e-4) < 1e-9, "near-boundary shape: min J %.6g, want 1e-4", jmin);
-    swim_circle fine, base;
-    swim_circle_init(&fine, 2, SWIM_BARRIER_MAX_NODES);
-    swim_circle_init(&base, 2, SWIM_BARRIER_NODES);
-    double g1[6], g2[6];
-    int used = 0;
-    double Wf = swim_barrier(&fine, k->barrier_sums, 6, x, 0.03, 0.5, g1, NULL);
-    double Wa = swim_barrier_adaptive(&fine, k->barrier_sums, 6, x, 0.03, 0.5, g2, NULL, &used);
-    double Wb = swim_barrier(&base, k->barrier_sums, 6, x, 0.03, 0.5, NULL, NULL);
-    CHECK(used > SWIM_BARRIER_NODES && used < SWIM_BARRIER_MAX_NODES, "adaptive rule used %d nodes", used);
-    CHECK(fabs(Wa - Wf) <= 1e-12 * Wf, "adaptive W2 %.17g vs 65536 nodes %.17g", Wa, Wf);
-    CHECK(max_diff(g1, g2, 6) <= 1e-11 * max_abs(g1, 6), "adaptive grad W2 vs 65536 nodes: %.3g", max_diff(g1, g2, 6));
+    swim_barrier_quad *b = swim_barrier_quad_new(2);
+    swim_barrier_info info;
+    double W, g[6], gf[6];
+    CHECK(swim_barrier_w2(b, x, 0.03, 0.5, &W, g, &info) == SWIM_BARRIER_OK, "near boundary: inside D");
+    double Wf = ref_barrier(2, x, 0.03, 0.5, 65536, gf);
+    double Wb = ref_barrier(2, x, 0.03, 0.5, 256, NULL);
+    CHECK(info.graded && info.nodes < 600, "near boundary: %s rule with %d nodes",
+          info.graded ? "graded" : "trapezoidal", info.nodes);
+    CHECK(fabs(W - Wf) <= 1e-12 * Wf, "near boundary W2 %.17g vs 65536 nodes %.17g", W, Wf);
+    CHECK(max_diff(g, gf, 6) <= 1e-11 * max_abs(gf, 6), "near boundary grad W2: %.3g", max_diff(g, gf, 6));
     CHECK(fabs(Wb - Wf) > 1e-6 * Wf, "the 256-node rule should be visibly off at min J = 1e-4");
-    printf("  W2 at min J = 1e-4: adaptive rule %d nodes, error %.1e; 256 nodes error %.1e\n", used,
-           fabs(Wa - Wf) / Wf, fabs(Wb - Wf) / Wf);
-    swim_circle_free(&fine);
-    swim_circle_free(&base);
+    printf("  W2 at min J = 1e-4: graded rule %d nodes, error %.1e; 256 trapezoidal nodes error %.1e\n",
+           info.nodes, fabs(W - Wf) / Wf, fabs(Wb - Wf) / Wf);
+    swim_barrier_quad_free(b);
 }
 
 static void check_ellipse_added_mass(void)
@@ -331,8 +324,8 @@ int main(void)
         if (ks[i]->modes > 12) continue;   /* N = 15: values and derivatives only */
         check_barrier(ks[i]);
     }
-    check_quadrature_convergence();
-    check_adaptive_quadrature();
+    check_quadrature_nodes();
+    check_near_boundary_quadrature();
     check_ellipse_added_mass();
     swim_compiled_close(&extra[0]);
     swim_compiled_close(&extra[1]);

@@ -105,7 +105,7 @@ static void compare(int N, const kind *kd, int trials)
     if (swim_dynamics_init(&d, &s, NULL) != 0) abort();
     swim_dynamics_use_scene_kernel(&d, sc.scene, kd->generic);
     ref_scene rs = {N, s.rho0, s.rhof, s.free_mask, kd->effects ? s.stiffness : NULL, s.reference,
-                    kd->effects ? SWIM_BARRIER_NODES : 0, s.epsilon, s.alpha,
+                    kd->effects ? 2048 : 0, s.epsilon, s.alpha,
                     kd->effects ? s.damping : NULL, kd->effects ? law_c : NULL, s.direction};
     const int dim = 3 + 2 * n + 1, sdim = swim_dynamics_state_dim(&d);
     double y[3 + 2 * NMAX + 1], ys[3 + 2 * NMAX + 1], dys[3 + 2 * NMAX + 1];

@@ -225,8 +225,8 @@ def scene_kernel_source(structure, command):
     e = _Emitter(m)
     force_body, law = _scene_forces(e, m, structure)
     opts = []
-    if structure.get("barrier"):
-        opts += ["SWIM_KERNEL_JACOBIAN", "SWIM_SCENE_BARRIER"]
+    if structure.get("barrier"):   # W2's gradient comes from the runtime (shape/barrier.c)
+        opts.append("SWIM_SCENE_BARRIER")
     if structure.get("multipliers"):
         opts.append("SWIM_SCENE_LOCK_MULTIPLIERS")
     d = e.subs(filename="scene kernel",
@@ -235,11 +235,7 @@ def scene_kernel_source(structure, command):
                structure=c_string(structure["key"]), law=c_comment(law),
                free_index=", ".join(str(i) for i in m.free),
                force_body=force_body, constraint_body=_scene_constraints(e, m))
-    pieces = [SYMBOLIC_CORE]
-    if structure.get("barrier"):
-        d.update(e.jacobian_subs())
-        pieces.append(SYMBOLIC_JACOBIAN)
-    text = (KERNEL_HEAD.substitute(d) + _symbolic(m, "".join(t.substitute(d) for t in pieces))
+    text = (KERNEL_HEAD.substitute(d) + _symbolic(m, SYMBOLIC_CORE.substitute(d))
             + INCLUDE_ASSEMBLY)
     return text + "\n" + SCENE_PIECES.substitute(d) + INCLUDE_SCENE_RHS
 

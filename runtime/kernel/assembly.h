@@ -8,7 +8,7 @@
  *   body_shape[NX]  body part of Md over pi rho0: 1/(|k|+1) (ERRATA A7);
  *   boundary_data(x, S), boundary_data_dir(x, v, D) = D_v S, boundary_data_bigrad(x, w, X, g)
  *   (g_i = w^T (d_i S) X), inertia(x, grad) = sum_k |c_k|^2/(|k|+1) and its gradient;
- *   with SWIM_KERNEL_JACOBIAN: jacobian_circle(x, cs, sn, J, dJ) (2.4) -> barrier_sums below;
+ *   with SWIM_KERNEL_JACOBIAN: jacobian_circle(x, cs, sn, J, dJ) (2.4);
  *   with SWIM_KERNEL_FULL (all coordinates free, nothing folded, and SWIM_KERNEL_JACOBIAN):
  *   boundary_data_deriv(x, dS) and SWIM_KERNEL_NAME, the exported swim_kernel (mass matrices,
  *   their derivatives, Gamma).
@@ -175,36 +175,6 @@ static int reduced(const double *x, const double *v, double rho0, double rhof,
     return 0;
 }
 
-#ifdef SWIM_KERNEL_JACOBIAN
-/* Trapezoidal sums for W2 (section 4.1.1): see barrier_sums in swim_kernel.h. */
-static int barrier_sums(const double *x, const double *cs, const double *sn, int Q, double alpha,
-                        double *sum, double *gsum, double *jlow)
-{
-    const int w = NFULL / 2 - 1 > 0 ? NFULL / 2 - 1 : 1;   /* max(N, 1) columns per node */
-    double s = 0.0, lo = INFINITY, dJ[NX], J;
-    if (gsum)
-        for (int i = 0; i < NX; i++) gsum[i] = 0.0;
-    for (int q = 0; q < Q; q++) {
-        jacobian_circle(x, cs + (size_t)q * w, sn + (size_t)q * w, &J, gsum ? dJ : NULL);
-        if (J < lo) lo = J;
-        if (!(J > 0.0)) {
-            *jlow = lo;
-            return -1;
-        }
-        /* J^-alpha; alpha = 1/2 and 1 avoid pow() on the hot path */
-        const double ja = alpha == 0.5 ? 1.0 / sqrt(J) : alpha == 1.0 ? 1.0 / J : pow(J, -alpha);
-        s += ja;
-        if (gsum) {
-            const double t = ja / J;
-            for (int i = 0; i < NX; i++) gsum[i] += t * dJ[i];
-        }
-    }
-    *sum = s;
-    *jlow = lo;
-    return 0;
-}
-#endif
-
 #ifdef SWIM_KERNEL_FULL
 static void mass(const double *x, double rho0, double rhof, double *Mr, double *Nc, double *Md)
 {
@@ -314,7 +284,6 @@ const swim_kernel SWIM_KERNEL_NAME = {
     .reduced = reduced,
     .reduced_deriv = reduced_deriv,
     .jacobian_circle = jacobian_circle,
-    .barrier_sums = barrier_sums,
     .inertia = inertia,
     .boundary_data = boundary_data_flat,
 };

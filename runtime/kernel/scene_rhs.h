@@ -186,7 +186,7 @@ static int scene_rhs(double t, const double *y, double *dy, const swim_scene_par
     if (reduced(x, v, p->rho0, p->rhof, K, P, g) != 0) return SWIM_RHS_EMASS;
     scene_forces(t, x, v, g, p, f, &power);
 #ifdef SWIM_SCENE_BARRIER
-    {   /* W2 (section 4.1.1): adaptive quadrature by the runtime on barrier_sums */
+    {   /* W2 (section 4.1.1): its gradient from the runtime's quadrature (shape/barrier.h) */
         double gW[NX];
         if (p->barrier(x, gW, p->barrier_ctx) != 0) return SWIM_RHS_EBARRIER;
         for (int i = 0; i < NX; i++) f[i] -= gW[i];
@@ -220,11 +220,6 @@ const swim_scene_kernel swim_scene_kernel_entry = {
     .free_index = free_index,
     .structure = SWIM_SCENE_STRUCTURE,
     .rhs = scene_rhs,
-#ifdef SWIM_SCENE_BARRIER
-    .barrier_sums = barrier_sums,
-#else
-    .barrier_sums = NULL,
-#endif
 };
 
 #endif

@@ -16,7 +16,7 @@
 #ifndef SWIM_KERNEL_H
 #define SWIM_KERNEL_H
 
-#define SWIM_KERNEL_ABI 4
+#define SWIM_KERNEL_ABI 5
 #define SWIM_KERNEL_MAX_MODES 32   /* largest N the runtime accepts (arrays are sized by it) */
 
 typedef struct swim_kernel {
@@ -41,11 +41,6 @@ typedef struct swim_kernel {
      * cs[m] = cos(m theta), sn[m] = sin(m theta) for m = 0 .. N-1 (unused when N = 0). */
     void (*jacobian_circle)(const double *x, const double *cs, const double *sn,
                             double *J, double *dJ);
-    /* Trapezoidal sums for W2 over Q nodes (tables cs, sn as for jacobian_circle, row q for node
-     * q): *sum = sum_q J^-alpha, gsum (may be NULL) = sum_q J^(-1-alpha) dJ, *jlow = smallest J.
-     * Returns 0, or -1 as soon as J <= 0 at a node. The runtime scales them (model/shape.c). */
-    int (*barrier_sums)(const double *x, const double *cs, const double *sn, int Q, double alpha,
-                        double *sum, double *gsum, double *jlow);
     /* sum_k |c_k|^2/(|k|+1) and its gradient (may be NULL); I(c) = pi rho0 times it (2.11). */
     double (*inertia)(const double *x, double *grad);
     /* S(x), 2(N+1) x (3+n) row-major: column p holds the Fourier data (s1_j, s2_j), j = 1..N+1,
@@ -65,8 +60,8 @@ typedef struct swim_scene_params {
     const double *stiffness, *reference, *damping, *direction;
     /* 1 = free, 0 = locked, full length; read only by kernels that lock by multipliers */
     const int *free_mask;
-    /* grad W2 on the kernel's coordinates at x (quadrature done by the runtime, which calls
-     * back the kernel's barrier_sums); 0, or SWIM_RHS_EBARRIER when J <= 0 at a node. */
+    /* grad W2 on the kernel's coordinates at the full shape x (the quadrature is the runtime's,
+     * shape/barrier.h); 0, or nonzero when the shape is outside D (J <= 0 on the circle). */
     int (*barrier)(const double *x, double *grad, void *ctx);
     void *barrier_ctx;
 } swim_scene_params;
@@ -80,9 +75,6 @@ typedef struct swim_scene_kernel {
     const int *free_index;      /* nfree indices into the full shape vector */
     const char *structure;      /* the structure key it was generated for */
     int (*rhs)(double t, const double *y, double *dydt, const swim_scene_params *p);
-    /* barrier_sums as in swim_kernel, gradient on the free coordinates (NULL without a barrier) */
-    int (*barrier_sums)(const double *x, const double *cs, const double *sn, int Q, double alpha,
-                        double *sum, double *gsum, double *jlow);
 } swim_scene_kernel;
 
 /* Exported names: "swim_kernel_n<N>" (a swim_kernel) and "swim_scene_kernel_entry". */

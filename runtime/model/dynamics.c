@@ -33,8 +33,9 @@ int swim_dynamics_init(swim_dynamics *d, const swim_scene *s, const swim_kernel 
     d->P = malloc(sizeof(double) * 3 * n);
     d->G = malloc(sizeof(double) * n * mmax);
     d->proj = malloc(sizeof(double) * d->dim);
-    if (!d->K || !d->P || !d->G || !d->proj ||
-        (s->barrier && swim_circle_init(&d->circle, s->modes, SWIM_BARRIER_MAX_NODES) != 0)) {
+    d->gbar = malloc(sizeof(double) * n);
+    if (s->barrier) d->barrier = swim_barrier_quad_new(s->modes);
+    if (!d->K || !d->P || !d->G || !d->proj || !d->gbar || (s->barrier && !d->barrier)) {
         swim_dynamics_free(d);
         return -1;
     }
@@ -44,9 +45,10 @@ int swim_dynamics_init(swim_dynamics *d, const swim_scene *s, const swim_kernel 
 
 void swim_dynamics_free(swim_dynamics *d)
 {
-    free(d->K); free(d->P); free(d->G); free(d->proj);
-    swim_circle_free(&d->circle);
-    d->K = d->P = d->G = d->proj = NULL;
+    free(d->K); free(d->P); free(d->G); free(d->proj); free(d->gbar);
+    swim_barrier_quad_free(d->barrier);
+    d->K = d->P = d->G = d->proj = d->gbar = NULL;
+    d->barrier = NULL;
 }
 
 void swim_dynamics_initial_state(const swim_dynamics *d, double *y)
@@ -64,20 +66,23 @@ static double seconds(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-/* The barrier callback of scene kernels: the adaptive quadrature of shape/shape.h on the scene
- * kernel's own J (gradient on the coordinates it carries). A generic kernel always asks; without
- * a barrier in the scene the gradient is zero. */
+/* The barrier callback of scene kernels: W2's gradient from shape/barrier.h at the full shape x,
+ * restricted to the coordinates the kernel carries. A generic kernel always asks; without a
+ * barrier in the scene the gradient is zero. */
 static int scene_barrier(const double *x, double *grad, void *ctx)
 {
     swim_dynamics *d = ctx;
     const swim_scene *s = d->scene;
+    const int nf = d->spec->nfree;
     if (!s->barrier) {
-        memset(grad, 0, sizeof(double) * d->spec->nfree);
+        memset(grad, 0, sizeof(double) * nf);
         return 0;
     }
-    double W = swim_barrier_adaptive(&d->circle, d->spec->barrier_sums, d->spec->nfree, x,
-                                     s->epsilon, s->alpha, grad, NULL, NULL);
-    return isfinite(W) ? 0 : SWIM_RHS_EBARRIER;
+    double W;
+    int rc = swim_barrier_w2(d->barrier, x, s->epsilon, s->alpha, &W, d->gbar, NULL);
+    if (rc != SWIM_BARRIER_OK) return SWIM_RHS_EBARRIER;   /* outside D (memory: see barrier.h) */
+    for (int f = 0; f < nf; f++) grad[f] = d->gbar[d->spec->free_index[f]];
+    return 0;
 }
 
 void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *spec, int generic)
@@ -171,9 +176,8 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     o->kinetic_fluid = T - o->kinetic_rigid - o->kinetic_shape;
     if (s->elastic)
         for (int i = 0; i < n; i++) o->w1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
-    if (s->barrier)
-        o->w2 = swim_barrier_adaptive(&d->circle, d->k->barrier_sums, n, c, s->epsilon, s->alpha,
-                                      NULL, NULL, NULL);
+    if (s->barrier && swim_barrier_w2(d->barrier, c, s->epsilon, s->alpha, &o->w2, NULL, NULL) != 0)
+        o->w2 = INFINITY;
     o->energy = T + o->w1 + o->w2;
     o->work = y[3 + 2 * n];
     /* Impulses (section 3.3): body (m r*, I omega), fluid from the rigid motion (added mass),

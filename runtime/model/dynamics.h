@@ -23,6 +23,7 @@
 #define SWIM_DYNAMICS_H
 
 #include "scene/scene.h"
+#include "shape/barrier.h"
 #include "shape/shape.h"
 
 /* Values returned by the right-hand side (passed through the integrator); the first five are
@@ -46,7 +47,8 @@ typedef struct {
     int generic;                 /* spec carries every coordinate, locks by multipliers */
     swim_scene_params spec_params;
     int n, dim, m;               /* shape coordinates, full state dimension, constraint rows */
-    swim_circle circle;          /* quadrature nodes for W2 */
+    swim_barrier_quad *barrier;  /* quadrature of W2 (owned; NULL without a barrier) */
+    double *gbar;                /* full gradient of W2 (owned) */
     volatile int *interrupt;     /* set asynchronously to stop (may be NULL) */
     /* workspace (owned) */
     double *K, *P, *G, *proj;

@@ -1,0 +1,663 @@
+#include "shape/barrier.h"
+
+#include <complex.h>
+#include <lapacke.h>
+#include <math.h>
+#include <quadmath.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define TWO_PI 6.28318530717958647692
+#define TRAP_TOL 1e-14      /* predicted relative error at which a trapezoidal level is accepted */
+#define PEAK_PERIODS 36.0   /* Q d >= 36: e^{-Qd} = 2e-16 */
+#define GAUSS_TOL 1e-16     /* a priori bound per panel (relative to the panel's own size) */
+#define QMIN 6              /* Gauss nodes per panel, at least ... */
+#define QMAX 24             /* ... and at most (a panel needing more is halved) */
+#define MAX_DEPTH 64        /* halvings of one panel; beyond, a zero of J sits on the circle */
+#define CLOSE 0.5           /* zeros closer than this to the real axis start panels at their foot */
+#define PRECISE 0.1         /* zeros closer than this get the cancellation-free evaluation of J */
+#define NEAR 0.25           /* ... at the nodes within this angle of their foot */
+
+struct swim_barrier_quad {
+    int N, n;
+    /* Nested trapezoidal rule: level 0 has q0 nodes 2 pi k / q0, level l >= 1 the q0 2^(l-1)
+     * nodes that halve the spacing of the previous levels. For each level a table of
+     * cos(j theta_k), sin(j theta_k), j = 0..N-1, stored [j][k] so the node loops vectorize. */
+    int q0, levels;
+    double *tcs[16], *tsn[16];
+    int lnodes[16];
+    /* Gauss-Legendre rules on [-1, 1], q = 1..QMAX nodes. */
+    double gx[QMAX + 1][QMAX], gw[QMAX + 1][QMAX];
+    /* Workspace: node arrays of the graded rule (grown on demand), the companion matrix, roots. */
+    int cap;
+    double *th, *base, *wt, *jv, *hr, *hi;   /* graded nodes: base + th, weight wt */
+    double complex *comp, *roots;
+    double complex *Jp;        /* Fourier coefficients J_p, p = 0..N-1 */
+    /* Samples that bracket the minima of J: cos(p t_k), sin(p t_k) at t_k = 2 pi k / ns, [p][k] */
+    int ns;
+    double *scs, *ssn, *sJ;
+};
+
+/* ---- setup ------------------------------------------------------------------------------- */
+
+/* Gauss-Legendre nodes and weights by Newton's method on the three-term recurrence, in long
+ * double so that the double results are correctly rounded to a few ulps. */
+static void gauss_legendre(int q, double *x, double *w)
+{
+    for (int i = 0; i < q; i++) {
+        long double z = cosl(3.14159265358979323846264338327950288L * (i + 0.75L) / (q + 0.5L)), dp = 0;
+        for (int it = 0; it < 100; it++) {
+            long double p0 = 1, p1 = z;
+            for (int k = 2; k <= q; k++) {
+                long double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
+                p0 = p1;
+                p1 = p2;
+            }
+            dp = q * (z * p1 - p0) / (z * z - 1);
+            long double dz = p1 / dp;
+            z -= dz;
+            if (fabsl(dz) < 1e-19L) break;
+        }
+        x[i] = (double)z;
+        w[i] = (double)(2 / ((1 - z * z) * dp * dp));
+    }
+}
+
+static int next_pow2(int v)
+{
+    int p = 1;
+    while (p < v) p *= 2;
+    return p;
+}
+
+/* Finest trapezoidal level before the graded rule: 256 nodes, more for many modes (J of degree
+ * N-1 needs about 2N nodes per period just to be resolved). */
+static int trap_max(int N) { return next_pow2(N * 16 > 512 ? N * 16 : 512); }
+
+static int reserve(swim_barrier_quad *b, int nodes)
+{
+    if (nodes <= b->cap) return 0;
+    int cap = b->cap ? b->cap : 256;
+    while (cap < nodes) cap *= 2;
+    double **arr[] = {&b->th, &b->base, &b->wt, &b->jv, &b->hr, &b->hi};
+    for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) {
+        double *p = realloc(*arr[i], sizeof(double) * (size_t)cap);
+        if (!p) return -1;
+        *arr[i] = p;
+    }
+    b->cap = cap;
+    return 0;
+}
+
+swim_barrier_quad *swim_barrier_quad_new(int modes)
+{
+    swim_barrier_quad *b = calloc(1, sizeof *b);
+    if (!b) return NULL;
+    b->N = modes;
+    b->n = 2 * (modes + 1);
+    const int w = modes > 0 ? modes : 1;
+    b->q0 = next_pow2(modes * 2 > 16 ? modes * 2 : 16);
+    for (int Q = b->q0; Q <= trap_max(modes); Q *= 2) {
+        int l = b->levels++, m = l == 0 ? Q : Q / 2;
+        b->lnodes[l] = m;
+        b->tcs[l] = malloc(sizeof(double) * (size_t)m * (size_t)w);
+        b->tsn[l] = malloc(sizeof(double) * (size_t)m * (size_t)w);
+        if (!b->tcs[l] || !b->tsn[l]) {
+            swim_barrier_quad_free(b);
+            return NULL;
+        }
+        for (int k = 0; k < m; k++) {
+            double th = l == 0 ? TWO_PI * k / Q : TWO_PI * (2 * k + 1) / Q;
+            for (int j = 0; j < w; j++) {
+                b->tcs[l][j * m + k] = cos(j * th);
+                b->tsn[l][j * m + k] = sin(j * th);
+            }
+        }
+    }
+    for (int q = 1; q <= QMAX; q++) gauss_legendre(q, b->gx[q], b->gw[q]);
+    int deg = 2 * (modes > 1 ? modes - 1 : 1);
+    b->comp = malloc(sizeof(double complex) * (size_t)deg * (size_t)deg);
+    b->roots = malloc(sizeof(double complex) * (size_t)deg);
+    b->Jp = malloc(sizeof(double complex) * (size_t)w);
+    b->ns = 4 * (modes + 1) > 16 ? 4 * (modes + 1) : 16;
+    b->scs = malloc(sizeof(double) * (size_t)b->ns * (size_t)w);
+    b->ssn = malloc(sizeof(double) * (size_t)b->ns * (size_t)w);
+    b->sJ = malloc(sizeof(double) * (size_t)b->ns);
+    if (!b->scs || !b->ssn || !b->sJ) {
+        swim_barrier_quad_free(b);
+        return NULL;
+    }
+    for (int p = 0; p < w; p++)
+        for (int k = 0; k < b->ns; k++) {
+            b->scs[p * b->ns + k] = cos(p * TWO_PI * k / b->ns);
+            b->ssn[p * b->ns + k] = sin(p * TWO_PI * k / b->ns);
+        }
+    if (!b->comp || !b->roots || !b->Jp || reserve(b, trap_max(modes) > 4096 ? trap_max(modes) : 4096) != 0) {
+        swim_barrier_quad_free(b);
+        return NULL;
+    }
+    return b;
+}
+
+void swim_barrier_quad_free(swim_barrier_quad *b)
+{
+    if (!b) return;
+    for (int l = 0; l < b->levels; l++) {
+        free(b->tcs[l]);
+        free(b->tsn[l]);
+    }
+    free(b->th);
+    free(b->base);
+    free(b->wt);
+    free(b->jv);
+    free(b->hr);
+    free(b->hi);
+    free(b->comp);
+    free(b->roots);
+    free(b->Jp);
+    free(b->scs);
+    free(b->ssn);
+    free(b->sJ);
+    free(b);
+}
+
+/* ---- sums over nodes --------------------------------------------------------------------- */
+
+/* H_j = (j+1) c_{-(j+1)}: h = sum_j H_j e^{-i j theta} (ERRATA B2). */
+static double complex coef_h(const double *x, int j)
+{
+    return (j + 1) * CMPLX(x[2 * (j + 1)], x[2 * (j + 1) + 1]);
+}
+
+/* J^-alpha, without pow() for the two exponents the paper uses. */
+static double jpow(double J, double alpha)
+{
+    if (alpha == 0.5) return 1.0 / sqrt(J);
+    if (alpha == 1.0) return 1.0 / J;
+    return pow(J, -alpha);
+}
+
+/* Accumulators of a rule: S = sum w J^-alpha; for the gradient, sum w J^{-1-alpha} (times
+ * dJ/da_1 = 2 a_1, dJ/db_1 = 2 b_1) and, for m = 1..N, sum w J^{-1-alpha} z^{m-1} h (ERRATA B3:
+ * dJ/da_-m = -2m Re(z^{m-1} h), dJ/db_-m = -2m Im(z^{m-1} h)). */
+typedef struct {
+    double S, G0;
+    double Gr[64], Gi[64];
+} sums;
+
+/* Adds the nodes k = 0..m-1 whose cos(j theta_k), sin(j theta_k) are cs[j m + k], sn[j m + k],
+ * with weight 1, to s. Returns 1 when J <= 0 at a node. */
+static int trap_level(const swim_barrier_quad *b, const double *cs, const double *sn, int m,
+                      const double *x, double alpha, int grad, sums *s)
+{
+    const int N = b->N;
+    double *hr = b->hr, *hi = b->hi, *g = b->jv;
+    const double c1 = x[0] * x[0] + x[1] * x[1];
+    for (int k = 0; k < m; k++) hr[k] = hi[k] = 0.0;
+    for (int j = 0; j < N; j++) {
+        const double complex H = coef_h(x, j);
+        const double Hr = creal(H), Hi = cimag(H);
+        const double *c = cs + (size_t)j * m, *sj = sn + (size_t)j * m;
+        for (int k = 0; k < m; k++) {          /* H e^{-i j theta} */
+            hr[k] += Hr * c[k] + Hi * sj[k];
+            hi[k] += Hi * c[k] - Hr * sj[k];
+        }
+    }
+    /* J^-alpha and g = J^{-1-alpha} at every node; one loop per exponent so that each
+     * vectorizes (1/sqrt and 1/J instead of pow for alpha = 1/2 and 1) */
+    int bad = 0;
+    double S = 0.0, G0 = 0.0;
+    for (int k = 0; k < m; k++) {
+        const double J = c1 - hr[k] * hr[k] - hi[k] * hi[k];
+        bad |= !(J > 0.0);
+        g[k] = J;
+    }
+    if (bad) return 1;
+    if (alpha == 0.5)
+        for (int k = 0; k < m; k++) {
+            const double f = 1.0 / sqrt(g[k]);
+            S += f;
+            g[k] = f / g[k];
+        }
+    else if (alpha == 1.0)
+        for (int k = 0; k < m; k++) {
+            const double f = 1.0 / g[k];
+            S += f;
+            g[k] = f * f;
+        }
+    else
+        for (int k = 0; k < m; k++) {
+            const double f = pow(g[k], -alpha);
+            S += f;
+            g[k] = f / g[k];
+        }
+    for (int k = 0; k < m; k++) G0 += g[k];
+    if (bad) return 1;
+    s->S += S;
+    if (!grad) return 0;
+    s->G0 += G0;
+    for (int j = 0; j < N; j++) {              /* sum g z^j h, z^j = cos + i sin */
+        const double *c = cs + (size_t)j * m, *sj = sn + (size_t)j * m;
+        double re = 0.0, im = 0.0;
+        for (int k = 0; k < m; k++) {
+            re += g[k] * (c[k] * hr[k] - sj[k] * hi[k]);
+            im += g[k] * (c[k] * hi[k] + sj[k] * hr[k]);
+        }
+        s->Gr[j] += re;
+        s->Gi[j] += im;
+    }
+    return 0;
+}
+
+/* W2 and the gradient from the accumulated sums with an overall weight `scale`. */
+static void finish(const swim_barrier_quad *b, const sums *s, double scale, const double *x,
+                   double eps, double alpha, double *W, double *grad)
+{
+    *W = eps / (2.0 * alpha) * scale * s->S;
+    if (!grad) return;
+    const double c = -0.5 * eps * scale;
+    grad[0] = c * 2.0 * x[0] * s->G0;
+    grad[1] = c * 2.0 * x[1] * s->G0;
+    for (int m = 1; m <= b->N; m++) {
+        grad[2 * m] = c * (-2.0 * m) * s->Gr[m - 1];
+        grad[2 * m + 1] = c * (-2.0 * m) * s->Gi[m - 1];
+    }
+}
+
+/* Change between two levels: |W - W'| and max_i |g_i - g'_i| (0 without a gradient). */
+static void level_change(const double *g, const double *gp, int n, double W, double Wp, double *dW,
+                         double *dg)
+{
+    *dW = fabs(W - Wp);
+    *dg = 0.0;
+    if (g)
+        for (int i = 0; i < n; i++) *dg = fmax(*dg, fabs(g[i] - gp[i]));
+}
+
+/* Error of the finest level predicted from the last two changes D1 (Q/2 -> Q) and D2 (Q -> 2Q).
+ * With near-singularities at distance d the error behaves like A Q^s e^{-Qd} (s = alpha - 1/2
+ * for the value, alpha + 1/2 for the gradient: the Fourier coefficients of J^-alpha), so one
+ * doubling multiplies it by about 2^s e^{-Qd} and the next by the square of that:
+ * err(2Q) ~ D2 (D2 / D1)^2 2^s. The factor 8 covers s <= 3. */
+static double predicted(double D1, double D2)
+{
+    if (D2 == 0.0) return 0.0;
+    if (!(D1 > 0.0)) return INFINITY;
+    double r = D2 / D1;
+    return r < 1.0 ? 8.0 * D2 * r * r : INFINITY;
+}
+
+static double vmax(const double *g, int n)
+{
+    double m = 0.0;
+    for (int i = 0; g && i < n; i++) m = fmax(m, fabs(g[i]));
+    return m;
+}
+
+/* J_p, p = 0..N-1: J(theta) = J_0 + 2 Re sum_{p>=1} J_p e^{i p theta}, from
+ * |h|^2 = sum_{j,l} H_j conj(H_l) e^{i (l-j) theta}. */
+static void fourier(swim_barrier_quad *b, const double *x)
+{
+    const int N = b->N;
+    for (int p = 0; p < N; p++) {
+        double complex s = 0.0;
+        for (int j = 0; j + p < N; j++) s += coef_h(x, j) * conj(coef_h(x, j + p));
+        b->Jp[p] = -s;
+    }
+    if (N > 0) b->Jp[0] += x[0] * x[0] + x[1] * x[1];
+}
+
+/* J and its first two derivatives in theta from the coefficients J_p (fourier()). */
+static void j_derivs(const swim_barrier_quad *b, double th, double *J, double *J1, double *J2)
+{
+    double complex z = cexp(I * th), zp = z;
+    double s0 = creal(b->Jp[0]), s1 = 0.0, s2 = 0.0;
+    for (int p = 1; p < b->N; p++) {
+        double complex t = b->Jp[p] * zp;
+        s0 += 2.0 * creal(t);
+        s1 -= 2.0 * p * cimag(t);
+        s2 -= 2.0 * p * p * creal(t);
+        zp *= z;
+    }
+    *J = s0;
+    *J1 = s1;
+    *J2 = s2;
+}
+
+/* Half-width of the sharpest peak of J^-alpha: min over the local minima of J of
+ * sqrt(2 J / J''), the distance from the real axis of the complex zeros of the local quadratic
+ * model of J, which is where the trapezoidal rule's error e^{-Qd} comes from. The minima are
+ * bracketed on max(16, 4(N+1)) samples and refined by Newton's method on J'. Returns 0 when J <= 0 at a
+ * minimum (outside D), INFINITY when J has no minimum (constant). */
+static double peak_width(const swim_barrier_quad *b)
+{
+    const int M = b->ns;
+    double *J = b->sJ, d = INFINITY;
+    for (int k = 0; k < M; k++) J[k] = creal(b->Jp[0]);
+    for (int p = 1; p < b->N; p++) {
+        const double re = 2.0 * creal(b->Jp[p]), im = 2.0 * cimag(b->Jp[p]);
+        const double *c = b->scs + (size_t)p * M, *sn = b->ssn + (size_t)p * M;
+        for (int k = 0; k < M; k++) J[k] += re * c[k] - im * sn[k];
+    }
+    for (int k = 0; k < M; k++) {
+        const double left = J[(k + M - 1) % M], right = J[(k + 1) % M];
+        if (!(J[k] < left && J[k] <= right)) continue;
+        double th = TWO_PI * k / M, Jt, J1, J2;      /* Newton on J' from the sample */
+        for (int it = 0; it < 12; it++) {
+            j_derivs(b, th, &Jt, &J1, &J2);
+            if (!(J2 > 0.0)) break;
+            double step = J1 / J2;
+            if (fabs(step) > TWO_PI / M) step = step > 0 ? TWO_PI / M : -TWO_PI / M;
+            th -= step;
+            if (fabs(step) < 1e-10) break;
+        }
+        j_derivs(b, th, &Jt, &J1, &J2);
+        if (!(Jt > 0.0)) return 0.0;
+        if (J2 > 0.0) d = fmin(d, sqrt(2.0 * Jt / J2));
+    }
+    return d;
+}
+
+/* The nested trapezoidal rule, taken to Q >= PEAK_PERIODS / d nodes for the half-width d of the
+ * sharpest peak (a priori: its error is about e^{-Qd}), and accepted when the error predicted
+ * from the changes of the last two levels is below TRAP_TOL as well (a posteriori). The second
+ * test alone can be fooled: the error of a level is the real part of a complex exponential and
+ * one level can cancel by chance. Returns 0 (converged: W, grad set), 1 (outside D: J <= 0 at a
+ * node or at a minimum), 2 (needs more than the finest level). */
+static int trapezoid(swim_barrier_quad *b, const double *x, double eps, double alpha, double *W,
+                     double *grad, int *nodes)
+{
+    fourier(b, x);
+    const double d = b->N > 1 ? peak_width(b) : INFINITY;
+    if (d == 0.0) return 1;
+    const double Qmin = PEAK_PERIODS / d;
+    if (Qmin > trap_max(b->N)) return 2;
+    sums s;
+    memset(&s, 0, sizeof s);
+    double Wprev = 0.0, gprev[2 * 64 + 2], dW1 = NAN, dg1 = NAN;
+    int Q = 0;
+    for (int l = 0; l < b->levels; l++) {
+        int m = b->lnodes[l];
+        if (trap_level(b, b->tcs[l], b->tsn[l], m, x, alpha, grad != NULL, &s)) return 1;
+        Q += m;
+        finish(b, &s, TWO_PI / Q, x, eps, alpha, W, grad);
+        *nodes = Q;
+        if (l > 0) {
+            double dW, dg;
+            level_change(grad, gprev, b->n, *W, Wprev, &dW, &dg);
+            if (l > 1 && Q >= Qmin && predicted(dW1, dW) <= TRAP_TOL * fabs(*W) &&
+                (!grad || predicted(dg1, dg) <= TRAP_TOL * vmax(grad, b->n)))
+                return 0;
+            dW1 = dW;
+            dg1 = dg;
+        }
+        Wprev = *W;
+        if (grad) memcpy(gprev, grad, sizeof(double) * (size_t)b->n);
+    }
+    return 2;
+}
+
+/* ---- the graded rule --------------------------------------------------------------------- */
+
+/* The zeros of J in the upper half of the theta plane (one of each pair z, 1/conj z of zeros of
+ * z^P J(z)), as theta = arg z + i |log |z||. Returns how many, or -1 on a LAPACK failure. */
+static int zeros(swim_barrier_quad *b, double complex *out)
+{
+    int P = 0;
+    for (int p = 1; p < b->N; p++)
+        if (b->Jp[p] != 0.0) P = p;
+    if (P == 0) return 0;
+    const int n = 2 * P;
+    /* monic z^n + a_{n-1} z^{n-1} + ... + a_0, coefficients P_k of z^{k-P} J: P_{P+p} = J_p,
+     * P_{P-p} = conj(J_p); companion matrix in upper Hessenberg form. */
+    const double complex lead = b->Jp[P];
+    double complex *C = b->comp;   /* column-major */
+    memset(C, 0, sizeof(double complex) * (size_t)n * (size_t)n);
+    for (int k = 0; k < n; k++) {
+        int p = k - P;
+        double complex Pk = p >= 0 ? b->Jp[p] : conj(b->Jp[-p]);
+        C[(size_t)(n - 1 - k) * n + 0] = -Pk / lead;   /* row 0, column n-1-k */
+    }
+    for (int i = 1; i < n; i++) C[(size_t)(i - 1) * n + i] = 1.0;   /* subdiagonal */
+    lapack_int info = LAPACKE_zhseqr(LAPACK_COL_MAJOR, 'E', 'N', n, 1, n,
+                                     (lapack_complex_double *)C, n,
+                                     (lapack_complex_double *)b->roots, NULL, 1);
+    if (info != 0) return -1;
+    int r = 0;
+    for (int i = 0; i < n; i++) {
+        double a = cabs(b->roots[i]);
+        if (a > 1.0) continue;     /* its mirror 1/conj(z) is in the list too */
+        out[r++] = CMPLX(fmod(carg(b->roots[i]) + TWO_PI, TWO_PI), -log(a));
+    }
+    return r;
+}
+
+/* Parameter of the Bernstein ellipse of [-1, 1] through zeta. */
+static double bernstein(double complex zeta)
+{
+    double complex s = csqrt(zeta - 1.0) * csqrt(zeta + 1.0);
+    return fmax(cabs(zeta + s), cabs(zeta - s));
+}
+
+/* Gauss nodes needed on [base + u, base + v] so that no zero of J is inside the ellipse of the
+ * error bound; 0 when more than QMAX are needed (the panel must be halved). */
+static int panel_nodes(const double complex *z, int nz, double base, double u, double v)
+{
+    const double mid = 0.5 * (u + v), half = 0.5 * (v - u);
+    double rho = INFINITY;
+    for (int r = 0; r < nz; r++)
+        for (int k = -1; k <= 1; k++) {
+            double complex zeta = ((z[r] + k * TWO_PI - base) - mid) / half;
+            rho = fmin(rho, bernstein(zeta));
+        }
+    if (!(rho > 1.0)) return 0;
+    double q = ceil(log(1.0 / GAUSS_TOL) / (2.0 * log(rho))) + 2.0;
+    if (q > QMAX) return 0;
+    return q < QMIN ? QMIN : (int)q;
+}
+
+/* J(a) and J'(a) in binary128: near a zero of J their double values would carry the
+ * cancellation error of |c_1|^2 - |h|^2 (absolute 1e-16, relative 1e-6 at J = 1e-10). */
+static void precise_base(const swim_barrier_quad *b, const double *x, double a, double *J, double *J1)
+{
+    __float128 zr = cosq(a), zi = -sinq(a);   /* conj(z) = e^{-ia} */
+    __float128 pr = 1, pi = 0;                 /* conj(z)^j */
+    __float128 hr = 0, hi = 0, dr = 0, di = 0; /* h and dh/dtheta = sum -i j H_j conj(z)^j */
+    for (int j = 0; j < b->N; j++) {
+        __float128 Hr = (__float128)(j + 1) * x[2 * (j + 1)], Hi = (__float128)(j + 1) * x[2 * (j + 1) + 1];
+        __float128 tr = Hr * pr - Hi * pi, ti = Hr * pi + Hi * pr;
+        hr += tr;
+        hi += ti;
+        dr += j * ti;     /* -i j (tr + i ti) = j ti - i j tr */
+        di -= j * tr;
+        __float128 nr = pr * zr - pi * zi;
+        pi = pr * zi + pi * zr;
+        pr = nr;
+    }
+    __float128 c1 = (__float128)x[0] * x[0] + (__float128)x[1] * x[1];
+    *J = (double)(c1 - hr * hr - hi * hi);
+    *J1 = (double)(-2 * (hr * dr + hi * di));
+}
+
+/* sin s - s without cancellation. */
+static double sin_minus(double s)
+{
+    if (fabs(s) >= 0.5) return sin(s) - s;
+    double s2 = s * s, t = -s * s2 / 6.0, sum = t;
+    for (int k = 2; k < 12; k++) {
+        t *= -s2 / ((2.0 * k) * (2.0 * k + 1.0));
+        sum += t;
+    }
+    return sum;
+}
+
+/* J(a + s) = J(a) + J'(a) s + 2 Re sum_p B_p F_p(s), B_p = J_p e^{ipa}, F_p = e^{ips} - 1 - ips,
+ * by F_{p+1} = F_p e^{is} + F_1 + i p s (e^{is} - 1): every term is O(s^2). */
+static double precise_J(const swim_barrier_quad *b, const double complex *B, double Ja, double J1a,
+                        double s)
+{
+    const double sh = sin(0.5 * s);
+    const double complex E1 = CMPLX(-2.0 * sh * sh, sin(s)), F1 = CMPLX(-2.0 * sh * sh, sin_minus(s));
+    const double complex e = 1.0 + E1;
+    double complex F = F1, acc = 0.0;
+    for (int p = 1; p < b->N; p++) {
+        acc += B[p] * F;
+        F = F * e + F1 + I * (p * s) * E1;
+    }
+    return Ja + J1a * s + 2.0 * creal(acc);
+}
+
+typedef struct {
+    double a, Ja, J1a;
+    double complex B[64];
+} center;
+
+static double wrap(double t)
+{
+    t = fmod(t, TWO_PI);
+    if (t > 0.5 * TWO_PI) t -= TWO_PI;
+    if (t < -0.5 * TWO_PI) t += TWO_PI;
+    return t;
+}
+
+/* Graded composite Gauss-Legendre rule (see barrier.h). Returns 0, 1 (outside D), -1 (memory). */
+static int graded(swim_barrier_quad *b, const double *x, double eps, double alpha, double *W,
+                  double *grad, swim_barrier_info *info)
+{
+    const int N = b->N;
+    double complex z[128];
+    fourier(b, x);
+    int nz = zeros(b, z);
+    if (nz < 0) return -1;
+    /* panel starts: feet of the close zeros, sorted, without repeats */
+    double brk[128];
+    int nb = 0;
+    double dmin = INFINITY;
+    for (int r = 0; r < nz; r++) {
+        dmin = fmin(dmin, cimag(z[r]));
+        if (cimag(z[r]) < CLOSE) brk[nb++] = creal(z[r]);   /* in [0, 2 pi) */
+    }
+    if (info) info->dist = dmin;
+    for (int i = 1; i < nb; i++)
+        for (int j = i; j > 0 && brk[j] < brk[j - 1]; j--) {
+            double t = brk[j];
+            brk[j] = brk[j - 1];
+            brk[j - 1] = t;
+        }
+    int u = 0;
+    for (int i = 0; i < nb; i++)
+        if (u == 0 || brk[i] - brk[u - 1] > 1e-13) brk[u++] = brk[i];
+    nb = u;
+    if (nb == 0) brk[nb++] = 0.0;
+    /* centers of the cancellation-free evaluation */
+    center cen[16];
+    int nc = 0;
+    for (int r = 0; r < nz && nc < 16; r++) {
+        if (cimag(z[r]) >= PRECISE) continue;
+        double a = creal(z[r]);
+        int dup = 0;
+        for (int c = 0; c < nc; c++) dup |= fabs(wrap(cen[c].a - a)) < 1e-13;
+        if (dup) continue;
+        center *c = &cen[nc++];
+        c->a = a;
+        precise_base(b, x, a, &c->Ja, &c->J1a);
+        if (!(c->Ja > 0.0)) return 1;
+        for (int p = 1; p < N; p++) c->B[p] = b->Jp[p] * cexp(I * (p * a));
+    }
+    /* Panels by halving until the a priori bound holds. Each interval between two breakpoints
+     * is cut in the middle and each half is laid out in offsets from its own breakpoint: near a
+     * zero the panels are as small as 1e-6, and absolute angles would round their nodes by a
+     * relative 1e-10. */
+    int nodes = 0, panels = 0;
+    struct { double u, v; int depth; } stack[2 * MAX_DEPTH + 8];
+    for (int i = 0; i < nb; i++)
+        for (int side = 0; side < 2; side++) {
+            const double base = brk[i];
+            const double next = i + 1 < nb ? brk[i + 1] : brk[0] + TWO_PI;
+            const double prev = i > 0 ? brk[i - 1] : brk[nb - 1] - TWO_PI;
+            int sp = 0;
+            stack[sp].u = side ? 0.0 : -0.5 * (base - prev);
+            stack[sp].v = side ? 0.5 * (next - base) : 0.0;
+            stack[sp++].depth = 0;
+            while (sp > 0) {
+                double pu = stack[sp - 1].u, pv = stack[sp - 1].v;
+                int depth = stack[--sp].depth;
+                int q = panel_nodes(z, nz, base, pu, pv);
+                if (q == 0) {
+                    if (depth >= MAX_DEPTH) return 1;   /* a zero of J on the circle itself */
+                    double pm = 0.5 * (pu + pv);
+                    stack[sp].u = pm; stack[sp].v = pv; stack[sp++].depth = depth + 1;
+                    stack[sp].u = pu; stack[sp].v = pm; stack[sp++].depth = depth + 1;
+                    continue;
+                }
+                if (reserve(b, nodes + q) != 0) return -1;
+                const double mid = 0.5 * (pu + pv), half = 0.5 * (pv - pu);
+                for (int k = 0; k < q; k++) {
+                    b->base[nodes] = base;
+                    b->th[nodes] = mid + half * b->gx[q][k];
+                    b->wt[nodes++] = half * b->gw[q][k];
+                }
+                panels++;
+            }
+        }
+    /* J, h at the nodes */
+    const double c1 = x[0] * x[0] + x[1] * x[1];
+    sums s;
+    memset(&s, 0, sizeof s);
+    for (int k = 0; k < nodes; k++) {
+        const double th = b->base[k] + b->th[k];
+        const double complex zb = cexp(-I * th), zf = conj(zb);
+        double complex h = 0.0, p = 1.0;
+        for (int j = 0; j < N; j++) {
+            h += coef_h(x, j) * p;
+            p *= zb;
+        }
+        double J = c1 - creal(h) * creal(h) - cimag(h) * cimag(h);
+        for (int c = 0; c < nc; c++)   /* nodes near a close zero: offsets from its foot */
+            if (b->base[k] == cen[c].a && fabs(b->th[k]) < NEAR) {
+                J = precise_J(b, cen[c].B, cen[c].Ja, cen[c].J1a, b->th[k]);
+                break;
+            }
+        if (!(J > 0.0)) return 1;
+        const double f = jpow(J, alpha), w = b->wt[k];
+        s.S += w * f;
+        if (grad) {
+            const double g = w * f / J;
+            s.G0 += g;
+            double complex t = h;   /* z^j h */
+            for (int j = 0; j < N; j++) {
+                s.Gr[j] += g * creal(t);
+                s.Gi[j] += g * cimag(t);
+                t *= zf;
+            }
+        }
+    }
+    finish(b, &s, 1.0, x, eps, alpha, W, grad);
+    if (info) {
+        info->nodes = nodes;
+        info->panels = panels;
+    }
+    return 0;
+}
+
+int swim_barrier_w2(swim_barrier_quad *b, const double *x, double eps, double alpha, double *W,
+                      double *grad, swim_barrier_info *info)
+{
+    swim_barrier_info local;
+    if (!info) info = &local;
+    memset(info, 0, sizeof *info);
+    double gtmp[2 * 64 + 2];
+    double *g = grad ? gtmp : NULL;
+    int rc = trapezoid(b, x, eps, alpha, W, g, &info->nodes);
+    if (rc == 2) {
+        info->graded = 1;
+        rc = graded(b, x, eps, alpha, W, g, info);
+    }
+    if (rc == 1) {
+        *W = INFINITY;
+        return SWIM_BARRIER_OUTSIDE;
+    }
+    if (rc < 0) return SWIM_BARRIER_ENOMEM;
+    if (grad) memcpy(grad, gtmp, sizeof(double) * (size_t)b->n);
+    return SWIM_BARRIER_OK;
+}

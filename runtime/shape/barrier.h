@@ -1,0 +1,63 @@
+/* barrier.h -- the barrier W2 of section 4.1.1 and its gradient, accurate at any distance from the
+ * boundary of D.
+ *
+ *   W2(c)   = eps/(2 alpha) int_0^{2 pi} J(c)(e^{i theta})^{-alpha} d theta         (ERRATA B2)
+ *   grad W2 = -eps/2 int_0^{2 pi} J^{-1-alpha} grad J d theta                       (ERRATA B3)
+ *   J(theta) = |c_1|^2 - |h|^2,  h = sum_{j=0}^{N-1} (j+1) c_{-(j+1)} e^{-i j theta}
+ *
+ * J is a trigonometric polynomial of degree N-1, so J^{-alpha} is analytic and periodic; its only
+ * singularities are the complex zeros of J. Near the boundary of D a pair of zeros a +- i d comes
+ * close to the real axis (d ~ sqrt(2 min J / J'')), the integrand has a peak of width d, and the
+ * trapezoidal rule needs O(1/d) nodes. Two rules, chosen per call:
+ *
+ *  1. Nested trapezoidal rule (far from the boundary, the common case). Its error decays like
+ *     A Q^s e^{-Q d} (Trefethen & Weideman, SIAM Review 56 (2014), Thm 3.2; the power s from the
+ *     algebraic branch points of J^-alpha), so one doubling of Q multiplies the error by about
+ *     e^{-Qd} and the next by its square. The rule doubles Q from max(16, 2N), each level reusing
+ *     the nodes of the last, and stops when the error predicted from the last two changes
+ *     (value and gradient) is below 1e-14 relative.
+ *  2. Composite Gauss-Legendre with a priori error control (near the boundary, when Q would exceed
+ *     max(512, 16N)). The zeros of J are computed as the roots of z^{N-1} J(z) (eigenvalues of the companion
+ *     matrix, LAPACK zhseqr). A panel [u, v] is accepted with q Gauss nodes when every zero lies
+ *     outside the Bernstein ellipse of parameter rho = tol^{-1/(2q)} of the panel (Trefethen,
+ *     Approximation Theory and Approximation Practice, Thm 19.3), otherwise it is halved. Panels
+ *     start at the real parts of the close zeros, so the halving grades them geometrically toward
+ *     each peak: the node count grows like log(1/d), i.e. like log(1 / min J) (the graded meshes of
+ *     nearly singular boundary-element quadrature, cf. Johnston & Elliott, IJNME 62 (2005)).
+ *     Near such a zero, J - J(a) cancels catastrophically in double precision (J = 1e-10 from terms
+ *     of size 1), so J(a) and J'(a) are computed in binary128 and J(a + s) = J(a) + J'(a) s +
+ *     2 Re sum_p J_p e^{ipa} (e^{ips} - 1 - ips), whose terms are all of the size of the result.
+ *
+ * Both rules are smooth in c for a fixed node layout; when the layout changes (Q doubles, a panel
+ * splits, the rule switches) W2 moves by the quadrature error, below 1e-13 relative (tested).
+ * alpha = 1/2 and alpha = 1 avoid pow(). Node arrays for 4096 graded nodes are allocated up front;
+ * a rule needing more grows them (SWIM_BARRIER_ENOMEM if that fails).
+ */
+#ifndef SWIM_BARRIER_H
+#define SWIM_BARRIER_H
+
+enum {
+    SWIM_BARRIER_OK = 0,
+    SWIM_BARRIER_OUTSIDE = 1,    /* J <= 0 somewhere on the circle: the shape is not in D (4.1) */
+    SWIM_BARRIER_ENOMEM = -1
+};
+
+typedef struct {
+    int graded;      /* 0: nested trapezoidal rule; 1: graded Gauss-Legendre panels */
+    int nodes;       /* nodes used */
+    int panels;      /* Gauss panels (graded rule) */
+    double dist;     /* graded rule: distance of the closest zero of J from the real axis */
+} swim_barrier_info;
+
+typedef struct swim_barrier_quad swim_barrier_quad;   /* tables and workspace for one mode count; owned */
+
+swim_barrier_quad *swim_barrier_quad_new(int modes);   /* NULL when out of memory */
+void swim_barrier_quad_free(swim_barrier_quad *b);
+
+/* W2 and (grad != NULL) its gradient, n = 2(N+1) entries in the order of x, at shape x.
+ * eps > 0, alpha > 0. Returns SWIM_BARRIER_OK, SWIM_BARRIER_OUTSIDE (then *W = +inf, grad
+ * untouched) or SWIM_BARRIER_ENOMEM. info may be NULL. */
+int swim_barrier_w2(swim_barrier_quad *b, const double *x, double eps, double alpha, double *W,
+                      double *grad, swim_barrier_info *info);
+
+#endif

@@ -1,0 +1,240 @@
+/* Tests of runtime/model/barrier.c: W2 and grad W2 from min J = 0.5 down to 1e-10.
+ *
+ * The reference is computed independently, in binary128 throughout: J straight from ERRATA B2 at
+ * every node, the minima of J located by dense sampling and golden-section search, and a composite
+ * 30-point Gauss-Legendre rule on panels graded geometrically (ratio 2) toward every local
+ * minimum down to a quarter of its width sqrt(J_min / J''), plus a uniform subdivision of the
+ * rest. It shares no code with the rule under test (different panels, node counts, evaluation of
+ * J and precision).
+ */
+#include "shape/barrier.h"
+
+#include "check.h"
+
+#include <math.h>
+#include <quadmath.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef __float128 real;
+#define PI_Q M_PIq
+
+static uint64_t rng_state = 88172645463325252ull;
+static double urand(void)   /* xorshift64, uniform in (-1, 1) */
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return (double)(rng_state >> 11) / 4503599627370496.0 - 1.0;
+}
+
+/* J(theta) = |c_1|^2 - |h|^2, h = sum_{m=1}^N m c_-m e^{-i (m-1) theta} (ERRATA B2), and, when g
+ * is not NULL, grad J (ERRATA B3: dJ/da_-m = -2m Re(z^{m-1} h), dJ/db_-m = -2m Im(z^{m-1} h)),
+ * all in binary128. */
+static real jgq(int N, const double *x, real th, real *g)
+{
+    const real c1 = cosq(th), s1 = sinq(th);
+    real hr = 0, hi = 0, pr = 1, pi = 0;          /* e^{-i (m-1) theta} */
+    for (int m = 1; m <= N; m++) {
+        real ar = (real)m * x[2 * m], ai = (real)m * x[2 * m + 1];
+        hr += ar * pr - ai * pi;
+        hi += ar * pi + ai * pr;
+        real t = pr * c1 + pi * s1;
+        pi = pi * c1 - pr * s1;
+        pr = t;
+    }
+    if (g) {
+        g[0] = 2 * (real)x[0];
+        g[1] = 2 * (real)x[1];
+        real zr = 1, zi = 0;                      /* z^{m-1} */
+        for (int m = 1; m <= N; m++) {
+            g[2 * m] = -2 * m * (zr * hr - zi * hi);
+            g[2 * m + 1] = -2 * m * (zr * hi + zi * hr);
+            real t = zr * c1 - zi * s1;
+            zi = zr * s1 + zi * c1;
+            zr = t;
+        }
+    }
+    return (real)x[0] * x[0] + (real)x[1] * x[1] - hr * hr - hi * hi;
+}
+static real jq(int N, const double *x, real th) { return jgq(N, x, th, NULL); }
+
+static double gx30[30], gw30[30];
+static void gauss30(void)
+{
+    const int q = 30;
+    for (int i = 0; i < q; i++) {
+        long double z = cosl(3.14159265358979323846264338327950288L * (i + 0.75L) / (q + 0.5L)), dp = 0;
+        for (int it = 0; it < 100; it++) {
+            long double p0 = 1, p1 = z;
+            for (int k = 2; k <= q; k++) {
+                long double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
+                p0 = p1;
+                p1 = p2;
+            }
+            dp = q * (z * p1 - p0) / (z * z - 1);
+            long double dz = p1 / dp;
+            z -= dz;
+            if (fabsl(dz) < 1e-19L) break;
+        }
+        gx30[i] = (double)z;
+        gw30[i] = (double)(2 / ((1 - z * z) * dp * dp));
+    }
+}
+
+static int cmp_real(const void *a, const void *b)
+{
+    real x = *(const real *)a, y = *(const real *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Local minima of J (binary128), refined by golden-section search. */
+static int minima(int N, const double *x, real *th, real *jv, real *width)
+{
+    const int M = 16 * (N + 1);
+    real *J = malloc(sizeof(real) * M);
+    for (int k = 0; k < M; k++) J[k] = jq(N, x, 2 * PI_Q * k / M);
+    int n = 0;
+    for (int k = 0; k < M && n < 64; k++) {
+        real jl = J[(k + M - 1) % M], jr = J[(k + 1) % M];
+        if (!(J[k] < jl && J[k] <= jr)) continue;
+        real a = 2 * PI_Q * (k - 1) / M, b = 2 * PI_Q * (k + 1) / M, g = (sqrtq(5) - 1) / 2;
+        real c = b - g * (b - a), d = a + g * (b - a), fc = jq(N, x, c), fd = jq(N, x, d);
+        for (int it = 0; it < 120; it++) {
+            if (fc < fd) { b = d; d = c; fd = fc; c = b - g * (b - a); fc = jq(N, x, c); }
+            else         { a = c; c = d; fc = fd; d = a + g * (b - a); fd = jq(N, x, d); }
+        }
+        real t = (a + b) / 2, Jt = jq(N, x, t), h = 1e-6Q;
+        real J2 = (jq(N, x, t + h) - 2 * Jt + jq(N, x, t - h)) / (h * h);
+        th[n] = t;
+        jv[n] = Jt;
+        width[n] = J2 > 0 ? sqrtq(fabsq(Jt) / J2) : 1;
+        n++;
+    }
+    free(J);
+    return n;
+}
+
+/* Reference W2 and gradient (binary128, 30-point Gauss on graded panels). Returns min J. */
+static double reference(int N, const double *x, double eps, double alpha, double *W, double *grad)
+{
+    real th[64], jv[64], wd[64];
+    int nm = minima(N, x, th, jv, wd);
+    int cap = 4096, nb = 0;
+    real *brk = malloc(sizeof(real) * cap);
+    real jmin = 1e300Q;
+    for (int k = 0; k < 8 * (N + 1); k++) brk[nb++] = 2 * PI_Q * k / (8 * (N + 1));
+    for (int i = 0; i < nm; i++) {
+        if (jv[i] < jmin) jmin = jv[i];
+        for (real r = wd[i] / 4; r < PI_Q && nb < cap - 2; r *= 2) {
+            brk[nb++] = fmodq(th[i] + r + 2 * PI_Q, 2 * PI_Q);
+            brk[nb++] = fmodq(th[i] - r + 4 * PI_Q, 2 * PI_Q);
+        }
+        brk[nb++] = fmodq(th[i] + 2 * PI_Q, 2 * PI_Q);
+    }
+    qsort(brk, nb, sizeof(real), cmp_real);
+    real S = 0, G[2 * 33 + 2];
+    const int n = 2 * (N + 1);
+    for (int i = 0; i < n; i++) G[i] = 0;
+    for (int p = 0; p < nb; p++) {
+        real u = brk[p], v = p + 1 < nb ? brk[p + 1] : brk[0] + 2 * PI_Q;
+        if (!(v > u)) continue;
+        real mid = (u + v) / 2, half = (v - u) / 2;
+        for (int k = 0; k < 30; k++) {
+            real t = mid + half * gx30[k], w = half * gw30[k];
+            real g[2 * 33 + 2];
+            real J = jgq(N, x, t, g), f = powq(J, -(real)alpha);
+            S += w * f;
+            for (int i = 0; i < n; i++) G[i] += w * f / J * g[i];
+        }
+    }
+    free(brk);
+    *W = (double)(eps / (2 * alpha) * S);
+    for (int i = 0; i < n; i++) grad[i] = (double)(-0.5 * eps * G[i]);
+    return (double)jmin;
+}
+
+/* A random shape whose min J is about `target`: random c_-m decaying like m^-decay, scaled. */
+static void make_shape(int N, double decay, double target, double *x)
+{
+    const int n = 2 * (N + 1);
+    memset(x, 0, sizeof(double) * n);
+    double ang = M_PI * urand();
+    x[0] = cos(ang);
+    x[1] = sin(ang);
+    for (int m = 1; m <= N; m++) {
+        x[2 * m] = urand() / pow(m, decay);
+        x[2 * m + 1] = urand() / pow(m, decay);
+    }
+    if (N <= 1) {    /* J = |c_1|^2 - |c_-1|^2 is constant */
+        x[2] *= 0.5;
+        x[3] *= 0.5;
+        return;
+    }
+    /* max |h|^2 = 1 - min J at scale 1, then scale h */
+    real th[64], jv[64], wd[64];
+    int nm = minima(N, x, th, jv, wd);
+    real jm = 1;
+    for (int i = 0; i < nm; i++) if (jv[i] < jm) jm = jv[i];
+    real hmax = 1 - jm, s = sqrtq((1 - (real)target) / hmax);
+    for (int i = 2; i < n; i++) x[i] = (double)(s * x[i]);
+}
+
+static double max_abs_diff(const double *a, const double *b, int n, double *scale)
+{
+    double d = 0, m = 0;
+    for (int i = 0; i < n; i++) {
+        d = fmax(d, fabs(a[i] - b[i]));
+        m = fmax(m, fabs(b[i]));
+    }
+    *scale = m;
+    return d;
+}
+
+static void accuracy(void)
+{
+    static const int modes[] = {0, 1, 2, 3, 5, 8, 12, 20, 32};
+    static const double targets[] = {0.5, 1e-2, 1e-4, 1e-6, 1e-8, 1e-10};
+    static const double alphas[] = {0.5, 1.0, 1.5};
+    double worst = 0, worst_g = 0;
+    printf("%4s %6s %9s %5s %8s %6s %9s %9s\n", "N", "decay", "min J", "alpha", "rule", "nodes",
+           "err W", "err grad");
+    for (size_t a = 0; a < sizeof modes / sizeof *modes; a++) {
+        const int N = modes[a], n = 2 * (N + 1);
+        swim_barrier_quad *b = swim_barrier_quad_new(N);
+        CHECK(b != NULL, "swim_barrier_quad_new(%d)", N);
+        for (int decay = 1; decay <= 2; decay++)
+            for (size_t t = 0; t < sizeof targets / sizeof *targets; t++) {
+                if (N <= 1 && t > 0) break;    /* J is constant: nothing to approach */
+                double x[2 * 33 + 2];
+                make_shape(N, decay, targets[t], x);
+                for (size_t k = 0; k < sizeof alphas / sizeof *alphas; k++) {
+                    double W, g[2 * 33 + 2], Wr, gr[2 * 33 + 2], scale;
+                    swim_barrier_info info;
+                    double jmin = reference(N, x, 0.03, alphas[k], &Wr, gr);
+                    int rc = swim_barrier_w2(b, x, 0.03, alphas[k], &W, g, &info);
+                    CHECK(rc == SWIM_BARRIER_OK, "N=%d min J %g: rc %d", N, jmin, rc);
+                    double eW = fabs(W - Wr) / fabs(Wr);
+                    double eg = max_abs_diff(g, gr, n, &scale) / scale;
+                    worst = fmax(worst, eW);
+                    worst_g = fmax(worst_g, eg);
+                    printf("%4d %6d %9.2e %5.2g %8s %6d %9.1e %9.1e\n", N, decay, jmin, alphas[k],
+                           info.graded ? "graded" : "trapez", info.nodes, eW, eg);
+                    CHECK(eW <= 1e-12, "N=%d decay %d min J %.3g alpha %g: W rel error %.2e",
+                          N, decay, jmin, alphas[k], eW);
+                    CHECK(eg <= 1e-12, "N=%d decay %d min J %.3g alpha %g: grad rel error %.2e",
+                          N, decay, jmin, alphas[k], eg);
+                }
+            }
+        swim_barrier_quad_free(b);
+    }
+    printf("worst relative error: W %.2e, grad %.2e\n", worst, worst_g);
+}
+
+int main(void)
+{
+    gauss30();
+    accuracy();
+    return check_report("test_barrier");
+}
