@@ -328,7 +328,8 @@ static void j_derivs(const swim_barrier_quad *b, double th, double *J, double *J
  * sqrt(2 J / J''), the distance from the real axis of the complex zeros of the local quadratic
  * model of J, which is where the trapezoidal rule's error e^{-Qd} comes from. The minima are
  * bracketed on max(16, 4(N+1)) samples and refined by Newton's method on J'. Returns 0 when J <= 0 at a
- * minimum (outside D), INFINITY when J has no minimum (constant). */
+ * minimum (outside D), INFINITY when J has no minimum (constant), -1 when a minimum could not be
+ * refined. */
 static double peak_width(const swim_barrier_quad *b)
 {
     const int M = b->ns;
@@ -343,14 +344,19 @@ static double peak_width(const swim_barrier_quad *b)
         const double left = J[(k + M - 1) % M], right = J[(k + 1) % M];
         if (!(J[k] < left && J[k] <= right)) continue;
         double th = TWO_PI * k / M, Jt, J1, J2;      /* Newton on J' from the sample */
-        for (int it = 0; it < 12; it++) {
+        int converged = 0;
+        for (int it = 0; it < 30 && !converged; it++) {
             j_derivs(b, th, &Jt, &J1, &J2);
             if (!(J2 > 0.0)) break;
             double step = J1 / J2;
             if (fabs(step) > TWO_PI / M) step = step > 0 ? TWO_PI / M : -TWO_PI / M;
             th -= step;
-            if (fabs(step) < 1e-10) break;
+            converged = fabs(step) < 1e-10;
         }
+        /* A minimum Newton cannot pin down (a peak far narrower than the sampling, or J'' <= 0
+         * on the way) is not estimated: the caller then takes the graded rule, which finds
+         * every zero of J. */
+        if (!converged) return -1.0;
         j_derivs(b, th, &Jt, &J1, &J2);
         if (!(Jt > 0.0)) return 0.0;
         if (J2 > 0.0) d = fmin(d, sqrt(2.0 * Jt / J2));
@@ -370,6 +376,7 @@ static int trapezoid(swim_barrier_quad *b, const double *x, double eps, double a
     fourier(b, x);
     const double d = b->N > 1 ? peak_width(b) : INFINITY;
     if (d == 0.0) return 1;
+    if (d < 0.0) return 2;
     const double Qmin = PEAK_PERIODS / d;
     if (Qmin > trap_max(b->N)) return 2;
     sums s;
