@@ -3,7 +3,7 @@
 
 - Any N: a scene copied from example3 with modes raised to 10 and 20 runs without a rebuild
   (kernels generated on first use, reused afterwards); `swim inspect --modes 20` works.
-  N = 32 too when SWIM_TEST_N32=1 (slow on a fresh cache: see docs/notes/h11.md).
+  N = 32 too when SWIM_TEST_N32=1 (slow on a fresh cache: see docs/kernels-and-cache.md).
 - A damaged entry is detected before it is loaded and rebuilt, with one line on stderr:
   truncated kernel.so, empty kernel.c, a manifest for another key.
 - Four processes starting on an empty cache at once: one builds, the others wait and load it;
