@@ -172,7 +172,7 @@ paper: $(BIN)/swim $(MEDIA_STAMP)
 paper-test: paper
 	$(PYTHON) tools/paper/browser_check.py out/paper/index.html --screenshot out/paper/screenshot.png
 
-# Work-precision per paper scene (issue 7): build/bench/accuracy/{accuracy.csv,table.md,*.png}.
+# Work-precision per paper scene: build/bench/accuracy/{accuracy.csv,table.md,*.png}.
 bench-accuracy: $(BIN)/swim
 	$(PYTHON) tests/bench/bench_accuracy.py
 

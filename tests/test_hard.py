@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Hard cases stay numerically stable, and failures never cost data (issue 6).
+"""Hard cases stay numerically stable, and failures never cost data.
 
 Runs the scenes of models/hard/ with their own settings (some with a shorter t_end to bound the
 test time, said below) and asserts:
@@ -42,7 +42,7 @@ def test_long_runs():
     for name in ("long_example1", "long_example3"):
         p, d, s = run("models/hard/%s.toml" % name, name)
         check(s["status"] == "completed" and d["t"][-1] == 1000.0, "%s: reached T = 1000" % name)
-        check(s["rtol"] == 1e-10 and s["integrator"] == "abm", "%s: runs abm at rtol 1e-10 (issue 6), not %s at %g"
+        check(s["rtol"] == 1e-10 and s["integrator"] == "abm", "%s: runs abm at rtol 1e-10, not %s at %g"
               % (name, s["integrator"], s["rtol"]))
         res = max(np.max(np.abs(d[c])) for c in ("res_volume", "res_volume_rate", "res_angular", "res_locks"))
         check(res <= 1e-12, "%s: constraint residual %.3g > 1e-12" % (name, res))

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""End-to-end tests of `swim run` on the paper's scenes (issue 4), through the command line.
+"""End-to-end tests of `swim run` on the paper's scenes, through the command line.
 
 Physics checks re-derive nothing: they test the invariants the paper states (energy (4.14),
 (4.16), (5.3); constraints (2.8), (2.14); zero total impulse (3.19); the particular solution

@@ -775,27 +775,6 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
             d->rhs_seconds, wall_s, d->rhs_calls ? 1e9 * d->rhs_seconds / d->rhs_calls : 0.0, ru.ru_maxrss);
 }
 
-/* Format with `fill` into memory, then replace `path` atomically. 0, or -1 with errno set. */
-static int write_whole(const char *path, void (*fill)(FILE *, const run_ctx *, double), const run_ctx *c, double wall_s)
-{
-    char *buf = NULL;
-    size_t len = 0;
-    FILE *m = open_memstream(&buf, &len);
-    if (!m) return -1;
-    fill(m, c, wall_s);
-    int bad = ferror(m);
-    if (fclose(m) != 0 || bad) {
-        free(buf);
-        errno = ENOMEM;
-        return -1;
-    }
-    int rc = swim_replace_file(path, buf, len);
-    int saved = errno;
-    free(buf);
-    errno = saved;
-    return rc;
-}
-
 /* Close trajectory.csv and the trace (checking that they still are the files named by their
  * paths: a folder removed during the run leaves writes that succeed into nothing), then write
  * snapshots.json (--snapshots) and events.csv (with events). Any failure is an output error and
@@ -825,7 +804,17 @@ static void close_outputs(run_ctx *c)
         output_failed(c, c->events_path, errno);
 }
 
-static void fill_summary(FILE *f, const run_ctx *c, double wall_s) { summary_json(f, c, wall_s); }
+/* summary_json in the form of swim_replace_file_with */
+typedef struct {
+    const run_ctx *c;
+    double wall_s;
+} summary_job;
+
+static void fill_summary(FILE *f, void *ctx)
+{
+    const summary_job *j = ctx;
+    summary_json(f, j->c, j->wall_s);
+}
 
 /* Outputs closed, the summary written, the report printed. The exit status: 0 only when the
  * run reached t_end and every output was written. */
@@ -835,7 +824,8 @@ static int report(run_ctx *c)
     if (c->outputs_bad && c->r.status == 0)   /* the run completed, an output did not */
         stop(c, "%s", c->output_error ? c->output_error : "an output could not be written");
     const double wall_s = wall() - c->t_start;
-    if (write_whole(c->summary_path, fill_summary, c, wall_s) != 0) {
+    summary_job job = {c, wall_s};
+    if (swim_replace_file_with(c->summary_path, fill_summary, &job) != 0) {
         int err = errno;
         swim_message(stderr, "swim run: cannot write %s: %s (the run %s: %s)", c->summary_path, strerror(err),
                      c->r.status ? "FAILED" : "completed", c->r.reason ? c->r.reason : "out of memory");

@@ -360,33 +360,21 @@ void swim_run_events_json(const swim_run_events *ev, FILE *f)
     fprintf(f, "%s]", first ? "" : "\n  ");
 }
 
-int swim_run_events_write_csv(const swim_run_events *ev, const char *path)
+static void fill_csv(FILE *f, void *ctx)
 {
-    if (!ev)
-        return 0;
-    char *buf = NULL;
-    size_t len = 0;
-    FILE *f = open_memstream(&buf, &len);
-    if (!f) {
-        errno = ENOMEM;
-        return -1;
-    }
+    const swim_run_events *ev = ctx;
     fprintf(f, "t,column,kind,value\n");
     for (size_t r = 0; r < ev->nrec; r++) {
         const record *e = &ev->rec[r];
         fprintf(f, "%.17g,%s,%s,%.17g\n", e->t, ev->specs[e->spec].name, kind_names[ev->specs[e->spec].kind], e->value);
     }
-    int bad = ferror(f);
-    if (fclose(f) != 0 || bad) {
-        free(buf);
-        errno = ENOMEM;
-        return -1;
-    }
-    int rc = swim_replace_file(path, buf, len);
-    int saved = errno;
-    free(buf);
-    errno = saved;
-    return rc;
+}
+
+int swim_run_events_write_csv(const swim_run_events *ev, const char *path)
+{
+    if (!ev)
+        return 0;
+    return swim_replace_file_with(path, fill_csv, (void *)ev);
 }
 
 void swim_run_events_free(swim_run_events *ev)

@@ -154,6 +154,26 @@ int swim_replace_file(const char *path, const void *data, size_t len)
     return rc;
 }
 
+int swim_replace_file_with(const char *path, void (*fill)(FILE *f, void *ctx), void *ctx)
+{
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *m = open_memstream(&buf, &len);
+    if (!m) return -1;
+    fill(m, ctx);
+    int bad = ferror(m);
+    if (fclose(m) != 0 || bad) {
+        free(buf);
+        errno = ENOMEM;
+        return -1;
+    }
+    int rc = swim_replace_file(path, buf, len);
+    int saved = errno;
+    free(buf);
+    errno = saved;
+    return rc;
+}
+
 int swim_still_names(const char *path, const struct stat *st)
 {
     struct stat now;

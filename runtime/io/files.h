@@ -6,6 +6,7 @@
 #define SWIM_FILES_H
 
 #include <stddef.h>
+#include <stdio.h>
 #include <sys/stat.h>
 
 #ifndef SWIM_PYTHON
@@ -35,6 +36,10 @@ char *swim_canonical_path(const char *path);
  * atomic within a file system). Readers see the old file, no file, or the whole new one, never
  * a part. 0, or -1 with errno set (the temporary file is removed). */
 int swim_replace_file(const char *path, const void *data, size_t len);
+
+/* The same for text that `fill` writes to a stream in memory (fill(f, ctx)): nothing reaches
+ * `path` unless the whole text could be formatted. 0, or -1 with errno set. */
+int swim_replace_file_with(const char *path, void (*fill)(FILE *f, void *ctx), void *ctx);
 
 /* 1 if `path` still names the file whose fstat is *st (same device and inode), 0 if it names
  * another file or nothing (the file or its folder was removed or replaced), with errno set. */

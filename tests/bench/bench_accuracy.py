@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What accuracy costs in time: work-precision for every paper scene (issue 7).
+"""What accuracy costs in time: work-precision for every paper scene.
 
 Usage (from the repository root; `make bench-accuracy` runs the default):
     /usr/bin/python3 tests/bench/bench_accuracy.py [--scenes a,b] [--quick] [--repeat N]

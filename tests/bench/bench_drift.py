@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Energy drift over the long conservative runs (issue 6) and what the ABM step-size look-ahead
+"""Energy drift over the long conservative runs and what the ABM step-size look-ahead
 does to it.
 
 Usage (from the repository root; `make bench-drift` runs it, `make bench` includes it):

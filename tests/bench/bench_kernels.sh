@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Kernel benchmark (issue 2): for each N, generator seconds, emitted C lines, gcc -O2 seconds,
+# Kernel benchmark: for each N, generator seconds, emitted C lines, gcc -O2 seconds,
 # and ns per evaluation of K and of K + contracted Gamma, side by side with the loop reference
 # + central finite-difference Gamma. Writes build/bench/kernels.csv and prints a table.
 set -eu

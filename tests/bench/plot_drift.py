@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Drift over the long runs (issue 6): relative energy error and volume residual vs time for
+"""Drift over the long runs: relative energy error and volume residual vs time for
 models/hard/long_example1.toml and long_example3.toml at their rtol 1e-10: as the scenes run
 (projection, ABM step-size look-ahead p = 6), with STEP's step-size rule (--step-lookahead 0), and
 without projection (--no-projection); and at rtol 1e-12.
@@ -47,7 +47,7 @@ def main():
     axes[0].loglog(tt, 1e-11 * tt, color="gray", lw=0.8, alpha=0.7)
     axes[0].text(2, 4e-11, "slope 1 (linear growth)", color="gray", fontsize=9)
     axes[0].axhline(1e-8, color="black", lw=0.8, ls=":")
-    axes[0].text(1.2, 1.4e-8, "bound of issue 6 (1e-8 at T = 1000)", fontsize=9)
+    axes[0].text(1.2, 1.4e-8, "drift bound 1e-8 at T = 1000", fontsize=9)
     axes[0].set_title("max over [0, t] of |E - E(0)| / E(0)")
     axes[1].set_title("max over [0, t] of the volume residual |Σ k|c_k|² - µ0²| (2.5)")
     for ax in axes:
