@@ -379,5 +379,21 @@ def test_bom_directory_huge_file():
     check(rc == 2 and "too large" in err and len(err.strip().splitlines()) == 1, "16 MB scene: %r" % err)
     check(rss < baseline + 20000, "16 MB scene: %d kB of memory before the refusal (baseline %d kB)" % (rss, baseline))
 
+def test_bad_output_paths_before_any_kernel():
+    """An output that cannot be created is refused before a kernel is generated (which can take
+    a minute): one line, exit 2, and nothing in an empty kernel cache."""
+    for args, what in ((["--trace-steps", "/nonexistent/steps.csv"], "--trace-steps"),
+                       (["--out", "models/example3.toml/run"], "--out")):
+        cache = os.path.join(TMP, "empty-cache-" + what.strip("-"))
+        os.makedirs(cache, exist_ok=True)
+        env = dict(os.environ, SWIM_CACHE=cache)
+        out = [] if what == "--out" else ["--out", os.path.join(TMP, "preflight")]
+        p = subprocess.run([SWIM, "run", "models/example3.toml", *out, *args], capture_output=True,
+                           text=True, cwd=ROOT, env=env)
+        check(p.returncode == 2 and one_line(p) and what in p.stderr,
+              "%s: exit %d, stderr %r" % (what, p.returncode, p.stderr))
+        check(os.listdir(cache) == [], "%s: a kernel was built before the refusal: %s" % (what, os.listdir(cache)))
+
+
 if __name__ == "__main__":
     sys.exit(main(globals(), "test_trust"))

@@ -286,6 +286,66 @@ static int check_trace_path(const run_ctx *c)
     return 0;
 }
 
+/* 1 when a file can be created at `path` (its folder exists and may be written), else 0 with
+ * errno set. */
+static int folder_writable(const char *path)
+{
+    char *copy = strdup(path);
+    if (!copy) return 1;   /* out of memory: open_outputs will say so */
+    char *slash = strrchr(copy, '/');
+    const char *dir = slash == copy ? "/" : slash ? copy : ".";
+    if (slash && slash != copy) *slash = '\0';
+    int ok = access(dir, W_OK | X_OK) == 0, saved = errno;
+    free(copy);
+    errno = saved;
+    return ok;
+}
+
+/* 1 when the folder `dir` exists and may be written, or can be created below the nearest folder
+ * above it that exists and may be written; else 0 with errno set. */
+static int folder_creatable(const char *dir)
+{
+    char *p = strdup(dir);
+    if (!p) return 1;
+    for (;;) {
+        struct stat st;
+        if (stat(p, &st) == 0) {
+            int ok = S_ISDIR(st.st_mode) ? access(p, W_OK | X_OK) == 0 : (errno = ENOTDIR, 0);
+            int saved = errno;
+            free(p);
+            errno = saved;
+            return ok;
+        }
+        char *slash = strrchr(p, '/');
+        if (!slash) {
+            free(p);
+            return access(".", W_OK | X_OK) == 0;
+        }
+        if (slash == p) slash[1] = '\0';
+        else *slash = '\0';
+    }
+}
+
+/* The outputs' folders, checked before the kernels are obtained (generating one can take a
+ * minute): an output that cannot be created is bad input, refused with one line before any
+ * work. open_outputs checks again as it creates them. 0 or 2. */
+static int preflight_outputs(const run_ctx *c)
+{
+    if (c->opt.trace && !folder_writable(c->opt.trace)) {
+        swim_message(stderr, "swim run: --trace-steps: cannot write '%s': %s", c->opt.trace, strerror(errno));
+        return 2;
+    }
+    char *def = c->opt.out ? NULL : default_out(c->s.path);
+    const char *out = c->opt.out ? c->opt.out : def;
+    int rc = 0;
+    if (out && !folder_creatable(out)) {
+        swim_message(stderr, "swim run: --out: cannot create directory '%s': %s", out, strerror(errno));
+        rc = 2;
+    }
+    free(def);
+    return rc;
+}
+
 /* Record the first output error ("cannot write PATH: why"); later ones are consequences. */
 static void output_failed(run_ctx *c, const char *path, int err)
 {
@@ -895,6 +955,7 @@ int swim_cmd_run(int argc, char **argv)
     sa.sa_handler = on_stop_signal;
     stop_signal = 0;
     int rc = read_options(argc, argv, c);
+    if (rc == 0) rc = preflight_outputs(c);
     if (rc == 0) rc = acquire_kernels(c);
     if (rc == 0) rc = open_outputs(c);
     if (rc == 0) {
