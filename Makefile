@@ -34,6 +34,11 @@ TEST_SRCS    :=
 TEST_LIB_SRCS :=
 BENCH_SRCS   :=
 
+# Stamps of the package checks (the rule is below); modules name them as prerequisites.
+DEPS_STAMP  := $(BUILD)/.deps-ok
+MEDIA_STAMP := $(BUILD)/.deps-media-ok
+MPI_STAMP   := $(BUILD)/.deps-mpi-ok
+
 include $(wildcard runtime/*/module.mk) $(wildcard tests/*/module.mk)
 
 KERNEL_SRCS := $(foreach n,$(MODES),generated/swim_kernel_n$(n).c)
@@ -43,8 +48,6 @@ export PYTHONHASHSEED := 0
 TESTLIB_OBJS := $(TEST_LIB_SRCS:%.c=$(BUILD)/%.o)
 TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
-DEPS_STAMP  := $(BUILD)/.deps-ok
-MEDIA_STAMP := $(BUILD)/.deps-media-ok
 
 .PHONY: FORCE all deps deps-media paper paper-test help install test sanitize fuzz bench bench-accuracy bench-drift generate generate-all run readme-figures clean
 all: $(BIN)/swim
@@ -76,7 +79,8 @@ deps: $(DEPS_STAMP)
 deps-media: $(MEDIA_STAMP)
 $(DEPS_STAMP): PKGS := $(DEB_PKGS)
 $(MEDIA_STAMP): PKGS := $(MEDIA_PKGS)
-$(DEPS_STAMP) $(MEDIA_STAMP):
+$(MPI_STAMP): PKGS := $(MPI_PKGS)
+$(DEPS_STAMP) $(MEDIA_STAMP) $(MPI_STAMP):
 	@missing=""; for p in $(PKGS); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
 	done; \

@@ -4,20 +4,9 @@ MPI_PKGS := libopenmpi-dev openmpi-bin
 .PHONY: mpi mpi-deps test-mpi
 mpi: $(BIN)/swim-mpi
 
-mpi-deps:
-	@missing=""; for p in $(MPI_PKGS); do \
-	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
-	done; \
-	if [ -n "$$missing" ]; then \
-	  if [ "$$(id -u)" = 0 ]; then \
-	    echo "installing:$$missing"; \
-	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing >/dev/null || exit 1; \
-	  else \
-	    echo "missing Debian packages:$$missing -- run: sudo apt-get install$$missing" >&2; exit 1; \
-	  fi; \
-	fi
+mpi-deps: $(MPI_STAMP)   # the Makefile's package rule with MPI_PKGS
 
-$(BIN)/swim-mpi: runtime/mpi/swim_mpi.c $(BUILD)/libswim.a $(BIN)/swim | mpi-deps
+$(BIN)/swim-mpi: runtime/mpi/swim_mpi.c $(BUILD)/libswim.a $(BIN)/swim | $(MPI_STAMP)
 	mpicc $(CPPFLAGS) $(filter-out -MMD -MP,$(CFLAGS)) runtime/mpi/swim_mpi.c $(BUILD)/libswim.a -o $@ $(LDLIBS)
 
 # The MPI sweep tests alone (they also run from `make test` when bin/swim-mpi can be built).

@@ -27,7 +27,6 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.colors import Normalize  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plot_run  # noqa: E402  (the readers and the density drawing are shared)
@@ -158,13 +157,7 @@ def main(argv):
         fail("swim flow returned %d frames, expected %d" % (len(snaps), frames))
 
     # shared scales: density colours, arrow length, view
-    rhos = np.concatenate([s["density"][2].ravel() for s in snaps if s["density"] is not None]
-                          or [np.zeros(0)])
-    rhos = rhos[np.isfinite(rhos)]
-    vmin, vmax = (np.percentile(rhos, [0.5, 99.5]) if rhos.size else (0.0, 1.0))
-    if vmax <= vmin:
-        vmin, vmax = vmin - 0.5, vmax + 0.5
-    norm = Normalize(vmin, vmax)
+    norm = plot_run.density_norm(snaps)
     size = max(max(plot_run.span(s["boundary"][0]), plot_run.span(s["boundary"][1]))
                for s in snaps if s["boundary"] is not None)
     speeds = np.concatenate([np.hypot(s["arrows"][2], s["arrows"][3])

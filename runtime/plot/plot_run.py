@@ -132,6 +132,20 @@ def finite_any(a):
     return a is not None and np.isfinite(a).any()
 
 
+def density_norm(snaps):
+    """One colour scale for the density rho0/J over several pictures, robust against the few huge
+    values near J -> 0 (0.5 and 99.5 percentiles)."""
+    rhos = np.concatenate([s["density"][2].ravel() for s in snaps if s["density"] is not None]
+                          or [np.zeros(0)])
+    rhos = rhos[np.isfinite(rhos)]
+    if not rhos.size:
+        return Normalize(0.0, 1.0)
+    vmin, vmax = np.percentile(rhos, [0.5, 99.5])
+    if vmax <= vmin:
+        vmin, vmax = vmin - 0.5 * abs(vmin or 1), vmax + 0.5 * abs(vmax or 1)
+    return Normalize(vmin, vmax)
+
+
 def span(a):
     a = np.asarray(a, dtype=float)
     a = a[np.isfinite(a)]
@@ -697,17 +711,7 @@ def draw_panels(run, snaps, name, title):
     xlim = [allx.min() - margin, allx.max() + margin]
     ylim = [ally.min() - margin, ally.max() + margin]
 
-    # shared colour scale for the density; robust against a few huge values near J -> 0
-    rhos = np.concatenate([s["density"][2].ravel() for s in snaps if s["density"] is not None]
-                          or [np.zeros(0)])
-    rhos = rhos[np.isfinite(rhos)]
-    if rhos.size:
-        vmin, vmax = np.percentile(rhos, [0.5, 99.5])
-        if vmax <= vmin:
-            vmin, vmax = vmin - 0.5 * abs(vmin or 1), vmax + 0.5 * abs(vmax or 1)
-    else:
-        vmin, vmax = 0.0, 1.0
-    norm = Normalize(vmin, vmax)
+    norm = density_norm(snaps)
 
     # shared arrow scale: the longest arrow is ~12% of the window width
     speeds = np.concatenate([np.hypot(s["arrows"][2], s["arrows"][3])
@@ -895,13 +899,7 @@ def fig_path(run):
     count = int(min(16, max(4, round(4 * travel / size) + 1)))
     times = list(np.linspace(float(t[ok][0]), float(t[ok][-1]), count))
     snaps = parse_snapshots(run.flow(times=times))
-    rhos = np.concatenate([s["density"][2].ravel() for s in snaps if s["density"] is not None]
-                          or [np.zeros(0)])
-    rhos = rhos[np.isfinite(rhos)]
-    vmin, vmax = (np.percentile(rhos, [0.5, 99.5]) if rhos.size else (0.0, 1.0))
-    if vmax <= vmin:
-        vmin, vmax = vmin - 0.5, vmax + 0.5
-    norm = Normalize(vmin, vmax)
+    norm = density_norm(snaps)
     xs = np.concatenate([s["boundary"][0] for s in snaps if s["boundary"] is not None] + [x[ok]])
     ys = np.concatenate([s["boundary"][1] for s in snaps if s["boundary"] is not None] + [y[ok]])
     wx, wy = span(xs) + 0.4, span(ys) + 0.4
