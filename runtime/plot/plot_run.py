@@ -132,12 +132,17 @@ def finite_any(a):
     return a is not None and np.isfinite(a).any()
 
 
+def density_values(snaps):
+    """The finite densities rho0/J of all pictures, one array."""
+    rhos = np.concatenate([s["density"][2].ravel() for s in snaps if s["density"] is not None]
+                          or [np.zeros(0)])
+    return rhos[np.isfinite(rhos)]
+
+
 def density_norm(snaps):
     """One colour scale for the density rho0/J over several pictures, robust against the few huge
     values near J -> 0 (0.5 and 99.5 percentiles)."""
-    rhos = np.concatenate([s["density"][2].ravel() for s in snaps if s["density"] is not None]
-                          or [np.zeros(0)])
-    rhos = rhos[np.isfinite(rhos)]
+    rhos = density_values(snaps)
     if not rhos.size:
         return Normalize(0.0, 1.0)
     vmin, vmax = np.percentile(rhos, [0.5, 99.5])
@@ -776,8 +781,9 @@ def draw_panels(run, snaps, name, title):
     fig.tight_layout(rect=(0, 0.04 if quiver_done is not None else 0, 0.9, 1))
     if mappable is not None:
         cax = fig.add_axes((0.915, 0.15, 0.015, 0.7))
-        lo = rhos.size and rhos.min() < vmin
-        hi = rhos.size and rhos.max() > vmax
+        rhos = density_values(snaps)
+        lo = rhos.size and rhos.min() < norm.vmin
+        hi = rhos.size and rhos.max() > norm.vmax
         cb = fig.colorbar(mappable, cax=cax,
                           extend={(0, 0): "neither", (1, 0): "min", (0, 1): "max"}.get(
                               (int(bool(lo)), int(bool(hi))), "both"))
