@@ -6,8 +6,10 @@
 
 #include "kernel/swim_kernel.h"
 
-/* min over the closed disk of J (on the circle by the maximum principle, (4.1)): the smallest of
- * 64(N+1) samples (J has frequencies up to N-1), refined by golden-section search. */
+/* min over the closed disk of J (on the circle by the maximum principle, (4.1)): 16(N+1) samples
+ * (J is a trigonometric polynomial of degree N-1), then every sampled local minimum that
+ * Bernstein's inequality allows to be the global one is refined by safeguarded Newton on J'.
+ * About 2-5 us for N = 10 (cheap enough to run at every accepted step). */
 double swim_shape_jmin(int modes, const double *x);
 
 #endif
