@@ -13,6 +13,7 @@
 #define GAUSS_TOL 1e-16     /* a priori bound per panel (relative to the panel's own size) */
 #define QMIN 6              /* Gauss nodes per panel, at least ... */
 #define QMAX 24             /* ... and at most (a panel needing more is halved) */
+#define RHO_QMIN 100.0      /* GAUSS_TOL^(-1/(2 (QMIN - 2))): an ellipse this wide needs QMIN nodes */
 #define MAX_DEPTH 64        /* halvings of one panel; beyond, a zero of J sits on the circle */
 #define CLOSE 0.5           /* zeros closer than this to the real axis start panels at their foot */
 #define PRECISE 0.1         /* zeros closer than this get the cancellation-free evaluation of J */
@@ -32,6 +33,8 @@ struct swim_barrier_quad {
     int cap;
     double *th, *base, *wt, *jv, *hr, *hi;   /* graded nodes: base + th, weight wt */
     double complex *comp, *roots;
+    double complex *coef;      /* monic polynomial z^P J(z) / J_P, degree nroots */
+    int nroots;                /* roots of the last call (a warm start), 0 when none */
     double complex *Jp;        /* Fourier coefficients J_p, p = 0..N-1 */
     /* Samples that bracket the minima of J: cos(p t_k), sin(p t_k) at t_k = 2 pi k / ns, [p][k] */
     int ns;
@@ -118,6 +121,7 @@ swim_barrier_quad *swim_barrier_quad_new(int modes)
     int deg = 2 * (modes > 1 ? modes - 1 : 1);
     b->comp = malloc(sizeof(double complex) * (size_t)deg * (size_t)deg);
     b->roots = malloc(sizeof(double complex) * (size_t)deg);
+    b->coef = malloc(sizeof(double complex) * (size_t)(deg + 1));
     b->Jp = malloc(sizeof(double complex) * (size_t)w);
     b->ns = 4 * (modes + 1) > 16 ? 4 * (modes + 1) : 16;
     b->scs = malloc(sizeof(double) * (size_t)b->ns * (size_t)w);
@@ -132,7 +136,7 @@ swim_barrier_quad *swim_barrier_quad_new(int modes)
             b->scs[p * b->ns + k] = cos(p * TWO_PI * k / b->ns);
             b->ssn[p * b->ns + k] = sin(p * TWO_PI * k / b->ns);
         }
-    if (!b->comp || !b->roots || !b->Jp || reserve(b, trap_max(modes) > 4096 ? trap_max(modes) : 4096) != 0) {
+    if (!b->comp || !b->roots || !b->coef || !b->Jp || reserve(b, trap_max(modes) > 4096 ? trap_max(modes) : 4096) != 0) {
         swim_barrier_quad_free(b);
         return NULL;
     }
@@ -154,6 +158,7 @@ void swim_barrier_quad_free(swim_barrier_quad *b)
     free(b->hi);
     free(b->comp);
     free(b->roots);
+    free(b->coef);
     free(b->Jp);
     free(b->scs);
     free(b->ssn);
@@ -408,6 +413,45 @@ static int trapezoid(swim_barrier_quad *b, const double *x, double eps, double a
 
 /* The zeros of J in the upper half of the theta plane (one of each pair z, 1/conj z of zeros of
  * z^P J(z)), as theta = arg z + i |log |z||. Returns how many, or -1 on a LAPACK failure. */
+/* Aberth-Ehrlich iteration from the roots of the last call: the shape moves little between two
+ * calls (integrator stages), so a few cubically convergent sweeps, O(n^2) each, replace the
+ * O(n^3) QR iteration. The simultaneous correction keeps the approximations apart (implicit
+ * deflation); the result is accepted only when every correction is below 1e-11 (the roots only place panels and bound their error, to which
+ * such a shift does nothing measurable) and no two
+ * roots coincide, else the caller recomputes from scratch. Returns 0 when accepted. */
+static int polish_roots(swim_barrier_quad *b, int n)
+{
+    const double complex *a = b->coef;
+    double complex *z = b->roots;
+    for (int sweep = 0; sweep < 8; sweep++) {
+        double worst = 0.0;
+        for (int i = 0; i < n; i++) {
+            double complex p = 1.0, dp = 0.0;   /* Horner for p and p' (monic) */
+            for (int k = n - 1; k >= 0; k--) {
+                dp = dp * z[i] + p;
+                p = p * z[i] + a[k];
+            }
+            if (p == 0.0) continue;
+            double complex rep = 0.0;
+            for (int j = 0; j < n; j++)
+                if (j != i) rep += 1.0 / (z[i] - z[j]);
+            const double complex w = p / dp, step = w / (1.0 - w * rep);
+            if (!isfinite(creal(step)) || !isfinite(cimag(step))) return -1;
+            z[i] -= step;
+            worst = fmax(worst, cabs(step) / (1.0 + cabs(z[i])));
+        }
+        if (worst < 1e-11) {
+            for (int i = 0; i < n; i++)
+                for (int j = i + 1; j < n; j++)
+                    if (cabs(z[i] - z[j]) < 1e-8 * (1.0 + cabs(z[i]))) return -1;
+            return 0;
+        }
+    }
+    return -1;
+}
+
+/* The zeros of J in the upper half of the theta plane (one of each pair z, 1/conj z of zeros of
+ * z^P J(z)), as theta = arg z + i |log |z||. Returns how many, or -1 on a LAPACK failure. */
 static int zeros(swim_barrier_quad *b, double complex *out)
 {
     int P = 0;
@@ -416,20 +460,25 @@ static int zeros(swim_barrier_quad *b, double complex *out)
     if (P == 0) return 0;
     const int n = 2 * P;
     /* monic z^n + a_{n-1} z^{n-1} + ... + a_0, coefficients P_k of z^{k-P} J: P_{P+p} = J_p,
-     * P_{P-p} = conj(J_p); companion matrix in upper Hessenberg form. */
+     * P_{P-p} = conj(J_p) */
     const double complex lead = b->Jp[P];
-    double complex *C = b->comp;   /* column-major */
-    memset(C, 0, sizeof(double complex) * (size_t)n * (size_t)n);
     for (int k = 0; k < n; k++) {
         int p = k - P;
-        double complex Pk = p >= 0 ? b->Jp[p] : conj(b->Jp[-p]);
-        C[(size_t)(n - 1 - k) * n + 0] = -Pk / lead;   /* row 0, column n-1-k */
+        b->coef[k] = (p >= 0 ? b->Jp[p] : conj(b->Jp[-p])) / lead;
     }
-    for (int i = 1; i < n; i++) C[(size_t)(i - 1) * n + i] = 1.0;   /* subdiagonal */
-    lapack_int info = LAPACKE_zhseqr(LAPACK_COL_MAJOR, 'E', 'N', n, 1, n,
-                                     (lapack_complex_double *)C, n,
-                                     (lapack_complex_double *)b->roots, NULL, 1);
-    if (info != 0) return -1;
+    if (b->nroots != n || polish_roots(b, n) != 0) {
+        /* from scratch: eigenvalues of the companion matrix, in upper Hessenberg form */
+        b->nroots = 0;
+        double complex *C = b->comp;   /* column-major */
+        memset(C, 0, sizeof(double complex) * (size_t)n * (size_t)n);
+        for (int k = 0; k < n; k++) C[(size_t)(n - 1 - k) * n + 0] = -b->coef[k];   /* row 0 */
+        for (int i = 1; i < n; i++) C[(size_t)(i - 1) * n + i] = 1.0;   /* subdiagonal */
+        lapack_int info = LAPACKE_zhseqr(LAPACK_COL_MAJOR, 'E', 'N', n, 1, n,
+                                         (lapack_complex_double *)C, n,
+                                         (lapack_complex_double *)b->roots, NULL, 1);
+        if (info != 0) return -1;
+        b->nroots = n;
+    }
     int r = 0;
     for (int i = 0; i < n; i++) {
         double a = cabs(b->roots[i]);
@@ -451,11 +500,23 @@ static double bernstein(double complex zeta)
 static int panel_nodes(const double complex *z, int nz, double base, double u, double v)
 {
     const double mid = 0.5 * (u + v), half = 0.5 * (v - u);
-    double rho = INFINITY;
+    /* A zero outside the ellipse E_rho of the running minimum cannot lower it: it is outside
+     * when |zeta| exceeds the semi-major axis (rho + 1/rho)/2 or |Im zeta| the semi-minor
+     * (rho - 1/rho)/2, two tests without square roots that skip most zeros. rho starts at
+     * RHO_QMIN, beyond which QMIN nodes are enough anyway. */
+    double rho = RHO_QMIN;
+    double amaj = 0.5 * (rho + 1.0 / rho), amin = 0.5 * (rho - 1.0 / rho);
     for (int r = 0; r < nz; r++)
         for (int k = -1; k <= 1; k++) {
             double complex zeta = ((z[r] + k * TWO_PI - base) - mid) / half;
-            rho = fmin(rho, bernstein(zeta));
+            const double re = creal(zeta), im = cimag(zeta);
+            if (fabs(im) >= amin || re * re + im * im >= amaj * amaj) continue;
+            const double rz = bernstein(zeta);
+            if (rz < rho) {
+                rho = rz;
+                amaj = 0.5 * (rho + 1.0 / rho);
+                amin = 0.5 * (rho - 1.0 / rho);
+            }
         }
     if (!(rho > 1.0)) return 0;
     double q = ceil(log(1.0 / GAUSS_TOL) / (2.0 * log(rho))) + 2.0;
