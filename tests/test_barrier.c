@@ -8,6 +8,7 @@
  * J and precision).
  */
 #include "shape/barrier.h"
+#include "shape/shape.h"
 
 #include "check.h"
 
@@ -232,9 +233,50 @@ static void accuracy(void)
     printf("worst relative error: W %.2e, grad %.2e\n", worst, worst_g);
 }
 
+/* swim_barrier_reach against W2 along the path it models: scaling c_1 moves J down uniformly
+ * (J = |c_1|^2 - |h|^2), so the shape whose min J is s is x with |c_1|^2 lowered by j0 - s. The
+ * energy the estimate assigns to depth s must be the rise of W2 along that path, to the accuracy
+ * of the asymptotic model (the regular part of the integral is neglected). */
+static void reach(void)
+{
+    static const int Ns[] = {3, 7, 15};
+    static const double alphas[] = {0.5, 1.0, 1.5};
+    double worst = 0.0;
+    for (int in = 0; in < 3; in++) {
+        const int N = Ns[in], n = 2 * (N + 1);
+        swim_barrier_quad *b = swim_barrier_quad_new(N);
+        double x[66], y[66];
+        make_shape(N, 1.0, 1e-3, x);
+        const double j0 = swim_shape_jmin(N, x), c1 = x[0] * x[0] + x[1] * x[1];
+        for (int ia = 0; ia < 3; ia++)
+            for (double s = 1e-5; s >= 1e-9; s *= 1e-2) {
+                const double a = alphas[ia], p = a - 0.5, eps = 0.03;
+                double kappa, W0, W1;
+                swim_barrier_reach(b, x, eps, a, 0.0, &kappa);
+                const double energy = p == 0.0 ? kappa * log(j0 / s)
+                                               : kappa / p * (pow(j0 / s, p) - 1.0);
+                const double got = swim_barrier_reach(b, x, eps, a, energy, NULL);
+                CHECK(fabs(got / s - 1.0) < 1e-9, "N=%d alpha %g: reach %.6g for %.6g", N, a, got, s);
+                memcpy(y, x, sizeof(double) * n);
+                const double f = sqrt((c1 - (j0 - s)) / c1);
+                y[0] *= f;
+                y[1] *= f;
+                swim_barrier_w2(b, x, eps, a, &W0, NULL, NULL);
+                swim_barrier_w2(b, y, eps, a, &W1, NULL, NULL);
+                const double rel = fabs((W1 - W0) - energy) / (W1 - W0);
+                worst = fmax(worst, rel);
+                CHECK(rel < 0.05, "N=%d alpha %g s %g: W2 rises %.6g, estimate %.6g", N, a, s,
+                      W1 - W0, energy);
+            }
+        swim_barrier_quad_free(b);
+    }
+    printf("reach estimate vs W2 along the path, min J 1e-3 -> 1e-5 .. 1e-9: worst %.2e\n", worst);
+}
+
 int main(void)
 {
     gauss30();
+    reach();
     accuracy();
     return check_report("test_barrier");
 }

@@ -1,4 +1,5 @@
 #include "shape/barrier.h"
+#include "shape/shape.h"
 
 #include <complex.h>
 #include <lapacke.h>
@@ -728,4 +729,21 @@ int swim_barrier_w2(swim_barrier_quad *b, const double *x, double eps, double al
     if (rc < 0) return SWIM_BARRIER_ENOMEM;
     if (grad) memcpy(grad, gtmp, sizeof(double) * (size_t)b->n);
     return SWIM_BARRIER_OK;
+}
+
+double swim_barrier_reach(swim_barrier_quad *b, const double *x, double eps, double alpha,
+                          double energy, double *kappa)
+{
+    double W, g[2 * 64 + 2];
+    if (swim_barrier_w2(b, x, eps, alpha, &W, g, NULL) != SWIM_BARRIER_OK) return NAN;
+    const double c1 = x[0] * x[0] + x[1] * x[1];
+    const double integral = -(g[0] * x[0] + g[1] * x[1]) / (eps * c1);   /* int J^(-1-alpha) */
+    const double j0 = swim_shape_jmin(b->N, x);
+    const double k = 0.5 * eps * j0 * integral;
+    if (kappa) *kappa = k;
+    if (!(j0 > 0.0) || !(k > 0.0)) return NAN;
+    const double p = alpha - 0.5;
+    if (fabs(p) < 1e-12) return j0 * exp(-energy / k);
+    const double base = 1.0 + energy * p / k;
+    return base > 0.0 ? j0 * pow(base, -1.0 / p) : 0.0;
 }

@@ -61,4 +61,17 @@ void swim_barrier_quad_free(swim_barrier_quad *b);
 int swim_barrier_w2(swim_barrier_quad *b, const double *x, double eps, double alpha, double *W,
                       double *grad, swim_barrier_info *info);
 
+/* How deep into the barrier an approach must go to be stopped: the minimum of J at which W2 has
+ * risen by `energy` above its value at x, when J keeps its shape near its minimum and only moves
+ * down (J - s: exactly what scaling c_1 does, J = |c_1|^2 - |h|^2). Near the minimum j0 the
+ * integral behaves like s^(1/2 - alpha), a logarithm for alpha = 1/2, so with
+ * kappa = -dW2/d ln j0 = j0 (eps/2) int J^(-1-alpha) (from the gradient, ERRATA B3)
+ *     s = j0 (1 + energy (alpha - 1/2) / kappa)^(-1/(alpha - 1/2)),   s = j0 e^(-energy/kappa) at 1/2.
+ * For alpha = 1/2 the barrier rises only by kappa per e-fold of min J: an approach carrying more
+ * than about 36 kappa of energy needs min J below double-precision resolution. An asymptotic
+ * estimate, good when j0 is small (test_barrier checks it against W2 along the exact path).
+ * kappa may be NULL. Returns NAN when x is outside D or out of memory. */
+double swim_barrier_reach(swim_barrier_quad *b, const double *x, double eps, double alpha,
+                          double energy, double *kappa);
+
 #endif
