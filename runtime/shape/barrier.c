@@ -18,6 +18,7 @@
 #define MAX_DEPTH 64        /* halvings of one panel; beyond, a zero of J sits on the circle */
 #define CLOSE 0.5           /* zeros closer than this to the real axis start panels at their foot */
 #define PRECISE 0.1         /* zeros closer than this get the cancellation-free evaluation of J */
+#define PRECISE_J 0.05      /* ... when J at their foot is below this fraction of |c_1|^2 */
 #define NEAR 0.25           /* ... at the nodes within this angle of their foot */
 
 struct swim_barrier_quad {
@@ -33,6 +34,8 @@ struct swim_barrier_quad {
     /* Workspace: node arrays of the graded rule (grown on demand), the companion matrix, roots. */
     int cap;
     double *th, *base, *wt, *jv, *hr, *hi;   /* graded nodes: base + th, weight wt */
+    double *gcs, *gsn;         /* cos, sin(j theta_k) at the graded nodes, [j][k] */
+    size_t gcap;
     double complex *comp, *roots;
     double complex *coef;      /* monic polynomial z^P J(z) / J_P, degree nroots */
     int nroots;                /* roots of the last call (a warm start), 0 when none */
@@ -90,6 +93,21 @@ static int reserve(swim_barrier_quad *b, int nodes)
         *arr[i] = p;
     }
     b->cap = cap;
+    return 0;
+}
+
+static int reserve_tables(swim_barrier_quad *b, size_t entries)
+{
+    if (entries <= b->gcap) return 0;
+    size_t cap = b->gcap ? b->gcap : 4096;
+    while (cap < entries) cap *= 2;
+    double *c = realloc(b->gcs, sizeof(double) * cap);
+    if (!c) return -1;
+    b->gcs = c;
+    double *sn = realloc(b->gsn, sizeof(double) * cap);
+    if (!sn) return -1;
+    b->gsn = sn;
+    b->gcap = cap;
     return 0;
 }
 
@@ -155,6 +173,8 @@ void swim_barrier_quad_free(swim_barrier_quad *b)
     free(b->base);
     free(b->wt);
     free(b->jv);
+    free(b->gcs);
+    free(b->gsn);
     free(b->hr);
     free(b->hi);
     free(b->comp);
@@ -175,14 +195,6 @@ static double complex coef_h(const double *x, int j)
     return (j + 1) * CMPLX(x[2 * (j + 1)], x[2 * (j + 1) + 1]);
 }
 
-/* J^-alpha, without pow() for the two exponents the paper uses. */
-static double jpow(double J, double alpha)
-{
-    if (alpha == 0.5) return 1.0 / sqrt(J);
-    if (alpha == 1.0) return 1.0 / J;
-    return pow(J, -alpha);
-}
-
 /* Accumulators of a rule: S = sum w J^-alpha; for the gradient, sum w J^{-1-alpha} (times
  * dJ/da_1 = 2 a_1, dJ/db_1 = 2 b_1) and, for m = 1..N, sum w J^{-1-alpha} z^{m-1} h (ERRATA B3:
  * dJ/da_-m = -2m Re(z^{m-1} h), dJ/db_-m = -2m Im(z^{m-1} h)). */
@@ -191,16 +203,14 @@ typedef struct {
     double Gr[64], Gi[64];
 } sums;
 
-/* Adds the nodes k = 0..m-1 whose cos(j theta_k), sin(j theta_k) are cs[j m + k], sn[j m + k],
- * with weight 1, to s. Returns 1 when J <= 0 at a node. */
-static int trap_level(const swim_barrier_quad *b, const double *cs, const double *sn, int m,
-                      const double *x, double alpha, int grad, sums *s)
+/* h and J at nodes k = 0..m-1 whose cos(j theta_k), sin(j theta_k) are cs[j m + k], sn[j m + k]
+ * (structure of arrays: every loop runs over the nodes and vectorizes). */
+static void node_values(const swim_barrier_quad *b, const double *cs, const double *sn, int m,
+                        const double *x, double *hr, double *hi, double *J)
 {
-    const int N = b->N;
-    double *hr = b->hr, *hi = b->hi, *g = b->jv;
     const double c1 = x[0] * x[0] + x[1] * x[1];
     for (int k = 0; k < m; k++) hr[k] = hi[k] = 0.0;
-    for (int j = 0; j < N; j++) {
+    for (int j = 0; j < b->N; j++) {
         const double complex H = coef_h(x, j);
         const double Hr = creal(H), Hi = cimag(H);
         const double *c = cs + (size_t)j * m, *sj = sn + (size_t)j * m;
@@ -209,40 +219,43 @@ static int trap_level(const swim_barrier_quad *b, const double *cs, const double
             hi[k] += Hi * c[k] - Hr * sj[k];
         }
     }
-    /* J^-alpha and g = J^{-1-alpha} at every node; one loop per exponent so that each
-     * vectorizes (1/sqrt and 1/J instead of pow for alpha = 1/2 and 1) */
+    for (int k = 0; k < m; k++) J[k] = c1 - hr[k] * hr[k] - hi[k] * hi[k];
+}
+
+/* Adds the nodes with values J (overwritten by g = w J^{-1-alpha}) and weights w (NULL: 1) to s;
+ * hr, hi, cs, sn as in node_values. Returns 1 when J <= 0 at a node. One loop per exponent so
+ * that each vectorizes (1/sqrt and 1/J instead of pow for alpha = 1/2 and 1). */
+static int node_sums(const swim_barrier_quad *b, const double *cs, const double *sn, int m,
+                     const double *hr, const double *hi, double *g, const double *w, double alpha,
+                     int grad, sums *s)
+{
     int bad = 0;
-    double S = 0.0, G0 = 0.0;
-    for (int k = 0; k < m; k++) {
-        const double J = c1 - hr[k] * hr[k] - hi[k] * hi[k];
-        bad |= !(J > 0.0);
-        g[k] = J;
-    }
+    for (int k = 0; k < m; k++) bad |= !(g[k] > 0.0);
     if (bad) return 1;
+    double S = 0.0, G0 = 0.0;
     if (alpha == 0.5)
         for (int k = 0; k < m; k++) {
-            const double f = 1.0 / sqrt(g[k]);
+            const double f = (w ? w[k] : 1.0) / sqrt(g[k]);
             S += f;
             g[k] = f / g[k];
         }
     else if (alpha == 1.0)
         for (int k = 0; k < m; k++) {
             const double f = 1.0 / g[k];
-            S += f;
-            g[k] = f * f;
+            S += (w ? w[k] : 1.0) * f;
+            g[k] = (w ? w[k] : 1.0) * f * f;
         }
     else
         for (int k = 0; k < m; k++) {
-            const double f = pow(g[k], -alpha);
+            const double f = (w ? w[k] : 1.0) * pow(g[k], -alpha);
             S += f;
             g[k] = f / g[k];
         }
     for (int k = 0; k < m; k++) G0 += g[k];
-    if (bad) return 1;
     s->S += S;
     if (!grad) return 0;
     s->G0 += G0;
-    for (int j = 0; j < N; j++) {              /* sum g z^j h, z^j = cos + i sin */
+    for (int j = 0; j < b->N; j++) {           /* sum g z^j h, z^j = cos + i sin */
         const double *c = cs + (size_t)j * m, *sj = sn + (size_t)j * m;
         double re = 0.0, im = 0.0;
         for (int k = 0; k < m; k++) {
@@ -253,6 +266,14 @@ static int trap_level(const swim_barrier_quad *b, const double *cs, const double
         s->Gi[j] += im;
     }
     return 0;
+}
+
+/* Adds the trapezoidal nodes of one level (tables cs, sn), with weight 1, to s. */
+static int trap_level(const swim_barrier_quad *b, const double *cs, const double *sn, int m,
+                      const double *x, double alpha, int grad, sums *s)
+{
+    node_values(b, cs, sn, m, x, b->hr, b->hi, b->jv);
+    return node_sums(b, cs, sn, m, b->hr, b->hi, b->jv, NULL, alpha, grad, s);
 }
 
 /* W2 and the gradient from the accumulated sums with an overall weight `scale`. */
@@ -624,6 +645,12 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
     for (int r = 0; r < nz && nc < 16; r++) {
         if (cimag(z[r]) >= PRECISE) continue;
         double a = creal(z[r]);
+        {   /* where J stays above PRECISE_J |c_1|^2 near the foot, double precision loses no more
+             * than ~1e-14 relative: binary128 (costly) only where it is needed */
+            double Jd, J1d, J2d;
+            j_derivs(b, a, &Jd, &J1d, &J2d);
+            if (Jd > PRECISE_J * (x[0] * x[0] + x[1] * x[1])) continue;
+        }
         int dup = 0;
         for (int c = 0; c < nc; c++) dup |= fabs(wrap(cen[c].a - a)) < 1e-13;
         if (dup) continue;
@@ -669,38 +696,37 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
                 panels++;
             }
         }
-    /* J, h at the nodes */
-    const double c1 = x[0] * x[0] + x[1] * x[1];
-    sums s;
-    memset(&s, 0, sizeof s);
+    /* cos, sin(j theta_k) at the nodes by the angle-addition recurrence in j (error ~ j u),
+     * then J, h and the sums by the loops of the trapezoidal rule */
+    const int w = N > 0 ? N : 1;
+    if (reserve_tables(b, (size_t)w * (size_t)nodes) != 0) return -1;
+    double *cs = b->gcs, *sn = b->gsn;
     for (int k = 0; k < nodes; k++) {
-        const double th = b->base[k] + b->th[k];
-        const double complex zb = cexp(-I * th), zf = conj(zb);
-        double complex h = 0.0, p = 1.0;
-        for (int j = 0; j < N; j++) {
-            h += coef_h(x, j) * p;
-            p *= zb;
-        }
-        double J = c1 - creal(h) * creal(h) - cimag(h) * cimag(h);
-        for (int c = 0; c < nc; c++)   /* nodes near a close zero: offsets from its foot */
-            if (b->base[k] == cen[c].a && fabs(b->th[k]) < NEAR) {
-                J = precise_J(b, cen[c].B, cen[c].Ja, cen[c].J1a, b->th[k]);
-                break;
-            }
-        if (!(J > 0.0)) return 1;
-        const double f = jpow(J, alpha), w = b->wt[k];
-        s.S += w * f;
-        if (grad) {
-            const double g = w * f / J;
-            s.G0 += g;
-            double complex t = h;   /* z^j h */
-            for (int j = 0; j < N; j++) {
-                s.Gr[j] += g * creal(t);
-                s.Gi[j] += g * cimag(t);
-                t *= zf;
-            }
+        cs[k] = 1.0;
+        sn[k] = 0.0;
+        if (w > 1) {
+            const double th = b->base[k] + b->th[k];
+            cs[nodes + k] = cos(th);
+            sn[nodes + k] = sin(th);
         }
     }
+    for (int j = 2; j < w; j++) {
+        const double *c1 = cs + nodes, *s1 = sn + nodes, *cp = cs + (size_t)(j - 1) * nodes,
+                     *sp = sn + (size_t)(j - 1) * nodes;
+        double *cj = cs + (size_t)j * nodes, *sj = sn + (size_t)j * nodes;
+        for (int k = 0; k < nodes; k++) {
+            cj[k] = cp[k] * c1[k] - sp[k] * s1[k];
+            sj[k] = sp[k] * c1[k] + cp[k] * s1[k];
+        }
+    }
+    node_values(b, cs, sn, nodes, x, b->hr, b->hi, b->jv);
+    for (int c = 0; c < nc; c++)   /* nodes near a close zero: offsets from its foot */
+        for (int k = 0; k < nodes; k++)
+            if (b->base[k] == cen[c].a && fabs(b->th[k]) < NEAR)
+                b->jv[k] = precise_J(b, cen[c].B, cen[c].Ja, cen[c].J1a, b->th[k]);
+    sums s;
+    memset(&s, 0, sizeof s);
+    if (node_sums(b, cs, sn, nodes, b->hr, b->hi, b->jv, b->wt, alpha, grad != NULL, &s)) return 1;
     finish(b, &s, 1.0, x, eps, alpha, W, grad);
     if (info) {
         info->nodes = nodes;
