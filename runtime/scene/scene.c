@@ -247,6 +247,24 @@ static int check_initial_velocity(ctx *c, const toml_value *shape, swim_scene *s
     return 0;
 }
 
+/* The first of step, abs used in `law` (a word of the text), or NULL: neither is twice
+ * differentiable where it switches, and a stroke needs c'' (its power). */
+static const char *not_smooth(const char *law)
+{
+    static const char *const names[] = {"step", "abs"};
+    for (const char *p = law; *p;) {
+        if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z'))) {
+            p++;
+            continue;
+        }
+        const char *w = p;
+        while ((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') || *p == '_') p++;
+        for (int i = 0; i < 2; i++)
+            if ((size_t)(p - w) == strlen(names[i]) && strncmp(w, names[i], (size_t)(p - w)) == 0) return names[i];
+    }
+    return NULL;
+}
+
 /* [stroke] COORD = "law in t" (and period = T): a prescribed stroke. The tables of effects do
  * not apply (the shape is given, nothing acts on it) and neither do dc0 and free (the velocities
  * are the laws' derivatives; the laws say what moves): any of them is refused, naming its first
@@ -300,6 +318,10 @@ static int parse_stroke(ctx *c, const toml_value *root, const toml_value *stroke
         if (!(s->stroke_law[k] = strdup(toml_string(v)))) ERR(c, line, key, "out of memory");
         if (!(s->stroke_expr[k] = swim_expr_compile(s->stroke_law[k], err, sizeof err)))
             ERR(c, line, key, "\"%s\": %s", s->stroke_law[k], err);
+        const char *kink = not_smooth(s->stroke_law[k]);
+        if (kink)
+            ERR(c, line, key, "\"%s\": %s() is not twice differentiable where it switches; a stroke law must be "
+                "(the power needs c'')", s->stroke_law[k], kink);
         s->free_mask[found] = 1;
     }
     if (s->stroke_count == 0) ERR(c, toml_line(stroke), "*", "no law: a stroke prescribes at least one coordinate");

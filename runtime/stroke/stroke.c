@@ -381,16 +381,17 @@ static int repeats(const swim_stroke *st, double T, double tol)
 double swim_stroke_detect_period(const swim_stroke *st, double t_end)
 {
     enum { M = 4096 };
-    double c0[SWIM_NMAX], dc0[SWIM_NMAX], ddc0[SWIM_NMAX], d[M + 1], scale = 0.0, dmax = 0.0;
+    double c0[SWIM_NMAX], dc0[SWIM_NMAX], ddc0[SWIM_NMAX], d[M + 2], scale = 0.0, dmax = 0.0;
     st->law->eval(0.0, st->par, c0, dc0, ddc0);
     for (int k = 0; k < st->law->count; k++) scale += c0[k] * c0[k] + dc0[k] * dc0[k];
     const double h = t_end / M;
-    for (int j = 0; j <= M; j++) {
+    /* one sample past t_end, so that a period equal to t_end is bracketed too */
+    for (int j = 0; j <= M + 1; j++) {
         d[j] = j ? distance(st, c0, dc0, j * h, NULL) : 0.0;
         if (isfinite(d[j])) dmax = fmax(dmax, d[j]);
     }
     if (!(dmax > 0.0)) return 0.0;   /* the laws do not move */
-    for (int j = 1; j < M; j++) {
+    for (int j = 1; j <= M; j++) {
         if (!(d[j] <= d[j - 1] && d[j] <= d[j + 1]) || !(d[j] < 1e-2 * dmax)) continue;
         /* d'(T) goes from - to + across the minimum: bisection to round-off */
         double lo = (j - 1) * h, hi = (j + 1) * h, s;
