@@ -356,6 +356,7 @@ oom:
 
 /* ---- integration -------------------------------------------------------------------------- */
 
+static void output_failed(stroke_ctx *c, const char *path, int err);
 static void end_run(stroke_ctx *c, int failed, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static void end_run(stroke_ctx *c, int failed, const char *fmt, ...)
 {
@@ -431,14 +432,16 @@ static int emit_row(stroke_ctx *c, long k, long every, int last, double t)
     track(c, t, &g, c->row[c->ncol - 3], k == 0);
     const double to = wall();
     if (!c->summary_only && swim_csv_row(&c->csv, c->row) != 0) {
-        if (!c->output_error) c->output_error = swim_strprintf("cannot write %s: %s", c->csv_path, strerror(errno));
-        end_run(c, 1, "%s (at t = %.6g)", c->output_error ? c->output_error : "an output failed", t);
+        output_failed(c, c->csv_path, errno);
         return -1;
     }
     c->rows++;
     if (c->snap && (k % every == 0 || last) && c->nsnap < SNAPSHOTS + 1) {
         if (c->nsnap++) fputs(",\n", c->snap);
-        swim_flow_snapshot(&c->d, t, c->full, c->snap);
+        if (swim_flow_snapshot(&c->d, t, c->full, c->snap) != 0) {
+            output_failed(c, c->snap_path, ENOMEM);
+            return -1;
+        }
     }
     c->output_seconds += wall() - to;
     if (!(g.jmin > 0)) {
