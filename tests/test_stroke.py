@@ -304,5 +304,32 @@ def test_plot_and_flow_on_a_stroke_run():
     check(len(frames) == 2 and frames[0]["boundary"], "swim flow on a stroke run directory: %s" % f.stderr)
 
 
+def test_modes_beyond_the_stroke_change_nothing():
+    # the same stroke in a scene of N = 7 (c_-3 ... c_-7 at 0): the mass matrices on the moving
+    # coordinates are those of N = 2, so the motion is the same to round-off
+    text = open(COMPLETED).read().replace("modes = 2", "modes = 7")
+    text = "\n".join(l if not l.startswith("c0") else "c0 = %s" % json.dumps([1, 0] + [0] * 14) for l in text.splitlines())
+    scene = write("completed_n7.toml", text + "\n")
+    p, rows7, s7 = run(scene, "completed_n7")
+    q, rows2, s2 = run(COMPLETED, "completed_n2")
+    check(p.returncode == 0 and q.returncode == 0, "N = 2 and N = 7: %s %s" % (p.stderr, q.stderr))
+    diff = max(np.abs(rows7[c] - rows2[c]).max() for c in ("x", "y", "theta", "energy", "work_positive"))
+    check(diff < 1e-12, "the same stroke at N = 2 and N = 7 (largest difference %.3g)" % diff)
+
+
+def test_sweep_of_strokes():
+    out = os.path.join(TMP, "sweep")
+    p = subprocess.run([SWIM, "sweep", LOOP, "--out", out, "--vary", "run.t_end=3.141592653589793,6.283185307179586",
+                        "--jobs", "1", "--quiet"], capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 0, "swim sweep of a stroke scene: %s" % p.stderr)
+    members = np.atleast_1d(np.genfromtxt(os.path.join(out, "members.csv"), delimiter=",", names=True, dtype=None,
+                                          encoding="utf-8"))
+    check(len(members) == 2 and all(m["status"] == "completed" for m in members), "both members complete")
+    single = json.load(open(os.path.join(out, "members", "00001", "summary.json")))
+    check(single["kernel"]["kind"] == "stroke" and len(single["stroke"]["strokes"]) == 1,
+          "a member is a stroke run with one stroke")
+    check(abs(members[1]["y"] - single["stroke"]["strokes"][0]["dy"]) < 1e-12, "members.csv has the member's final y")
+
+
 if __name__ == "__main__":
     sys.exit(swimtest.main(globals(), "test_stroke"))
