@@ -13,11 +13,12 @@ Checks:
 - bad input: tables of effects, dc0, free, a kinked law, a stroke that is not allowable (the time
   and the constraint named), all exit status 2 with one line and nothing written;
 - outputs: same summary keys as a dynamic run plus "stroke", --summary-only, --set, events,
-  swim plot / flow on the run directory.
+  swim plot / flow / animate on the run directory, swim sweep of a stroke scene.
 """
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 
@@ -302,6 +303,13 @@ def test_plot_and_flow_on_a_stroke_run():
     f = subprocess.run([SWIM, "flow", out, "--times", "1.5,4", "--out", "-"], capture_output=True, text=True)
     frames = json.loads(f.stdout) if f.returncode == 0 else []
     check(len(frames) == 2 and frames[0]["boundary"], "swim flow on a stroke run directory: %s" % f.stderr)
+    if shutil.which("ffmpeg") is None:
+        print("  swim animate not checked: no ffmpeg (make deps-media)")
+        return
+    a = subprocess.run([SWIM, "animate", out, "--duration", "1", "--fps", "4"], capture_output=True, text=True, env=env)
+    movie = os.path.join(out, "animation.mp4")
+    check(a.returncode == 0 and os.path.exists(movie) and os.path.getsize(movie) > 1000,
+          "swim animate on a stroke run directory: %s" % a.stderr[-300:])
 
 
 def test_modes_beyond_the_stroke_change_nothing():
