@@ -332,6 +332,7 @@ int swim_stroke_check(const swim_stroke *st, double t_end, double output_step, l
     /* the union of the equal steps and the output times, in increasing order */
     const long rows = (long)fmin(floor(t_end / output_step + 1e-9), 1e6);
     const double h = t_end / samples;
+    const long rstride = rows / 2048 > 1 ? rows / 2048 : 1;
     double psi = st->psi0, t_last = 0.0;
     long i = 0, r = 0;
     for (;;) {
@@ -339,8 +340,9 @@ int swim_stroke_check(const swim_stroke *st, double t_end, double output_step, l
         const double tr = r <= rows ? fmin(r * output_step, t_end) : INFINITY;
         const double t = fmin(ti, tr);
         if (!isfinite(t)) break;
-        /* min J (the costly part: 64(N+1) values of J) at every output time and every 8th step */
-        const int shape_too = tr <= t || i % 8 == 0;
+        /* min J (the costly part: 64(N+1) values of J) at every 8th step and at most ~2048 of the
+         * output times (the run itself checks every row) */
+        const int shape_too = (ti <= t && i % 8 == 0) || (tr <= t && r % rstride == 0);
         if (ti <= t) i++;
         if (tr <= t) r++;
         if (check_at(st, t, shape_too, &psi, &t_last, why, whylen)) {

@@ -87,7 +87,8 @@ int swim_stroke_poswork_add(swim_stroke *st, swim_stroke_poswork *w, double t, d
 
 /* Allowability over [0, t_end] at `samples` equal steps and at every output time: (2.8), (2.14)
  * and the volume (2.5) to round-off (relative 1e-10 of the terms' size), the laws finite, and the
- * shape in D (4.1) at every output time and every 8th step. 0 when it holds; otherwise 1 with the first failing time in *t_bad and what
+ * shape in D (4.1) at every 8th step and at ~2048 of the output times (all when there are fewer;
+ * the run checks min J on every row). 0 when it holds; otherwise 1 with the first failing time in *t_bad and what
  * failed (one phrase with the values) in why. */
 int swim_stroke_check(const swim_stroke *st, double t_end, double output_step, long samples, double *t_bad,
                       char *why, size_t whylen);
