@@ -283,6 +283,7 @@ static int prepare_stroke(stroke_ctx *c)
     if ((rc = swim_stroke_full_state(&c->st, 0.0, y, full, NULL)) != 0) return refuse(c, 0.0, swim_stroke_strerror(rc));
     memcpy(s->c0, full + 3, sizeof(double) * s->n);
     memcpy(s->dc0, full + 3 + s->n, sizeof(double) * s->n);
+    if (s->rhof_neutral) s->rhof = s->rho0 / c->st.mu2;   /* (2.10) with the stroke's volume */
     if (swim_scene_check_model(s, c->kn.kernel)) return 2;
     double t_bad;
     char why[512];
