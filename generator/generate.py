@@ -5,6 +5,8 @@
                                                        the hand-written runtime/kernel/swim_kernel.h)
     generate.py --table 0 1 2 7 --out build/table.c    the table of kernels linked into a build
     generate.py --scene structure.json --out k.c       a kernel specialized to one scene structure
+    generate.py --stroke structure.json --out k.c      the laws of a prescribed stroke and their
+                                                       exact derivatives (swimgen/stroke.py)
 
 Output is deterministic: the same SymPy version writes byte-identical files.
 """
@@ -19,6 +21,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from swimgen.emit import kernel_source, scene_kernel_source, table_source  # noqa: E402
 from swimgen.law import LawError  # noqa: E402
+from swimgen.stroke import stroke_kernel_source  # noqa: E402
 
 MAX_MODES = 32   # SWIM_KERNEL_MAX_MODES in runtime/kernel/swim_kernel.h
 
@@ -35,11 +38,28 @@ def write_if_changed(path, text):
         os.replace(tmp, path)
 
 
+def _stroke(args):
+    try:
+        with open(args.stroke, encoding="utf-8") as fh:
+            structure = json.load(fh)
+        text = stroke_kernel_source(structure, "generator/generate.py --stroke %s --out %s"
+                                    % (os.path.basename(args.stroke), os.path.basename(args.out)))
+    except LawError as exc:
+        print("generate.py: --stroke %s: stroke law: %s" % (args.stroke, exc), file=sys.stderr)
+        return 2
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        print("generate.py: --stroke %s: %s" % (args.stroke, exc), file=sys.stderr)
+        return 2
+    write_if_changed(args.out, text)
+    return 0
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--modes", type=int, nargs="*", default=[], help="mode counts N to generate")
     ap.add_argument("--table", type=int, nargs="*", help="write the kernel table for these N")
     ap.add_argument("--scene", help="scene structure (JSON written by bin/swim) to specialize")
+    ap.add_argument("--stroke", help="stroke structure (JSON written by bin/swim) to emit")
     ap.add_argument("--out", required=True, help="output folder (or file, with --table)")
     ap.add_argument("--quiet", action="store_true")
     args = ap.parse_args(argv)
@@ -49,6 +69,9 @@ def main(argv=None):
             print("generate.py: --modes: N = %d is out of range 0..%d" % (k, MAX_MODES),
                   file=sys.stderr)
             return 2
+
+    if args.stroke:
+        return _stroke(args)
 
     if args.scene:
         try:

@@ -11,7 +11,9 @@ class KernelPrinter(C99CodePrinter):
     constants as literals."""
 
     def __init__(self, names):
-        super().__init__()
+        # no math macros (M_SQRT2, M_1_PI, ...): strict C11's <math.h> does not define them, so
+        # a law such as sqrt(2)*sin(t) would not compile; SymPy then prints sqrt(2) itself.
+        super().__init__({"math_macros": {}})
         self._names = names
 
     def _print_Symbol(self, expr):

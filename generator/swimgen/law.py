@@ -5,7 +5,8 @@ law and the interpreted one are the same function: numbers (C strtod syntax, dec
 t, pi, e; + - * / and ^ (right-associative, binding tighter than unary minus: -2^2 = -4, and
 2^-1 allowed); parentheses; sin cos tan asin acos atan exp log sqrt abs sinh cosh tanh and step
 (Heaviside, 1 for x >= 0). Nothing else is accepted: the law reaches C only through the one
-printer (cprint.py).
+printer (cprint.py). A caller may pass named parameters (a dict name -> SymPy symbol): their
+names are then accepted too and stand for those symbols (run-time values, not constants).
 """
 
 import re
@@ -39,8 +40,9 @@ class LawError(ValueError):
 
 
 class _Parser:
-    def __init__(self, text, t):
+    def __init__(self, text, t, params=None):
         self.s, self.p, self.t, self.depth = text, 0, t, 0
+        self.params = params or {}
 
     def fail(self, msg):
         raise LawError("at column %d: %s" % (self.p + 1, msg))
@@ -91,6 +93,8 @@ class _Parser:
                 e = sp.pi
             elif name == "e":
                 e = sp.E
+            elif name in self.params:
+                e = self.params[name]
             elif name in FUNCTIONS:
                 if self.peek() != "(":
                     self.fail("expected '(' after function name")
@@ -146,9 +150,10 @@ class _Parser:
         return e
 
 
-def parse_law(text, t):
-    """The law `text` as a SymPy expression in the symbol t; LawError names the column."""
-    ps = _Parser(text, t)
+def parse_law(text, t, params=None):
+    """The law `text` as a SymPy expression in the symbol t (and the symbols of `params`, a dict
+    name -> symbol, when given); LawError names the column."""
+    ps = _Parser(text, t, params)
     e = ps.sum()
     if ps.peek():
         ps.fail("unexpected text after the expression")

@@ -10,4 +10,10 @@ int swim_cmd_flow(int argc, char **argv);
 int swim_cmd_animate(int argc, char **argv);
 int swim_cmd_sweep(int argc, char **argv);
 
+/* swim run on a scene with a [stroke] table (cli/stroke_run.c): swim_cmd_run hands such a scene
+ * to swim_cmd_stroke, with the same arguments. swim_stroke_requested: 1 when the scene named on
+ * the command line has a [stroke] table. */
+int swim_stroke_requested(int argc, char **argv);
+int swim_cmd_stroke(int argc, char **argv);
+
 #endif

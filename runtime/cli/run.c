@@ -945,6 +945,7 @@ static void release(run_ctx *c)
 
 int swim_cmd_run(int argc, char **argv)
 {
+    if (swim_stroke_requested(argc, argv)) return swim_cmd_stroke(argc, argv);   /* a prescribed stroke */
     run_ctx *c = calloc(1, sizeof *c);
     if (!c) {
         swim_message(stderr, "swim run: out of memory");

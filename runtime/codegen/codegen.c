@@ -163,6 +163,7 @@ typedef struct {
     int modes;
     const char *what;         /* "kernel for N = 20", for messages */
     const char *cflags;       /* compiler flags (part of the key) */
+    int stroke;               /* json is a stroke structure (generate.py --stroke) */
 } entry_spec;
 
 static int write_atomic(const char *path, const char *text)
@@ -241,7 +242,11 @@ static int load_entry(const char *dir, const entry_spec *e, swim_compiled *out)
     snprintf(so, sizeof so, "%s/kernel.so", dir);
     out->handle = dlopen(so, RTLD_NOW | RTLD_LOCAL);
     if (!out->handle) return -1;
-    if (e->json) {
+    if (e->stroke) {
+        out->stroke = dlsym(out->handle, "swim_stroke_kernel_entry");
+        if (out->stroke && out->stroke->abi == SWIM_STROKE_ABI && strcmp(out->stroke->structure, e->key) == 0)
+            return 0;
+    } else if (e->json) {
         out->scene = dlsym(out->handle, "swim_scene_kernel_entry");
         if (out->scene && out->scene->abi == SWIM_KERNEL_ABI && strcmp(out->scene->structure, e->key) == 0)
             return 0;
@@ -255,6 +260,7 @@ static int load_entry(const char *dir, const entry_spec *e, swim_compiled *out)
     out->handle = NULL;
     out->scene = NULL;
     out->kernel = NULL;
+    out->stroke = NULL;
     return -1;
 }
 
@@ -279,7 +285,7 @@ static int build_entry(const char *root, const char *dir, const entry_spec *e, s
         snprintf(path, sizeof path, "%s/structure.json", dir);
         if (write_atomic(path, e->json) != 0) return -2;
         snprintf(tmp, sizeof tmp, "%s/kernel.c.tmp%ld", dir, (long)getpid());
-        char *argv[] = {(char *)python, gen, "--scene", path, "--out", tmp, "--quiet", NULL};
+        char *argv[] = {(char *)python, gen, e->stroke ? "--stroke" : "--scene", path, "--out", tmp, "--quiet", NULL};
         rc = run_command(argv, log);
     } else {
         char modes[16];
@@ -431,7 +437,7 @@ int swim_codegen_kernel(int modes, swim_compiled *out, int verbose)
     snprintf(key, sizeof key, "kernel N=%d%s", modes, suffix);
     free(suffix);
     snprintf(what, sizeof what, "kernel for N = %d", modes);
-    entry_spec e = {key, NULL, modes, what, SWIM_KERNEL_CFLAGS_N};
+    entry_spec e = {key, NULL, modes, what, SWIM_KERNEL_CFLAGS_N, 0};
     return obtain(&e, out, verbose);
 }
 
@@ -523,7 +529,7 @@ int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int
     char what[128];
     snprintf(what, sizeof what, "%s kernel for N = %d (%d coordinates)", generic ? "generic scene" : "scene",
              s->modes, nfree);
-    entry_spec e = {key, json, s->modes, what, SWIM_KERNEL_CFLAGS};
+    entry_spec e = {key, json, s->modes, what, SWIM_KERNEL_CFLAGS, 0};
     int rc = obtain(&e, out, verbose);
     free(key);
     free(json);
@@ -536,4 +542,57 @@ void swim_compiled_close(swim_compiled *c)
     c->handle = NULL;
     c->kernel = NULL;
     c->scene = NULL;
+    c->stroke = NULL;
+}
+
+/* ---- prescribed strokes --------------------------------------------------------------------- */
+
+/* The stroke structure as JSON (generator/swimgen/stroke.py); with key == NULL the key itself. */
+static char *stroke_text(const swim_scene *s, const char *key)
+{
+    char *text = NULL;
+    size_t len;
+    FILE *f = open_memstream(&text, &len);
+    if (!f) return NULL;
+    fprintf(f, "{\"format\": 1, ");
+    if (key) {
+        fprintf(f, "\"key\": ");
+        swim_json_string(f, key);
+        fprintf(f, ", ");
+    }
+    fprintf(f, "\"modes\": %d, \"laws\": [", s->modes);
+    for (int k = 0; k < s->stroke_count; k++) {
+        fprintf(f, "%s[%d, ", k ? ", " : "", s->stroke_index[k]);
+        swim_json_string(f, s->stroke_law[k]);
+        fputc(']', f);
+    }
+    fprintf(f, "], \"parameters\": []}\n");   /* named parameters: none yet */
+    fclose(f);
+    return text;
+}
+
+int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose)
+{
+    memset(out, 0, sizeof *out);
+    char *structure = stroke_text(s, NULL), *suffix = key_suffix(SWIM_KERNEL_CFLAGS), *key = NULL, *json = NULL;
+    if (structure && suffix) {
+        structure[strcspn(structure, "\n")] = '\0';
+        size_t len = strlen(structure) + strlen(suffix) + 16;
+        if ((key = malloc(len))) snprintf(key, len, "stroke %s%s", structure, suffix);
+    }
+    if (key) json = stroke_text(s, key);
+    free(structure);
+    free(suffix);
+    if (!json) {
+        free(key);
+        fprintf(stderr, "swim: %s: out of memory describing the stroke\n", s->path);
+        return -1;
+    }
+    char what[128];
+    snprintf(what, sizeof what, "stroke kernel for N = %d (%d laws)", s->modes, s->stroke_count);
+    entry_spec e = {key, json, s->modes, what, SWIM_KERNEL_CFLAGS, 1};
+    int rc = obtain(&e, out, verbose);
+    free(key);
+    free(json);
+    return rc;
 }

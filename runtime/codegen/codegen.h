@@ -1,6 +1,6 @@
 /* codegen.h -- kernels generated, compiled and cached at run time.
  *
- * Two kinds of kernels come from here:
+ * Three kinds of kernels come from here (the third, a prescribed stroke's laws, is at the end):
  *   - the kernel of N modes (swim_kernel: mass matrices, K, Gamma, J; diagnostics and
  *     `swim inspect`): linked in for N = 0..7 (generated/), generated on first use for any
  *     other N up to SWIM_KERNEL_MAX_MODES;
@@ -28,6 +28,7 @@
 #ifndef SWIM_CODEGEN_H
 #define SWIM_CODEGEN_H
 
+#include "kernel/stroke_kernel.h"
 #include "kernel/swim_kernel.h"
 #include "scene/scene.h"
 
@@ -41,6 +42,7 @@ typedef struct {
     char source[SWIM_CODEGEN_PATH + 16];  /* its generated C file */
     int from_cache, generic;
     double generate_seconds, compile_seconds;
+    const swim_stroke_kernel *stroke;     /* a prescribed stroke's laws (swim_codegen_stroke) */
 } swim_compiled;
 
 /* verbose: 0 quiet (damage and fallback notices only), 1 also progress of a generation,
@@ -51,6 +53,11 @@ int swim_codegen_kernel(int modes, swim_compiled *out, int verbose);
 /* The right-hand side for the scene's structure (generic: see above). 0, or -1 after one line. */
 int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int verbose);
 void swim_compiled_close(swim_compiled *c);
+
+/* The laws of the scene's [stroke] with their exact first and second derivatives
+ * (generator/swimgen/stroke.py), cached like scene kernels under the key "stroke {structure}".
+ * 0, or -1 after one line on stderr (a law that is not twice differentiable fails here). */
+int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose);
 
 /* The structure key of a scene as the cache uses it (malloc'd, caller frees), or NULL. */
 char *swim_codegen_scene_key(const swim_scene *s, int generic);

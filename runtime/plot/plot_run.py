@@ -17,11 +17,13 @@ or bin/swim of this tree). Writes into DIR, printing each path written:
   phase3d.png     (coordinate, velocity, t) curves                 (Figs 4.10, 4.14, 4.19)
   modes.png       mode amplitudes (k+1)^2 |c_-k|^2 over time        (Figs 4.24, 4.25)
   path.png        the path of the centre of mass with the body along it (Figs 4.13, 5.1)
+  stroke.png      a prescribed stroke ([stroke] scenes): the power the body spends and, per
+                  stroke, its displacement and positive work
 
 Only the figures that say something about the run are drawn: instants.png when
 there are marks, phase3d.png for scenes with at most 8 free coordinates,
 modes.png for scenes with at least 3 free complex modes, path.png when the
-centre of mass travels at least 0.6 body diameters.
+centre of mass travels at least 0.6 body diameters, stroke.png for prescribed strokes.
 
 Marks (dashed lines on energy.png and impulse.png, the panels of instants.png)
 are the times given with --mark, otherwise the events of DIR/events.csv
@@ -48,7 +50,7 @@ from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.colors import Normalize  # noqa: E402
 
 FIGURES = ("trajectory", "energy", "impulse", "phase", "snapshots", "instants", "phase3d",
-           "modes", "path")
+           "modes", "path", "stroke")
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 MAX_MARKS = 12
 FIGSIZE = (12.0, 5.0)
@@ -445,7 +447,8 @@ def fig_energy(run):
     ax1.plot(t, total, color="k", lw=1.6, label=total_label)
     work = cols.get("work")
     if work is not None and absmax(work) > 1e-12 * max(absmax(total), 1e-300):
-        ax1.plot(t, work, color="k", lw=1.0, ls=":", label="work of forcing + damping")
+        ax1.plot(t, work, color="k", lw=1.0, ls=":",
+                 label="work of the stroke" if "stroke" in run.summary else "work of forcing + damping")
     mark_failure(ax1, run, t)
     draw_marks(ax1, run)
     ax1.set_xlabel("time t")
@@ -943,9 +946,67 @@ def fig_path(run):
     return save(fig, run, "path")
 
 
+def fig_stroke(run):
+    """A prescribed stroke: the power P = dE/dt the body spends (positive part shaded) with the
+    positive work so far, and per stroke the displacement (body frame at the stroke's start) and
+    the positive work."""
+    info = run.summary.get("stroke")
+    if not isinstance(info, dict):
+        raise Skip("not a prescribed stroke (no \"stroke\" in summary.json)")
+    cols = run.cols
+    t, power = need(cols, "t", "power")
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=FIGSIZE)
+    ax1.plot(t, power, color="k", lw=1.2, label="power P = dE/dt")
+    ax1.fill_between(t, 0, np.maximum(power, 0), color="tab:red", alpha=0.3, lw=0, label="P > 0 (spent)")
+    ax1.axhline(0, color="k", lw=0.6)
+    if "work_positive" in cols:
+        axw = ax1.twinx()
+        axw.plot(t, cols["work_positive"], color="tab:red", lw=1.0, ls="--", label="positive work so far")
+        axw.set_ylabel("positive work")
+        h1, l1 = ax1.get_legend_handles_labels()
+        h2, l2 = axw.get_legend_handles_labels()
+        ax1.legend(h1 + h2, l1 + l2, loc="upper left", fontsize=8)
+    mark_failure(ax1, run, t)
+    ax1.set_xlabel("time t")
+    ax1.set_ylabel("power")
+    ax1.set_title("Power of the stroke")
+    ax1.grid(alpha=0.3)
+    strokes = [s for s in info.get("strokes") or [] if isinstance(s, dict)]
+    if strokes:
+        k = np.array([s["stroke"] for s in strokes])
+        bx = np.array([s["body_dx"] for s in strokes])
+        by = np.array([s["body_dy"] for s in strokes])
+        wp = np.array([s["work_positive"] for s in strokes])
+        ax2.bar(k - 0.2, bx, width=0.4, color="tab:blue", label="displacement along e*1")
+        ax2.bar(k + 0.2, by, width=0.4, color="tab:green", label="displacement along e*2")
+        ax2.axhline(0, color="k", lw=0.6)
+        ax2.set_xticks(k if len(k) <= 20 else k[::max(1, len(k) // 10)])
+        ax2.set_xlabel("stroke (period %.6g, %s)" % (info.get("period") or float("nan"), info.get("period_source")))
+        ax2.set_ylabel("displacement per stroke (body frame)")
+        axp = ax2.twinx()
+        axp.plot(k, wp, "o-", color="tab:red", label="positive work per stroke")
+        axp.set_ylabel("positive work per stroke")
+        axp.set_ylim(0, 1.2 * max(np.nanmax(wp), 1e-300))
+        h1, l1 = ax2.get_legend_handles_labels()
+        h2, l2 = axp.get_legend_handles_labels()
+        ax2.legend(h1 + h2, l1 + l2, loc="lower left", fontsize=8)
+        ax2.set_title("Per stroke")
+    else:
+        x, y = need(cols, "x", "y")
+        ax2.plot(x, y, color="tab:blue")
+        ax2.set_aspect("equal", adjustable="datalim")
+        ax2.set_xlabel("x")
+        ax2.set_ylabel("y")
+        ax2.set_title("Path of the centre of mass (no period: no strokes to compare)")
+    ax2.grid(alpha=0.3)
+    run.suptitle(fig, "prescribed stroke" + (", c1 completed" if info.get("completed_c1") else ""))
+    fig.tight_layout()
+    return save(fig, run, "stroke")
+
+
 DRAW = {"trajectory": fig_trajectory, "energy": fig_energy, "impulse": fig_impulse,
         "phase": fig_phase, "snapshots": fig_snapshots, "instants": fig_instants,
-        "phase3d": fig_phase3d, "modes": fig_modes, "path": fig_path}
+        "phase3d": fig_phase3d, "modes": fig_modes, "path": fig_path, "stroke": fig_stroke}
 
 
 # ---------------------------------------------------------------- main

@@ -247,9 +247,92 @@ static int check_initial_velocity(ctx *c, const toml_value *shape, swim_scene *s
     return 0;
 }
 
+/* The first of step, abs used in `law` (a word of the text), or NULL: neither is twice
+ * differentiable where it switches, and a stroke needs c'' (its power). */
+static const char *not_smooth(const char *law)
+{
+    static const char *const names[] = {"step", "abs"};
+    for (const char *p = law; *p;) {
+        if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z'))) {
+            p++;
+            continue;
+        }
+        const char *w = p;
+        while ((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') || *p == '_') p++;
+        for (int i = 0; i < 2; i++)
+            if ((size_t)(p - w) == strlen(names[i]) && strncmp(w, names[i], (size_t)(p - w)) == 0) return names[i];
+    }
+    return NULL;
+}
+
+/* [stroke] COORD = "law in t" (and period = T): a prescribed stroke. The tables of effects do
+ * not apply (the shape is given, nothing acts on it) and neither do dc0 and free (the velocities
+ * are the laws' derivatives; the laws say what moves): any of them is refused, naming its first
+ * key. Sets free_mask to the prescribed coordinates, and to c1 when it is completed. */
+static int parse_stroke(ctx *c, const toml_value *root, const toml_value *stroke, const toml_value *shape,
+                        swim_scene *s)
+{
+    static const char *const refused[] = {"elastic", "barrier", "damping", "forcing"};
+    for (size_t i = 0; i < sizeof refused / sizeof refused[0]; i++) {
+        const toml_value *t = toml_get(root, refused[i]);
+        if (!t) continue;
+        c->table = refused[i];
+        const int has_key = toml_kind_of(t) == TOML_TABLE && toml_table_size(t) > 0;
+        ERR(c, has_key ? toml_table_key_line(t, 0) : toml_get_key_line(root, refused[i]),
+            has_key ? toml_table_key(t, 0) : "*", "does not apply to a prescribed stroke ([stroke]): "
+            "the shape is given, only (3.21) is integrated; remove [%s]", refused[i]);
+    }
+    c->table = "shape";
+    static const char *const shape_refused[] = {"dc0", "free"};
+    for (int i = 0; i < 2; i++)
+        if (toml_get(shape, shape_refused[i]))
+            ERR(c, toml_get_key_line(shape, shape_refused[i]), shape_refused[i], "does not apply to a prescribed "
+                "stroke ([stroke]): the laws give the moving coordinates and their velocities; remove it");
+    c->table = "stroke";
+    s->stroke = 1;
+    for (int i = 0; i < s->n; i++) s->free_mask[i] = 0;
+    for (size_t j = 0; j < toml_table_size(stroke); j++) {
+        const char *key = toml_table_key(stroke, j);
+        const toml_value *v = toml_table_value(stroke, j);
+        const int line = toml_table_key_line(stroke, j);
+        if (strcmp(key, "period") == 0) {
+            if (get_number(c, stroke, "period", 1, &s->stroke_period)) return 2;
+            if (!(s->stroke_period > 0)) ERR(c, line, key, "must be > 0, got %g", s->stroke_period);
+            s->stroke_period_line = line;
+            continue;
+        }
+        int found = -1;
+        char buf[16];
+        for (int i = 0; i < s->n; i++) {
+            swim_coord_name(i, buf, sizeof buf);
+            if (strcmp(buf, key) == 0) found = i;
+        }
+        if (found < 0)
+            ERR(c, line, key, "unknown key: expected period or a coordinate name for modes = %d (a1, b1, am1, bm1, ..., bm%d)",
+                s->modes, s->modes);
+        if (!toml_string(v)) ERR(c, line, key, "expected a string law in t, e.g. \"0.2*sin(t)\"");
+        const int k = s->stroke_count++;
+        char err[160];
+        s->stroke_index[k] = found;
+        s->stroke_line[k] = line;
+        if (!(s->stroke_law[k] = strdup(toml_string(v)))) ERR(c, line, key, "out of memory");
+        if (!(s->stroke_expr[k] = swim_expr_compile(s->stroke_law[k], err, sizeof err)))
+            ERR(c, line, key, "\"%s\": %s", s->stroke_law[k], err);
+        const char *kink = not_smooth(s->stroke_law[k]);
+        if (kink)
+            ERR(c, line, key, "\"%s\": %s() is not twice differentiable where it switches; a stroke law must be "
+                "(the power needs c'')", s->stroke_law[k], kink);
+        s->free_mask[found] = 1;
+    }
+    if (s->stroke_count == 0) ERR(c, toml_line(stroke), "*", "no law: a stroke prescribes at least one coordinate");
+    s->stroke_complete_c1 = !s->free_mask[0] && !s->free_mask[1];
+    if (s->stroke_complete_c1) s->free_mask[0] = s->free_mask[1] = 1;
+    return 0;
+}
+
 static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
 {
-    static const char *const top[] = {"title", "model", "shape", "elastic", "barrier", "damping", "forcing", "run", "events", NULL};
+    static const char *const top[] = {"title", "model", "shape", "elastic", "barrier", "damping", "forcing", "run", "events", "stroke", NULL};
     static const char *const k_model[] = {"modes", "rho0", "rhof", NULL};
     static const char *const k_shape[] = {"c0", "dc0", "free", NULL};
     static const char *const k_elastic[] = {"stiffness", "reference", NULL};
@@ -331,8 +414,15 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     c->table = "shape";
     if (check_keys(c, shape, k_shape)) return 2;
     if (get_vector(c, shape, "c0", s->n, 1, s->c0, NULL)) return 2;
-    if (get_vector(c, shape, "dc0", s->n, 1, s->dc0, NULL)) return 2;
-    if (parse_free(c, shape, s)) return 2;
+    const toml_value *stroke = get_table(c, root, "stroke", 0, &rc);
+    if (rc) return rc;
+    if (stroke) {
+        if (parse_stroke(c, root, stroke, shape, s)) return 2;
+        c->table = "shape";
+    } else {
+        if (get_vector(c, shape, "dc0", s->n, 1, s->dc0, NULL)) return 2;
+        if (parse_free(c, shape, s)) return 2;
+    }
     double jmin = swim_shape_jmin(s->modes, s->c0);
     if (!(jmin > 0)) ERR(c, toml_get_key_line(shape, "c0"), "c0", "shape outside the admissible set D: min J = %.4g <= 0 on the unit circle (4.1)", jmin);
     double mu2 = swim_area_constant(s->n, s->c0);
@@ -603,6 +693,13 @@ int swim_override_parse(const char *text, swim_override *o, char *err, size_t er
 
 void swim_scene_free(swim_scene *s)
 {
+    for (int k = 0; k < s->stroke_count; k++) {
+        swim_expr_free(s->stroke_expr[k]);
+        free(s->stroke_law[k]);
+        s->stroke_expr[k] = NULL;
+        s->stroke_law[k] = NULL;
+    }
+    s->stroke_count = 0;
     swim_expr_free(s->forcing);
     free(s->path);
     free(s->title);

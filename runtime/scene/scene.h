@@ -69,6 +69,18 @@ typedef struct {
     int line_c0, line_dc0, line_rho0, line_rhof;  /* for swim_scene_check_model's messages */
     char events[32][128];             /* [events] list: "COLUMN:KIND[:stop]" entries (checked by swim run) */
     int nevents, events_line;         /* how many; the line of the list, for messages */
+    /* [stroke]: a prescribed stroke (section 3.3): only (3.21) is integrated, the shape is given.
+     * Coordinates not prescribed stay at c0, except c1, completed from (2.5) and (2.14) when
+     * neither a1 nor b1 is prescribed. free_mask then marks the coordinates that move. */
+    int stroke;                       /* a [stroke] table is present */
+    int stroke_count;                 /* prescribed coordinates */
+    int stroke_index[SWIM_NMAX];      /* their indices in the shape vector, in file order */
+    char *stroke_law[SWIM_NMAX];      /* their laws as written (owned) */
+    swim_expr *stroke_expr[SWIM_NMAX];/* the same, interpreted (checks; the run uses the kernel) */
+    int stroke_line[SWIM_NMAX];       /* line of each law */
+    double stroke_period;             /* [stroke] period, 0 when absent (then detected) */
+    int stroke_period_line;
+    int stroke_complete_c1;           /* c1 completed from the volume and (2.14) */
 } swim_scene;
 
 /* Which run settings came from the command line (nonzero: its messages name the option). */

@@ -566,7 +566,8 @@ static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys)
         swim_compiled kn, sc;
         int bad = swim_codegen_kernel(s.modes, &kn, verbose) != 0;
         if (!bad) {
-            bad = swim_codegen_scene(&s, p->generic, &sc, verbose) != 0;
+            /* a prescribed stroke's members run on its laws' kernel (runtime/stroke) */
+            bad = (s.stroke ? swim_codegen_stroke(&s, &sc, verbose) : swim_codegen_scene(&s, p->generic, &sc, verbose)) != 0;
             if (!bad) swim_compiled_close(&sc);
             swim_compiled_close(&kn);
         }
