@@ -4,8 +4,10 @@ The grammar is the runtime's (runtime/scene/expr.c), parsed the same way so that
 law and the interpreted one are the same function: numbers (C strtod syntax, decimal or hex),
 t, pi, e; + - * / and ^ (right-associative, binding tighter than unary minus: -2^2 = -4, and
 2^-1 allowed); parentheses; sin cos tan asin acos atan exp log sqrt abs sinh cosh tanh and step
-(Heaviside, 1 for x >= 0). Nothing else is accepted: the law reaches C only through the one
-printer (cprint.py).
+(Heaviside, 1 for x >= 0); and the names of the scene's [parameters], given as a dict of
+symbols (their values are run-time numbers the kernel reads, so the law's structure does not
+depend on them). Nothing else is accepted: the law reaches C only through the one printer
+(cprint.py).
 """
 
 import re
@@ -39,8 +41,9 @@ class LawError(ValueError):
 
 
 class _Parser:
-    def __init__(self, text, t):
+    def __init__(self, text, t, params=None):
         self.s, self.p, self.t, self.depth = text, 0, t, 0
+        self.params = params or {}
 
     def fail(self, msg):
         raise LawError("at column %d: %s" % (self.p + 1, msg))
@@ -91,7 +94,7 @@ class _Parser:
                 e = sp.pi
             elif name == "e":
                 e = sp.E
-            elif name in FUNCTIONS:
+            elif name in FUNCTIONS and name not in self.params:
                 if self.peek() != "(":
                     self.fail("expected '(' after function name")
                 self.p += 1
@@ -100,9 +103,12 @@ class _Parser:
                     self.fail("expected ')'")
                 self.p += 1
                 e = FUNCTIONS[name](arg)
+            elif name in self.params:
+                e = self.params[name]
             else:
                 self.p = start
-                self.fail("unknown name (use t, pi, e or a function such as sin)")
+                self.fail("unknown name '%s' (use t, pi, e, %sa function such as sin)"
+                          % (name, "a name of [parameters], " if self.params else ""))
         else:
             self.fail("unexpected character" if c else "unexpected end of expression")
         self.depth -= 1
@@ -146,9 +152,21 @@ class _Parser:
         return e
 
 
-def parse_law(text, t):
-    """The law `text` as a SymPy expression in the symbol t; LawError names the column."""
-    ps = _Parser(text, t)
+RESERVED = {"t", "pi", "e"} | set(FUNCTIONS)
+
+
+def parameter_symbols(names):
+    """{name: Symbol} for the scene's [parameters]; a reserved name is a LawError."""
+    for name in names:
+        if name in RESERVED or not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", name):
+            raise LawError("'%s' cannot name a parameter" % name)
+    return {name: sp.Symbol("law_param_%s" % name, real=True) for name in names}
+
+
+def parse_law(text, t, params=None):
+    """The law `text` as a SymPy expression in the symbol t and the parameter symbols of
+    `params` ({name: Symbol}, see parameter_symbols); LawError names the column."""
+    ps = _Parser(text, t, params)
     e = ps.sum()
     if ps.peek():
         ps.fail("unexpected text after the expression")

@@ -17,6 +17,7 @@
 #include "scene/expr.h"
 
 #define SWIM_NMAX (2 * (SWIM_KERNEL_MAX_MODES + 1))
+#define SWIM_PARAMS_MAX 32   /* names in [parameters] */
 
 /* Bounds every run honours, whatever set the value (scene file or command line), checked in
  * one place, swim_run_settings_check:
@@ -69,6 +70,13 @@ typedef struct {
     int line_c0, line_dc0, line_rho0, line_rhof;  /* for swim_scene_check_model's messages */
     char events[32][128];             /* [events] list: "COLUMN:KIND[:stop]" entries (checked by swim run) */
     int nevents, events_line;         /* how many; the line of the list, for messages */
+    /* [parameters]: named numbers the laws may use (A = 2, w = 0.3333). The kernels read their
+     * values at run time (swim_scene_params.law_params), so changing a value (--set
+     * parameters.A=3, a sweep, an optimizer) never regenerates a kernel; the names are part of
+     * the structure key. */
+    int nparams, params_line;
+    char param_names[SWIM_PARAMS_MAX][32];
+    double param_values[SWIM_PARAMS_MAX];
 } swim_scene;
 
 /* Which run settings came from the command line (nonzero: its messages name the option). */
