@@ -9,5 +9,7 @@ int swim_cmd_plot(int argc, char **argv);
 int swim_cmd_flow(int argc, char **argv);
 int swim_cmd_animate(int argc, char **argv);
 int swim_cmd_sweep(int argc, char **argv);
+int swim_cmd_floquet(int argc, char **argv);
+int swim_cmd_optimize(int argc, char **argv);
 
 #endif

@@ -37,6 +37,11 @@ static const command commands[] = {
      "           --out DIR --vary KEY=SPEC [--vary ...] [--zip] [--jobs J] [--keep trajectories]\n"
      "           [--set KEY=VALUE ...] [run options]; SPEC: START:STOP:COUNT, log:START:STOP:COUNT, V1,V2,...",
      "swim sweep models/example1.toml --out out/fig42 --vary shape.dc0.bm2=-0.7,0.7 --keep trajectories"},
+    {"floquet", swim_cmd_floquet,
+     "monodromy matrix and Floquet multipliers of a periodic stroke: DIR/floquet.json, a table\n"
+     "           [--event COLUMN:KIND (default: first moving coordinate, max)] [--t-max T] [--out DIR]\n"
+     "           [--set KEY=VALUE ...] [--generic] [--quiet]",
+     "swim floquet models/example3.toml --event am1:max --out out/example3-floquet"},
     {"plot", swim_cmd_plot, "PNG figures of a run directory, or of a sweep directory (matplotlib)", "swim plot out/example3"},
 };
 
