@@ -42,6 +42,13 @@ static const command commands[] = {
      "           [--event COLUMN:KIND (default: first moving coordinate, max)] [--t-max T] [--out DIR]\n"
      "           [--set KEY=VALUE ...] [--generic] [--quiet]",
      "swim floquet models/example3.toml --event am1:max --out out/example3-floquet"},
+    {"optimize", swim_cmd_optimize,
+     "best values of scene keys within bounds for a quantity of the run (Nelder-Mead, GSL multimin):\n"
+     "           DIR/optimize.csv, optimize.json, best.toml, convergence.png\n"
+     "           --vary KEY=LO:HI [--vary ...] (--maximize|--minimize) QUANTITY [--out DIR]\n"
+     "           [--max-iter K] [--tol S] [--set KEY=VALUE ...] [--quiet]; QUANTITY: x, y, theta,\n"
+     "           displacement, work, forcing_work, displacement_per_work, energy (at t_end)",
+     "swim optimize models/selfpropelled.toml --set run.t_end=30 --vary parameters.A=0.5:4 --maximize displacement_per_work"},
     {"plot", swim_cmd_plot, "PNG figures of a run directory, or of a sweep directory (matplotlib)", "swim plot out/example3"},
 };
 
