@@ -88,6 +88,30 @@ def test_against_central_differences():
     check(w[0] == 0.0 and abs(w[-1]) > 1e-3, "d work/dA starts at 0 and grows")
 
 
+def test_state_steps():
+    """--sensitivity-steps state: no error test on the sensitivities, the state's steps only."""
+    path = scene()
+    keys = "parameters.w,c0.am1"
+    res = {}
+    for mode in ("all", "state"):
+        out = os.path.join(TMP, "steps_" + mode)
+        p = subprocess.run([SWIM, "run", path, "--out", out, "--sensitivity", keys, "--sensitivity-steps", mode],
+                           capture_output=True, text=True, cwd=ROOT)
+        check(p.returncode == 0, "--sensitivity-steps %s runs: %s" % (mode, p.stderr))
+        line = [l for l in p.stdout.splitlines() if "sensitivities of" in l]
+        evals = int(line[0].split(",")[-1].split()[0]) if line else -1
+        r = rows(os.path.join(out, "sensitivity.csv"))[-1] if p.returncode == 0 else {}
+        res[mode] = (evals, r)
+    (ea, ra), (es, rs) = res["all"], res["state"]
+    check(0 < es < ea, "state steps need fewer evaluations (%d vs %d)" % (es, ea))
+    if ra and rs:
+        err = max(abs(float(ra[k]) - float(rs[k])) / (1e-3 + abs(float(ra[k]))) for k in ra if k != "t")
+        check(err < 1e-4, "state steps agree with the controlled sensitivities (%.2g)" % err)
+    p = subprocess.run([SWIM, "run", path, "--out", os.path.join(TMP, "steps_bad"), "--sensitivity", keys,
+                        "--sensitivity-steps", "some"], capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 2 and "--sensitivity-steps" in p.stderr, "a bad --sensitivity-steps is exit 2")
+
+
 def test_bad_keys():
     path = scene()
     for key, want in (("run.t_end", "not a value the equations read"), ("parameters.Z", "no 'Z'"),

@@ -22,7 +22,8 @@ static const command commands[] = {
      "           [--out DIR] [--t-end T] [--output-step DT] [--rtol R] [--atol A]\n"
      "           [--integrator NAME] [--generic] [--no-projection] [--step-lookahead P]\n"
      "           [--trace-steps FILE] [--event COLUMN:KIND[:stop]]... [--snapshots] [--quiet]\n"
-     "           [--set KEY=VALUE ...] [--summary-only] [--sensitivity KEY[,KEY...]]",
+     "           [--set KEY=VALUE ...] [--summary-only]\n"
+     "           [--sensitivity KEY[,KEY...]] [--sensitivity-steps all|state]",
      "swim run models/example3.toml --out out/example3 --rtol=1e-10"},
     {"flow", swim_cmd_flow,
      "body, density rho0/J and fluid velocity at chosen times of a run, as JSON\n"

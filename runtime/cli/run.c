@@ -66,6 +66,7 @@ typedef struct {
     int snapshots;      /* --snapshots: write snapshots.json */
     int summary_only;   /* --summary-only: rows computed (the summary needs them), not written */
     const char *sensitivity;   /* --sensitivity KEY[,KEY...]: DIR/sensitivity.csv (control/sensitivity.h) */
+    int sens_state_steps;      /* --sensitivity-steps state: no error test on the sensitivities */
     swim_override sets[MAX_SETS];   /* --set KEY=VALUE, applied before the scene is validated */
     int nsets;
 } run_options;
@@ -195,7 +196,8 @@ static int read_options(int argc, char **argv, run_ctx *c)
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
                        {"generic", 0, NULL}, {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL},
                        {"trace-steps", 1, NULL}, {"event", 1, NULL}, {"snapshots", 0, NULL},
-                       {"summary-only", 0, NULL}, {"sensitivity", 1, NULL}};
+                       {"summary-only", 0, NULL}, {"sensitivity", 1, NULL},
+                       {"sensitivity-steps", 1, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
@@ -235,6 +237,13 @@ static int read_options(int argc, char **argv, run_ctx *c)
     c->opt.trace = swim_args_get(opts, nopts, "trace-steps");
     c->opt.summary_only = swim_args_get(opts, nopts, "summary-only") != NULL;
     c->opt.sensitivity = swim_args_get(opts, nopts, "sensitivity");
+    if ((v = swim_args_get(opts, nopts, "sensitivity-steps"))) {
+        if (strcmp(v, "all") != 0 && strcmp(v, "state") != 0) {
+            swim_message(stderr, "swim run: --sensitivity-steps: expected all or state, got '%s'", v);
+            return 2;
+        }
+        c->opt.sens_state_steps = strcmp(v, "state") == 0;
+    }
     c->opt.snapshots = swim_args_get(opts, nopts, "snapshots") != NULL && !c->opt.summary_only;
     if (c->opt.trace && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
         swim_message(stderr, "swim run: --trace-steps: integrator '%s' does not report its steps", s->integrator);
@@ -968,6 +977,7 @@ static int run_sensitivity(run_ctx *c)
     int rc = !path || swim_sens_init(&S, &c->d) != 0 ? 1 : swim_sens_add_list(&S, &c->s, "run", c->opt.sensitivity);
     double sec = 0.0;
     long evals = 0;
+    S.error_control = !c->opt.sens_state_steps;
     if (rc == 0) rc = swim_sens_write_run(&S, c->s.integrator, path, &sec, &evals) ? 1 : 0;
     if (rc == 0 && !c->opt.quiet)
         swim_message(stdout, "  sensitivities of %d key(s) in %s: %.3f s, %ld evaluations of the augmented RHS",

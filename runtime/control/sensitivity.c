@@ -26,6 +26,7 @@ int swim_sens_init(swim_sens *S, swim_dynamics *d)
 {
     memset(S, 0, sizeof *S);
     S->d = d;
+    S->error_control = 1;
     S->dim = swim_dynamics_state_dim(d);
     size_t b = sizeof(double) * (size_t)(d->dim > S->dim ? d->dim : S->dim);
     S->yp = malloc(b);
@@ -313,7 +314,7 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
     const double t0 = now();
     char **names = calloc((size_t)ncol, sizeof *names);
     double *Y = malloc(sizeof(double) * N), *row = malloc(sizeof(double) * ncol);
-    double *y0 = calloc((size_t)S->d->dim, sizeof(double)), *ys = malloc(sizeof(double) * n);
+    double *y0 = calloc((size_t)S->d->dim, sizeof(double)), *ys = malloc(sizeof(double) * n), *atolv = NULL;
     int rc = 1;
     swim_csv csv = {0};
     swim_ode *ode = NULL;
@@ -336,6 +337,11 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
     swim_ode_options_default(&o);
     o.rtol = fmax(s->rtol, SENS_RTOL_MIN);
     o.atol = fmax(s->atol, SENS_ATOL_MIN);
+    if (!S->error_control) {   /* the sensitivities ride on the state's steps */
+        if (!(atolv = malloc(sizeof(double) * N))) goto oom;
+        for (int i = 0; i < N; i++) atolv[i] = i < n ? o.atol : 1e300;
+        o.atol_vec = atolv;
+    }
     if (s->step_lookahead >= 0) o.lookahead = s->step_lookahead;
     int orc = swim_ode_create(integrator, &sys, &o, 0.0, Y, &ode);
     const long rows = (long)floor(s->t_end / s->output_step + 1e-9);
@@ -383,7 +389,7 @@ done:
     }
     if (names)
         for (int c = 0; c < ncol; c++) free(names[c]);
-    free(names); free(Y); free(row); free(y0); free(ys);
+    free(names); free(Y); free(row); free(y0); free(ys); free(atolv);
     if (seconds) *seconds = now() - t0;
     return rc;
 }

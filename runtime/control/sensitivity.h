@@ -6,7 +6,9 @@
  * c_carried, cdot_carried, work) solves
  *     s' = (df/dy) s + df/dp,      s(0) = dy0/dp.
  * The augmented state (y, s_1, ..., s_K) is integrated by any integrator of ode/ode.h, whose
- * error control then covers the sensitivities too (as CVODES with errconS). The directional
+ * error control covers the sensitivities too (as CVODES with errconS) unless error_control is 0.
+ * The augmented system is integrated at rtol >= 1e-10: the differences below carry ~1e-10
+ * relative noise, and a tighter error test fights it. The directional
  * derivative (df/dy) s + df/dp is the central difference of the generated right-hand side along
  * (s, 1) in (y, p), with a step scaled to the state and the key (error O(h^2) ~ 1e-10 relative):
  * 2 evaluations of f per key, no Jacobian matrix. dy0/dp of an initial value is the unit vector
@@ -40,6 +42,10 @@ typedef struct {
     swim_sens_key keys[SWIM_SENS_MAX_KEYS];
     double *yp, *ym, *fp, *fm;   /* workspace (owned) */
     long rhs_calls;
+    /* 1 (default): the error test covers the sensitivities too (as CVODES with errconS), which
+     * may need several times the state's steps; 0: it covers the state only, and the
+     * sensitivities take the state's steps (swim run --sensitivity-steps state) */
+    int error_control;
 } swim_sens;
 
 /* 0, or -1 (out of memory). */
