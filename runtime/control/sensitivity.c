@@ -134,8 +134,11 @@ int swim_sens_add_key(swim_sens *S, swim_scene *s, const char *cmd, const char *
     const int coord = i >= 0 && i < s->n, fr = coord && s->free_mask[i];
     double *v0 = NULL, *v1 = NULL;
     const char *absent = NULL;   /* why the kernel has no such term */
-    if (o.index >= s->n) return key_error(cmd, key, "index out of range (the scene has %s coordinates)",
-                                          s->n == 2 ? "2" : "2(N+1)");
+    if (o.index >= s->n) {
+        char n[16];
+        snprintf(n, sizeof n, "%d", s->n);
+        return key_error(cmd, key, "index out of range (the scene has %s shape coordinates)", n);
+    }
     if (strcmp(o.table, "shape") == 0 && (strcmp(o.key, "c0") == 0 || strcmp(o.key, "dc0") == 0) && coord) {
         const int vel = strcmp(o.key, "dc0") == 0;
         if (fr) {
@@ -278,7 +281,7 @@ double swim_sens_energy(swim_sens *S, const double *Y, int k)
     const double *s = Y + (size_t)(k + 1) * n;
     const double h = diff_step(key, Y, s, n);
     if (h == 0.0) return 0.0;
-    double base[2] = {0, 0}, *full = S->fp, E[2];
+    double base[2] = {0, 0}, E[2];
     for (int j = 0; j < key->nvalue; j++) base[j] = *key->value[j];
     int rc = 0;
     for (int side = 0; side < 2 && rc == 0; side++) {
@@ -293,7 +296,6 @@ double swim_sens_energy(swim_sens *S, const double *Y, int k)
         E[side] = g.energy;
         free(fullbuf);
     }
-    (void)full;
     for (int j = 0; j < key->nvalue; j++) *key->value[j] = base[j];
     return rc == 0 ? (E[0] - E[1]) / (2 * h) : NAN;
 }
