@@ -85,6 +85,33 @@ def test_bounds():
           "maximizing puts it on the upper bound (%r)" % (d and d["best"]))
 
 
+def test_not_converged_and_interrupted():
+    p, out, _ = optimize("short", "--vary", "elastic.reference.am1=0:1", "--minimize", "energy", "--max-iter", "2")
+    check(p.returncode == 1 and "NOT converged" in p.stdout, "--max-iter 2: exit 1, says NOT converged (%d %r)"
+          % (p.returncode, p.stdout))
+    check(os.path.exists(os.path.join(out, "best.toml")), "--max-iter 2: the best so far is still written")
+    out = os.path.join(TMP, "sigint")
+    proc = subprocess.Popen([SWIM, "optimize", "models/control/selfpropelled_params.toml", "--out", out, "--quiet",
+                             "--vary", "parameters.A=0.5:4", "--vary", "parameters.w=0.1:1",
+                             "--maximize", "displacement_per_work"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, cwd=ROOT)
+    import time
+    log = os.path.join(out, "optimize.csv")
+    deadline = time.time() + 60
+    while time.time() < deadline and not (os.path.exists(log) and len(open(log).read().splitlines()) >= 3):
+        time.sleep(0.1)
+    proc.send_signal(2)
+    so, se = proc.communicate(timeout=60)
+    check(proc.returncode == 1 and "INTERRUPTED" in so, "SIGINT: exit 1, says INTERRUPTED (%d %r %r)" % (proc.returncode, so, se))
+    try:
+        with open(os.path.join(out, "optimize.json")) as fh:
+            d = json.load(fh)
+        check(d["interrupted"] and not d["converged"], "optimize.json says interrupted")
+        check(os.path.exists(os.path.join(out, "best.toml")), "SIGINT: best.toml of the best so far written")
+    except (OSError, ValueError) as exc:
+        check(False, "SIGINT: optimize.json readable (%r)" % exc)
+
+
 def test_bad_arguments():
     cases = [(["--vary", "elastic.reference.am1=0:1"], "exactly one of"),
              (["--vary", "elastic.reference.am1=1:0", "--minimize", "energy"], "LO < HI"),

@@ -3,6 +3,7 @@
  * DIR/optimize.json, DIR/best.toml and DIR/convergence.png (runtime/plot/plot_optimize.py). */
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,6 +17,9 @@
 #include "io/files.h"
 #include "io/json.h"
 #include "io/message.h"
+
+static volatile int stop_signal;   /* set by SIGINT/SIGTERM; the search ends with what it has */
+static void on_stop(int sig) { stop_signal = sig; }
 
 /* KEY=LO:HI into p->keys[i], lo, hi. 0, or 2 after one line on stderr. */
 static int parse_vary(swim_opt_problem *p, const char *spec)
@@ -102,8 +106,8 @@ static void fill_json(FILE *f, void *ctx)
     fprintf(f, ", \"energy\": ");
     swim_json_number(f, p->best.energy);
     fprintf(f, "},\n  \"iterations\": %d,\n  \"evaluations\": %ld,\n  \"failed_evaluations\": %ld,\n"
-            "  \"converged\": %s,\n  \"best_scene\": ", p->iterations, p->evaluations, p->failed,
-            p->converged ? "true" : "false");
+            "  \"converged\": %s,\n  \"interrupted\": %s,\n  \"best_scene\": ", p->iterations, p->evaluations,
+            p->failed, p->converged ? "true" : "false", p->interrupted ? "true" : "false");
     swim_json_string(f, j->best_path);
     fprintf(f, "\n}\n");
 }
@@ -224,7 +228,16 @@ int swim_cmd_optimize(int argc, char **argv)
         free(dir); free(csv); free(best); free(json);
         return 2;
     }
+    struct sigaction sa, old_int, old_term;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_stop;
+    stop_signal = 0;
+    p.interrupt = &stop_signal;
+    sigaction(SIGINT, &sa, &old_int);
+    sigaction(SIGTERM, &sa, &old_term);
     int rc = swim_opt_run(&p);
+    sigaction(SIGINT, &old_int, NULL);
+    sigaction(SIGTERM, &old_term, NULL);
     if (fclose(p.log_csv) != 0) rc = 1;
     p.log_csv = NULL;
     if (rc != 0) {
@@ -238,11 +251,13 @@ int swim_cmd_optimize(int argc, char **argv)
         if (swim_replace_file_with(json, fill_json, &job) != 0) rc = 1;
         swim_message(stdout, "%s: %s %s = %.10g after %d iterations, %ld runs (%ld failed)%s", pos[0],
                      p.maximize ? "largest" : "smallest", qname, p.best_q, p.iterations, p.evaluations, p.failed,
-                     p.converged ? "" : " -- NOT converged (raise --max-iter)");
+                     p.interrupted ? " -- INTERRUPTED: the best so far, not converged"
+                     : p.converged ? "" : " -- NOT converged (raise --max-iter)");
         for (int i = 0; i < p.nkeys; i++)
             swim_message(stdout, "  %s = %.10g  (range %g .. %g)", p.keys[i].text, p.best_value[i], p.lo[i], p.hi[i]);
         swim_message(stdout, "  best scene %s; log %s", best, csv);
-        if (plot(dir) != 0) rc = rc ? rc : 0;
+        plot(dir);   /* a missing figure is said, the results stand */
+        if (rc == 0 && !p.converged) rc = 1;   /* written, but not the optimum asked for */
     }
     free(dir); free(csv); free(best); free(json);
     return rc;

@@ -153,6 +153,7 @@ int swim_opt_evaluate(swim_opt_problem *p, const double *v, swim_eval_result *r)
         fd = -1;
     }
     int rc = swim_setup_open(&m, "optimize", p->scene_path, ov, nov, 0, 1);
+    m.d.interrupt = p->interrupt;
     if (rc == 0) integrate(&m, r);
     fflush(stderr);
     if (fd >= 0) {
@@ -199,6 +200,7 @@ static double objective(const gsl_vector *u, void *params)
     double v[SWIM_OPT_MAX_KEYS];
     for (int i = 0; i < p->nkeys; i++) v[i] = value_of(p, i, gsl_vector_get(u, i));
     swim_eval_result r;
+    if (p->interrupt && *p->interrupt) return FAILED_PENALTY;   /* no more runs */
     if (swim_opt_evaluate(p, v, &r) != 0) return FAILED_PENALTY;
     const double q = swim_opt_quantity(p, &r);
     if (!isfinite(q)) return FAILED_PENALTY;
@@ -248,7 +250,15 @@ int swim_opt_run(swim_opt_problem *p)
     double size = gsl_multimin_fminimizer_size(mm);
     log_iteration(p, 0, size);
     for (int iter = 1; status == GSL_SUCCESS && iter <= p->max_iter; iter++) {
+        if (p->interrupt && *p->interrupt) {
+            p->interrupted = 1;
+            break;
+        }
         status = gsl_multimin_fminimizer_iterate(mm);
+        if (p->interrupt && *p->interrupt) {   /* this iteration's runs were cut short */
+            p->interrupted = 1;
+            break;
+        }
         if (status != GSL_SUCCESS) break;
         size = gsl_multimin_fminimizer_size(mm);
         p->iterations = iter;

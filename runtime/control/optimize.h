@@ -55,11 +55,13 @@ typedef struct {
     double tol;                  /* simplex size in u at which the search stops */
     FILE *log_csv;               /* per-iteration rows (may be NULL) */
     int quiet;                   /* no progress on stderr */
+    volatile int *interrupt;     /* set asynchronously (SIGINT): the current run stops, the search
+                                    ends with what it has (may be NULL) */
     /* results */
     double best_value[SWIM_OPT_MAX_KEYS], best_q;
     swim_eval_result best;
     long evaluations, failed;
-    int iterations, converged;
+    int iterations, converged, interrupted;
 } swim_opt_problem;
 
 /* One run with values v[0..nkeys): 0, or the status (1 failed, 2 refused) with the reason. */
