@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """swim floquet: monodromy and Floquet multipliers of the periodic strokes of Examples 1 and 3.
 
+One column of M against central differences of whole swim runs over one period.
+
 Checks the structure a conservative system imposes, on the multipliers of the motion on the
 constraint manifold: the flow direction is an eigenvector and the energy gradient a left
 eigenvector with multiplier 1, the multipliers come in reciprocal pairs, det M_t = 1; the period
@@ -79,6 +81,33 @@ def test_example3():
     if d:
         check(abs(d["period"] - 3.698497902) < 1e-6, "Example 3: period 3.698497902 (%r)" % d["period"])
         structure(d, "Example 3")
+
+
+def test_monodromy_against_runs():
+    """M applied to a scaling of the initial velocity (which keeps G1, G2: no projection) against
+    central differences of whole swim runs over one period (Richardson of h and h/2)."""
+    ex3 = os.path.join("models", "example3.toml")
+    p, d = floquet(ex3, "ex3_m", "--event", "am1:max")
+    if not d:
+        check(False, "Example 3 floquet for the monodromy check")
+        return
+    M = np.array(d["monodromy"])
+    T = d["period"]
+    cols = ["am1", "bm1", "am2", "bm2", "dam1", "dbm1", "dam2", "dbm2"]
+    v0 = np.array([0, 0, 0, 0, 0.6, 0.0, 0.0, -0.6])   # Example 3's dc0 on the moving coordinates
+
+    def final(scale, tag):
+        _, r, _ = swimtest.run(ex3, "mono_" + tag, "--t-end", repr(T), "--rtol", "1e-12", "--atol", "1e-14",
+                               "--set", "shape.dc0.am1=%r" % (0.6 * scale), "--set", "shape.dc0.bm2=%r" % (-0.6 * scale))
+        return np.array([r[c][-1] for c in cols])
+    h = 1e-4
+    d1 = (final(1 + h, "p1") - final(1 - h, "m1")) / (2 * h)
+    d2 = (final(1 + h / 2, "p2") - final(1 - h / 2, "m2")) / h
+    fd = d2 + (d2 - d1) / 3
+    mv = M @ v0
+    err = np.max(np.abs(fd - mv))
+    check(err < 1e-6, "Example 3: M (0, dc0) = differences of whole runs over T (max diff %.2g)" % err)
+    check(np.max(np.abs(mv)) > 0.1, "the column is not trivial")
 
 
 def test_bad_event():
