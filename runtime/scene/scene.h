@@ -73,7 +73,8 @@ typedef struct {
     /* [parameters]: named numbers the laws may use (A = 2, w = 0.3333). The kernels read their
      * values at run time (swim_scene_params.law_params), so changing a value (--set
      * parameters.A=3, a sweep, an optimizer) never regenerates a kernel; the names are part of
-     * the structure key. */
+     * the structure key. The compiled law reads param_values in place (swim_expr_compile_params):
+     * a loaded swim_scene is used where it was loaded, never copied by value. */
     int nparams, params_line;
     char param_names[SWIM_PARAMS_MAX][32];
     double param_values[SWIM_PARAMS_MAX];
