@@ -14,7 +14,7 @@ hand-written C in runtime/kernel/ that the emitted file includes.
 import sympy as sp
 
 from .cprint import KernelPrinter, emit_assignments
-from .law import parse_law
+from .law import parameter_symbols, parse_law
 from .model import SwimmerModel
 from .template import (INCLUDE_ASSEMBLY, INCLUDE_SCENE_RHS, KERNEL_HEAD,
                        QUICK_OPTIMIZATION_BEGIN, QUICK_OPTIMIZATION_END, SCENE_PIECES,
@@ -178,7 +178,10 @@ def _scene_forces(e, m, structure):
     law = "-"
     if fo and any(i in pos for i in fo["direction"]):
         law = fo["law"]
-        ft = parse_law(law, t)   # F(t) = f(t) direction (5.1)
+        params = parameter_symbols(fo.get("parameters", []))
+        for i, name in enumerate(fo.get("parameters", [])):
+            names[params[name]] = "p->law_params[%d]" % i   # run-time values
+        ft = parse_law(law, t, params)   # F(t) = f(t) direction (5.1)
         for i in fo["direction"]:
             if i in pos:
                 f[pos[i]] += ft * param("direction", i)

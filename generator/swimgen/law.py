@@ -4,9 +4,10 @@ The grammar is the runtime's (runtime/scene/expr.c), parsed the same way so that
 law and the interpreted one are the same function: numbers (C strtod syntax, decimal or hex),
 t, pi, e; + - * / and ^ (right-associative, binding tighter than unary minus: -2^2 = -4, and
 2^-1 allowed); parentheses; sin cos tan asin acos atan exp log sqrt abs sinh cosh tanh and step
-(Heaviside, 1 for x >= 0). Nothing else is accepted: the law reaches C only through the one
-printer (cprint.py). A caller may pass named parameters (a dict name -> SymPy symbol): their
-names are then accepted too and stand for those symbols (run-time values, not constants).
+(Heaviside, 1 for x >= 0); and the names of the scene's [parameters], given as a dict of
+symbols (their values are run-time numbers the kernel reads, so the law's structure does not
+depend on them). Nothing else is accepted: the law reaches C only through the one printer
+(cprint.py).
 """
 
 import re
@@ -93,9 +94,7 @@ class _Parser:
                 e = sp.pi
             elif name == "e":
                 e = sp.E
-            elif name in self.params:
-                e = self.params[name]
-            elif name in FUNCTIONS:
+            elif name in FUNCTIONS and name not in self.params:
                 if self.peek() != "(":
                     self.fail("expected '(' after function name")
                 self.p += 1
@@ -104,9 +103,12 @@ class _Parser:
                     self.fail("expected ')'")
                 self.p += 1
                 e = FUNCTIONS[name](arg)
+            elif name in self.params:
+                e = self.params[name]
             else:
                 self.p = start
-                self.fail("unknown name (use t, pi, e or a function such as sin)")
+                self.fail("unknown name '%s' (use t, pi, e, %sa function such as sin)"
+                          % (name, "a name of [parameters], " if self.params else ""))
         else:
             self.fail("unexpected character" if c else "unexpected end of expression")
         self.depth -= 1
@@ -150,9 +152,20 @@ class _Parser:
         return e
 
 
+RESERVED = {"t", "pi", "e"} | set(FUNCTIONS)
+
+
+def parameter_symbols(names):
+    """{name: Symbol} for the scene's [parameters]; a reserved name is a LawError."""
+    for name in names:
+        if name in RESERVED or not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", name):
+            raise LawError("'%s' cannot name a parameter" % name)
+    return {name: sp.Symbol("law_param_%s" % name, real=True) for name in names}
+
+
 def parse_law(text, t, params=None):
-    """The law `text` as a SymPy expression in the symbol t (and the symbols of `params`, a dict
-    name -> symbol, when given); LawError names the column."""
+    """The law `text` as a SymPy expression in the symbol t and the parameter symbols of
+    `params` ({name: Symbol}, see parameter_symbols); LawError names the column."""
     ps = _Parser(text, t, params)
     e = ps.sum()
     if ps.peek():

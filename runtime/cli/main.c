@@ -23,6 +23,7 @@ static const command commands[] = {
      "           [--integrator NAME] [--generic] [--no-projection] [--step-lookahead P]\n"
      "           [--trace-steps FILE] [--event COLUMN:KIND[:stop]]... [--snapshots] [--quiet]\n"
      "           [--set KEY=VALUE ...] [--summary-only]\n"
+     "           [--sensitivity KEY[,KEY...]] [--sensitivity-steps all|state]\n"
      "           a scene with a [stroke] table is a prescribed stroke: (3.21) only (models/stroke_loop.toml)",
      "swim run models/example3.toml --out out/example3 --rtol=1e-10"},
     {"flow", swim_cmd_flow,
@@ -38,6 +39,18 @@ static const command commands[] = {
      "           --out DIR --vary KEY=SPEC [--vary ...] [--zip] [--jobs J] [--keep trajectories]\n"
      "           [--set KEY=VALUE ...] [run options]; SPEC: START:STOP:COUNT, log:START:STOP:COUNT, V1,V2,...",
      "swim sweep models/example1.toml --out out/fig42 --vary shape.dc0.bm2=-0.7,0.7 --keep trajectories"},
+    {"floquet", swim_cmd_floquet,
+     "monodromy matrix and Floquet multipliers of a periodic stroke: DIR/floquet.json, a table\n"
+     "           [--event COLUMN:KIND (default: first moving coordinate, max)] [--t-max T] [--out DIR]\n"
+     "           [--set KEY=VALUE ...] [--generic] [--quiet]",
+     "swim floquet models/example3.toml --event am1:max --out out/example3-floquet"},
+    {"optimize", swim_cmd_optimize,
+     "best values of scene keys within bounds for a quantity of the run (Nelder-Mead, GSL multimin):\n"
+     "           DIR/optimize.csv, optimize.json, best.toml, convergence.png\n"
+     "           --vary KEY=LO:HI [--vary ...] (--maximize|--minimize) QUANTITY [--out DIR]\n"
+     "           [--max-iter K] [--tol S] [--set KEY=VALUE ...] [--quiet]; QUANTITY: x, y, theta,\n"
+     "           displacement, work, forcing_work, displacement_per_work, energy (at t_end)",
+     "swim optimize models/selfpropelled.toml --set run.t_end=30 --vary parameters.A=0.5:4 --maximize displacement_per_work"},
     {"plot", swim_cmd_plot, "PNG figures of a run directory, or of a sweep directory (matplotlib)", "swim plot out/example3"},
 };
 

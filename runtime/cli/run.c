@@ -37,6 +37,7 @@
 #include "model/dynamics.h"
 #include "model/flow.h"
 #include "codegen/codegen.h"
+#include "control/sensitivity.h"
 #include "ode/ode.h"
 #include "scene/scene.h"
 
@@ -64,6 +65,8 @@ typedef struct {
     int quiet, generic;
     int snapshots;      /* --snapshots: write snapshots.json */
     int summary_only;   /* --summary-only: rows computed (the summary needs them), not written */
+    const char *sensitivity;   /* --sensitivity KEY[,KEY...]: DIR/sensitivity.csv (control/sensitivity.h) */
+    int sens_state_steps;      /* --sensitivity-steps state: no error test on the sensitivities */
     swim_override sets[MAX_SETS];   /* --set KEY=VALUE, applied before the scene is validated */
     int nsets;
 } run_options;
@@ -193,7 +196,8 @@ static int read_options(int argc, char **argv, run_ctx *c)
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
                        {"generic", 0, NULL}, {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL},
                        {"trace-steps", 1, NULL}, {"event", 1, NULL}, {"snapshots", 0, NULL},
-                       {"summary-only", 0, NULL}};
+                       {"summary-only", 0, NULL}, {"sensitivity", 1, NULL},
+                       {"sensitivity-steps", 1, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
@@ -232,6 +236,14 @@ static int read_options(int argc, char **argv, run_ctx *c)
     c->opt.out = swim_args_get(opts, nopts, "out");
     c->opt.trace = swim_args_get(opts, nopts, "trace-steps");
     c->opt.summary_only = swim_args_get(opts, nopts, "summary-only") != NULL;
+    c->opt.sensitivity = swim_args_get(opts, nopts, "sensitivity");
+    if ((v = swim_args_get(opts, nopts, "sensitivity-steps"))) {
+        if (strcmp(v, "all") != 0 && strcmp(v, "state") != 0) {
+            swim_message(stderr, "swim run: --sensitivity-steps: expected all or state, got '%s'", v);
+            return 2;
+        }
+        c->opt.sens_state_steps = strcmp(v, "state") == 0;
+    }
     c->opt.snapshots = swim_args_get(opts, nopts, "snapshots") != NULL && !c->opt.summary_only;
     if (c->opt.trace && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
         swim_message(stderr, "swim run: --trace-steps: integrator '%s' does not report its steps", s->integrator);
@@ -943,6 +955,38 @@ static void release(run_ctx *c)
     free(c);
 }
 
+/* --sensitivity: the keys resolved on a dynamics of their own, before any output (exit 2). */
+static int check_sensitivity(run_ctx *c)
+{
+    swim_dynamics d;
+    swim_sens S;
+    if (swim_dynamics_init(&d, &c->s, c->kn.kernel) != 0) return 1;
+    swim_dynamics_use_scene_kernel(&d, c->spz.scene, c->opt.generic);
+    int rc = swim_sens_init(&S, &d) != 0 ? 1 : swim_sens_add_list(&S, &c->s, "run", c->opt.sensitivity);
+    swim_sens_free(&S);
+    swim_dynamics_free(&d);
+    return rc;
+}
+
+/* DIR/sensitivity.csv after a completed run: a second integration, of the state with its
+ * variational equations, by the same integrator at the same tolerances. */
+static int run_sensitivity(run_ctx *c)
+{
+    swim_sens S;
+    char *path = swim_strprintf("%s/sensitivity.csv", c->dir);
+    int rc = !path || swim_sens_init(&S, &c->d) != 0 ? 1 : swim_sens_add_list(&S, &c->s, "run", c->opt.sensitivity);
+    double sec = 0.0;
+    long evals = 0;
+    S.error_control = !c->opt.sens_state_steps;
+    if (rc == 0) rc = swim_sens_write_run(&S, c->s.integrator, path, &sec, &evals) ? 1 : 0;
+    if (rc == 0 && !c->opt.quiet)
+        swim_message(stdout, "  sensitivities of %d key(s) in %s: %.3f s, %ld evaluations of the augmented RHS",
+                     S.nkeys, path, sec, evals);
+    if (path) swim_sens_free(&S);
+    free(path);
+    return rc;
+}
+
 int swim_cmd_run(int argc, char **argv)
 {
     if (swim_stroke_requested(argc, argv)) return swim_cmd_stroke(argc, argv);   /* a prescribed stroke */
@@ -958,6 +1002,7 @@ int swim_cmd_run(int argc, char **argv)
     int rc = read_options(argc, argv, c);
     if (rc == 0) rc = preflight_outputs(c);
     if (rc == 0) rc = acquire_kernels(c);
+    if (rc == 0 && c->opt.sensitivity) rc = check_sensitivity(c);
     if (rc == 0) rc = open_outputs(c);
     if (rc == 0) {
         for (int i = 0; i < NSTOP; i++) sigaction(stop_signals[i], &sa, &old[i]);
@@ -965,6 +1010,7 @@ int swim_cmd_run(int argc, char **argv)
         if (rc == 0) {
             integrate(c);
             rc = report(c);
+            if (rc == 0 && c->opt.sensitivity) rc = run_sensitivity(c);
         }
         for (int i = 0; i < NSTOP; i++) sigaction(stop_signals[i], &old[i], NULL);
     }

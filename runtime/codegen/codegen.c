@@ -489,6 +489,14 @@ static char *structure_text(const swim_scene *s, int generic, const char *key)
         swim_json_string(f, s->forcing_text);
         fprintf(f, ", \"direction\": ");
         index_list(f, s, generic, 4);
+        if (s->nparams > 0) {   /* the names only: values are run-time (law_params) */
+            fprintf(f, ", \"parameters\": [");
+            for (int i = 0; i < s->nparams; i++) {
+                if (i) fprintf(f, ", ");
+                swim_json_string(f, s->param_names[i]);
+            }
+            fprintf(f, "]");
+        }
         fprintf(f, "}");
     } else {
         fprintf(f, "null");

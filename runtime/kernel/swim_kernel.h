@@ -64,6 +64,9 @@ typedef struct swim_scene_params {
      * shape/barrier.h); 0, or nonzero when the shape is outside D (J <= 0 on the circle). */
     int (*barrier)(const double *x, double *grad, void *ctx);
     void *barrier_ctx;
+    /* values of the scene's [parameters], in their order; the generated law reads them as
+     * p->law_params[i] (the names are fixed by the structure, the values are not) */
+    const double *law_params;
 } swim_scene_params;
 
 /* A kernel specialized to one scene structure: it carries only the free coordinates (or all of

@@ -102,6 +102,7 @@ void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *s
     p->free_mask = s->free_mask;
     p->barrier = scene_barrier;
     p->barrier_ctx = d;
+    p->law_params = s->param_values;
 }
 
 int swim_dynamics_state_dim(const swim_dynamics *d)

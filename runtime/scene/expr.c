@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { OP_NUM, OP_T, OP_ADD, OP_SUB, OP_MUL, OP_DIV, OP_POW, OP_NEG, OP_FUN };
+enum { OP_NUM, OP_T, OP_PAR, OP_ADD, OP_SUB, OP_MUL, OP_DIV, OP_POW, OP_NEG, OP_FUN };
 
 typedef double (*fun1)(double);
 static double heaviside(double x) { return x >= 0.0 ? 1.0 : 0.0; }
@@ -28,6 +28,7 @@ typedef struct { int op; int fn; double v; } instr;
 struct swim_expr {
     instr *code;
     int len, cap, stack;
+    const double *values;   /* parameter values read by OP_PAR (borrowed) */
 };
 
 typedef struct {
@@ -36,6 +37,8 @@ typedef struct {
     char *err;
     size_t errlen;
     int failed, depth;
+    const char *const *names;   /* parameter names, count of them */
+    int count;
 } parser;
 
 static void fail(parser *ps, const char *msg)
@@ -88,10 +91,20 @@ static void expr_atom(parser *ps)
         else if (n == 2 && strncmp(p, "pi", 2) == 0) emit(ps, OP_NUM, 0, 3.14159265358979323846);
         else if (n == 1 && *p == 'e') emit(ps, OP_NUM, 0, 2.71828182845904523536);
         else {
-            int fn = -1;
+            int fn = -1, par = -1;
             for (int i = 0; i < NFUNCS; i++)
                 if (strlen(funcs[i].name) == n && strncmp(funcs[i].name, p, n) == 0) fn = i;
-            if (fn < 0) { ps->p = p; fail(ps, "unknown name (use t, pi, e or a function such as sin)"); return; }
+            for (int i = 0; fn < 0 && i < ps->count; i++)
+                if (strlen(ps->names[i]) == n && strncmp(ps->names[i], p, n) == 0) par = i;
+            if (par >= 0) { emit(ps, OP_PAR, par, 0); ps->depth--; return; }
+            if (fn < 0) {
+                char msg[128];
+                ps->p = p;
+                snprintf(msg, sizeof msg, "unknown name '%.*s' (use t, pi, e, %sa function such as sin)",
+                         (int)(n < 40 ? n : 40), p, ps->count ? "a name of [parameters], " : "");
+                fail(ps, msg);
+                return;
+            }
             skip(ps);
             if (*ps->p != '(') { fail(ps, "expected '(' after function name"); return; }
             ps->p++;
@@ -163,9 +176,31 @@ static void expr_sum(parser *ps)
 
 swim_expr *swim_expr_compile(const char *text, char *err, size_t errlen)
 {
+    return swim_expr_compile_params(text, NULL, 0, NULL, err, errlen);
+}
+
+int swim_expr_reserved(const char *name)
+{
+    if (strcmp(name, "t") == 0 || strcmp(name, "pi") == 0 || strcmp(name, "e") == 0) return 1;
+    for (int i = 0; i < NFUNCS; i++)
+        if (strcmp(funcs[i].name, name) == 0) return 1;
+    return 0;
+}
+
+int swim_expr_uses_param(const swim_expr *e, int i)
+{
+    for (int k = 0; k < e->len; k++)
+        if (e->code[k].op == OP_PAR && e->code[k].fn == i) return 1;
+    return 0;
+}
+
+swim_expr *swim_expr_compile_params(const char *text, const char *const *names, int count,
+                                    const double *values, char *err, size_t errlen)
+{
     swim_expr *e = calloc(1, sizeof *e);
     if (!e) { if (err) snprintf(err, errlen, "out of memory"); return NULL; }
-    parser ps = {text, text, e, err, errlen, 0, 0};
+    e->values = values;
+    parser ps = {text, text, e, err, errlen, 0, 0, names, count};
     expr_sum(&ps);
     skip(&ps);
     if (!ps.failed && *ps.p) fail(&ps, "unexpected text after the expression");
@@ -173,7 +208,7 @@ swim_expr *swim_expr_compile(const char *text, char *err, size_t errlen)
     int depth = 0;
     for (int i = 0; i < e->len; i++) {
         int op = e->code[i].op;
-        depth += (op == OP_NUM || op == OP_T) ? 1 : (op == OP_NEG || op == OP_FUN) ? 0 : -1;
+        depth += (op == OP_NUM || op == OP_T || op == OP_PAR) ? 1 : (op == OP_NEG || op == OP_FUN) ? 0 : -1;
         if (depth > e->stack) e->stack = depth;
     }
     if (e->stack > MAX_STACK) {
@@ -193,6 +228,7 @@ double swim_expr_eval(const swim_expr *e, double t)
         switch (in->op) {
         case OP_NUM: st[sp++] = in->v; break;
         case OP_T: st[sp++] = t; break;
+        case OP_PAR: st[sp++] = e->values[in->fn]; break;
         case OP_NEG: st[sp - 1] = -st[sp - 1]; break;
         case OP_FUN: st[sp - 1] = funcs[in->fn].f(st[sp - 1]); break;
         default: {
@@ -217,6 +253,7 @@ int swim_expr_to_c(const swim_expr *e, char *buf, size_t len)
         switch (in->op) {
         case OP_NUM: need = 32; s = malloc(need); if (s) snprintf(s, need, "%.17g", in->v); break;
         case OP_T: s = strdup("t"); break;
+        case OP_PAR: need = 40; s = malloc(need); if (s) snprintf(s, need, "p->law_params[%d]", in->fn); break;
         case OP_NEG: need = strlen(st[sp - 1]) + 4; s = malloc(need);
             if (s) snprintf(s, need, "(-%s)", st[sp - 1]);
             free(st[--sp]); break;

@@ -1,5 +1,6 @@
 /* expr.h -- scalar expressions in t for forcing laws F(t) (section 5.1), e.g.
- * "2*(4*atan(t)^2/pi^2)*cos(t/3)". Grammar: numbers, t, pi, e; + - * / ^ (right-assoc.),
+ * "2*(4*atan(t)^2/pi^2)*cos(t/3)" or, with a scene's [parameters] A and w, "A*sin(w*t)".
+ * Grammar: numbers, t, pi, e, parameter names; + - * / ^ (right-assoc.),
  * unary minus, parentheses; functions sin cos tan asin acos atan exp log sqrt abs sinh cosh
  * tanh, and step (Heaviside: 1 for x >= 0, else 0). Compiled once to a small stack program; evaluation allocates nothing. */
 #ifndef SWIM_EXPR_H
@@ -12,7 +13,19 @@ typedef struct swim_expr swim_expr;
 /* NULL on error, with a one-line message ("at column C: ...") in err. */
 swim_expr *swim_expr_compile(const char *text, char *err, size_t errlen);
 double swim_expr_eval(const swim_expr *e, double t);
-/* The expression as a C99 expression in a double variable `t` (for generated kernels).
+/* The same grammar with named parameters: names[0..count) may appear in the text, and each
+ * evaluation reads their current values from values[0..count) (borrowed: the caller keeps the
+ * array alive as long as the expression and may change the values between evaluations, which
+ * is how a sweep or an optimizer varies a law without recompiling it). A name that is neither
+ * t, pi, e, a function nor one of names is an error naming it. */
+swim_expr *swim_expr_compile_params(const char *text, const char *const *names, int count,
+                                    const double *values, char *err, size_t errlen);
+/* 1 when `name` is taken by the grammar (t, pi, e or a function name): it cannot name a parameter. */
+int swim_expr_reserved(const char *name);
+/* 1 when the expression reads parameter i. */
+int swim_expr_uses_param(const swim_expr *e, int i);
+/* The expression as a C99 expression in a double variable `t` (for generated kernels);
+ * parameter i is printed as p->law_params[i] (swim_scene_params, kernel/swim_kernel.h).
  * Returns the length written (like snprintf). */
 int swim_expr_to_c(const swim_expr *e, char *buf, size_t len);
 void swim_expr_free(swim_expr *e);

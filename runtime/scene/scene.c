@@ -1,5 +1,6 @@
 #include "scene/scene.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <stdarg.h>
 #include <lapacke.h>
@@ -330,9 +331,33 @@ static int parse_stroke(ctx *c, const toml_value *root, const toml_value *stroke
     return 0;
 }
 
+/* [parameters]: NAME = number, NAME an identifier that the law grammar does not already take. */
+static int parse_parameters(ctx *c, const toml_value *root, swim_scene *s)
+{
+    int rc;
+    const toml_value *pa = get_table(c, root, "parameters", 0, &rc);
+    if (rc || !pa) return rc;
+    c->table = "parameters";
+    s->params_line = toml_line(pa);
+    for (size_t i = 0; i < toml_table_size(pa); i++) {
+        const char *k = toml_table_key(pa, i);
+        const int line = toml_table_key_line(pa, i);
+        int ident = isalpha((unsigned char)k[0]) && strlen(k) < sizeof s->param_names[0];
+        for (const char *q = k; ident && *q; q++) ident = isalnum((unsigned char)*q) || *q == '_';
+        if (!ident) ERR(c, line, k, "a parameter name is a letter followed by letters, digits or _ (at most %zu characters)", sizeof s->param_names[0] - 1);
+        if (swim_expr_reserved(k)) ERR(c, line, k, "'%s' is taken by the law grammar (t, pi, e, sin, cos, ...): choose another parameter name", k);
+        if (s->nparams == SWIM_PARAMS_MAX) ERR(c, line, k, "more than %d parameters", SWIM_PARAMS_MAX);
+        double v;
+        if (get_number(c, pa, k, 1, &v)) return 2;
+        snprintf(s->param_names[s->nparams], sizeof s->param_names[0], "%s", k);
+        s->param_values[s->nparams++] = v;
+    }
+    return 0;
+}
+
 static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
 {
-    static const char *const top[] = {"title", "model", "shape", "elastic", "barrier", "damping", "forcing", "run", "events", "stroke", NULL};
+    static const char *const top[] = {"title", "model", "shape", "elastic", "barrier", "damping", "forcing", "run", "events", "stroke", "parameters", NULL};
     static const char *const k_model[] = {"modes", "rho0", "rhof", NULL};
     static const char *const k_shape[] = {"c0", "dc0", "free", NULL};
     static const char *const k_elastic[] = {"stiffness", "reference", NULL};
@@ -468,6 +493,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
             if (s->damping[i] > 0) s->damped = 1;
         }
     }
+    if (parse_parameters(c, root, s)) return 2;
     const toml_value *fo = get_table(c, root, "forcing", 0, &rc);
     if (rc) return rc;
     if (fo) {
@@ -478,7 +504,9 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
         char err[160];
         s->setting_line[SWIM_SET_LAW] = toml_get_key_line(fo, "law");
         if (!(s->forcing_text = strdup(toml_string(law)))) ERR(c, toml_get_key_line(fo, "law"), "law", "out of memory");
-        s->forcing = swim_expr_compile(s->forcing_text, err, sizeof err);
+        const char *names[SWIM_PARAMS_MAX];
+        for (int i = 0; i < s->nparams; i++) names[i] = s->param_names[i];
+        s->forcing = swim_expr_compile_params(s->forcing_text, names, s->nparams, s->param_values, err, sizeof err);
         if (!s->forcing) ERR(c, toml_get_key_line(fo, "law"), "law", "\"%s\": %s", s->forcing_text, err);
         if (get_vector(c, fo, "direction", s->n, 1, s->direction, NULL)) return 2;
         for (int i = 0; i < s->n; i++) s->forced |= s->direction[i] != 0.0;

@@ -17,6 +17,7 @@
 #include "scene/expr.h"
 
 #define SWIM_NMAX (2 * (SWIM_KERNEL_MAX_MODES + 1))
+#define SWIM_PARAMS_MAX 32   /* names in [parameters] */
 
 /* Bounds every run honours, whatever set the value (scene file or command line), checked in
  * one place, swim_run_settings_check:
@@ -81,6 +82,14 @@ typedef struct {
     double stroke_period;             /* [stroke] period, 0 when absent (then detected) */
     int stroke_period_line;
     int stroke_complete_c1;           /* c1 completed from the volume and (2.14) */
+    /* [parameters]: named numbers the laws may use (A = 2, w = 0.3333). The kernels read their
+     * values at run time (swim_scene_params.law_params), so changing a value (--set
+     * parameters.A=3, a sweep, an optimizer) never regenerates a kernel; the names are part of
+     * the structure key. The compiled law reads param_values in place (swim_expr_compile_params):
+     * a loaded swim_scene is used where it was loaded, never copied by value. */
+    int nparams, params_line;
+    char param_names[SWIM_PARAMS_MAX][32];
+    double param_values[SWIM_PARAMS_MAX];
 } swim_scene;
 
 /* Which run settings came from the command line (nonzero: its messages name the option). */

@@ -1,0 +1,129 @@
+/* swim floquet: monodromy matrix and Floquet multipliers of a periodic stroke
+ * (runtime/control/floquet.h), into DIR/floquet.json and a table on stdout. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "control/floquet.h"
+#include "control/model_setup.h"
+#include "io/files.h"
+#include "io/message.h"
+#include "kernel/coords.h"
+
+/* COLUMN:KIND with COLUMN a carried coordinate (c) or its velocity (dNAME), KIND max, min or
+ * zero: the integrator-state index and kind. 0, or 2 after one line on stderr. */
+static int parse_section(const swim_dynamics *d, const char *spec, swim_floquet_section *sec)
+{
+    const char *colon = strchr(spec, ':');
+    char col[32];
+    if (!colon || (size_t)(colon - spec) >= sizeof col) goto bad;
+    snprintf(col, sizeof col, "%.*s", (int)(colon - spec), spec);
+    const char *kind = colon + 1;
+    if (strcmp(kind, "max") == 0) sec->kind = 'x';
+    else if (strcmp(kind, "min") == 0) sec->kind = 'n';
+    else if (strcmp(kind, "zero") == 0) sec->kind = 'z';
+    else goto bad;
+    const int vel = col[0] == 'd', nf = d->spec->nfree;
+    for (int f = 0; f < nf; f++) {
+        char name[24];
+        swim_coord_name(d->spec->free_index[f], name, sizeof name);
+        if (strcmp(name, col + vel) == 0) {
+            sec->index = 3 + f + (vel ? nf : 0);
+            return 0;
+        }
+    }
+    swim_message(stderr, "swim floquet: --event: '%s' is not a moving coordinate of the scene or its velocity "
+                 "(d + name)", col);
+    return 2;
+bad:
+    swim_message(stderr, "swim floquet: --event: expected COLUMN:KIND (KIND max, min or zero), e.g. am1:max, got '%s'", spec);
+    return 2;
+}
+
+typedef struct {
+    const swim_floquet *fl;
+    const char *scene, *section;
+} json_job;
+
+static void fill(FILE *f, void *ctx)
+{
+    const json_job *j = ctx;
+    swim_floquet_json(f, j->fl, j->scene, j->section);
+}
+
+int swim_cmd_floquet(int argc, char **argv)
+{
+    swim_override sets[SWIM_SETUP_MAX_SETS];
+    int nsets = swim_setup_take_sets("floquet", &argc, argv, 2, sets);
+    if (nsets < 0) return 2;
+    swim_opt opts[] = {{"out", 1, NULL}, {"event", 1, NULL}, {"t-max", 1, NULL}, {"quiet", 0, NULL},
+                       {"generic", 0, NULL}};
+    const int nopts = (int)(sizeof opts / sizeof opts[0]);
+    const char *pos[1];
+    int npos = 0;
+    if (swim_args_parse("floquet", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
+    if (npos != 1) {
+        swim_message(stderr, "swim floquet: expected one scene file, e.g. swim floquet models/example3.toml");
+        return 2;
+    }
+    const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
+    double t_max = 0.0;
+    const char *v = swim_args_get(opts, nopts, "t-max");
+    if (v && (swim_args_double("floquet", "t-max", v, &t_max) || !(t_max > 0))) {
+        if (t_max <= 0) swim_message(stderr, "swim floquet: --t-max: must be > 0, got '%s'", v);
+        return 2;
+    }
+    static swim_model_setup m;
+    int rc = swim_setup_open(&m, "floquet", pos[0], sets, nsets, swim_args_get(opts, nopts, "generic") != NULL, quiet);
+    if (rc) {
+        swim_setup_close(&m);
+        return rc;
+    }
+    const char *section = swim_args_get(opts, nopts, "event");
+    char dflt[40];
+    if (!section) {   /* the first moving coordinate's maximum */
+        char name[24];
+        swim_coord_name(m.d.spec->free_index[0], name, sizeof name);
+        snprintf(dflt, sizeof dflt, "%s:max", name);
+        section = dflt;
+    }
+    swim_floquet_section sec;
+    if ((rc = parse_section(&m.d, section, &sec))) {
+        swim_setup_close(&m);
+        return rc;
+    }
+    const char *out = swim_args_get(opts, nopts, "out");
+    char *dir = NULL;
+    if (out) dir = strdup(out);
+    else {
+        const char *base = strrchr(pos[0], '/');
+        base = base ? base + 1 : pos[0];
+        dir = swim_strprintf("out/%.*s-floquet", (int)(strcspn(base, ".")), base);
+    }
+    char *json = dir ? swim_path_join(dir, "floquet.json") : NULL;
+    if (!json || swim_mkdirs(dir) != 0) {
+        swim_message(stderr, "swim floquet: --out: cannot create %s", dir ? dir : "(out of memory)");
+        free(dir); free(json);
+        swim_setup_close(&m);
+        return 2;
+    }
+    swim_floquet fl;
+    rc = swim_floquet_compute(&m.d, &sec, t_max > 0 ? t_max : m.s.t_end, &fl);
+    if (rc == 0) {
+        json_job job = {&fl, pos[0], section};
+        if (swim_replace_file_with(json, fill, &job) != 0) {
+            swim_message(stderr, "swim floquet: cannot write %s", json);
+            rc = 1;
+        }
+        swim_message(stdout, "%s: Floquet multipliers of the stroke (section %s) in %s", pos[0], section, json);
+        swim_floquet_table(stdout, &fl);
+        printf("  %ld RHS evaluations of the variational equations, %.3f s\n", fl.rhs_calls, fl.seconds);
+    }
+    swim_floquet_free(&fl);
+    free(dir);
+    free(json);
+    swim_setup_close(&m);
+    return rc;
+}

@@ -1,0 +1,264 @@
+/* swim optimize: the values of scene keys, within bounds, that maximize or minimize a quantity
+ * of the run (runtime/control/optimize.h): DIR/optimize.csv (one row per iteration),
+ * DIR/optimize.json, DIR/best.toml and DIR/convergence.png (runtime/plot/plot_optimize.py). */
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "control/model_setup.h"
+#include "control/optimize.h"
+#include "io/files.h"
+#include "io/json.h"
+#include "io/message.h"
+
+static volatile int stop_signal;   /* set by SIGINT/SIGTERM; the search ends with what it has */
+static void on_stop(int sig) { stop_signal = sig; }
+
+/* KEY=LO:HI into p->keys[i], lo, hi. 0, or 2 after one line on stderr. */
+static int parse_vary(swim_opt_problem *p, const char *spec)
+{
+    const int i = p->nkeys;
+    if (i == SWIM_OPT_MAX_KEYS) {
+        swim_message(stderr, "swim optimize: --vary: at most %d keys", SWIM_OPT_MAX_KEYS);
+        return 2;
+    }
+    const char *eq = strchr(spec, '='), *colon = eq ? strchr(eq, ':') : NULL;
+    char key[128], err[256];
+    if (!eq || !colon || (size_t)(eq - spec) >= sizeof key) {
+        swim_message(stderr, "swim optimize: --vary: expected KEY=LO:HI (e.g. parameters.A=0.5:4), got '%s'", spec);
+        return 2;
+    }
+    snprintf(key, sizeof key, "%.*s", (int)(eq - spec), spec);
+    memset(&p->keys[i], 0, sizeof p->keys[i]);
+    if (swim_override_key(key, &p->keys[i], err, sizeof err) != 0) {
+        swim_message(stderr, "swim optimize: --vary %s: %s", spec, err);
+        return 2;
+    }
+    snprintf(p->keys[i].text, sizeof p->keys[i].text, "%s", key);
+    char lo[64], *end;
+    snprintf(lo, sizeof lo, "%.*s", (int)(colon - eq - 1), eq + 1);
+    p->lo[i] = strtod(lo, &end);
+    int ok = end != lo && *end == '\0' && isfinite(p->lo[i]);
+    p->hi[i] = strtod(colon + 1, &end);
+    ok = ok && end != colon + 1 && *end == '\0' && isfinite(p->hi[i]) && p->lo[i] < p->hi[i];
+    if (!ok) {
+        swim_message(stderr, "swim optimize: --vary %s: LO and HI must be finite numbers with LO < HI", spec);
+        return 2;
+    }
+    for (int k = 0; k < i; k++)
+        if (strcmp(p->keys[k].text, key) == 0) {
+            swim_message(stderr, "swim optimize: --vary %s: %s is varied twice", spec, key);
+            return 2;
+        }
+    p->nkeys++;
+    return 0;
+}
+
+typedef struct {
+    const swim_opt_problem *p;
+    const char *best_path;
+} json_job;
+
+static void fill_json(FILE *f, void *ctx)
+{
+    const json_job *j = ctx;
+    const swim_opt_problem *p = j->p;
+    fprintf(f, "{\n  \"scene\": ");
+    swim_json_string(f, p->scene_path);
+    fprintf(f, ",\n  \"quantity\": ");
+    swim_json_string(f, swim_quantity_name(p->quantity));
+    fprintf(f, ",\n  \"goal\": \"%s\",\n  \"best\": {", p->maximize ? "maximize" : "minimize");
+    for (int i = 0; i < p->nkeys; i++) {
+        fprintf(f, "%s", i ? ", " : "");
+        swim_json_string(f, p->keys[i].text);
+        fprintf(f, ": ");
+        swim_json_number(f, p->best_value[i]);
+    }
+    fprintf(f, "},\n  \"bounds\": {");
+    for (int i = 0; i < p->nkeys; i++) {
+        fprintf(f, "%s", i ? ", " : "");
+        swim_json_string(f, p->keys[i].text);
+        fprintf(f, ": [");
+        swim_json_number(f, p->lo[i]);
+        fprintf(f, ", ");
+        swim_json_number(f, p->hi[i]);
+        fprintf(f, "]");
+    }
+    fprintf(f, "},\n  \"value\": ");
+    swim_json_number(f, p->best_q);
+    fprintf(f, ",\n  \"final\": {\"x\": ");
+    swim_json_number(f, p->best.x);
+    fprintf(f, ", \"y\": ");
+    swim_json_number(f, p->best.y);
+    fprintf(f, ", \"theta\": ");
+    swim_json_number(f, p->best.theta);
+    fprintf(f, ", \"work\": ");
+    swim_json_number(f, p->best.work);
+    fprintf(f, ", \"forcing_work\": ");
+    swim_json_number(f, p->best.forcing_work);
+    fprintf(f, ", \"energy\": ");
+    swim_json_number(f, p->best.energy);
+    fprintf(f, "},\n  \"iterations\": %d,\n  \"evaluations\": %ld,\n  \"failed_evaluations\": %ld,\n"
+            "  \"converged\": %s,\n  \"interrupted\": %s,\n  \"best_scene\": ", p->iterations, p->evaluations,
+            p->failed, p->converged ? "true" : "false", p->interrupted ? "true" : "false");
+    swim_json_string(f, j->best_path);
+    fprintf(f, "\n}\n");
+}
+
+/* runtime/plot/plot_optimize.py DIR: convergence.png. 0, or nonzero (said on stderr). */
+static int plot(const char *dir)
+{
+    const char *share = swim_share_dir(), *python = swim_python();
+    if (!share) return 1;
+    char *script = swim_strprintf("%s/runtime/plot/plot_optimize.py", share);
+    if (!script) return 1;
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) {
+        execlp(python, python, script, dir, (char *)NULL);
+        _exit(127);
+    }
+    int st = 0;
+    if (pid < 0 || waitpid(pid, &st, 0) < 0 || !WIFEXITED(st) || WEXITSTATUS(st) != 0) {
+        swim_message(stderr, "swim optimize: the convergence plot failed (%s); the results are written", script);
+        free(script);
+        return 1;
+    }
+    free(script);
+    return 0;
+}
+
+int swim_cmd_optimize(int argc, char **argv)
+{
+    static swim_override sets[SWIM_SETUP_MAX_SETS];
+    static swim_opt_problem p;
+    memset(&p, 0, sizeof p);
+    int nsets = swim_setup_take_sets("optimize", &argc, argv, 2, sets);
+    if (nsets < 0) return 2;
+    const char *vary[SWIM_OPT_MAX_KEYS + 1];
+    int nvary = swim_args_take_all("optimize", &argc, argv, 2, "vary", vary, SWIM_OPT_MAX_KEYS + 1);
+    if (nvary < 0) return 2;
+    swim_opt opts[] = {{"out", 1, NULL}, {"maximize", 1, NULL}, {"minimize", 1, NULL},
+                       {"max-iter", 1, NULL}, {"tol", 1, NULL}, {"quiet", 0, NULL}};
+    const int nopts = (int)(sizeof opts / sizeof opts[0]);
+    const char *pos[1];
+    int npos = 0;
+    if (swim_args_parse("optimize", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
+    if (npos != 1) {
+        swim_message(stderr, "swim optimize: expected one scene file, e.g. swim optimize models/selfpropelled.toml "
+                     "--vary parameters.A=0.5:4 --maximize displacement_per_work");
+        return 2;
+    }
+    if (nvary == 0) {
+        swim_message(stderr, "swim optimize: --vary KEY=LO:HI is required (at least one key)");
+        return 2;
+    }
+    for (int i = 0; i < nvary; i++)
+        if (parse_vary(&p, vary[i])) return 2;
+    const char *qmax = swim_args_get(opts, nopts, "maximize"), *qmin = swim_args_get(opts, nopts, "minimize");
+    if (!!qmax == !!qmin) {
+        swim_message(stderr, "swim optimize: give exactly one of --maximize QUANTITY or --minimize QUANTITY (%s)",
+                     swim_quantity_list());
+        return 2;
+    }
+    const char *qname = qmax ? qmax : qmin;
+    if ((p.quantity = swim_quantity_index(qname)) < 0) {
+        swim_message(stderr, "swim optimize: --%s: unknown quantity '%s' (%s)", qmax ? "maximize" : "minimize",
+                     qname, swim_quantity_list());
+        return 2;
+    }
+    p.maximize = qmax != NULL;
+    p.max_iter = 60;
+    p.tol = 1e-3;
+    const char *v;
+    long iters;
+    if ((v = swim_args_get(opts, nopts, "max-iter"))) {
+        if (swim_args_int("optimize", "max-iter", v, 1, 100000, &iters)) return 2;
+        p.max_iter = (int)iters;
+    }
+    if ((v = swim_args_get(opts, nopts, "tol"))) {
+        if (swim_args_double("optimize", "tol", v, &p.tol)) return 2;
+        if (!(p.tol > 0)) {
+            swim_message(stderr, "swim optimize: --tol: must be > 0, got '%s'", v);
+            return 2;
+        }
+    }
+    p.quiet = swim_args_get(opts, nopts, "quiet") != NULL;
+    p.scene_path = pos[0];
+    p.sets = sets;
+    p.nsets = nsets;
+    /* The scene with the keys at the middle of their ranges is read and checked now: a key the
+     * scene does not have, or a quantity it cannot give, is one line and exit 2 before any run. */
+    {
+        swim_override ov[SWIM_SETUP_MAX_SETS + SWIM_OPT_MAX_KEYS];
+        int k = 0;
+        for (int i = 0; i < nsets; i++) ov[k++] = sets[i];
+        for (int i = 0; i < p.nkeys; i++) {
+            ov[k] = p.keys[i];
+            ov[k++].value = 0.5 * (p.lo[i] + p.hi[i]);
+        }
+        swim_scene s;
+        if (swim_scene_load_with(pos[0], ov, k, &s) != 0) return 2;
+        const int forced = s.forced;
+        swim_scene_free(&s);
+        if ((p.quantity == SWIM_Q_DISPLACEMENT_PER_WORK || p.quantity == SWIM_Q_FORCING_WORK) && !forced) {
+            swim_message(stderr, "swim optimize: %s: %s needs a [forcing] law (the work of F(t))", pos[0], qname);
+            return 2;
+        }
+    }
+    const char *out = swim_args_get(opts, nopts, "out");
+    char *dir = NULL;
+    if (out) dir = strdup(out);
+    else {
+        const char *base = strrchr(pos[0], '/');
+        base = base ? base + 1 : pos[0];
+        dir = swim_strprintf("out/%.*s-optimize", (int)strcspn(base, "."), base);
+    }
+    char *csv = dir ? swim_path_join(dir, "optimize.csv") : NULL, *best = dir ? swim_path_join(dir, "best.toml") : NULL;
+    char *json = dir ? swim_path_join(dir, "optimize.json") : NULL;
+    if (!csv || !best || !json || swim_mkdirs(dir) != 0 || !(p.log_csv = fopen(csv, "w"))) {
+        swim_message(stderr, "swim optimize: --out: cannot write into %s", dir ? dir : "(out of memory)");
+        free(dir); free(csv); free(best); free(json);
+        return 2;
+    }
+    struct sigaction sa, old_int, old_term;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_stop;
+    stop_signal = 0;
+    p.interrupt = &stop_signal;
+    sigaction(SIGINT, &sa, &old_int);
+    sigaction(SIGTERM, &sa, &old_term);
+    int rc = swim_opt_run(&p);
+    sigaction(SIGINT, &old_int, NULL);
+    sigaction(SIGTERM, &old_term, NULL);
+    if (fclose(p.log_csv) != 0) rc = 1;
+    p.log_csv = NULL;
+    if (rc != 0) {
+        swim_message(stderr, "swim optimize: no run succeeded (%ld evaluations): nothing to report", p.evaluations);
+    } else {
+        if (swim_opt_write_scene(&p, best) != 0) {
+            swim_message(stderr, "swim optimize: cannot write %s: %s", best, strerror(errno));
+            rc = 1;
+        }
+        json_job job = {&p, best};
+        if (swim_replace_file_with(json, fill_json, &job) != 0) rc = 1;
+        swim_message(stdout, "%s: %s %s = %.10g after %d iterations, %ld runs (%ld failed)%s", pos[0],
+                     p.maximize ? "largest" : "smallest", qname, p.best_q, p.iterations, p.evaluations, p.failed,
+                     p.interrupted ? " -- INTERRUPTED: the best so far, not converged"
+                     : p.converged ? "" : " -- NOT converged (raise --max-iter)");
+        for (int i = 0; i < p.nkeys; i++)
+            swim_message(stdout, "  %s = %.10g  (range %g .. %g)", p.keys[i].text, p.best_value[i], p.lo[i], p.hi[i]);
+        swim_message(stdout, "  best scene %s; log %s", best, csv);
+        plot(dir);   /* a missing figure is said, the results stand */
+        if (rc == 0 && !p.converged) rc = 1;   /* written, but not the optimum asked for */
+    }
+    free(dir); free(csv); free(best); free(json);
+    return rc;
+}

@@ -1,0 +1,392 @@
+#include "control/floquet.h"
+
+#include <complex.h>
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "control/sensitivity.h"
+#include "io/json.h"
+#include "io/message.h"
+#include "kernel/coords.h"
+#include "ode/ode.h"
+#include "shape/constraints.h"
+
+/* Multipliers at 1 of a periodic orbit in a one-parameter family (energy) form a Jordan block:
+ * an error eps in M moves them by ~sqrt(eps). With M accurate to ~1e-8, 1e-3 separates "on the
+ * unit circle" from a genuine instability without calling that splitting unstable. */
+#define FLOQUET_TOL 1e-3
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+typedef struct {
+    double t[2];
+    int count;
+} event_log;
+
+static double section_extremum(double t, const double *y, const double *yp, void *data)
+{
+    (void)t; (void)y;
+    return yp[*(const int *)data];
+}
+
+static double section_zero(double t, const double *y, const double *yp, void *data)
+{
+    (void)t; (void)yp;
+    return y[*(const int *)data];
+}
+
+static void on_event(const swim_ode_event_hit *hit, void *data)
+{
+    event_log *log = data;
+    if (log->count < 2) log->t[log->count] = hit->t;
+    log->count++;
+}
+
+/* T from two successive events of the section, on the run's own integration (drift control on). */
+static int find_period(swim_dynamics *d, const swim_floquet_section *sec, double t_max, const double *ys0,
+                       double *t1, double *period)
+{
+    const swim_scene *s = d->scene;
+    const int n = swim_dynamics_state_dim(d);
+    double *y = malloc(sizeof(double) * n);
+    if (!y) return 1;
+    memcpy(y, ys0, sizeof(double) * n);
+    int index = sec->index;
+    event_log log = {{0, 0}, 0};
+    swim_ode_event ev = {sec->kind == 'z' ? section_zero : section_extremum, &index,
+                         sec->kind == 'x' ? -1 : +1, 0};
+    swim_ode_system sys = {swim_dynamics_rhs, (size_t)n, d, NULL};
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.rtol = s->rtol;
+    o.atol = s->atol;
+    if (s->projection) o.project = swim_dynamics_project;
+    o.events = &ev;
+    o.nevents = 1;
+    o.on_event = on_event;
+    o.on_event_data = &log;
+    swim_ode *ode = NULL;
+    int rc = swim_ode_create("abm", &sys, &o, 0.0, y, &ode);
+    const double dt = s->output_step;
+    for (double t = dt; rc == SWIM_ODE_OK && log.count < 2 && t < t_max + dt; t += dt)
+        rc = swim_ode_advance(ode, fmin(t, t_max), y);
+    if (rc != SWIM_ODE_OK)
+        swim_message(stderr, "swim floquet: the run for the period failed: %s", swim_ode_strerror(rc));
+    else if (log.count < 2)
+        swim_message(stderr, "swim floquet: fewer than two events of the section before t = %g: no period "
+                     "(raise --t-max or choose another --event)", t_max);
+    swim_ode_free(ode);
+    free(y);
+    if (rc != SWIM_ODE_OK || log.count < 2) return 1;
+    *t1 = log.t[0];
+    *period = log.t[1] - log.t[0];
+    return 0;
+}
+
+/* Gradients (rows of C, on the carried state) of mu^2(c), G1(c).cdot, G2(c).cdot; rows that
+ * vanish on the carried coordinates are dropped. Returns the number of rows. */
+static int constraint_gradients(swim_dynamics *d, const double *ys, double *C)
+{
+    const swim_scene *s = d->scene;
+    const int nf = d->spec->nfree, n2 = 2 * nf, N = swim_dynamics_state_dim(d), n = s->n;
+    double *yp = malloc(sizeof(double) * N), *full = malloc(sizeof(double) * d->dim);
+    double G[(SWIM_NMAX + 2) * SWIM_NMAX], h[2][3];
+    int rows = 0;
+    if (!yp || !full) { free(yp); free(full); return -1; }
+    double grad[3][SWIM_FLOQUET_MAX];
+    for (int j = 0; j < n2; j++) {
+        const double step = 1e-6 * (1.0 + fabs(ys[3 + j]));
+        for (int side = 0; side < 2; side++) {
+            memcpy(yp, ys, sizeof(double) * N);
+            yp[3 + j] += side ? -step : step;
+            swim_dynamics_unpack(d, yp, full);
+            const double *c = full + 3, *v = full + 3 + n;
+            swim_constraint_rows(n, c, s->free_mask, G);
+            h[side][0] = swim_area_constant(n, c);
+            h[side][1] = h[side][2] = 0.0;
+            for (int f = 0; f < nf; f++) {
+                const int i = d->spec->free_index[f];
+                h[side][1] += G[i] * v[i];
+                h[side][2] += G[n + i] * v[i];
+            }
+        }
+        for (int r = 0; r < 3; r++) grad[r][j] = (h[0][r] - h[1][r]) / (2 * step);
+    }
+    double norm[3] = {0, 0, 0}, big = 0.0;
+    for (int r = 0; r < 3; r++) {
+        for (int j = 0; j < n2; j++) norm[r] += grad[r][j] * grad[r][j];
+        big = fmax(big, norm[r]);
+    }
+    for (int r = 0; r < 3; r++)
+        if (norm[r] > 1e-20 * big && norm[r] > 0) memcpy(C + (size_t)(rows++) * n2, grad[r], sizeof(double) * n2);
+    free(yp);
+    free(full);
+    return rows;
+}
+
+/* Orthonormal basis (columns of B, n2 x nt) of the null space of C (rows x n2). Returns nt. */
+static int tangent_basis(const double *C, int rows, int n2, double *B)
+{
+    double A[3 * SWIM_FLOQUET_MAX], sv[SWIM_FLOQUET_MAX], superb[SWIM_FLOQUET_MAX];
+    double *VT = malloc(sizeof(double) * n2 * n2);
+    if (!VT) return -1;
+    int rank = 0;
+    if (rows > 0) {
+        memcpy(A, C, sizeof(double) * rows * n2);
+        if (LAPACKE_dgesvd(LAPACK_ROW_MAJOR, 'N', 'A', rows, n2, A, n2, sv, NULL, 1, VT, n2, superb) != 0) {
+            free(VT);
+            return -1;
+        }
+        for (int r = 0; r < rows && r < n2; r++) rank += sv[r] > 1e-10 * sv[0];
+    } else {
+        for (int i = 0; i < n2; i++)
+            for (int j = 0; j < n2; j++) VT[i * n2 + j] = i == j;
+    }
+    const int nt = n2 - rank;
+    for (int i = 0; i < n2; i++)
+        for (int k = 0; k < nt; k++) B[i * nt + k] = VT[(rank + k) * n2 + i];
+    free(VT);
+    return nt;
+}
+
+static int eigenvalues(const double *M, int n, double *re, double *im)
+{
+    double *A = malloc(sizeof(double) * n * n);
+    if (!A) return -1;
+    memcpy(A, M, sizeof(double) * n * n);
+    int rc = LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', n, A, n, re, im, NULL, 1, NULL, 1) == 0 ? 0 : -1;
+    free(A);
+    return rc;
+}
+
+static double determinant(const double *M, int n)
+{
+    double *A = malloc(sizeof(double) * n * n);
+    lapack_int ipiv[SWIM_FLOQUET_MAX];
+    if (!A) return NAN;
+    memcpy(A, M, sizeof(double) * n * n);
+    double det = 1.0;
+    if (LAPACKE_dgetrf(LAPACK_ROW_MAJOR, n, n, A, n, ipiv) < 0) det = NAN;
+    for (int i = 0; i < n && isfinite(det); i++) det *= (ipiv[i] != i + 1 ? -1.0 : 1.0) * A[i * n + i];
+    free(A);
+    return det;
+}
+
+/* The checks of the structure, on M, the tangent basis B, f(x0) and grad E(x0). */
+static void structure(swim_floquet *fl, const double *B, const double *f, const double *gE)
+{
+    const int n2 = fl->n2, nt = fl->nt;
+    double *Mt = calloc((size_t)(nt * nt + n2 * nt), sizeof(double)), *MB = Mt + nt * nt;
+    if (!Mt) return;
+    for (int i = 0; i < n2; i++)
+        for (int k = 0; k < nt; k++)
+            for (int j = 0; j < n2; j++) MB[i * nt + k] += fl->M[i * n2 + j] * B[j * nt + k];
+    for (int a = 0; a < nt; a++)
+        for (int k = 0; k < nt; k++)
+            for (int i = 0; i < n2; i++) Mt[a * nt + k] += B[i * nt + a] * MB[i * nt + k];
+    eigenvalues(Mt, nt, fl->tre, fl->tim);
+    fl->det_tangent = determinant(Mt, nt);
+    double r = 0.0, fn = 0.0;
+    for (int i = 0; i < n2; i++) {
+        double mf = 0.0;
+        for (int j = 0; j < n2; j++) mf += fl->M[i * n2 + j] * f[j];
+        r += (mf - f[i]) * (mf - f[i]);
+        fn += f[i] * f[i];
+    }
+    fl->flow_residual = sqrt(r / fmax(fn, 1e-300));
+    double er = 0.0, en = 0.0;   /* (grad E M - grad E) B: energy is conserved on the manifold only */
+    for (int k = 0; k < nt; k++) {
+        double a = 0.0, b = 0.0;
+        for (int i = 0; i < n2; i++) {
+            a += gE[i] * MB[i * nt + k];
+            b += gE[i] * B[i * nt + k];
+        }
+        er += (a - b) * (a - b);
+        en += b * b;
+    }
+    fl->energy_residual = sqrt(er / fmax(en, 1e-300));
+    fl->reciprocal_residual = 0.0;
+    fl->max_abs_dev = 0.0;
+    fl->unit_count = 0;
+    for (int a = 0; a < nt; a++) {
+        const double complex lam = fl->tre[a] + I * fl->tim[a], inv = 1.0 / lam;
+        double best = INFINITY;
+        for (int b = 0; b < nt; b++) best = fmin(best, cabs(fl->tre[b] + I * fl->tim[b] - inv));
+        fl->reciprocal_residual = fmax(fl->reciprocal_residual, best);
+        fl->max_abs_dev = fmax(fl->max_abs_dev, fabs(cabs(lam) - 1.0));
+        fl->unit_count += cabs(lam - 1.0) < FLOQUET_TOL;
+    }
+    fl->tol = FLOQUET_TOL;
+    fl->stable = fl->max_abs_dev <= FLOQUET_TOL;
+    free(Mt);
+}
+
+/* grad E on the carried shape state, by central differences of the diagnostics. */
+static int energy_gradient(swim_dynamics *d, const double *ys, double *gE)
+{
+    const int nf = d->spec->nfree, N = swim_dynamics_state_dim(d);
+    double *yp = malloc(sizeof(double) * N), *full = malloc(sizeof(double) * d->dim);
+    int rc = yp && full ? 0 : -1;
+    for (int j = 0; j < 2 * nf && rc == 0; j++) {
+        const double step = 1e-6 * (1.0 + fabs(ys[3 + j]));
+        double E[2];
+        for (int side = 0; side < 2 && rc == 0; side++) {
+            swim_diag g;
+            memcpy(yp, ys, sizeof(double) * N);
+            yp[3 + j] += side ? -step : step;
+            swim_dynamics_unpack(d, yp, full);
+            rc = swim_dynamics_diagnostics(d, full, &g);
+            E[side] = g.energy;
+        }
+        gE[j] = (E[0] - E[1]) / (2 * step);
+    }
+    free(yp);
+    free(full);
+    return rc;
+}
+
+int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max, swim_floquet *fl)
+{
+    memset(fl, 0, sizeof *fl);
+    const double t0 = now();
+    const int nf = d->spec->nfree, n2 = 2 * nf, N = swim_dynamics_state_dim(d);
+    fl->n2 = n2;
+    double *full = calloc((size_t)d->dim, sizeof(double)), *ys = malloc(sizeof(double) * N);
+    double *f = malloc(sizeof(double) * N), *gE = malloc(sizeof(double) * n2);
+    double *C = malloc(sizeof(double) * 3 * n2), *B = malloc(sizeof(double) * n2 * n2);
+    double *Y = NULL;
+    swim_sens S;
+    int have_sens = 0, rc = 1;
+    fl->M = malloc(sizeof(double) * n2 * n2);
+    if (!full || !ys || !f || !gE || !C || !B || !fl->M) goto oom;
+    swim_dynamics_initial_state(d, full);
+    swim_dynamics_pack(d, full, ys);
+    if (find_period(d, sec, t_max, ys, &fl->t_first, &fl->period)) goto done;
+    if (swim_sens_init(&S, d) != 0) goto oom;
+    have_sens = 1;
+    for (int j = 0; j < n2; j++)
+        if (swim_sens_add_state(&S, 3 + j, "x") != 0) goto oom;
+    const int dimY = swim_sens_dimension(&S);
+    if (!(Y = malloc(sizeof(double) * dimY))) goto oom;
+    swim_sens_initial(&S, ys, Y);
+    swim_ode_system sys = {swim_sens_rhs, (size_t)dimY, &S, NULL};
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.rtol = fmax(d->scene->rtol, 1e-10);   /* as swim_sens_write_run: the differences' noise */
+    o.atol = fmax(d->scene->atol, 1e-12);
+    swim_ode *ode = NULL;
+    int orc = swim_ode_create("abm", &sys, &o, 0.0, Y, &ode);
+    if (orc == SWIM_ODE_OK) orc = swim_ode_advance(ode, fl->period, Y);
+    if (ode) {
+        swim_ode_stats st;
+        swim_ode_get_stats(ode, &st);
+        fl->rhs_calls = st.rhs_evals;
+        swim_ode_free(ode);
+    }
+    if (orc != SWIM_ODE_OK) {
+        swim_message(stderr, "swim floquet: the variational equations failed: %s", swim_ode_strerror(orc));
+        goto done;
+    }
+    for (int i = 0; i < n2; i++) {
+        fl->closure = fmax(fl->closure, fabs(Y[3 + i] - ys[3 + i]));
+        for (int j = 0; j < n2; j++) fl->M[i * n2 + j] = Y[(size_t)(j + 1) * N + 3 + i];
+    }
+    if (eigenvalues(fl->M, n2, fl->re, fl->im) != 0) goto oom;
+    if (swim_dynamics_rhs(0.0, ys, f, d) != 0 || energy_gradient(d, ys, gE) != 0) {
+        swim_message(stderr, "swim floquet: the right-hand side or the energy failed at the initial state");
+        goto done;
+    }
+    const int rows = constraint_gradients(d, ys, C);
+    if (rows < 0 || (fl->nt = tangent_basis(C, rows, n2, B)) < 0) goto oom;
+    structure(fl, B, f + 3, gE);
+    rc = 0;
+    goto done;
+oom:
+    swim_message(stderr, "swim floquet: out of memory");
+done:
+    if (have_sens) swim_sens_free(&S);
+    free(full); free(ys); free(f); free(gE); free(C); free(B); free(Y);
+    fl->seconds = now() - t0;
+    return rc;
+}
+
+void swim_floquet_free(swim_floquet *fl)
+{
+    free(fl->M);
+    fl->M = NULL;
+}
+
+static void multipliers_json(FILE *f, const double *re, const double *im, int n)
+{
+    fprintf(f, "[");
+    for (int i = 0; i < n; i++) {
+        fprintf(f, "%s\n    {\"re\": ", i ? "," : "");
+        swim_json_number(f, re[i]);
+        fprintf(f, ", \"im\": ");
+        swim_json_number(f, im[i]);
+        fprintf(f, ", \"abs\": ");
+        swim_json_number(f, hypot(re[i], im[i]));
+        fprintf(f, "}");
+    }
+    fprintf(f, "\n  ]");
+}
+
+void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const char *section)
+{
+    fprintf(f, "{\n  \"scene\": ");
+    swim_json_string(f, scene);
+    fprintf(f, ",\n  \"section\": ");
+    swim_json_string(f, section);
+    fprintf(f, ",\n  \"period\": ");
+    swim_json_number(f, fl->period);
+    fprintf(f, ",\n  \"first_event\": ");
+    swim_json_number(f, fl->t_first);
+    fprintf(f, ",\n  \"closure\": ");
+    swim_json_number(f, fl->closure);
+    fprintf(f, ",\n  \"dimension\": %d,\n  \"tangent_dimension\": %d,\n  \"multipliers_tangent\": ", fl->n2, fl->nt);
+    multipliers_json(f, fl->tre, fl->tim, fl->nt);
+    fprintf(f, ",\n  \"multipliers_full\": ");
+    multipliers_json(f, fl->re, fl->im, fl->n2);
+    fprintf(f, ",\n  \"checks\": {\"flow_residual\": ");
+    swim_json_number(f, fl->flow_residual);
+    fprintf(f, ", \"energy_residual\": ");
+    swim_json_number(f, fl->energy_residual);
+    fprintf(f, ", \"reciprocal_residual\": ");
+    swim_json_number(f, fl->reciprocal_residual);
+    fprintf(f, ", \"det_tangent\": ");
+    swim_json_number(f, fl->det_tangent);
+    fprintf(f, ", \"max_abs_deviation\": ");
+    swim_json_number(f, fl->max_abs_dev);
+    fprintf(f, ", \"multipliers_at_1\": %d, \"tolerance\": ", fl->unit_count);
+    swim_json_number(f, fl->tol);
+    fprintf(f, "},\n  \"stable\": %s,\n  \"monodromy\": ", fl->stable ? "true" : "false");
+    swim_json_matrix(f, fl->M, fl->n2, fl->n2, 2);
+    fprintf(f, ",\n  \"rhs_evaluations\": %ld,\n  \"seconds\": ", fl->rhs_calls);
+    swim_json_number(f, fl->seconds);
+    fprintf(f, "\n}\n");
+}
+
+void swim_floquet_table(FILE *f, const swim_floquet *fl)
+{
+    fprintf(f, "period T = %.10g (first event at t = %.10g), closure |x(T) - x(0)| = %.2g\n",
+            fl->period, fl->t_first, fl->closure);
+    fprintf(f, "multipliers on the constraint manifold (%d of %d; r and theta are cyclic: trivial 1s, left out):\n",
+            fl->nt, fl->n2);
+    fprintf(f, "  %-24s %-24s %-14s %s\n", "re", "im", "|lambda|", "arg/pi");
+    for (int i = 0; i < fl->nt; i++)
+        fprintf(f, "  %-24.15g %-24.15g %-14.10f %.6f\n", fl->tre[i], fl->tim[i], hypot(fl->tre[i], fl->tim[i]),
+                atan2(fl->tim[i], fl->tre[i]) / M_PI);
+    fprintf(f, "checks: flow direction |Mf - f|/|f| = %.2g; energy |(dE M - dE) B|/|dE B| = %.2g; "
+            "reciprocal pairs %.2g; det M_t = %.12g; at 1: %d\n",
+            fl->flow_residual, fl->energy_residual, fl->reciprocal_residual, fl->det_tangent, fl->unit_count);
+    fprintf(f, "%s: max ||lambda| - 1| = %.3g (tolerance %.0e)\n", fl->stable ? "linearly stable (all |lambda| = 1)" : "UNSTABLE",
+            fl->max_abs_dev, fl->tol);
+}

@@ -1,0 +1,64 @@
+/* floquet.h -- monodromy matrix and Floquet multipliers of a periodic stroke.
+ *
+ * The period T is the time between two successive events of one state column (the events
+ * machinery of ode/ode.h on the integrator's interpolant, with the run's drift control on), so
+ * the shape state x = (c_carried, cdot_carried) returns to x(0) at T. The monodromy matrix
+ * M = dx(T)/dx(0) comes from the variational equations (control/sensitivity.h) with the 2n
+ * columns e_i. The rigid position r and the orientation theta do not enter the shape equations
+ * (they are cyclic, (3.21)): their multipliers are trivially 1 and they are left out.
+ *
+ * The shape motion lives on the invariant manifold {mu^2(c) = mu^2(c0), G1 cdot = 0,
+ * G2 cdot = 0} ((2.5), (2.8), (2.14)); M restricted to its tangent space at x(0) (an orthonormal
+ * basis B from the SVD of the constraint gradients: M_t = B^T M B) carries the multipliers of
+ * the swimmer's motion; the three transverse ones (the conserved G1 cdot, G2 cdot and the volume)
+ * are 1 and are reported with the full M. Checks of the structure a conservative system imposes:
+ *   - the flow direction f(x(0)) is an eigenvector with multiplier 1 (|M f - f| / |f|);
+ *   - the energy gradient is a left eigenvector with multiplier 1 (|grad E M - grad E| / |grad E|);
+ *   - the tangent multipliers come in reciprocal pairs (lambda, 1/lambda) and det M_t = 1.
+ * Stable (in the linear sense) when every tangent multiplier has |lambda| = 1 to the tolerance.
+ */
+#ifndef SWIM_CONTROL_FLOQUET_H
+#define SWIM_CONTROL_FLOQUET_H
+
+#include <stdio.h>
+
+#include "model/dynamics.h"
+
+#define SWIM_FLOQUET_MAX (2 * SWIM_NMAX)
+
+typedef struct {
+    double period, t_first;        /* T and the time of the first event */
+    double closure;                /* max |x(T) - x(0)| over the shape state */
+    int n2;                        /* 2 * carried coordinates: size of M */
+    int nt;                        /* dimension of the tangent space */
+    double *M;                     /* n2 x n2, row-major (owned) */
+    double re[SWIM_FLOQUET_MAX], im[SWIM_FLOQUET_MAX];       /* multipliers of M */
+    double tre[SWIM_FLOQUET_MAX], tim[SWIM_FLOQUET_MAX];     /* of M_t */
+    double flow_residual;          /* |M f - f| / |f| */
+    double energy_residual;        /* |grad E M - grad E| / |grad E| */
+    double reciprocal_residual;    /* max over tangent lambda of min_j |lambda_j - 1/lambda| */
+    double det_tangent;            /* det M_t */
+    double max_abs_dev;            /* max | |lambda| - 1 | over the tangent multipliers */
+    int unit_count;                /* tangent multipliers within tol of 1 */
+    int stable;                    /* every tangent |lambda| = 1 to tol */
+    double tol;                    /* the tolerance of the checks */
+    long rhs_calls;
+    double seconds;
+} swim_floquet;
+
+/* Event that defines the period: extremum (kind 'x' max, 'n' min) or rising zero ('z') of the
+ * integrator-state component `index` of d's state (c or cdot of a carried coordinate). */
+typedef struct {
+    int index;
+    char kind;
+} swim_floquet_section;
+
+/* Computes everything above; t_max bounds the search for two events. 0, or 1 after one line on
+ * stderr (no period found before t_max, an integration failure). */
+int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max, swim_floquet *out);
+void swim_floquet_free(swim_floquet *f);
+/* floquet.json and the table printed by swim floquet. */
+void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const char *section);
+void swim_floquet_table(FILE *f, const swim_floquet *fl);
+
+#endif

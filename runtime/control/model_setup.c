@@ -1,0 +1,51 @@
+#include "control/model_setup.h"
+
+#include <string.h>
+
+#include "cli/args.h"
+#include "io/message.h"
+
+int swim_setup_take_sets(const char *cmd, int *argc, char **argv, int first, swim_override *sets)
+{
+    const char *vals[SWIM_SETUP_MAX_SETS];
+    int n = swim_args_take_all(cmd, argc, argv, first, "set", vals, SWIM_SETUP_MAX_SETS);
+    if (n < 0) return -1;
+    for (int i = 0; i < n; i++) {
+        char err[256];
+        if (swim_override_parse(vals[i], &sets[i], err, sizeof err) != 0) {
+            swim_message(stderr, "swim %s: --set: %s", cmd, err);
+            return -1;
+        }
+    }
+    return n;
+}
+
+int swim_setup_open(swim_model_setup *m, const char *cmd, const char *path, const swim_override *sets,
+                    int nsets, int generic, int quiet)
+{
+    memset(m, 0, sizeof *m);
+    if (swim_scene_load_with(path, sets, nsets, &m->s)) return 2;
+    m->loaded = 1;
+    if (swim_codegen_kernel(m->s.modes, &m->kn, quiet ? 0 : 1) != 0 ||
+        swim_codegen_scene(&m->s, generic, &m->spz, quiet ? 0 : 1) != 0) {
+        swim_message(stderr, "swim %s: %s: no kernel for this scene, nothing computed", cmd, path);
+        return 1;
+    }
+    if (swim_scene_check_model(&m->s, m->kn.kernel)) return 2;
+    if (swim_dynamics_init(&m->d, &m->s, m->kn.kernel) != 0) {
+        swim_message(stderr, "swim %s: out of memory", cmd);
+        return 1;
+    }
+    m->dyn_ready = 1;
+    swim_dynamics_use_scene_kernel(&m->d, m->spz.scene, generic);
+    return 0;
+}
+
+void swim_setup_close(swim_model_setup *m)
+{
+    if (m->dyn_ready) swim_dynamics_free(&m->d);
+    swim_compiled_close(&m->spz);
+    swim_compiled_close(&m->kn);
+    if (m->loaded) swim_scene_free(&m->s);
+    m->dyn_ready = m->loaded = 0;
+}

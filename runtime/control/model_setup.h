@@ -1,0 +1,31 @@
+/* model_setup.h -- a scene made ready to compute with, for the commands that integrate it in
+ * process many times or with variational equations (swim floquet, swim optimize): the scene
+ * read with its --set overrides and validated, its kernels obtained (runtime/codegen), the
+ * magnitude check, and the dynamics on the scene kernel. The same stages as swim run's, in the
+ * same order, so a scene refused by one is refused by the others with the same line. */
+#ifndef SWIM_CONTROL_MODEL_SETUP_H
+#define SWIM_CONTROL_MODEL_SETUP_H
+
+#include "codegen/codegen.h"
+#include "model/dynamics.h"
+#include "scene/scene.h"
+
+#define SWIM_SETUP_MAX_SETS 64
+
+typedef struct {
+    swim_scene s;
+    swim_compiled kn, spz;     /* the kernel of N modes and the scene's right-hand side */
+    swim_dynamics d;
+    int loaded, dyn_ready;
+} swim_model_setup;
+
+/* Takes every --set KEY=VALUE out of argv[first..*argc) (compacting argv) into sets; how many,
+ * or -1 after one line "swim CMD: --set: ..." on stderr. */
+int swim_setup_take_sets(const char *cmd, int *argc, char **argv, int first, swim_override *sets);
+/* 0; 2 after one line on stderr (bad scene or override, numbers that overflow); 1 when no
+ * kernel could be had or out of memory. */
+int swim_setup_open(swim_model_setup *m, const char *cmd, const char *path, const swim_override *sets,
+                    int nsets, int generic, int quiet);
+void swim_setup_close(swim_model_setup *m);
+
+#endif

@@ -1,0 +1,397 @@
+#include "control/sensitivity.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "io/csv.h"
+#include "io/message.h"
+#include "kernel/coords.h"
+#include "ode/ode.h"
+#include "shape/constraints.h"
+
+/* Central differences: truncation ~ h^2 |f'''|, rounding ~ u/h. Measured on Example 3 (c0.am1
+ * over T = 10): the result moves by 1.5e-3, 1.5e-5 for h = 1e-3, 1e-4 (|f'''| ~ 1e3 along
+ * that direction) and by ~2e-7 at 1e-7 (rounding); 2e-6 keeps both near 1e-8. */
+#define SENS_STEP 2e-6
+/* ... which leaves ~1e-10 relative noise in s': an error test tighter than that fights the noise
+ * (Example 3 at rtol 1e-12: 7x the evaluations and a result wrong by 1e-2 relative), so the
+ * augmented system is integrated at no tighter than these. */
+#define SENS_RTOL_MIN 1e-10
+#define SENS_ATOL_MIN 1e-12
+
+int swim_sens_init(swim_sens *S, swim_dynamics *d)
+{
+    memset(S, 0, sizeof *S);
+    S->d = d;
+    S->error_control = 1;
+    S->dim = swim_dynamics_state_dim(d);
+    size_t b = sizeof(double) * (size_t)(d->dim > S->dim ? d->dim : S->dim);
+    S->yp = malloc(b);
+    S->ym = malloc(b);
+    S->fp = malloc(b);
+    S->fm = malloc(b);
+    if (!S->yp || !S->ym || !S->fp || !S->fm) {
+        swim_sens_free(S);
+        return -1;
+    }
+    return 0;
+}
+
+void swim_sens_free(swim_sens *S)
+{
+    for (int k = 0; k < S->nkeys; k++) free(S->keys[k].s0);
+    free(S->yp); free(S->ym); free(S->fp); free(S->fm);
+    S->yp = S->ym = S->fp = S->fm = NULL;
+    S->nkeys = 0;
+}
+
+static swim_sens_key *new_key(swim_sens *S, const char *name)
+{
+    if (S->nkeys == SWIM_SENS_MAX_KEYS) return NULL;
+    swim_sens_key *k = &S->keys[S->nkeys];
+    memset(k, 0, sizeof *k);
+    snprintf(k->name, sizeof k->name, "%s", name);
+    k->s0 = calloc((size_t)S->dim, sizeof(double));
+    if (!k->s0) return NULL;
+    S->nkeys++;
+    return k;
+}
+
+int swim_sens_add_state(swim_sens *S, int i, const char *name)
+{
+    swim_sens_key *k = new_key(S, name);
+    if (!k) return -1;
+    k->s0[i] = 1.0;
+    return 0;
+}
+
+/* The initial velocity the loader makes of dc0 at shape c0 with project_initial (ERRATA D5). */
+static void projected_velocity(const swim_scene *s, const double *c0, const double *dc0, double *v)
+{
+    double G[(SWIM_NMAX + 2) * SWIM_NMAX];
+    memcpy(v, dc0, sizeof(double) * s->n);
+    int m = swim_constraint_rows(s->n, c0, s->free_mask, G);
+    swim_constraint_project(s->n, m, G, v);
+}
+
+/* dy0/dp of c0.NAME (shape) or dc0.NAME (velocity) of the free coordinate i. */
+static void initial_column(const swim_sens *S, int i, int velocity, double *s0)
+{
+    const swim_dynamics *d = S->d;
+    const swim_scene *s = d->scene;
+    const int nf = d->spec->nfree, n = s->n;
+    double cp[SWIM_NMAX], cm[SWIM_NMAX], vp[SWIM_NMAX], vm[SWIM_NMAX], dv[SWIM_NMAX];
+    memcpy(cp, s->c0, sizeof(double) * n);
+    memcpy(cm, s->c0, sizeof(double) * n);
+    memcpy(vp, s->dc0, sizeof(double) * n);
+    memcpy(vm, s->dc0, sizeof(double) * n);
+    const double h = 1e-5;
+    if (velocity) {   /* P is linear in dc0: P e_i */
+        memset(dv, 0, sizeof dv);
+        dv[i] = 1.0;
+        projected_velocity(s, s->c0, dv, vp);
+        for (int k = 0; k < n; k++) dv[k] = vp[k];
+    } else {          /* d/dc0_i of P(c0) dc0, by central differences of the projection */
+        cp[i] += h;
+        cm[i] -= h;
+        projected_velocity(s, cp, s->dc0, vp);
+        projected_velocity(s, cm, s->dc0, vm);
+        for (int k = 0; k < n; k++) dv[k] = (vp[k] - vm[k]) / (2 * h);
+    }
+    memset(s0, 0, sizeof(double) * S->dim);
+    for (int f = 0; f < nf; f++) {
+        const int j = d->spec->free_index[f];
+        s0[3 + f] = !velocity && j == i ? 1.0 : 0.0;
+        s0[3 + nf + f] = dv[j];
+    }
+}
+
+static int key_error(const char *cmd, const char *key, const char *fmt, const char *detail)
+{
+    char *msg = swim_strprintf(fmt, detail);
+    swim_message(stderr, "swim %s: --sensitivity: %s: %s", cmd, key, msg ? msg : fmt);
+    free(msg);
+    return 2;
+}
+
+int swim_sens_add_key(swim_sens *S, swim_scene *s, const char *cmd, const char *key)
+{
+    swim_dynamics *d = S->d;
+    swim_override o;
+    char err[200];
+    if (swim_override_key(key, &o, err, sizeof err) != 0) return key_error(cmd, key, "%s", err);
+    /* c0.NAME, dc0.NAME as shorthands of shape.c0.NAME, shape.dc0.NAME */
+    if ((strcmp(o.table, "c0") == 0 || strcmp(o.table, "dc0") == 0) && o.index < 0) {
+        char full[128];
+        snprintf(full, sizeof full, "shape.%s.%s", o.table, o.key);
+        if (swim_override_key(full, &o, err, sizeof err) != 0) return key_error(cmd, key, "%s", err);
+    }
+    const int generic = d->generic;
+    const long i = o.index;
+    const int coord = i >= 0 && i < s->n, fr = coord && s->free_mask[i];
+    double *v0 = NULL, *v1 = NULL;
+    const char *absent = NULL;   /* why the kernel has no such term */
+    if (o.index >= s->n) {
+        char n[16];
+        snprintf(n, sizeof n, "%d", s->n);
+        return key_error(cmd, key, "index out of range (the scene has %s shape coordinates)", n);
+    }
+    if (strcmp(o.table, "shape") == 0 && (strcmp(o.key, "c0") == 0 || strcmp(o.key, "dc0") == 0) && coord) {
+        const int vel = strcmp(o.key, "dc0") == 0;
+        if (fr) {
+            swim_sens_key *k = new_key(S, key);
+            if (!k) return key_error(cmd, key, "%s", "too many keys or out of memory");
+            initial_column(S, (int)i, vel, k->s0);
+            return 0;
+        }
+        if (vel) return key_error(cmd, key, "%s", "the coordinate is locked: its velocity is 0 by definition");
+        v0 = &s->c0[i];   /* a locked coordinate's value is a parameter of the right-hand side */
+    } else if (strcmp(o.table, "model") == 0 && o.index < 0 && strcmp(o.key, "rho0") == 0) {
+        if (s->rhof_neutral) return key_error(cmd, key, "%s", "rhof = \"neutral\" follows rho0: give rhof a number");
+        v0 = &s->rho0;
+        v1 = &d->spec_params.rho0;
+    } else if (strcmp(o.table, "model") == 0 && o.index < 0 && strcmp(o.key, "rhof") == 0) {
+        v0 = &s->rhof;
+        v1 = &d->spec_params.rhof;
+    } else if (strcmp(o.table, "elastic") == 0 && coord && strcmp(o.key, "stiffness") == 0) {
+        v0 = &s->stiffness[i];
+        if (!generic && fr && !(s->elastic && s->stiffness[i] != 0)) absent = "its stiffness is 0, so the kernel has no elastic term there";
+    } else if (strcmp(o.table, "elastic") == 0 && coord && strcmp(o.key, "reference") == 0) {
+        v0 = &s->reference[i];   /* read only where the stiffness is nonzero; elsewhere dW1/dref = 0 */
+    } else if (strcmp(o.table, "damping") == 0 && coord && strcmp(o.key, "diagonal") == 0) {
+        v0 = &s->damping[i];
+        if (!generic && fr && !(s->damped && s->damping[i] != 0)) absent = "its damping is 0, so the kernel has no damping term there";
+    } else if (strcmp(o.table, "forcing") == 0 && coord && strcmp(o.key, "direction") == 0) {
+        v0 = &s->direction[i];
+        if (!s->forced) absent = "the scene has no forcing law";
+        else if (!generic && fr && s->direction[i] == 0) absent = "its direction is 0, so the kernel has no force there";
+    } else if (strcmp(o.table, "barrier") == 0 && o.index < 0 && strcmp(o.key, "epsilon") == 0) {
+        v0 = &s->epsilon;
+        if (!s->barrier) absent = "epsilon is 0, so the kernel has no barrier";
+    } else if (strcmp(o.table, "barrier") == 0 && o.index < 0 && strcmp(o.key, "alpha") == 0) {
+        v0 = &s->alpha;
+    } else if (strcmp(o.table, "parameters") == 0 && o.index < 0) {
+        for (int j = 0; j < s->nparams; j++)
+            if (strcmp(s->param_names[j], o.key) == 0) v0 = &s->param_values[j];
+        if (!v0) return key_error(cmd, key, "the scene's [parameters] has no '%s'", o.key);
+    } else {
+        return key_error(cmd, key, "%s", "not a value the equations read (keys: model.rho0, model.rhof, "
+                         "elastic.stiffness.NAME, elastic.reference.NAME, damping.diagonal.NAME, "
+                         "forcing.direction.NAME, barrier.epsilon, barrier.alpha, parameters.NAME, "
+                         "c0.NAME, dc0.NAME; NAME a coordinate such as am1, or [I])");
+    }
+    if (absent) {
+        char why[200];
+        snprintf(why, sizeof why, "%s (run with --generic to differentiate with respect to it)", absent);
+        return key_error(cmd, key, "%s", why);
+    }
+    swim_sens_key *k = new_key(S, key);
+    if (!k) return key_error(cmd, key, "%s", "too many keys or out of memory");
+    k->value[0] = v0;
+    k->value[1] = v1;
+    k->nvalue = v1 ? 2 : 1;
+    return 0;
+}
+
+int swim_sens_add_list(swim_sens *S, swim_scene *scene, const char *cmd, const char *list)
+{
+    char *copy = strdup(list), *save = NULL;
+    if (!copy) return 2;
+    int rc = 0, any = 0;
+    for (char *tok = strtok_r(copy, ",", &save); tok && rc == 0; tok = strtok_r(NULL, ",", &save)) {
+        for (int k = 0; k < S->nkeys; k++)
+            if (strcmp(S->keys[k].name, tok) == 0) rc = key_error(cmd, tok, "%s", "given twice");
+        if (rc == 0) rc = swim_sens_add_key(S, scene, cmd, tok);
+        any = 1;
+    }
+    if (rc == 0 && !any) rc = key_error(cmd, list, "%s", "expected KEY[,KEY...]");
+    free(copy);
+    return rc;
+}
+
+int swim_sens_dimension(const swim_sens *S)
+{
+    return (1 + S->nkeys) * S->dim;
+}
+
+void swim_sens_initial(const swim_sens *S, const double *y0, double *Y0)
+{
+    memcpy(Y0, y0, sizeof(double) * S->dim);
+    for (int k = 0; k < S->nkeys; k++) memcpy(Y0 + (size_t)(k + 1) * S->dim, S->keys[k].s0, sizeof(double) * S->dim);
+}
+
+/* The step along (s, 1): h relative to the state and to the key's value, whichever is tighter;
+ * 0 when there is no direction at all. */
+static double diff_step(const swim_sens_key *key, const double *y, const double *s, int n)
+{
+    double w = 0.0;
+    for (int i = 0; i < n; i++) w = fmax(w, fabs(s[i]) / (1.0 + fabs(y[i])));
+    if (key->nvalue) {
+        const double p = fabs(*key->value[0]);
+        w = fmax(w, 1.0 / (p > 0 ? p : 1.0));
+    }
+    return w > 0 ? SENS_STEP / w : 0.0;
+}
+
+static void set_key(const swim_sens_key *key, const double *base, double delta)
+{
+    for (int j = 0; j < key->nvalue; j++) *key->value[j] = base[j] + delta;
+}
+
+int swim_sens_rhs(double t, const double *Y, double *dY, void *params)
+{
+    swim_sens *S = params;
+    const int n = S->dim;
+    int rc = swim_dynamics_rhs(t, Y, dY, S->d);
+    if (rc != 0) return rc;
+    for (int k = 0; k < S->nkeys; k++) {
+        const swim_sens_key *key = &S->keys[k];
+        const double *s = Y + (size_t)(k + 1) * n;
+        double *ds = dY + (size_t)(k + 1) * n;
+        const double h = diff_step(key, Y, s, n);
+        if (h == 0.0) {
+            memset(ds, 0, sizeof(double) * n);
+            continue;
+        }
+        double base[2] = {0, 0};
+        for (int j = 0; j < key->nvalue; j++) base[j] = *key->value[j];
+        for (int i = 0; i < n; i++) {
+            S->yp[i] = Y[i] + h * s[i];
+            S->ym[i] = Y[i] - h * s[i];
+        }
+        set_key(key, base, h);
+        rc = swim_dynamics_rhs(t, S->yp, S->fp, S->d);
+        set_key(key, base, -h);
+        if (rc == 0) rc = swim_dynamics_rhs(t, S->ym, S->fm, S->d);
+        for (int j = 0; j < key->nvalue; j++) *key->value[j] = base[j];   /* bit for bit */
+        S->rhs_calls += 2;
+        if (rc != 0) return rc;
+        for (int i = 0; i < n; i++) ds[i] = (S->fp[i] - S->fm[i]) / (2 * h);
+    }
+    return 0;
+}
+
+double swim_sens_energy(swim_sens *S, const double *Y, int k)
+{
+    const swim_sens_key *key = &S->keys[k];
+    const int n = S->dim;
+    const double *s = Y + (size_t)(k + 1) * n;
+    const double h = diff_step(key, Y, s, n);
+    if (h == 0.0) return 0.0;
+    double base[2] = {0, 0}, E[2];
+    for (int j = 0; j < key->nvalue; j++) base[j] = *key->value[j];
+    int rc = 0;
+    for (int side = 0; side < 2 && rc == 0; side++) {
+        const double sg = side ? -h : h;
+        for (int i = 0; i < n; i++) S->yp[i] = Y[i] + sg * s[i];
+        set_key(key, base, sg);
+        double *fullbuf = malloc(sizeof(double) * S->d->dim);
+        swim_diag g;
+        if (!fullbuf) { rc = -1; break; }
+        swim_dynamics_unpack(S->d, S->yp, fullbuf);
+        rc = swim_dynamics_diagnostics(S->d, fullbuf, &g);
+        E[side] = g.energy;
+        free(fullbuf);
+    }
+    for (int j = 0; j < key->nvalue; j++) *key->value[j] = base[j];
+    return rc == 0 ? (E[0] - E[1]) / (2 * h) : NAN;
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double *seconds,
+                        long *rhs_calls)
+{
+    static const char *const what[] = {"dx", "dy", "dtheta", "denergy", "dwork"};
+    const swim_scene *s = S->d->scene;
+    const int n = S->dim, ncol = 1 + 5 * S->nkeys, N = swim_sens_dimension(S);
+    const double t0 = now();
+    char **names = calloc((size_t)ncol, sizeof *names);
+    double *Y = malloc(sizeof(double) * N), *row = malloc(sizeof(double) * ncol);
+    double *y0 = calloc((size_t)S->d->dim, sizeof(double)), *ys = malloc(sizeof(double) * n), *atolv = NULL;
+    int rc = 1;
+    swim_csv csv = {0};
+    swim_ode *ode = NULL;
+    if (!names || !Y || !row || !y0 || !ys) goto oom;
+    names[0] = strdup("t");
+    for (int k = 0; k < S->nkeys; k++)
+        for (int w = 0; w < 5; w++)
+            names[1 + 5 * k + w] = swim_strprintf("%s/d%s", what[w], S->keys[k].name);
+    for (int c = 0; c < ncol; c++)
+        if (!names[c]) goto oom;
+    if (swim_csv_open(&csv, csv_path, (const char *const *)names, ncol) != 0) {
+        swim_message(stderr, "swim: %s: cannot write: %s", csv_path, strerror(errno));
+        goto done;
+    }
+    swim_dynamics_initial_state(S->d, y0);
+    swim_dynamics_pack(S->d, y0, ys);
+    swim_sens_initial(S, ys, Y);
+    swim_ode_system sys = {swim_sens_rhs, (size_t)N, S, NULL};
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.rtol = fmax(s->rtol, SENS_RTOL_MIN);
+    o.atol = fmax(s->atol, SENS_ATOL_MIN);
+    if (!S->error_control) {   /* the sensitivities ride on the state's steps */
+        if (!(atolv = malloc(sizeof(double) * N))) goto oom;
+        for (int i = 0; i < N; i++) atolv[i] = i < n ? o.atol : 1e300;
+        o.atol_vec = atolv;
+    }
+    if (s->step_lookahead >= 0) o.lookahead = s->step_lookahead;
+    int orc = swim_ode_create(integrator, &sys, &o, 0.0, Y, &ode);
+    const long rows = (long)floor(s->t_end / s->output_step + 1e-9);
+    double t = 0.0;
+    for (long k = 0; orc == SWIM_ODE_OK; k++) {   /* the grid of swim run's trajectory.csv */
+        t = k <= rows ? k * s->output_step : s->t_end;
+        if (k == rows && fabs(t - s->t_end) < 1e-9 * s->output_step) t = s->t_end;
+        if (k > rows && (rows * s->output_step >= s->t_end * (1 - 1e-12))) break;
+        if (k > rows + 1) break;
+        if (k > 0 && (orc = swim_ode_advance(ode, t, Y)) != SWIM_ODE_OK) break;
+        row[0] = t;
+        for (int j = 0; j < S->nkeys; j++) {
+            const double *sj = Y + (size_t)(j + 1) * n;
+            row[1 + 5 * j] = sj[0];
+            row[2 + 5 * j] = sj[1];
+            row[3 + 5 * j] = sj[2];
+            row[4 + 5 * j] = swim_sens_energy(S, Y, j);
+            row[5 + 5 * j] = sj[n - 1];
+        }
+        if (swim_csv_row(&csv, row) != 0) {
+            swim_message(stderr, "swim: %s: write failed at t = %.6g: %s", csv_path, t, strerror(errno));
+            goto done;
+        }
+    }
+    if (orc != SWIM_ODE_OK) {
+        int st = ode ? swim_ode_rhs_status(ode) : 0;
+        swim_message(stderr, "swim: sensitivities stopped at t = %.6g: %s%s%s; rows up to there are in %s", t,
+                     swim_ode_strerror(orc), st ? ": " : "", st ? swim_dynamics_strerror(st) : "", csv_path);
+        goto done;
+    }
+    rc = 0;
+    goto done;
+oom:
+    swim_message(stderr, "swim: out of memory computing sensitivities");
+done:
+    if (ode) {
+        swim_ode_stats st;
+        swim_ode_get_stats(ode, &st);
+        if (rhs_calls) *rhs_calls = st.rhs_evals;
+        swim_ode_free(ode);
+    }
+    if (swim_csv_close(&csv) != 0 && rc == 0) {
+        swim_message(stderr, "swim: %s: cannot write: %s", csv_path, strerror(errno));
+        rc = 1;
+    }
+    if (names)
+        for (int c = 0; c < ncol; c++) free(names[c]);
+    free(names); free(Y); free(row); free(y0); free(ys); free(atolv);
+    if (seconds) *seconds = now() - t0;
+    return rc;
+}

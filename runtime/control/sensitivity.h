@@ -1,0 +1,83 @@
+/* sensitivity.h -- forward sensitivities of a scene's state: the variational equations.
+ *
+ * For a key p -- a run-time number the right-hand side reads (model.rho0, elastic.stiffness[4],
+ * parameters.A, barrier.epsilon, ...) or an initial value (c0.NAME, dc0.NAME of a free
+ * coordinate) -- the sensitivity s = dy/dp of the integrator state y (model/dynamics.h: q,
+ * c_carried, cdot_carried, work) solves
+ *     s' = (df/dy) s + df/dp,      s(0) = dy0/dp.
+ * The augmented state (y, s_1, ..., s_K) is integrated by any integrator of ode/ode.h, whose
+ * error control covers the sensitivities too (as CVODES with errconS) unless error_control is 0.
+ * The augmented system is integrated at rtol >= 1e-10: the differences below carry ~1e-10
+ * relative noise, and a tighter error test fights it. The directional
+ * derivative (df/dy) s + df/dp is the central difference of the generated right-hand side along
+ * (s, 1) in (y, p), with a step scaled to the state and the key (error O(h^2) ~ 1e-10 relative):
+ * 2 evaluations of f per key, no Jacobian matrix. dy0/dp of an initial value is the unit vector
+ * projected onto the constraints G1, G2 and the locks at c0 (ERRATA D5): the derivative of the
+ * run that a scene with [run] project_initial = true makes from perturbed initial data.
+ *
+ * Ownership: a swim_sens borrows the dynamics (and, through the keys, writes to the scene's
+ * numbers while it differentiates; each is restored bit for bit before the call returns).
+ */
+#ifndef SWIM_CONTROL_SENSITIVITY_H
+#define SWIM_CONTROL_SENSITIVITY_H
+
+#include <stdio.h>
+
+#include "model/dynamics.h"
+
+#define SWIM_SENS_MAX_KEYS 32
+
+/* One column of the variational equations. */
+typedef struct {
+    char name[64];          /* the key as given, e.g. "parameters.A" */
+    double *value[2];       /* the run-time numbers the key is (nvalue of them; 0 for initial values) */
+    int nvalue;
+    double *s0;             /* dy0/dp on the integrator state (owned, state_dim entries) */
+} swim_sens_key;
+
+typedef struct {
+    swim_dynamics *d;       /* borrowed; swim_dynamics_use_scene_kernel done */
+    int dim;                /* integrator state dimension */
+    int nkeys;
+    swim_sens_key keys[SWIM_SENS_MAX_KEYS];
+    double *yp, *ym, *fp, *fm;   /* workspace (owned) */
+    long rhs_calls;
+    /* 1 (default): the error test covers the sensitivities too (as CVODES with errconS), which
+     * may need several times the state's steps; 0: it covers the state only, and the
+     * sensitivities take the state's steps (swim run --sensitivity-steps state) */
+    int error_control;
+} swim_sens;
+
+/* 0, or -1 (out of memory). */
+int swim_sens_init(swim_sens *S, swim_dynamics *d);
+void swim_sens_free(swim_sens *S);
+
+/* Adds the key `key` (the grammar of swim run --set, plus c0.NAME / dc0.NAME), resolved on the
+ * scene of S->d (mutable: scene). 0, or 2 after one line "swim CMD: --sensitivity: KEY: reason"
+ * on stderr (unknown key, a term the kernel does not have, a locked velocity, ...). */
+int swim_sens_add_key(swim_sens *S, swim_scene *scene, const char *cmd, const char *key);
+/* Adds a column with the initial sensitivity e_i of integrator-state component i (Floquet:
+ * monodromy columns). */
+int swim_sens_add_state(swim_sens *S, int i, const char *name);
+/* Adds every key of a comma-separated list; 0 or 2 as swim_sens_add_key. */
+int swim_sens_add_list(swim_sens *S, swim_scene *scene, const char *cmd, const char *list);
+
+/* Augmented state: dimension (1 + nkeys) * dim; Y = (y, s_1, ..., s_K). */
+int swim_sens_dimension(const swim_sens *S);
+void swim_sens_initial(const swim_sens *S, const double *y0, double *Y0);
+/* The augmented right-hand side (swim_ode_func, params = swim_sens *). */
+int swim_sens_rhs(double t, const double *Y, double *dY, void *params);
+
+/* dE/dp at an augmented state Y for key k: E the total energy of the diagnostics (kinetic +
+ * W1 + W2), differentiated along (s_k, 1) like the right-hand side. NAN when a diagnostic fails. */
+double swim_sens_energy(swim_sens *S, const double *Y, int k);
+
+/* Integrates the augmented system with `integrator` (rtol, atol of the scene) from 0 and writes
+ * one row per output time (k * output_step and t_end) to csv_path: t, then for each key
+ * dx/dKEY, dy/dKEY, dtheta/dKEY, denergy/dKEY, dwork/dKEY. Rows already written stay on failure.
+ * interrupt: as swim_dynamics.interrupt. 0, or 1 after one line on stderr saying where and why
+ * it stopped. *seconds gets the wall time of the integration and the rows. */
+int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double *seconds,
+                        long *rhs_calls);
+
+#endif

@@ -1,0 +1,40 @@
+#!/usr/bin/env python3
+"""convergence.png of a `swim optimize` folder: the best value of the quantity and the varied keys
+against the iteration, from DIR/optimize.csv (one row per iteration, written by the optimizer)."""
+
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main(folder):
+    with open(os.path.join(folder, "optimize.csv")) as fh:
+        rows = list(csv.DictReader(fh))
+    if not rows:
+        print("plot_optimize.py: %s/optimize.csv has no rows" % folder, file=sys.stderr)
+        return 1
+    cols = list(rows[0].keys())
+    keys, quantity = cols[2:-2], cols[-2]
+    it = [int(r["iteration"]) for r in rows]
+    fig, axes = plt.subplots(1 + len(keys), 1, figsize=(7, 2.2 * (1 + len(keys))), sharex=True)
+    axes[0].plot(it, [float(r[quantity]) for r in rows], "o-", ms=3)
+    axes[0].set_ylabel("best " + quantity)
+    axes[0].set_title("swim optimize: convergence (%d iterations, %s runs)" % (it[-1], rows[-1]["evaluations"]))
+    for ax, k in zip(axes[1:], keys):
+        ax.plot(it, [float(r[k]) for r in rows], "o-", ms=3, color="C1")
+        ax.set_ylabel(k)
+    axes[-1].set_xlabel("iteration")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "convergence.png"), dpi=110)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1]))
