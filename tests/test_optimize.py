@@ -62,6 +62,36 @@ def test_known_optimum_1d_and_reproduction():
         check(0 <= d["value"] - e_opt < 1e-5, "the minimum is the energy at cref = c0 (%r vs %r)" % (d["value"], e_opt))
 
 
+def test_prescribed_stroke():
+    # a loop am1 = A cos t, bm2 = B sin(t + phi) encloses pi A B cos(phi): the displacement per
+    # stroke (a geometric phase, proportional to the area for small loops) is largest at phi = 0
+    scene = os.path.join("models", "control", "stroke_phase.toml")
+    out = os.path.join(TMP, "stroke_phase")
+    p = subprocess.run([SWIM, "optimize", scene, "--out", out, "--quiet", "--vary", "parameters.phi=-0.5:1.2",
+                        "--minimize", "y"], capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 0, "optimize on a prescribed stroke runs: %s" % p.stderr)
+    if p.returncode != 0:
+        return
+    with open(os.path.join(out, "optimize.json")) as fh:
+        d = json.load(fh)
+    phi = d["best"]["parameters.phi"]
+    check(abs(phi) < 2e-3, "the best phase lag is 0 (%r)" % phi)
+    p2, r2, s2 = swimtest.run(os.path.join(out, "best.toml"), "stroke_best_run")
+    check(p2.returncode == 0 and r2 is not None, "best.toml of a stroke runs: %s" % p2.stderr)
+    if r2 is not None:
+        check(abs(r2["y"][-1] - d["value"]) <= 1e-9 * abs(d["value"]),
+              "swim run best.toml gives the reported y (%r vs %r)" % (r2["y"][-1], d["value"]))
+    p3, r3, _ = swimtest.run(scene, "stroke_phase_0.6")
+    if r3 is not None:
+        check(d["value"] < r3["y"][-1] - 1e-3, "phi = 0 swims farther than the scene's phi = 0.6")
+    # displacement per unit of positive work is defined for strokes (no [forcing] needed)
+    q = subprocess.run([SWIM, "optimize", scene, "--out", os.path.join(TMP, "stroke_dpw"), "--quiet",
+                        "--vary", "parameters.phi=-0.5:1.2", "--maximize", "displacement_per_work",
+                        "--max-iter", "3"], capture_output=True, text=True, cwd=ROOT)
+    check(q.returncode in (0, 1) and "needs a [forcing]" not in q.stderr,
+          "displacement_per_work accepted on a stroke: %s" % q.stderr)
+
+
 def test_known_optimum_2d():
     p, out, d = optimize("two", "--vary", "elastic.reference.am1=0:1", "--vary", "elastic.reference.bm2=-0.5:0.5",
                          "--minimize", "energy", "--tol", "1e-4")

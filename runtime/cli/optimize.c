@@ -206,10 +206,11 @@ int swim_cmd_optimize(int argc, char **argv)
         }
         swim_scene s;
         if (swim_scene_load_with(pos[0], ov, k, &s) != 0) return 2;
-        const int forced = s.forced;
+        const int forced = s.forced || s.stroke;   /* a stroke's work is the body's positive work */
         swim_scene_free(&s);
         if ((p.quantity == SWIM_Q_DISPLACEMENT_PER_WORK || p.quantity == SWIM_Q_FORCING_WORK) && !forced) {
-            swim_message(stderr, "swim optimize: %s: %s needs a [forcing] law (the work of F(t))", pos[0], qname);
+            swim_message(stderr, "swim optimize: %s: %s needs a [forcing] law (the work of F(t)) or a [stroke] "
+                         "(the positive work of the body)", pos[0], qname);
             return 2;
         }
     }

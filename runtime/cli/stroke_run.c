@@ -42,7 +42,6 @@
 #define MAX_SETS 64
 #define NCOLS_MAX (8 + 4 * SWIM_NMAX + 64)
 #define SNAPSHOTS 10
-#define CHECK_SAMPLES 16384   /* equal steps of the allowability check, besides the output times */
 #define MAX_STROKES 100000    /* strokes reported one by one in the summary */
 
 static volatile sig_atomic_t stop_signal;
@@ -263,7 +262,7 @@ static int prepare_stroke(stroke_ctx *c)
         swim_message(stderr, "swim run: %s: no kernel for this stroke, nothing computed", s->path);
         return 1;
     }
-    int rc = swim_stroke_init(&c->st, s, c->kn.kernel, c->law.stroke, NULL);
+    int rc = swim_stroke_init(&c->st, s, c->kn.kernel, c->law.stroke, s->param_values);
     if (rc == -1) {
         swim_message(stderr, "swim run: out of memory");
         return 1;
@@ -287,7 +286,7 @@ static int prepare_stroke(stroke_ctx *c)
     if (swim_scene_check_model(s, c->kn.kernel)) return 2;
     double t_bad;
     char why[512];
-    if (swim_stroke_check(&c->st, s->t_end, s->output_step, CHECK_SAMPLES, &t_bad, why, sizeof why))
+    if (swim_stroke_check(&c->st, s->t_end, s->output_step, SWIM_STROKE_CHECK_SAMPLES, &t_bad, why, sizeof why))
         return refuse(c, t_bad, why);
     if (s->stroke_period > 0) {
         c->period = s->stroke_period;
@@ -469,7 +468,6 @@ static void stop_on_integrator(stroke_ctx *c, int rc)
 /* Positive work: P is sampled at every target of the loop, at most this fraction of the period
  * (or of t_end without one) and a quarter of output_step apart, so that P changes sign at most
  * once between samples (a stroke's power has a few zeros per period). */
-#define POSWORK_SAMPLES_PER_PERIOD 512
 
 /* Rows at k*output_step and t_end, the ends of the strokes k*T, and the samples of the positive
  * work in between, merged in time order: the integrator only ever advances (interpolating). */
@@ -496,7 +494,7 @@ static void integrate(stroke_ctx *c)
     const int tail_row = rows * s->output_step < s->t_end * (1 - 1e-12);
     const long every = rows / (SNAPSHOTS - 1) > 0 ? rows / (SNAPSHOTS - 1) : 1;
     const long nstrokes = c->period > 0 ? (long)fmin(floor(s->t_end / c->period * (1 + 1e-12)), MAX_STROKES) : 0;
-    const double h_sample = fmin(0.25 * s->output_step, (c->period > 0 ? c->period : s->t_end) / POSWORK_SAMPLES_PER_PERIOD);
+    const double h_sample = fmin(0.25 * s->output_step, (c->period > 0 ? c->period : s->t_end) / SWIM_STROKE_POSWORK_SAMPLES);
     if (nstrokes > 0 && !(c->strokes = calloc((size_t)nstrokes, sizeof *c->strokes))) {
         end_run(c, 1, "out of memory");
         return;
@@ -586,7 +584,7 @@ static void stroke_json(FILE *f, const stroke_ctx *c)
         swim_json_string(f, "c1 completed: |c1| from the volume (2.5), its phase integrated from (2.14)");
     else
         fprintf(f, "null");
-    fprintf(f, ",\n    \"mu2\": %.17g, \"check_samples\": %d,\n    \"period\": ", c->st.mu2, CHECK_SAMPLES);
+    fprintf(f, ",\n    \"mu2\": %.17g, \"check_samples\": %d,\n    \"period\": ", c->st.mu2, SWIM_STROKE_CHECK_SAMPLES);
     swim_json_number(f, c->period > 0 ? c->period : NAN);
     fprintf(f, ", \"period_source\": \"%s\",\n    \"work\": ", c->period_source);
     swim_json_number(f, c->y[SWIM_STROKE_WORK]);

@@ -574,7 +574,12 @@ static char *stroke_text(const swim_scene *s, const char *key)
         swim_json_string(f, s->stroke_law[k]);
         fputc(']', f);
     }
-    fprintf(f, "], \"parameters\": []}\n");   /* named parameters: none yet */
+    fprintf(f, "], \"parameters\": [");   /* the names only: values are run-time (par[i]) */
+    for (int i = 0; i < s->nparams; i++) {
+        if (i) fprintf(f, ", ");
+        swim_json_string(f, s->param_names[i]);
+    }
+    fprintf(f, "]}\n");
     fclose(f);
     return text;
 }

@@ -26,8 +26,9 @@ int swim_setup_open(swim_model_setup *m, const char *cmd, const char *path, cons
     memset(m, 0, sizeof *m);
     if (swim_scene_load_with(path, sets, nsets, &m->s)) return 2;
     m->loaded = 1;
+    /* a prescribed stroke has no scene kernel: the caller builds its stroke kernel */
     if (swim_codegen_kernel(m->s.modes, &m->kn, quiet ? 0 : 1) != 0 ||
-        swim_codegen_scene(&m->s, generic, &m->spz, quiet ? 0 : 1) != 0) {
+        (!m->s.stroke && swim_codegen_scene(&m->s, generic, &m->spz, quiet ? 0 : 1) != 0)) {
         swim_message(stderr, "swim %s: %s: no kernel for this scene, nothing computed", cmd, path);
         return 1;
     }
@@ -37,7 +38,7 @@ int swim_setup_open(swim_model_setup *m, const char *cmd, const char *path, cons
         return 1;
     }
     m->dyn_ready = 1;
-    swim_dynamics_use_scene_kernel(&m->d, m->spz.scene, generic);
+    if (!m->s.stroke) swim_dynamics_use_scene_kernel(&m->d, m->spz.scene, generic);
     return 0;
 }
 

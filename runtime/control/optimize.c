@@ -12,6 +12,7 @@
 #include "io/files.h"
 #include "io/message.h"
 #include "ode/ode.h"
+#include "stroke/stroke.h"
 
 /* What the minimizer sees for a run that failed or values that were refused: worse than any
  * finite quantity it will meet, finite (nmsimplex2 refuses non-finite values). */
@@ -126,6 +127,78 @@ done:
     free(full); free(y); free(yr); free(atol);
 }
 
+/* A prescribed stroke ([stroke]) integrated to t_end as swim run does it: (3.21) with the stroke's
+ * allowability checked first (a refused stroke is status 2), the positive work sampled as there
+ * (SWIM_STROKE_POSWORK_SAMPLES per period, at most a quarter of the output step). work and
+ * forcing_work are the positive work int max(P, 0) dt: what the body spends on the stroke. */
+static void integrate_stroke(swim_model_setup *m, swim_eval_result *r)
+{
+    swim_scene *s = &m->s;
+    swim_compiled law;
+    memset(&law, 0, sizeof law);
+    swim_stroke st;
+    memset(&st, 0, sizeof st);
+    swim_ode *ode = NULL;
+    r->status = 1;
+    if (swim_codegen_stroke(s, &law, 0) != 0) {
+        snprintf(r->reason, sizeof r->reason, "no stroke kernel");
+        goto done;
+    }
+    int rc = swim_stroke_init(&st, s, m->kn.kernel, law.stroke, s->param_values);
+    if (rc == -1) {
+        snprintf(r->reason, sizeof r->reason, "out of memory");
+        goto done;
+    }
+    st.interrupt = m->d.interrupt;
+    if (rc == 0 && s->rhof_neutral) s->rhof = s->rho0 / st.mu2;   /* (2.10) with the stroke's volume */
+    double t_bad;
+    char why[512];
+    if (rc != 0 || swim_stroke_check(&st, s->t_end, s->output_step, SWIM_STROKE_CHECK_SAMPLES, &t_bad, why, sizeof why)) {
+        r->status = 2;
+        snprintf(r->reason, sizeof r->reason, "stroke not allowable");
+        goto done;
+    }
+    const double period = s->stroke_period > 0 ? s->stroke_period : swim_stroke_detect_period(&st, s->t_end);
+    const double h = fmin(0.25 * s->output_step, (period > 0 ? period : s->t_end) / SWIM_STROKE_POSWORK_SAMPLES);
+    swim_ode_system sys = {swim_stroke_rhs, SWIM_STROKE_DIM, &st, NULL};
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.rtol = s->rtol;
+    o.atol = s->atol;
+    if (s->step_lookahead >= 0) o.lookahead = s->step_lookahead;
+    double y[SWIM_STROKE_DIM];
+    swim_stroke_initial_state(&st, y);
+    swim_stroke_poswork pw;
+    memset(&pw, 0, sizeof pw);
+    rc = swim_ode_create(s->integrator, &sys, &o, 0.0, y, &ode);
+    if (rc == SWIM_ODE_OK) rc = swim_stroke_poswork_add(&st, &pw, 0.0, y[SWIM_STROKE_PSI]) ? SWIM_ODE_ERHS : rc;
+    for (double t = 0.0; rc == SWIM_ODE_OK && t < s->t_end;) {
+        t = fmin(s->t_end, t + h);
+        if (s->t_end - t < 1e-3 * h) t = s->t_end;
+        rc = swim_ode_advance(ode, t, y);
+        if (rc == SWIM_ODE_OK && swim_stroke_poswork_add(&st, &pw, t, y[SWIM_STROKE_PSI]) != 0) rc = SWIM_ODE_ERHS;
+    }
+    if (rc != SWIM_ODE_OK) {
+        snprintf(r->reason, sizeof r->reason, "%s", swim_ode_strerror(rc));
+        goto done;
+    }
+    double E, P;
+    if (swim_stroke_energy_power(&st, s->t_end, y[SWIM_STROKE_PSI], &E, &P) != 0) {
+        snprintf(r->reason, sizeof r->reason, "diagnostics failed at t_end");
+        goto done;
+    }
+    r->x = y[0];
+    r->y = y[1];
+    r->theta = y[2];
+    r->work = r->forcing_work = pw.total;
+    r->energy = E;
+    r->status = 0;
+done:
+    swim_ode_free(ode);
+    swim_stroke_free(&st);
+    swim_compiled_close(&law);
+}
+
 static int all_overrides(const swim_opt_problem *p, const double *v, swim_override *ov)
 {
     int k = 0;
@@ -154,7 +227,10 @@ int swim_opt_evaluate(swim_opt_problem *p, const double *v, swim_eval_result *r)
     }
     int rc = swim_setup_open(&m, "optimize", p->scene_path, ov, nov, 0, 1);
     m.d.interrupt = p->interrupt;
-    if (rc == 0) integrate(&m, r);
+    if (rc == 0) {
+        if (m.s.stroke) integrate_stroke(&m, r);
+        else integrate(&m, r);
+    }
     fflush(stderr);
     if (fd >= 0) {
         dup2(fd, fileno(stderr));

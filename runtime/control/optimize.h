@@ -11,7 +11,9 @@
  * Quantities (maximized or minimized): x, y, theta (final position and orientation),
  * displacement = |r(T) - r(0)|, work (the work column: W_F minus the dissipation, = E(T) - E(0)
  * by (5.3)), forcing_work (W_F), displacement_per_work (displacement / W_F; scenes with a
- * forcing law), energy (E(T)).
+ * forcing law), energy (E(T)). For a prescribed stroke ([stroke]) work and forcing_work are the
+ * positive work int max(P, 0) dt the body spends (stroke/stroke.h), so displacement_per_work is
+ * the distance swum per unit of energy spent.
  *
  * The search is GSL's Nelder-Mead simplex (gsl_multimin_fminimizer_nmsimplex2) in unbounded
  * variables u, with the key's value lo + (hi - lo) (1 + sin u) / 2: every evaluated value lies in

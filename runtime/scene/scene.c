@@ -317,7 +317,10 @@ static int parse_stroke(ctx *c, const toml_value *root, const toml_value *stroke
         s->stroke_index[k] = found;
         s->stroke_line[k] = line;
         if (!(s->stroke_law[k] = strdup(toml_string(v)))) ERR(c, line, key, "out of memory");
-        if (!(s->stroke_expr[k] = swim_expr_compile(s->stroke_law[k], err, sizeof err)))
+        const char *names[SWIM_PARAMS_MAX];
+        for (int i = 0; i < s->nparams; i++) names[i] = s->param_names[i];
+        if (!(s->stroke_expr[k] = swim_expr_compile_params(s->stroke_law[k], names, s->nparams, s->param_values,
+                                                           err, sizeof err)))
             ERR(c, line, key, "\"%s\": %s", s->stroke_law[k], err);
         const char *kink = not_smooth(s->stroke_law[k]);
         if (kink)
@@ -439,6 +442,8 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     c->table = "shape";
     if (check_keys(c, shape, k_shape)) return 2;
     if (get_vector(c, shape, "c0", s->n, 1, s->c0, NULL)) return 2;
+    if (parse_parameters(c, root, s)) return 2;   /* before the laws that may use them */
+    c->table = "shape";
     const toml_value *stroke = get_table(c, root, "stroke", 0, &rc);
     if (rc) return rc;
     if (stroke) {
@@ -493,7 +498,6 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
             if (s->damping[i] > 0) s->damped = 1;
         }
     }
-    if (parse_parameters(c, root, s)) return 2;
     const toml_value *fo = get_table(c, root, "forcing", 0, &rc);
     if (rc) return rc;
     if (fo) {

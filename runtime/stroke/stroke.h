@@ -32,6 +32,12 @@
 
 enum { SWIM_STROKE_PSI = 3, SWIM_STROKE_WORK = 4, SWIM_STROKE_DIM = 5 };
 
+/* Equal steps of the allowability check over [0, t_end] (besides the output times), and samples
+ * per stroke period of the positive work (swim_stroke_poswork_add): every caller that runs a
+ * stroke (swim run, swim optimize) uses the same. */
+#define SWIM_STROKE_CHECK_SAMPLES 16384
+#define SWIM_STROKE_POSWORK_SAMPLES 512
+
 /* Right-hand-side codes beyond the SWIM_RHS_* ones (returned positive, see ode.h). */
 enum { SWIM_STROKE_EVOLUME = 16,    /* |c1|^2 = mu^2 + sum m|c_-m|^2 <= 0: no c1 keeps the volume */
        SWIM_STROKE_EINTERRUPT };    /* a stop was requested (returned negative: fatal) */
