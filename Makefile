@@ -49,7 +49,7 @@ TESTLIB_OBJS := $(TEST_LIB_SRCS:%.c=$(BUILD)/%.o)
 TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 
-.PHONY: FORCE all deps deps-media paper paper-test help install test sanitize fuzz bench bench-accuracy bench-drift generate generate-all run readme-figures clean
+.PHONY: FORCE all deps deps-media paper paper-test help install test sanitize fuzz bench bench-accuracy bench-drift bench-hard generate generate-all run readme-figures clean
 all: $(BIN)/swim
 
 help:
@@ -67,6 +67,7 @@ help:
 	@echo "make bench-sweep     sweep throughput: --jobs 1/2, MPI 2/4 ranks, rank 0's cost (~3 min)"
 	@echo "make paper-families  Figs 4.1, 4.2, 4.5, 4.6, 4.7 (sweeps + swim plot) into out/families/"
 	@echo "make bench-drift     energy drift of the T = 1000 runs vs tolerance and step look-ahead (~30 s)"
+	@echo "make bench-hard      every hard scene at its own settings and at rtol 1e-10 (~30 min)"
 	@echo "make generate N=12   regenerate the kernel for one mode count into generated/"
 	@echo "make generate-all    regenerate the committed kernels (N = $(MODES))"
 	@echo "make install PREFIX=/usr/local   bin/swim (and bin/swim-mpi if built) + the generator, kernel headers and plot scripts"
@@ -183,6 +184,10 @@ bench-accuracy: $(BIN)/swim
 
 bench-drift: $(BIN)/swim
 	$(PYTHON) tests/bench/bench_drift.py
+
+# Every scene of models/hard/ at its own settings and at rtol 1e-10: build/bench/hard/table.md.
+bench-hard: $(BIN)/swim
+	$(PYTHON) tests/bench/bench_hard.py
 
 # Figures shown in README.md, rebuilt from the main job.
 readme-figures: run
