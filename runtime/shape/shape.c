@@ -7,43 +7,152 @@
 #include <string.h>
 
 #define TWO_PI 6.28318530717958647692
+#define NEWTON_MAXIT 40
 
-static double j_at(int modes, const double *x, double theta)
+/* p[m-1] = m c_{-m} (re, im): the coefficients of P (see shape.h). */
+static void coefficients(int modes, const double *x, double *pr, double *pi)
 {
-    const double c1 = cos(theta), s1 = sin(theta);
-    double cm = 1.0, sm = 0.0, re = 0.0, im = 0.0;   /* cos, sin of (m-1) theta by rotation */
     for (int m = 1; m <= modes; m++) {
         const int i = swim_coord_index(-m);
-        re += m * (x[i] * cm + x[i + 1] * sm);
-        im += m * (x[i + 1] * cm - x[i] * sm);
-        const double c = cm * c1 - sm * s1;
-        sm = sm * c1 + cm * s1;
-        cm = c;
+        pr[m - 1] = m * x[i];
+        pi[m - 1] = m * x[i + 1];
     }
-    return x[0] * x[0] + x[1] * x[1] - re * re - im * im;
 }
 
-double swim_shape_jmin(int modes, const double *x)
+/* J and its first two derivatives in theta at theta (d1, d2 may be NULL). With
+ * w = e^{-i theta}: P_theta = sum -i(m-1) p_m w^{m-1}, P_thetatheta = sum -(m-1)^2 p_m w^{m-1};
+ * J' = -2 Re(conj(P) P_theta), J'' = -2 (|P_theta|^2 + Re(conj(P) P_thetatheta)). */
+static double j_derivs(int modes, double c1sq, const double *pr, const double *pi, double theta, double *d1,
+                       double *d2)
 {
-    const int samples = 64 * (modes + 1);
-    double best = INFINITY, tbest = 0.0;
-    for (int q = 0; q < samples; q++) {
-        double th = TWO_PI * q / samples, J = j_at(modes, x, th);
-        if (!(J >= best)) {   /* also catches NaN */
-            best = J;
-            tbest = th;
+    const double cr = cos(theta), ci = -sin(theta);
+    double wr = 1.0, wi = 0.0;            /* w^{m-1} */
+    double Pr = 0, Pi = 0, Qr = 0, Qi = 0, Rr = 0, Ri = 0;   /* P, sum (m-1) p w^{m-1}, sum (m-1)^2 p w^{m-1} */
+    for (int m = 1; m <= modes; m++) {
+        const double tr = pr[m - 1] * wr - pi[m - 1] * wi, ti = pr[m - 1] * wi + pi[m - 1] * wr;
+        const double k = m - 1;
+        Pr += tr; Pi += ti;
+        Qr += k * tr; Qi += k * ti;
+        Rr += k * k * tr; Ri += k * k * ti;
+        const double nr = wr * cr - wi * ci;
+        wi = wr * ci + wi * cr;
+        wr = nr;
+    }
+    /* P_theta = -i Q, P_thetatheta = -R */
+    const double Ptr = Qi, Pti = -Qr;
+    if (d1) *d1 = -2.0 * (Pr * Ptr + Pi * Pti);
+    if (d2) *d2 = -2.0 * (Ptr * Ptr + Pti * Pti - (Pr * Rr + Pi * Ri));
+    return c1sq - (Pr * Pr + Pi * Pi);
+}
+
+/* The local minimum of J in [a, b] (J'(a) < 0 < J'(b) expected) by Newton on J' = 0, kept inside
+ * the bracket (bisection when Newton would leave it or J'' <= 0). Returns J there, angle in *th. */
+static double refine(int modes, double c1sq, const double *pr, const double *pi, double a, double b, double t0,
+                     double *th)
+{
+    double t = t0, best = INFINITY, tbest = t0;
+    for (int it = 0; it < NEWTON_MAXIT; it++) {
+        double d1, d2, J = j_derivs(modes, c1sq, pr, pi, t, &d1, &d2);
+        if (J < best) { best = J; tbest = t; }
+        if (d1 > 0) b = t; else if (d1 < 0) a = t; else break;
+        double next = d2 > 0 ? t - d1 / d2 : 0.5 * (a + b);
+        if (!(next > a && next < b)) next = 0.5 * (a + b);
+        if (fabs(next - t) <= 1e-15 * (1.0 + fabs(t)) || b - a <= 1e-15 * (1.0 + fabs(t))) {
+            t = next;
+            J = j_derivs(modes, c1sq, pr, pi, t, NULL, NULL);
+            if (J < best) { best = J; tbest = t; }
+            break;
         }
+        t = next;
+    }
+    *th = tbest;
+    return best;
+}
+
+double swim_shape_jmin_at(int modes, const double *x, double *theta)
+{
+    const double c1sq = x[0] * x[0] + x[1] * x[1];
+    if (theta) *theta = 0.0;
+    if (modes <= 1) {   /* P is constant: J too */
+        double J = modes == 1 ? c1sq - (x[2] * x[2] + x[3] * x[3]) : c1sq;
+        return isnan(J) ? NAN : J;
+    }
+    double pr[SWIM_KERNEL_MAX_MODES], pi[SWIM_KERNEL_MAX_MODES];
+    coefficients(modes, x, pr, pi);
+    /* |J''| <= 2 (|P_theta|^2 + |P||P_thetatheta|) <= 2 (s1^2 + s0 s2), s_j = sum (m-1)^j |p_m|:
+     * between two samples h apart, the minimum lies at most J''max h^2 / 8 below the nearer one. */
+    double s0 = 0, s1 = 0, s2 = 0;
+    for (int m = 1; m <= modes; m++) {
+        const double a = hypot(pr[m - 1], pi[m - 1]), k = m - 1;
+        s0 += a; s1 += k * a; s2 += k * k * a;
+    }
+    const int S = 8 * (modes + 1);
+    const double h = TWO_PI / S, margin = 2.0 * (s1 * s1 + s0 * s2) * h * h / 8.0;
+    double Js[8 * (SWIM_KERNEL_MAX_MODES + 1)];
+    /* samples at theta_q = q h; w_q = e^{-i q h} by rotation, restarted exactly every 16 samples */
+    const double rr = cos(h), ri = -sin(h);
+    double zr = 1.0, zi = 0.0, best = INFINITY;
+    for (int q = 0; q < S; q++) {
+        if (q % 16 == 0) { zr = cos(q * h); zi = -sin(q * h); }
+        double Pr = pr[modes - 1], Pi = pi[modes - 1];
+        for (int m = modes - 1; m >= 1; m--) {   /* Horner in w */
+            const double nr = Pr * zr - Pi * zi + pr[m - 1];
+            Pi = Pr * zi + Pi * zr + pi[m - 1];
+            Pr = nr;
+        }
+        const double J = c1sq - (Pr * Pr + Pi * Pi);
+        Js[q] = J;
+        if (!(J >= best)) best = J;   /* also catches NaN */
+        const double nr = zr * rr - zi * ri;
+        zi = zr * ri + zi * rr;
+        zr = nr;
     }
     if (isnan(best)) return NAN;
-    /* J is a trigonometric polynomial of degree <= N-1: the bracket of one sample
-     * spacing around the best sample holds the minimum for any sensible N. */
-    const double g = 0.5 * (sqrt(5.0) - 1.0);
-    double a = tbest - TWO_PI / samples, b = tbest + TWO_PI / samples;
-    double c = b - g * (b - a), d = a + g * (b - a), fc = j_at(modes, x, c), fd = j_at(modes, x, d);
-    for (int it = 0; it < 60; it++) {
-        if (fc < fd) { b = d; d = c; fd = fc; c = b - g * (b - a); fc = j_at(modes, x, c); }
-        else         { a = c; c = d; fc = fd; d = a + g * (b - a); fd = j_at(modes, x, d); }
+    double jmin = best, tmin = 0.0;
+    for (int q = 0; q < S; q++) {
+        const double Jq = Js[q], Jl = Js[(q + S - 1) % S], Jr = Js[(q + 1) % S];
+        if (Jq > Jl || Jq > Jr || Jq > best + margin) continue;
+        if (Jq == Jl && q > 0) continue;   /* a flat run: refine it once */
+        double th;
+        double J = refine(modes, c1sq, pr, pi, (q - 1) * h, (q + 1) * h, q * h, &th);
+        if (J < jmin || (J == jmin && tmin == 0.0)) { jmin = J; tmin = th; }
     }
-    double fm = fc < fd ? fc : fd;
-    return fm < best ? fm : best;
+    if (theta) {
+        tmin = fmod(tmin, TWO_PI);
+        *theta = tmin < 0 ? tmin + TWO_PI : tmin;
+    }
+    return jmin;
+}
+
+double swim_shape_jmin(int modes, const double *x) { return swim_shape_jmin_at(modes, x, NULL); }
+
+double swim_shape_j_rate(int modes, const double *x, const double *v, double theta)
+{
+    /* J = |c_1|^2 - |P|^2: dJ/dt = 2 Re(conj(c_1) c_1') - 2 Re(conj(P) P(v)), P linear in c */
+    double rate = 2.0 * (x[0] * v[0] + x[1] * v[1]);
+    const double cr = cos(theta), ci = -sin(theta);
+    double wr = 1.0, wi = 0.0, Pr = 0, Pi = 0, Vr = 0, Vi = 0;
+    for (int m = 1; m <= modes; m++) {
+        const int i = swim_coord_index(-m);
+        Pr += m * (x[i] * wr - x[i + 1] * wi);
+        Pi += m * (x[i] * wi + x[i + 1] * wr);
+        Vr += m * (v[i] * wr - v[i + 1] * wi);
+        Vi += m * (v[i] * wi + v[i + 1] * wr);
+        const double nr = wr * cr - wi * ci;
+        wi = wr * ci + wi * cr;
+        wr = nr;
+    }
+    return rate - 2.0 * (Pr * Vr + Pi * Vi);
+}
+
+int swim_shape_in_D(int modes, const double *x)
+{
+    double bound = 0.0;
+    for (int m = 1; m <= modes; m++) {
+        const int i = swim_coord_index(-m);
+        bound += m * hypot(x[i], x[i + 1]);
+    }
+    const double c1 = hypot(x[0], x[1]);
+    if (c1 > bound * (1.0 + 1e-12)) return 1;   /* margin: J > 0 with room for rounding */
+    return swim_shape_jmin(modes, x) > 0.0;
 }
