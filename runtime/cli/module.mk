@@ -1,2 +1,2 @@
-RUNTIME_SRCS += runtime/cli/args.c runtime/cli/inspect.c runtime/cli/run.c runtime/cli/run_events.c \
+RUNTIME_SRCS += runtime/cli/args.c runtime/cli/inspect.c runtime/cli/run.c runtime/cli/run_events.c runtime/cli/run_watch.c \
                 runtime/cli/plot.c runtime/cli/flow.c runtime/cli/animate.c runtime/cli/sweep.c

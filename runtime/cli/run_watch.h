@@ -1,0 +1,48 @@
+/* run_watch.h -- what `swim run` checks and accumulates at every accepted step of the integrator
+ * (swim_ode_options.on_accept), not only at the output rows:
+ *   - admissibility (4.1): min J over the circle at the step end; the minimum of J in time,
+ *     located inside a step on the integrator's interpolant where d/dt min J changes sign from
+ *     - to + (Illinois regula falsi; d/dt min J is exact by the envelope theorem,
+ *     swim_shape_j_rate), with its time;
+ *   - a step inside which min J reaches 0 (a dip that both step ends miss) ends the run at the
+ *     crossing J = 0, located on the same interpolant: on_accept's stop;
+ *   - the energy balance (5.3) |E - E0 - work| and the constraint residuals at each step end.
+ * Trial states outside D are refused before a step is accepted (the right-hand side,
+ * model/dynamics.h); the watch sees what gets through, inside a step. */
+#ifndef SWIM_CLI_RUN_WATCH_H
+#define SWIM_CLI_RUN_WATCH_H
+
+#include "model/dynamics.h"
+#include "ode/ode.h"
+
+typedef struct {
+    swim_dynamics *d;          /* borrowed */
+    int sdim;                  /* integrator state dimension */
+    double *ys, *full, *K, *G; /* work: integrator state, full state, K, constraint rows (owned) */
+    int energy;                /* also evaluate the energy balance and residuals at step ends */
+    double e0;                 /* E(0), for the balance (set before the first step) */
+    /* the previous step end */
+    int have_prev;
+    double t_prev, j_prev, rate_prev;
+    /* results over the accepted steps */
+    long steps;
+    double jmin, jmin_t;       /* smallest min J and when (INFINITY, NAN before any step) */
+    double drift_abs, emax;    /* max |E - E0 - work|, max |E| */
+    double res_volume, res_volume_rate, res_angular, res_locks;
+    int left;                  /* min J reached 0 inside a step ... */
+    double t_left;             /* ... at this time (the crossing, on the interpolant) */
+    int diag_failed;           /* the diagnostics failed at a step end (K not positive definite) */
+    double seconds;            /* time spent here */
+} swim_run_watch;
+
+/* 0, or -1 when out of memory. */
+int swim_run_watch_init(swim_run_watch *w, swim_dynamics *d, int sdim, int energy);
+void swim_run_watch_free(swim_run_watch *w);
+
+/* The integrator restarted (stiff fallback): the next step's start is evaluated afresh. */
+void swim_run_watch_rewind(swim_run_watch *w);
+
+/* swim_ode_options.on_accept with data = swim_run_watch *: 0, or 1 with *t_stop at the crossing. */
+int swim_run_watch_step(const swim_ode_accepted *step, void *data, double *t_stop);
+
+#endif
