@@ -640,8 +640,9 @@ static void stop_on_integrator(run_ctx *c, int rc, double t)
         stop(c, "%s near t = %.6g", swim_dynamics_strerror(swim_ode_rhs_status(c->ode)), c->d.last_rhs_t);
     else if (rc == SWIM_ODE_ESTIFF)
         stop(c, "stiffness detected near t = %.6g: Adams PECE is "
-             "stability-limited here; rerun with --integrator cvode-bdf (or msbdf), or set "
-             "[run] stiff_fallback = \"cvode-bdf\" in the scene", c->ode ? swim_ode_time(c->ode) : t);
+             "stability-limited here; rerun with --integrator cvode-bdf (or msbdf), or remove "
+             "[run] stiff_fallback = \"none\" from the scene (the default switches to cvode-bdf)",
+             c->ode ? swim_ode_time(c->ode) : t);
     else
         stop(c, "%s near t = %.6g", swim_ode_strerror(rc), c->ode ? swim_ode_time(c->ode) : t);
 }
@@ -654,9 +655,9 @@ static int switch_to_fallback(run_ctx *c, double t_last, double t)
     accumulate_stats(&c->total, c->ode);
     swim_ode_free(c->ode);
     c->ode = NULL;
-    if (!c->opt.quiet)
-        swim_message(stderr, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g",
-                     ts, s->integrator, s->stiff_fallback, t_last);
+    /* said even with --quiet: the rest of the run is computed by another method than asked for */
+    swim_message(stderr, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g",
+                 ts, s->integrator, s->stiff_fallback, t_last);
     c->r.switch_t = t_last;
     swim_run_events_rewind(c->events, t_last);   /* the fallback locates them again from t_last */
     if (c->watch_ready) swim_run_watch_rewind(&c->watch);
