@@ -154,7 +154,7 @@ FUZZ_SECONDS ?= 60
 fuzz: | $(DEPS_STAMP)
 	bash tests/fuzz/run_fuzz.sh $(FUZZ_SECONDS)
 
-BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_latency.py tests/bench/bench_drift.py
+BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_latency.py tests/bench/bench_drift.py tests/bench/bench_step_checks.py
 
 bench: $(BIN)/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs
 	@bash tests/bench/run_bench.sh $(BENCH_SCRIPTS) $(BENCH_BINS)

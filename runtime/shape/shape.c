@@ -71,7 +71,10 @@ static double refine(int modes, double c1sq, const double *pr, const double *pi,
     return best;
 }
 
-double swim_shape_jmin_at(int modes, const double *x, double *theta)
+/* min J (with its angle in *theta). With sign_only, a value of the right sign is enough: when
+ * the samples decide it (all above the largest dip between them, or one at or below 0) the
+ * refinement is skipped and the value returned only has the sign of min J. */
+static double jmin_impl(int modes, const double *x, double *theta, int sign_only)
 {
     const double c1sq = x[0] * x[0] + x[1] * x[1];
     if (theta) *theta = 0.0;
@@ -81,6 +84,24 @@ double swim_shape_jmin_at(int modes, const double *x, double *theta)
     }
     double pr[SWIM_KERNEL_MAX_MODES], pi[SWIM_KERNEL_MAX_MODES];
     coefficients(modes, x, pr, pi);
+    while (modes > 1 && pr[modes - 1] == 0.0 && pi[modes - 1] == 0.0) modes--;   /* locked at 0: a lower degree */
+    if (modes == 1) {
+        const double J = c1sq - (pr[0] * pr[0] + pi[0] * pi[0]);
+        return isnan(J) ? NAN : J;
+    }
+    if (modes == 2) {
+        /* |p1 + p2 w| is largest where p2 w has the argument of p1: the triangle inequality is
+         * attained, min J = |c_1|^2 - (|p1| + |p2|)^2 at w = e^{i(arg p1 - arg p2)} */
+        const double m1 = sqrt(pr[0] * pr[0] + pi[0] * pi[0]), m2 = sqrt(pr[1] * pr[1] + pi[1] * pi[1]);
+        const double J = c1sq - (m1 + m2) * (m1 + m2);
+        if (isnan(J)) return NAN;
+        if (theta) {
+            double th = atan2(pi[1], pr[1]) - atan2(pi[0], pr[0]);   /* -arg w */
+            th = fmod(th, TWO_PI);
+            *theta = th < 0 ? th + TWO_PI : th;
+        }
+        return J;
+    }
     /* |J''| <= 2 (|P_theta|^2 + |P||P_thetatheta|) <= 2 (s1^2 + s0 s2), s_j = sum (m-1)^j |p_m|:
      * between two samples h apart, the minimum lies at most J''max h^2 / 8 below the nearer one. */
     double s0 = 0, s1 = 0, s2 = 0;
@@ -110,6 +131,7 @@ double swim_shape_jmin_at(int modes, const double *x, double *theta)
         zr = nr;
     }
     if (isnan(best)) return NAN;
+    if (sign_only && (best - margin > 0 || !(best > 0))) return best - margin > 0 ? best : fmin(best, 0.0);
     double jmin = best, tmin = 0.0;
     for (int q = 0; q < S; q++) {
         const double Jq = Js[q], Jl = Js[(q + S - 1) % S], Jr = Js[(q + 1) % S];
@@ -130,7 +152,9 @@ double swim_shape_jmin_at(int modes, const double *x, double *theta)
     return jmin;
 }
 
-double swim_shape_jmin(int modes, const double *x) { return swim_shape_jmin_at(modes, x, NULL); }
+double swim_shape_jmin_at(int modes, const double *x, double *theta) { return jmin_impl(modes, x, theta, 0); }
+
+double swim_shape_jmin(int modes, const double *x) { return jmin_impl(modes, x, NULL, 0); }
 
 double swim_shape_j_rate(int modes, const double *x, const double *v, double theta)
 {
@@ -160,5 +184,5 @@ int swim_shape_in_D(int modes, const double *x)
     }
     const double c1 = sqrt(x[0] * x[0] + x[1] * x[1]);
     if (c1 > bound * (1.0 + 1e-12)) return 1;   /* margin: J > 0 with room for rounding */
-    return swim_shape_jmin(modes, x) > 0.0;
+    return jmin_impl(modes, x, NULL, 1) > 0.0;
 }

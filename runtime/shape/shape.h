@@ -26,7 +26,8 @@ double swim_shape_j_rate(int modes, const double *x, const double *v, double the
 
 /* 1 when the shape lies in D (min J > 0), else 0 (NaN counts as outside). Cheap when the shape
  * is far from the boundary: |c_1| > sum m |c_{-m}| implies J > 0 everywhere (triangle
- * inequality); only otherwise is min J computed. */
+ * inequality); otherwise the samples of swim_shape_jmin_at decide unless the smallest lies
+ * within the largest possible dip between samples of 0, and only then is min J refined. */
 int swim_shape_in_D(int modes, const double *x);
 
 #endif
