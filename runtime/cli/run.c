@@ -716,6 +716,7 @@ static int advance_to(run_ctx *c, double *t, double *t_last)
     }
     memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
     *t_last = tr;
+    if (c->watch_ready) swim_run_watch_mark(&c->watch);   /* where a stiff fallback would restart */
     return SWIM_ODE_OK;
 }
 

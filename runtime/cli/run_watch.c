@@ -31,6 +31,7 @@ int swim_run_watch_init(swim_run_watch *w, swim_dynamics *d, int sdim, int energ
     w->G = malloc(sizeof(double) * d->n * (d->n + 2));
     w->jmin = INFINITY;
     w->jmin_t = NAN;
+    swim_run_watch_mark(w);
     return w->ys && w->full && w->K && w->G ? 0 : -1;
 }
 
@@ -43,7 +44,26 @@ void swim_run_watch_free(swim_run_watch *w)
     w->ys = w->full = w->K = w->G = NULL;
 }
 
-void swim_run_watch_rewind(swim_run_watch *w) { w->have_prev = 0; }
+void swim_run_watch_mark(swim_run_watch *w)
+{
+    w->mark = (struct swim_run_watch_results){w->steps, w->jmin, w->jmin_t, w->drift_abs, w->emax, w->res_volume,
+                                              w->res_volume_rate, w->res_angular, w->res_locks};
+}
+
+void swim_run_watch_rewind(swim_run_watch *w)
+{
+    const struct swim_run_watch_results *m = &w->mark;
+    w->steps = m->steps;
+    w->jmin = m->jmin;
+    w->jmin_t = m->jmin_t;
+    w->drift_abs = m->drift_abs;
+    w->emax = m->emax;
+    w->res_volume = m->res_volume;
+    w->res_volume_rate = m->res_volume_rate;
+    w->res_angular = m->res_angular;
+    w->res_locks = m->res_locks;
+    w->have_prev = 0;
+}
 
 /* min J and d/dt min J at t: of the state ys when given, else on the interpolant (the full state
  * is left in w->full). -1 when the interpolant cannot be evaluated there. */

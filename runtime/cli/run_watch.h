@@ -33,13 +33,21 @@ typedef struct {
     double t_left;             /* ... at this time (the crossing, on the interpolant) */
     int diag_failed;           /* the diagnostics failed at a step end (K not positive definite) */
     double seconds;            /* time spent here */
+    /* the results as they were at the last mark (swim_run_watch_mark) */
+    struct swim_run_watch_results {
+        long steps;
+        double jmin, jmin_t, drift_abs, emax, res_volume, res_volume_rate, res_angular, res_locks;
+    } mark;
 } swim_run_watch;
 
 /* 0, or -1 when out of memory. */
 int swim_run_watch_init(swim_run_watch *w, swim_dynamics *d, int sdim, int energy);
 void swim_run_watch_free(swim_run_watch *w);
 
-/* The integrator restarted (stiff fallback): the next step's start is evaluated afresh. */
+/* Remember the results so far (at an output row, where a stiff fallback may restart). */
+void swim_run_watch_mark(swim_run_watch *w);
+/* The integrator restarted from the last mark (stiff fallback): the results go back to it (the
+ * steps after it are computed again) and the next step's start is evaluated afresh. */
 void swim_run_watch_rewind(swim_run_watch *w);
 
 /* swim_ode_options.on_accept with data = swim_run_watch *: 0, or 1 with *t_stop at the crossing. */
