@@ -196,12 +196,22 @@ static void test_watch(void)
     swim_ode_accepted st = {0.0, 1.0, path_interp, &p, NULL};
     int stop = swim_run_watch_step(&st, &w, &ts);
     CHECK(stop == 0 && !w.left, "a dip that stays in D does not stop");
-    CHECK(fabs(w.jmin - 0.19) < 1e-14 && fabs(w.jmin_t - 0.5) < 1e-7,
-          "min J inside the step: %.17g at t = %.12g (want 0.19 at 0.5)", w.jmin, w.jmin_t);
+    /* a run ending at t = 0.4, inside the step, keeps what lies before: J(0) = 0.51 */
+    swim_run_watch_results before = w.r;
+    swim_run_watch_pending pend = w.pend;
+    swim_run_watch_finish(&w, 0.4);
+    CHECK(fabs(w.r.jmin - 0.51) < 1e-14 && w.r.jmin_t == 0.0, "run ending inside the step: min J %.17g at %g",
+          w.r.jmin, w.r.jmin_t);
+    w.r = before;
+    w.pend = pend;
+    swim_run_watch_finish(&w, INFINITY);
+    CHECK(fabs(w.r.jmin - 0.19) < 1e-14 && fabs(w.r.jmin_t - 0.5) < 1e-7,
+          "min J inside the step: %.17g at t = %.12g (want 0.19 at 0.5)", w.r.jmin, w.r.jmin_t);
     /* the next step [1, 2]: s decreases then increases, min J at its ends */
     st = (swim_ode_accepted){1.0, 2.0, path_interp, &p, NULL};
     swim_run_watch_step(&st, &w, &ts);
-    CHECK(w.steps == 2 && fabs(w.jmin - 0.19) < 1e-14, "a later step with larger J keeps the minimum");
+    swim_run_watch_finish(&w, INFINITY);
+    CHECK(w.r.steps == 2 && fabs(w.r.jmin - 0.19) < 1e-14, "a later step with larger J keeps the minimum");
     swim_run_watch_free(&w);
 
     /* s = 0.3 + 0.25 sin(pi t): J = 0.51 at both ends of [0, 1], 1 - 1.2^2 < 0 at 1/2; the
@@ -213,7 +223,8 @@ static void test_watch(void)
     const double tc = asin(0.6) / PI;
     CHECK(stop == 1 && w.left && ts == w.t_left, "a dip out of D inside a step stops (%d)", stop);
     CHECK(fabs(ts - tc) < 1e-12 && ts >= tc, "crossing at %.15g, want %.15g (on the far side)", ts, tc);
-    CHECK(fabs(w.jmin) < 1e-11 && w.jmin_t == ts, "min J at the crossing %.3g at %.15g", w.jmin, w.jmin_t);
+    swim_run_watch_finish(&w, ts);
+    CHECK(fabs(w.r.jmin) < 1e-11 && w.r.jmin_t == ts, "min J at the crossing %.3g at %.15g", w.r.jmin, w.r.jmin_t);
     swim_run_watch_free(&w);
 
     /* the rate of min J is its time derivative (envelope theorem) at a shape with all modes */

@@ -660,7 +660,7 @@ static int switch_to_fallback(run_ctx *c, double t_last, double t)
                  ts, s->integrator, s->stiff_fallback, t_last);
     c->r.switch_t = t_last;
     swim_run_events_rewind(c->events, t_last);   /* the fallback locates them again from t_last */
-    if (c->watch_ready) swim_run_watch_rewind(&c->watch);
+    if (c->watch_ready) swim_run_watch_rewind(&c->watch, t_last);
     snprintf(c->r.used, sizeof c->r.used, "%s+%s", s->integrator, s->stiff_fallback);
     memcpy(c->ys, c->ys_last, sizeof(double) * c->sdim);
     c->o.stiff_stop = 0;
@@ -760,19 +760,23 @@ static int emit_row(run_ctx *c, long k, long rows, long every, double t)
     return 0;
 }
 
-/* The maxima and min J over the accepted steps into the report, which holds those over the rows. */
-static void take_watch(run_report *r, const swim_run_watch *w)
+/* The maxima and min J over the accepted steps into the report, which holds those over the rows.
+ * A run that ended at its last row (t_end, a :stop event, the crossing) counts the last step up
+ * to that row only; a failed one every step it accepted. */
+static void take_watch(run_report *r, swim_run_watch *w)
 {
-    if (w->jmin < r->jmin || isnan(w->jmin)) {
-        r->jmin = w->jmin;
-        r->jmin_t = w->jmin_t;
+    swim_run_watch_finish(w, r->status == 0 || r->left_stop ? r->t_reached : INFINITY);
+    const swim_run_watch_results *s = &w->r;
+    if (s->jmin < r->jmin || isnan(s->jmin)) {
+        r->jmin = s->jmin;
+        r->jmin_t = s->jmin_t;
     }
-    r->drift_abs = fmax(r->drift_abs, w->drift_abs);
-    r->emax = fmax(r->emax, w->emax);
-    r->res_volume = fmax(r->res_volume, w->res_volume);
-    r->res_volume_rate = fmax(r->res_volume_rate, w->res_volume_rate);
-    r->res_angular = fmax(r->res_angular, w->res_angular);
-    r->res_locks = fmax(r->res_locks, w->res_locks);
+    r->drift_abs = fmax(r->drift_abs, s->drift_abs);
+    r->emax = fmax(r->emax, s->emax);
+    r->res_volume = fmax(r->res_volume, s->res_volume);
+    r->res_volume_rate = fmax(r->res_volume_rate, s->res_volume_rate);
+    r->res_angular = fmax(r->res_angular, s->res_angular);
+    r->res_locks = fmax(r->res_locks, s->res_locks);
 }
 
 /* The output loop: rows at k*output_step up to t_end, stopping at the first failure. */
@@ -902,7 +906,7 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
         fputs("null", f);
     }
     fprintf(f, ",\n  \"step_checks\": {\"enabled\": %s, \"steps\": %ld, \"seconds\": %.6f}",
-            c->watch_ready ? "true" : "false", c->watch.steps, c->watch.seconds);
+            c->watch_ready ? "true" : "false", c->watch.r.steps, c->watch.seconds);
     swim_run_events_json(c->events, f);   /* "events", "event_stop", "periodic" (with events) */
     fprintf(f, ",\n  \"stats\": {\"steps\": %ld, \"rhs_evaluations\": %ld, \"rejected_steps\": %ld, "
             "\"jacobian_evaluations\": %ld, \"last_step\": %.6g, \"last_order\": %d, \"stiffness_suspected\": %s,\n"

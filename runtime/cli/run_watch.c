@@ -29,8 +29,8 @@ int swim_run_watch_init(swim_run_watch *w, swim_dynamics *d, int sdim, int energ
     w->full = calloc((size_t)d->dim, sizeof(double));
     w->K = malloc(sizeof(double) * d->n * d->n);
     w->G = malloc(sizeof(double) * d->n * (d->n + 2));
-    w->jmin = INFINITY;
-    w->jmin_t = NAN;
+    w->r.jmin = INFINITY;
+    w->r.jmin_t = NAN;
     swim_run_watch_mark(w);
     return w->ys && w->full && w->K && w->G ? 0 : -1;
 }
@@ -44,26 +44,53 @@ void swim_run_watch_free(swim_run_watch *w)
     w->ys = w->full = w->K = w->G = NULL;
 }
 
-void swim_run_watch_mark(swim_run_watch *w)
+static void note_jmin(swim_run_watch_results *r, double t, double J)
 {
-    w->mark = (struct swim_run_watch_results){w->steps, w->jmin, w->jmin_t, w->drift_abs, w->emax, w->res_volume,
-                                              w->res_volume_rate, w->res_angular, w->res_locks};
+    if (J < r->jmin || isnan(J)) {
+        r->jmin = J;
+        r->jmin_t = t;
+    }
 }
 
-void swim_run_watch_rewind(swim_run_watch *w)
+/* What p holds at or before t_end into r; p is emptied. */
+static void commit(swim_run_watch_results *r, swim_run_watch_pending *p, double t_end)
 {
-    const struct swim_run_watch_results *m = &w->mark;
-    w->steps = m->steps;
-    w->jmin = m->jmin;
-    w->jmin_t = m->jmin_t;
-    w->drift_abs = m->drift_abs;
-    w->emax = m->emax;
-    w->res_volume = m->res_volume;
-    w->res_volume_rate = m->res_volume_rate;
-    w->res_angular = m->res_angular;
-    w->res_locks = m->res_locks;
+    for (int i = 0; i < p->n; i++)
+        if (p->t[i] <= t_end) note_jmin(r, p->t[i], p->J[i]);
+    if (p->balanced && p->tb <= t_end) {
+        r->drift_abs = fmax(r->drift_abs, p->drift);
+        r->emax = fmax(r->emax, p->e);
+        r->res_volume = fmax(r->res_volume, p->res_volume);
+        r->res_volume_rate = fmax(r->res_volume_rate, p->res_volume_rate);
+        r->res_angular = fmax(r->res_angular, p->res_angular);
+        r->res_locks = fmax(r->res_locks, p->res_locks);
+    }
+    memset(p, 0, sizeof *p);
+}
+
+static void candidate(swim_run_watch_pending *p, double t, double J)
+{
+    if (p->n < 3) {
+        p->t[p->n] = t;
+        p->J[p->n++] = J;
+    }
+}
+
+void swim_run_watch_mark(swim_run_watch *w)
+{
+    w->mark_r = w->r;
+    w->mark_pend = w->pend;
+}
+
+void swim_run_watch_rewind(swim_run_watch *w, double t)
+{
+    w->r = w->mark_r;
+    commit(&w->r, &w->mark_pend, t);
+    memset(&w->pend, 0, sizeof w->pend);
     w->have_prev = 0;
 }
+
+void swim_run_watch_finish(swim_run_watch *w, double t_end) { commit(&w->r, &w->pend, t_end); }
 
 /* min J and d/dt min J at t: of the state ys when given, else on the interpolant (the full state
  * is left in w->full). -1 when the interpolant cannot be evaluated there. */
@@ -111,18 +138,10 @@ static double locate(swim_run_watch *w, const swim_ode_accepted *st, int which, 
     return b;
 }
 
-static void note_jmin(swim_run_watch *w, double t, double J)
-{
-    if (J < w->jmin || isnan(J)) {
-        w->jmin = J;
-        w->jmin_t = t;
-    }
-}
-
 /* Energy balance (5.3) and constraint residuals at the step end (state in w->full), as
  * swim_dynamics_diagnostics has them but with only what they need: the kinetic energy is
  * (1/2) cdot^T K cdot with the reduced mass matrix K (section 4.1.2), W2 the barrier quadrature. */
-static void balance(swim_run_watch *w)
+static void balance(swim_run_watch *w, double tb)
 {
     swim_dynamics *d = w->d;
     const swim_scene *s = d->scene;
@@ -142,20 +161,24 @@ static void balance(swim_run_watch *w)
         for (int i = 0; i < n; i++) W += s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
     w2 = swim_dynamics_w2(d, c);
     const double E = 0.5 * T + 0.5 * W + w2, work = w->full[3 + 2 * n];
-    w->drift_abs = fmax(w->drift_abs, fabs(E - w->e0 - work));
-    w->emax = fmax(w->emax, fabs(E));
-    w->res_volume = fmax(w->res_volume, fabs(swim_area_constant(n, c) - swim_area_constant(n, s->c0)));
+    swim_run_watch_pending *p = &w->pend;
+    p->balanced = 1;
+    p->tb = tb;
+    p->drift = fabs(E - w->e0 - work);
+    p->e = fabs(E);
+    p->res_volume = fabs(swim_area_constant(n, c) - swim_area_constant(n, s->c0));
     const int m = swim_constraint_rows(n, c, s->free_mask, w->G);
     double rate = 0.0, ang = 0.0;
     for (int k = 0; k < n; k++) {
         rate += w->G[k] * v[k];
         ang += w->G[n + k] * v[k];
     }
-    w->res_volume_rate = fmax(w->res_volume_rate, fabs(rate));
-    w->res_angular = fmax(w->res_angular, fabs(ang));
+    p->res_volume_rate = fabs(rate);
+    p->res_angular = fabs(ang);
+    p->res_locks = 0.0;
     for (int j = 2; j < m; j++) {
         const int i = swim_constraint_locked_index(n, s->free_mask, j);
-        w->res_locks = fmax(w->res_locks, fabs(c[i] - s->c0[i]) + fabs(v[i]));
+        p->res_locks = fmax(p->res_locks, fabs(c[i] - s->c0[i]) + fabs(v[i]));
     }
 }
 
@@ -164,10 +187,12 @@ int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
     swim_run_watch *w = data;
     const double t0 = seconds();
     int stop = 0;
+    commit(&w->r, &w->pend, INFINITY);   /* a step followed by another is part of the run */
+    swim_run_watch_pending *p = &w->pend;
     if (!w->have_prev && j_at(w, st, st->ta, NULL, &w->j_prev, &w->rate_prev) == 0) {
         w->t_prev = st->ta;
         w->have_prev = 1;
-        note_jmin(w, st->ta, w->j_prev);
+        candidate(p, st->ta, w->j_prev);
     }
     double Jb, rb;
     if (j_at(w, st, st->tb, st->y_end, &Jb, &rb) != 0) {
@@ -175,8 +200,8 @@ int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
         w->seconds += seconds() - t0;
         return 0;
     }
-    w->steps++;
-    if (w->energy) balance(w);   /* w->full holds the state at tb */
+    w->r.steps++;
+    if (w->energy) balance(w, st->tb);   /* w->full holds the state at tb */
     double tm = st->tb, Jm = Jb;
     if (w->have_prev && w->rate_prev < 0 && rb >= 0)   /* a minimum of J inside the step */
         tm = locate(w, st, 0, w->t_prev, w->rate_prev, st->tb, rb, Jb, &Jm);
@@ -186,12 +211,12 @@ int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
         double tc = locate(w, st, 1, w->t_prev, w->j_prev, tm, Jm, Jm, &Jc);
         w->left = 1;
         w->t_left = tc;
-        note_jmin(w, tc, Jc);
+        candidate(p, tc, Jc);
         *t_stop = tc;
         stop = 1;
     } else {
-        note_jmin(w, tm, Jm);
-        note_jmin(w, st->tb, Jb);
+        candidate(p, tm, Jm);
+        candidate(p, st->tb, Jb);
     }
     w->t_prev = st->tb;
     w->j_prev = Jb;

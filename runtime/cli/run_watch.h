@@ -15,6 +15,24 @@
 #include "model/dynamics.h"
 #include "ode/ode.h"
 
+/* Maxima and min J over a set of steps. */
+typedef struct {
+    long steps;
+    double jmin, jmin_t;       /* smallest min J and when (INFINITY, NAN before any step) */
+    double drift_abs, emax;    /* max |E - E0 - work|, max |E| */
+    double res_volume, res_volume_rate, res_angular, res_locks;
+} swim_run_watch_results;
+
+/* What the latest step contributes, kept apart until it is known to be part of the run (a run
+ * that ends inside that step -- t_end, a :stop event, the crossing -- keeps only what lies at or
+ * before its end). */
+typedef struct {
+    int n;                     /* candidates for min J */
+    double t[3], J[3];
+    int balanced;              /* the balance at tb was evaluated */
+    double tb, drift, e, res_volume, res_volume_rate, res_angular, res_locks;
+} swim_run_watch_pending;
+
 typedef struct {
     swim_dynamics *d;          /* borrowed */
     int sdim;                  /* integrator state dimension */
@@ -24,31 +42,29 @@ typedef struct {
     /* the previous step end */
     int have_prev;
     double t_prev, j_prev, rate_prev;
-    /* results over the accepted steps */
-    long steps;
-    double jmin, jmin_t;       /* smallest min J and when (INFINITY, NAN before any step) */
-    double drift_abs, emax;    /* max |E - E0 - work|, max |E| */
-    double res_volume, res_volume_rate, res_angular, res_locks;
+    swim_run_watch_results r;  /* over the steps before the latest one */
+    swim_run_watch_pending pend;   /* the latest step */
     int left;                  /* min J reached 0 inside a step ... */
     double t_left;             /* ... at this time (the crossing, on the interpolant) */
     int diag_failed;           /* the diagnostics failed at a step end (K not positive definite) */
     double seconds;            /* time spent here */
-    /* the results as they were at the last mark (swim_run_watch_mark) */
-    struct swim_run_watch_results {
-        long steps;
-        double jmin, jmin_t, drift_abs, emax, res_volume, res_volume_rate, res_angular, res_locks;
-    } mark;
+    swim_run_watch_results mark_r;        /* at the last mark (swim_run_watch_mark) */
+    swim_run_watch_pending mark_pend;
 } swim_run_watch;
 
 /* 0, or -1 when out of memory. */
 int swim_run_watch_init(swim_run_watch *w, swim_dynamics *d, int sdim, int energy);
 void swim_run_watch_free(swim_run_watch *w);
 
-/* Remember the results so far (at an output row, where a stiff fallback may restart). */
+/* Remember the results so far (at an output row t, where a stiff fallback may restart). */
 void swim_run_watch_mark(swim_run_watch *w);
-/* The integrator restarted from the last mark (stiff fallback): the results go back to it (the
- * steps after it are computed again) and the next step's start is evaluated afresh. */
-void swim_run_watch_rewind(swim_run_watch *w);
+/* The integrator restarted from the last mark at t (stiff fallback): the results go back to it
+ * (the steps after t are computed again) and the next step's start is evaluated afresh. */
+void swim_run_watch_rewind(swim_run_watch *w, double t);
+
+/* The run ended at t_end (its last row: t_end, a :stop event, the crossing; INFINITY when every
+ * accepted step belongs to it): the latest step counts up to t_end. Results in w->r. */
+void swim_run_watch_finish(swim_run_watch *w, double t_end);
 
 /* swim_ode_options.on_accept with data = swim_run_watch *: 0, or 1 with *t_stop at the crossing. */
 int swim_run_watch_step(const swim_ode_accepted *step, void *data, double *t_stop);
