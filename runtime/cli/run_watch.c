@@ -116,8 +116,9 @@ static double locate(swim_run_watch *w, const swim_ode_accepted *st, int which, 
     *Jb = Jb0;
     for (int it = 0; it < ROOT_MAXIT; it++) {
         /* a minimum: J is flat there, an error dt in t costs J'' dt^2 (or |J'| dt at a kink where
-         * the angle of the minimum jumps); the crossing: as precise as an event (ode.h) */
-        const double tol = fmax(which ? 1e-13 : 1e-10, 4.0 * DBL_EPSILON * fmax(fabs(a), fabs(b)));
+         * the angle of the minimum jumps), far below the integration error at dt = 1e-8; the
+         * crossing: as precise as an event (ode.h) */
+        const double tol = fmax(which ? 1e-13 : 1e-8, 4.0 * DBL_EPSILON * fmax(fabs(a), fabs(b)));
         if (b - a <= tol) break;
         double c = (a * fb - b * fa) / (fb - fa);
         if (!(c > a && c < b)) c = 0.5 * (a + b);
