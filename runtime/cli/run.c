@@ -10,7 +10,12 @@
  * Everything the stages own lives in one run_ctx, released by one function.
  *
  * Rows fall exactly on t0 + k*output_step and on t_end, produced by the integrator's own
- * interpolant. A run that stops early (NaN, step-size underflow, barrier crossed, SIGINT,
+ * interpolant. Every accepted step is checked too (cli/run_watch.h): min J with its time, the
+ * energy balance and the residuals of the summary are taken over steps and rows. A shape that
+ * leaves D (4.1) ends the run at the crossing, whose row is the last (the trial states beyond it
+ * are refused by the right-hand side, model/dynamics.h). When ABM's stiffness diagnostic fires,
+ * the run goes on from the last row with the scene's stiff_fallback (cvode-bdf unless "none").
+ * A run that stops early (NaN, step-size underflow, the shape leaving D, SIGINT,
  * SIGTERM, SIGHUP, an output that cannot be written) keeps every row it wrote (each row is
  * flushed) and says in summary.json where and why it stopped; a run ended by a :stop event
  * has its last row at the event and is completed. summary.json, snapshots.json, events.csv and

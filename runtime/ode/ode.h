@@ -256,8 +256,9 @@ double swim_ode_time(const swim_ode *s);  /* time reached by the internal steps 
  * 0 if none; after SWIM_ODE_ERHS the value that ended the run.  It may be a
  * recovered positive value after a successful advance. */
 int swim_ode_rhs_status(const swim_ode *s);
-/* y (and yp when not NULL) at t from the interpolant of the last accepted step, also after a
- * failed advance (e.g. the state where the integration stopped, at swim_ode_time()).  ABM
+/* y (and yp when not NULL) at t from the interpolant of the last accepted step (there must be
+ * one), also after a failed advance (e.g. the state where the integration stopped, at
+ * swim_ode_time()).  ABM
  * extrapolates its polynomial beyond the step; CVODE accepts t within its last step only.
  * SWIM_ODE_OK, SWIM_ODE_EUNSUPPORTED (no dense output: the GSL steppers) or SWIM_ODE_EFAIL. */
 int swim_ode_dense(swim_ode *s, double t, double *y, double *yp);
