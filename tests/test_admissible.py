@@ -144,6 +144,12 @@ def test_stiff_fallback_default():
     check(s["stiff_switch"] is None and s["integrator"] == "abm" and "switching" not in p.stderr,
           "stiff_fallback = none: no switch (%r)" % s["stiff_switch"])
     check(d is not None and len(d) == s["rows"] and len(d) > 10, "stiff_fallback = none: rows kept")
+    bad = stiff_variant('stiff_fallback = "nope"')
+    p, d, s = run(bad, "stiff-bad")
+    lines = p.stderr.strip().splitlines()
+    check(p.returncode == 2 and len(lines) == 1 and "stiff_fallback" in lines[0] and '"nope"' in lines[0]
+          and '"none"' in lines[0] and s is None, "unknown stiff_fallback: exit 2, one line naming key, value and "
+          "the choices: %d %r" % (p.returncode, p.stderr))
 
 
 if __name__ == "__main__":

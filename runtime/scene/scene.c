@@ -311,6 +311,9 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     snprintf(s->stiff_fallback, sizeof s->stiff_fallback, "cvode-bdf");
     const toml_value *sf = toml_get(run, "stiff_fallback");
     if (sf && toml_string(sf) && strcmp(toml_string(sf), "none") == 0) s->stiff_fallback[0] = '\0';
+    else if (sf && toml_string(sf) && !swim_ode_method_known(toml_string(sf)))
+        ERR(c, toml_get_key_line(run, "stiff_fallback"), "stiff_fallback", "unknown integrator \"%s\" (%s, or \"none\")",
+            toml_string(sf), swim_ode_method_list());
     else if (get_integrator(c, run, "stiff_fallback", s->stiff_fallback, sizeof s->stiff_fallback)) return 2;
     s->projection = 1;
     const toml_value *pj = toml_get(run, "projection");
