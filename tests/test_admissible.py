@@ -117,7 +117,7 @@ def test_jmin_over_steps():
 def stiff_variant(fallback_line):
     text = open(os.path.join(ROOT, "models", "hard", "stiff_n7_damped.toml")).read()
     text = re.sub(r'^stiff_fallback = .*$', fallback_line, text, flags=re.M)
-    path = os.path.join(TMP, "stiff_%d.toml" % len(fallback_line))
+    path = os.path.join(TMP, "stiff_%s.toml" % re.sub(r"\W", "", fallback_line or "default"))
     with open(path, "w") as fh:
         fh.write(text)
     return path
