@@ -10,7 +10,12 @@
  * Everything the stages own lives in one run_ctx, released by one function.
  *
  * Rows fall exactly on t0 + k*output_step and on t_end, produced by the integrator's own
- * interpolant. A run that stops early (NaN, step-size underflow, barrier crossed, SIGINT,
+ * interpolant. Every accepted step is checked too (cli/run_watch.h): min J with its time, the
+ * energy balance and the residuals of the summary are taken over steps and rows. A shape that
+ * leaves D (4.1) ends the run at the crossing, whose row is the last (the trial states beyond it
+ * are refused by the right-hand side, model/dynamics.h). When ABM's stiffness diagnostic fires,
+ * the run goes on from the last row with the scene's stiff_fallback (cvode-bdf unless "none").
+ * A run that stops early (NaN, step-size underflow, the shape leaving D, SIGINT,
  * SIGTERM, SIGHUP, an output that cannot be written) keeps every row it wrote (each row is
  * flushed) and says in summary.json where and why it stopped; a run ended by a :stop event
  * has its last row at the event and is completed. summary.json, snapshots.json, events.csv and
@@ -30,6 +35,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/run_events.h"
+#include "cli/run_watch.h"
 #include "io/csv.h"
 #include "io/files.h"
 #include "io/json.h"
@@ -73,6 +79,8 @@ typedef struct {
 
 typedef struct {
     double t_reached, jmin, e0, drift_abs, emax, res_volume, res_volume_rate, res_angular, res_locks;
+    double jmin_t;        /* when min J was smallest (rows and, with the watch, every accepted step) */
+    double left_t;        /* where the shape left D (the crossing), or NAN */
     long rows;
     int status;           /* 0 completed, 1 failed */
     char *reason;         /* why it stopped (owned) */
@@ -82,6 +90,7 @@ typedef struct {
     double output_seconds;      /* formatting and writing rows and snapshots */
     char used[80];        /* integrator(s) used: two names of at most 31 characters */
     int event_stop;       /* a :stop event ended the run (status completed, reason says which) */
+    int left_stop;        /* the row just reached is where the shape left D: the last one */
 } run_report;
 
 /* --trace-steps FILE: one row per ABM step attempt, with the energy of each accepted state. */
@@ -128,6 +137,8 @@ typedef struct {
     const char *names[NCOLS_MAX];
     char storage[2 * SWIM_NMAX][24];
     row_ctx rowc;
+    swim_run_watch watch;       /* checks at every accepted step (integrators with dense output) */
+    int watch_ready;
     run_report r;
     double t_start;
 } run_ctx;
@@ -515,7 +526,15 @@ static int prepare(run_ctx *c)
             swim_run_events_attach(c->events, o, (size_t)c->sdim, 3 + 2 * s->n, packed_row, &c->rowc) != 0)
             goto oom;
     }
+    if (caps & SWIM_ODE_CAP_EVENTS) {   /* dense output: the watch sees every accepted step */
+        if (swim_run_watch_init(&c->watch, &c->d, c->sdim, 1) != 0) goto oom;
+        c->watch_ready = 1;
+        o->on_accept = swim_run_watch_step;
+        o->on_accept_data = &c->watch;
+    }
     c->r.switch_t = -1.0;
+    c->r.left_t = NAN;
+    c->r.jmin_t = NAN;
     snprintf(c->r.used, sizeof c->r.used, "%s", s->integrator);
     return 0;
 oom:
@@ -544,7 +563,10 @@ static void track(run_report *r, double t, const swim_diag *g, int first)
     r->t_reached = t;
     r->drift_abs = fmax(r->drift_abs, fabs(g->energy - r->e0 - g->work));
     r->emax = fmax(r->emax, fabs(g->energy));
-    r->jmin = fmin(r->jmin, g->jmin);
+    if (g->jmin < r->jmin || isnan(g->jmin)) {
+        r->jmin = g->jmin;
+        r->jmin_t = t;
+    }
     r->res_volume = fmax(r->res_volume, fabs(g->res_volume));
     r->res_volume_rate = fmax(r->res_volume_rate, fabs(g->res_volume_rate));
     r->res_angular = fmax(r->res_angular, fabs(g->res_angular));
@@ -609,6 +631,13 @@ static void stop_on_output(run_ctx *c, double t)
     stop(c, "%s (at t = %.6g)", c->output_error ? c->output_error : "an output could not be written", t);
 }
 
+/* The shape left D at t (4.1): the crossing of min J = 0, located at a step (see advance_to). */
+static void stop_left_D(run_ctx *c, double t)
+{
+    stop(c, "left D at t = %.10g: the shape left the admissible set D (min J reaches 0 on the circle, (4.1))%s", t,
+         c->s.barrier ? "; the barrier did not stop it" : "; the scene has no barrier");
+}
+
 /* Why the integrator could not reach t. */
 static void stop_on_integrator(run_ctx *c, int rc, double t)
 {
@@ -622,12 +651,15 @@ static void stop_on_integrator(run_ctx *c, int rc, double t)
         stop(c, "the forcing law is NaN or Inf at t = %.9g", fmin(c->d.last_rhs_t, s->forcing_finite_until));
         return;
     }
-    if (rc == SWIM_ODE_ERHS)
+    if (rc == SWIM_ODE_ERHS && swim_ode_rhs_status(c->ode) == SWIM_DYN_EBARRIER)
+        stop_left_D(c, c->r.left_t);
+    else if (rc == SWIM_ODE_ERHS)
         stop(c, "%s near t = %.6g", swim_dynamics_strerror(swim_ode_rhs_status(c->ode)), c->d.last_rhs_t);
     else if (rc == SWIM_ODE_ESTIFF)
         stop(c, "stiffness detected near t = %.6g: Adams PECE is "
-             "stability-limited here; rerun with --integrator cvode-bdf (or msbdf), or set "
-             "[run] stiff_fallback = \"cvode-bdf\" in the scene", c->ode ? swim_ode_time(c->ode) : t);
+             "stability-limited here; rerun with --integrator cvode-bdf (or msbdf), or remove "
+             "[run] stiff_fallback = \"none\" from the scene (the default switches to cvode-bdf)",
+             c->ode ? swim_ode_time(c->ode) : t);
     else
         stop(c, "%s near t = %.6g", swim_ode_strerror(rc), c->ode ? swim_ode_time(c->ode) : t);
 }
@@ -640,11 +672,12 @@ static int switch_to_fallback(run_ctx *c, double t_last, double t)
     accumulate_stats(&c->total, c->ode);
     swim_ode_free(c->ode);
     c->ode = NULL;
-    if (!c->opt.quiet)
-        swim_message(stderr, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g",
-                     ts, s->integrator, s->stiff_fallback, t_last);
+    /* said even with --quiet: the rest of the run is computed by another method than asked for */
+    swim_message(stderr, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g",
+                 ts, s->integrator, s->stiff_fallback, t_last);
     c->r.switch_t = t_last;
     swim_run_events_rewind(c->events, t_last);   /* the fallback locates them again from t_last */
+    if (c->watch_ready) swim_run_watch_rewind(&c->watch, t_last);
     snprintf(c->r.used, sizeof c->r.used, "%s+%s", s->integrator, s->stiff_fallback);
     memcpy(c->ys, c->ys_last, sizeof(double) * c->sdim);
     c->o.stiff_stop = 0;
@@ -664,11 +697,27 @@ static int advance_to(run_ctx *c, double *t, double *t_last)
     c->r.integrate_seconds += wall() - ta;
     if (rc == SWIM_ODE_ESTIFF && c->s.stiff_fallback[0] && c->r.switch_t < 0 && !stop_signal)
         rc = switch_to_fallback(c, *t_last, *t);
-    if (rc == SWIM_ODE_TERMINATED) {   /* ys holds the state at the event */
+    if (rc == SWIM_ODE_TERMINATED && c->watch_ready && c->watch.left && swim_ode_time(c->ode) == c->watch.t_left) {
+        *t = c->watch.t_left;   /* min J reached 0 inside a step: ys holds the state at the crossing */
+        c->r.left_t = *t;
+        c->r.left_stop = 1;
+        rc = SWIM_ODE_OK;
+    } else if (rc == SWIM_ODE_TERMINATED) {   /* ys holds the state at the event */
         *t = swim_ode_time(c->ode);
         end_run(c, 0, "stopped by event %s at t = %.10g", swim_run_events_stop_name(c->events), *t);
         c->r.event_stop = 1;
         rc = SWIM_ODE_OK;
+    } else if (rc == SWIM_ODE_ERHS && swim_ode_rhs_status(c->ode) == SWIM_DYN_EBARRIER && !stop_signal) {
+        /* Every trial state beyond the crossing was refused, so the integrator crept up to it
+         * with ever smaller steps until the step size underflowed: its last accepted state is
+         * the crossing (to a few units of rounding in t). Its row is the last. */
+        const double tb = swim_ode_time(c->ode);
+        c->r.left_t = tb;
+        if (tb > *t_last && tb < *t && swim_ode_dense(c->ode, tb, c->ys, NULL) == SWIM_ODE_OK) {
+            *t = tb;
+            c->r.left_stop = 1;
+            rc = SWIM_ODE_OK;
+        }
     }
     if (rc != SWIM_ODE_OK) return rc;
     const double tr = *t;
@@ -684,6 +733,7 @@ static int advance_to(run_ctx *c, double *t, double *t_last)
     }
     memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
     *t_last = tr;
+    if (c->watch_ready) swim_run_watch_mark(&c->watch);   /* where a stiff fallback would restart */
     return SWIM_ODE_OK;
 }
 
@@ -719,11 +769,31 @@ static int emit_row(run_ctx *c, long k, long rows, long every, double t)
         stop_on_output(c, t);
         return -1;
     }
-    if (!(g.jmin > 0)) {
-        stop(c, "the shape left the admissible set D at t = %.6g (min J = %.3g)", t, g.jmin);
+    if (!(g.jmin > 0)) {   /* only at a crossing located by the watch, or without dense output */
+        c->r.left_t = t;
+        stop_left_D(c, t);
         return -1;
     }
     return 0;
+}
+
+/* The maxima and min J over the accepted steps into the report, which holds those over the rows.
+ * A run that ended at its last row (t_end, a :stop event, the crossing) counts the last step up
+ * to that row only; a failed one every step it accepted. */
+static void take_watch(run_report *r, swim_run_watch *w)
+{
+    swim_run_watch_finish(w, r->status == 0 || r->left_stop ? r->t_reached : INFINITY);
+    const swim_run_watch_results *s = &w->r;
+    if (s->jmin < r->jmin || isnan(s->jmin)) {
+        r->jmin = s->jmin;
+        r->jmin_t = s->jmin_t;
+    }
+    r->drift_abs = fmax(r->drift_abs, s->drift_abs);
+    r->emax = fmax(r->emax, s->emax);
+    r->res_volume = fmax(r->res_volume, s->res_volume);
+    r->res_volume_rate = fmax(r->res_volume_rate, s->res_volume_rate);
+    r->res_angular = fmax(r->res_angular, s->res_angular);
+    r->res_locks = fmax(r->res_locks, s->res_locks);
 }
 
 /* The output loop: rows at k*output_step up to t_end, stopping at the first failure. */
@@ -752,6 +822,11 @@ static void integrate(run_ctx *c)
             break;
         }
         if (emit_row(c, k, rows, every, t) != 0) break;
+        if (k == 0 && c->watch_ready) c->watch.e0 = c->r.e0;
+        if (c->r.left_stop) {
+            stop_left_D(c, t);
+            break;
+        }
         if (c->trace.err) {
             output_failed(c, c->opt.trace, c->trace.err);
             stop_on_output(c, t);
@@ -771,6 +846,7 @@ static void integrate(run_ctx *c)
     if (!c->opt.quiet && last_progress > c->t_start) fputc('\n', stderr);
     if (c->r.status == 0 && !c->r.event_stop) end_run(c, 0, "reached t_end = %.6g", s->t_end);
     if (c->ode) accumulate_stats(&c->total, c->ode);
+    if (c->watch_ready) take_watch(&c->r, &c->watch);
 }
 
 /* ---- report ------------------------------------------------------------------------------- */
@@ -832,6 +908,22 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
             r->res_volume, r->res_volume_rate, r->res_angular, r->res_locks);
     fprintf(f, "  \"jmin\": ");
     swim_json_number(f, r->jmin);
+    fprintf(f, ",\n  \"jmin_t\": ");
+    swim_json_number(f, r->jmin_t);
+    fprintf(f, ",\n  \"left_D_t\": ");
+    swim_json_number(f, r->left_t);
+    fprintf(f, ",\n  \"stiff_switch\": ");
+    if (r->switch_t >= 0) {
+        fprintf(f, "{\"t\": %.17g, \"from\": ", r->switch_t);
+        swim_json_string(f, s->integrator);
+        fprintf(f, ", \"to\": ");
+        swim_json_string(f, s->stiff_fallback);
+        fputc('}', f);
+    } else {
+        fputs("null", f);
+    }
+    fprintf(f, ",\n  \"step_checks\": {\"enabled\": %s, \"steps\": %ld, \"seconds\": %.6f}",
+            c->watch_ready ? "true" : "false", c->watch.r.steps, c->watch.seconds);
     swim_run_events_json(c->events, f);   /* "events", "event_stop", "periodic" (with events) */
     fprintf(f, ",\n  \"stats\": {\"steps\": %ld, \"rhs_evaluations\": %ld, \"rejected_steps\": %ld, "
             "\"jacobian_evaluations\": %ld, \"last_step\": %.6g, \"last_order\": %d, \"stiffness_suspected\": %s,\n"
@@ -914,8 +1006,8 @@ static int report(run_ctx *c)
     printf("  %s kernel (state dimension %d)\n", c->d.generic ? "generic" : "specialized", c->sdim);
     swim_message(stdout, "  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)",
                  c->r.used, s->rtol, st->steps, st->rhs_evals, st->rejected, wall() - c->t_start, c->d.rhs_seconds);
-    printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g\n",
-           c->r.drift_abs, c->r.e0, c->r.res_volume, c->r.res_angular, c->r.res_locks, c->r.jmin);
+    printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g at t = %.6g\n",
+           c->r.drift_abs, c->r.e0, c->r.res_volume, c->r.res_angular, c->r.res_locks, c->r.jmin, c->r.jmin_t);
     printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", c->y[0], c->y[1], c->y[2]);
     if (fflush(stdout) != 0 || ferror(stdout)) {
         swim_message(stderr, "swim run: cannot write the report to the standard output: %s", strerror(errno ? errno : EIO));
@@ -934,6 +1026,7 @@ static void release(run_ctx *c)
     free(c->trace.full);
     free(c->rowc.full);
     swim_run_events_free(c->events);
+    if (c->watch_ready) swim_run_watch_free(&c->watch);
     swim_ode_free(c->ode);
     if (c->d_ready) swim_dynamics_free(&c->d);
     swim_compiled_close(&c->spz);   /* after everything that may still point into the kernels */

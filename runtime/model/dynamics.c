@@ -80,7 +80,10 @@ static int scene_barrier(const double *x, double *grad, void *ctx)
     }
     double W;
     int rc = swim_barrier_w2(d->barrier, x, s->epsilon, s->alpha, &W, d->gbar, NULL);
+    d->w2_valid = rc == SWIM_BARRIER_OK;
     if (rc != SWIM_BARRIER_OK) return SWIM_RHS_EBARRIER;   /* outside D (memory: see barrier.h) */
+    d->w2_last = W;
+    memcpy(d->w2_x, x, sizeof(double) * d->n);
     for (int f = 0; f < nf; f++) grad[f] = d->gbar[d->spec->free_index[f]];
     return 0;
 }
@@ -134,17 +137,41 @@ void swim_dynamics_unpack(const swim_dynamics *d, const double *state, double *f
     full[3 + 2 * n] = state[3 + 2 * nf];
 }
 
+/* Whether the shape of integrator state y lies in D (4.1). Without a barrier nothing else keeps a
+ * trial state of a step inside D (the equations are polynomial in c and go on outside it), so
+ * the right-hand side refuses such states itself: the step is retried smaller, and a trajectory
+ * that really leaves D ends at the crossing instead of running on through a non-physical shape.
+ * With a barrier, its quadrature refuses them (SWIM_RHS_EBARRIER). */
+static int shape_in_D(const swim_dynamics *d, const double *y)
+{
+    double c[2 * (SWIM_KERNEL_MAX_MODES + 1)];
+    const int nf = d->spec->nfree;
+    memcpy(c, d->scene->c0, sizeof(double) * d->n);
+    for (int f = 0; f < nf; f++) c[d->spec->free_index[f]] = y[3 + f];
+    return swim_shape_in_D(d->scene->modes, c);
+}
+
 int swim_dynamics_rhs(double t, const double *y, double *dy, void *params)
 {
     swim_dynamics *d = params;
     double t0 = seconds();
     int rc;
     if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;   /* fatal: negative */
+    else if (!d->scene->barrier && !shape_in_D(d, y)) rc = SWIM_DYN_EBARRIER;
     else rc = d->spec->rhs(t, y, dy, &d->spec_params);
     d->rhs_seconds += seconds() - t0;
     d->rhs_calls++;
     d->last_rhs_t = t;
     return rc;
+}
+
+double swim_dynamics_w2(swim_dynamics *d, const double *c)
+{
+    const swim_scene *s = d->scene;
+    if (!s->barrier) return 0.0;
+    if (d->w2_valid && memcmp(d->w2_x, c, sizeof(double) * d->n) == 0) return d->w2_last;
+    double W;
+    return swim_barrier_w2(d->barrier, c, s->epsilon, s->alpha, &W, NULL, NULL) == 0 ? W : INFINITY;
 }
 
 int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)

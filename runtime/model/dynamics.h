@@ -33,7 +33,8 @@
 enum {
     SWIM_DYN_OK = SWIM_RHS_OK,
     SWIM_DYN_ENAN = SWIM_RHS_ENAN,               /* NaN or Inf in the state or its derivative */
-    SWIM_DYN_EBARRIER = SWIM_RHS_EBARRIER,       /* J <= 0 at a quadrature node: the shape left D */
+    SWIM_DYN_EBARRIER = SWIM_RHS_EBARRIER,       /* the shape left D: J <= 0 at a quadrature node of the
+                                                    barrier, or (no barrier) min J <= 0 */
     SWIM_DYN_EMASS = SWIM_RHS_EMASS,             /* K (or Mr) not positive definite */
     SWIM_DYN_ECONSTRAINT = SWIM_RHS_ECONSTRAINT, /* multiplier system (4.12) singular */
     SWIM_DYN_EINTERRUPT                          /* an interrupt was requested (SIGINT) */
@@ -57,6 +58,9 @@ typedef struct {
     double max_projection;       /* largest change made by swim_dynamics_project */
     double rhs_seconds;
     double last_rhs_t;
+    /* W2 of the barrier's last evaluation by the right-hand side, at shape w2_x (swim_dynamics_w2) */
+    int w2_valid;
+    double w2_last, w2_x[2 * (SWIM_KERNEL_MAX_MODES + 1)];
 } swim_dynamics;
 
 /* k: the kernel of N = scene->modes modes. 0, or -1 (out of memory). */
@@ -91,6 +95,11 @@ typedef struct {
     double jmin;
     double rigid_velocity[3];   /* q* in the body frame */
 } swim_diag;
+
+/* W2 at the full shape c (0 without a barrier; INFINITY outside D). The right-hand side computes
+ * W2 with its gradient: when its last barrier evaluation was at this very shape (ABM's final
+ * evaluation at an accepted state) that value is returned instead of a second quadrature. */
+double swim_dynamics_w2(swim_dynamics *d, const double *c);
 
 /* Diagnostics at state y; c0 is the initial shape (for the lock and volume residuals). */
 int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *out);

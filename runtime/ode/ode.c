@@ -22,6 +22,9 @@ struct swim_ode {
     int terminated;           /* ... and reported: the integration is over */
     double t_stop;
     double *y_stop;           /* n values (owned) */
+    /* the caller's report of each accepted step (NULL without; only with dense output) */
+    int (*on_accept)(const swim_ode_accepted *step, void *data, double *t_stop);
+    void *on_accept_data;
 };
 
 static int abm_create_(const ode_method *m, const swim_ode_system *sys, const swim_ode_options *opt,
@@ -205,10 +208,14 @@ int swim_ode_create(const char *method, const swim_ode_system *sys, const swim_o
             free(s);
             return SWIM_ODE_EBADARG;
         }
-    if (o.nevents > 0) {
-        s->events = ode_events_create(n, &o);
+    if (o.on_accept && (m->caps & SWIM_ODE_CAP_EVENTS)) {
+        s->on_accept = o.on_accept;
+        s->on_accept_data = o.on_accept_data;
+    }
+    if (o.nevents > 0 || s->on_accept) {
+        s->events = o.nevents > 0 ? ode_events_create(n, &o) : NULL;
         s->y_stop = malloc(n * sizeof(double));
-        if (!s->events || !s->y_stop) {
+        if ((o.nevents > 0 && !s->events) || !s->y_stop) {
             ode_events_free(s->events);
             free(s->y_stop);
             free(s);
@@ -226,10 +233,17 @@ int swim_ode_create(const char *method, const swim_ode_system *sys, const swim_o
     return SWIM_ODE_OK;
 }
 
-/* Step by step, locating events after each accepted step; a terminal event
- * beyond tout is kept (stop_pending) and returned by the call whose tout
- * reaches it, without further steps. */
-static int advance_with_events(swim_ode *s, double tout, double *yout)
+/* The interpolant of the last accepted step, for swim_ode_accepted.interp. */
+static int step_interp(void *ctx, double t, double *y, double *yp)
+{
+    swim_ode *s = ctx;
+    return s->be->dense(s->impl, t, y, yp) ? -1 : 0;
+}
+
+/* Step by step, reporting each accepted step (on_accept) and locating events in it; a stop
+ * (terminal event, or on_accept asking for one) beyond tout is kept (stop_pending) and returned
+ * by the call whose tout reaches it, without further steps. */
+static int advance_stepwise(swim_ode *s, double tout, double *yout)
 {
     const ode_backend *be = s->be;
     while (!s->stop_pending) {
@@ -240,15 +254,35 @@ static int advance_with_events(swim_ode *s, double tout, double *yout)
             return rc;
         if (done)
             break;
-        double te;
-        const double *ye;
-        rc = ode_events_step(s->events, be, s->impl, ta, be->time(s->impl), &te, &ye);
-        if (rc == SWIM_ODE_TERMINATED) {
+        double tb = be->time(s->impl), tcut = tb;
+        int cut = 0;
+        if (s->on_accept) {
+            /* ABM's accepted state itself (its interpolant at the rounded tb differs by rounding) */
+            const double *y_end = be == &abm_backend ? abm_state(s->impl) : NULL;
+            swim_ode_accepted st = {ta, tb, step_interp, s, y_end};
+            double ts = tb;
+            if (s->on_accept(&st, s->on_accept_data, &ts) == 1) {
+                cut = 1;
+                tcut = ts > ta && ts < tb ? ts : tb;
+            }
+        }
+        if (s->events) {
+            double te;
+            const double *ye;
+            rc = ode_events_step(s->events, be, s->impl, ta, tcut, &te, &ye);
+            if (rc == SWIM_ODE_TERMINATED) {
+                s->stop_pending = 1;
+                s->t_stop = te;
+                memcpy(s->y_stop, ye, s->n * sizeof(double));
+            } else if (rc) {
+                return rc;
+            }
+        }
+        if (cut && !s->stop_pending) {
+            if (be->dense(s->impl, tcut, s->y_stop, NULL))
+                return SWIM_ODE_EFAIL;
             s->stop_pending = 1;
-            s->t_stop = te;
-            memcpy(s->y_stop, ye, s->n * sizeof(double));
-        } else if (rc) {
-            return rc;
+            s->t_stop = tcut;
         }
     }
     if (s->stop_pending && tout >= s->t_stop) {
@@ -263,7 +297,7 @@ int swim_ode_advance(swim_ode *s, double tout, double *yout)
 {
     if (!s || !yout || !(tout > s->tout_last) || !isfinite(tout) || s->terminated)
         return SWIM_ODE_EBADARG;
-    int rc = s->events ? advance_with_events(s, tout, yout) : s->be->advance(s->impl, tout, yout);
+    int rc = s->events || s->on_accept ? advance_stepwise(s, tout, yout) : s->be->advance(s->impl, tout, yout);
     if (rc == SWIM_ODE_OK)
         s->tout_last = tout;
     return rc;
@@ -286,6 +320,15 @@ double swim_ode_time(const swim_ode *s)
 }
 int swim_ode_rhs_status(const swim_ode *s) { return s ? s->be->rhs_status(s->impl) : 0; }
 const char *swim_ode_method_name(const swim_ode *s) { return s ? s->name : NULL; }
+
+int swim_ode_dense(swim_ode *s, double t, double *y, double *yp)
+{
+    if (!s || !y || !isfinite(t))
+        return SWIM_ODE_EBADARG;
+    if (!s->be->dense)
+        return SWIM_ODE_EUNSUPPORTED;
+    return s->be->dense(s->impl, t, y, yp) ? SWIM_ODE_EFAIL : SWIM_ODE_OK;
+}
 
 void swim_ode_free(swim_ode *s)
 {

@@ -136,6 +136,17 @@ typedef struct {
     const double *y;       /* accepted: y_{n+1} after projection; rejected: NULL */
 } swim_ode_step;
 
+/* One accepted step [ta, tb], as passed to swim_ode_options.on_accept.  interp(ctx, t, y, yp)
+ * evaluates the step's interpolant (y and, when yp is not NULL, y') at t in [ta, tb]; 0 or -1.
+ * y_end: the accepted state at tb itself (ABM: y_{n+1} as projected and evaluated, which the
+ * interpolant at the rounded tb reproduces only up to rounding), or NULL. */
+typedef struct {
+    double ta, tb;
+    int (*interp)(void *ctx, double t, double *y, double *yp);
+    void *ctx;
+    const double *y_end;
+} swim_ode_accepted;
+
 typedef struct {
     double rtol, atol;          /* scalar tolerances (weights rtol*|y_i| + atol_i) */
     const double *atol_vec;     /* optional per-component atol (length dimension), NULL = use atol; copied */
@@ -165,11 +176,18 @@ typedef struct {
     void (*on_event)(const swim_ode_event_hit *hit, void *data);
     void *on_event_data;
     double event_tol;           /* width of the final bracket in t; 0 = default 1e-13 */
+    /* Optional report of every accepted step (integrators with SWIM_ODE_CAP_EVENTS: those with
+     * dense output), before the events of that step are located.  Return 0 to go on, or 1 with
+     * *t_stop in (ta, tb] to end the integration at t_stop: swim_ode_advance() then behaves as
+     * at a terminal event (SWIM_ODE_TERMINATED with y(t_stop) from the interpolant once tout
+     * reaches t_stop; events of the step after t_stop are not located).  Ignored by the others. */
+    int (*on_accept)(const swim_ode_accepted *step, void *data, double *t_stop);
+    void *on_accept_data;
 } swim_ode_options;
 
 /* rtol = 1e-6, atol = 1e-9, no hmax, automatic h0, tstop = INFINITY,
  * max_steps = 10^7, stiff_stop = 0, lookahead = 6, no projection, no step
- * report, no events. */
+ * report, no events, no accepted-step report. */
 void swim_ode_options_default(swim_ode_options *opt);
 
 typedef struct {
@@ -238,6 +256,12 @@ double swim_ode_time(const swim_ode *s);  /* time reached by the internal steps 
  * 0 if none; after SWIM_ODE_ERHS the value that ended the run.  It may be a
  * recovered positive value after a successful advance. */
 int swim_ode_rhs_status(const swim_ode *s);
+/* y (and yp when not NULL) at t from the interpolant of the last accepted step (there must be
+ * one), also after a failed advance (e.g. the state where the integration stopped, at
+ * swim_ode_time()).  ABM
+ * extrapolates its polynomial beyond the step; CVODE accepts t within its last step only.
+ * SWIM_ODE_OK, SWIM_ODE_EUNSUPPORTED (no dense output: the GSL steppers) or SWIM_ODE_EFAIL. */
+int swim_ode_dense(swim_ode *s, double t, double *y, double *yp);
 const char *swim_ode_method_name(const swim_ode *s);
 void swim_ode_free(swim_ode *s);
 const char *swim_ode_strerror(int status);

@@ -417,7 +417,15 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     for (int i = 0; i < 4; i++) s->setting_line[i] = toml_get_key_line(run, setting_keys[i]);
     snprintf(s->integrator, sizeof s->integrator, "abm");
     if (get_integrator(c, run, "integrator", s->integrator, sizeof s->integrator)) return 2;
-    if (get_integrator(c, run, "stiff_fallback", s->stiff_fallback, sizeof s->stiff_fallback)) return 2;
+    /* BDF by default: where ABM's stiffness diagnostic fires, a stiff code goes on at a fraction
+     * of the cost; "none" keeps the stop with the message naming the remedy */
+    snprintf(s->stiff_fallback, sizeof s->stiff_fallback, "cvode-bdf");
+    const toml_value *sf = toml_get(run, "stiff_fallback");
+    if (sf && toml_string(sf) && strcmp(toml_string(sf), "none") == 0) s->stiff_fallback[0] = '\0';
+    else if (sf && toml_string(sf) && !swim_ode_method_known(toml_string(sf)))
+        ERR(c, toml_get_key_line(run, "stiff_fallback"), "stiff_fallback", "unknown integrator \"%s\" (%s, or \"none\")",
+            toml_string(sf), swim_ode_method_list());
+    else if (get_integrator(c, run, "stiff_fallback", s->stiff_fallback, sizeof s->stiff_fallback)) return 2;
     s->projection = 1;
     const toml_value *pj = toml_get(run, "projection");
     if (pj) {

@@ -61,7 +61,8 @@ typedef struct {
     double direction[SWIM_NMAX];
     double t_end, output_step, rtol, atol;
     char integrator[32];
-    char stiff_fallback[32];          /* integrator to switch to when ABM detects stiffness, or "" */
+    char stiff_fallback[32];          /* integrator to switch to when ABM detects stiffness ("cvode-bdf"
+                                         unless the scene says "none": then "") */
     int project_initial;
     int projection;                   /* drift control after each step (ABM), default on */
     int step_lookahead;               /* ABM step-size look-ahead p (swim_ode_options.lookahead); -1 = the integrator default */

@@ -2,121 +2,187 @@
 
 #include "kernel/coords.h"
 
-#include <complex.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define TWO_PI 6.28318530717958647692
+#define NEWTON_MAXIT 40
 
-/* J(theta) = |c_1|^2 - |h|^2 with h(z) = sum_{j=0}^{N-1} a_j z^j, z = e^{-i theta},
- * a_j = (j+1) c_{-(j+1)} (ERRATA B2). */
-typedef struct {
-    int deg;                                   /* N - 1 */
-    double c1sq;                               /* |c_1|^2 */
-    double complex a[SWIM_KERNEL_MAX_MODES];   /* a_j */
-} circle_poly;
-
-static void circle_poly_init(circle_poly *p, int modes, const double *x)
+/* p[m-1] = m c_{-m} (re, im): the coefficients of P (see shape.h). */
+static void coefficients(int modes, const double *x, double *pr, double *pi)
 {
-    p->deg = modes - 1;
-    p->c1sq = x[0] * x[0] + x[1] * x[1];
     for (int m = 1; m <= modes; m++) {
         const int i = swim_coord_index(-m);
-        p->a[m - 1] = m * (x[i] + I * x[i + 1]);
+        pr[m - 1] = m * x[i];
+        pi[m - 1] = m * x[i + 1];
     }
 }
 
-/* J and its first two theta-derivatives at theta (d/dtheta z^j = -i j z^j). */
-static void j_derivs(const circle_poly *p, double theta, double *J, double *J1, double *J2)
+/* J and its first two derivatives in theta at theta (d1, d2 may be NULL). With
+ * w = e^{-i theta}: P_theta = sum -i(m-1) p_m w^{m-1}, P_thetatheta = sum -(m-1)^2 p_m w^{m-1};
+ * J' = -2 Re(conj(P) P_theta), J'' = -2 (|P_theta|^2 + Re(conj(P) P_thetatheta)). */
+static double j_derivs(int modes, double c1sq, const double *pr, const double *pi, double theta, double *d1,
+                       double *d2)
 {
-    /* Horner for h, h', h'' together, in real arithmetic (C's complex product is slow) */
-    const double zr = cos(theta), zi = -sin(theta);
-    double hr = 0.0, hi = 0.0, h1r = 0.0, h1i = 0.0, h2r = 0.0, h2i = 0.0;
-    for (int j = p->deg; j >= 0; j--) {
-        const double ar = creal(p->a[j]), ai = cimag(p->a[j]);
-        double t = hr * zr - hi * zi + ar;
-        hi = hr * zi + hi * zr + ai;
-        hr = t;
-        t = h1r * zr - h1i * zi + j * ai;      /* (-i j) a_j */
-        h1i = h1r * zi + h1i * zr - j * ar;
-        h1r = t;
-        t = h2r * zr - h2i * zi - (double)j * j * ar;   /* (-j^2) a_j */
-        h2i = h2r * zi + h2i * zr - (double)j * j * ai;
-        h2r = t;
+    const double cr = cos(theta), ci = -sin(theta);
+    double wr = 1.0, wi = 0.0;            /* w^{m-1} */
+    double Pr = 0, Pi = 0, Qr = 0, Qi = 0, Rr = 0, Ri = 0;   /* P, sum (m-1) p w^{m-1}, sum (m-1)^2 p w^{m-1} */
+    for (int m = 1; m <= modes; m++) {
+        const double tr = pr[m - 1] * wr - pi[m - 1] * wi, ti = pr[m - 1] * wi + pi[m - 1] * wr;
+        const double k = m - 1;
+        Pr += tr; Pi += ti;
+        Qr += k * tr; Qi += k * ti;
+        Rr += k * k * tr; Ri += k * k * ti;
+        const double nr = wr * cr - wi * ci;
+        wi = wr * ci + wi * cr;
+        wr = nr;
     }
-    *J = p->c1sq - (hr * hr + hi * hi);
-    *J1 = -2.0 * (hr * h1r + hi * h1i);
-    *J2 = -2.0 * (h1r * h1r + h1i * h1i + hr * h2r + hi * h2i);
+    /* P_theta = -i Q, P_thetatheta = -R */
+    const double Ptr = Qi, Pti = -Qr;
+    if (d1) *d1 = -2.0 * (Pr * Ptr + Pi * Pti);
+    if (d2) *d2 = -2.0 * (Ptr * Ptr + Pti * Pti - (Pr * Rr + Pi * Ri));
+    return c1sq - (Pr * Pr + Pi * Pi);
 }
 
-/* The minimum of J in [lo, hi], which holds a discrete minimum of the samples: safeguarded
- * Newton on J' = 0 (bisection on the sign of J' whenever Newton would leave the bracket or J''
- * is not positive). Returns the smallest J seen, so it never exceeds the sample it started at. */
-static double refine_minimum(const circle_poly *p, double lo, double hi, double start, double best)
+/* The local minimum of J in [a, b] (J'(a) < 0 < J'(b) expected) by Newton on J' = 0, kept inside
+ * the bracket (bisection when Newton would leave it or J'' <= 0). Newton converges quadratically;
+ * it stops once the step is below 1e-9, where J is exact to ~J'' 1e-18 (rounding). Returns J
+ * there, angle in *th. */
+static double refine(int modes, double c1sq, const double *pr, const double *pi, double a, double b, double t0,
+                     double *th)
 {
-    double th = start;
-    for (int it = 0; it < 60; it++) {
-        double J, J1, J2;
-        j_derivs(p, th, &J, &J1, &J2);
-        if (J < best) best = J;
-        if (J1 > 0.0) hi = th; else lo = th;
-        double next = J2 > 0.0 ? th - J1 / J2 : 0.5 * (lo + hi);
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        /* a step below 1e-9 leaves J'' 1e-18 / 2 above the minimum: one last value and done */
-        const int last = fabs(next - th) <= 1e-9 || hi - lo <= 1e-9;
-        th = next;
-        if (last) {
-            j_derivs(p, th, &J, &J1, &J2);
-            if (J < best) best = J;
+    double t = t0, best = INFINITY, tbest = t0;
+    for (int it = 0; it < NEWTON_MAXIT; it++) {
+        double d1, d2, J = j_derivs(modes, c1sq, pr, pi, t, &d1, &d2);
+        if (J < best) { best = J; tbest = t; }
+        if (d1 > 0) b = t; else if (d1 < 0) a = t; else break;
+        double next = d2 > 0 ? t - d1 / d2 : 0.5 * (a + b);
+        if (!(next > a && next < b)) next = 0.5 * (a + b);
+        if (fabs(next - t) <= 1e-9 || b - a <= 1e-9) {
+            t = next;
+            J = j_derivs(modes, c1sq, pr, pi, t, NULL, NULL);
+            if (J < best) { best = J; tbest = t; }
             break;
         }
+        t = next;
     }
+    *th = tbest;
     return best;
 }
 
-double swim_shape_jmin(int modes, const double *x)
+/* min J (with its angle in *theta). With sign_only, a value of the right sign is enough: when
+ * the samples decide it (all above the largest dip between them, or one at or below 0) the
+ * refinement is skipped and the value returned only has the sign of min J. */
+static double jmin_impl(int modes, const double *x, double *theta, int sign_only)
 {
-    if (modes <= 1) {   /* h is constant: J does not depend on theta */
-        double J = x[0] * x[0] + x[1] * x[1];
-        if (modes == 1) J -= x[2] * x[2] + x[3] * x[3];
+    const double c1sq = x[0] * x[0] + x[1] * x[1];
+    if (theta) *theta = 0.0;
+    if (modes <= 1) {   /* P is constant: J too */
+        double J = modes == 1 ? c1sq - (x[2] * x[2] + x[3] * x[3]) : c1sq;
+        return isnan(J) ? NAN : J;
+    }
+    double pr[SWIM_KERNEL_MAX_MODES], pi[SWIM_KERNEL_MAX_MODES];
+    coefficients(modes, x, pr, pi);
+    while (modes > 1 && pr[modes - 1] == 0.0 && pi[modes - 1] == 0.0) modes--;   /* locked at 0: a lower degree */
+    if (modes == 1) {
+        const double J = c1sq - (pr[0] * pr[0] + pi[0] * pi[0]);
+        return isnan(J) ? NAN : J;
+    }
+    if (modes == 2) {
+        /* |p1 + p2 w| is largest where p2 w has the argument of p1: the triangle inequality is
+         * attained, min J = |c_1|^2 - (|p1| + |p2|)^2 at w = e^{i(arg p1 - arg p2)} */
+        const double m1 = sqrt(pr[0] * pr[0] + pi[0] * pi[0]), m2 = sqrt(pr[1] * pr[1] + pi[1] * pi[1]);
+        const double J = c1sq - (m1 + m2) * (m1 + m2);
+        if (isnan(J)) return NAN;
+        if (theta) {
+            double th = atan2(pi[1], pr[1]) - atan2(pi[0], pr[0]);   /* -arg w */
+            th = fmod(th, TWO_PI);
+            *theta = th < 0 ? th + TWO_PI : th;
+        }
         return J;
     }
-    circle_poly p;
-    circle_poly_init(&p, modes, x);
-    /* Samples on a grid of spacing dt; z^q by one complex rotation per sample (the drift of the
-     * rotation, ~q eps, only moves the sample points, which the refinement does not rely on). */
-    const int samples = 16 * (modes + 1);
-    const double dt = TWO_PI / samples;
-    double Js[16 * (SWIM_KERNEL_MAX_MODES + 1)];
-    const double wr = cos(dt), wi = -sin(dt);
-    double zr = 1.0, zi = 0.0;
-    double range_lo = INFINITY, range_hi = -INFINITY;
-    for (int q = 0; q < samples; q++) {
-        /* Horner in real arithmetic: C's complex product checks for infinities (slow) */
-        double hr = 0.0, hi = 0.0;
-        for (int j = p.deg; j >= 0; j--) {
-            const double t = hr * zr - hi * zi + creal(p.a[j]);
-            hi = hr * zi + hi * zr + cimag(p.a[j]);
-            hr = t;
+    /* |J''| <= 2 (|P_theta|^2 + |P||P_thetatheta|) <= 2 (s1^2 + s0 s2), s_j = sum (m-1)^j |p_m|:
+     * between two samples h apart, the minimum lies at most J''max h^2 / 8 below the nearer one. */
+    double s0 = 0, s1 = 0, s2 = 0;
+    for (int m = 1; m <= modes; m++) {
+        const double a = sqrt(pr[m - 1] * pr[m - 1] + pi[m - 1] * pi[m - 1]), k = m - 1;
+        s0 += a; s1 += k * a; s2 += k * k * a;
+    }
+    const int S = 8 * (modes + 1);
+    const double h = TWO_PI / S, margin = 2.0 * (s1 * s1 + s0 * s2) * h * h / 8.0;
+    double Js[8 * (SWIM_KERNEL_MAX_MODES + 1)];
+    /* samples at theta_q = q h; w_q = e^{-i q h} by rotation, restarted exactly every 16 samples */
+    const double rr = cos(h), ri = -sin(h);
+    double zr = 1.0, zi = 0.0, best = INFINITY;
+    for (int q = 0; q < S; q++) {
+        if (q % 16 == 0) { zr = cos(q * h); zi = -sin(q * h); }
+        double Pr = pr[modes - 1], Pi = pi[modes - 1];
+        for (int m = modes - 1; m >= 1; m--) {   /* Horner in w */
+            const double nr = Pr * zr - Pi * zi + pr[m - 1];
+            Pi = Pr * zi + Pi * zr + pi[m - 1];
+            Pr = nr;
         }
-        Js[q] = p.c1sq - (hr * hr + hi * hi);
-        const double t = zr * wr - zi * wi;
-        zi = zr * wi + zi * wr;
-        zr = t;
-        if (isnan(Js[q])) return NAN;
-        range_lo = fmin(range_lo, Js[q]);
-        range_hi = fmax(range_hi, Js[q]);
+        const double J = c1sq - (Pr * Pr + Pi * Pi);
+        Js[q] = J;
+        if (!(J >= best)) best = J;   /* also catches NaN */
+        const double nr = zr * rr - zi * ri;
+        zi = zr * ri + zi * rr;
+        zr = nr;
     }
-    /* Between samples J can fall below the samples by at most max|J'| dt/2, and
-     * max|J'| <= (N-1) max|J - mean J| (Bernstein's inequality, degree N-1): every discrete
-     * local minimum within that margin of the best sample is refined. */
-    const double margin = (modes - 1) * (range_hi - range_lo) * dt;
-    double best = range_lo;
-    for (int q = 0; q < samples; q++) {
-        const double Jq = Js[q], Jl = Js[(q + samples - 1) % samples], Jr = Js[(q + 1) % samples];
-        if (Jq <= Jl && Jq <= Jr && Jq <= range_lo + margin)
-            best = refine_minimum(&p, (q - 1) * dt, (q + 1) * dt, q * dt, best);
+    if (isnan(best)) return NAN;
+    if (sign_only && (best - margin > 0 || !(best > 0))) return best - margin > 0 ? best : fmin(best, 0.0);
+    double jmin = best, tmin = 0.0;
+    for (int q = 0; q < S; q++) {
+        const double Jq = Js[q], Jl = Js[(q + S - 1) % S], Jr = Js[(q + 1) % S];
+        if (Jq > Jl || Jq > Jr || Jq > best + margin) continue;
+        if (Jq == Jl && q > 0) continue;   /* a flat run: refine it once */
+        /* Newton starts at the vertex of the parabola through the three samples */
+        const double curv = Jl - 2.0 * Jq + Jr;
+        double t0 = q * h;
+        if (curv > 0) t0 += fmax(-0.5, fmin(0.5, 0.5 * (Jl - Jr) / curv)) * h;
+        double th;
+        double J = refine(modes, c1sq, pr, pi, (q - 1) * h, (q + 1) * h, t0, &th);
+        if (J < jmin || (J == jmin && tmin == 0.0)) { jmin = J; tmin = th; }
     }
-    return best;
+    if (theta) {
+        tmin = fmod(tmin, TWO_PI);
+        *theta = tmin < 0 ? tmin + TWO_PI : tmin;
+    }
+    return jmin;
+}
+
+double swim_shape_jmin_at(int modes, const double *x, double *theta) { return jmin_impl(modes, x, theta, 0); }
+
+double swim_shape_jmin(int modes, const double *x) { return jmin_impl(modes, x, NULL, 0); }
+
+double swim_shape_j_rate(int modes, const double *x, const double *v, double theta)
+{
+    /* J = |c_1|^2 - |P|^2: dJ/dt = 2 Re(conj(c_1) c_1') - 2 Re(conj(P) P(v)), P linear in c */
+    double rate = 2.0 * (x[0] * v[0] + x[1] * v[1]);
+    const double cr = cos(theta), ci = -sin(theta);
+    double wr = 1.0, wi = 0.0, Pr = 0, Pi = 0, Vr = 0, Vi = 0;
+    for (int m = 1; m <= modes; m++) {
+        const int i = swim_coord_index(-m);
+        Pr += m * (x[i] * wr - x[i + 1] * wi);
+        Pi += m * (x[i] * wi + x[i + 1] * wr);
+        Vr += m * (v[i] * wr - v[i + 1] * wi);
+        Vi += m * (v[i] * wi + v[i + 1] * wr);
+        const double nr = wr * cr - wi * ci;
+        wi = wr * ci + wi * cr;
+        wr = nr;
+    }
+    return rate - 2.0 * (Pr * Vr + Pi * Vi);
+}
+
+int swim_shape_in_D(int modes, const double *x)
+{
+    double bound = 0.0;
+    for (int m = 1; m <= modes; m++) {
+        const int i = swim_coord_index(-m);
+        bound += m * sqrt(x[i] * x[i] + x[i + 1] * x[i + 1]);
+    }
+    const double c1 = sqrt(x[0] * x[0] + x[1] * x[1]);
+    if (c1 > bound * (1.0 + 1e-12)) return 1;   /* margin: J > 0 with room for rounding */
+    return jmin_impl(modes, x, NULL, 1) > 0.0;
 }
