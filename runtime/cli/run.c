@@ -134,6 +134,9 @@ typedef struct {
     swim_ode_stats total;
     int sdim, ncol;
     double *y, *row, *ys, *ys_last, *ys_row;
+    double *y_inside;           /* full state of the last row with min J > 0 (NULL: none yet) ... */
+    double kinetic_inside;      /* ... its kinetic energy, for the barrier's reach when D is left */
+    int have_inside;
     const char *names[NCOLS_MAX];
     char storage[2 * SWIM_NMAX][24];
     row_ctx rowc;
@@ -499,7 +502,8 @@ static int prepare(run_ctx *c)
     c->ys = calloc((size_t)c->sdim, sizeof(double));
     c->ys_last = calloc((size_t)c->sdim, sizeof(double));
     c->ys_row = calloc((size_t)c->sdim, sizeof(double));
-    if (!c->y || !c->row || !c->ys || !c->ys_last || !c->ys_row) goto oom;
+    c->y_inside = calloc((size_t)c->d.dim, sizeof(double));
+    if (!c->y || !c->row || !c->ys || !c->ys_last || !c->ys_row || !c->y_inside) goto oom;
     swim_dynamics_initial_state(&c->d, c->y);
     swim_dynamics_pack(&c->d, c->y, c->ys);
     memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
@@ -631,11 +635,37 @@ static void stop_on_output(run_ctx *c, double t)
     stop(c, "%s (at t = %.6g)", c->output_error ? c->output_error : "an output could not be written", t);
 }
 
+/* With a barrier, why it did not stop the shape: from the last row inside D, how deep into the
+ * barrier the kinetic energy there could carry the shape (shape/barrier.h, swim_barrier_reach),
+ * compared with the resolution of J = |c_1|^2 - |h|^2 in double precision. Empty when the reach
+ * is resolvable (then the crossing is not explained by the barrier's weakness). */
+static void barrier_diagnosis(run_ctx *c, char *buf, size_t len)
+{
+    buf[0] = '\0';
+    const swim_scene *s = &c->s;
+    if (!s->barrier || !c->have_inside || !c->d.barrier) return;
+    const double *x = c->y_inside + 3, T = c->kinetic_inside, c1 = x[0] * x[0] + x[1] * x[1];
+    double kappa = NAN;
+    const double reach = swim_barrier_reach(c->d.barrier, x, s->epsilon, s->alpha, T, &kappa);
+    if (!(reach < 1e-15 * c1) || !(kappa > 0)) return;
+    if (reach > 0)
+        snprintf(buf, len, "; the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold of min J near "
+                 "here: absorbing the kinetic energy %.3g of the last row inside D (all of it, at most) takes min J "
+                 "down to ~1e%d, below what double precision resolves in J = |c1|^2 - |h|^2 (~1e-16); "
+                 "use alpha >= 1 or a larger epsilon",
+                 s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)));
+    else
+        snprintf(buf, len, "; the barrier (alpha = %g < 1/2, epsilon = %g) is finite at the boundary of D and "
+                 "cannot stop kinetic energy %.3g", s->alpha, s->epsilon, T);
+}
+
 /* The shape left D at t (4.1): the crossing of min J = 0, located at a step (see advance_to). */
 static void stop_left_D(run_ctx *c, double t)
 {
-    stop(c, "left D at t = %.10g: the shape left the admissible set D (min J reaches 0 on the circle, (4.1))%s", t,
-         c->s.barrier ? "; the barrier did not stop it" : "; the scene has no barrier");
+    char why[400];
+    barrier_diagnosis(c, why, sizeof why);
+    stop(c, "left D at t = %.10g: the shape left the admissible set D (min J reaches 0 on the circle, (4.1))%s%s", t,
+         c->s.barrier ? "; the barrier did not stop it" : "; the scene has no barrier", why);
 }
 
 /* Why the integrator could not reach t. */
@@ -653,15 +683,20 @@ static void stop_on_integrator(run_ctx *c, int rc, double t)
     }
     if (rc == SWIM_ODE_ERHS && swim_ode_rhs_status(c->ode) == SWIM_DYN_EBARRIER)
         stop_left_D(c, c->r.left_t);
-    else if (rc == SWIM_ODE_ERHS)
-        stop(c, "%s near t = %.6g", swim_dynamics_strerror(swim_ode_rhs_status(c->ode)), c->d.last_rhs_t);
-    else if (rc == SWIM_ODE_ESTIFF)
-        stop(c, "stiffness detected near t = %.6g: Adams PECE is "
-             "stability-limited here; rerun with --integrator cvode-bdf (or msbdf), or remove "
-             "[run] stiff_fallback = \"none\" from the scene (the default switches to cvode-bdf)",
-             c->ode ? swim_ode_time(c->ode) : t);
-    else
-        stop(c, "%s near t = %.6g", swim_ode_strerror(rc), c->ode ? swim_ode_time(c->ode) : t);
+    else {
+        /* near the boundary of D with a barrier too weak to be resolved, that is the cause */
+        char why[400];
+        barrier_diagnosis(c, why, sizeof why);
+        if (rc == SWIM_ODE_ERHS)
+            stop(c, "%s near t = %.6g%s", swim_dynamics_strerror(swim_ode_rhs_status(c->ode)), c->d.last_rhs_t, why);
+        else if (rc == SWIM_ODE_ESTIFF && !why[0])
+            stop(c, "stiffness detected near t = %.6g: Adams PECE is "
+                 "stability-limited here; rerun with --integrator cvode-bdf (or msbdf), or remove "
+                 "[run] stiff_fallback = \"none\" from the scene (the default switches to cvode-bdf)",
+                 c->ode ? swim_ode_time(c->ode) : t);
+        else
+            stop(c, "%s near t = %.6g%s", swim_ode_strerror(rc), c->ode ? swim_ode_time(c->ode) : t, why);
+    }
 }
 
 /* Restart from the last output row (exact state there) with the stiff fallback integrator. */
@@ -749,6 +784,11 @@ static int emit_row(run_ctx *c, long k, long rows, long every, double t)
         return -1;
     }
     track(&c->r, t, &g, k == 0);
+    if (g.jmin > 0) {
+        memcpy(c->y_inside, c->y, sizeof(double) * (size_t)c->d.dim);
+        c->kinetic_inside = g.kinetic_fluid + g.kinetic_shape + g.kinetic_rigid;
+        c->have_inside = 1;
+    }
     const double t_out = wall();
     int rc = 0;
     row_values(&c->s, t, c->y, &g, c->row);
@@ -1036,6 +1076,7 @@ static void release(run_ctx *c)
     free(c->ys);
     free(c->ys_last);
     free(c->ys_row);
+    free(c->y_inside);
     free(c->r.reason);
     free(c->output_error);
     free(c->dir);
