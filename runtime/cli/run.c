@@ -639,24 +639,93 @@ static void stop_on_output(run_ctx *c, double t)
  * barrier the kinetic energy there could carry the shape (shape/barrier.h, swim_barrier_reach),
  * compared with the resolution of J = |c_1|^2 - |h|^2 in double precision. Empty when the reach
  * is resolvable (then the crossing is not explained by the barrier's weakness). */
+/* The kinetic energy of the motion toward the boundary: with g = grad J at the angle of min J,
+ * the least kinetic energy 1/2 v^T K v compatible with the rate g.v is (g.v)^2 / (2 g^T K^-1 g)
+ * (free coordinates only). Only that part can be turned into W2 in a bounce. NAN on failure. */
+static double normal_kinetic_energy(const run_ctx *c, const double *x, const double *v)
+{
+    const swim_scene *s = &c->s;
+    const int n = s->n;
+    double theta, g[SWIM_NMAX], e[SWIM_NMAX] = {0.0};
+    swim_shape_jmin_at(s->modes, x, &theta);
+    for (int i = 0; i < n; i++) {   /* grad J at theta, one direction at a time (J is quadratic) */
+        e[i] = 1.0;
+        g[i] = s->free_mask[i] ? swim_shape_j_rate(s->modes, x, e, theta) : 0.0;
+        e[i] = 0.0;
+    }
+    double *K = malloc(sizeof(double) * (size_t)n * (size_t)n);
+    if (!K || c->kn.kernel->reduced(x, NULL, s->rho0, s->rhof, K, NULL, NULL) != 0) {
+        free(K);
+        return NAN;
+    }
+    /* K restricted to the free coordinates, Cholesky in place; a = K_ff^-1 g_f */
+    int idx[SWIM_NMAX], m = 0;
+    for (int i = 0; i < n; i++)
+        if (s->free_mask[i]) idx[m++] = i;
+    double A[SWIM_NMAX * SWIM_NMAX], a[SWIM_NMAX], gv = 0.0;
+    for (int i = 0; i < m; i++) {
+        a[i] = g[idx[i]];
+        gv += g[idx[i]] * v[idx[i]];
+        for (int j = 0; j < m; j++) A[m * i + j] = K[n * idx[i] + idx[j]];
+    }
+    free(K);
+    for (int j = 0; j < m; j++) {
+        double d = A[m * j + j];
+        for (int k = 0; k < j; k++) d -= A[m * j + k] * A[m * j + k];
+        if (!(d > 0)) return NAN;
+        A[m * j + j] = sqrt(d);
+        for (int i = j + 1; i < m; i++) {
+            double t = A[m * i + j];
+            for (int k = 0; k < j; k++) t -= A[m * i + k] * A[m * j + k];
+            A[m * i + j] = t / A[m * j + j];
+        }
+    }
+    double gKg = 0.0;   /* g^T K^-1 g = |L^-1 g|^2 */
+    for (int i = 0; i < m; i++) {
+        double t = a[i];
+        for (int k = 0; k < i; k++) t -= A[m * i + k] * a[k];
+        a[i] = t / A[m * i + i];
+        gKg += a[i] * a[i];
+    }
+    return gKg > 0 ? gv * gv / (2.0 * gKg) : NAN;
+}
+
 static void barrier_diagnosis(run_ctx *c, char *buf, size_t len)
 {
     buf[0] = '\0';
     const swim_scene *s = &c->s;
-    if (!s->barrier || !c->have_inside || !c->d.barrier) return;
-    const double *x = c->y_inside + 3, T = c->kinetic_inside, c1 = x[0] * x[0] + x[1] * x[1];
+    if (!s->barrier || !c->d.barrier) return;
+    /* the integrator's last accepted state when it is inside D (closest to the failure), else the
+     * last row inside D */
+    double *full = malloc(sizeof(double) * (size_t)c->d.dim);
+    if (!full) return;
+    double *ys = malloc(sizeof(double) * (size_t)c->sdim);
+    int have = ys && c->ode && swim_ode_dense(c->ode, swim_ode_time(c->ode), ys, NULL) == SWIM_ODE_OK;
+    if (have) swim_dynamics_unpack(&c->d, ys, full);
+    free(ys);
+    if (!have || !(swim_shape_jmin(s->modes, full + 3) > 0)) {
+        if (!c->have_inside) {
+            free(full);
+            return;
+        }
+        memcpy(full, c->y_inside, sizeof(double) * (size_t)c->d.dim);
+    }
+    const double *x = full + 3, c1 = x[0] * x[0] + x[1] * x[1];
+    const double T = normal_kinetic_energy(c, x, full + 3 + s->n);
     double kappa = NAN;
     const double reach = swim_barrier_reach(c->d.barrier, x, s->epsilon, s->alpha, T, &kappa);
+    const double j0 = swim_shape_jmin(s->modes, x);
+    free(full);
     if (!(reach < 1e-15 * c1) || !(kappa > 0)) return;
     if (reach > 0)
-        snprintf(buf, len, "; the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold of min J near "
-                 "here: absorbing the kinetic energy %.3g of the last row inside D (all of it, at most) takes min J "
+        snprintf(buf, len, "; at min J = %.3g the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold "
+                 "of min J, and absorbing the kinetic energy still moving toward the boundary (%.3g) takes min J "
                  "down to ~1e%d, below what double precision resolves in J = |c1|^2 - |h|^2 (~1e-16); "
                  "use alpha >= 1 or a larger epsilon",
-                 s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)));
+                 j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)));
     else
         snprintf(buf, len, "; the barrier (alpha = %g < 1/2, epsilon = %g) is finite at the boundary of D and "
-                 "cannot stop kinetic energy %.3g", s->alpha, s->epsilon, T);
+                 "cannot stop the kinetic energy moving toward it (%.3g)", s->alpha, s->epsilon, T);
 }
 
 /* The shape left D at t (4.1): the crossing of min J = 0, located at a step (see advance_to). */
