@@ -85,6 +85,33 @@ static int scene_barrier(const double *x, double *grad, void *ctx)
     return 0;
 }
 
+/* Its Hessian for the exact Jacobian: gradient and Hessian of W2 at the full shape x (same
+ * nodes), restricted to the carried coordinates. */
+static int scene_barrier_hessian(const double *x, double *grad, double *hess, void *ctx)
+{
+    swim_dynamics *d = ctx;
+    const swim_scene *s = d->scene;
+    const int nf = d->spec->nfree, n = d->n;
+    if (!s->barrier) {
+        memset(grad, 0, sizeof(double) * nf);
+        memset(hess, 0, sizeof(double) * nf * nf);
+        return 0;
+    }
+    double W, *full = malloc(sizeof(double) * n * n);
+    if (!full) return -1;
+    int rc = swim_barrier_hessian(d->barrier, x, s->epsilon, s->alpha, &W, d->gbar, full, NULL);
+    if (rc == SWIM_BARRIER_OK) {
+        const int *fi = d->spec->free_index;
+        for (int f = 0; f < nf; f++) {
+            grad[f] = d->gbar[fi[f]];
+            for (int g = 0; g < nf; g++) hess[nf * f + g] = full[n * fi[f] + fi[g]];
+        }
+    }
+    free(full);
+    if (rc == SWIM_BARRIER_ENOMEM) return -1;
+    return rc == SWIM_BARRIER_OK ? 0 : SWIM_RHS_EBARRIER;
+}
+
 void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *spec, int generic)
 {
     const swim_scene *s = d->scene;
@@ -102,6 +129,7 @@ void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *s
     p->free_mask = s->free_mask;
     p->barrier = scene_barrier;
     p->barrier_ctx = d;
+    p->barrier_hessian = scene_barrier_hessian;
 }
 
 int swim_dynamics_state_dim(const swim_dynamics *d)
@@ -143,6 +171,20 @@ int swim_dynamics_rhs(double t, const double *y, double *dy, void *params)
     d->rhs_seconds += seconds() - t0;
     d->rhs_calls++;
     d->last_rhs_t = t;
+    return rc;
+}
+
+int swim_dynamics_jacobian(double t, const double *y, double *J, void *params)
+{
+    swim_dynamics *d = params;
+    double t0 = seconds();
+    int rc;
+    if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;
+    else if (!d->spec->jacobian) rc = -SWIM_DYN_ENAN;   /* not offered: swim_dynamics_has_jacobian */
+    else rc = d->spec->jacobian(t, y, J, &d->spec_params);
+    if (rc < 0 && rc != -SWIM_DYN_EINTERRUPT) rc = -SWIM_DYN_ENAN;
+    d->jac_seconds += seconds() - t0;
+    d->jac_calls++;
     return rc;
 }
 

@@ -626,6 +626,7 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
                 break;
             }
         if (!(J > 0.0)) return 1;
+        b->jv[k] = J;   /* kept for swim_barrier_hessian, on the same nodes */
         const double f = jpow(J, alpha), w = b->wt[k];
         s.S += w * f;
         if (grad) {
@@ -666,5 +667,98 @@ int swim_barrier_w2(swim_barrier_quad *b, const double *x, double eps, double al
     }
     if (rc < 0) return SWIM_BARRIER_ENOMEM;
     if (grad) memcpy(grad, gtmp, sizeof(double) * (size_t)b->n);
+    return SWIM_BARRIER_OK;
+}
+
+/* ---- the Hessian ------------------------------------------------------------------------- */
+
+/* Adds one node (angle th, weight wt, J > 0 there) to H += wt (alpha+1) J^{-alpha-2} u u^T (upper
+ * triangle) and to the sums cp + i sp = sum wt J^{-alpha-1} e^{i p th}, p = 0..N-1, of the
+ * constant-per-node Hessian of J. u = grad J: (2 a_1, 2 b_1, -2m Re(z^{m-1} h), -2m Im(z^{m-1} h)). */
+static void hess_node(const swim_barrier_quad *b, const double *x, double alpha, double th,
+                      double wt, double J, double *H, double *cp, double *sp, double *u)
+{
+    const int N = b->N, n = b->n;
+    const double complex zb = cexp(-I * th), zf = conj(zb);
+    double complex h = 0.0, pw = 1.0;
+    for (int j = 0; j < N; j++) {
+        h += coef_h(x, j) * pw;
+        pw *= zb;
+    }
+    u[0] = 2.0 * x[0];
+    u[1] = 2.0 * x[1];
+    double complex t = h;   /* z^{m-1} h */
+    for (int m = 1; m <= N; m++) {
+        u[2 * m] = -2.0 * m * creal(t);
+        u[2 * m + 1] = -2.0 * m * cimag(t);
+        t *= zf;
+    }
+    const double g = wt * jpow(J, alpha) / J;           /* wt J^{-alpha-1} */
+    const double a = (alpha + 1.0) * g / J;             /* wt (alpha+1) J^{-alpha-2} */
+    for (int i = 0; i < n; i++) {
+        const double ai = a * u[i];
+        double *Hi = H + (size_t)i * n;
+        for (int j = i; j < n; j++) Hi[j] += ai * u[j];
+    }
+    double complex e = 1.0;
+    for (int p = 0; p < N; p++) {
+        cp[p] += g * creal(e);
+        sp[p] += g * cimag(e);
+        e *= zf;
+    }
+    if (N == 0) cp[0] += g;
+}
+
+int swim_barrier_hessian(swim_barrier_quad *b, const double *x, double eps, double alpha,
+                         double *W, double *grad, double *hess, swim_barrier_info *info)
+{
+    swim_barrier_info local;
+    if (!info) info = &local;
+    int rc = swim_barrier_w2(b, x, eps, alpha, W, grad, info);
+    if (rc != SWIM_BARRIER_OK) return rc;
+    const int N = b->N, n = b->n;
+    double *H = calloc((size_t)n * n, sizeof(double));
+    double cp[64 + 1] = {0.0}, sp[64 + 1] = {0.0}, u[2 * 64 + 2];
+    if (!H) return SWIM_BARRIER_ENOMEM;
+    if (!info->graded) {
+        /* the levels of the nested trapezoidal rule that swim_barrier_w2 accepted */
+        const int Q = info->nodes;
+        for (int l = 0, used = 0; l < b->levels && used < Q; used += b->lnodes[l], l++) {
+            const int m = b->lnodes[l], Ql = l == 0 ? m : 2 * m;
+            for (int k = 0; k < m; k++) {
+                const double th = l == 0 ? TWO_PI * k / Ql : TWO_PI * (2 * k + 1) / Ql;
+                const double complex zb = cexp(-I * th);
+                double complex h = 0.0, pw = 1.0;
+                for (int j = 0; j < N; j++) {
+                    h += coef_h(x, j) * pw;
+                    pw *= zb;
+                }
+                const double J = x[0] * x[0] + x[1] * x[1] - creal(h) * creal(h) - cimag(h) * cimag(h);
+                hess_node(b, x, alpha, th, TWO_PI / Q, J, H, cp, sp, u);
+            }
+        }
+    } else {
+        for (int k = 0; k < info->nodes; k++)
+            hess_node(b, x, alpha, b->base[k] + b->th[k], b->wt[k], b->jv[k], H, cp, sp, u);
+    }
+    /* d2 J: 2 on a_1, b_1; for the modes -m, -l (ERRATA B2):
+     * d2/da da = d2/db db = -2ml cos((l-m) th), d2/da_m db_l = -2ml sin((l-m) th). */
+    const double c = 0.5 * eps;
+    for (int i = 0; i < n; i++)
+        for (int j = i; j < n; j++) {
+            double d2 = 0.0;
+            if (i < 2 || j < 2) {
+                d2 = i == j ? 2.0 * cp[0] : 0.0;
+            } else {
+                const int m = i / 2, l = j / 2, d = l - m;   /* d >= 0 */
+                const double w = -2.0 * m * l;
+                if (i % 2 == j % 2) d2 = w * cp[d];
+                else if (i % 2 == 0) d2 = w * sp[d];     /* a_m, b_l: sin((l-m) th) */
+                else d2 = -w * sp[d];                    /* b_m, a_l: sin((m-l) th) */
+            }
+            const double v = c * (H[(size_t)i * n + j] - d2);
+            hess[(size_t)i * n + j] = hess[(size_t)j * n + i] = v;
+        }
+    free(H);
     return SWIM_BARRIER_OK;
 }
