@@ -3,7 +3,8 @@
  * of shape/barrier.c) against difference quotients of that right-hand side, and the stiff
  * integrators with it against the same integrators by differences.
  *
- *  1. swim_barrier_hessian against central differences of swim_barrier_w2's gradient.
+ *  1. swim_barrier_hessian against central differences of swim_barrier_w2's gradient, N = 1, 4,
+ *     7, 15, 32, interior and near the boundary of D (both quadrature rules).
  *  2. J against central differences with two Richardson levels (O(h^6), steps h, h/2, h/4, h
  *     scaled to the distance from the boundary of D), column by column:
  *     max_i |J_ij - Q_ij| / max(max_i |Q_ij|, 1e-8 max |Q|) <= 1e-7, where Q is the extrapolated
@@ -348,8 +349,9 @@ int main(void)
     srand(4242);
     /* 1. barrier Hessian: interior shapes and shapes near the boundary of D */
     static const double alphas[3] = {0.5, 1.0, 1.5};
-    for (int N = 1; N <= 7; N += 3)
-        for (int a = 0; a < 3; a++) {
+    static const int bmodes[] = {1, 4, 7, 15, 32};
+    for (size_t bm = 0; bm < sizeof bmodes / sizeof bmodes[0]; bm++)
+        for (int a = 0, N = bmodes[bm]; a < 3; a++) {
             double x[NMAX] = {0};
             int keep[NMAX];
             for (int i = 0; i < NMAX; i++) keep[i] = 1;

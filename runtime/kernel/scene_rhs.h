@@ -143,13 +143,11 @@ static int saddle_setup(const double *L, const double *x, const double *v,
     return 0;
 }
 
-/* acc = K^-1 (h + G^T lambda) with (G K^-1 G^T) lambda = s - G K^-1 h (4.12). */
-static void saddle_solve(const double *L, const saddle_t *sd, const double *h, const double *s,
-                         double *acc, double *lam)
+/* Given acc = K^-1 h: acc += K^-1 G^T lambda with (G K^-1 G^T) lambda = s - G acc (4.12). */
+static void saddle_correct(const saddle_t *sd, const double *s, double *acc, double *lam)
 {
     const int m = sd->m;
     double r[SWIM_SCENE_MAX_ROWS];
-    chol_solve(L, NX, h, acc);
     for (int i = 0; i < m; i++) {
         r[i] = s[i];
         if (sd->lock[i] >= 0) r[i] -= acc[sd->lock[i]];
@@ -195,12 +193,10 @@ static int saddle_setup(const double *L, const double *x, const double *v,
     return 0;
 }
 
-static void saddle_solve(const double *L, const saddle_t *sd, const double *h, const double *s,
-                         double *acc, double *lam)
+static void saddle_correct(const saddle_t *sd, const double *s, double *acc, double *lam)
 {
     const double *A = sd->A;
     double r[2];
-    chol_solve(L, NX, h, acc);
     for (int i = 0; i < 2; i++) {
         r[i] = 0.0;
         for (int k = 0; k < NX; k++) r[i] -= sd->G[i][k] * acc[k];
@@ -218,6 +214,14 @@ static void saddle_solve(const double *L, const saddle_t *sd, const double *h, c
     for (int k = 0; k < NX; k++) acc[k] += lam[0] * sd->Z[0][k] + lam[1] * sd->Z[1][k];
 }
 #endif
+
+/* acc = K^-1 (h + G^T lambda) with G acc = s (4.12), for the Cholesky factor L of K. */
+static void saddle_solve(const double *L, const saddle_t *sd, const double *h, const double *s,
+                         double *acc, double *lam)
+{
+    chol_solve(L, NX, h, acc);
+    saddle_correct(sd, s, acc, lam);
+}
 
 /* acc = K^-1 (f + G^T lambda) with G acc = -(DG[v]).v (4.12), for the Cholesky factor L of K. */
 static int accelerations(const double *L, const double *x, const double *v,
@@ -286,6 +290,8 @@ typedef struct {
     double DtWSR[NP][3], BXWSR[NX][3], DE[NR][NX], EtDtWU[NX][NX], BXWU[NX][NX], CwsE[NX][NX];
     double Ml[6];                       /* Cholesky factor of Mr */
     saddle_t sd;                        /* (4.12) at this state, solved again per direction */
+    double B[NX][2 * NX];               /* right sides h of the tangent systems, by column */
+    double S[2 * NX][SWIM_SCENE_MAX_ROWS];   /* and their constraint parts s */
 } jac_work;
 
 /* Mr = l l^T, l lower (l00, l10, l11, l20, l21, l22); Mr is positive definite (setup checked). */
@@ -527,6 +533,31 @@ static void tangent_v(const jac_work *j, int r, const double *sX, double f, doub
         if (j->sd.which[m] == 0) s[m] = -j->cv[r];
 }
 
+/* B = K^-1 B in place for the 2 NX columns of B (B[k][d], d the direction), K = L L^T: the
+ * substitutions run along rows of B, contiguous, where one right side at a time would walk
+ * down the columns of L. */
+static void chol_solve_columns(const double *L, double B[NX][2 * NX])
+{
+    for (int i = 0; i < NX; i++) {
+        double *bi = B[i];
+        for (int k = 0; k < i; k++) {
+            const double l = L[NX * i + k], *bk = B[k];
+            for (int d = 0; d < 2 * NX; d++) bi[d] -= l * bk[d];
+        }
+        const double inv = 1.0 / L[NX * i + i];
+        for (int d = 0; d < 2 * NX; d++) bi[d] *= inv;
+    }
+    for (int i = NX - 1; i >= 0; i--) {
+        double *bi = B[i];
+        for (int k = i + 1; k < NX; k++) {
+            const double l = L[NX * k + i], *bk = B[k];
+            for (int d = 0; d < 2 * NX; d++) bi[d] -= l * bk[d];
+        }
+        const double inv = 1.0 / L[NX * i + i];
+        for (int d = 0; d < 2 * NX; d++) bi[d] *= inv;
+    }
+}
+
 static int scene_jacobian(double t, const double *y, double *J, const swim_scene_params *p)
 {
     enum { DIM = 4 + 2 * NX };
@@ -572,28 +603,34 @@ static int scene_jacobian(double t, const double *y, double *J, const swim_scene
         for (int i = 0; i < 3; i++) qs[i] += j->w.P[i][k] * v[k];
     J[DIM * 0 + 2] = -st * qs[0] - ct * qs[1];   /* d R(theta) q* / d theta (3.21) */
     J[DIM * 1 + 2] = ct * qs[0] - st * qs[1];
+    /* right sides of the tangent systems: direction d = r (x_r) and d = NX + r (v_r), as the
+     * columns of B; then K^-1 on all of them at once, then the constraint correction of each */
     for (int r = 0; r < NX; r++) {
-        double sX[NR], h[NX], s[SWIM_SCENE_MAX_ROWS], da[NX], dl[SWIM_SCENE_MAX_ROWS], dq[3];
+        double sX[NR], h[NX], dq[3];
         for (int i = 0; i < NR; i++) sX[i] = 0.0;   /* (d S / d x_r) X */
         for (int k = dS_start[r]; k < dS_start[r + 1]; k++) sX[dS_row[k]] += j->val[k] * j->c.X[dS_col[k]];
-        /* column of x_r */
-        tangent_x(j, r, sX, v, f, b, h, s, dq);
-        saddle_solve(j->L, &j->sd, h, s, da, dl);
+        tangent_x(j, r, sX, v, f, b, h, j->S[r], dq);
+        for (int i = 0; i < NX; i++) j->B[i][r] = h[i];
         const int cx = 3 + r, cvr = 3 + NX + r;
-        J[DIM * 0 + cx] = ct * dq[0] - st * dq[1];
+        J[DIM * 0 + cx] = ct * dq[0] - st * dq[1];   /* R(theta) dP v (3.21) */
         J[DIM * 1 + cx] = st * dq[0] + ct * dq[1];
         J[DIM * 2 + cx] = dq[2];
-        for (int i = 0; i < NX; i++) J[DIM * (3 + NX + i) + cx] = da[i];
         J[DIM * (3 + 2 * NX) + cx] = j->px[r];
-        /* column of v_r */
-        tangent_v(j, r, sX, f, b, h, s);
-        saddle_solve(j->L, &j->sd, h, s, da, dl);
-        J[DIM * 0 + cvr] = ct * j->w.P[0][r] - st * j->w.P[1][r];
+        tangent_v(j, r, sX, f, b, h, j->S[NX + r]);
+        for (int i = 0; i < NX; i++) j->B[i][NX + r] = h[i];
+        J[DIM * 0 + cvr] = ct * j->w.P[0][r] - st * j->w.P[1][r];   /* R(theta) P e_r */
         J[DIM * 1 + cvr] = st * j->w.P[0][r] + ct * j->w.P[1][r];
         J[DIM * 2 + cvr] = j->w.P[2][r];
         J[DIM * (3 + r) + cvr] = 1.0;
-        for (int i = 0; i < NX; i++) J[DIM * (3 + NX + i) + cvr] = da[i];
         J[DIM * (3 + 2 * NX) + cvr] = j->pv[r];
+    }
+    chol_solve_columns(j->L, j->B);
+    for (int d = 0; d < 2 * NX; d++) {
+        double da[NX], dl[SWIM_SCENE_MAX_ROWS];
+        for (int i = 0; i < NX; i++) da[i] = j->B[i][d];
+        saddle_correct(&j->sd, j->S[d], da, dl);
+        const int col = 3 + d;   /* x_r for d < NX, v_r after */
+        for (int i = 0; i < NX; i++) J[DIM * (3 + NX + i) + col] = da[i];
     }
     for (int i = 0; i < DIM * DIM; i++)
         if (!isfinite(J[i])) { rc = SWIM_RHS_ENAN; break; }
