@@ -180,7 +180,7 @@ int swim_dynamics_jacobian(double t, const double *y, double *J, void *params)
     double t0 = seconds();
     int rc;
     if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;
-    else if (!d->spec->jacobian) rc = -SWIM_DYN_ENAN;   /* not offered: swim_dynamics_has_jacobian */
+    else if (!d->spec->jacobian) rc = -SWIM_DYN_ENAN;   /* a kernel without one: run.c does not ask */
     else rc = d->spec->jacobian(t, y, J, &d->spec_params);
     if (rc < 0 && rc != -SWIM_DYN_EINTERRUPT) rc = -SWIM_DYN_ENAN;
     d->jac_seconds += seconds() - t0;
