@@ -11,7 +11,15 @@
  *   SWIM_SCENE_BARRIER       (optional) W2 is present: its gradient comes from p->barrier;
  *   SWIM_SCENE_LOCK_MULTIPLIERS (optional) the kernel carries every coordinate and holds the
  *                            locked ones (p->free_mask) by multipliers of (4.12), rather than
- *                            by deleting them (equivalent, ERRATA C2).
+ *                            by deleting them (equivalent, ERRATA C2);
+ * and for the exact Jacobian (scene_jacobian, exported as swim_scene_kernel.jacobian):
+ *   NDS, dS_row, dS_col, dS_start, boundary_data_partials(x, val)   the first partials of S,
+ *                            sparse, by coordinate;
+ *   NA2, a2_row, a2_r, a2_s, a2_val   the second partials of S (constants, alpha column only);
+ *   NIH, ih_r, ih_s, ih_val  the Hessian of the inertia sum (constant);
+ *   scene_forces_jac, scene_constraints_jac   the partials of scene_forces (at fixed g) and of
+ *                            scene_constraints in x and v;
+ *   the Hessian of W2 comes from p->barrier_hessian.
  */
 #ifndef SWIM_KERNEL_SCENE_RHS_H
 #define SWIM_KERNEL_SCENE_RHS_H
@@ -275,7 +283,7 @@ static int scene_rhs(double t, const double *y, double *dy, const swim_scene_par
 
 /* ---- the exact Jacobian of scene_rhs ------------------------------------------------------ */
 
-/* Workspace of scene_jacobian (allocated per call: ~12 NX^2 doubles). Names: X = E v = (P v, v),
+/* Workspace of scene_jacobian (allocated per call: ~15 NX^2 doubles). Names: X = E v = (P v, v),
  * Xa = E acc, W = diag(weight); a leading d is a derivative along one direction. */
 typedef struct {
     work_t w;
