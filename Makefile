@@ -124,7 +124,7 @@ $(BUILD)/tests/%.o: CPPFLAGS += -Itests
 TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_events.py tests/test_specialized.py tests/test_codegen.py \
                 tests/test_install.sh tests/test_hard.py tests/test_hard_soft.py tests/test_admissible.py tests/test_trust.py tests/test_plot.sh \
                 tests/test_flow.py tests/test_figures.py tests/test_animate.py tests/test_paper.py \
-                tests/test_sweep.py tests/test_sweep_mpi.py tests/test_stroke.py \
+                tests/test_sweep.py tests/test_sweep_mpi.py tests/test_stroke.py tests/test_jacobian_run.py \
                 tests/test_parameters.py tests/test_sensitivity.py tests/test_floquet.py tests/test_optimize.py
 
 # Tests keep their kernel cache in the build folder, not in the user's ~/.cache/swim.
@@ -156,9 +156,10 @@ FUZZ_SECONDS ?= 60
 fuzz: | $(DEPS_STAMP)
 	bash tests/fuzz/run_fuzz.sh $(FUZZ_SECONDS)
 
-BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_latency.py tests/bench/bench_drift.py tests/bench/bench_step_checks.py
+BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_latency.py tests/bench/bench_drift.py \
+                 tests/bench/bench_step_checks.py tests/bench/bench_jacobian.py
 
-bench: $(BIN)/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs
+bench: $(BIN)/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs $(BUILD)/tests/bench/bench_jacobian_cost
 	@bash tests/bench/run_bench.sh $(BENCH_SCRIPTS) $(BENCH_BINS)
 
 generate: | $(DEPS_STAMP)

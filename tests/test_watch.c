@@ -181,7 +181,8 @@ static void test_watch(void)
     sc.c0[0] = 1.0;
     for (int i = 0; i < sc.n; i++) sc.free_mask[i] = 1;
     static const int free_index[6] = {0, 1, 2, 3, 4, 5};
-    swim_scene_kernel spec = {SWIM_KERNEL_ABI, 2, 6, 6, free_index, "test", NULL};
+    swim_scene_kernel spec = {.abi = SWIM_KERNEL_ABI, .modes = 2, .nfull = 6, .nfree = 6,
+                              .free_index = free_index, .structure = "test"};
     swim_dynamics d;
     CHECK(swim_dynamics_init(&d, &sc, k) == 0, "dynamics");
     swim_dynamics_use_scene_kernel(&d, &spec, 0);

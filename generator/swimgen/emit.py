@@ -17,7 +17,8 @@ from .cprint import KernelPrinter, emit_assignments
 from .law import parameter_symbols, parse_law
 from .model import SwimmerModel
 from .template import (INCLUDE_ASSEMBLY, INCLUDE_SCENE_RHS, KERNEL_HEAD,
-                       QUICK_OPTIMIZATION_BEGIN, QUICK_OPTIMIZATION_END, SCENE_PIECES,
+                       QUICK_OPTIMIZATION_BEGIN, QUICK_OPTIMIZATION_END, SCENE_JACOBIAN_PIECES,
+                       SCENE_PIECES,
                        SYMBOLIC_CORE, SYMBOLIC_DERIV, SYMBOLIC_JACOBIAN, TABLE)
 
 QUICK_ABOVE = 16   # coordinates carried above which the SymPy code is compiled at -O1
@@ -148,13 +149,13 @@ def kernel_source(modes, command):
             + INCLUDE_ASSEMBLY)
 
 
-def _scene_forces(e, m, structure):
-    """f_k and the power as expressions (printed with one cse), run-time values as p->... ."""
+def _scene_force_exprs(e, m, structure):
+    """f_k (with <Gamma, v, v> as the symbols g) and the power as expressions, the C names of
+    every symbol in them (run-time values as p->...) and the forcing law's text."""
     pos = {i: f for f, i in enumerate(m.free)}
     t = sp.Symbol("t", real=True)
     names = dict(e.names)
     names[t] = "t"
-    par = {}
 
     def param(kind, i):
         s = sp.Symbol("%s_%d" % (kind, i), real=True)
@@ -186,12 +187,42 @@ def _scene_forces(e, m, structure):
             if i in pos:
                 f[pos[i]] += ft * param("direction", i)
                 power += ft * param("direction", i) * e.v[pos[i]]
+    return f, power, names, law
+
+
+def _unused(lines, args):
+    used = "".join(lines)
+    return ["    (void)%s;" % a for a in args if not _mentions(used, a)]
+
+
+def _scene_forces(e, m, structure):
+    """f_k and the power as C (printed with one cse), run-time values as p->... ."""
+    f, power, names, law = _scene_force_exprs(e, m, structure)
     pr = KernelPrinter(names)
     lines = emit_assignments([("f[%d]" % k, fk) for k, fk in enumerate(f)] + [("*power", power)],
                              pr)
-    used = "".join(lines)
-    unused = ["    (void)%s;" % a for a in ("t", "x", "v", "p") if not _mentions(used, a)]
-    return "\n".join(unused + lines), law
+    return "\n".join(_unused(lines, ("t", "x", "v", "p")) + lines), law
+
+
+def _scene_forces_jac(e, m, structure):
+    """The partial derivatives of f (at fixed <Gamma, v, v>: the runtime differentiates that
+    term) and of the power with respect to the carried x and v, non-zeros only."""
+    f, power, names, _ = _scene_force_exprs(e, m, structure)
+    xs = [m.x[i] for i in m.free]
+    out = []
+    for k, fk in enumerate(f):
+        for s in range(m.n):
+            for arr, sym in (("Fx", xs[s]), ("Fv", e.v[s])):
+                d = sp.diff(fk, sym)
+                if d != 0:
+                    out.append(("%s[%d][%d]" % (arr, k, s), d))
+    for s in range(m.n):
+        for arr, sym in (("px", xs[s]), ("pv", e.v[s])):
+            d = sp.diff(power, sym)
+            if d != 0:
+                out.append(("%s[%d]" % (arr, s), d))
+    lines = emit_assignments(out, KernelPrinter(names))
+    return "\n".join(_unused(lines, ("t", "x", "v", "p")) + lines)
 
 
 def _mentions(code, name):
@@ -212,6 +243,65 @@ def _scene_constraints(e, m):
     if not any("x[" in l for l in lines):
         lines.insert(0, "    (void)x;")
     return "\n".join(lines)
+
+
+def _scene_constraints_jac(e, m):
+    """d G[j][k] / d x_s and d curv / d v_s of _scene_constraints, non-zeros only."""
+    xs = [m.x[i] for i in m.free]
+    out = []
+    curv = sp.Integer(0)
+    for f, i in enumerate(m.free):
+        k = m.mode_of(i)
+        ak = abs(k) + 1
+        rows = (sp.Integer(k) * m.coord(i),
+                (m.coord(i + 1) if i % 2 == 0 else -m.coord(i - 1)) / ak)
+        for j, gj in enumerate(rows):
+            for s in range(m.n):
+                d = sp.diff(gj, xs[s])
+                if d != 0:
+                    out.append(("Gx[%d][%d][%d]" % (j, f, s), d))
+        curv += k * e.v[f] ** 2
+    for s in range(m.n):
+        if sp.diff(curv, xs[s]) != 0:
+            raise ValueError("curv depends on x: scene_constraints_jac assumes it does not")
+        d = sp.diff(curv, e.v[s])
+        if d != 0:
+            out.append(("cv[%d]" % s, d))
+    lines = emit_assignments(out, e.pr)
+    return "\n".join(_unused(lines, ("x", "v")) + lines)
+
+
+def _table(values, fmt="%d"):
+    return ", ".join(fmt % v for v in values) if values else "0"
+
+
+def _scene_jacobian_subs(e, m):
+    """The sparse derivative tables the exact Jacobian of kernel/scene_rhs.h reads: the first
+    partials of S (values at x, pattern fixed), the second partials (constants: only the alpha
+    column is not linear, model.py) and the Hessian of the inertia sum (constant)."""
+    dS = sorted(m.dS().items())
+    start, k = [], 0
+    for r in range(m.n + 1):
+        while k < len(dS) and dS[k][0][0] < r:
+            k += 1
+        start.append(k)
+    d2 = sorted(m.second_dS().items())
+    for (row, col, r, s), c in d2:
+        if col != 2 or not c.is_number:
+            raise ValueError("S has a non-constant second derivative outside the alpha column")
+    ih = sorted(m.hessian(m.inertia_sum()).items())
+    for _, c in ih:
+        if not c.is_number:
+            raise ValueError("the inertia sum is not quadratic")
+    return dict(
+        nds=len(dS), ds_row=_table([key[1] for key, _ in dS]),
+        ds_col=_table([key[2] for key, _ in dS]), ds_start=_table(start),
+        ds_body=e.body([("val[%d]" % i, ex) for i, (_, ex) in enumerate(dS)]),
+        na2=len(d2), a2_row=_table([key[0] for key, _ in d2]),
+        a2_r=_table([key[2] for key, _ in d2]), a2_s=_table([key[3] for key, _ in d2]),
+        a2_val=_table([float(c) for _, c in d2], "%r"),
+        nih=len(ih), ih_r=_table([key[0] for key, _ in ih]), ih_s=_table([key[1] for key, _ in ih]),
+        ih_val=_table([float(c) for _, c in ih], "%r"))
 
 
 def scene_kernel_source(structure, command):
@@ -237,10 +327,14 @@ def scene_kernel_source(structure, command):
                banner=banner(command), options=options(*opts),
                structure=c_string(structure["key"]), law=c_comment(law),
                free_index=", ".join(str(i) for i in m.free),
-               force_body=force_body, constraint_body=_scene_constraints(e, m))
+               force_body=force_body, constraint_body=_scene_constraints(e, m),
+               force_jac_body=_scene_forces_jac(e, m, structure),
+               constraint_jac_body=_scene_constraints_jac(e, m))
+    d.update(_scene_jacobian_subs(e, m))
     text = (KERNEL_HEAD.substitute(d) + _symbolic(m, SYMBOLIC_CORE.substitute(d))
             + INCLUDE_ASSEMBLY)
-    return text + "\n" + SCENE_PIECES.substitute(d) + INCLUDE_SCENE_RHS
+    return (text + "\n" + SCENE_PIECES.substitute(d)
+            + _symbolic(m, SCENE_JACOBIAN_PIECES.substitute(d)) + INCLUDE_SCENE_RHS)
 
 
 def table_source(modes_list, command):

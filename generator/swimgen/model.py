@@ -158,6 +158,21 @@ class SwimmerModel:
             self._dS = out
         return self._dS
 
+    def second_dS(self):
+        """Exact second partial derivatives with respect to the free coordinates:
+        dict (row, col, r, s) -> d^2 S[row][col] / d x_free[r] d x_free[s], non-zeros only.
+        Every column but alpha is linear in x and alpha is quadratic, so these are constants."""
+        out = {}
+        for (r, row, col), d in self.dS().items():
+            for sym in sorted(d.free_symbols, key=self.x.index):
+                s = self.free_position(sym)
+                if s is None:
+                    continue
+                d2 = _diff_polynomial(d, sym)
+                if d2 != 0:
+                    out[(row, col, r, s)] = d2
+        return out
+
     def directional_dS(self, v):
         """D_v S = sum_r v_r dS/dx_r, as rows of expressions in x and the symbols v."""
         terms = [[[] for _ in range(self.ncols)] for _ in range(self.nrows)]
@@ -185,6 +200,17 @@ class SwimmerModel:
     def gradient(self, expr):
         """Partial derivatives of expr with respect to the free coordinates."""
         return [sp.diff(expr, self.x[i]) for i in self.free]
+
+    def hessian(self, expr):
+        """Second partial derivatives of expr with respect to the free coordinates:
+        dict (r, s) -> d^2 expr / d x_free[r] d x_free[s], non-zeros only."""
+        out = {}
+        for r, dr in enumerate(self.gradient(expr)):
+            for s, i in enumerate(self.free):
+                d2 = sp.diff(dr, self.x[i])
+                if d2 != 0:
+                    out[(r, s)] = d2
+        return out
 
     def mode_of(self, i):
         """The mode k of real coordinate i (a_k or b_k)."""

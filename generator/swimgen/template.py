@@ -138,6 +138,51 @@ $constraint_body
 
 """)
 
+SCENE_JACOBIAN_PIECES = Template("""\
+/* ---- derivatives for the exact Jacobian (SymPy) ---------------------------------------- */
+
+/* First partials of S, sparse: entry k (dS_start[r] <= k < dS_start[r + 1]) is
+ * d S[dS_row[k]][dS_col[k]] / d x_r = val[k]. */
+#define NDS $nds
+static const int dS_row[NDS > 0 ? NDS : 1] = {$ds_row};
+static const int dS_col[NDS > 0 ? NDS : 1] = {$ds_col};
+static const int dS_start[NX + 1] = {$ds_start};
+static void boundary_data_partials(const double *x, double *val)
+{
+$ds_body
+}
+
+/* Second partials of S: only the alpha column (col 2) is not linear in x, and it is quadratic, so
+ * d^2 S[a2_row[k]][2] / d x_r d x_s = a2_val[k] (r = a2_r[k], s = a2_s[k]) are constants. */
+#define NA2 $na2
+static const int a2_row[NA2 > 0 ? NA2 : 1] = {$a2_row};
+static const int a2_r[NA2 > 0 ? NA2 : 1] = {$a2_r};
+static const int a2_s[NA2 > 0 ? NA2 : 1] = {$a2_s};
+static const double a2_val[NA2 > 0 ? NA2 : 1] = {$a2_val};
+
+/* Hessian of the inertia sum (constant: the sum is quadratic), non-zeros. */
+#define NIH $nih
+static const int ih_r[NIH > 0 ? NIH : 1] = {$ih_r};
+static const int ih_s[NIH > 0 ? NIH : 1] = {$ih_s};
+static const double ih_val[NIH > 0 ? NIH : 1] = {$ih_val};
+
+/* Partials of scene_forces at fixed <Gamma, v, v>: Fx[k][s] = d f_k / d x_s, Fv[k][s] = d f_k / d v_s,
+ * px, pv those of the power. Only non-zeros are written: the caller clears. */
+static void scene_forces_jac(double t, const double *x, const double *v, const swim_scene_params *p,
+                             double Fx[NX][NX], double Fv[NX][NX], double *px, double *pv)
+{
+$force_jac_body
+}
+
+/* Partials of scene_constraints: Gx[j][k][s] = d G[j][k] / d x_s, cv[s] = d curv / d v_s (curv
+ * does not depend on x). Only non-zeros are written: the caller clears. */
+static void scene_constraints_jac(const double *x, const double *v, double Gx[2][NX][NX], double *cv)
+{
+$constraint_jac_body
+}
+
+""")
+
 INCLUDE_ASSEMBLY = '#include "kernel/assembly.h"\n'
 INCLUDE_SCENE_RHS = '#include "kernel/scene_rhs.h"\n'
 

@@ -508,6 +508,8 @@ static int prepare(run_ctx *c)
     swim_dynamics_pack(&c->d, c->y, c->ys);
     memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
     c->sys = (swim_ode_system){swim_dynamics_rhs, (size_t)c->sdim, &c->d, NULL};
+    if (s->jacobian_exact && c->spz.scene->jacobian)   /* [run] jacobian: BDF methods use it */
+        c->sys.jacobian = swim_dynamics_jacobian;
     swim_ode_options *o = &c->o;
     swim_ode_options_default(o);
     o->rtol = s->rtol;
@@ -1044,8 +1046,11 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
     getrusage(RUSAGE_SELF, &ru);
     fprintf(f, "],\n            \"integrate_seconds\": %.6f, \"diagnostics_seconds\": %.6f, \"output_seconds\": %.6f,",
             r->integrate_seconds, r->diagnostics_seconds, r->output_seconds);
-    fprintf(f, "\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f, \"max_rss_kb\": %ld}\n}\n",
+    fprintf(f, "\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f, \"max_rss_kb\": %ld,",
             d->rhs_seconds, wall_s, d->rhs_calls ? 1e9 * d->rhs_seconds / d->rhs_calls : 0.0, ru.ru_maxrss);
+    /* which Jacobian the BDF methods used: the kernel's exact one (calls, time) or differences */
+    fprintf(f, "\n            \"jacobian\": \"%s\", \"exact_jacobian_calls\": %ld, \"jacobian_seconds\": %.6f}\n}\n",
+            c->sys.jacobian ? "exact" : "differences", d->jac_calls, d->jac_seconds);
 }
 
 /* Close trajectory.csv and the trace (checking that they still are the files named by their

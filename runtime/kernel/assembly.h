@@ -128,6 +128,56 @@ static void reduced_matrix(const work_t *w, double f, double b, double *K)
         }
 }
 
+/* What <Gamma, v, v> is computed from, kept for its derivatives (kernel/scene_rhs.h). */
+typedef struct {
+    double X[NP];       /* X = (P v, v): the velocity that minimizes X^T M X for this v (Lemma 4.3) */
+    double ws[NR];      /* W S X */
+    double D[NR][NP];   /* D_v S */
+    double dX[NR];      /* W (D_v S) X */
+    double a[NP];       /* (D_v S)^T W S X */
+    double dIv;         /* D_v I (over pi rho0) */
+} christoffel_t;
+
+/* gvv = <Gamma(c), v, v> from the blocks in w, without the tensor. */
+static void christoffel_vv(const work_t *w, const double *x, const double *v, double f, double b,
+                           christoffel_t *c, double *gvv)
+{
+    double *X = c->X, *ws = c->ws, *dX = c->dX, *a = c->a;
+    for (int p = 0; p < 3; p++) {
+        double s = 0.0;
+        for (int k = 0; k < NX; k++) s += w->P[p][k] * v[k];
+        X[p] = s;
+    }
+    for (int k = 0; k < NX; k++) X[3 + k] = v[k];
+    for (int r = 0; r < NR; r++) {
+        double s = 0.0;
+        for (int k = 0; k < NX; k++) s += w->U[r][k] * v[k];
+        ws[r] = weight[r] * s;
+    }
+    boundary_data_dir(x, v, c->D);
+    for (int q = 0; q < NP; q++) a[q] = 0.0;
+    for (int r = 0; r < NR; r++) {
+        double s = 0.0;
+        for (int q = 0; q < NP; q++) {
+            a[q] += c->D[r][q] * ws[r];
+            s += c->D[r][q] * X[q];
+        }
+        dX[r] = weight[r] * s;
+    }
+    double g[NX];
+    boundary_data_bigrad(x, ws, X, g);
+    double dIv = 0.0;
+    for (int k = 0; k < NX; k++) dIv += w->gI[k] * v[k];
+    c->dIv = dIv;
+    const double q2 = X[2];
+    /* [D_v(K v)]_i = (E^T (D_v M) X)_i;  d_i(v^T K v)/2 = X^T (d_i M) X / 2 at fixed X. */
+    for (int i = 0; i < NX; i++) {
+        double s = a[3 + i] + w->P[0][i] * a[0] + w->P[1][i] * a[1] + w->P[2][i] * a[2];
+        for (int r = 0; r < NR; r++) s += w->U[r][i] * dX[r];
+        gvv[i] = f * (s - g[i]) + b * (dIv * q2 * w->P[2][i] - 0.5 * w->gI[i] * q2 * q2);
+    }
+}
+
 static int reduced(const double *x, const double *v, double rho0, double rhof,
                    double *K, double *P, double *gvv)
 {
@@ -137,41 +187,8 @@ static int reduced(const double *x, const double *v, double rho0, double rhof,
     if (K) reduced_matrix(&w, f, b, K);
     if (P) memcpy(P, w.P, sizeof w.P);
     if (!v || !gvv) return 0;
-
-    /* X = (q, v) with q = P v: the velocity that minimizes X^T M X for this v (Lemma 4.3). */
-    double X[NP], ws[NR], dX[NR], a[NP], D[NR][NP];
-    for (int p = 0; p < 3; p++) {
-        double s = 0.0;
-        for (int k = 0; k < NX; k++) s += w.P[p][k] * v[k];
-        X[p] = s;
-    }
-    for (int k = 0; k < NX; k++) X[3 + k] = v[k];
-    for (int r = 0; r < NR; r++) {
-        double s = 0.0;
-        for (int k = 0; k < NX; k++) s += w.U[r][k] * v[k];
-        ws[r] = weight[r] * s;
-    }
-    boundary_data_dir(x, v, D);
-    for (int q = 0; q < NP; q++) a[q] = 0.0;
-    for (int r = 0; r < NR; r++) {
-        double s = 0.0;
-        for (int q = 0; q < NP; q++) {
-            a[q] += D[r][q] * ws[r];
-            s += D[r][q] * X[q];
-        }
-        dX[r] = weight[r] * s;
-    }
-    double g[NX];
-    boundary_data_bigrad(x, ws, X, g);
-    double dIv = 0.0;
-    for (int k = 0; k < NX; k++) dIv += w.gI[k] * v[k];
-    const double q2 = X[2];
-    /* [D_v(K v)]_i = (E^T (D_v M) X)_i;  d_i(v^T K v)/2 = X^T (d_i M) X / 2 at fixed X. */
-    for (int i = 0; i < NX; i++) {
-        double s = a[3 + i] + w.P[0][i] * a[0] + w.P[1][i] * a[1] + w.P[2][i] * a[2];
-        for (int r = 0; r < NR; r++) s += w.U[r][i] * dX[r];
-        gvv[i] = f * (s - g[i]) + b * (dIv * q2 * w.P[2][i] - 0.5 * w.gI[i] * q2 * q2);
-    }
+    christoffel_t c;
+    christoffel_vv(&w, x, v, f, b, &c, gvv);
     return 0;
 }
 

@@ -16,7 +16,7 @@
 #ifndef SWIM_KERNEL_H
 #define SWIM_KERNEL_H
 
-#define SWIM_KERNEL_ABI 5
+#define SWIM_KERNEL_ABI 6
 #define SWIM_KERNEL_MAX_MODES 32   /* largest N the runtime accepts (arrays are sized by it) */
 
 typedef struct swim_kernel {
@@ -67,6 +67,9 @@ typedef struct swim_scene_params {
     /* values of the scene's [parameters], in their order; the generated law reads them as
      * p->law_params[i] (the names are fixed by the structure, the values are not) */
     const double *law_params;
+    /* grad W2 and its Hessian (NX x NX, row-major) on the kernel's coordinates at the full shape
+     * x, for the exact Jacobian (same context and return values as barrier). */
+    int (*barrier_hessian)(const double *x, double *grad, double *hess, void *ctx);
 } swim_scene_params;
 
 /* A kernel specialized to one scene structure: it carries only the free coordinates (or all of
@@ -78,6 +81,10 @@ typedef struct swim_scene_kernel {
     const int *free_index;      /* nfree indices into the full shape vector */
     const char *structure;      /* the structure key it was generated for */
     int (*rhs)(double t, const double *y, double *dydt, const swim_scene_params *p);
+    /* The exact Jacobian d rhs / d y at (t, y): J dense, row-major, dim x dim with
+     * dim = 4 + 2 nfree, the state layout of rhs; fills J completely. Same return values as rhs
+     * (positive: (t, y) outside the domain), and negative when out of memory. */
+    int (*jacobian)(double t, const double *y, double *J, const swim_scene_params *p);
 } swim_scene_kernel;
 
 /* Exported names: "swim_kernel_n<N>" (a swim_kernel) and "swim_scene_kernel_entry". */

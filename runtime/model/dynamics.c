@@ -88,6 +88,33 @@ static int scene_barrier(const double *x, double *grad, void *ctx)
     return 0;
 }
 
+/* Its Hessian for the exact Jacobian: gradient and Hessian of W2 at the full shape x (same
+ * nodes), restricted to the carried coordinates. */
+static int scene_barrier_hessian(const double *x, double *grad, double *hess, void *ctx)
+{
+    swim_dynamics *d = ctx;
+    const swim_scene *s = d->scene;
+    const int nf = d->spec->nfree, n = d->n;
+    if (!s->barrier) {
+        memset(grad, 0, sizeof(double) * nf);
+        memset(hess, 0, sizeof(double) * nf * nf);
+        return 0;
+    }
+    double W, *full = malloc(sizeof(double) * n * n);
+    if (!full) return -1;
+    int rc = swim_barrier_hessian(d->barrier, x, s->epsilon, s->alpha, &W, d->gbar, full, NULL);
+    if (rc == SWIM_BARRIER_OK) {
+        const int *fi = d->spec->free_index;
+        for (int f = 0; f < nf; f++) {
+            grad[f] = d->gbar[fi[f]];
+            for (int g = 0; g < nf; g++) hess[nf * f + g] = full[n * fi[f] + fi[g]];
+        }
+    }
+    free(full);
+    if (rc == SWIM_BARRIER_ENOMEM) return -1;
+    return rc == SWIM_BARRIER_OK ? 0 : SWIM_RHS_EBARRIER;
+}
+
 void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *spec, int generic)
 {
     const swim_scene *s = d->scene;
@@ -106,6 +133,7 @@ void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *s
     p->barrier = scene_barrier;
     p->barrier_ctx = d;
     p->law_params = s->param_values;
+    p->barrier_hessian = scene_barrier_hessian;
 }
 
 int swim_dynamics_state_dim(const swim_dynamics *d)
@@ -172,6 +200,20 @@ double swim_dynamics_w2(swim_dynamics *d, const double *c)
     if (d->w2_valid && memcmp(d->w2_x, c, sizeof(double) * d->n) == 0) return d->w2_last;
     double W;
     return swim_barrier_w2(d->barrier, c, s->epsilon, s->alpha, &W, NULL, NULL) == 0 ? W : INFINITY;
+}
+
+int swim_dynamics_jacobian(double t, const double *y, double *J, void *params)
+{
+    swim_dynamics *d = params;
+    double t0 = seconds();
+    int rc;
+    if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;
+    else if (!d->spec->jacobian) rc = -SWIM_DYN_ENAN;   /* a kernel without one: run.c does not ask */
+    else rc = d->spec->jacobian(t, y, J, &d->spec_params);
+    if (rc < 0 && rc != -SWIM_DYN_EINTERRUPT) rc = -SWIM_DYN_ENAN;
+    d->jac_seconds += seconds() - t0;
+    d->jac_calls++;
+    return rc;
 }
 
 int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)

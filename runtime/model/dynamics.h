@@ -61,6 +61,8 @@ typedef struct {
     /* W2 of the barrier's last evaluation by the right-hand side, at shape w2_x (swim_dynamics_w2) */
     int w2_valid;
     double w2_last, w2_x[2 * (SWIM_KERNEL_MAX_MODES + 1)];
+    long jac_calls;              /* exact Jacobians (swim_dynamics_jacobian) */
+    double jac_seconds;
 } swim_dynamics;
 
 /* k: the kernel of N = scene->modes modes. 0, or -1 (out of memory). */
@@ -87,6 +89,11 @@ int swim_dynamics_project(double t, double *y, void *params);
 /* The right-hand side on the integrator's state, in the form of swim_ode_func
  * (params = swim_dynamics *); needs swim_dynamics_use_scene_kernel first. */
 int swim_dynamics_rhs(double t, const double *y, double *dydt, void *params);
+
+/* The exact Jacobian of swim_dynamics_rhs (the scene kernel's, kernel/scene_rhs.h), in the form
+ * of swim_ode_jacobian; the barrier's Hessian comes from shape/barrier.h on the nodes of its
+ * gradient. */
+int swim_dynamics_jacobian(double t, const double *y, double *J, void *params);
 
 typedef struct {
     double kinetic_fluid, kinetic_shape, kinetic_rigid, w1, w2, energy, work;

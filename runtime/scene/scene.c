@@ -368,7 +368,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     static const char *const k_damping[] = {"diagonal", NULL};
     static const char *const k_forcing[] = {"law", "direction", NULL};
     static const char *const k_events[] = {"list", NULL};
-    static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "stiff_fallback", "project_initial", "projection", "step_lookahead", NULL};
+    static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "stiff_fallback", "project_initial", "projection", "step_lookahead", "jacobian", NULL};
     int rc;
     c->table = NULL;
     if (check_keys(c, root, top)) return 2;
@@ -438,6 +438,14 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
         if (toml_kind_of(la) != TOML_INT || toml_int(la) < 0 || toml_int(la) > 12)
             ERR(c, toml_get_key_line(run, "step_lookahead"), "step_lookahead", "expected an integer 0..12");
         s->step_lookahead = (int)toml_int(la);
+    }
+    s->jacobian_exact = 1;
+    const toml_value *jm = toml_get(run, "jacobian");
+    if (jm) {
+        const char *w = toml_string(jm);
+        if (!w || (strcmp(w, "exact") != 0 && strcmp(w, "differences") != 0))
+            ERR(c, toml_get_key_line(run, "jacobian"), "jacobian", "expected \"exact\" or \"differences\"");
+        s->jacobian_exact = strcmp(w, "exact") == 0;
     }
     const toml_value *pi = toml_get(run, "project_initial");
     if (pi) {
@@ -573,13 +581,21 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
         swim_scene_free(s);
         return 2;
     }
-    for (int i = 0; i < nov; i++)
-        if (toml_set_number(root, ov[i].table, ov[i].key, ov[i].index, ov[i].value, err, sizeof err) != 0) {
+    for (int i = 0; i < nov; i++) {
+        int bad;
+        if (!ov[i].word[0])
+            bad = toml_set_number(root, ov[i].table, ov[i].key, ov[i].index, ov[i].value, err, sizeof err);
+        else if (ov[i].index >= 0)
+            bad = snprintf(err, sizeof err, "value '%s' is not a finite number", ov[i].word) > 0;
+        else
+            bad = toml_set_string(root, ov[i].table, ov[i].key, ov[i].word, err, sizeof err);
+        if (bad) {
             swim_message(stderr, "swim: %s: --set %s: %s", path, ov[i].text, err);
             toml_free(root);
             swim_scene_free(s);
             return 2;
         }
+    }
     ctx c = {path, NULL};
     int rc = load_tree(&c, root, s);
     toml_free(root);
@@ -676,6 +692,7 @@ int swim_override_key(const char *key, swim_override *o, char *err, size_t errle
         return -1;
     }
     snprintf(o->table, sizeof o->table, "%.*s", (int)(dot - key), key);
+    o->word[0] = '\0';   /* a number unless swim_override_parse finds a word */
     const char *k = dot + 1, *br = strchr(k, '['), *dot2 = strchr(k, '.');
     size_t klen = br ? (size_t)(br - k) : dot2 ? (size_t)(dot2 - k) : strlen(k);
     if (!word_ok(k, klen)) {
@@ -723,7 +740,14 @@ int swim_override_parse(const char *text, swim_override *o, char *err, size_t er
     snprintf(key, sizeof key, "%.*s", (int)(eq - text), text);
     if (swim_override_key(key, o, err, errlen) != 0) return -1;
     char *end;
-    o->value = strtod(eq + 1, &end);
+    const char *val = eq + 1;
+    const size_t wl = strspn(val, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_");
+    o->value = strtod(val, &end);
+    if (end == val && val[wl] == '\0' && wl > 0 && wl < sizeof o->word &&
+        strchr("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ", val[0])) {
+        snprintf(o->word, sizeof o->word, "%s", val);   /* a word (not nan, inf): a string */
+        return 0;
+    }
     if (end == eq + 1 || *end != '\0' || !isfinite(o->value)) {
         snprintf(err, errlen, "value '%s' of %s is not a finite number", eq + 1, key);
         return -1;

@@ -91,6 +91,8 @@ typedef struct {
     int nparams, params_line;
     char param_names[SWIM_PARAMS_MAX][32];
     double param_values[SWIM_PARAMS_MAX];
+    int jacobian_exact;               /* [run] jacobian: 1 "exact" (default: the kernel's exact
+                                         Jacobian for integrators that use one), 0 "differences" */
 } swim_scene;
 
 /* Which run settings came from the command line (nonzero: its messages name the option). */
@@ -137,11 +139,14 @@ typedef struct {
     long index;          /* -1: the value itself */
     double value;
     char text[160];      /* KEY=VALUE as given, for messages */
+    char word[32];       /* a VALUE that is a word rather than a number (run.jacobian=differences):
+                            set as a string; "" for a number */
 } swim_override;
 
 /* Parses KEY (the part before '=') into o->table, o->key, o->index. 0, or -1 with a reason. */
 int swim_override_key(const char *key, swim_override *o, char *err, size_t errlen);
-/* Parses KEY=VALUE (VALUE a finite number). 0, or -1 with a one-line reason in err. */
+/* Parses KEY=VALUE (VALUE a finite number, or a word of letters, digits, '-' and '_' that is
+ * set as a string). 0, or -1 with a one-line reason in err. */
 int swim_override_parse(const char *text, swim_override *o, char *err, size_t errlen);
 /* swim_scene_load / swim_scene_parse with overrides applied first; an override that does not
  * fit the file (no such table, not a number, index out of range) is one line

@@ -1433,3 +1433,46 @@ int toml_set_number(toml_value *root, const char *table, const char *key, long i
     set_scalar(v, value);
     return 0;
 }
+
+int toml_set_string(toml_value *root, const char *table, const char *key, const char *text,
+                    char *err, size_t errlen)
+{
+    char dummy[1];
+    if (!err || errlen == 0) { err = dummy; errlen = sizeof dummy; }
+    size_t k = root && root->kind == TOML_TABLE ? tab_find(root, table) : NOT_FOUND;
+    toml_value *t = k == NOT_FOUND ? NULL : root->ent[k].val;
+    if (!t || t->kind != TOML_TABLE) {
+        snprintf(err, errlen, "the scene has no table [%s]", table);
+        return -1;
+    }
+    char *copy = strdup(text);
+    if (!copy) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    k = tab_find(t, key);
+    if (k == NOT_FOUND) {
+        char *kc = strdup(key);
+        toml_value *v = node_new(TOML_STRING, 0, t->depth + 1);
+        if (!kc || !v || tab_add(t, kc, 0, v) != 0) {
+            free(kc);
+            free(v);
+            free(copy);
+            snprintf(err, errlen, "out of memory");
+            return -1;
+        }
+        v->str = copy;
+        v->slen = strlen(copy);
+        return 0;
+    }
+    toml_value *v = t->ent[k].val;
+    if (v->kind != TOML_STRING) {
+        free(copy);
+        snprintf(err, errlen, "%s.%s is a %s, not a string", table, key, toml_kind_name(v->kind));
+        return -1;
+    }
+    free(v->str);
+    v->str = copy;
+    v->slen = strlen(copy);
+    return 0;
+}

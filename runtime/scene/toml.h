@@ -91,5 +91,9 @@ int toml_is_number(const toml_value *v);      /* 1 if integer or float */
  * range, out of memory); the tree is unchanged on error. */
 int toml_set_number(toml_value *root, const char *table, const char *key, long index, double value,
                     char *err, size_t errlen);
+/* The same for a string value at root[table][key] (no index): the replaced node must be a
+ * string; an absent key of an existing table is added. */
+int toml_set_string(toml_value *root, const char *table, const char *key, const char *text,
+                    char *err, size_t errlen);
 
 #endif

@@ -34,6 +34,7 @@ struct swim_barrier_quad {
     /* Workspace: node arrays of the graded rule (grown on demand), the companion matrix, roots. */
     int cap;
     double *th, *base, *wt, *jv, *hr, *hi;   /* graded nodes: base + th, weight wt */
+    double *jnode;             /* J at the graded nodes of the last call (for the Hessian) */
     double *gcs, *gsn;         /* cos, sin(j theta_k) at the graded nodes, [j][k] */
     size_t gcap;
     double complex *comp, *roots;
@@ -86,7 +87,7 @@ static int reserve(swim_barrier_quad *b, int nodes)
     if (nodes <= b->cap) return 0;
     int cap = b->cap ? b->cap : 256;
     while (cap < nodes) cap *= 2;
-    double **arr[] = {&b->th, &b->base, &b->wt, &b->jv, &b->hr, &b->hi};
+    double **arr[] = {&b->th, &b->base, &b->wt, &b->jv, &b->hr, &b->hi, &b->jnode};
     for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) {
         double *p = realloc(*arr[i], sizeof(double) * (size_t)cap);
         if (!p) return -1;
@@ -173,6 +174,7 @@ void swim_barrier_quad_free(swim_barrier_quad *b)
     free(b->base);
     free(b->wt);
     free(b->jv);
+    free(b->jnode);
     free(b->gcs);
     free(b->gsn);
     free(b->hr);
@@ -724,6 +726,7 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
         for (int k = 0; k < nodes; k++)
             if (b->base[k] == cen[c].a && fabs(b->th[k]) < NEAR)
                 b->jv[k] = precise_J(b, cen[c].B, cen[c].Ja, cen[c].J1a, b->th[k]);
+    memcpy(b->jnode, b->jv, sizeof(double) * (size_t)nodes);   /* node_sums overwrites jv */
     sums s;
     memset(&s, 0, sizeof s);
     if (node_sums(b, cs, sn, nodes, b->hr, b->hi, b->jv, b->wt, alpha, grad != NULL, &s)) return 1;
@@ -772,4 +775,119 @@ double swim_barrier_reach(swim_barrier_quad *b, const double *x, double eps, dou
     if (fabs(p) < 1e-12) return j0 * exp(-energy / k);
     const double base = 1.0 + energy * p / k;
     return base > 0.0 ? j0 * pow(base, -1.0 / p) : 0.0;
+}
+
+/* J^-alpha, without pow() for the two exponents the paper uses. */
+static double jpow(double J, double alpha)
+{
+    if (alpha == 0.5) return 1.0 / sqrt(J);
+    if (alpha == 1.0) return 1.0 / J;
+    return pow(J, -alpha);
+}
+
+/* ---- the Hessian ------------------------------------------------------------------------- */
+
+/* The Hessian is assembled from a few Fourier sums over the nodes rather than a rank-one update
+ * per node (O(N) work per node instead of O(n^2)). With a = wt (alpha+1) J^{-alpha-2},
+ * g = wt J^{-alpha-1} and p_m = -2m z^{m-1} h (= dJ/da_-m + i dJ/db_-m, ERRATA B3):
+ *   A0 = sum a,  Q_m = sum a z^{m-1} h,  F1_d = sum a |h|^2 z^d,  F2_e = sum a h^2 z^e,
+ *   cp + i sp = sum g z^p,
+ * since p_m conj(p_l) = 4ml z^{m-l} |h|^2 and p_m p_l = 4ml z^{m+l-2} h^2. */
+typedef struct {
+    double A0, cp[64], sp[64];
+    double complex Q[64], F1[64], F2[128];
+} hess_sums;
+
+/* One node (angle th, weight wt, J and h there) into the sums. */
+static void hess_node(const swim_barrier_quad *b, double alpha, double th, double wt, double J,
+                      double complex h, hess_sums *hs)
+{
+    const int N = b->N;
+    const double complex zf = cexp(I * th);
+    const double g = wt * jpow(J, alpha) / J;           /* wt J^{-alpha-1} */
+    const double a = (alpha + 1.0) * g / J;             /* wt (alpha+1) J^{-alpha-2} */
+    hs->A0 += a;
+    const double ah2 = a * (creal(h) * creal(h) + cimag(h) * cimag(h));
+    double complex e = 1.0, t = a * h;
+    for (int p = 0; p < N; p++) {                       /* z^p, p = 0..N-1 */
+        hs->cp[p] += g * creal(e);
+        hs->sp[p] += g * cimag(e);
+        hs->F1[p] += ah2 * e;
+        hs->Q[p] += t;
+        t *= zf;
+        e *= zf;
+    }
+    if (N == 0) hs->cp[0] += g;
+    double complex f = a * h * h;
+    for (int q = 0; q + 1 < 2 * N; q++) {
+        hs->F2[q] += f;
+        f *= zf;
+    }
+}
+
+int swim_barrier_hessian(swim_barrier_quad *b, const double *x, double eps, double alpha,
+                         double *W, double *grad, double *hess, swim_barrier_info *info)
+{
+    swim_barrier_info local;
+    if (!info) info = &local;
+    int rc = swim_barrier_w2(b, x, eps, alpha, W, grad, info);
+    if (rc != SWIM_BARRIER_OK) return rc;
+    const int N = b->N, n = b->n;
+    hess_sums hs;
+    memset(&hs, 0, sizeof hs);
+    if (!info->graded) {
+        /* the levels of the nested trapezoidal rule that swim_barrier_w2 accepted */
+        const int Q = info->nodes;
+        const double c1 = x[0] * x[0] + x[1] * x[1];
+        for (int l = 0, used = 0; l < b->levels && used < Q; used += b->lnodes[l], l++) {
+            const int m = b->lnodes[l], Ql = l == 0 ? m : 2 * m;
+            for (int k = 0; k < m; k++) {
+                const double th = l == 0 ? TWO_PI * k / Ql : TWO_PI * (2 * k + 1) / Ql;
+                double hr = 0.0, hi = 0.0;   /* h from the level's tables, as trap_level does */
+                for (int j = 0; j < N; j++) {
+                    const double complex H = coef_h(x, j);
+                    const double c = b->tcs[l][(size_t)j * m + k], sn = b->tsn[l][(size_t)j * m + k];
+                    hr += creal(H) * c + cimag(H) * sn;
+                    hi += cimag(H) * c - creal(H) * sn;
+                }
+                hess_node(b, alpha, th, TWO_PI / Q, c1 - hr * hr - hi * hi, CMPLX(hr, hi), &hs);
+            }
+        }
+    } else {
+        for (int k = 0; k < info->nodes; k++) {
+            const double th = b->base[k] + b->th[k];
+            hess_node(b, alpha, th, b->wt[k], b->jnode[k], CMPLX(b->hr[k], b->hi[k]), &hs);
+        }
+    }
+    /* hess W2 = eps/2 (sum a u u^T - sum g d2J), u = grad J = (2 a_1, 2 b_1, Re p_m, Im p_m);
+     * d2J: 2 on a_1, b_1; for the modes -m, -l (ERRATA B2)
+     * d2/da da = d2/db db = -2ml cos((l-m) th), d2/da_m db_l = -2ml sin((l-m) th). */
+    const double c = 0.5 * eps;
+    for (int i = 0; i < n; i++)
+        for (int j = i; j < n; j++) {
+            double uu, d2 = 0.0;
+            if (j < 2) {
+                uu = 4.0 * x[i] * x[j] * hs.A0;
+                d2 = i == j ? 2.0 * hs.cp[0] : 0.0;
+            } else if (i < 2) {
+                const int l = j / 2;
+                const double complex q = -2.0 * l * hs.Q[l - 1];
+                uu = 2.0 * x[i] * (j % 2 ? cimag(q) : creal(q));
+            } else {
+                const int m = i / 2, l = j / 2, d = l - m;   /* d >= 0 */
+                const double w = 4.0 * m * l;
+                const double complex P1 = w * conj(hs.F1[d]), P2 = w * hs.F2[m + l - 2];
+                if (i % 2 == 0 && j % 2 == 0) uu = 0.5 * creal(P1 + P2);
+                else if (i % 2 && j % 2) uu = 0.5 * creal(P1 - P2);
+                else if (i % 2 == 0) uu = 0.5 * cimag(P2 - P1);   /* Re p_m Im p_l */
+                else uu = 0.5 * cimag(P1 + P2);                   /* Im p_m Re p_l */
+                const double v2 = -0.5 * w;                       /* -2ml */
+                if (i % 2 == j % 2) d2 = v2 * hs.cp[d];
+                else if (i % 2 == 0) d2 = v2 * hs.sp[d];          /* a_m, b_l: sin((l-m) th) */
+                else d2 = -v2 * hs.sp[d];                         /* b_m, a_l: sin((m-l) th) */
+            }
+            const double v = c * (uu - d2);
+            hess[(size_t)i * n + j] = hess[(size_t)j * n + i] = v;
+        }
+    return SWIM_BARRIER_OK;
 }

@@ -74,4 +74,12 @@ int swim_barrier_w2(swim_barrier_quad *b, const double *x, double eps, double al
 double swim_barrier_reach(swim_barrier_quad *b, const double *x, double eps, double alpha,
                           double energy, double *kappa);
 
+/* W2, its gradient and its Hessian (n x n, row-major, exactly symmetric) at shape x, on the node
+ * layout swim_barrier_w2 chooses there (the exact Jacobian of the equations of motion):
+ *   hess W2 = eps/2 int [(alpha+1) J^{-alpha-2} grad J grad J^T - J^{-alpha-1} hess J] d theta,
+ * hess J constant per node. grad may not be NULL. Returns as swim_barrier_w2 (hess untouched
+ * unless SWIM_BARRIER_OK). */
+int swim_barrier_hessian(swim_barrier_quad *b, const double *x, double eps, double alpha,
+                         double *W, double *grad, double *hess, swim_barrier_info *info);
+
 #endif
