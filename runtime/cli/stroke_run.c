@@ -101,6 +101,7 @@ typedef struct {
     char *reason;
     long rows;
     double t_reached, e0, drift_abs, emax, res_volume, res_volume_rate, res_angular, jmin, pmax, pmin;
+    double jmin_t, left_D_t;   /* when min J was smallest (rows); where the shape left D, or NAN */
     double t_start, integrate_seconds, diagnostics_seconds, output_seconds;
 } stroke_ctx;
 
@@ -404,12 +405,14 @@ static void track(stroke_ctx *c, double t, const swim_diag *g, double power, int
     if (first) {
         c->e0 = g->energy;
         c->jmin = INFINITY;
+        c->jmin_t = c->left_D_t = NAN;
         c->pmax = -INFINITY;
         c->pmin = INFINITY;
     }
     c->t_reached = t;
     c->drift_abs = fmax(c->drift_abs, fabs(g->energy - c->e0 - g->work));
     c->emax = fmax(c->emax, fabs(g->energy));
+    if (!(g->jmin >= c->jmin)) c->jmin_t = t;
     c->jmin = fmin(c->jmin, g->jmin);
     c->res_volume = fmax(c->res_volume, fabs(g->res_volume));
     c->res_volume_rate = fmax(c->res_volume_rate, fabs(g->res_volume_rate));
@@ -445,6 +448,7 @@ static int emit_row(stroke_ctx *c, long k, long every, int last, double t)
     }
     c->output_seconds += wall() - to;
     if (!(g.jmin > 0)) {
+        c->left_D_t = t;
         end_run(c, 1, "the shape left the admissible set D at t = %.6g (min J = %.3g)", t, g.jmin);
         return -1;
     }
@@ -659,6 +663,13 @@ static void summary_json(FILE *f, void *ctx)
             c->res_volume, c->res_volume_rate, c->res_angular);
     fprintf(f, "  \"jmin\": ");
     swim_json_number(f, c->jmin);
+    fprintf(f, ",\n  \"jmin_t\": ");
+    swim_json_number(f, c->jmin_t);
+    fprintf(f, ",\n  \"left_D_t\": ");
+    swim_json_number(f, c->left_D_t);
+    /* the shape is prescribed: no stiff switch, and min J is checked on the rows and the
+     * allowability samples (swim_stroke_check), not by the per-step watch of swim run */
+    fprintf(f, ",\n  \"stiff_switch\": null,\n  \"step_checks\": {\"enabled\": false, \"steps\": 0, \"seconds\": 0}");
     swim_run_events_json(c->events, f);
     stroke_json(f, c);
     fprintf(f, ",\n  \"stats\": {\"steps\": %ld, \"rhs_evaluations\": %ld, \"rejected_steps\": %ld, "
@@ -671,9 +682,10 @@ static void summary_json(FILE *f, void *ctx)
     getrusage(RUSAGE_SELF, &ru);
     fprintf(f, "],\n            \"integrate_seconds\": %.6f, \"diagnostics_seconds\": %.6f, \"output_seconds\": %.6f,",
             c->integrate_seconds, c->diagnostics_seconds, c->output_seconds);
-    fprintf(f, "\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f, \"max_rss_kb\": %ld}\n}\n",
+    fprintf(f, "\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f, \"max_rss_kb\": %ld,",
             c->st.rhs_seconds, wall() - c->t_start, c->st.rhs_calls ? 1e9 * c->st.rhs_seconds / c->st.rhs_calls : 0.0,
             ru.ru_maxrss);
+    fprintf(f, "\n            \"jacobian\": \"none\", \"exact_jacobian_calls\": 0, \"jacobian_seconds\": 0}\n}\n");
 }
 
 static void output_failed(stroke_ctx *c, const char *path, int err)
