@@ -3,7 +3,8 @@
 boundary of D they go, how well the energy balance holds, what it costs.
 
 Usage (from the repository root; `make bench-hard`):
-    /usr/bin/python3 tests/bench/bench_hard.py [--out DIR] [--only NAME ...] [--tight-max-seconds S]
+    /usr/bin/python3 tests/bench/bench_hard.py [--out DIR] [--only NAME ...] [--own-only]
+                                               [--tight-max-seconds S]
 
 For every scene of models/hard/ (or the --only ones), `swim run` at the scene's own rtol/atol,
 then at rtol 1e-10, atol 1e-12 (skipped when the first run took longer than
@@ -58,6 +59,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "build", "bench", "hard"))
     ap.add_argument("--only", nargs="*")
     ap.add_argument("--tight-max-seconds", type=float, default=300.0)
+    ap.add_argument("--own-only", action="store_true", help="skip the rtol 1e-10 runs")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     scenes = sorted(glob.glob(os.path.join(ROOT, "models", "hard", "*.toml")))
@@ -67,6 +69,8 @@ def main():
     for sc in scenes:
         name = os.path.splitext(os.path.basename(sc))[0]
         for label, extra in (("own", []), ("1e-10", ["--rtol", "1e-10", "--atol", "1e-12"])):
+            if label == "1e-10" and a.own_only:
+                continue
             if label == "1e-10" and rows and rows[-1]["seconds"] and rows[-1]["seconds"] > a.tight_max_seconds:
                 rows.append({"scene": name, "tol": label, "status": "skipped (own run > %g s)" % a.tight_max_seconds})
                 continue
