@@ -76,6 +76,7 @@ struct abm {
     void *par;                   /* its params (borrowed) */
     double rtol, atol;           /* scalar tolerances */
     double *atolv;               /* per-component atol (owned copy) or NULL */
+    const double *tol_scale;     /* per-component factors on the tolerance (caller's, live) or NULL */
     double hmax, tstop;          /* largest step (INFINITY = none); never step past tstop */
     long max_steps;              /* accepted steps allowed */
     int stiff_stop;              /* the caller wants SWIM_ODE_ESTIFF when the diagnostic fires */
@@ -198,6 +199,7 @@ int abm_create(const swim_ode_system *sys, const swim_ode_options *opt, double t
     a->f = sys->function;
     a->par = sys->params;
     a->rtol = opt->rtol;
+    a->tol_scale = opt->tol_scale;
     a->atol = opt->atol;
     a->hmax = opt->hmax > 0 ? opt->hmax : INFINITY;
     a->tstop = opt->tstop;
@@ -235,7 +237,14 @@ static double set_weights(abm *a)
     const double *restrict y = a->y, *restrict av = a->atolv;
     double *restrict rw = a->rw;
     double s = 0.0;
-    if (av) {
+    if (a->tol_scale) {
+        const double *restrict sc = a->tol_scale;
+        for (size_t l = 0; l < n; l++) {
+            double r = 1.0 / (sc[l] * (rt * fabs(y[l]) + (av ? av[l] : at))), q = fabs(y[l] * r);
+            rw[l] = r;
+            s = MAXD(s, q);
+        }
+    } else if (av) {
         for (size_t l = 0; l < n; l++) {
             double r = 1.0 / (rt * fabs(y[l]) + av[l]), q = fabs(y[l] * r);
             rw[l] = r;

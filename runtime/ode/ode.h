@@ -183,6 +183,10 @@ typedef struct {
      * reaches t_stop; events of the step after t_stop are not located).  Ignored by the others. */
     int (*on_accept)(const swim_ode_accepted *step, void *data, double *t_stop);
     void *on_accept_data;
+    /* ABM only: optional per-component factors in (0, 1] on the error weights, read live at every
+     * step (not copied: the caller may change them between steps, e.g. from on_accept). The
+     * tolerance of component i becomes tol_scale[i] (rtol |y_i| + atol_i). NULL = 1. */
+    const double *tol_scale;
 } swim_ode_options;
 
 /* rtol = 1e-6, atol = 1e-9, no hmax, automatic h0, tstop = INFINITY,
