@@ -109,7 +109,12 @@ def test_stiff():
     check(s["status"] == "completed" and "+" in s["integrator"],
           "stiff_n7_damped: expected a switch to the stiff fallback, got %s (%s)" % (s["integrator"], s["reason"]))
     check(s["stats"]["steps"] < 50000, "stiff_n7_damped: %d steps" % s["stats"]["steps"])
-    p, d, s = run("models/hard/stiff_n15.toml", "stiff_n15")
+    p, d, s = run("models/hard/stiff_n15.toml", "stiff_n15-fallback")
+    check(p.returncode == 0 and s["status"] == "completed" and s.get("stiff_switch") and
+          s["stiff_switch"]["to"] == "cvode-bdf" and s["stats"]["jacobian"] == "exact",
+          "stiff_n15: completes after switching to cvode-bdf with the exact Jacobian (%s, %s)"
+          % (s["integrator"], s["reason"]))
+    p, d, s = run("models/hard/stiff_n15.toml", "stiff_n15", "--set", "run.stiff_fallback=none")
     check(p.returncode == 1 and s["status"] == "failed", "stiff_n15: should stop (no stiff fallback)")
     check("stiffness detected" in s["reason"] and "--integrator cvode-bdf" in s["reason"],
           "stiff_n15: reason should name the remedy: " + s["reason"])

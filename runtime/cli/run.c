@@ -157,7 +157,7 @@ static const char *const trace_columns[] = {"t", "h", "order", "accepted", "err"
  * energy (measured on soft_n15_a05). So after every accepted step the tolerance of each carried
  * shape coordinate is cut to rtol min J / |grad J|_1 (J then moves by at most rtol of itself),
  * when that is smaller; far from the boundary the factors stay 1 and the run is unchanged. The
- * floor 1e3 u / rtol keeps abm's round-off test satisfied. */
+ * floor 40 u / rtol keeps abm's round-off test (2u max|y/w| < 1/2) satisfied ten times over. */
 static void barrier_tolerance(run_ctx *c, const double *y)
 {
     const swim_scene *s = &c->s;
@@ -176,7 +176,7 @@ static void barrier_tolerance(run_ctx *c, const double *y)
             g1 += fabs(swim_shape_j_rate(s->modes, x, e, theta));
             e[k->free_index[i]] = 0.0;
         }
-        const double want = s->rtol * j0 / g1, floor_s = 1e3 * 1.11e-16 / s->rtol;
+        const double want = s->rtol * j0 / g1, floor_s = 40.0 * 1.11e-16 / s->rtol;
         for (int i = 0; i < k->nfree; i++) {
             const double allowed = s->rtol * fabs(y[3 + i]) + s->atol;
             scale[i] = fmin(1.0, fmax(floor_s, want / allowed));
@@ -770,16 +770,18 @@ static void barrier_diagnosis(run_ctx *c, char *buf, size_t len)
     const double reach = swim_barrier_reach(c->d.barrier, x, s->epsilon, s->alpha, T, &kappa);
     const double j0 = swim_shape_jmin(s->modes, x);
     free(full);
-    /* the shape is known to rounding, which moves J by ~4u |c_1|^2 (u = 2^-53): deeper than
-     * where that exceeds the tolerance, the bounce cannot be followed to rtol */
-    const double floor_j = 4.0 * 1.11e-16 * c1 / s->rtol;
+    /* the shape is known to rounding, which moves J by ~4u |c_1|^2 (u = 2^-53) and so W2 by
+     * kappa 4u |c_1|^2 / min J: deeper than where that exceeds rtol of the energy scale, the
+     * bounce cannot be followed to the tolerance */
+    const double escale = fmax(fmax(c->r.emax, T), 1e-300);
+    const double floor_j = kappa * 4.0 * 1.11e-16 * c1 / (s->rtol * escale);
     if (!(reach < floor_j) || !(kappa > 0)) return;
     if (reach > 0)
         snprintf(buf, len, "; at min J = %.3g the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold "
                  "of min J, and absorbing the kinetic energy still moving toward the boundary (%.3g) takes min J "
-                 "down to ~1e%d, where the rounding of the shape (~1e-16 in J = |c1|^2 - |h|^2) exceeds rtol "
-                 "in J (min J < %.1e): double precision cannot follow this bounce; use alpha >= 1, a larger "
-                 "epsilon or a looser rtol",
+                 "down to ~1e%d, where the rounding of the shape (~1e-16 in J = |c1|^2 - |h|^2) moves W2 by "
+                 "more than rtol of the energy (min J < %.1e): double precision cannot follow this bounce; "
+                 "use alpha >= 1, a larger epsilon or a looser rtol",
                  j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)), floor_j);
     else
         snprintf(buf, len, "; the barrier (alpha = %g < 1/2, epsilon = %g) is finite at the boundary of D and "
