@@ -51,7 +51,7 @@ def one(scene, out, extra):
     return {"status": s.get("status"), "reason": s.get("reason", ""), "t_reached": s.get("t_reached"),
             "t_end": s.get("t_end"), "seconds": st.get("integrate_seconds"), "rhs": st.get("rhs_evaluations"),
             "jmin": s.get("jmin"), "jmin_t": s.get("jmin_t"), "balance": bal, "rtol": s.get("rtol"),
-            "integrator": s.get("integrator") + ("+" + s["stiff_switch"]["to"] if s.get("stiff_switch") else "")}
+            "integrator": s.get("integrator")}   # "abm+cvode-bdf" when the stiff fallback took over
 
 
 def main():
