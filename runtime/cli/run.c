@@ -35,6 +35,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/run_events.h"
+#include "cli/run_settings.h"
 #include "cli/run_watch.h"
 #include "io/csv.h"
 #include "io/files.h"
@@ -197,14 +198,6 @@ static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop
 
 /* ---- options ------------------------------------------------------------------------------ */
 
-/* A number option: parsed into *dst; *given says whether it was on the command line. */
-static int number_option(const swim_opt *opts, int nopts, const char *name, double *dst, int *given)
-{
-    const char *v = swim_args_get(opts, nopts, name);
-    *given = v != NULL;
-    return v ? swim_args_double("run", name, v, dst) : 0;
-}
-
 static int columns(const swim_scene *s, const char **names, char storage[][24])
 {
     int c = 0;
@@ -271,26 +264,7 @@ static int read_options(int argc, char **argv, run_ctx *c)
     swim_scene *s = &c->s;
     c->opt.scene_file = pos[0];
     if (swim_scene_load_with(pos[0], c->opt.sets, c->opt.nsets, s)) return 2;
-    swim_run_overrides cli = {{0}};
-    if (number_option(opts, nopts, "t-end", &s->t_end, &cli.given[SWIM_SET_T_END]) ||
-        number_option(opts, nopts, "output-step", &s->output_step, &cli.given[SWIM_SET_OUTPUT_STEP]) ||
-        number_option(opts, nopts, "rtol", &s->rtol, &cli.given[SWIM_SET_RTOL]) ||
-        number_option(opts, nopts, "atol", &s->atol, &cli.given[SWIM_SET_ATOL]))
-        return 2;
-    const char *v;
-    if ((v = swim_args_get(opts, nopts, "integrator"))) {
-        if (!swim_ode_method_known(v)) {
-            swim_message(stderr, "swim run: --integrator: unknown integrator '%s' (%s)", v, swim_ode_method_list());
-            return 2;
-        }
-        snprintf(s->integrator, sizeof s->integrator, "%s", v);   /* a known name: it fits */
-    }
-    if ((v = swim_args_get(opts, nopts, "step-lookahead"))) {
-        long p;
-        if (swim_args_int("run", "step-lookahead", v, 0, 12, &p)) return 2;
-        s->step_lookahead = (int)p;
-    }
-    if (swim_run_settings_check(s, &cli) != 0) return 2;
+    if (swim_run_settings_options(opts, nopts, s) != 0) return 2;
     c->opt.quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     c->opt.generic = swim_args_get(opts, nopts, "generic") != NULL;
     if (swim_args_get(opts, nopts, "no-projection")) s->projection = 0;
@@ -298,7 +272,8 @@ static int read_options(int argc, char **argv, run_ctx *c)
     c->opt.trace = swim_args_get(opts, nopts, "trace-steps");
     c->opt.summary_only = swim_args_get(opts, nopts, "summary-only") != NULL;
     c->opt.sensitivity = swim_args_get(opts, nopts, "sensitivity");
-    if ((v = swim_args_get(opts, nopts, "sensitivity-steps"))) {
+    const char *v = swim_args_get(opts, nopts, "sensitivity-steps");
+    if (v) {
         if (strcmp(v, "all") != 0 && strcmp(v, "state") != 0) {
             swim_message(stderr, "swim run: --sensitivity-steps: expected all or state, got '%s'", v);
             return 2;

@@ -27,6 +27,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/run_events.h"
+#include "cli/run_settings.h"
 #include "codegen/codegen.h"
 #include "io/csv.h"
 #include "io/files.h"
@@ -173,13 +174,6 @@ static int columns(const swim_scene *s, const char **names, char storage[][24])
     return c;
 }
 
-static int number_option(const swim_opt *opts, int nopts, const char *name, double *dst, int *given)
-{
-    const char *v = swim_args_get(opts, nopts, name);
-    *given = v != NULL;
-    return v ? swim_args_double("run", name, v, dst) : 0;
-}
-
 static int read_options(int argc, char **argv, stroke_ctx *c)
 {
     swim_opt opts[] = {{"out", 1, NULL}, {"t-end", 1, NULL}, {"rtol", 1, NULL}, {"output-step", 1, NULL},
@@ -213,26 +207,7 @@ static int read_options(int argc, char **argv, stroke_ctx *c)
     swim_scene *s = &c->s;
     c->scene_file = pos[0];
     if (swim_scene_load_with(pos[0], c->sets, c->nsets, s)) return 2;
-    swim_run_overrides cli = {{0}};
-    if (number_option(opts, nopts, "t-end", &s->t_end, &cli.given[SWIM_SET_T_END]) ||
-        number_option(opts, nopts, "output-step", &s->output_step, &cli.given[SWIM_SET_OUTPUT_STEP]) ||
-        number_option(opts, nopts, "rtol", &s->rtol, &cli.given[SWIM_SET_RTOL]) ||
-        number_option(opts, nopts, "atol", &s->atol, &cli.given[SWIM_SET_ATOL]))
-        return 2;
-    const char *v;
-    if ((v = swim_args_get(opts, nopts, "integrator"))) {
-        if (!swim_ode_method_known(v)) {
-            swim_message(stderr, "swim run: --integrator: unknown integrator '%s' (%s)", v, swim_ode_method_list());
-            return 2;
-        }
-        snprintf(s->integrator, sizeof s->integrator, "%s", v);
-    }
-    if ((v = swim_args_get(opts, nopts, "step-lookahead"))) {
-        long p;
-        if (swim_args_int("run", "step-lookahead", v, 0, 12, &p)) return 2;
-        s->step_lookahead = (int)p;
-    }
-    if (swim_run_settings_check(s, &cli) != 0) return 2;
+    if (swim_run_settings_options(opts, nopts, s) != 0) return 2;
     c->quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     c->out_opt = swim_args_get(opts, nopts, "out");
     c->summary_only = swim_args_get(opts, nopts, "summary-only") != NULL;

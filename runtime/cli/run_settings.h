@@ -1,0 +1,15 @@
+/* run_settings.h -- the run-setting options of `swim run`, for dynamic scenes and prescribed
+ * strokes alike: --t-end, --output-step, --rtol, --atol, --integrator, --step-lookahead.
+ */
+#ifndef SWIM_CLI_RUN_SETTINGS_H
+#define SWIM_CLI_RUN_SETTINGS_H
+
+#include "cli/args.h"
+#include "scene/scene.h"
+
+/* Applies the options given to the loaded scene s, then checks the scene's run settings with
+ * them (swim_run_settings_check: its bounds name the option when it came from the command line).
+ * 0, or 2 after one line on stderr (an unparsable number, an unknown integrator, a bound). */
+int swim_run_settings_options(const swim_opt *opts, int nopts, swim_scene *s);
+
+#endif
