@@ -35,6 +35,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/run_events.h"
+#include "cli/run_outputs.h"
 #include "cli/run_settings.h"
 #include "cli/run_watch.h"
 #include "io/csv.h"
@@ -115,7 +116,7 @@ typedef struct {
     run_options opt;
     swim_run_events *events;    /* --event and [events] list, NULL without any */
     /* outputs */
-    char *dir, *csv_path, *snap_path, *summary_path, *scene_copy_path, *events_path;
+    swim_run_paths paths;        /* the output folder and its files */
     swim_csv csv;
     FILE *snap;                 /* snapshots, in memory until the end (open_memstream); NULL
                                    without --snapshots */
@@ -292,18 +293,6 @@ static int read_options(int argc, char **argv, run_ctx *c)
 
 /* ---- outputs ------------------------------------------------------------------------------ */
 
-/* out/<scene file name without its extension> */
-static char *default_out(const char *scene_path)
-{
-    const char *base = strrchr(scene_path, '/');
-    base = base ? base + 1 : scene_path;
-    char *out = swim_path_join("out", base);
-    if (!out) return NULL;
-    char *dot = strrchr(out, '.');
-    if (dot && dot > out + 4) *dot = '\0';
-    return out;
-}
-
 /* 1 when a and b name the same file: the same canonical path, or (both existing) the same
  * inode -- a second spelling, a symbolic link or a hard link of one file. */
 static int same_file(const char *a, const char *b)
@@ -322,8 +311,8 @@ static int same_file(const char *a, const char *b)
  * two files, or truncate the scene. 0, or 2 after one line on stderr. */
 static int check_trace_path(const run_ctx *c)
 {
-    const char *const others[] = {c->csv_path, c->snap_path, c->summary_path, c->scene_copy_path,
-                                  c->events_path, c->opt.scene_file};
+    const char *const others[] = {c->paths.csv_path, c->paths.snap_path, c->paths.summary_path, c->paths.scene_copy_path,
+                                  c->paths.events_path, c->opt.scene_file};
     const size_t nown = sizeof others / sizeof others[0] - 1;
     for (size_t i = 0; i < sizeof others / sizeof others[0]; i++)
         if (same_file(c->opt.trace, others[i])) {
@@ -383,7 +372,7 @@ static int preflight_outputs(const run_ctx *c)
         swim_message(stderr, "swim run: --trace-steps: cannot write '%s': %s", c->opt.trace, strerror(errno));
         return 2;
     }
-    char *def = c->opt.out ? NULL : default_out(c->s.path);
+    char *def = c->opt.out ? NULL : swim_run_default_out(c->s.path);
     const char *out = c->opt.out ? c->opt.out : def;
     int rc = 0;
     if (out && !folder_creatable(out)) {
@@ -408,20 +397,11 @@ static void output_failed(run_ctx *c, const char *path, int err)
  * run). 0, 1 (out of memory) or 2 (an output cannot be created; one line on stderr). */
 static int open_outputs(run_ctx *c)
 {
-    c->dir = c->opt.out ? strdup(c->opt.out) : default_out(c->s.path);
-    if (!c->dir) goto oom;
-    if (swim_mkdirs(c->dir) != 0) {
-        swim_message(stderr, "swim run: --out: cannot create directory '%s': %s", c->dir, strerror(errno));
-        return 2;
-    }
-    c->csv_path = swim_path_join(c->dir, "trajectory.csv");
-    c->snap_path = swim_path_join(c->dir, "snapshots.json");
-    c->summary_path = swim_path_join(c->dir, "summary.json");
-    c->scene_copy_path = swim_path_join(c->dir, "scene.toml");
-    c->events_path = swim_path_join(c->dir, "events.csv");
-    if (!c->csv_path || !c->snap_path || !c->summary_path || !c->scene_copy_path || !c->events_path) goto oom;
+    const int prc = swim_run_paths_open(&c->paths, c->opt.out, c->s.path);
+    if (prc == 1) goto oom;
+    if (prc != 0) return prc;
     /* (DIR/scene.toml may be the scene itself: the copy is then a no-op) */
-    const char *const written[] = {c->csv_path, c->snap_path, c->summary_path, c->events_path};
+    const char *const written[] = {c->paths.csv_path, c->paths.snap_path, c->paths.summary_path, c->paths.events_path};
     for (size_t i = 0; i < sizeof written / sizeof written[0]; i++) {
         const char *p = written[i];
         if (same_file(p, c->opt.scene_file)) {
@@ -437,16 +417,16 @@ static int open_outputs(run_ctx *c)
         }
         c->trace.open = 1;
     }
-    if (swim_copy_file(c->opt.scene_file, c->scene_copy_path) != 0) {
-        swim_message(stderr, "swim run: --out: cannot write '%s': %s", c->scene_copy_path, strerror(errno));
+    if (swim_copy_file(c->opt.scene_file, c->paths.scene_copy_path) != 0) {
+        swim_message(stderr, "swim run: --out: cannot write '%s': %s", c->paths.scene_copy_path, strerror(errno));
         return 2;
     }
-    if (!c->opt.summary_only && swim_csv_open(&c->csv, c->csv_path, c->names, c->ncol) != 0) {
-        swim_message(stderr, "swim run: --out: cannot write '%s': %s", c->csv_path, strerror(errno));
+    if (!c->opt.summary_only && swim_csv_open(&c->csv, c->paths.csv_path, c->names, c->ncol) != 0) {
+        swim_message(stderr, "swim run: --out: cannot write '%s': %s", c->paths.csv_path, strerror(errno));
         return 2;
     }
-    const char *const stale[] = {c->summary_path, c->snap_path, c->events_path,
-                                 c->opt.summary_only ? c->csv_path : NULL};
+    const char *const stale[] = {c->paths.summary_path, c->paths.snap_path, c->paths.events_path,
+                                 c->opt.summary_only ? c->paths.csv_path : NULL};
     for (size_t i = 0; i < sizeof stale / sizeof stale[0]; i++) {
         if (!stale[i]) continue;
         if (unlink(stale[i]) != 0 && errno != ENOENT) {
@@ -905,14 +885,14 @@ static int emit_row(run_ctx *c, long k, long rows, long every, double t)
     int rc = 0;
     row_values(&c->s, t, c->y, &g, c->row);
     if (!c->opt.summary_only && swim_csv_row(&c->csv, c->row) != 0) {
-        output_failed(c, c->csv_path, errno);
+        output_failed(c, c->paths.csv_path, errno);
         rc = -1;
     }
     if (rc == 0) c->r.rows++;   /* with --summary-only: rows computed */
     if (rc == 0 && c->snap && (k % every == 0 || k > rows || c->r.event_stop) && c->nsnap < SNAPSHOTS + 1) {
         if (c->nsnap++) fputs(",\n", c->snap);
         if (swim_flow_snapshot(&c->d, t, c->y, c->snap) != 0) {
-            output_failed(c, c->snap_path, ENOMEM);
+            output_failed(c, c->paths.snap_path, ENOMEM);
             rc = -1;
         }
     }
@@ -1018,7 +998,7 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
     fprintf(f, ",\n  \"title\": ");
     swim_json_string(f, s->title);
     fprintf(f, ",\n  \"out\": ");
-    swim_json_string(f, c->dir);
+    swim_json_string(f, c->paths.dir);
     fprintf(f, ",\n  \"modes\": %d,\n  \"rho0\": %.17g,\n  \"rhof\": %.17g,\n  \"integrator\": ", s->modes, s->rho0, s->rhof);
     swim_json_string(f, r->used);
     fprintf(f, ",\n  \"integrator_switch_t\": ");
@@ -1100,7 +1080,7 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
  * fails the run. */
 static void close_outputs(run_ctx *c)
 {
-    const char *paths[2] = {c->csv_path, c->opt.trace};
+    const char *paths[2] = {c->paths.csv_path, c->opt.trace};
     swim_csv *files[2] = {&c->csv, c->trace.open ? &c->trace.csv : NULL};
     for (int i = 0; i < 2; i++) {
         if (!files[i] || !files[i]->line) continue;
@@ -1115,12 +1095,12 @@ static void close_outputs(run_ctx *c)
     if (c->snap) {
         fputs("\n]\n", c->snap);
         int bad = ferror(c->snap);
-        if (fclose(c->snap) != 0 || bad) output_failed(c, c->snap_path, ENOMEM);
-        else if (swim_replace_file(c->snap_path, c->snap_buf, c->snap_len) != 0) output_failed(c, c->snap_path, errno);
+        if (fclose(c->snap) != 0 || bad) output_failed(c, c->paths.snap_path, ENOMEM);
+        else if (swim_replace_file(c->paths.snap_path, c->snap_buf, c->snap_len) != 0) output_failed(c, c->paths.snap_path, errno);
         c->snap = NULL;
     }
-    if (c->events && swim_run_events_write_csv(c->events, c->events_path) != 0)
-        output_failed(c, c->events_path, errno);
+    if (c->events && swim_run_events_write_csv(c->events, c->paths.events_path) != 0)
+        output_failed(c, c->paths.events_path, errno);
 }
 
 /* summary_json in the form of swim_replace_file_with */
@@ -1144,9 +1124,9 @@ static int report(run_ctx *c)
         stop(c, "%s", c->output_error ? c->output_error : "an output could not be written");
     const double wall_s = wall() - c->t_start;
     summary_job job = {c, wall_s};
-    if (swim_replace_file_with(c->summary_path, fill_summary, &job) != 0) {
+    if (swim_replace_file_with(c->paths.summary_path, fill_summary, &job) != 0) {
         int err = errno;
-        swim_message(stderr, "swim run: cannot write %s: %s (the run %s: %s)", c->summary_path, strerror(err),
+        swim_message(stderr, "swim run: cannot write %s: %s (the run %s: %s)", c->paths.summary_path, strerror(err),
                      c->r.status ? "FAILED" : "completed", c->r.reason ? c->r.reason : "out of memory");
         c->r.status = 1;
     }
@@ -1157,7 +1137,7 @@ static int report(run_ctx *c)
     swim_message(stdout, c->opt.summary_only ? "%s: %s (%s); %ld rows computed, summary in %s"
                                              : "%s: %s (%s); %ld rows in %s",
                  s->path, c->r.status ? "FAILED" : "completed", c->r.reason ? c->r.reason : "out of memory",
-                 c->r.rows, c->opt.summary_only ? c->summary_path : c->csv_path);
+                 c->r.rows, c->opt.summary_only ? c->paths.summary_path : c->paths.csv_path);
     printf("  %s kernel (state dimension %d)\n", c->d.generic ? "generic" : "specialized", c->sdim);
     swim_message(stdout, "  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)",
                  c->r.used, s->rtol, st->steps, st->rhs_evals, st->rejected, wall() - c->t_start, c->d.rhs_seconds);
@@ -1195,12 +1175,7 @@ static void release(run_ctx *c)
     free(c->tol_scale);
     free(c->r.reason);
     free(c->output_error);
-    free(c->dir);
-    free(c->csv_path);
-    free(c->snap_path);
-    free(c->summary_path);
-    free(c->scene_copy_path);
-    free(c->events_path);
+    swim_run_paths_free(&c->paths);
     swim_scene_free(&c->s);
     free(c);
 }
@@ -1223,7 +1198,7 @@ static int check_sensitivity(run_ctx *c)
 static int run_sensitivity(run_ctx *c)
 {
     swim_sens S;
-    char *path = swim_strprintf("%s/sensitivity.csv", c->dir);
+    char *path = swim_strprintf("%s/sensitivity.csv", c->paths.dir);
     int rc = !path || swim_sens_init(&S, &c->d) != 0 ? 1 : swim_sens_add_list(&S, &c->s, "run", c->opt.sensitivity);
     double sec = 0.0;
     long evals = 0;

@@ -27,6 +27,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/run_events.h"
+#include "cli/run_outputs.h"
 #include "cli/run_settings.h"
 #include "codegen/codegen.h"
 #include "io/csv.h"
@@ -81,7 +82,7 @@ typedef struct {
     double period;
     const char *period_source;
     /* outputs */
-    char *dir, *csv_path, *snap_path, *summary_path, *scene_copy_path, *events_path;
+    swim_run_paths paths;        /* the output folder and its files */
     swim_csv csv;
     FILE *snap;
     char *snap_buf;
@@ -279,42 +280,20 @@ static int prepare_stroke(stroke_ctx *c)
     return 0;
 }
 
-/* ---- outputs ------------------------------------------------------------------------------ */
-
-static char *default_out(const char *scene_path)
-{
-    const char *base = strrchr(scene_path, '/');
-    base = base ? base + 1 : scene_path;
-    char *out = swim_path_join("out", base);
-    if (!out) return NULL;
-    char *dot = strrchr(out, '.');
-    if (dot && dot > out + 4) *dot = '\0';
-    return out;
-}
-
 static int open_outputs(stroke_ctx *c)
 {
-    c->dir = c->out_opt ? strdup(c->out_opt) : default_out(c->s.path);
-    if (!c->dir) goto oom;
-    if (swim_mkdirs(c->dir) != 0) {
-        swim_message(stderr, "swim run: --out: cannot create directory '%s': %s", c->dir, strerror(errno));
+    const int prc = swim_run_paths_open(&c->paths, c->out_opt, c->s.path);
+    if (prc == 1) goto oom;
+    if (prc != 0) return prc;
+    if (swim_copy_file(c->scene_file, c->paths.scene_copy_path) != 0) {
+        swim_message(stderr, "swim run: --out: cannot write '%s': %s", c->paths.scene_copy_path, strerror(errno));
         return 2;
     }
-    c->csv_path = swim_path_join(c->dir, "trajectory.csv");
-    c->snap_path = swim_path_join(c->dir, "snapshots.json");
-    c->summary_path = swim_path_join(c->dir, "summary.json");
-    c->scene_copy_path = swim_path_join(c->dir, "scene.toml");
-    c->events_path = swim_path_join(c->dir, "events.csv");
-    if (!c->csv_path || !c->snap_path || !c->summary_path || !c->scene_copy_path || !c->events_path) goto oom;
-    if (swim_copy_file(c->scene_file, c->scene_copy_path) != 0) {
-        swim_message(stderr, "swim run: --out: cannot write '%s': %s", c->scene_copy_path, strerror(errno));
+    if (!c->summary_only && swim_csv_open(&c->csv, c->paths.csv_path, c->names, c->ncol) != 0) {
+        swim_message(stderr, "swim run: --out: cannot write '%s': %s", c->paths.csv_path, strerror(errno));
         return 2;
     }
-    if (!c->summary_only && swim_csv_open(&c->csv, c->csv_path, c->names, c->ncol) != 0) {
-        swim_message(stderr, "swim run: --out: cannot write '%s': %s", c->csv_path, strerror(errno));
-        return 2;
-    }
-    const char *const stale[] = {c->summary_path, c->snap_path, c->events_path, c->summary_only ? c->csv_path : NULL};
+    const char *const stale[] = {c->paths.summary_path, c->paths.snap_path, c->paths.events_path, c->summary_only ? c->paths.csv_path : NULL};
     for (size_t i = 0; i < sizeof stale / sizeof stale[0]; i++)
         if (stale[i] && unlink(stale[i]) != 0 && errno != ENOENT) {
             swim_message(stderr, "swim run: --out: cannot remove the old '%s': %s", stale[i], strerror(errno));
@@ -410,14 +389,14 @@ static int emit_row(stroke_ctx *c, long k, long every, int last, double t)
     track(c, t, &g, c->row[c->ncol - 3], k == 0);
     const double to = wall();
     if (!c->summary_only && swim_csv_row(&c->csv, c->row) != 0) {
-        output_failed(c, c->csv_path, errno);
+        output_failed(c, c->paths.csv_path, errno);
         return -1;
     }
     c->rows++;
     if (c->snap && (k % every == 0 || last) && c->nsnap < SNAPSHOTS + 1) {
         if (c->nsnap++) fputs(",\n", c->snap);
         if (swim_flow_snapshot(&c->d, t, c->full, c->snap) != 0) {
-            output_failed(c, c->snap_path, ENOMEM);
+            output_failed(c, c->paths.snap_path, ENOMEM);
             return -1;
         }
     }
@@ -602,7 +581,7 @@ static void summary_json(FILE *f, void *ctx)
     fprintf(f, ",\n  \"title\": ");
     swim_json_string(f, s->title);
     fprintf(f, ",\n  \"out\": ");
-    swim_json_string(f, c->dir);
+    swim_json_string(f, c->paths.dir);
     fprintf(f, ",\n  \"modes\": %d,\n  \"rho0\": %.17g,\n  \"rhof\": %.17g,\n  \"integrator\": ", s->modes, s->rho0, s->rhof);
     swim_json_string(f, s->integrator);
     fprintf(f, ",\n  \"integrator_switch_t\": null,\n  \"rtol\": %.3g,\n  \"atol\": %.3g,\n  \"step_lookahead\": %d,\n  \"free\": [",
@@ -672,23 +651,23 @@ static void output_failed(stroke_ctx *c, const char *path, int err)
 static int report(stroke_ctx *c)
 {
     const swim_scene *s = &c->s;
-    if (c->csv.line && swim_csv_close(&c->csv) != 0) output_failed(c, c->csv_path, errno);
+    if (c->csv.line && swim_csv_close(&c->csv) != 0) output_failed(c, c->paths.csv_path, errno);
     if (c->snap) {
         fputs("\n]\n", c->snap);
         int bad = ferror(c->snap);
-        if (fclose(c->snap) != 0 || bad) output_failed(c, c->snap_path, ENOMEM);
-        else if (swim_replace_file(c->snap_path, c->snap_buf, c->snap_len) != 0) output_failed(c, c->snap_path, errno);
+        if (fclose(c->snap) != 0 || bad) output_failed(c, c->paths.snap_path, ENOMEM);
+        else if (swim_replace_file(c->paths.snap_path, c->snap_buf, c->snap_len) != 0) output_failed(c, c->paths.snap_path, errno);
         c->snap = NULL;
     }
-    if (c->events && swim_run_events_write_csv(c->events, c->events_path) != 0) output_failed(c, c->events_path, errno);
-    if (swim_replace_file_with(c->summary_path, summary_json, c) != 0) {
-        swim_message(stderr, "swim run: cannot write %s: %s (the run %s: %s)", c->summary_path, strerror(errno),
+    if (c->events && swim_run_events_write_csv(c->events, c->paths.events_path) != 0) output_failed(c, c->paths.events_path, errno);
+    if (swim_replace_file_with(c->paths.summary_path, summary_json, c) != 0) {
+        swim_message(stderr, "swim run: cannot write %s: %s (the run %s: %s)", c->paths.summary_path, strerror(errno),
                      c->status ? "FAILED" : "completed", c->reason ? c->reason : "out of memory");
         c->status = 1;
     }
     swim_message(stdout, c->summary_only ? "%s: %s (%s); %ld rows computed, summary in %s" : "%s: %s (%s); %ld rows in %s",
                  s->path, c->status ? "FAILED" : "completed", c->reason ? c->reason : "out of memory", c->rows,
-                 c->summary_only ? c->summary_path : c->csv_path);
+                 c->summary_only ? c->paths.summary_path : c->paths.csv_path);
     printf("  prescribed stroke: %d laws%s; (3.21) integrated with %s, rtol %.3g: %ld RHS evaluations\n",
            s->stroke_count, s->stroke_complete_c1 ? ", c1 completed from the volume (2.5) and (2.14)" : "",
            s->integrator, s->rtol, c->st.rhs_calls);
@@ -722,12 +701,7 @@ static void release(stroke_ctx *c)
     free(c->strokes);
     free(c->reason);
     free(c->output_error);
-    free(c->dir);
-    free(c->csv_path);
-    free(c->snap_path);
-    free(c->summary_path);
-    free(c->scene_copy_path);
-    free(c->events_path);
+    swim_run_paths_free(&c->paths);
     swim_scene_free(&c->s);
     free(c);
 }
