@@ -37,6 +37,7 @@
 #include "cli/run_events.h"
 #include "cli/run_outputs.h"
 #include "cli/run_settings.h"
+#include "cli/run_signals.h"
 #include "cli/run_watch.h"
 #include "io/csv.h"
 #include "io/files.h"
@@ -55,18 +56,6 @@
 
 /* The signal that asked the run to stop (SIGINT, SIGTERM or SIGHUP: a terminal, a batch
  * scheduler, a closed session), 0 while none did. The RHS polls it, so a long step stops too. */
-static volatile sig_atomic_t stop_signal;
-static void on_stop_signal(int sig) { stop_signal = sig; }
-static const int stop_signals[] = {SIGINT, SIGTERM, SIGHUP};
-#define NSTOP ((int)(sizeof stop_signals / sizeof stop_signals[0]))
-
-static double wall(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 /* What the command line asked for besides the scene's own settings. */
 typedef struct {
     const char *scene_file, *out, *trace;
@@ -494,7 +483,7 @@ static int prepare(run_ctx *c)
     swim_scene *s = &c->s;
     if (swim_dynamics_init(&c->d, s, c->kn.kernel) != 0) goto oom;
     c->d_ready = 1;
-    c->d.interrupt = (volatile int *)&stop_signal;
+    c->d.interrupt = (volatile int *)&swim_run_stop;
     swim_dynamics_use_scene_kernel(&c->d, c->spz.scene, c->opt.generic);
     if (!c->opt.quiet && c->spz.from_cache)
         swim_message(stderr, "swim: scene kernel from cache %s", c->spz.dir);
@@ -635,7 +624,7 @@ static void end_run(run_ctx *c, int failed, const char *fmt, ...)
 
 static void stop_by_signal(run_ctx *c, double t)
 {
-    int sig = stop_signal;
+    int sig = swim_run_stop;
     if (sig == SIGINT) stop(c, "interrupted (SIGINT) at t = %.6g", t);
     else stop(c, "terminated by %s at t = %.6g", sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal", t);
 }
@@ -758,7 +747,7 @@ static void stop_left_D(run_ctx *c, double t)
 static void stop_on_integrator(run_ctx *c, int rc, double t)
 {
     const swim_scene *s = &c->s;
-    if (stop_signal) {
+    if (swim_run_stop) {
         stop_by_signal(c, c->r.t_reached);
         return;
     }
@@ -813,10 +802,10 @@ static int switch_to_fallback(run_ctx *c, double t_last, double t)
  * ends the run there: *t becomes the event time, whose row is the last. An ODE status. */
 static int advance_to(run_ctx *c, double *t, double *t_last)
 {
-    double ta = wall();
+    double ta = swim_wall();
     int rc = swim_ode_advance(c->ode, *t, c->ys);
-    c->r.integrate_seconds += wall() - ta;
-    if (rc == SWIM_ODE_ESTIFF && c->s.stiff_fallback[0] && c->r.switch_t < 0 && !stop_signal) {
+    c->r.integrate_seconds += swim_wall() - ta;
+    if (rc == SWIM_ODE_ESTIFF && c->s.stiff_fallback[0] && c->r.switch_t < 0 && !swim_run_stop) {
         /* An alarm raised by a bounce off the barrier that double precision cannot follow is
          * not stiffness: BDF's larger steps would only cross the unresolved wall with a wrong
          * energy. The run stops there, saying why (stop_on_integrator). */
@@ -834,7 +823,7 @@ static int advance_to(run_ctx *c, double *t, double *t_last)
         end_run(c, 0, "stopped by event %s at t = %.10g", swim_run_events_stop_name(c->events), *t);
         c->r.event_stop = 1;
         rc = SWIM_ODE_OK;
-    } else if (rc == SWIM_ODE_ERHS && swim_ode_rhs_status(c->ode) == SWIM_DYN_EBARRIER && !stop_signal) {
+    } else if (rc == SWIM_ODE_ERHS && swim_ode_rhs_status(c->ode) == SWIM_DYN_EBARRIER && !swim_run_stop) {
         /* Every trial state beyond the crossing was refused, so the integrator crept up to it
          * with ever smaller steps until the step size underflowed: its last accepted state is
          * the crossing (to a few units of rounding in t). Its row is the last. */
@@ -868,9 +857,9 @@ static int advance_to(run_ctx *c, double *t, double *t_last)
 static int emit_row(run_ctx *c, long k, long rows, long every, double t)
 {
     swim_diag g;
-    const double t_diag = wall();
+    const double t_diag = swim_wall();
     const int diag_rc = swim_dynamics_diagnostics(&c->d, c->y, &g);
-    c->r.diagnostics_seconds += wall() - t_diag;
+    c->r.diagnostics_seconds += swim_wall() - t_diag;
     if (diag_rc != 0) {
         stop(c, "diagnostics failed at t = %.6g (K not positive definite)", t);
         return -1;
@@ -881,7 +870,7 @@ static int emit_row(run_ctx *c, long k, long rows, long every, double t)
         c->kinetic_inside = g.kinetic_fluid + g.kinetic_shape + g.kinetic_rigid;
         c->have_inside = 1;
     }
-    const double t_out = wall();
+    const double t_out = swim_wall();
     int rc = 0;
     row_values(&c->s, t, c->y, &g, c->row);
     if (!c->opt.summary_only && swim_csv_row(&c->csv, c->row) != 0) {
@@ -896,7 +885,7 @@ static int emit_row(run_ctx *c, long k, long rows, long every, double t)
             rc = -1;
         }
     }
-    c->r.output_seconds += wall() - t_out;
+    c->r.output_seconds += swim_wall() - t_out;
     if (rc != 0) {
         stop_on_output(c, t);
         return -1;
@@ -932,7 +921,7 @@ static void take_watch(run_report *r, swim_run_watch *w)
 static void integrate(run_ctx *c)
 {
     const swim_scene *s = &c->s;
-    c->t_start = wall();
+    c->t_start = swim_wall();
     double last_progress = c->t_start, t_last = 0.0;
     int rc = swim_ode_create(s->integrator, &c->sys, &c->o, 0.0, c->ys, &c->ode);
     const long rows = (long)floor(s->t_end / s->output_step + 1e-9);
@@ -964,12 +953,12 @@ static void integrate(run_ctx *c)
             stop_on_output(c, t);
             break;
         }
-        if (stop_signal) {
+        if (swim_run_stop) {
             stop_by_signal(c, t);
             break;
         }
         if (c->r.event_stop) break;   /* the row at the event was the last */
-        double now = wall();
+        double now = swim_wall();
         if (!c->opt.quiet && now - last_progress > 1.0) {
             fprintf(stderr, "\rswim run: t = %.4g / %.4g (%.0f%%)   ", t, s->t_end, 100.0 * t / s->t_end);
             last_progress = now;
@@ -1122,7 +1111,7 @@ static int report(run_ctx *c)
     close_outputs(c);
     if (c->outputs_bad && c->r.status == 0)   /* the run completed, an output did not */
         stop(c, "%s", c->output_error ? c->output_error : "an output could not be written");
-    const double wall_s = wall() - c->t_start;
+    const double wall_s = swim_wall() - c->t_start;
     summary_job job = {c, wall_s};
     if (swim_replace_file_with(c->paths.summary_path, fill_summary, &job) != 0) {
         int err = errno;
@@ -1140,7 +1129,7 @@ static int report(run_ctx *c)
                  c->r.rows, c->opt.summary_only ? c->paths.summary_path : c->paths.csv_path);
     printf("  %s kernel (state dimension %d)\n", c->d.generic ? "generic" : "specialized", c->sdim);
     swim_message(stdout, "  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)",
-                 c->r.used, s->rtol, st->steps, st->rhs_evals, st->rejected, wall() - c->t_start, c->d.rhs_seconds);
+                 c->r.used, s->rtol, st->steps, st->rhs_evals, st->rejected, swim_wall() - c->t_start, c->d.rhs_seconds);
     printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g at t = %.6g\n",
            c->r.drift_abs, c->r.e0, c->r.res_volume, c->r.res_angular, c->r.res_locks, c->r.jmin, c->r.jmin_t);
     printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", c->y[0], c->y[1], c->y[2]);
@@ -1220,24 +1209,22 @@ int swim_cmd_run(int argc, char **argv)
         swim_message(stderr, "swim run: out of memory");
         return 1;
     }
-    struct sigaction sa, old[NSTOP];
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_stop_signal;
-    stop_signal = 0;
+    swim_run_signals sig;
+    swim_run_stop = 0;
     int rc = read_options(argc, argv, c);
     if (rc == 0) rc = preflight_outputs(c);
     if (rc == 0) rc = acquire_kernels(c);
     if (rc == 0 && c->opt.sensitivity) rc = check_sensitivity(c);
     if (rc == 0) rc = open_outputs(c);
     if (rc == 0) {
-        for (int i = 0; i < NSTOP; i++) sigaction(stop_signals[i], &sa, &old[i]);
+        swim_run_signals_install(&sig);
         rc = prepare(c);
         if (rc == 0) {
             integrate(c);
             rc = report(c);
             if (rc == 0 && c->opt.sensitivity) rc = run_sensitivity(c);
         }
-        for (int i = 0; i < NSTOP; i++) sigaction(stop_signals[i], &old[i], NULL);
+        swim_run_signals_restore(&sig);
     }
     release(c);
     return rc;

@@ -29,6 +29,7 @@
 #include "cli/run_events.h"
 #include "cli/run_outputs.h"
 #include "cli/run_settings.h"
+#include "cli/run_signals.h"
 #include "codegen/codegen.h"
 #include "io/csv.h"
 #include "io/files.h"
@@ -45,18 +46,6 @@
 #define NCOLS_MAX (8 + 4 * SWIM_NMAX + 64)
 #define SNAPSHOTS 10
 #define MAX_STROKES 100000    /* strokes reported one by one in the summary */
-
-static volatile sig_atomic_t stop_signal;
-static void on_stop_signal(int sig) { stop_signal = sig; }
-static const int stop_signals[] = {SIGINT, SIGTERM, SIGHUP};
-#define NSTOP ((int)(sizeof stop_signals / sizeof stop_signals[0]))
-
-static double wall(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 /* One stroke [t0, t1]: the state at both ends (r, theta, psi, work) and the positive work. */
 typedef struct {
@@ -245,7 +234,7 @@ static int prepare_stroke(stroke_ctx *c)
         return 1;
     }
     c->st_ready = 1;
-    c->st.interrupt = (volatile int *)&stop_signal;
+    c->st.interrupt = (volatile int *)&swim_run_stop;
     if (rc == SWIM_STROKE_EVOLUME) {
         swim_message(stderr, "swim: %s:%d: shape.c0: c1 is 0: its phase, which c1's completion (2.14) integrates, "
                      "is undefined", s->path, s->line_c0);
@@ -379,15 +368,15 @@ static void track(stroke_ctx *c, double t, const swim_diag *g, double power, int
 static int emit_row(stroke_ctx *c, long k, long every, int last, double t)
 {
     swim_diag g;
-    double td = wall();
+    double td = swim_wall();
     int rc = row_values(c, t, c->y, c->full, c->row, 1, &g);
-    c->diagnostics_seconds += wall() - td;
+    c->diagnostics_seconds += swim_wall() - td;
     if (rc != 0) {
         end_run(c, 1, "diagnostics failed at t = %.6g (%s)", t, swim_stroke_strerror(rc));
         return -1;
     }
     track(c, t, &g, c->row[c->ncol - 3], k == 0);
-    const double to = wall();
+    const double to = swim_wall();
     if (!c->summary_only && swim_csv_row(&c->csv, c->row) != 0) {
         output_failed(c, c->paths.csv_path, errno);
         return -1;
@@ -400,7 +389,7 @@ static int emit_row(stroke_ctx *c, long k, long every, int last, double t)
             return -1;
         }
     }
-    c->output_seconds += wall() - to;
+    c->output_seconds += swim_wall() - to;
     if (!(g.jmin > 0)) {
         c->left_D_t = t;
         end_run(c, 1, "the shape left the admissible set D at t = %.6g (min J = %.3g)", t, g.jmin);
@@ -412,8 +401,8 @@ static int emit_row(stroke_ctx *c, long k, long every, int last, double t)
 static void stop_on_integrator(stroke_ctx *c, int rc)
 {
     const double t = c->ode ? swim_ode_time(c->ode) : 0.0;
-    if (stop_signal) {
-        int sig = stop_signal;
+    if (swim_run_stop) {
+        int sig = swim_run_stop;
         end_run(c, 1, "%s at t = %.6g", sig == SIGINT ? "interrupted (SIGINT)" : sig == SIGTERM ? "terminated by SIGTERM"
                 : "terminated by SIGHUP", c->t_reached);
     } else if (rc == SWIM_ODE_ERHS) {
@@ -442,7 +431,7 @@ static void integrate(stroke_ctx *c)
         return;
     }
     swim_stroke_initial_state(&c->st, c->y);
-    c->t_start = wall();
+    c->t_start = swim_wall();
     int rc = swim_ode_create(s->integrator, &sys, &c->o, 0.0, c->y, &c->ode);
     if (rc != SWIM_ODE_OK) {
         end_run(c, 1, "integrator '%s' could not start: %s", s->integrator, swim_ode_strerror(rc));
@@ -474,9 +463,9 @@ static void integrate(stroke_ctx *c)
         if (!isfinite(target)) break;
         t = fmin(target, t + h_sample);
         if (target - t < 1e-3 * h_sample) t = target;   /* no sliver of a sample before a target */
-        const double ta = wall();
+        const double ta = swim_wall();
         rc = swim_ode_advance(c->ode, t, c->y);
-        c->integrate_seconds += wall() - ta;
+        c->integrate_seconds += swim_wall() - ta;
         int event_stop = 0;
         if (rc == SWIM_ODE_TERMINATED) {
             t = swim_ode_time(c->ode);
@@ -510,11 +499,11 @@ static void integrate(stroke_ctx *c)
             if (emit_row(c, k++, every, last, t) != 0) break;
         }
         if (event_stop) break;
-        if (stop_signal) {
+        if (swim_run_stop) {
             stop_on_integrator(c, SWIM_ODE_ERHS);
             break;
         }
-        const double now = wall();
+        const double now = swim_wall();
         if (!c->quiet && now - last_progress > 1.0) {
             fprintf(stderr, "\rswim run: t = %.4g / %.4g (%.0f%%)   ", t, s->t_end, 100.0 * t / s->t_end);
             last_progress = now;
@@ -637,7 +626,7 @@ static void summary_json(FILE *f, void *ctx)
     fprintf(f, "],\n            \"integrate_seconds\": %.6f, \"diagnostics_seconds\": %.6f, \"output_seconds\": %.6f,",
             c->integrate_seconds, c->diagnostics_seconds, c->output_seconds);
     fprintf(f, "\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f, \"max_rss_kb\": %ld,",
-            c->st.rhs_seconds, wall() - c->t_start, c->st.rhs_calls ? 1e9 * c->st.rhs_seconds / c->st.rhs_calls : 0.0,
+            c->st.rhs_seconds, swim_wall() - c->t_start, c->st.rhs_calls ? 1e9 * c->st.rhs_seconds / c->st.rhs_calls : 0.0,
             ru.ru_maxrss);
     fprintf(f, "\n            \"jacobian\": \"none\", \"exact_jacobian_calls\": 0, \"jacobian_seconds\": 0}\n}\n");
 }
@@ -713,18 +702,16 @@ int swim_cmd_stroke(int argc, char **argv)
         swim_message(stderr, "swim run: out of memory");
         return 1;
     }
-    struct sigaction sa, old[NSTOP];
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_stop_signal;
-    stop_signal = 0;
+    swim_run_signals sig;
+    swim_run_stop = 0;
     int rc = read_options(argc, argv, c);
     if (rc == 0) rc = prepare_stroke(c);
     if (rc == 0) rc = open_outputs(c);
     if (rc == 0) {
-        for (int i = 0; i < NSTOP; i++) sigaction(stop_signals[i], &sa, &old[i]);
+        swim_run_signals_install(&sig);
         integrate(c);
         rc = report(c);
-        for (int i = 0; i < NSTOP; i++) sigaction(stop_signals[i], &old[i], NULL);
+        swim_run_signals_restore(&sig);
     }
     release(c);
     return rc;

@@ -1,0 +1,26 @@
+/* run_signals.h -- what `swim run` (dynamic scenes and prescribed strokes) does with SIGINT,
+ * SIGTERM and SIGHUP while it integrates: the handler only records the signal in swim_run_stop,
+ * which the integration loops poll; the run then stops, keeps every row and writes its summary.
+ */
+#ifndef SWIM_CLI_RUN_SIGNALS_H
+#define SWIM_CLI_RUN_SIGNALS_H
+
+#include <signal.h>
+
+#define SWIM_RUN_NSIGNALS 3
+
+extern volatile sig_atomic_t swim_run_stop;   /* 0, or the signal that asked the run to stop */
+
+typedef struct {
+    struct sigaction old[SWIM_RUN_NSIGNALS];
+} swim_run_signals;
+
+/* Install the handler for the three signals, keeping the previous actions in s. */
+void swim_run_signals_install(swim_run_signals *s);
+/* Put the previous actions back. */
+void swim_run_signals_restore(const swim_run_signals *s);
+
+/* Monotonic wall-clock seconds (for the run's timings). */
+double swim_wall(void);
+
+#endif
