@@ -49,13 +49,22 @@ def test_log_barrier_explained():
         check("per e-fold of min J" in s["reason"] and "alpha >= 1" in s["reason"],
               "the reason explains the logarithmic barrier: %s" % s["reason"])
     check(d is not None and len(d) > 10 and np.min(d["jmin"]) > 0, "rows before the stop are kept, inside D")
-    # a bounce too deep for the tolerance: stopped with the reason (not handed to BDF, which
-    # would cross the unresolved wall with a wrong energy)
-    p, d, s = run("tests/scenes/near_boundary_a05.toml", "near_boundary_a05")
+    # a bounce to min J ~ 5e-13, deeper than the rounding of a shape held in doubles allows at
+    # rtol 1e-9: without shifted coordinates it is stopped with the reason (not handed to BDF,
+    # which would cross the unresolved wall with a wrong energy) ...
+    p, d, s = run("models/hard/near_boundary_a05.toml", "near_boundary_a05-noshift", "--set", "run.origin_shift=false")
     check(p.returncode == 1 and s is not None and s["status"] == "failed" and s.get("stiff_switch") is None,
-          "near_boundary_a05 stops without a switch (exit %d)" % p.returncode)
+          "near_boundary_a05 without origin_shift stops without a switch (exit %d)" % p.returncode)
     if s is not None:
-        check("cannot follow this bounce" in s["reason"], "the reason says why: %s" % s["reason"])
+        check("cannot follow this bounce" in s["reason"] and "origin_shift" in s["reason"],
+              "the reason says why: %s" % s["reason"])
+    # ... and with them (the default) it completes, keeping the energy to the tolerance
+    p, d, s = run("models/hard/near_boundary_a05.toml", "near_boundary_a05")
+    check(p.returncode == 0 and s["status"] == "completed" and s["origin_shift"]["restarts"] > 0,
+          "near_boundary_a05 completes in shifted coordinates (%s)" % s["reason"])
+    check(0 < s["jmin"] < 1e-11, "near_boundary_a05: the bounce goes below 1e-11 (min J %.3g)" % s["jmin"])
+    check(s["energy_drift_rel"] <= 1e-7, "near_boundary_a05: energy drift %.3g > 1e-7 at rtol 1e-9"
+          % s["energy_drift_rel"])
 
 
 def test_long_runs():
@@ -97,6 +106,17 @@ def test_step_trace():
         check(np.all(np.diff(t["t"][acc]) > 0) and np.all(np.isfinite(t["energy"][acc]))
               and np.all(t["err"][acc] <= 1.0) and np.all(t["err"][~acc] > 1.0),
               "p = %s: accepted times increase, energies finite, err <= 1 exactly on accepted rows" % p_la)
+    # a barrier scene through a bounce in shifted coordinates (restarts, an origin in time): the
+    # trace evaluates the barrier on its own workspace and sees absolute times
+    p0, d0, s0 = run("models/hard/near_boundary_a05.toml", "trace-off-barrier", "--t-end", "3.2")
+    p1, d1, s1 = run("models/hard/near_boundary_a05.toml", "trace-on-barrier", "--t-end", "3.2", "--trace-steps", trace)
+    same = d0 is not None and d1 is not None and all(np.array_equal(d0[c], d1[c]) for c in d0.dtype.names)
+    check(same and s1["origin_shift"]["restarts"] > 0,
+          "near_boundary_a05: the trajectory with --trace-steps differs from the one without (or no shift)")
+    t = np.atleast_1d(np.genfromtxt(trace, delimiter=",", names=True))
+    acc = t["accepted"] == 1
+    check(np.all(np.diff(t["t"][acc]) >= 0) and abs(t["t"][acc][-1] - 3.2) < 1e-3,
+          "near_boundary_a05: traced times are absolute and do not decrease")
     p = subprocess.run([os.path.join(ROOT, "bin", "swim"), "run", "models/example3.toml", "--out",
                         os.path.join(TMP, "trace-bad"), "--trace-steps", "/nonexistent/steps.csv"],
                        capture_output=True, text=True, cwd=ROOT)

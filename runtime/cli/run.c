@@ -132,6 +132,16 @@ typedef struct {
     char storage[2 * SWIM_NMAX][24];
     row_ctx rowc;
     double *tol_scale;          /* abm's per-component tolerance factors near the barrier (or NULL) */
+    /* shifted coordinates near the barrier (model/dynamics.h, swim_dynamics_set_origin), abm only */
+    int shift_ok;               /* the integrator in use may shift */
+    int shift_pending;          /* the integrator stopped at shift_t to move the origin (1) or drop it (2) */
+    double shift_t;             /* in the integrator's time (absolute: d.t_origin + shift_t) */
+    double shift_j;             /* min J / |c_1|^2 where the origin was last moved */
+    double left_native;         /* the watch's crossing, in the integrator's time */
+    double row_jmin;            /* min J of the row's exact state with an origin (else NAN) */
+    double *ys_shift;           /* the accepted state at shift_t, in the integrator's coordinates */
+    double *atolv;              /* abm's absolute tolerances with an origin: atol + rtol |origin_i| */
+    long shifts;                /* restarts for the origin */
     swim_run_watch watch;       /* checks at every accepted step (integrators with dense output) */
     int watch_ready;
     run_report r;
@@ -139,6 +149,9 @@ typedef struct {
 } run_ctx;
 
 static const char *const trace_columns[] = {"t", "h", "order", "accepted", "err", "erk", "growth", "energy", "work"};
+
+/* The integrator's time, absolute (it runs at t - d.t_origin near the barrier, see accept_step). */
+static double ode_time(const run_ctx *c) { return c->d.t_origin + swim_ode_time(c->ode); }
 
 /* ---- the error test near the barrier -------------------------------------------------------- */
 
@@ -151,39 +164,106 @@ static const char *const trace_columns[] = {"t", "h", "order", "accepted", "err"
  * the run is unchanged: cutting them there too (from min J < 0.1 |c_1|^2 on) made the drift of
  * the soft scenes 3-7x larger, not smaller (abm's step control reacts to the changing weights). The
  * floor 40 u / rtol keeps abm's round-off test (2u max|y/w| < 1/2) satisfied ten times over. */
-static void barrier_tolerance(run_ctx *c, const double *y)
+static double barrier_tolerance(run_ctx *c, const double *y, double h)
 {
     const swim_scene *s = &c->s;
     const swim_scene_kernel *k = c->d.spec;
-    double x[SWIM_NMAX];
-    memcpy(x, s->c0, sizeof(double) * (size_t)s->n);
-    for (int i = 0; i < k->nfree; i++) x[k->free_index[i]] = y[3 + i];
+    double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    swim_dynamics_unpack(&c->d, y, full);
+    const double *x = full + 3;
     double theta;
-    const double j0 = swim_shape_jmin_at(s->modes, x, &theta), c1 = x[0] * x[0] + x[1] * x[1];
+    const double j0 = swim_dynamics_jmin(&c->d, y, &theta), c1 = x[0] * x[0] + x[1] * x[1];
     double scale[SWIM_NMAX];
     for (int i = 0; i < k->nfree; i++) scale[i] = 1.0;
     if (j0 > 0 && j0 < 1e-3 * c1) {
-        double e[SWIM_NMAX] = {0.0}, g1 = 0.0;
+        double e[SWIM_NMAX] = {0.0}, g1 = 0.0, umax = 0.0, vmax = 0.0;
         for (int i = 0; i < k->nfree; i++) {
             e[k->free_index[i]] = 1.0;
             g1 += fabs(swim_shape_j_rate(s->modes, x, e, theta));
             e[k->free_index[i]] = 0.0;
+            umax = fmax(umax, fabs(y[3 + i]));
+            vmax = fmax(vmax, fabs(x[s->n + k->free_index[i]]));
         }
         const double want = s->rtol * j0 / g1, floor_s = 40.0 * 1.11e-16 / s->rtol;
         for (int i = 0; i < k->nfree; i++) {
-            const double allowed = s->rtol * fabs(y[3 + i]) + s->atol;
-            scale[i] = fmin(1.0, fmax(floor_s, want / allowed));
+            const double allowed = s->rtol * fabs(x[k->free_index[i]]) + s->atol;
+            /* with an origin abm rounds u, not the shape: the floor follows the largest |u| (and
+             * what one more step can add to it) instead of the shape itself */
+            const double floor_i = c->d.origin ? 40.0 * 1.11e-16 * (umax + h * vmax) / allowed : floor_s;
+            scale[i] = fmin(1.0, fmax(floor_i, want / allowed));
         }
     }
     for (int i = 0; i < k->nfree; i++) c->tol_scale[3 + i] = scale[i];
+    return j0 / c1;
+}
+
+/* Where abm carries the state relative to an origin (model/dynamics.h): from min J below
+ * SHIFT_IN |c_1|^2 at a step end until it is back above SHIFT_OUT |c_1|^2, with a new origin
+ * when the state has moved SHIFT_MOVE from it. Above 1e-6 the rounding of the shape costs at
+ * most kappa 1e-16 / 1e-6 ~ 1e-12 of the energy per step; the gap between the two levels keeps an
+ * approach that hovers from restarting the integrator at every step. */
+#define SHIFT_IN 1e-6
+#define SHIFT_OUT 1e-4
+#define SHIFT_MOVE 1e-3
+#define SHIFT_DEEP 1e-12
+
+/* A step in the integrator's time seen in absolute time (the watch keeps absolute times): an
+ * absolute t maps back to the step, its ends exactly (in a deep bounce t0 + ta and t0 + tb can be
+ * one double). */
+typedef struct {
+    const swim_ode_accepted *st;
+    double t0, ta, tb;
+} absolute_step;
+
+static int absolute_interp(void *ctx, double t, double *y, double *yp)
+{
+    const absolute_step *a = ctx;
+    const double tau = t == a->tb ? a->st->tb : t == a->ta ? a->st->ta : fmin(fmax(t - a->t0, a->st->ta), a->st->tb);
+    return a->st->interp(a->st->ctx, tau, y, yp);
+}
+
+/* Where the next origin goes (0: stay, 1: move it to the step end, 2: drop it), from min J /
+ * |c_1|^2 = j at the step end and the state u there. */
+static int shift_wanted(const run_ctx *c, double j, const double *u)
+{
+    if (!c->d.origin) return j < SHIFT_IN;
+    if (j > SHIFT_OUT) return 2;
+    if (j < 1e-2 * c->shift_j) return 1;   /* deeper: u ~ the distance still to go, rounding ~ J u */
+    double umax = 0.0;
+    for (int i = 0; i < c->d.spec->nfree; i++) umax = fmax(umax, fabs(u[3 + i]));
+    return umax > SHIFT_MOVE;
 }
 
 static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop)
 {
     run_ctx *c = data;
-    const int rc = swim_run_watch_step(step, &c->watch, t_stop);
-    if (c->tol_scale && step->y_end) barrier_tolerance(c, step->y_end);
-    return rc;
+    int rc;
+    const double t0 = c->d.t_origin;
+    if (t0 == 0.0) {
+        rc = swim_run_watch_step(step, &c->watch, t_stop);
+        if (rc) c->left_native = *t_stop;
+    } else {
+        absolute_step a = {step, t0, t0 + step->ta, t0 + step->tb};
+        const swim_ode_accepted abs_step = {a.ta, a.tb, absolute_interp, &a, step->y_end};
+        double t_abs;
+        rc = swim_run_watch_step(&abs_step, &c->watch, &t_abs);
+        if (rc) {
+            *t_stop = t_abs == a.tb ? step->tb : fmin(fmax(t_abs - t0, step->ta), step->tb);
+            if (!(*t_stop > step->ta)) *t_stop = step->tb;
+            c->left_native = *t_stop;
+        }
+    }
+    if (!c->tol_scale || !step->y_end) return rc;
+    const double j = barrier_tolerance(c, step->y_end, step->tb - step->ta);
+    if (rc || !c->shift_ok) return rc;
+    const int want = shift_wanted(c, j, step->y_end);
+    if (!want) return 0;
+    c->shift_pending = want;
+    c->shift_t = step->tb;
+    c->shift_j = j;
+    *t_stop = step->tb;
+    memcpy(c->ys_shift, step->y_end, sizeof(double) * (size_t)c->sdim);
+    return 1;
 }
 
 /* ---- options ------------------------------------------------------------------------------ */
@@ -441,7 +521,7 @@ static void trace_step(const swim_ode_step *st, void *data)
     step_trace *tr = data;
     if (tr->err)
         return;
-    double v[9] = {st->t, st->h, st->order, st->accepted, st->err, st->erk, st->growth, NAN, NAN};
+    double v[9] = {tr->d->t_origin + st->t, st->h, st->order, st->accepted, st->err, st->erk, st->growth, NAN, NAN};
     swim_diag g;
     if (st->y) {
         swim_dynamics_unpack(tr->d, st->y, tr->full);
@@ -532,13 +612,18 @@ static int prepare(run_ctx *c)
             c->tol_scale = malloc(sizeof(double) * (size_t)c->sdim);
             if (!c->tol_scale) goto oom;
             for (int i = 0; i < c->sdim; i++) c->tol_scale[i] = 1.0;
-            barrier_tolerance(c, c->ys);
+            barrier_tolerance(c, c->ys, 0.0);
             o->tol_scale = c->tol_scale;
+            c->ys_shift = malloc(sizeof(double) * (size_t)c->sdim);
+            c->atolv = malloc(sizeof(double) * (size_t)c->sdim);
+            if (!c->ys_shift || !c->atolv) goto oom;
+            c->shift_ok = s->origin_shift;
         }
     }
     c->r.switch_t = -1.0;
     c->r.left_t = NAN;
     c->r.jmin_t = NAN;
+    c->row_jmin = NAN;
     snprintf(c->r.used, sizeof c->r.used, "%s", s->integrator);
     return 0;
 oom:
@@ -699,35 +784,53 @@ static void barrier_diagnosis(run_ctx *c, char *buf, size_t len)
      * last row inside D */
     double *full = malloc(sizeof(double) * (size_t)c->d.dim);
     if (!full) return;
-    double *ys = malloc(sizeof(double) * (size_t)c->sdim);
+    double *ys = malloc(sizeof(double) * (size_t)c->sdim), j0 = NAN;
     int have = ys && c->ode && swim_ode_dense(c->ode, swim_ode_time(c->ode), ys, NULL) == SWIM_ODE_OK;
-    if (have) swim_dynamics_unpack(&c->d, ys, full);
+    if (have) {
+        swim_dynamics_unpack(&c->d, ys, full);
+        j0 = swim_dynamics_jmin(&c->d, ys, NULL);
+    }
     free(ys);
-    if (!have || !(swim_shape_jmin(s->modes, full + 3) > 0)) {
+    if (!(j0 > 0)) {
         if (!c->have_inside) {
             free(full);
             return;
         }
         memcpy(full, c->y_inside, sizeof(double) * (size_t)c->d.dim);
+        j0 = swim_shape_jmin(s->modes, full + 3);
     }
     const double *x = full + 3, c1 = x[0] * x[0] + x[1] * x[1];
     const double T = normal_kinetic_energy(c, x, full + 3 + s->n);
     double kappa = NAN;
-    const double reach = swim_barrier_reach(c->d.barrier, x, s->epsilon, s->alpha, T, &kappa);
-    const double j0 = swim_shape_jmin(s->modes, x);
+    double reach = swim_barrier_reach(c->d.barrier, x, s->epsilon, s->alpha, T, &kappa);
+    if (!(kappa > 0) && c->have_inside) {
+        /* a shape deeper than its rounding (J(x) <= 0, shifted coordinates): kappa, which follows
+         * J'' at the foot and barely changes with depth, from the last row inside D */
+        swim_barrier_reach(c->d.barrier, c->y_inside + 3, s->epsilon, s->alpha, T, &kappa);
+        if (kappa > 0 && fabs(s->alpha - 0.5) < 1e-12) reach = j0 * exp(-T / kappa);
+    }
     free(full);
-    /* the shape is known to rounding, which moves J by ~4u |c_1|^2 (u = 2^-53) and so W2 by
-     * kappa 4u |c_1|^2 / min J: deeper than where that exceeds rtol of the energy scale, the
-     * bounce cannot be followed to the tolerance */
+    /* Without shifted coordinates the shape is known to rounding, which moves J by ~4u |c_1|^2
+     * (u = 2^-53) and so W2 by kappa 4u |c_1|^2 / min J: deeper than where that exceeds rtol of
+     * the energy scale, a bounce cannot be followed to the tolerance. With them (abm), rounding
+     * is no longer the limit; what remains is time itself: a bounce to min J turns within
+     * ~min J / |dJ/dt|, and the step sizes, the forces (~kappa / min J) and their rounding follow
+     * it: a failure inside a bounce deeper than SHIFT_DEEP |c_1|^2 is put down to its depth. */
     const double escale = fmax(fmax(c->r.emax, T), 1e-300);
     const double floor_j = kappa * 4.0 * 1.11e-16 * c1 / (s->rtol * escale);
-    if (!(reach < floor_j) || !(kappa > 0)) return;
-    if (reach > 0)
+    if (!(kappa > 0) || !(c->shift_ok ? j0 < SHIFT_DEEP * c1 : reach < floor_j)) return;
+    if (reach > 0 && c->shift_ok)
+        snprintf(buf, len, "; at min J = %.3g the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold "
+                 "of min J, and absorbing the kinetic energy still moving toward the boundary (%.3g) takes min J "
+                 "down to ~1e%d: abm, in coordinates shifted to the bounce, could not follow it; "
+                 "use alpha >= 1, a larger epsilon or a looser rtol",
+                 j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)));
+    else if (reach > 0)
         snprintf(buf, len, "; at min J = %.3g the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold "
                  "of min J, and absorbing the kinetic energy still moving toward the boundary (%.3g) takes min J "
                  "down to ~1e%d, where the rounding of the shape (~1e-16 in J = |c1|^2 - |h|^2) moves W2 by "
-                 "more than rtol of the energy (min J < %.1e): double precision cannot follow this bounce; "
-                 "use alpha >= 1, a larger epsilon or a looser rtol",
+                 "more than rtol of the energy (min J < %.1e): double precision cannot follow this bounce "
+                 "without run.origin_shift; use alpha >= 1, a larger epsilon or a looser rtol",
                  j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)), floor_j);
     else
         snprintf(buf, len, "; the barrier (alpha = %g < 1/2, epsilon = %g) is finite at the boundary of D and "
@@ -768,9 +871,9 @@ static void stop_on_integrator(run_ctx *c, int rc, double t)
             stop(c, "stiffness detected near t = %.6g: Adams PECE is "
                  "stability-limited here; rerun with --integrator cvode-bdf (or msbdf), or remove "
                  "[run] stiff_fallback = \"none\" from the scene (the default switches to cvode-bdf)",
-                 c->ode ? swim_ode_time(c->ode) : t);
+                 c->ode ? ode_time(c) : t);
         else
-            stop(c, "%s near t = %.6g%s", swim_ode_strerror(rc), c->ode ? swim_ode_time(c->ode) : t, why);
+            stop(c, "%s near t = %.6g%s", swim_ode_strerror(rc), c->ode ? ode_time(c) : t, why);
     }
 }
 
@@ -778,7 +881,7 @@ static void stop_on_integrator(run_ctx *c, int rc, double t)
 static int switch_to_fallback(run_ctx *c, double t_last, double t)
 {
     const swim_scene *s = &c->s;
-    double ts = swim_ode_time(c->ode);
+    double ts = ode_time(c);
     accumulate_stats(&c->total, c->ode);
     swim_ode_free(c->ode);
     c->ode = NULL;
@@ -790,6 +893,16 @@ static int switch_to_fallback(run_ctx *c, double t_last, double t)
     if (c->watch_ready) swim_run_watch_rewind(&c->watch, t_last);
     snprintf(c->r.used, sizeof c->r.used, "%s+%s", s->integrator, s->stiff_fallback);
     memcpy(c->ys, c->ys_last, sizeof(double) * c->sdim);
+    if (c->d.origin || c->d.t_origin != 0.0) {
+        /* the fallback carries the absolute state, the row's (c->y, projected), in absolute time */
+        swim_dynamics_set_origin(&c->d, NULL);
+        swim_dynamics_pack(&c->d, c->y, c->ys);
+        c->o.atol_vec = NULL;
+        c->d.t_origin = 0.0;
+        swim_run_events_time_origin(c->events, 0.0);
+    }
+    c->shift_ok = 0;
+    c->shift_pending = 0;
     c->o.stiff_stop = 0;
     const unsigned caps = swim_ode_capabilities(s->stiff_fallback);
     if (!(caps & SWIM_ODE_CAP_PROJECTION)) c->o.project = NULL;
@@ -798,12 +911,44 @@ static int switch_to_fallback(run_ctx *c, double t_last, double t)
     return rc == SWIM_ODE_OK ? swim_ode_advance(c->ode, t, c->ys) : rc;
 }
 
+/* The integrator stopped at shift_t (accept_step): start it again from the state there, relative
+ * to the new origin (or to none), and go on to tout. An ODE status. */
+static int shift_origin(run_ctx *c, double tout)
+{
+    const swim_scene *s = &c->s;
+    accumulate_stats(&c->total, c->ode);
+    swim_ode_free(c->ode);
+    c->ode = NULL;
+    memcpy(c->ys, c->ys_shift, sizeof(double) * (size_t)c->sdim);
+    if (swim_dynamics_rebase(&c->d, c->ys, c->shift_pending == 2) != 0) return SWIM_ODE_ENOMEM;
+    /* the clock too: t0' + tau0 = t0 + shift_t exactly (TwoSum), the integrator starts at tau0 */
+    const double a = c->d.t_origin, b = c->shift_t, t0 = a + b, bb = t0 - a;
+    const double tau0 = (a - (t0 - bb)) + (b - bb);
+    c->d.t_origin = t0;
+    swim_run_events_time_origin(c->events, t0);
+    c->shift_pending = 0;
+    c->shifts++;
+    /* abm weighs errors by rtol |y_i| + atol; with u = y - origin small that is rtol |u_i| + atol_i */
+    if (c->d.origin) {
+        for (int i = 0; i < c->sdim; i++) c->atolv[i] = s->atol + s->rtol * fabs(c->d.origin[i]);
+        c->o.atol_vec = c->atolv;
+    } else {
+        c->o.atol_vec = NULL;
+    }
+    barrier_tolerance(c, c->ys, 0.0);
+    int rc = swim_ode_create(s->integrator, &c->sys, &c->o, tau0, c->ys, &c->ode);
+    if (rc != SWIM_ODE_OK || !(tout - t0 > tau0)) return rc;   /* at tout already: ys is its state */
+    return swim_ode_advance(c->ode, tout - t0, c->ys);
+}
+
 /* Advance to output time *t and leave the row's full state in c->y. A :stop event before *t
  * ends the run there: *t becomes the event time, whose row is the last. An ODE status. */
 static int advance_to(run_ctx *c, double *t, double *t_last)
 {
     double ta = swim_wall();
-    int rc = swim_ode_advance(c->ode, *t, c->ys);
+    int rc = swim_ode_advance(c->ode, *t - c->d.t_origin, c->ys);
+    while (rc == SWIM_ODE_TERMINATED && c->shift_pending && swim_ode_time(c->ode) == c->shift_t)
+        rc = shift_origin(c, *t);
     c->r.integrate_seconds += swim_wall() - ta;
     if (rc == SWIM_ODE_ESTIFF && c->s.stiff_fallback[0] && c->r.switch_t < 0 && !swim_run_stop) {
         /* An alarm raised by a bounce off the barrier that double precision cannot follow is
@@ -813,13 +958,13 @@ static int advance_to(run_ctx *c, double *t, double *t_last)
         barrier_diagnosis(c, why, sizeof why);
         if (!why[0]) rc = switch_to_fallback(c, *t_last, *t);
     }
-    if (rc == SWIM_ODE_TERMINATED && c->watch_ready && c->watch.left && swim_ode_time(c->ode) == c->watch.t_left) {
+    if (rc == SWIM_ODE_TERMINATED && c->watch_ready && c->watch.left && swim_ode_time(c->ode) == c->left_native) {
         *t = c->watch.t_left;   /* min J reached 0 inside a step: ys holds the state at the crossing */
         c->r.left_t = *t;
         c->r.left_stop = 1;
         rc = SWIM_ODE_OK;
     } else if (rc == SWIM_ODE_TERMINATED) {   /* ys holds the state at the event */
-        *t = swim_ode_time(c->ode);
+        *t = ode_time(c);
         end_run(c, 0, "stopped by event %s at t = %.10g", swim_run_events_stop_name(c->events), *t);
         c->r.event_stop = 1;
         rc = SWIM_ODE_OK;
@@ -827,9 +972,9 @@ static int advance_to(run_ctx *c, double *t, double *t_last)
         /* Every trial state beyond the crossing was refused, so the integrator crept up to it
          * with ever smaller steps until the step size underflowed: its last accepted state is
          * the crossing (to a few units of rounding in t). Its row is the last. */
-        const double tb = swim_ode_time(c->ode);
+        const double tb = ode_time(c);
         c->r.left_t = tb;
-        if (tb > *t_last && tb < *t && swim_ode_dense(c->ode, tb, c->ys, NULL) == SWIM_ODE_OK) {
+        if (tb > *t_last && tb < *t && swim_ode_dense(c->ode, swim_ode_time(c->ode), c->ys, NULL) == SWIM_ODE_OK) {
             *t = tb;
             c->r.left_stop = 1;
             rc = SWIM_ODE_OK;
@@ -840,13 +985,14 @@ static int advance_to(run_ctx *c, double *t, double *t_last)
     /* Rows come from the interpolant, which leaves the constraint manifold by the local error
      * between two projected steps: project the row as well (a copy; the integrator's state is
      * untouched). */
+    const double *row = c->ys;
     if (c->o.project && c->ode) {
         memcpy(c->ys_row, c->ys, sizeof(double) * c->sdim);
         c->o.project(tr, c->ys_row, &c->d);
-        swim_dynamics_unpack(&c->d, c->ys_row, c->y);
-    } else {
-        swim_dynamics_unpack(&c->d, c->ys, c->y);
+        row = c->ys_row;
     }
+    swim_dynamics_unpack(&c->d, row, c->y);
+    c->row_jmin = c->d.origin ? swim_dynamics_jmin(&c->d, row, NULL) : NAN;
     memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
     *t_last = tr;
     if (c->watch_ready) swim_run_watch_mark(&c->watch);   /* where a stiff fallback would restart */
@@ -864,6 +1010,7 @@ static int emit_row(run_ctx *c, long k, long rows, long every, double t)
         stop(c, "diagnostics failed at t = %.6g (K not positive definite)", t);
         return -1;
     }
+    if (!isnan(c->row_jmin)) g.jmin = c->row_jmin;   /* the rounded row may show 0 in a deep bounce */
     track(&c->r, t, &g, k == 0);
     if (g.jmin > 0) {
         memcpy(c->y_inside, c->y, sizeof(double) * (size_t)c->d.dim);
@@ -1045,6 +1192,8 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
     }
     fprintf(f, ",\n  \"step_checks\": {\"enabled\": %s, \"steps\": %ld, \"seconds\": %.6f}",
             c->watch_ready ? "true" : "false", c->watch.r.steps, c->watch.seconds);
+    fprintf(f, ",\n  \"origin_shift\": {\"enabled\": %s, \"restarts\": %ld}", c->shift_ok || c->shifts ? "true" : "false",
+            c->shifts);
     swim_run_events_json(c->events, f);   /* "events", "event_stop", "periodic" (with events) */
     fprintf(f, ",\n  \"stats\": {\"steps\": %ld, \"rhs_evaluations\": %ld, \"rejected_steps\": %ld, "
             "\"jacobian_evaluations\": %ld, \"last_step\": %.6g, \"last_order\": %d, \"stiffness_suspected\": %s,\n"
@@ -1162,6 +1311,8 @@ static void release(run_ctx *c)
     free(c->ys_row);
     free(c->y_inside);
     free(c->tol_scale);
+    free(c->ys_shift);
+    free(c->atolv);
     free(c->r.reason);
     free(c->output_error);
     swim_run_paths_free(&c->paths);

@@ -56,6 +56,7 @@ struct swim_run_events {
     record *rec;
     size_t nrec, cap;
     int stopped_by;          /* spec index of the terminal event, -1 */
+    double t0;               /* the integrator's time is t - t0 (swim_run_events_time_origin) */
     /* column evaluation */
     swim_run_row_func row;
     void *ctx;
@@ -184,7 +185,7 @@ static int eval_point(swim_run_events *ev, double t, const double *y, const doub
         ev->cache_value = ev->cache_deriv = 0;
     }
     if (!deriv && !ev->cache_value) {
-        if (ev->row(ev->ctx, t, y, ev->all, ev->rowv))
+        if (ev->row(ev->ctx, ev->t0 + t, y, ev->all, ev->rowv))
             return -1;
         ev->cache_value = 1;
     }
@@ -197,7 +198,7 @@ static int eval_point(swim_run_events *ev, double t, const double *y, const doub
         for (int k = 0; k < 4; k++) {
             for (size_t i = 0; i < n; i++)
                 ev->work[i] = y[i] + mult[k] * e * yp[i];
-            if (ev->row(ev->ctx, t, ev->work, ev->all, ev->rowp[k]))
+            if (ev->row(ev->ctx, ev->t0 + t, ev->work, ev->all, ev->rowp[k]))
                 return -1;
         }
         for (int c = 0; c < (ev->all ? ev->ncol : 1 + ev->nstate); c++) {
@@ -235,7 +236,7 @@ static void on_event(const swim_ode_event_hit *hit, void *data)
         ev->rec = r;
         ev->cap = cap;
     }
-    ev->rec[ev->nrec++] = (record){hit->t, ev->rowv[sp->column], ev->rowv[1], ev->rowv[2], ev->rowv[3],
+    ev->rec[ev->nrec++] = (record){ev->t0 + hit->t, ev->rowv[sp->column], ev->rowv[1], ev->rowv[2], ev->rowv[3],
                                    hit->index, hit->rising};
     if (hit->terminal)
         ev->stopped_by = hit->index;
@@ -284,6 +285,13 @@ void swim_run_events_rewind(swim_run_events *ev, double t)
     while (ev->nrec > 0 && ev->rec[ev->nrec - 1].t > t)
         ev->nrec--;
     ev->stopped_by = -1;
+}
+
+void swim_run_events_time_origin(swim_run_events *ev, double t0)
+{
+    if (!ev) return;
+    ev->t0 = t0;
+    ev->ct = NAN;   /* a cached point is keyed by the integrator's time */
 }
 
 const char *swim_run_events_stop_name(const swim_run_events *ev)

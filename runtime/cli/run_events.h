@@ -37,6 +37,10 @@ int swim_run_events_attach(swim_run_events *ev, swim_ode_options *o, size_t stat
 /* The integrator was restarted at t (stiff fallback): forget events found after t. */
 void swim_run_events_rewind(swim_run_events *ev, double t);
 
+/* The integrator's time is t - t0 from now on (swim run restarts it relative to an origin near
+ * the barrier, model/dynamics.h): events are recorded and rows evaluated at t0 + its time. */
+void swim_run_events_time_origin(swim_run_events *ev, double t0);
+
 /* Which event ended the run (after SWIM_ODE_TERMINATED): "COLUMN:KIND". */
 const char *swim_run_events_stop_name(const swim_run_events *ev);
 

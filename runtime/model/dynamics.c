@@ -7,6 +7,7 @@
 
 #include "kernel/coords.h"
 #include "shape/constraints.h"
+#include "shape/shape.h"
 
 const char *swim_dynamics_strerror(int code)
 {
@@ -34,8 +35,11 @@ int swim_dynamics_init(swim_dynamics *d, const swim_scene *s, const swim_kernel 
     d->G = malloc(sizeof(double) * n * mmax);
     d->proj = malloc(sizeof(double) * d->dim);
     d->gbar = malloc(sizeof(double) * n);
-    if (s->barrier) d->barrier = swim_barrier_quad_new(s->modes);
-    if (!d->K || !d->P || !d->G || !d->proj || !d->gbar || (s->barrier && !d->barrier)) {
+    if (s->barrier) {
+        d->barrier = swim_barrier_quad_new(s->modes);
+        d->diag_barrier = swim_barrier_quad_new(s->modes);
+    }
+    if (!d->K || !d->P || !d->G || !d->proj || !d->gbar || (s->barrier && (!d->barrier || !d->diag_barrier))) {
         swim_dynamics_free(d);
         return -1;
     }
@@ -47,8 +51,11 @@ void swim_dynamics_free(swim_dynamics *d)
 {
     free(d->K); free(d->P); free(d->G); free(d->proj); free(d->gbar);
     swim_barrier_quad_free(d->barrier);
-    d->K = d->P = d->G = d->proj = d->gbar = NULL;
-    d->barrier = NULL;
+    swim_barrier_quad_free(d->diag_barrier);
+    free(d->origin);
+    free(d->hi);
+    d->K = d->P = d->G = d->proj = d->gbar = d->origin = d->hi = NULL;
+    d->barrier = d->diag_barrier = NULL;
 }
 
 void swim_dynamics_initial_state(const swim_dynamics *d, double *y)
@@ -79,9 +86,10 @@ static int scene_barrier(const double *x, double *grad, void *ctx)
         return 0;
     }
     double W;
-    int rc = swim_barrier_w2(d->barrier, x, s->epsilon, s->alpha, &W, d->gbar, NULL);
+    int rc = swim_barrier_w2_carry(d->barrier, x, d->lo_valid ? d->x_lo : NULL, s->epsilon, s->alpha, &W, d->gbar,
+                                   NULL);
     d->w2_valid = rc == SWIM_BARRIER_OK;
-    if (rc != SWIM_BARRIER_OK) return SWIM_RHS_EBARRIER;   /* outside D (memory: see barrier.h) */
+    if (rc != SWIM_BARRIER_OK) return SWIM_RHS_EBARRIER;
     d->w2_last = W;
     memcpy(d->w2_x, x, sizeof(double) * d->n);
     for (int f = 0; f < nf; f++) grad[f] = d->gbar[d->spec->free_index[f]];
@@ -150,11 +158,24 @@ void swim_dynamics_pack(const swim_dynamics *d, const double *full, double *stat
         state[3 + nf + f] = full[3 + n + d->spec->free_index[f]];
     }
     state[3 + 2 * nf] = full[3 + 2 * n];
+    if (d->origin)
+        for (int i = 0; i < 4 + 2 * nf; i++) state[i] -= d->origin[i];
 }
 
-void swim_dynamics_unpack(const swim_dynamics *d, const double *state, double *full)
+/* origin + u as doubles into hi (the state itself without an origin). */
+static const double *absolute(const swim_dynamics *d, const double *u, double *hi)
+{
+    if (!d->origin) return u;
+    const int m = 4 + 2 * d->spec->nfree;
+    for (int i = 0; i < m; i++) hi[i] = d->origin[i] + u[i];
+    return hi;
+}
+
+void swim_dynamics_unpack(const swim_dynamics *d, const double *ustate, double *full)
 {
     const int n = d->n, nf = d->spec->nfree;
+    double buf[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    const double *state = absolute(d, ustate, buf);
     memcpy(full, state, 3 * sizeof(double));
     memcpy(full + 3, d->scene->c0, sizeof(double) * n);   /* locked coordinates keep c0 */
     memset(full + 3 + n, 0, sizeof(double) * n);
@@ -179,17 +200,86 @@ static int shape_in_D(const swim_dynamics *d, const double *y)
     return swim_shape_in_D(d->scene->modes, c);
 }
 
-int swim_dynamics_rhs(double t, const double *y, double *dy, void *params)
+int swim_dynamics_set_origin(swim_dynamics *d, const double *origin)
+{
+    const int m = swim_dynamics_state_dim(d);
+    if (!origin) {
+        free(d->origin);
+        d->origin = NULL;
+        return 0;
+    }
+    if (!d->origin) d->origin = malloc(sizeof(double) * m);
+    if (!d->hi) d->hi = malloc(sizeof(double) * m);
+    if (!d->origin || !d->hi) {
+        free(d->origin);
+        d->origin = NULL;
+        return -1;
+    }
+    memcpy(d->origin, origin, sizeof(double) * m);
+    return 0;
+}
+
+int swim_dynamics_rebase(swim_dynamics *d, double *u, int clear)
+{
+    const int m = swim_dynamics_state_dim(d);
+    double o[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    for (int i = 0; i < m; i++) {
+        const double a = d->origin ? d->origin[i] : 0.0, b = u[i], sum = a + b, bb = sum - a;
+        o[i] = sum;
+        u[i] = clear ? sum : (a - (sum - bb)) + (b - bb);   /* TwoSum: a + b = sum + u exactly */
+    }
+    return swim_dynamics_set_origin(d, clear ? NULL : o);
+}
+
+/* What the shape coordinates of origin + u lose when rounded to doubles (TwoSum), full layout. */
+static void shape_lo(const swim_dynamics *d, const double *u, double *lo)
+{
+    memset(lo, 0, sizeof(double) * d->n);
+    if (!d->origin) return;
+    for (int f = 0; f < d->spec->nfree; f++) {
+        const double a = d->origin[3 + f], b = u[3 + f], sum = a + b, bb = sum - a;
+        lo[d->spec->free_index[f]] = (a - (sum - bb)) + (b - bb);
+    }
+}
+
+/* With an origin: the kernel's state origin + u rounded into d->hi, and what the shape
+ * coordinates lost to that rounding into d->x_lo (full layout) for the barrier. */
+static const double *split_state(swim_dynamics *d, const double *u)
+{
+    if (!d->origin) return u;
+    absolute(d, u, d->hi);
+    shape_lo(d, u, d->x_lo);
+    d->lo_valid = 1;
+    return d->hi;
+}
+
+double swim_dynamics_jmin(const swim_dynamics *d, const double *u, double *theta)
+{
+    double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)], lo[2 * (SWIM_KERNEL_MAX_MODES + 1)], th;
+    swim_dynamics_unpack(d, u, full);
+    const int modes = d->scene->modes;
+    double J = swim_shape_jmin_at(modes, full + 3, &th);
+    if (d->origin && !isnan(J) && J < 1e-3 * (full[3] * full[3] + full[4] * full[4])) {
+        shape_lo(d, u, lo);
+        J = swim_shape_j_precise(modes, full + 3, lo, th, NULL);
+    }
+    if (theta) *theta = th;
+    return J;
+}
+
+int swim_dynamics_rhs(double t, const double *u, double *dy, void *params)
 {
     swim_dynamics *d = params;
     double t0 = seconds();
     int rc;
+    const double *y = split_state(d, u);
     if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;   /* fatal: negative */
     else if (!d->scene->barrier && !shape_in_D(d, y)) rc = SWIM_DYN_EBARRIER;
-    else rc = d->spec->rhs(t, y, dy, &d->spec_params);
+    else rc = d->spec->rhs(d->t_origin + t, y, dy, &d->spec_params);
+    d->lo_valid = 0;
     d->rhs_seconds += seconds() - t0;
     d->rhs_calls++;
-    d->last_rhs_t = t;
+    d->last_rhs_t = d->t_origin + t;
     return rc;
 }
 
@@ -199,7 +289,7 @@ double swim_dynamics_w2(swim_dynamics *d, const double *c)
     if (!s->barrier) return 0.0;
     if (d->w2_valid && memcmp(d->w2_x, c, sizeof(double) * d->n) == 0) return d->w2_last;
     double W;
-    return swim_barrier_w2(d->barrier, c, s->epsilon, s->alpha, &W, NULL, NULL) == 0 ? W : INFINITY;
+    return swim_barrier_w2(d->diag_barrier, c, s->epsilon, s->alpha, &W, NULL, NULL) == 0 ? W : INFINITY;
 }
 
 int swim_dynamics_jacobian(double t, const double *y, double *J, void *params)
@@ -209,7 +299,8 @@ int swim_dynamics_jacobian(double t, const double *y, double *J, void *params)
     int rc;
     if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;
     else if (!d->spec->jacobian) rc = -SWIM_DYN_ENAN;   /* a kernel without one: run.c does not ask */
-    else rc = d->spec->jacobian(t, y, J, &d->spec_params);
+    else rc = d->spec->jacobian(d->t_origin + t, split_state(d, y), J, &d->spec_params);
+    d->lo_valid = 0;
     if (rc < 0 && rc != -SWIM_DYN_EINTERRUPT) rc = -SWIM_DYN_ENAN;
     d->jac_seconds += seconds() - t0;
     d->jac_calls++;
@@ -246,8 +337,7 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     o->kinetic_fluid = T - o->kinetic_rigid - o->kinetic_shape;
     if (s->elastic)
         for (int i = 0; i < n; i++) o->w1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
-    if (s->barrier && swim_barrier_w2(d->barrier, c, s->epsilon, s->alpha, &o->w2, NULL, NULL) != 0)
-        o->w2 = INFINITY;
+    if (s->barrier) o->w2 = swim_dynamics_w2(d, c);
     o->energy = T + o->w1 + o->w2;
     o->work = y[3 + 2 * n];
     /* Impulses (section 3.3): body (m r*, I omega), fluid from the rigid motion (added mass),
@@ -284,7 +374,10 @@ int swim_dynamics_project(double t, double *ys, void *params)
     const swim_scene *s = d->scene;
     const int n = d->n;
     double *y = d->proj, *c = y + 3, *v = y + 3 + n, change = 0.0;
+    double before[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    const int m = swim_dynamics_state_dim(d);
     (void)t;
+    if (d->origin) memcpy(before, absolute(d, ys, d->hi), sizeof(double) * m);
     swim_dynamics_unpack(d, ys, y);
     for (int i = 0; i < n; i++)
         if (!s->free_mask[i]) {
@@ -292,10 +385,30 @@ int swim_dynamics_project(double t, double *ys, void *params)
             c[i] = s->c0[i];
             v[i] = 0.0;
         }
-    /* Volume (2.5): mu^2(c) = mu0^2, Newton along the free part of grad mu^2 = 2 G1. */
+    /* Volume (2.5): mu^2(c) = mu0^2, Newton along the free part of grad mu^2 = 2 G1. With an
+     * origin the residual is taken from the exact shape origin + u (what c lost to rounding is
+     * in d->x_lo) and the corrections go to u alone (dcx): the residual of the rounded shape is
+     * rounding noise of 1e-16, and correcting it would put that noise back into u. */
     const double mu0 = swim_area_constant(n, s->c0);
+    double dcx[2 * (SWIM_KERNEL_MAX_MODES + 1)] = {0.0}, c_hi[2 * (SWIM_KERNEL_MAX_MODES + 1)];
+    const int shifted = d->origin != NULL;
+    if (shifted) {
+        split_state(d, ys);
+        d->lo_valid = 0;
+        memcpy(c_hi, c, sizeof(double) * n);
+    }
     for (int it = 0; it < 2; it++) {
-        double r = swim_area_constant(n, c) - mu0, gg = 0.0;
+        double r, gg = 0.0;
+        if (shifted) {
+            __float128 mu2 = 0;
+            for (int i = 0; i < n; i++) {
+                const __float128 x = (__float128)c_hi[i] + d->x_lo[i] + dcx[i];
+                mu2 += swim_coord_mode(i) * x * x;
+            }
+            r = (double)(mu2 - mu0);
+        } else {
+            r = swim_area_constant(n, c) - mu0;
+        }
         double g[2 * (SWIM_KERNEL_MAX_MODES + 1)];
         for (int i = 0; i < n; i++) {
             g[i] = s->free_mask[i] ? 2.0 * swim_coord_mode(i) * c[i] : 0.0;
@@ -304,6 +417,7 @@ int swim_dynamics_project(double t, double *ys, void *params)
         if (!(gg > 0.0) || r == 0.0) break;
         for (int i = 0; i < n; i++) {
             c[i] -= r * g[i] / gg;
+            dcx[i] -= r * g[i] / gg;
             change = fmax(change, fabs(r * g[i] / gg));
         }
     }
@@ -337,7 +451,20 @@ int swim_dynamics_project(double t, double *ys, void *params)
         v[i] -= dv;
         change = fmax(change, fabs(dv));
     }
-    swim_dynamics_pack(d, y, ys);
+    if (shifted) {
+        /* the corrections go to u itself: packing origin + u rounded would drop u's low bits */
+        double after[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)], *o = d->origin;
+        const int nf = d->spec->nfree;
+        d->origin = NULL;
+        swim_dynamics_pack(d, y, after);
+        d->origin = o;
+        for (int i = 0; i < m; i++) {
+            const int shape = i >= 3 && i < 3 + nf && s->free_mask[d->spec->free_index[i - 3]];
+            ys[i] += shape ? dcx[d->spec->free_index[i - 3]] : after[i] - before[i];
+        }
+    } else {
+        swim_dynamics_pack(d, y, ys);
+    }
     d->projections++;
     d->max_projection = fmax(d->max_projection, change);
     return 0;

@@ -48,7 +48,9 @@ typedef struct {
     int generic;                 /* spec carries every coordinate, locks by multipliers */
     swim_scene_params spec_params;
     int n, dim, m;               /* shape coordinates, full state dimension, constraint rows */
-    swim_barrier_quad *barrier;  /* quadrature of W2 (owned; NULL without a barrier) */
+    swim_barrier_quad *barrier;  /* quadrature of W2 for the right-hand side (owned; NULL without a barrier) */
+    swim_barrier_quad *diag_barrier; /* the same for diagnostics: its warm start is its own, so
+                                    rows and traces never change the right-hand side's rounding */
     double *gbar;                /* full gradient of W2 (owned) */
     volatile int *interrupt;     /* set asynchronously to stop (may be NULL) */
     /* workspace (owned) */
@@ -63,6 +65,12 @@ typedef struct {
     double w2_last, w2_x[2 * (SWIM_KERNEL_MAX_MODES + 1)];
     long jac_calls;              /* exact Jacobians (swim_dynamics_jacobian) */
     double jac_seconds;
+    /* Origin of the integrator state (swim_dynamics_set_origin), or NULL. */
+    double *origin;              /* packed, state_dim entries (owned) */
+    double *hi;                  /* workspace: origin + u as doubles (owned) */
+    double x_lo[2 * (SWIM_KERNEL_MAX_MODES + 1)];   /* full shape: what origin + u lost to rounding */
+    int lo_valid;                /* x_lo belongs to the evaluation under way */
+    double t_origin;             /* the integrator's time is t - t_origin (0 unless the caller shifts it) */
 } swim_dynamics;
 
 /* k: the kernel of N = scene->modes modes. 0, or -1 (out of memory). */
@@ -74,9 +82,38 @@ void swim_dynamics_initial_state(const swim_dynamics *d, double *y);
  * work); `generic` says that it carries every coordinate and holds locks by multipliers. */
 void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *spec, int generic);
 int swim_dynamics_state_dim(const swim_dynamics *d);
-/* Full state (dim) <-> integrator state (state_dim). */
+/* Full state (dim) <-> integrator state (state_dim). With an origin the integrator state is
+ * u = (packed full) - origin; unpack rounds origin + u to doubles. */
 void swim_dynamics_pack(const swim_dynamics *d, const double *full, double *state);
 void swim_dynamics_unpack(const swim_dynamics *d, const double *state, double *full);
+
+/* Shifted coordinates near the boundary of D. A shape coordinate held as a double is rounded by
+ * ~1e-16 at every step, which moves J = |c_1|^2 - |h|^2 by ~1e-16 and the barrier energy by
+ * kappa 1e-16 / min J: at alpha = 1/2, where a bounce goes down to min J ~ 1e-11, that is 1e-6 of
+ * the energy per step, a random walk no tolerance can control. Relative to an origin taken at the
+ * approach, the integrator carries u = y - origin, which stays as small as the motion since the
+ * origin (~1e-4 over a bounce), so its rounding is ~1e-20; the right-hand side evaluates the
+ * kernel at origin + u rounded (harmless for every term but J near its zeros) and gives the
+ * barrier the exact remainder (shape/barrier.h, swim_barrier_w2_carry). The projection applies
+ * its corrections to u. Nothing changes without an origin.
+ *
+ * Time needs the same: a bounce to min J ~ 1e-14 turns in ~1e-14 of time, below the resolution
+ * of t itself (4e-16 at t = 2), so the caller may start the integrator at a time relative to
+ * d->t_origin, which the right-hand side adds back (forcing laws see the absolute time).
+ *
+ * set_origin(d, origin): from now on the integrator state is relative to origin (packed,
+ * state_dim; copied); NULL: absolute again. Callers convert their state themselves
+ * (swim_dynamics_rebase). 0, or -1 when out of memory. */
+int swim_dynamics_set_origin(swim_dynamics *d, const double *origin);
+/* Move the origin to the current state exactly: origin' + u' = origin + u with origin' = origin + u
+ * rounded and u' its rounding error (TwoSum), so no bit of the state is lost. `u` is updated in
+ * place. Without an origin the origin becomes u and u becomes 0. `clear`: instead drop the origin
+ * and leave the rounded absolute state in u. 0 or -1 (out of memory). */
+int swim_dynamics_rebase(swim_dynamics *d, double *u, int clear);
+/* min J of the shape of integrator state u, at the angle *theta (may be NULL): with an origin and
+ * J small, evaluated at origin + u exactly (shape.h, swim_shape_j_precise), where the rounded
+ * shape would give J to 1e-16 only -- 0 or below at the bottom of a deep bounce. */
+double swim_dynamics_jmin(const swim_dynamics *d, const double *u, double *theta);
 
 /* Drift control: (2.8) is enforced by (4.12) only at the acceleration level, so the
  * volume and the velocity constraints drift with the integration error. After each accepted

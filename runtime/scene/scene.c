@@ -368,7 +368,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     static const char *const k_damping[] = {"diagonal", NULL};
     static const char *const k_forcing[] = {"law", "direction", NULL};
     static const char *const k_events[] = {"list", NULL};
-    static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "stiff_fallback", "project_initial", "projection", "step_lookahead", "jacobian", NULL};
+    static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "stiff_fallback", "project_initial", "projection", "origin_shift", "step_lookahead", "jacobian", NULL};
     int rc;
     c->table = NULL;
     if (check_keys(c, root, top)) return 2;
@@ -431,6 +431,12 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (pj) {
         if (toml_kind_of(pj) != TOML_BOOL) ERR(c, toml_get_key_line(run, "projection"), "projection", "expected true or false");
         s->projection = toml_bool(pj);
+    }
+    s->origin_shift = 1;
+    const toml_value *os = toml_get(run, "origin_shift");
+    if (os) {
+        if (toml_kind_of(os) != TOML_BOOL) ERR(c, toml_get_key_line(run, "origin_shift"), "origin_shift", "expected true or false");
+        s->origin_shift = toml_bool(os);
     }
     s->step_lookahead = -1;
     const toml_value *la = toml_get(run, "step_lookahead");
@@ -587,6 +593,8 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
             bad = toml_set_number(root, ov[i].table, ov[i].key, ov[i].index, ov[i].value, err, sizeof err);
         else if (ov[i].index >= 0)
             bad = snprintf(err, sizeof err, "value '%s' is not a finite number", ov[i].word) > 0;
+        else if (!strcmp(ov[i].word, "true") || !strcmp(ov[i].word, "false"))
+            bad = toml_set_bool(root, ov[i].table, ov[i].key, ov[i].word[0] == 't', err, sizeof err);
         else
             bad = toml_set_string(root, ov[i].table, ov[i].key, ov[i].word, err, sizeof err);
         if (bad) {

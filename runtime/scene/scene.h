@@ -65,6 +65,8 @@ typedef struct {
                                          unless the scene says "none": then "") */
     int project_initial;
     int projection;                   /* drift control after each step (ABM), default on */
+    int origin_shift;                 /* abm with a barrier: shifted coordinates near the boundary of D
+                                         (model/dynamics.h), default on */
     int step_lookahead;               /* ABM step-size look-ahead p (swim_ode_options.lookahead); -1 = the integrator default */
     double projection_change;         /* max |change| of dc0 when projected */
     int setting_line[SWIM_SET_COUNT]; /* line of each run setting in the file (0: absent) */

@@ -1434,45 +1434,64 @@ int toml_set_number(toml_value *root, const char *table, const char *key, long i
     return 0;
 }
 
+/* The node at root[table][key] for an override of the given kind: the existing one when it has
+ * that kind, else a new one added to an existing table. NULL with a reason in err. */
+static toml_value *override_slot(toml_value *root, const char *table, const char *key, toml_kind kind,
+                                 char *err, size_t errlen)
+{
+    size_t k = root && root->kind == TOML_TABLE ? tab_find(root, table) : NOT_FOUND;
+    toml_value *t = k == NOT_FOUND ? NULL : root->ent[k].val;
+    if (!t || t->kind != TOML_TABLE) {
+        snprintf(err, errlen, "the scene has no table [%s]", table);
+        return NULL;
+    }
+    k = tab_find(t, key);
+    if (k == NOT_FOUND) {
+        char *kc = strdup(key);
+        toml_value *v = node_new(kind, 0, t->depth + 1);
+        if (!kc || !v || tab_add(t, kc, 0, v) != 0) {
+            free(kc);
+            free(v);
+            snprintf(err, errlen, "out of memory");
+            return NULL;
+        }
+        return v;
+    }
+    toml_value *v = t->ent[k].val;
+    if (v->kind != kind) {
+        snprintf(err, errlen, "%s.%s is a %s, not a %s", table, key, toml_kind_name(v->kind), toml_kind_name(kind));
+        return NULL;
+    }
+    return v;
+}
+
 int toml_set_string(toml_value *root, const char *table, const char *key, const char *text,
                     char *err, size_t errlen)
 {
     char dummy[1];
     if (!err || errlen == 0) { err = dummy; errlen = sizeof dummy; }
-    size_t k = root && root->kind == TOML_TABLE ? tab_find(root, table) : NOT_FOUND;
-    toml_value *t = k == NOT_FOUND ? NULL : root->ent[k].val;
-    if (!t || t->kind != TOML_TABLE) {
-        snprintf(err, errlen, "the scene has no table [%s]", table);
-        return -1;
-    }
     char *copy = strdup(text);
     if (!copy) {
         snprintf(err, errlen, "out of memory");
         return -1;
     }
-    k = tab_find(t, key);
-    if (k == NOT_FOUND) {
-        char *kc = strdup(key);
-        toml_value *v = node_new(TOML_STRING, 0, t->depth + 1);
-        if (!kc || !v || tab_add(t, kc, 0, v) != 0) {
-            free(kc);
-            free(v);
-            free(copy);
-            snprintf(err, errlen, "out of memory");
-            return -1;
-        }
-        v->str = copy;
-        v->slen = strlen(copy);
-        return 0;
-    }
-    toml_value *v = t->ent[k].val;
-    if (v->kind != TOML_STRING) {
+    toml_value *v = override_slot(root, table, key, TOML_STRING, err, errlen);
+    if (!v) {
         free(copy);
-        snprintf(err, errlen, "%s.%s is a %s, not a string", table, key, toml_kind_name(v->kind));
         return -1;
     }
     free(v->str);
     v->str = copy;
     v->slen = strlen(copy);
+    return 0;
+}
+
+int toml_set_bool(toml_value *root, const char *table, const char *key, int value, char *err, size_t errlen)
+{
+    char dummy[1];
+    if (!err || errlen == 0) { err = dummy; errlen = sizeof dummy; }
+    toml_value *v = override_slot(root, table, key, TOML_BOOL, err, errlen);
+    if (!v) return -1;
+    v->b = value != 0;
     return 0;
 }

@@ -95,5 +95,7 @@ int toml_set_number(toml_value *root, const char *table, const char *key, long i
  * string; an absent key of an existing table is added. */
 int toml_set_string(toml_value *root, const char *table, const char *key, const char *text,
                     char *err, size_t errlen);
+/* The same for a boolean (`--set run.projection=false`): the replaced node must be a boolean. */
+int toml_set_bool(toml_value *root, const char *table, const char *key, int value, char *err, size_t errlen);
 
 #endif

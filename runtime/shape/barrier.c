@@ -23,6 +23,8 @@
 
 struct swim_barrier_quad {
     int N, n;
+    const double *lo;   /* the shape is x + lo exactly during a swim_barrier_w2_carry call, else NULL */
+    double c1sq;        /* |c_1|^2 of the shape of the last fourier() */
     /* Nested trapezoidal rule: level 0 has q0 nodes 2 pi k / q0, level l >= 1 the q0 2^(l-1)
      * nodes that halve the spacing of the previous levels. For each level a table of
      * cos(j theta_k), sin(j theta_k), j = 0..N-1, stored [j][k] so the node loops vectorize. */
@@ -333,7 +335,8 @@ static void fourier(swim_barrier_quad *b, const double *x)
         for (int j = 0; j + p < N; j++) s += coef_h(x, j) * conj(coef_h(x, j + p));
         b->Jp[p] = -s;
     }
-    if (N > 0) b->Jp[0] += x[0] * x[0] + x[1] * x[1];
+    b->c1sq = x[0] * x[0] + x[1] * x[1];
+    if (N > 0) b->Jp[0] += b->c1sq;
 }
 
 /* J and its first two derivatives in theta from the coefficients J_p (fourier()). */
@@ -387,7 +390,9 @@ static double peak_width(const swim_barrier_quad *b)
          * every zero of J. */
         if (!converged) return -1.0;
         j_derivs(b, th, &Jt, &J1, &J2);
-        if (!(Jt > 0.0)) return 0.0;
+        /* J is known here to the cancellation error of |c_1|^2 - |h|^2 only: within it, the
+         * graded rule decides from J in binary128 at the foot */
+        if (!(Jt > 1e-13 * b->c1sq)) return Jt > -1e-13 * b->c1sq ? -1.0 : 0.0;
         if (J2 > 0.0) d = fmin(d, sqrt(2.0 * Jt / J2));
     }
     return d;
@@ -512,6 +517,73 @@ static int zeros(swim_barrier_quad *b, double complex *out)
     return r;
 }
 
+/* J and J' at a complex angle th in binary128, at the shape x + b->lo: with w = e^{-i th},
+ * J = |c_1|^2 - P(w) Q(1/w), P(w) = sum_j H_j w^j, Q(v) = sum_j conj(H_j) v^j (on the real axis
+ * Q(1/w) = conj P(w)), and dw/dth = -i w, d(1/w)/dth = i/w. */
+static void j_complex_q(const swim_barrier_quad *b, const double *x, __complex128 th, __complex128 *J,
+                        __complex128 *J1)
+{
+    const double *lo = b->lo;
+    __complex128 mi, w, v, p = 0, dp = 0, q = 0, dq = 0;
+    __real__ mi = 0;
+    __imag__ mi = -1;
+    w = cexpq(mi * th);
+    v = 1 / w;
+    for (int j = b->N - 1; j >= 0; j--) {   /* Horner, with derivatives */
+        const int r = 2 * (j + 1);
+        __complex128 H;
+        __real__ H = (j + 1) * ((__float128)x[r] + (lo ? lo[r] : 0.0));
+        __imag__ H = (j + 1) * ((__float128)x[r + 1] + (lo ? lo[r + 1] : 0.0));
+        dp = dp * w + p;
+        p = p * w + H;
+        dq = dq * v + q;
+        q = q * v + conjq(H);
+    }
+    const __float128 a1 = (__float128)x[0] + (lo ? lo[0] : 0.0), b1 = (__float128)x[1] + (lo ? lo[1] : 0.0);
+    *J = a1 * a1 + b1 * b1 - p * q;
+    *J1 = -(dp * (mi * w) * q - p * dq * (mi * v));
+}
+
+/* Near the boundary of D the zeros of J come in pairs a +- i d with d ~ sqrt(2 min J / J'') (the
+ * minimum of J at a): a nearly double root of the polynomial, which double precision places only
+ * to ~sqrt(u) ~ 1e-8 -- at min J ~ 1e-16 that is d itself, and the pair may even land on the
+ * circle. Every zero closer than REFINE to the real axis is recomputed by Newton's method in
+ * binary128 from the quadratic model at its foot, a + i sqrt(2 J(a) / J''(a)) (J(a) in binary128),
+ * which lies next to the upper zero of the pair; repeats are dropped. */
+#define REFINE 1e-5
+static int refine_close(const swim_barrier_quad *b, const double *x, double complex *z, int nz)
+{
+    int m = 0;
+    for (int r = 0; r < nz; r++) {
+        double complex zr = z[r];
+        double J, J1, J2 = 0.0, Jd;
+        if (cimag(zr) < REFINE) {
+            j_derivs(b, creal(zr), &Jd, &J1, &J2);
+            J = swim_shape_j_precise(b->N, x, b->lo, creal(zr), NULL);
+            if (!(J > 0.0)) return -1;   /* outside D */
+        }
+        if (cimag(zr) < REFINE && J2 > 0.0) {
+            __complex128 th;
+            __real__ th = creal(zr);
+            __imag__ th = sqrt(2.0 * J / J2);
+            for (int it = 0; it < 30; it++) {
+                __complex128 Jc, J1c;
+                j_complex_q(b, x, th, &Jc, &J1c);
+                const __complex128 step = Jc / J1c;
+                th -= step;
+                if (cabsq(step) <= 1e-30Q * (1 + cabsq(th))) break;
+            }
+            zr = CMPLX((double)crealq(th), fabs((double)cimagq(th)));
+            if (!isfinite(creal(zr)) || !isfinite(cimag(zr))) return -1;
+            zr = CMPLX(fmod(creal(zr) + 2.0 * TWO_PI, TWO_PI), cimag(zr));
+        }
+        int dup = 0;
+        for (int k = 0; k < m && !dup; k++) dup = cabs(z[k] - zr) < 1e-12;
+        if (!dup) z[m++] = zr;
+    }
+    return m;
+}
+
 /* Parameter of the Bernstein ellipse of [-1, 1] through zeta. */
 static double bernstein(double complex zeta)
 {
@@ -548,27 +620,11 @@ static int panel_nodes(const double complex *z, int nz, double base, double u, d
     return q < QMIN ? QMIN : (int)q;
 }
 
-/* J(a) and J'(a) in binary128: near a zero of J their double values would carry the
- * cancellation error of |c_1|^2 - |h|^2 (absolute 1e-16, relative 1e-6 at J = 1e-10). */
+/* J(a) and J'(a) in binary128 (shape.h): near a zero of J their double values would carry the
+ * cancellation error of |c_1|^2 - |h|^2, and the rounding of a shifted shape (b->lo). */
 static void precise_base(const swim_barrier_quad *b, const double *x, double a, double *J, double *J1)
 {
-    __float128 zr = cosq(a), zi = -sinq(a);   /* conj(z) = e^{-ia} */
-    __float128 pr = 1, pi = 0;                 /* conj(z)^j */
-    __float128 hr = 0, hi = 0, dr = 0, di = 0; /* h and dh/dtheta = sum -i j H_j conj(z)^j */
-    for (int j = 0; j < b->N; j++) {
-        __float128 Hr = (__float128)(j + 1) * x[2 * (j + 1)], Hi = (__float128)(j + 1) * x[2 * (j + 1) + 1];
-        __float128 tr = Hr * pr - Hi * pi, ti = Hr * pi + Hi * pr;
-        hr += tr;
-        hi += ti;
-        dr += j * ti;     /* -i j (tr + i ti) = j ti - i j tr */
-        di -= j * tr;
-        __float128 nr = pr * zr - pi * zi;
-        pi = pr * zi + pi * zr;
-        pr = nr;
-    }
-    __float128 c1 = (__float128)x[0] * x[0] + (__float128)x[1] * x[1];
-    *J = (double)(c1 - hr * hr - hi * hi);
-    *J1 = (double)(-2 * (hr * dr + hi * di));
+    *J = swim_shape_j_precise(b->N, x, b->lo, a, J1);
 }
 
 /* sin s - s without cancellation. */
@@ -621,6 +677,8 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
     fourier(b, x);
     int nz = zeros(b, z);
     if (nz < 0) return -1;
+    nz = refine_close(b, x, z, nz);
+    if (nz < 0) return 1;
     /* panel starts: feet of the close zeros, sorted, without repeats */
     double brk[128];
     int nb = 0;
@@ -758,6 +816,15 @@ int swim_barrier_w2(swim_barrier_quad *b, const double *x, double eps, double al
     if (rc < 0) return SWIM_BARRIER_ENOMEM;
     if (grad) memcpy(grad, gtmp, sizeof(double) * (size_t)b->n);
     return SWIM_BARRIER_OK;
+}
+
+int swim_barrier_w2_carry(swim_barrier_quad *b, const double *x, const double *lo, double eps, double alpha,
+                          double *W, double *grad, swim_barrier_info *info)
+{
+    b->lo = lo;
+    const int rc = swim_barrier_w2(b, x, eps, alpha, W, grad, info);
+    b->lo = NULL;
+    return rc;
 }
 
 double swim_barrier_reach(swim_barrier_quad *b, const double *x, double eps, double alpha,

@@ -61,6 +61,15 @@ void swim_barrier_quad_free(swim_barrier_quad *b);
 int swim_barrier_w2(swim_barrier_quad *b, const double *x, double eps, double alpha, double *W,
                       double *grad, swim_barrier_info *info);
 
+/* The same at the shape x + lo, where lo holds what x lost to rounding (|lo_i| <= ulp(x_i)/2; the
+ * integrator carries the shape relative to an origin near the boundary of D, so x = origin + u
+ * rounds). Only the binary128 values of J at the feet of the graded rule read lo: J there is
+ * |c_1|^2 - |h|^2 ~ 1e-10 from terms of size 1, and the rounding of x alone would move it by
+ * 1e-16 -- W2 by kappa 1e-16 / min J, more than rtol of the energy in a deep bounce at
+ * alpha = 1/2. Elsewhere the rounding of x is harmless (relative 1e-16 of J). */
+int swim_barrier_w2_carry(swim_barrier_quad *b, const double *x, const double *lo, double eps, double alpha,
+                          double *W, double *grad, swim_barrier_info *info);
+
 /* How deep into the barrier an approach must go to be stopped: the minimum of J at which W2 has
  * risen by `energy` above its value at x, when J keeps its shape near its minimum and only moves
  * down (J - s: exactly what scaling c_1 does, J = |c_1|^2 - |h|^2). Near the minimum j0 the

@@ -3,6 +3,7 @@
 #include "kernel/coords.h"
 
 #include <math.h>
+#include <quadmath.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -185,4 +186,27 @@ int swim_shape_in_D(int modes, const double *x)
     const double c1 = sqrt(x[0] * x[0] + x[1] * x[1]);
     if (c1 > bound * (1.0 + 1e-12)) return 1;   /* margin: J > 0 with room for rounding */
     return jmin_impl(modes, x, NULL, 1) > 0.0;
+}
+
+double swim_shape_j_precise(int modes, const double *x, const double *lo, double theta, double *J1)
+{
+    __float128 zr = cosq(theta), zi = -sinq(theta);   /* conj(z) = e^{-i theta} */
+    __float128 pr = 1, pi = 0;                         /* conj(z)^j */
+    __float128 hr = 0, hi = 0, dr = 0, di = 0;         /* P and dP/dtheta = sum -i j H_j conj(z)^j */
+    for (int j = 0; j < modes; j++) {
+        const int r = 2 * (j + 1);
+        const __float128 Hr = (__float128)(j + 1) * ((__float128)x[r] + (lo ? lo[r] : 0.0));
+        const __float128 Hi = (__float128)(j + 1) * ((__float128)x[r + 1] + (lo ? lo[r + 1] : 0.0));
+        const __float128 tr = Hr * pr - Hi * pi, ti = Hr * pi + Hi * pr;
+        hr += tr;
+        hi += ti;
+        dr += j * ti;     /* -i j (tr + i ti) = j ti - i j tr */
+        di -= j * tr;
+        const __float128 nr = pr * zr - pi * zi;
+        pi = pr * zi + pi * zr;
+        pr = nr;
+    }
+    const __float128 a1 = (__float128)x[0] + (lo ? lo[0] : 0.0), b1 = (__float128)x[1] + (lo ? lo[1] : 0.0);
+    if (J1) *J1 = (double)(-2 * (hr * dr + hi * di));
+    return (double)(a1 * a1 + b1 * b1 - hr * hr - hi * hi);
 }
