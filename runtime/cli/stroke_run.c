@@ -613,6 +613,7 @@ static void summary_json(FILE *f, void *ctx)
     /* the shape is prescribed: no stiff switch, and min J is checked on the rows and the
      * allowability samples (swim_stroke_check), not by the per-step watch of swim run */
     fprintf(f, ",\n  \"stiff_switch\": null,\n  \"step_checks\": {\"enabled\": false, \"steps\": 0, \"seconds\": 0}");
+    fprintf(f, ",\n  \"origin_shift\": {\"enabled\": false, \"restarts\": 0}");   /* no barrier in a stroke */
     swim_run_events_json(c->events, f);
     stroke_json(f, c);
     fprintf(f, ",\n  \"stats\": {\"steps\": %ld, \"rhs_evaluations\": %ld, \"rejected_steps\": %ld, "
