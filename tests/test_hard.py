@@ -67,6 +67,22 @@ def test_log_barrier_explained():
           % s["energy_drift_rel"])
 
 
+def test_retry_at_the_last_step_size():
+    """A doubled step that fails is retried at exactly the last accepted h: the retry must use
+    the coefficients of the run of equal steps (abm restores them with the step history). With
+    the failed attempt's, one step of this run had an error estimate of -1.1e7 and was accepted
+    with an energy jump of 2.9e-5."""
+    trace = os.path.join(TMP, "steps-atol.csv")
+    p, d, s = run("models/hard/soft_n10_a05.toml", "soft_n10_a05-atol", "--set", "run.atol=1e-14",
+                  "--trace-steps", trace)
+    check(p.returncode == 0 and s["status"] == "completed", "soft_n10_a05 at atol 1e-14 completes")
+    t = np.atleast_1d(np.genfromtxt(trace, delimiter=",", names=True))
+    acc = t["accepted"] == 1
+    check(np.all((t["err"][acc] >= 0) & (t["err"][acc] <= 1)), "every accepted step has 0 <= err <= 1 (min %.3g)"
+          % np.min(t["err"][acc]))
+    check(s["energy_drift_rel"] <= 1e-7, "soft_n10_a05 at atol 1e-14: energy drift %.3g" % s["energy_drift_rel"])
+
+
 def test_long_runs():
     for name in ("long_example1", "long_example3"):
         p, d, s = run("models/hard/%s.toml" % name, name)

@@ -42,7 +42,7 @@ int abm_rhs_status(const abm *a);
 const double *abm_state(const abm *a);
 
 /* For tests: copy the complete integration state that a rejected step must
- * leave unchanged (t, y, difference table, step history) into buf; returns the
+ * leave unchanged (t, y, difference table, step history and its coefficients) into buf; returns the
  * number of doubles written (call with buf = NULL to get the size). */
 size_t abm_snapshot(const abm *a, double *buf);
 /* Proposed size and order of the next step. */
