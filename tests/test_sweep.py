@@ -148,10 +148,14 @@ def test_summary_only():
           not os.path.exists(os.path.join(out, "snapshots.json")), "--summary-only writes no rows and no snapshots")
     same = all(full[k] == short[k] for k in ("final_state", "jmin", "energy_drift_abs", "max_residuals", "rows"))
     check(same and full["stats"]["steps"] == short["stats"]["steps"], "--summary-only: the same summary numbers")
-    st = short["stats"]
-    check(st["output_seconds"] < 0.2 * st["diagnostics_seconds"] and full["stats"]["output_seconds"] > 0,
-          "the summary splits integrate/diagnostics/output seconds (output %.2g s of %.2g s)"
-          % (st["output_seconds"], st["wall_seconds"]))
+    # the split itself (how the parts compare is a benchmark, bench_sweep.py: timings are not
+    # asserted in tests, a loaded machine reorders them)
+    for name, summary in (("full", full), ("--summary-only", short)):
+        st = summary["stats"]
+        parts = [st[k] for k in ("integrate_seconds", "diagnostics_seconds", "output_seconds")]
+        check(all(x >= 0 for x in parts) and sum(parts) <= st["wall_seconds"] * 1.05 + 1e-3,
+              "%s: the summary splits integrate/diagnostics/output seconds within the wall time (%s of %.2g s)"
+              % (name, parts, st["wall_seconds"]))
 
 
 def test_different_definition_refused():
