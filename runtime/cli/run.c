@@ -281,24 +281,13 @@ static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop
 
 static int columns(const swim_scene *s, const char **names, char storage[][24])
 {
-    int c = 0;
-    static const char *const head[] = {"t", "x", "y", "theta"};
     static const char *const tail[] = {
         "kinetic_fluid", "kinetic_shape", "kinetic_rigid", "potential", "energy",
         "impulse_body_x", "impulse_body_y", "impulse_body_ang",
         "impulse_fluid_rigid_x", "impulse_fluid_rigid_y", "impulse_fluid_rigid_ang",
         "impulse_fluid_shape_x", "impulse_fluid_shape_y", "impulse_fluid_shape_ang",
         "res_volume", "res_volume_rate", "res_angular", "res_locks", "jmin", "work", "w1", "w2"};
-    for (int i = 0; i < 4; i++) names[c++] = head[i];
-    for (int i = 0; i < s->n; i++) {
-        swim_coord_name(i, storage[i], 24);
-        names[c++] = storage[i];
-    }
-    for (int i = 0; i < s->n; i++) {
-        storage[s->n + i][0] = 'd';
-        swim_coord_name(i, storage[s->n + i] + 1, 23);
-        names[c++] = storage[s->n + i];
-    }
+    int c = swim_run_state_columns(s->n, names, storage);
     for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) names[c++] = tail[i];
     return c;
 }

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "io/files.h"
+#include "kernel/coords.h"
 #include "io/message.h"
 
 char *swim_run_default_out(const char *scene_path)
@@ -44,4 +45,21 @@ void swim_run_paths_free(swim_run_paths *p)
     free(p->scene_copy_path);
     free(p->events_path);
     memset(p, 0, sizeof *p);
+}
+
+int swim_run_state_columns(int n, const char **names, char storage[][24])
+{
+    static const char *const head[] = {"t", "x", "y", "theta"};
+    int c = 0;
+    for (int i = 0; i < 4; i++) names[c++] = head[i];
+    for (int i = 0; i < n; i++) {
+        swim_coord_name(i, storage[i], 24);
+        names[c++] = storage[i];
+    }
+    for (int i = 0; i < n; i++) {
+        storage[n + i][0] = 'd';
+        swim_coord_name(i, storage[n + i] + 1, 23);
+        names[c++] = storage[n + i];
+    }
+    return c;
 }

@@ -8,6 +8,12 @@ typedef struct {
     char *dir, *csv_path, *snap_path, *summary_path, *scene_copy_path, *events_path;   /* owned */
 } swim_run_paths;
 
+/* The leading columns of DIR/trajectory.csv, shared by dynamic runs and strokes: t, x, y, theta,
+ * the n shape coordinates and their velocities ("d" + name), into names[0 .. 4 + 2n) (the names of
+ * the coordinates written into storage[0 .. 2n)). Returns the count; the caller's own columns
+ * follow. */
+int swim_run_state_columns(int n, const char **names, char storage[][24]);
+
 /* out/<scene file name without its extension>; NULL when out of memory. */
 char *swim_run_default_out(const char *scene_path);
 

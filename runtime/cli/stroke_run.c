@@ -141,7 +141,6 @@ int swim_stroke_requested(int argc, char **argv)
 
 static int columns(const swim_scene *s, const char **names, char storage[][24])
 {
-    static const char *const head[] = {"t", "x", "y", "theta"};
     static const char *const tail[] = {
         "kinetic_fluid", "kinetic_shape", "kinetic_rigid", "potential", "energy",
         "impulse_body_x", "impulse_body_y", "impulse_body_ang",
@@ -149,17 +148,7 @@ static int columns(const swim_scene *s, const char **names, char storage[][24])
         "impulse_fluid_shape_x", "impulse_fluid_shape_y", "impulse_fluid_shape_ang",
         "res_volume", "res_volume_rate", "res_angular", "res_locks", "jmin", "work", "w1", "w2",
         "power", "work_positive", "phase_c1"};
-    int c = 0;
-    for (int i = 0; i < 4; i++) names[c++] = head[i];
-    for (int i = 0; i < s->n; i++) {
-        swim_coord_name(i, storage[i], 24);
-        names[c++] = storage[i];
-    }
-    for (int i = 0; i < s->n; i++) {
-        storage[s->n + i][0] = 'd';
-        swim_coord_name(i, storage[s->n + i] + 1, 23);
-        names[c++] = storage[s->n + i];
-    }
+    int c = swim_run_state_columns(s->n, names, storage);
     for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) names[c++] = tail[i];
     return c;
 }
