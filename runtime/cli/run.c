@@ -27,7 +27,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -1196,21 +1195,11 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
     fprintf(f, ",\n  \"origin_shift\": {\"enabled\": %s, \"restarts\": %ld}", c->shift_ok || c->shifts ? "true" : "false",
             c->shifts);
     swim_run_events_json(c->events, f);   /* "events", "event_stop", "periodic" (with events) */
-    fprintf(f, ",\n  \"stats\": {\"steps\": %ld, \"rhs_evaluations\": %ld, \"rejected_steps\": %ld, "
-            "\"jacobian_evaluations\": %ld, \"last_step\": %.6g, \"last_order\": %d, \"stiffness_suspected\": %s,\n"
-            "            \"order_histogram\": [",
-            st->steps, st->rhs_evals, st->rejected, st->jac_evals, st->last_h, st->last_order,
-            st->stiff_suspected ? "true" : "false");
-    for (int i = 0; i < 13; i++) fprintf(f, "%s%ld", i ? ", " : "", st->order_hist[i]);
-    struct rusage ru;
-    getrusage(RUSAGE_SELF, &ru);
-    fprintf(f, "],\n            \"integrate_seconds\": %.6f, \"diagnostics_seconds\": %.6f, \"output_seconds\": %.6f,",
-            r->integrate_seconds, r->diagnostics_seconds, r->output_seconds);
-    fprintf(f, "\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f, \"max_rss_kb\": %ld,",
-            d->rhs_seconds, wall_s, d->rhs_calls ? 1e9 * d->rhs_seconds / d->rhs_calls : 0.0, ru.ru_maxrss);
     /* which Jacobian the BDF methods used: the kernel's exact one (calls, time) or differences */
-    fprintf(f, "\n            \"jacobian\": \"%s\", \"exact_jacobian_calls\": %ld, \"jacobian_seconds\": %.6f}\n}\n",
-            c->sys.jacobian ? "exact" : "differences", d->jac_calls, d->jac_seconds);
+    const swim_run_timing t = {r->integrate_seconds, r->diagnostics_seconds, r->output_seconds, d->rhs_seconds, wall_s,
+                               d->rhs_calls, c->sys.jacobian ? "exact" : "differences", d->jac_calls, d->jac_seconds};
+    swim_run_stats_json(f, st, &t);
+    fprintf(f, "\n}\n");
 }
 
 /* Close trajectory.csv and the trace (checking that they still are the files named by their

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #include "io/files.h"
 #include "kernel/coords.h"
@@ -62,4 +63,22 @@ int swim_run_state_columns(int n, const char **names, char storage[][24])
         names[c++] = storage[n + i];
     }
     return c;
+}
+
+void swim_run_stats_json(FILE *f, const swim_ode_stats *st, const swim_run_timing *t)
+{
+    fprintf(f, ",\n  \"stats\": {\"steps\": %ld, \"rhs_evaluations\": %ld, \"rejected_steps\": %ld, "
+            "\"jacobian_evaluations\": %ld, \"last_step\": %.6g, \"last_order\": %d, \"stiffness_suspected\": %s,\n"
+            "            \"order_histogram\": [",
+            st->steps, st->rhs_evals, st->rejected, st->jac_evals, st->last_h, st->last_order,
+            st->stiff_suspected ? "true" : "false");
+    for (int i = 0; i < 13; i++) fprintf(f, "%s%ld", i ? ", " : "", st->order_hist[i]);
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    fprintf(f, "],\n            \"integrate_seconds\": %.6f, \"diagnostics_seconds\": %.6f, \"output_seconds\": %.6f,",
+            t->integrate, t->diagnostics, t->output);
+    fprintf(f, "\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f, \"max_rss_kb\": %ld,",
+            t->rhs, t->wall, t->rhs_calls ? 1e9 * t->rhs / t->rhs_calls : 0.0, ru.ru_maxrss);
+    fprintf(f, "\n            \"jacobian\": \"%s\", \"exact_jacobian_calls\": %ld, \"jacobian_seconds\": %.6f}",
+            t->jacobian, t->jacobian_calls, t->jacobian_seconds);
 }

@@ -4,6 +4,10 @@
 #ifndef SWIM_CLI_RUN_OUTPUTS_H
 #define SWIM_CLI_RUN_OUTPUTS_H
 
+#include <stdio.h>
+
+#include "ode/ode.h"
+
 typedef struct {
     char *dir, *csv_path, *snap_path, *summary_path, *scene_copy_path, *events_path;   /* owned */
 } swim_run_paths;
@@ -13,6 +17,20 @@ typedef struct {
  * the coordinates written into storage[0 .. 2n)). Returns the count; the caller's own columns
  * follow. */
 int swim_run_state_columns(int n, const char **names, char storage[][24]);
+
+/* Where the time of a run went and which Jacobian it used, for the "stats" of summary.json. */
+typedef struct {
+    double integrate, diagnostics, output;   /* seconds: in the integrator, row diagnostics, writing */
+    double rhs, wall;                         /* seconds in the right-hand side; of the whole run */
+    long rhs_calls;
+    const char *jacobian;                     /* "exact", "differences" or "none" */
+    long jacobian_calls;
+    double jacobian_seconds;
+} swim_run_timing;
+
+/* ",\n  "stats": {...}" of summary.json, the same keys for dynamic runs and strokes: the
+ * integrator's counters and order histogram, the timing, the peak memory (getrusage). */
+void swim_run_stats_json(FILE *f, const swim_ode_stats *st, const swim_run_timing *t);
 
 /* out/<scene file name without its extension>; NULL when out of memory. */
 char *swim_run_default_out(const char *scene_path);

@@ -20,7 +20,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -605,20 +604,10 @@ static void summary_json(FILE *f, void *ctx)
     fprintf(f, ",\n  \"origin_shift\": {\"enabled\": false, \"restarts\": 0}");   /* no barrier in a stroke */
     swim_run_events_json(c->events, f);
     stroke_json(f, c);
-    fprintf(f, ",\n  \"stats\": {\"steps\": %ld, \"rhs_evaluations\": %ld, \"rejected_steps\": %ld, "
-            "\"jacobian_evaluations\": %ld, \"last_step\": %.6g, \"last_order\": %d, \"stiffness_suspected\": %s,\n"
-            "            \"order_histogram\": [",
-            st.steps, st.rhs_evals, st.rejected, st.jac_evals, st.last_h, st.last_order,
-            st.stiff_suspected ? "true" : "false");
-    for (int i = 0; i < 13; i++) fprintf(f, "%s%ld", i ? ", " : "", st.order_hist[i]);
-    struct rusage ru;
-    getrusage(RUSAGE_SELF, &ru);
-    fprintf(f, "],\n            \"integrate_seconds\": %.6f, \"diagnostics_seconds\": %.6f, \"output_seconds\": %.6f,",
-            c->integrate_seconds, c->diagnostics_seconds, c->output_seconds);
-    fprintf(f, "\n            \"rhs_seconds\": %.6f, \"wall_seconds\": %.6f, \"ns_per_rhs\": %.1f, \"max_rss_kb\": %ld,",
-            c->st.rhs_seconds, swim_wall() - c->t_start, c->st.rhs_calls ? 1e9 * c->st.rhs_seconds / c->st.rhs_calls : 0.0,
-            ru.ru_maxrss);
-    fprintf(f, "\n            \"jacobian\": \"none\", \"exact_jacobian_calls\": 0, \"jacobian_seconds\": 0}\n}\n");
+    const swim_run_timing t = {c->integrate_seconds, c->diagnostics_seconds, c->output_seconds, c->st.rhs_seconds,
+                               swim_wall() - c->t_start, c->st.rhs_calls, "none", 0, 0.0};
+    swim_run_stats_json(f, &st, &t);
+    fprintf(f, "\n}\n");
 }
 
 static void output_failed(stroke_ctx *c, const char *path, int err)
