@@ -1216,6 +1216,70 @@ static void test_user_jacobian(void)
     CHECK(counted_jac_calls == 0, "abm and cvode-adams do not call the Jacobian (%d calls)", counted_jac_calls);
 }
 
+/* The balance in abm's error test (swim_ode_options.invariant), on Kepler's problem: its energy
+ * is a first integral that Adams methods let drift by a systematic amount per step. */
+static double inv_last_f[4];
+static long inv_calls, inv_mismatch;
+static int kepler_rhs_recorded(double t, const double *y, double *f, void *p)
+{
+    memcpy(inv_last_f, y, sizeof inv_last_f);
+    return kepler_rhs(t, y, f, p);
+}
+static double kepler_energy(double t, const double *y, void *data)
+{
+    (void)t;
+    (void)data;
+    inv_calls++;
+    if (memcmp(y, inv_last_f, sizeof inv_last_f) != 0) inv_mismatch++;   /* the contract: right after f at y */
+    return 0.5 * (y[2] * y[2] + y[3] * y[3]) - 1.0 / hypot(y[0], y[1]);
+}
+static double kepler_drift(double tol, swim_ode_stats *st, double *yend)
+{
+    swim_ode_system sys = { kepler_rhs_recorded, 4, NULL, NULL };
+    double y0[4], y[4];
+    kepler_init(0.6, y0);
+    const double E0 = kepler_energy(0.0, y0, NULL);
+    swim_ode_options o;
+    swim_ode_options_default(&o);
+    o.rtol = 1e-8;
+    o.atol = 1e-10;
+    if (tol > 0) {
+        o.invariant = kepler_energy;
+        o.invariant_tol = tol;
+    }
+    swim_ode *s;
+    double dE = 0.0;
+    if (swim_ode_create("abm", &sys, &o, 0.0, y0, &s) != 0) return INFINITY;
+    for (int i = 1; i <= 200; i++) {   /* 100 periods */
+        if (swim_ode_advance(s, PI * i, y) != 0) { dE = INFINITY; break; }
+        dE = fmax(dE, fabs(kepler_energy(0.0, y, NULL) - E0) / fabs(E0));
+    }
+    swim_ode_get_stats(s, st);
+    memcpy(yend, y, sizeof y);
+    swim_ode_free(s);
+    return dE;
+}
+static void test_invariant(void)
+{
+    swim_ode_stats s0, s1, s2;
+    double y0[4], y1[4], y2[4];
+    const double d0 = kepler_drift(0.0, &s0, y0);
+    inv_calls = inv_mismatch = 0;
+    const double d1 = kepler_drift(1e-3 * 1e-8 * 0.5, &s1, y1);   /* 1e-3 rtol |E| (E = -1/2) */
+    const long calls = inv_calls, mismatch = inv_mismatch - 201;   /* the test's own 201 calls */
+    const double d2 = kepler_drift(1e30, &s2, y2);
+    CHECK(d1 < 0.1 * d0, "balance test: Kepler energy drift %.3g against %.3g without it (want 10x smaller)", d1, d0);
+    CHECK(s1.rejected_invariant > 0 && s1.rejected_invariant <= s1.rejected && s0.rejected_invariant == 0,
+          "balance test: %ld of %ld rejections are its own", s1.rejected_invariant, s1.rejected);
+    CHECK(s1.steps < 2 * s0.steps, "balance test: %ld steps against %ld (not a tolerance cut everywhere)", s1.steps, s0.steps);
+    CHECK(calls > 2 * s1.steps && mismatch == 0, "balance test: %ld calls, %ld not right after f at the same state",
+          calls, mismatch);
+    printf("balance test on Kepler (e = 0.6, rtol 1e-8, 100 periods): energy drift %.3g with it, %.3g without; "
+           "%ld and %ld steps, %ld rejections by it\n", d1, d0, s1.steps, s0.steps, s1.rejected_invariant);
+    CHECK(d2 == d0 && memcmp(y0, y2, sizeof y0) == 0 && s2.steps == s0.steps && s2.rhs_evals == s0.rhs_evals,
+          "balance test that never binds: the same solution bit for bit");
+}
+
 int main(void)
 {
     test_harmonic();
@@ -1236,5 +1300,6 @@ int main(void)
     test_cvode_projection();
     test_events();
     test_user_jacobian();
+    test_invariant();
     return check_report("test_ode");
 }

@@ -27,21 +27,19 @@ int swim_run_watch_init(swim_run_watch *w, swim_dynamics *d, int sdim, int energ
     w->energy = energy;
     w->ys = calloc((size_t)sdim, sizeof(double));
     w->full = calloc((size_t)d->dim, sizeof(double));
-    w->K = malloc(sizeof(double) * d->n * d->n);
     w->G = malloc(sizeof(double) * d->n * (d->n + 2));
     w->r.jmin = INFINITY;
     w->r.jmin_t = NAN;
     swim_run_watch_mark(w);
-    return w->ys && w->full && w->K && w->G ? 0 : -1;
+    return w->ys && w->full && w->G ? 0 : -1;
 }
 
 void swim_run_watch_free(swim_run_watch *w)
 {
     free(w->ys);
     free(w->full);
-    free(w->K);
     free(w->G);
-    w->ys = w->full = w->K = w->G = NULL;
+    w->ys = w->full = w->G = NULL;
 }
 
 static void note_jmin(swim_run_watch_results *r, double t, double J)
@@ -101,6 +99,7 @@ static int j_at(swim_run_watch *w, const swim_ode_accepted *st, double t, const 
     const int n = w->d->n, modes = w->d->scene->modes;
     double theta;
     *J = swim_dynamics_jmin(w->d, ys ? ys : w->ys, &theta);
+    w->theta_last = theta;
     *rate = swim_shape_j_rate(modes, w->full + 3, w->full + 3 + n, theta);
     return 0;
 }
@@ -139,29 +138,21 @@ static double locate(swim_run_watch *w, const swim_ode_accepted *st, int which, 
     return b;
 }
 
-/* Energy balance (5.3) and constraint residuals at the step end (state in w->full), as
- * swim_dynamics_diagnostics has them but with only what they need: the kinetic energy is
- * (1/2) cdot^T K cdot with the reduced mass matrix K (section 4.1.2), W2 the barrier quadrature. */
-static void balance(swim_run_watch *w, double tb)
+/* Energy balance (5.3) and constraint residuals at the step end (integrator state u, full state
+ * in w->full). The balance is swim_dynamics_balance: at the state the right-hand side has just
+ * evaluated (the accepted y_{n+1} of abm) it reuses that evaluation's kinetic energy and W2. */
+static void balance(swim_run_watch *w, double tb, const double *u)
 {
     swim_dynamics *d = w->d;
     const swim_scene *s = d->scene;
     const int n = d->n;
     const double *c = w->full + 3, *v = w->full + 3 + n;
-    if (d->k->reduced(c, NULL, s->rho0, s->rhof, w->K, NULL, NULL) != 0) {
+    const double B = swim_dynamics_balance(tb, u, d), work = w->full[3 + 2 * n];
+    if (isnan(B)) {
         w->diag_failed = 1;
         return;
     }
-    double T = 0.0, W = 0.0, w2;
-    for (int i = 0; i < n; i++) {
-        double Kv = 0.0;
-        for (int j = 0; j < n; j++) Kv += w->K[i * n + j] * v[j];
-        T += v[i] * Kv;
-    }
-    if (s->elastic)
-        for (int i = 0; i < n; i++) W += s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
-    w2 = swim_dynamics_w2(d, c);
-    const double E = 0.5 * T + 0.5 * W + w2, work = w->full[3 + 2 * n];
+    const double E = B + work;
     swim_run_watch_pending *p = &w->pend;
     p->balanced = 1;
     p->tb = tb;
@@ -196,13 +187,15 @@ int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
         candidate(p, st->ta, w->j_prev);
     }
     double Jb, rb;
+    w->end_y = NULL;
     if (j_at(w, st, st->tb, st->y_end, &Jb, &rb) != 0) {
         w->have_prev = 0;
         w->seconds += seconds() - t0;
         return 0;
     }
+    const double theta_b = w->theta_last;
     w->r.steps++;
-    if (w->energy) balance(w, st->tb);   /* w->full holds the state at tb */
+    if (w->energy) balance(w, st->tb, st->y_end ? st->y_end : w->ys);   /* w->full holds the state at tb */
     double tm = st->tb, Jm = Jb;
     if (w->have_prev && w->rate_prev < 0 && rb >= 0)   /* a minimum of J inside the step */
         tm = locate(w, st, 0, w->t_prev, w->rate_prev, st->tb, rb, Jb, &Jm);
@@ -223,6 +216,9 @@ int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
     w->j_prev = Jb;
     w->rate_prev = rb;
     w->have_prev = 1;
+    w->end_y = st->y_end;
+    w->end_j = Jb;
+    w->end_theta = theta_b;
     w->seconds += seconds() - t0;
     return stop;
 }

@@ -36,7 +36,7 @@ typedef struct {
 typedef struct {
     swim_dynamics *d;          /* borrowed */
     int sdim;                  /* integrator state dimension */
-    double *ys, *full, *K, *G; /* work: integrator state, full state, K, constraint rows (owned) */
+    double *ys, *full, *G;     /* work: integrator state, full state, constraint rows (owned) */
     int energy;                /* also evaluate the energy balance and residuals at step ends */
     double e0;                 /* E(0), for the balance (set before the first step) */
     /* the previous step end */
@@ -47,6 +47,9 @@ typedef struct {
     int left;                  /* min J reached 0 inside a step ... */
     double t_left;             /* ... at this time (the crossing, on the interpolant) */
     int diag_failed;           /* the diagnostics failed at a step end (K not positive definite) */
+    double theta_last;         /* angle of the minimum of J at the last state j_at looked at */
+    const double *end_y;       /* the latest step's y_end (NULL: none, or the step was not checked) ... */
+    double end_j, end_theta;   /* ... its min J and the angle of that minimum (swim_dynamics_jmin) */
     double seconds;            /* time spent here */
     swim_run_watch_results mark_r;        /* at the last mark (swim_run_watch_mark) */
     swim_run_watch_pending mark_pend;

@@ -253,6 +253,15 @@ static int scene_rhs(double t, const double *y, double *dy, const swim_scene_par
         if (!isfinite(y[i])) return SWIM_RHS_ENAN;
     double K[NX * NX], P[3 * NX], g[NX], f[NX], power = 0.0;
     if (reduced(x, v, p->rho0, p->rhof, K, P, g) != 0) return SWIM_RHS_EMASS;
+    if (p->kinetic) {   /* before chol_factor overwrites K */
+        double T = 0.0;
+        for (int i = 0; i < NX; i++) {
+            double r = 0.0;
+            for (int j = 0; j < NX; j++) r += K[NX * i + j] * v[j];
+            T += v[i] * r;
+        }
+        *p->kinetic = 0.5 * T;
+    }
     scene_forces(t, x, v, g, p, f, &power);
 #ifdef SWIM_SCENE_BARRIER
     {   /* W2 (section 4.1.1): its gradient from the runtime's quadrature (shape/barrier.h) */

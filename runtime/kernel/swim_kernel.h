@@ -16,7 +16,7 @@
 #ifndef SWIM_KERNEL_H
 #define SWIM_KERNEL_H
 
-#define SWIM_KERNEL_ABI 6
+#define SWIM_KERNEL_ABI 7
 #define SWIM_KERNEL_MAX_MODES 32   /* largest N the runtime accepts (arrays are sized by it) */
 
 typedef struct swim_kernel {
@@ -70,6 +70,9 @@ typedef struct swim_scene_params {
     /* grad W2 and its Hessian (NX x NX, row-major) on the kernel's coordinates at the full shape
      * x, for the exact Jacobian (same context and return values as barrier). */
     int (*barrier_hessian)(const double *x, double *grad, double *hess, void *ctx);
+    /* NULL, or where rhs writes the kinetic energy (1/2) v^T K v of the state it evaluated (a by-
+     * product: the energy balance that abm's error test reads, runtime/model/dynamics.h) */
+    double *kinetic;
 } swim_scene_params;
 
 /* A kernel specialized to one scene structure: it carries only the free coordinates (or all of

@@ -203,6 +203,7 @@ static int shape_in_D(const swim_dynamics *d, const double *y)
 int swim_dynamics_set_origin(swim_dynamics *d, const double *origin)
 {
     const int m = swim_dynamics_state_dim(d);
+    d->bal_valid = 0;   /* the same u means another state now */
     if (!origin) {
         free(d->origin);
         d->origin = NULL;
@@ -277,6 +278,8 @@ int swim_dynamics_rhs(double t, const double *u, double *dy, void *params)
     else if (!d->scene->barrier && !shape_in_D(d, y)) rc = SWIM_DYN_EBARRIER;
     else rc = d->spec->rhs(d->t_origin + t, y, dy, &d->spec_params);
     d->lo_valid = 0;
+    d->bal_valid = d->bal_track && rc == 0 && (!d->scene->barrier || d->w2_valid);
+    if (d->bal_valid) memcpy(d->bal_u, u, sizeof(double) * (size_t)swim_dynamics_state_dim(d));
     d->rhs_seconds += seconds() - t0;
     d->rhs_calls++;
     d->last_rhs_t = d->t_origin + t;
@@ -290,6 +293,50 @@ double swim_dynamics_w2(swim_dynamics *d, const double *c)
     if (d->w2_valid && memcmp(d->w2_x, c, sizeof(double) * d->n) == 0) return d->w2_last;
     double W;
     return swim_barrier_w2(d->diag_barrier, c, s->epsilon, s->alpha, &W, NULL, NULL) == 0 ? W : INFINITY;
+}
+
+void swim_dynamics_track_balance(swim_dynamics *d, int on)
+{
+    d->bal_track = on;
+    d->bal_valid = 0;
+    d->spec_params.kinetic = on ? &d->bal_kinetic : NULL;
+}
+
+double swim_dynamics_balance(double t, const double *u, void *params)
+{
+    swim_dynamics *d = params;
+    const swim_scene *s = d->scene;
+    const int n = d->n;
+    double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    swim_dynamics_unpack(d, u, full);
+    const double *c = full + 3, *v = full + 3 + n;
+    double T = 0.0, W1 = 0.0, W2 = 0.0;
+    (void)t;   /* E and the work are functions of the state alone */
+    if (d->bal_valid &&
+        memcmp(u, d->bal_u, sizeof(double) * (size_t)swim_dynamics_state_dim(d)) == 0) {
+        T = d->bal_kinetic;
+        if (s->barrier) W2 = d->w2_last;
+    } else {
+        if (d->k->reduced(c, NULL, s->rho0, s->rhof, d->K, d->P, NULL) != 0) return NAN;
+        for (int i = 0; i < n; i++) {
+            if (v[i] == 0.0) continue;
+            double r = 0.0;
+            for (int j = 0; j < n; j++) r += d->K[i * n + j] * v[j];
+            T += 0.5 * v[i] * r;
+        }
+        if (s->barrier && d->w2_valid && memcmp(d->w2_x, c, sizeof(double) * n) == 0) {
+            W2 = d->w2_last;   /* the right-hand side's last shape (its stages share the shape) */
+        } else if (s->barrier) {   /* with an origin, from the exact shape origin + u, as the right-hand side */
+            double lo[2 * (SWIM_KERNEL_MAX_MODES + 1)];
+            if (d->origin) shape_lo(d, u, lo);
+            if (swim_barrier_w2_carry(d->diag_barrier, c, d->origin ? lo : NULL, s->epsilon, s->alpha, &W2, NULL,
+                                      NULL) != SWIM_BARRIER_OK)
+                return NAN;
+        }
+    }
+    if (s->elastic)
+        for (int i = 0; i < n; i++) W1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
+    return T + W1 + W2 - full[3 + 2 * n];
 }
 
 int swim_dynamics_jacobian(double t, const double *y, double *J, void *params)

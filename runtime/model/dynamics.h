@@ -71,6 +71,10 @@ typedef struct {
     double x_lo[2 * (SWIM_KERNEL_MAX_MODES + 1)];   /* full shape: what origin + u lost to rounding */
     int lo_valid;                /* x_lo belongs to the evaluation under way */
     double t_origin;             /* the integrator's time is t - t_origin (0 unless the caller shifts it) */
+    /* The energy balance at the state of the last successful right-hand side, which computed its
+     * kinetic energy and W2 anyway (swim_dynamics_track_balance, swim_dynamics_balance). */
+    int bal_track, bal_valid;
+    double bal_kinetic, bal_u[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
 } swim_dynamics;
 
 /* k: the kernel of N = scene->modes modes. 0, or -1 (out of memory). */
@@ -130,6 +134,15 @@ int swim_dynamics_rhs(double t, const double *y, double *dydt, void *params);
 /* The exact Jacobian of swim_dynamics_rhs (the scene kernel's, kernel/scene_rhs.h), in the form
  * of swim_ode_jacobian; the barrier's Hessian comes from shape/barrier.h on the nodes of its
  * gradient. */
+/* The energy balance B = E - work at the packed state u (E = kinetic + W1 + W2, the energy of
+ * the rows; work = the state's last component, the integral of the power of damping and
+ * forcing): constant along exact solutions, so abm controls its local error too
+ * (swim_ode_options.invariant). With tracking on, the right-hand side keeps its kinetic energy and
+ * W2, and B at the state it has just evaluated costs O(n) instead of a mass matrix and a barrier
+ * quadrature; at any other state it is computed in full. NAN where the state is outside the
+ * domain. */
+void swim_dynamics_track_balance(swim_dynamics *d, int on);
+double swim_dynamics_balance(double t, const double *u, void *params);
 int swim_dynamics_jacobian(double t, const double *y, double *J, void *params);
 
 typedef struct {

@@ -77,6 +77,9 @@ struct abm {
     double rtol, atol;           /* scalar tolerances */
     double *atolv;               /* per-component atol (owned copy) or NULL */
     const double *tol_scale;     /* per-component factors on the tolerance (caller's, live) or NULL */
+    double (*invariant)(double t, const double *y, void *data);   /* balance under error control, or NULL */
+    void *invariant_data;
+    double invariant_tol;
     double hmax, tstop;          /* largest step (INFINITY = none); never step past tstop */
     long max_steps;              /* accepted steps allowed */
     int stiff_stop;              /* the caller wants SWIM_ODE_ESTIFF when the diagnostic fires */
@@ -136,6 +139,7 @@ struct abm {
 
     /* statistics */
     long steps, nfe, rejected;   /* accepted steps, f evaluations, rejected attempts */
+    long rejected_invariant;     /* ... of which rejected by the balance's error test */
     long hist[KM + 1];           /* accepted steps per order */
     double last_h;               /* size of the last accepted step */
     int last_order;              /* its order */
@@ -201,6 +205,9 @@ int abm_create(const swim_ode_system *sys, const swim_ode_options *opt, double t
     a->par = sys->params;
     a->rtol = opt->rtol;
     a->tol_scale = opt->tol_scale;
+    a->invariant = opt->invariant;
+    a->invariant_data = opt->invariant_data;
+    a->invariant_tol = opt->invariant_tol;
     a->atol = opt->atol;
     a->hmax = opt->hmax > 0 ? opt->hmax : INFINITY;
     a->tstop = opt->tstop;
@@ -824,6 +831,20 @@ static void stiffness_diagnostic(abm *a, int k, double h, int was_clamped, int c
  *   -> order -> look-ahead -> step size -> stiffness -> report.
  * A positive value of f at either evaluation is a domain failure (restore,
  * smaller step); a negative one ends the integration. */
+/* The balance's share of the error estimate, in units of its tolerance (0 without one).
+ * y_c - p = h g_{k+1} phi_{k+1}(n+1) and the order-k estimate is h (g_k - g_{k+1}) phi_{k+1}(n+1):
+ * to first order the balance errs by (g_k - g_{k+1})/g_{k+1} (B(y_c) - B(p)). B is taken after
+ * the final evaluation f(y_c), whose by-products make it cheap (swim_ode_options.invariant). */
+static double invariant_error(abm *a, double bal_p)
+{
+    if (!a->invariant)
+        return 0.0;
+    const int k = a->k;
+    const double r = (a->g[k] - a->g[k + 1]) / a->g[k + 1];
+    const double bal_c = a->invariant(a->tnew, a->yn, a->invariant_data);
+    return fabs(r * (bal_c - bal_p)) / a->invariant_tol;
+}
+
 int abm_step(abm *a, int *accepted)
 {
     *accepted = 0;
@@ -847,6 +868,8 @@ int abm_step(abm *a, int *accepted)
 
     const int k = a->k;
     const double h = a->h;
+    /* the balance at the predictor, while the right-hand side's by-products are still its own */
+    const double bal_p = a->invariant ? a->invariant(a->tnew, a->p, a->invariant_data) : 0.0;
     correct(a);
     if ((rc = project(a)))
         return rc;
@@ -855,11 +878,20 @@ int abm_step(abm *a, int *accepted)
         return SWIM_ODE_ERHS;
     if (rc > 0)
         return domain_failure(a, a->ns_save, h);
+    const double inv = invariant_error(a, bal_p);
+    if (!(inv <= 1.0)) {
+        a->rejected_invariant++;
+        e.err = MAXD(e.err, inv);
+        e.erk = MAXD(e.erk, inv);
+        return reject(a, &e);
+    }
     accept(a);
     const int want_up = !a->phase1 && e.knew == k && k < KM && k + 1 <= a->ns;
     const double sk2 = update_differences(a, want_up);
     double erk = choose_order(a, &e, want_up, sk2);
     const double la_rho = look_ahead(a, &e, k, &erk);
+    if (inv > e.err)   /* the balance limits this step: size the next one for it */
+        erk *= inv / MAXD(e.err, 1e-300);
     int was_clamped;
     const int cut = choose_step(a, erk, &was_clamped);
     stiffness_diagnostic(a, k, h, was_clamped, cut);
@@ -953,6 +985,7 @@ void abm_get_stats(const abm *a, swim_ode_stats *st)
     st->steps = a->steps;
     st->rhs_evals = a->nfe;
     st->rejected = a->rejected;
+    st->rejected_invariant = a->rejected_invariant;
     st->jac_evals = 0;
     for (int i = 0; i <= KM; i++)
         st->order_hist[i] = a->hist[i];

@@ -187,6 +187,21 @@ typedef struct {
      * step (not copied: the caller may change them between steps, e.g. from on_accept). The
      * tolerance of component i becomes tol_scale[i] (rtol |y_i| + atol_i). NULL = 1. */
     const double *tol_scale;
+    /* ABM only: an optional balance B(t, y) -- a first integral, or one whose source is carried
+     * in y (energy minus the work of the forces, both in the state) -- whose local error joins
+     * the error test.  To first order the step's error estimate moves B by
+     * r (B(t_{n+1}, y_c) - B(t_{n+1}, p)), p the predictor, y_c the (projected) corrector,
+     * r = (g_k - g_{k+1}) / g_{k+1}; an attempt passes only if that is at most invariant_tol, and
+     * the next step is sized for both tests.  Why: Adams methods keep each component's local
+     * error within its weight but let B drift by a systematic amount per step (for oscillations,
+     * their dissipation), which adds up over 10^5 steps where the components' errors do not.
+     * B is called right after f at the same (t, y) -- at p once the error test has passed, at y_c
+     * after the final evaluation -- so it may reuse what f computed there; an attempt it fails
+     * has cost both evaluations.  Rejections it causes are counted in swim_ode_stats.rejected
+     * and .rejected_invariant.  NULL = none. */
+    double (*invariant)(double t, const double *y, void *data);
+    void *invariant_data;
+    double invariant_tol;
 } swim_ode_options;
 
 /* rtol = 1e-6, atol = 1e-9, no hmax, automatic h0, tstop = INFINITY,
@@ -199,6 +214,7 @@ typedef struct {
     long rhs_evals;        /* calls of the right-hand side (including Jacobian differencing) */
     long rejected;         /* rejected step attempts (error test failures, convergence failures,
                               positive right-hand-side values) */
+    long rejected_invariant; /* ABM: of those, attempts the balance's error test rejected */
     long jac_evals;        /* Jacobian evaluations (BDF methods; by differences or the user's) */
     long event_evals;      /* evaluations of event functions */
     long events;           /* events located */

@@ -368,7 +368,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     static const char *const k_damping[] = {"diagonal", NULL};
     static const char *const k_forcing[] = {"law", "direction", NULL};
     static const char *const k_events[] = {"list", NULL};
-    static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "stiff_fallback", "project_initial", "projection", "origin_shift", "step_lookahead", "jacobian", NULL};
+    static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "stiff_fallback", "project_initial", "projection", "origin_shift", "energy_control", "step_lookahead", "jacobian", NULL};
     int rc;
     c->table = NULL;
     if (check_keys(c, root, top)) return 2;
@@ -437,6 +437,12 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (os) {
         if (toml_kind_of(os) != TOML_BOOL) ERR(c, toml_get_key_line(run, "origin_shift"), "origin_shift", "expected true or false");
         s->origin_shift = toml_bool(os);
+    }
+    s->energy_control = -1;   /* the scene's default: with a barrier (swim run) */
+    const toml_value *ec = toml_get(run, "energy_control");
+    if (ec) {
+        if (toml_kind_of(ec) != TOML_BOOL) ERR(c, toml_get_key_line(run, "energy_control"), "energy_control", "expected true or false");
+        s->energy_control = toml_bool(ec);
     }
     s->step_lookahead = -1;
     const toml_value *la = toml_get(run, "step_lookahead");

@@ -132,7 +132,8 @@ def run_swim(scene_path, out, T, dt, integrator, rexp, aexp, generic):
         os.remove(summ)
     method, extra = VARIANTS.get(integrator, (integrator, []))
     args = [SWIM, "run", scene_path, "--out", out, "--t-end", repr(T), "--output-step", repr(dt),
-            "--rtol", tol_str(rexp), "--atol", tol_str(aexp), "--integrator", method, "--quiet"] + extra
+            "--rtol", tol_str(rexp), "--atol", tol_str(aexp), "--integrator", method, "--quiet",
+            "--set", "run.energy_control=false"] + extra   # the integrators themselves (bench-soft measures it)
     if generic:
         args.append("--generic")
     p = subprocess.run(args, cwd=ROOT, capture_output=True, text=True)
