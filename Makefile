@@ -68,7 +68,7 @@ help:
 	@echo "make paper-families  Figs 4.1, 4.2, 4.5, 4.6, 4.7 (sweeps + swim plot) into out/families/"
 	@echo "make bench-drift     energy drift of the T = 1000 runs vs tolerance and step look-ahead (~30 s)"
 	@echo "make bench-hard      every hard scene at its own settings and at rtol 1e-10 (~30 min)"
-	@echo "make bench-soft      perturbed families of the soft hard scenes: completion, energy, time (~6 min)"
+	@echo "make bench-soft      perturbed families of the soft hard scenes: completion, energy, time (~20 min)"
 	@echo "make generate N=12   regenerate the kernel for one mode count into generated/"
 	@echo "make generate-all    regenerate the committed kernels (N = $(MODES))"
 	@echo "make install PREFIX=/usr/local   bin/swim (and bin/swim-mpi if built) + the generator, kernel headers and plot scripts"
@@ -193,8 +193,10 @@ bench-hard: $(BIN)/swim
 
 bench-soft: $(BIN)/swim
 	$(PYTHON) tests/bench/bench_soft_family.py --scene models/hard/soft_n10_a05.toml --scene models/hard/soft_n10_a1.toml \
-	    --variant noshift=run.origin_shift=false
+	    --variant noshift=run.origin_shift=false --variant nocontrol=run.energy_control=false
 	$(PYTHON) tests/bench/bench_soft_family.py --scene models/hard/soft_n15_a05.toml --out build/bench/soft_family_n15
+	$(PYTHON) tests/bench/bench_soft_family.py --scene models/hard/soft_n20_a05.toml --members 4 \
+	    --variant nocontrol=run.energy_control=false --out build/bench/soft_family_n20
 
 # Figures shown in README.md, rebuilt from the main job.
 readme-figures: run

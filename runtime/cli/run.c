@@ -218,11 +218,16 @@ static double barrier_tolerance(run_ctx *c, const double *y, double h)
  * without). 1e-1 changed nothing. */
 #define ENERGY_CONTROL 3e-3
 
-static double scaled_balance(double t, const double *u, void *data)
+static double scaled_balance(double t, const double *u, double *noise, void *data)
 {
     run_ctx *c = data;
-    if (!(c->bal_scale > 0)) return 0.0;   /* before E0 is known, or E0 = 0 and no energy yet */
-    return swim_dynamics_balance(t, u, &c->d) / c->bal_scale;
+    if (!(c->bal_scale > 0)) {   /* before E0 is known, or E0 = 0 and no energy yet */
+        *noise = 0.0;
+        return 0.0;
+    }
+    const double B = swim_dynamics_balance(t, u, noise, &c->d);
+    *noise /= c->bal_scale;
+    return B / c->bal_scale;
 }
 
 /* Where abm carries the state relative to an origin (model/dynamics.h): from min J below
@@ -622,8 +627,7 @@ static int prepare(run_ctx *c)
     if (s->energy_control && strcmp(s->integrator, "abm") == 0) {
         o->invariant = scaled_balance;
         o->invariant_data = c;
-        /* not below what rounding leaves of B: a sum over ~dim products, each rounded to u */
-        o->invariant_tol = fmax(ENERGY_CONTROL * s->rtol, 8.0 * c->sdim * 1.11e-16);
+        o->invariant_tol = ENERGY_CONTROL * s->rtol;   /* abm does not ask for less than B's rounding */
     }
     if (s->step_lookahead >= 0) o->lookahead = s->step_lookahead;
     s->step_lookahead = o->lookahead;   /* the summary records the value used */

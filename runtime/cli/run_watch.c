@@ -147,7 +147,7 @@ static void balance(swim_run_watch *w, double tb, const double *u)
     const swim_scene *s = d->scene;
     const int n = d->n;
     const double *c = w->full + 3, *v = w->full + 3 + n;
-    const double B = swim_dynamics_balance(tb, u, d), work = w->full[3 + 2 * n];
+    const double B = swim_dynamics_balance(tb, u, NULL, d), work = w->full[3 + 2 * n];
     if (isnan(B)) {
         w->diag_failed = 1;
         return;

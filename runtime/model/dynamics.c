@@ -204,6 +204,7 @@ int swim_dynamics_set_origin(swim_dynamics *d, const double *origin)
 {
     const int m = swim_dynamics_state_dim(d);
     d->bal_valid = 0;   /* the same u means another state now */
+    d->proj_valid = 0;
     if (!origin) {
         free(d->origin);
         d->origin = NULL;
@@ -295,6 +296,15 @@ double swim_dynamics_w2(swim_dynamics *d, const double *c)
     return swim_barrier_w2(d->diag_barrier, c, s->epsilon, s->alpha, &W, NULL, NULL) == 0 ? W : INFINITY;
 }
 
+/* W1 (section 4.1.1): (1/2) sum R_i (c_i - c_ref,i)^2. */
+static double elastic_energy(const swim_scene *s, const double *c)
+{
+    double W1 = 0.0;
+    if (s->elastic)
+        for (int i = 0; i < s->n; i++) W1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
+    return W1;
+}
+
 void swim_dynamics_track_balance(swim_dynamics *d, int on)
 {
     d->bal_track = on;
@@ -302,15 +312,15 @@ void swim_dynamics_track_balance(swim_dynamics *d, int on)
     d->spec_params.kinetic = on ? &d->bal_kinetic : NULL;
 }
 
-double swim_dynamics_balance(double t, const double *u, void *params)
+double swim_dynamics_balance(double t, const double *u, double *noise, void *params)
 {
     swim_dynamics *d = params;
     const swim_scene *s = d->scene;
-    const int n = d->n;
-    double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    const int n = d->n, nf = d->spec->nfree;
+    double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)], gbuf[2 * (SWIM_KERNEL_MAX_MODES + 1)];
     swim_dynamics_unpack(d, u, full);
-    const double *c = full + 3, *v = full + 3 + n;
-    double T = 0.0, W1 = 0.0, W2 = 0.0;
+    const double *c = full + 3, *v = full + 3 + n, *g = d->gbar;   /* grad W2 at c */
+    double T = 0.0, W2 = 0.0;
     (void)t;   /* E and the work are functions of the state alone */
     if (d->bal_valid &&
         memcmp(u, d->bal_u, sizeof(double) * (size_t)swim_dynamics_state_dim(d)) == 0) {
@@ -329,14 +339,30 @@ double swim_dynamics_balance(double t, const double *u, void *params)
         } else if (s->barrier) {   /* with an origin, from the exact shape origin + u, as the right-hand side */
             double lo[2 * (SWIM_KERNEL_MAX_MODES + 1)];
             if (d->origin) shape_lo(d, u, lo);
-            if (swim_barrier_w2_carry(d->diag_barrier, c, d->origin ? lo : NULL, s->epsilon, s->alpha, &W2, NULL,
+            if (swim_barrier_w2_carry(d->diag_barrier, c, d->origin ? lo : NULL, s->epsilon, s->alpha, &W2, gbuf,
                                       NULL) != SWIM_BARRIER_OK)
                 return NAN;
+            g = gbuf;
         }
     }
-    if (s->elastic)
-        for (int i = 0; i < n; i++) W1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
-    return T + W1 + W2 - full[3 + 2 * n];
+    const double W1 = elastic_energy(s, c), work = full[3 + 2 * n];
+    if (noise) {
+        /* What rounding leaves of B: the sums (~dim u of each term), the barrier rule (chosen by
+         * error, ~1e-14 of W2 between two rules), and W2 through the rounding of the carried state
+         * (the shape itself, or u with an origin): u |dW2/du_i| |u_i|, which near the boundary
+         * (dW2 ~ kappa dJ / min J) can exceed any tolerance -- the limit behind shifting. */
+        const double uu = 1.11e-16;
+        double r = (4 + 2 * nf) * uu * (T + W1) + uu * fabs(work) + 2e-14 * W2;
+        if (s->barrier)
+            for (int f = 0; f < nf; f++) r += 4.0 * uu * fabs(g[d->spec->free_index[f]] * u[3 + f]);
+        /* a state the projection has just corrected: that correction is driven by residuals at the
+         * rounding level, not by the step, and near the boundary W2 amplifies it (dW2 = g . dc) */
+        if (s->barrier && d->proj_valid &&
+            memcmp(u, d->proj_out, sizeof(double) * (size_t)swim_dynamics_state_dim(d)) == 0)
+            for (int f = 0; f < nf; f++) r += fabs(g[d->spec->free_index[f]] * d->proj_delta[3 + f]);
+        *noise = r;
+    }
+    return T + W1 + W2 - work;
 }
 
 int swim_dynamics_jacobian(double t, const double *y, double *J, void *params)
@@ -382,8 +408,7 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     for (int i = 0; i < n; i++)
         o->kinetic_shape += 0.5 * b * v[i] * v[i] / (abs(swim_coord_mode(i)) + 1);   /* (2.17) */
     o->kinetic_fluid = T - o->kinetic_rigid - o->kinetic_shape;
-    if (s->elastic)
-        for (int i = 0; i < n; i++) o->w1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
+    o->w1 = elastic_energy(s, c);
     if (s->barrier) o->w2 = swim_dynamics_w2(d, c);
     o->energy = T + o->w1 + o->w2;
     o->work = y[3 + 2 * n];
@@ -425,6 +450,7 @@ int swim_dynamics_project(double t, double *ys, void *params)
     const int m = swim_dynamics_state_dim(d);
     (void)t;
     if (d->origin) memcpy(before, absolute(d, ys, d->hi), sizeof(double) * m);
+    memcpy(d->proj_delta, ys, sizeof(double) * m);
     swim_dynamics_unpack(d, ys, y);
     for (int i = 0; i < n; i++)
         if (!s->free_mask[i]) {
@@ -512,6 +538,9 @@ int swim_dynamics_project(double t, double *ys, void *params)
     } else {
         swim_dynamics_pack(d, y, ys);
     }
+    for (int i = 0; i < m; i++) d->proj_delta[i] = ys[i] - d->proj_delta[i];
+    memcpy(d->proj_out, ys, sizeof(double) * m);
+    d->proj_valid = 1;
     d->projections++;
     d->max_projection = fmax(d->max_projection, change);
     return 0;

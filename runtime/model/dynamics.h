@@ -75,6 +75,9 @@ typedef struct {
      * kinetic energy and W2 anyway (swim_dynamics_track_balance, swim_dynamics_balance). */
     int bal_track, bal_valid;
     double bal_kinetic, bal_u[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    /* The last projection: its output and what it changed (packed), for the balance's noise. */
+    int proj_valid;
+    double proj_out[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)], proj_delta[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
 } swim_dynamics;
 
 /* k: the kernel of N = scene->modes modes. 0, or -1 (out of memory). */
@@ -139,10 +142,10 @@ int swim_dynamics_rhs(double t, const double *y, double *dydt, void *params);
  * forcing): constant along exact solutions, so abm controls its local error too
  * (swim_ode_options.invariant). With tracking on, the right-hand side keeps its kinetic energy and
  * W2, and B at the state it has just evaluated costs O(n) instead of a mass matrix and a barrier
- * quadrature; at any other state it is computed in full. NAN where the state is outside the
- * domain. */
+ * quadrature; at any other state it is computed in full. noise (may be NULL) receives an estimate
+ * of what rounding leaves of B there. NAN where the state is outside the domain. */
 void swim_dynamics_track_balance(swim_dynamics *d, int on);
-double swim_dynamics_balance(double t, const double *u, void *params);
+double swim_dynamics_balance(double t, const double *u, double *noise, void *params);
 int swim_dynamics_jacobian(double t, const double *y, double *J, void *params);
 
 typedef struct {

@@ -191,15 +191,17 @@ typedef struct {
      * in y (energy minus the work of the forces, both in the state) -- whose local error joins
      * the error test.  To first order the step's error estimate moves B by
      * r (B(t_{n+1}, y_c) - B(t_{n+1}, p)), p the predictor, y_c the (projected) corrector,
-     * r = (g_k - g_{k+1}) / g_{k+1}; an attempt passes only if that is at most invariant_tol, and
-     * the next step is sized for both tests.  Why: Adams methods keep each component's local
-     * error within its weight but let B drift by a systematic amount per step (for oscillations,
-     * their dissipation), which adds up over 10^5 steps where the components' errors do not.
-     * B is called right after f at the same (t, y) -- at p once the error test has passed, at y_c
-     * after the final evaluation -- so it may reuse what f computed there; an attempt it fails
-     * has cost both evaluations.  Rejections it causes are counted in swim_ode_stats.rejected
-     * and .rejected_invariant.  NULL = none. */
-    double (*invariant)(double t, const double *y, void *data);
+     * r = (g_k - g_{k+1}) / g_{k+1}; an attempt passes only if that is at most
+     * max(invariant_tol, 2 r (noise(p) + noise(y_c))), and the next step is sized for both tests.
+     * Why: Adams methods keep each component's local error within its weight but let B drift by
+     * a systematic amount per step (for oscillations, their dissipation), which adds up over
+     * 10^5 steps where the components' errors do not.  B is called right after f at the same
+     * (t, y) -- at p once the error test has passed, at y_c after the final evaluation -- so it
+     * may reuse what f computed there; it stores in *noise (never NULL) an estimate of what
+     * rounding leaves of B at y, so that the test never asks for less.  An attempt it fails has
+     * cost both evaluations.  Rejections it causes are counted in swim_ode_stats.rejected and
+     * .rejected_invariant.  NULL = none. */
+    double (*invariant)(double t, const double *y, double *noise, void *data);
     void *invariant_data;
     double invariant_tol;
 } swim_ode_options;
