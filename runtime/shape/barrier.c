@@ -629,14 +629,15 @@ static int refine_close(const swim_barrier_quad *b, const double *x, double comp
     return m;
 }
 
-/* Parameter of the Bernstein ellipse of [-1, 1] through zeta: rho = a + sqrt(a^2 - 1) with the
- * semi-major axis a = (|zeta - 1| + |zeta + 1|)/2 (the foci are +-1), written with a - 1 so that
- * zeta near the interval keeps its digits; no complex square roots. */
+/* Parameter of the Bernstein ellipse of [-1, 1] through zeta = x + iy: rho = a + b with the
+ * semi-axes a^2 = b^2 + 1 (foci +-1), and b^2 the positive root of b^4 + (1 - x^2 - y^2) b^2 - y^2
+ * = 0, taken in the form without cancellation on either side of the unit circle (a zeta close to
+ * the interval, y -> 0 inside it, is the case that matters: rho - 1 ~ b). No complex square roots. */
 static double bernstein(double complex zeta)
 {
-    const double x = creal(zeta), y = cimag(zeta);
-    const double am1 = 0.5 * (sqrt((x - 1.0) * (x - 1.0) + y * y) + sqrt((x + 1.0) * (x + 1.0) + y * y) - 2.0);
-    return 1.0 + am1 + sqrt(am1 * (am1 + 2.0));
+    const double x = creal(zeta), y = cimag(zeta), s = x * x + y * y - 1.0, disc = sqrt(s * s + 4.0 * y * y);
+    const double b2 = s >= 0.0 ? 0.5 * (s + disc) : (disc - s > 0.0 ? 2.0 * y * y / (disc - s) : 0.0);
+    return sqrt(b2 + 1.0) + sqrt(b2);
 }
 
 /* Gauss nodes needed on [base + u, base + v] so that no zero of J is inside the ellipse of the
