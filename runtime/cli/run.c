@@ -627,7 +627,7 @@ static int prepare(run_ctx *c)
     if (s->energy_control && strcmp(s->integrator, "abm") == 0) {
         o->invariant = scaled_balance;
         o->invariant_data = c;
-        o->invariant_tol = ENERGY_CONTROL * s->rtol;   /* abm does not ask for less than B's rounding */
+        o->invariant_tol = ENERGY_CONTROL * s->rtol;   /* abm never asks for less than B's rounding */
     }
     if (s->step_lookahead >= 0) o->lookahead = s->step_lookahead;
     s->step_lookahead = o->lookahead;   /* the summary records the value used */
