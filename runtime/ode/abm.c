@@ -825,12 +825,6 @@ static void stiffness_diagnostic(abm *a, int k, double h, int was_clamped, int c
     }
 }
 
-/* One PECE step attempt of order k and size h:
- *   coefficients -> predict -> evaluate f(p) -> estimate -> [reject]
- *   -> correct -> project -> evaluate f(y_{n+1}) -> accept -> differences
- *   -> order -> look-ahead -> step size -> stiffness -> report.
- * A positive value of f at either evaluation is a domain failure (restore,
- * smaller step); a negative one ends the integration. */
 /* The balance's share of the error estimate, in units of its tolerance (0 without one).
  * y_c - p = h g_{k+1} phi_{k+1}(n+1) and the order-k estimate is h (g_k - g_{k+1}) phi_{k+1}(n+1):
  * to first order the balance errs by (g_k - g_{k+1})/g_{k+1} (B(y_c) - B(p)). B is taken after
@@ -849,6 +843,12 @@ static double invariant_error(abm *a, double bal_p, double noise_p)
     return r * fabs(bal_c - bal_p) / MAXD(a->invariant_tol, 2.0 * r * (noise_p + noise_c));
 }
 
+/* One PECE step attempt of order k and size h:
+ *   coefficients -> predict -> evaluate f(p) -> estimate -> [reject]
+ *   -> correct -> project -> evaluate f(y_{n+1}) -> [balance test: reject] -> accept -> differences
+ *   -> order -> look-ahead -> step size -> stiffness -> report.
+ * A positive value of f at either evaluation is a domain failure (restore,
+ * smaller step); a negative one ends the integration. */
 int abm_step(abm *a, int *accepted)
 {
     *accepted = 0;
