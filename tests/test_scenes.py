@@ -199,6 +199,8 @@ BAD = [
     ("projection not bool", lambda s: s.replace("atol = 1e-12", "atol = 1e-12\nprojection = 1"), "run.projection: expected true or false"),
     ("step_lookahead out of range", lambda s: s.replace("atol = 1e-12", "atol = 1e-12\nstep_lookahead = 13"), "run.step_lookahead: expected an integer 0..12"),
     ("step_lookahead not integer", lambda s: s.replace("atol = 1e-12", "atol = 1e-12\nstep_lookahead = 2.5"), "run.step_lookahead: expected an integer 0..12"),
+    ("impact_depth negative", lambda s: s.replace("atol = 1e-12", "atol = 1e-12\nimpact_depth = -1e-16"), "run.impact_depth: value -1e-16 must be in [0, 1)"),
+    ("impact_depth not a number", lambda s: s.replace("atol = 1e-12", "atol = 1e-12\nimpact_depth = \"deep\""), "run.impact_depth: expected a number"),
     ("empty file", lambda s: "", "[model]: missing table"),
     ("binary garbage", lambda s: "\x01\x02\xff\xfe" * 10, "invalid UTF-8"),
 ]

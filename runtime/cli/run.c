@@ -42,6 +42,7 @@
 #include "io/files.h"
 #include "io/json.h"
 #include "io/message.h"
+#include "model/bounce.h"
 #include "model/dynamics.h"
 #include "model/flow.h"
 #include "codegen/codegen.h"
@@ -134,7 +135,8 @@ typedef struct {
     double *tol_scale;          /* abm's per-component tolerance factors near the barrier (or NULL) */
     /* shifted coordinates near the barrier (model/dynamics.h, swim_dynamics_set_origin), abm only */
     int shift_ok;               /* the integrator in use may shift */
-    int shift_pending;          /* the integrator stopped at shift_t to move the origin (1) or drop it (2) */
+    int shift_pending;          /* the integrator stopped at shift_t to move the origin (1), drop it (2)
+                                   or take an impact (3) */
     double shift_t;             /* in the integrator's time (absolute: d.t_origin + shift_t) */
     double left_native;         /* the watch's crossing, in the integrator's time */
     double row_jmin;            /* min J of the row's exact state with an origin (else NAN) */
@@ -142,6 +144,11 @@ typedef struct {
     double *atolv;              /* abm's absolute tolerances with an origin: atol + rtol |origin_i| */
     long shifts;                /* restarts for the origin */
     long steps_since_shift;     /* accepted steps since the last one */
+    /* bounces too deep to follow, taken as impacts (model/bounce.h, impact_wanted) */
+    double impact_dv[SWIM_NMAX];   /* the pending impact's change of cdot (full shape layout) */
+    double impact_j, impact_reach; /* its min J and predicted turning depth, over |c_1|^2 */
+    long impacts;
+    double impact_first_t, impact_last_t, impact_j_max, impact_reach_min;
     swim_run_watch watch;       /* checks at every accepted step (integrators with dense output) */
     int watch_ready;
     run_report r;
@@ -278,6 +285,53 @@ static int shift_wanted(const run_ctx *c, double j, const double *u)
     return umax > j / SHIFT_OUT;
 }
 
+/* ---- bounces too deep to follow ---------------------------------------------------------- */
+
+/* With alpha = 1/2 an approach carrying the normal kinetic energy T turns at min J ~ j0 e^(-T/kappa)
+ * (shape/barrier.h, swim_barrier_reach), far below what double precision resolves under strong
+ * forcing (1e-160 in tests/scenes/large_forcing_a05.toml), in a time of the same order. Such a
+ * bounce is an impact (model/bounce.h). It is taken once min J, falling, is below IMPACT_AT rtol
+ * |c_1|^2, when the turning point is predicted below impact_depth |c_1|^2 (deeper than the
+ * shifted coordinates follow) and below IMPACT_DEEPER times the depth reached (then the speed
+ * toward the wall hardly changes before the last e-folds, as the impulsive limit assumes). The
+ * rest of the bounce lasts ~2 min J / |d min J/dt|; what the impact neglects over that time is
+ * O(min J) of the state: a hundredth of rtol (measured: ~6 min J, tests/test_impact.py). */
+#define IMPACT_AT 0.01
+#define IMPACT_DEEPER 1e-3
+
+/* The impact at full state y (model/bounce.h), along the barrier's gradient there, computed on
+ * the diagnostics' quadrature (its warm start is not the right-hand side's). 0 or -1. */
+static int bounce_at(run_ctx *c, const double *y, swim_bounce *b)
+{
+    const swim_scene *s = &c->s;
+    double grad[SWIM_NMAX], W;
+    if (!c->d.diag_barrier ||
+        swim_barrier_w2(c->d.diag_barrier, y + 3, s->epsilon, s->alpha, &W, grad, NULL) != SWIM_BARRIER_OK)
+        return -1;
+    return swim_bounce_along(&c->d, y, grad, b);
+}
+
+/* Whether the step end y, at min J / |c_1|^2 = j, is where a bounce becomes an impact; then its
+ * change of cdot is left in c->impact_dv. */
+static int impact_wanted(run_ctx *c, const double *y, double j)
+{
+    const swim_scene *s = &c->s;
+    if (!(s->impact_depth > 0) || !(j < IMPACT_AT * s->rtol) || !c->d.diag_barrier) return 0;
+    double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    swim_dynamics_unpack(&c->d, y, full);
+    const double j0 = c->watch_ready && c->watch.end_y == y ? c->watch.end_j   /* just computed at this step end */
+                                                             : swim_dynamics_jmin(&c->d, y, NULL);
+    swim_bounce b;
+    if (!(j0 > 0) || bounce_at(c, full, &b) != 0 || !(b.rate > 0)) return 0;
+    const double reach = swim_barrier_reach(c->d.diag_barrier, full + 3, s->epsilon, s->alpha, b.normal_kinetic, NULL);
+    const double c1 = full[3] * full[3] + full[4] * full[4];
+    if (!(reach > 0) || !(reach < s->impact_depth * c1) || !(reach < IMPACT_DEEPER * j0)) return 0;
+    memcpy(c->impact_dv, b.dv, sizeof(double) * (size_t)s->n);
+    c->impact_j = j0 / c1;
+    c->impact_reach = reach / c1;
+    return 1;
+}
+
 static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop)
 {
     run_ctx *c = data;
@@ -301,6 +355,13 @@ static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop
     if (!c->tol_scale || !step->y_end) return rc;
     const double j = barrier_tolerance(c, step->y_end, step->tb - step->ta);
     c->steps_since_shift++;
+    if (!rc && impact_wanted(c, step->y_end, j)) {
+        c->shift_pending = 3;
+        c->shift_t = step->tb;
+        *t_stop = step->tb;
+        memcpy(c->ys_shift, step->y_end, sizeof(double) * (size_t)c->sdim);
+        return 1;
+    }
     if (rc || !c->shift_ok) return rc;
     const int want = shift_wanted(c, j, step->y_end);
     if (!want) return 0;
@@ -769,55 +830,10 @@ static void stop_on_output(run_ctx *c, double t)
  * barrier the kinetic energy there could carry the shape (shape/barrier.h, swim_barrier_reach),
  * compared with the resolution of J = |c_1|^2 - |h|^2 in double precision. Empty when the reach
  * is resolvable (then the crossing is not explained by the barrier's weakness). */
-/* The kinetic energy of the motion toward the boundary: with g = grad J at the angle of min J,
- * the least kinetic energy 1/2 v^T K v compatible with the rate g.v is (g.v)^2 / (2 g^T K^-1 g)
- * (free coordinates only). Only that part can be turned into W2 in a bounce. NAN on failure. */
-static double normal_kinetic_energy(const run_ctx *c, const double *x, const double *v)
+/* The remedy that keeps the scene as it is, when the run did not use it. */
+static const char *impact_hint(const swim_scene *s)
 {
-    const swim_scene *s = &c->s;
-    const int n = s->n;
-    double theta, g[SWIM_NMAX], e[SWIM_NMAX] = {0.0};
-    swim_shape_jmin_at(s->modes, x, &theta);
-    for (int i = 0; i < n; i++) {   /* grad J at theta, one direction at a time (J is quadratic) */
-        e[i] = 1.0;
-        g[i] = s->free_mask[i] ? swim_shape_j_rate(s->modes, x, e, theta) : 0.0;
-        e[i] = 0.0;
-    }
-    double *K = malloc(sizeof(double) * (size_t)n * (size_t)n);
-    if (!K || c->kn.kernel->reduced(x, NULL, s->rho0, s->rhof, K, NULL, NULL) != 0) {
-        free(K);
-        return NAN;
-    }
-    /* K restricted to the free coordinates, Cholesky in place; a = K_ff^-1 g_f */
-    int idx[SWIM_NMAX], m = 0;
-    for (int i = 0; i < n; i++)
-        if (s->free_mask[i]) idx[m++] = i;
-    double A[SWIM_NMAX * SWIM_NMAX], a[SWIM_NMAX], gv = 0.0;
-    for (int i = 0; i < m; i++) {
-        a[i] = g[idx[i]];
-        gv += g[idx[i]] * v[idx[i]];
-        for (int j = 0; j < m; j++) A[m * i + j] = K[n * idx[i] + idx[j]];
-    }
-    free(K);
-    for (int j = 0; j < m; j++) {
-        double d = A[m * j + j];
-        for (int k = 0; k < j; k++) d -= A[m * j + k] * A[m * j + k];
-        if (!(d > 0)) return NAN;
-        A[m * j + j] = sqrt(d);
-        for (int i = j + 1; i < m; i++) {
-            double t = A[m * i + j];
-            for (int k = 0; k < j; k++) t -= A[m * i + k] * A[m * j + k];
-            A[m * i + j] = t / A[m * j + j];
-        }
-    }
-    double gKg = 0.0;   /* g^T K^-1 g = |L^-1 g|^2 */
-    for (int i = 0; i < m; i++) {
-        double t = a[i];
-        for (int k = 0; k < i; k++) t -= A[m * i + k] * a[k];
-        a[i] = t / A[m * i + i];
-        gKg += a[i] * a[i];
-    }
-    return gKg > 0 ? gv * gv / (2.0 * gKg) : NAN;
+    return s->impact_depth > 0 ? "" : ", or take such bounces as impacts (run.impact_depth, default 1e-16)";
 }
 
 static void barrier_diagnosis(run_ctx *c, char *buf, size_t len)
@@ -845,7 +861,8 @@ static void barrier_diagnosis(run_ctx *c, char *buf, size_t len)
         j0 = swim_shape_jmin(s->modes, full + 3);
     }
     const double *x = full + 3, c1 = x[0] * x[0] + x[1] * x[1];
-    const double T = normal_kinetic_energy(c, x, full + 3 + s->n);
+    swim_bounce bn;
+    const double T = bounce_at(c, full, &bn) == 0 ? bn.normal_kinetic : NAN;
     double kappa = NAN;
     double reach = swim_barrier_reach(c->d.barrier, x, s->epsilon, s->alpha, T, &kappa);
     if (!(kappa > 0) && c->have_inside) {
@@ -868,15 +885,15 @@ static void barrier_diagnosis(run_ctx *c, char *buf, size_t len)
         snprintf(buf, len, "; at min J = %.3g the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold "
                  "of min J, and absorbing the kinetic energy still moving toward the boundary (%.3g) takes min J "
                  "down to ~1e%d: abm, in coordinates shifted to the bounce, could not follow it; "
-                 "use alpha >= 1, a larger epsilon or a looser rtol",
-                 j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)));
+                 "use alpha >= 1, a larger epsilon or a looser rtol%s",
+                 j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)), impact_hint(s));
     else if (reach > 0)
         snprintf(buf, len, "; at min J = %.3g the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold "
                  "of min J, and absorbing the kinetic energy still moving toward the boundary (%.3g) takes min J "
                  "down to ~1e%d, where the rounding of the shape (~1e-16 in J = |c1|^2 - |h|^2) moves W2 by "
                  "more than rtol of the energy (min J < %.1e): double precision cannot follow this bounce "
-                 "without run.origin_shift; use alpha >= 1, a larger epsilon or a looser rtol",
-                 j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)), floor_j);
+                 "without run.origin_shift; use alpha >= 1, a larger epsilon or a looser rtol%s",
+                 j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)), floor_j, impact_hint(s));
     else
         snprintf(buf, len, "; the barrier (alpha = %g < 1/2, epsilon = %g) is finite at the boundary of D and "
                  "cannot stop the kinetic energy moving toward it (%.3g)", s->alpha, s->epsilon, T);
@@ -885,7 +902,7 @@ static void barrier_diagnosis(run_ctx *c, char *buf, size_t len)
 /* The shape left D at t (4.1): the crossing of min J = 0, located at a step (see advance_to). */
 static void stop_left_D(run_ctx *c, double t)
 {
-    char why[640];
+    char why[1024];
     barrier_diagnosis(c, why, sizeof why);
     stop(c, "left D at t = %.10g: the shape left the admissible set D (min J reaches 0 on the circle, (4.1))%s%s", t,
          c->s.barrier ? "; the barrier did not stop it" : "; the scene has no barrier", why);
@@ -908,7 +925,7 @@ static void stop_on_integrator(run_ctx *c, int rc, double t)
         stop_left_D(c, c->r.left_t);
     else {
         /* near the boundary of D with a barrier too weak to be resolved, that is the cause */
-        char why[640];
+        char why[1024];
         barrier_diagnosis(c, why, sizeof why);
         if (rc == SWIM_ODE_ERHS)
             stop(c, "%s near t = %.6g%s", swim_dynamics_strerror(swim_ode_rhs_status(c->ode)), c->d.last_rhs_t, why);
@@ -987,6 +1004,40 @@ static int shift_origin(run_ctx *c, double tout)
     return swim_ode_advance(c->ode, tout - t0, c->ys);
 }
 
+/* The integrator stopped at shift_t (accept_step) at the step end where a bounce becomes an
+ * impact: start it again from the state there with the reflected cdot (model/bounce.h), at the
+ * same origin and clock, and go on to tout. An ODE status. */
+static int take_impact(run_ctx *c, double tout)
+{
+    const swim_scene *s = &c->s;
+    accumulate_stats(&c->total, c->ode);
+    swim_ode_free(c->ode);
+    c->ode = NULL;
+    memcpy(c->ys, c->ys_shift, sizeof(double) * (size_t)c->sdim);
+    const swim_scene_kernel *k = c->d.spec;
+    for (int f = 0; f < k->nfree; f++) c->ys[3 + k->nfree + f] += c->impact_dv[k->free_index[f]];
+    c->shift_pending = 0;
+    const double t = c->d.t_origin + c->shift_t;
+    if (c->impacts++ == 0) {
+        c->impact_first_t = t;
+        c->impact_j_max = c->impact_j;
+        c->impact_reach_min = c->impact_reach;
+        /* said even with --quiet: from here on the run is the impulsive limit of the bounce */
+        swim_message(stderr, "swim run: t = %.10g: a bounce off the barrier predicted to turn at min J ~ %.1e |c1|^2, "
+                     "below what double precision follows, taken as an impact at min J = %.2e |c1|^2 "
+                     "(run.impact_depth; later ones are counted in summary.json)",
+                     t, c->impact_reach, c->impact_j);
+    }
+    c->impact_last_t = t;
+    c->impact_j_max = fmax(c->impact_j_max, c->impact_j);
+    c->impact_reach_min = fmin(c->impact_reach_min, c->impact_reach);
+    barrier_tolerance(c, c->ys, 0.0);
+    const char *method = c->r.switch_t >= 0 ? s->stiff_fallback : s->integrator;
+    int rc = swim_ode_create(method, &c->sys, &c->o, c->shift_t, c->ys, &c->ode);
+    if (rc != SWIM_ODE_OK || !(tout - c->d.t_origin > c->shift_t)) return rc;   /* at tout already */
+    return swim_ode_advance(c->ode, tout - c->d.t_origin, c->ys);
+}
+
 /* Advance to output time *t and leave the row's full state in c->y. A :stop event before *t
  * ends the run there: *t becomes the event time, whose row is the last. An ODE status. */
 static int advance_to(run_ctx *c, double *t, double *t_last)
@@ -994,13 +1045,13 @@ static int advance_to(run_ctx *c, double *t, double *t_last)
     double ta = swim_wall();
     int rc = swim_ode_advance(c->ode, *t - c->d.t_origin, c->ys);
     while (rc == SWIM_ODE_TERMINATED && c->shift_pending && swim_ode_time(c->ode) == c->shift_t)
-        rc = shift_origin(c, *t);
+        rc = c->shift_pending == 3 ? take_impact(c, *t) : shift_origin(c, *t);
     c->r.integrate_seconds += swim_wall() - ta;
     if (rc == SWIM_ODE_ESTIFF && c->s.stiff_fallback[0] && c->r.switch_t < 0 && !swim_run_stop) {
         /* An alarm raised by a bounce off the barrier that double precision cannot follow is
          * not stiffness: BDF's larger steps would only cross the unresolved wall with a wrong
          * energy. The run stops there, saying why (stop_on_integrator). */
-        char why[640];
+        char why[1024];
         barrier_diagnosis(c, why, sizeof why);
         if (!why[0]) rc = switch_to_fallback(c, *t_last, *t);
     }
@@ -1241,6 +1292,13 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
             c->watch_ready ? "true" : "false", c->watch.r.steps, c->watch.seconds);
     fprintf(f, ",\n  \"origin_shift\": {\"enabled\": %s, \"restarts\": %ld}", c->shift_ok || c->shifts ? "true" : "false",
             c->shifts);
+    fprintf(f, ",\n  \"impacts\": {\"enabled\": %s, \"impact_depth\": %.3g, \"count\": %ld",
+            c->ys_shift && s->impact_depth > 0 ? "true" : "false", s->impact_depth, c->impacts);
+    if (c->impacts)
+        fprintf(f, ", \"first_t\": %.17g, \"last_t\": %.17g, \"jmin_max\": %.3g, \"turning_min\": %.3g}", c->impact_first_t,
+                c->impact_last_t, c->impact_j_max, c->impact_reach_min);
+    else
+        fprintf(f, ", \"first_t\": null, \"last_t\": null, \"jmin_max\": null, \"turning_min\": null}");
     fprintf(f, ",\n  \"energy_control\": {\"enabled\": %s, \"tolerance\": %.3g, \"rejected_steps\": %ld}",
             c->o.invariant ? "true" : "false", c->o.invariant ? c->o.invariant_tol : 0.0, c->total.rejected_invariant);
     swim_run_events_json(c->events, f);   /* "events", "event_stop", "periodic" (with events) */

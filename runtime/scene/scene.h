@@ -70,6 +70,9 @@ typedef struct {
     int energy_control;               /* abm: the local error of the energy balance joins the error
                                          test (swim_ode_options.invariant); 1, 0, or -1 when the scene
                                          does not say: on with a barrier, off without */
+    double impact_depth;              /* abm with a barrier: a bounce predicted to turn below
+                                         impact_depth |c_1|^2 is taken as an impact (model/bounce.h);
+                                         0: never */
     int step_lookahead;               /* ABM step-size look-ahead p (swim_ode_options.lookahead); -1 = the integrator default */
     double projection_change;         /* max |change| of dc0 when projected */
     int setting_line[SWIM_SET_COUNT]; /* line of each run setting in the file (0: absent) */
