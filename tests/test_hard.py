@@ -25,7 +25,7 @@ from swimtest import ROOT, TMP, check, main, run
 def test_barrier_scenes_stay_in_D():
     # (scene, t_end override or None): the near-boundary scenes are the expensive ones.
     for scene, t_end in [("hard/near_boundary_a1", "2"),
-                         ("hard/large_forcing", "2"), ("hard/abrupt_forcing", None),
+                         ("hard/large_forcing_a1", "2"), ("hard/abrupt_forcing", None),
                          ("hard/stiff_n7", None), ("example7", None), ("selfpropelled", "30")]:
         args = ["--t-end", t_end] if t_end else []
         p, d, s = run("models/%s.toml" % scene, scene.replace("/", "_"), *args)

@@ -7,7 +7,7 @@
    two must agree row for row before the bounce (the check changes nothing), the predicted turning
    depth must match the followed minimum, and after the bounce they may differ only by what the
    impact neglects -- O(min J at the impact) = O(IMPACT_AT rtol), converging like rtol.
-2. Forcing 20x that of section 5.2 against the alpha = 1/2 barrier (tests/scenes/large_forcing_a05.toml),
+2. Forcing 20x that of section 5.2 against the alpha = 1/2 barrier (models/hard/large_forcing.toml),
    whose bounces would turn at min J ~ 1e-25 ... 1e-110: with impacts it completes, inside D, with
    the energy balance (5.3) kept and the impacts reported.
 Prints "test_impact: P passed, F failed".
@@ -69,21 +69,21 @@ def test_impulsive_limit():
               (after["1e-9"], after["1e-10"]))
 
 
-def test_large_forcing_a05():
-    p, d, s = run("tests/scenes/large_forcing_a05.toml", "large_forcing_a05", "--t-end", "3")
+def test_large_forcing():
+    p, d, s = run("models/hard/large_forcing.toml", "large_forcing", "--t-end", "3")
     ok = d is not None and s is not None
-    check(ok, "large_forcing_a05: rows and summary written")
+    check(ok, "large_forcing: rows and summary written")
     if not ok:
         return
-    check(p.returncode == 0 and s["status"] == "completed", "large_forcing_a05 completes t = 3: %s" % s["reason"])
-    check(np.min(d["jmin"]) > 0 and s["jmin"] > 0, "large_forcing_a05: min J %.3g" % s["jmin"])
+    check(p.returncode == 0 and s["status"] == "completed", "large_forcing completes t = 3: %s" % s["reason"])
+    check(np.min(d["jmin"]) > 0 and s["jmin"] > 0, "large_forcing: min J %.3g" % s["jmin"])
     imp = s["impacts"]
-    check(imp["count"] >= 1 and imp["turning_min"] < 1e-16, "large_forcing_a05: impacts reported (%s)" % imp)
+    check(imp["count"] >= 1 and imp["turning_min"] < 1e-16, "large_forcing: impacts reported (%s)" % imp)
     check("taken as an impact" in p.stderr, "the first impact is said on stderr even with --quiet: %s" % p.stderr.strip())
     scale = np.max(np.abs(d["energy"]))
     bal = np.max(np.abs(d["energy"] - d["energy"][0] - d["work"])) / scale
-    check(bal <= 1e-7, "large_forcing_a05: energy balance off by %.3g of the energy scale" % bal)
-    print("  large_forcing_a05 to t = 3: %d impacts (turning points predicted down to %.1e), min J %.2e, balance %.2e"
+    check(bal <= 1e-7, "large_forcing: energy balance off by %.3g of the energy scale" % bal)
+    print("  large_forcing to t = 3: %d impacts (turning points predicted down to %.1e), min J %.2e, balance %.2e"
           % (imp["count"], imp["turning_min"], s["jmin"], bal))
 
 

@@ -289,13 +289,13 @@ static int shift_wanted(const run_ctx *c, double j, const double *u)
 
 /* With alpha = 1/2 an approach carrying the normal kinetic energy T turns at min J ~ j0 e^(-T/kappa)
  * (shape/barrier.h, swim_barrier_reach), far below what double precision resolves under strong
- * forcing (1e-160 in tests/scenes/large_forcing_a05.toml), in a time of the same order. Such a
+ * forcing (1e-25 ... 1e-110 in models/hard/large_forcing.toml), in a time of the same order. Such a
  * bounce is an impact (model/bounce.h). It is taken once min J, falling, is below IMPACT_AT rtol
- * |c_1|^2, when the turning point is predicted below impact_depth |c_1|^2 (deeper than the
- * shifted coordinates follow) and below IMPACT_DEEPER times the depth reached (then the speed
+ * |c_1|^2, when the turning point is predicted below impact_depth |c_1|^2 (by default the
+ * resolution of J in double precision) and below IMPACT_DEEPER times the depth reached (then the speed
  * toward the wall hardly changes before the last e-folds, as the impulsive limit assumes). The
  * rest of the bounce lasts ~2 min J / |d min J/dt|; what the impact neglects over that time is
- * O(min J) of the state: a hundredth of rtol (measured: ~6 min J, tests/test_impact.py). */
+ * O(min J) of the state (measured: ~6 min J, tests/test_impact.py), a few hundredths of rtol. */
 #define IMPACT_AT 0.01
 #define IMPACT_DEEPER 1e-3
 
