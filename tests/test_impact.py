@@ -13,6 +13,8 @@
 Prints "test_impact: P passed, F failed".
 """
 
+import os
+
 import numpy as np
 
 from swimtest import check, main, run
@@ -67,6 +69,17 @@ def test_impulsive_limit():
         ratio = after["1e-9"] / after["1e-10"]
         check(ratio > 4, "the impact's error converges with its depth: %.3g at rtol 1e-9, %.3g at 1e-10" %
               (after["1e-9"], after["1e-10"]))
+
+
+def test_no_sensitivities_across_impacts():
+    # the variational equations would need the impact's jump: swim says so instead of writing
+    # sensitivities of a run it did not integrate
+    p, d, s = run(SCENE, "impact_sens", "--rtol", "1e-9", "--atol", "1e-14", "--set", "run.impact_depth=1e-12",
+                  "--sensitivity", "barrier.epsilon")
+    check(p.returncode == 1 and "across which sensitivities are not computed" in p.stderr,
+          "--sensitivity with an impact: exit %d, %s" % (p.returncode, p.stderr.strip()[-200:]))
+    check(s is not None and s["status"] == "completed" and s["impacts"]["count"] == 1, "the run itself is kept")
+    check(not os.path.exists(os.path.join(p.args[p.args.index("--out") + 1], "sensitivity.csv")), "no sensitivity.csv")
 
 
 def test_large_forcing():

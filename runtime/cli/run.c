@@ -1434,6 +1434,11 @@ static int check_sensitivity(run_ctx *c)
  * variational equations, by the same integrator at the same tolerances. */
 static int run_sensitivity(run_ctx *c)
 {
+    if (c->impacts) {   /* the variational equations would need the impact's jump (a saltation matrix) */
+        swim_message(stderr, "swim run: no sensitivity.csv: the run took %ld bounce(s) off the barrier as impacts, "
+                     "across which sensitivities are not computed; set run.impact_depth = 0 to follow them", c->impacts);
+        return 1;
+    }
     swim_sens S;
     char *path = swim_strprintf("%s/sensitivity.csv", c->paths.dir);
     int rc = !path || swim_sens_init(&S, &c->d) != 0 ? 1 : swim_sens_add_list(&S, &c->s, "run", c->opt.sensitivity);

@@ -602,6 +602,8 @@ static void summary_json(FILE *f, void *ctx)
      * allowability samples (swim_stroke_check), not by the per-step watch of swim run */
     fprintf(f, ",\n  \"stiff_switch\": null,\n  \"step_checks\": {\"enabled\": false, \"steps\": 0, \"seconds\": 0}");
     fprintf(f, ",\n  \"origin_shift\": {\"enabled\": false, \"restarts\": 0}");   /* no barrier in a stroke */
+    fprintf(f, ",\n  \"impacts\": {\"enabled\": false, \"impact_depth\": 0, \"count\": 0, \"first_t\": null, \"last_t\": null, "
+               "\"jmin_max\": null, \"turning_min\": null}");   /* the shape is prescribed */
     fprintf(f, ",\n  \"energy_control\": {\"enabled\": false, \"tolerance\": 0, \"rejected_steps\": 0}");   /* (3.21) alone: no energy */
     swim_run_events_json(c->events, f);
     stroke_json(f, c);
