@@ -826,16 +826,16 @@ static void stop_on_output(run_ctx *c, double t)
     stop(c, "%s (at t = %.6g)", c->output_error ? c->output_error : "an output could not be written", t);
 }
 
-/* With a barrier, why it did not stop the shape: from the last row inside D, how deep into the
- * barrier the kinetic energy there could carry the shape (shape/barrier.h, swim_barrier_reach),
- * compared with the resolution of J = |c_1|^2 - |h|^2 in double precision. Empty when the reach
- * is resolvable (then the crossing is not explained by the barrier's weakness). */
 /* The remedy that keeps the scene as it is, when the run did not use it. */
 static const char *impact_hint(const swim_scene *s)
 {
     return s->impact_depth > 0 ? "" : ", or take such bounces as impacts (run.impact_depth, default 1e-16)";
 }
 
+/* With a barrier, why it did not stop the shape: from the last row inside D, how deep into the
+ * barrier the kinetic energy there could carry the shape (shape/barrier.h, swim_barrier_reach),
+ * compared with the resolution of J = |c_1|^2 - |h|^2 in double precision. Empty when the reach
+ * is resolvable (then the crossing is not explained by the barrier's weakness). */
 static void barrier_diagnosis(run_ctx *c, char *buf, size_t len)
 {
     buf[0] = '\0';
@@ -1023,10 +1023,10 @@ static int take_impact(run_ctx *c, double tout)
         c->impact_j_max = c->impact_j;
         c->impact_reach_min = c->impact_reach;
         /* said even with --quiet: from here on the run is the impulsive limit of the bounce */
-        swim_message(stderr, "swim run: t = %.10g: a bounce off the barrier predicted to turn at min J ~ %.1e |c1|^2, "
-                     "below what double precision follows, taken as an impact at min J = %.2e |c1|^2 "
-                     "(run.impact_depth; later ones are counted in summary.json)",
-                     t, c->impact_reach, c->impact_j);
+        swim_message(stderr, "swim run: t = %.10g: a bounce off the barrier predicted to turn at min J ~ %.1e |c1|^2 "
+                     "(below run.impact_depth = %g) taken as an impact at min J = %.2e |c1|^2 (docs/barrier.md); "
+                     "summary.json counts them",
+                     t, c->impact_reach, s->impact_depth, c->impact_j);
     }
     c->impact_last_t = t;
     c->impact_j_max = fmax(c->impact_j_max, c->impact_j);
