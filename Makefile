@@ -197,6 +197,7 @@ bench-soft: $(BIN)/swim
 	$(PYTHON) tests/bench/bench_soft_family.py --scene models/hard/soft_n15_a05.toml --out build/bench/soft_family_n15
 	$(PYTHON) tests/bench/bench_soft_family.py --scene models/hard/soft_n20_a05.toml --members 4 \
 	    --variant nocontrol=run.energy_control=false --out build/bench/soft_family_n20
+	$(PYTHON) tests/bench/bench_soft_family.py --scene models/hard/soft_n20_a1.toml --members 4 --out build/bench/soft_family_n20_a1
 
 # Figures shown in README.md, rebuilt from the main job.
 readme-figures: run

@@ -1378,6 +1378,9 @@ static int report(run_ctx *c)
                  c->r.used, s->rtol, st->steps, st->rhs_evals, st->rejected, swim_wall() - c->t_start, c->d.rhs_seconds);
     printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g at t = %.6g\n",
            c->r.drift_abs, c->r.e0, c->r.res_volume, c->r.res_angular, c->r.res_locks, c->r.jmin, c->r.jmin_t);
+    if (c->impacts)   /* min J above is over the computed steps, not the turning points of the impacts */
+        printf("  %ld bounce(s) taken as impacts from t = %.6g to %.6g, turning points predicted down to min J ~ %.1e\n",
+               c->impacts, c->impact_first_t, c->impact_last_t, c->impact_reach_min);
     printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", c->y[0], c->y[1], c->y[2]);
     if (fflush(stdout) != 0 || ferror(stdout)) {
         swim_message(stderr, "swim run: cannot write the report to the standard output: %s", strerror(errno ? errno : EIO));
