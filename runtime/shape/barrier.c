@@ -229,9 +229,50 @@ static void node_values(const swim_barrier_quad *b, const double *cs, const doub
     for (int k = 0; k < m; k++) J[k] = c1 - hr[k] * hr[k] - hi[k] * hi[k];
 }
 
+/* Sums over the nodes in 8 interleaved partial sums (node k into lane k % 8, two vectors of 4),
+ * added up in a fixed order at the end: without reassociation (no -ffast-math) a single running
+ * sum is a serial chain of additions that the compiler cannot vectorize. Only the rounding of
+ * the sums changes. */
+typedef double vec4 __attribute__((vector_size(4 * sizeof(double))));
+
+static inline vec4 load4(const double *p)
+{
+    vec4 v;
+    memcpy(&v, p, sizeof v);
+    return v;
+}
+
+static inline double total8(vec4 a, vec4 b, double tail)
+{
+    const vec4 s = a + b;
+    return ((s[0] + s[1]) + (s[2] + s[3])) + tail;
+}
+
+/* f = w J^-alpha and g = w J^{-1-alpha} = f / J at n nodes (g holds J on entry; w NULL: 1). One
+ * loop per exponent so that each vectorizes (1/sqrt and 1/J instead of pow for alpha = 1/2, 1). */
+static void weigh(double alpha, const double *w, double *g, int n, double *f)
+{
+    if (alpha == 0.5)
+        for (int k = 0; k < n; k++) {
+            f[k] = (w ? w[k] : 1.0) / sqrt(g[k]);
+            g[k] = f[k] / g[k];
+        }
+    else if (alpha == 1.0)
+        for (int k = 0; k < n; k++) {
+            const double r = 1.0 / g[k];
+            f[k] = (w ? w[k] : 1.0) * r;
+            g[k] = f[k] * r;
+        }
+    else
+        for (int k = 0; k < n; k++) {
+            f[k] = (w ? w[k] : 1.0) * pow(g[k], -alpha);
+            g[k] = f[k] / g[k];
+        }
+}
+
 /* Adds the nodes with values J (overwritten by g = w J^{-1-alpha}) and weights w (NULL: 1) to s;
- * hr, hi, cs, sn as in node_values. Returns 1 when J <= 0 at a node. One loop per exponent so
- * that each vectorizes (1/sqrt and 1/J instead of pow for alpha = 1/2 and 1). */
+ * hr, hi, cs, sn as in node_values. Returns 1 when J <= 0 at a node. */
+#define CHUNK 256
 static int node_sums(const swim_barrier_quad *b, const double *cs, const double *sn, int m,
                      const double *hr, const double *hi, double *g, const double *w, double alpha,
                      int grad, sums *s)
@@ -239,38 +280,46 @@ static int node_sums(const swim_barrier_quad *b, const double *cs, const double 
     int bad = 0;
     for (int k = 0; k < m; k++) bad |= !(g[k] > 0.0);
     if (bad) return 1;
-    double S = 0.0, G0 = 0.0;
-    if (alpha == 0.5)
-        for (int k = 0; k < m; k++) {
-            const double f = (w ? w[k] : 1.0) / sqrt(g[k]);
-            S += f;
-            g[k] = f / g[k];
+    const int mv = m - m % 8;   /* nodes in whole blocks of 8; the rest are summed one by one */
+    vec4 S0 = {0}, S1 = {0}, G0 = {0}, G1 = {0};
+    double St = 0.0, Gt = 0.0;
+    for (int k0 = 0; k0 < m; k0 += CHUNK) {
+        double f[CHUNK];
+        const int n = m - k0 < CHUNK ? m - k0 : CHUNK;
+        weigh(alpha, w ? w + k0 : NULL, g + k0, n, f);
+        for (int k = 0; k + 8 <= n && k0 + k < mv; k += 8) {
+            S0 += load4(f + k);
+            S1 += load4(f + k + 4);
+            G0 += load4(g + k0 + k);
+            G1 += load4(g + k0 + k + 4);
         }
-    else if (alpha == 1.0)
-        for (int k = 0; k < m; k++) {
-            const double f = 1.0 / g[k];
-            S += (w ? w[k] : 1.0) * f;
-            g[k] = (w ? w[k] : 1.0) * f * f;
+        for (int k = k0 + n > mv ? mv - k0 : n; k < n; k++) {
+            St += f[k];
+            Gt += g[k0 + k];
         }
-    else
-        for (int k = 0; k < m; k++) {
-            const double f = (w ? w[k] : 1.0) * pow(g[k], -alpha);
-            S += f;
-            g[k] = f / g[k];
-        }
-    for (int k = 0; k < m; k++) G0 += g[k];
-    s->S += S;
+    }
+    s->S += total8(S0, S1, St);
     if (!grad) return 0;
-    s->G0 += G0;
+    s->G0 += total8(G0, G1, Gt);
     for (int j = 0; j < b->N; j++) {           /* sum g z^j h, z^j = cos + i sin */
         const double *c = cs + (size_t)j * m, *sj = sn + (size_t)j * m;
-        double re = 0.0, im = 0.0;
-        for (int k = 0; k < m; k++) {
-            re += g[k] * (c[k] * hr[k] - sj[k] * hi[k]);
-            im += g[k] * (c[k] * hi[k] + sj[k] * hr[k]);
+        vec4 r0 = {0}, r1 = {0}, i0 = {0}, i1 = {0};
+        for (int k = 0; k < mv; k += 8) {
+            const vec4 ca = load4(c + k), sa = load4(sj + k), ha = load4(hr + k), ia = load4(hi + k), ga = load4(g + k);
+            const vec4 cb = load4(c + k + 4), sb = load4(sj + k + 4), hb = load4(hr + k + 4), ib = load4(hi + k + 4),
+                       gb = load4(g + k + 4);
+            r0 += ga * (ca * ha - sa * ia);
+            i0 += ga * (ca * ia + sa * ha);
+            r1 += gb * (cb * hb - sb * ib);
+            i1 += gb * (cb * ib + sb * hb);
         }
-        s->Gr[j] += re;
-        s->Gi[j] += im;
+        double rt = 0.0, it = 0.0;
+        for (int k = mv; k < m; k++) {
+            rt += g[k] * (c[k] * hr[k] - sj[k] * hi[k]);
+            it += g[k] * (c[k] * hi[k] + sj[k] * hr[k]);
+        }
+        s->Gr[j] += total8(r0, r1, rt);
+        s->Gi[j] += total8(i0, i1, it);
     }
     return 0;
 }
@@ -689,19 +738,35 @@ static double sin_minus(double s)
 }
 
 /* J(a + s) = J(a) + J'(a) s + 2 Re sum_p B_p F_p(s), B_p = J_p e^{ipa}, F_p = e^{ips} - 1 - ips,
- * by F_{p+1} = F_p e^{is} + F_1 + i p s (e^{is} - 1): every term is O(s^2). */
-static double precise_J(const swim_barrier_quad *b, const double complex *B, double Ja, double J1a,
-                        double s)
+ * by F_{p+1} = F_p e^{is} + F_1 + i p s (e^{is} - 1): every term is O(s^2). For m <= PBLOCK
+ * offsets s at once, in structure-of-arrays form (p outside, the offsets inside, only the real
+ * part of the sum kept) so that the loop over the offsets vectorizes; each value is the same
+ * sequence of operations as one complex recurrence per offset. */
+#define PBLOCK 64
+static void precise_J(const swim_barrier_quad *b, const double complex *B, double Ja, double J1a,
+                      const double *s, int m, double *J)
 {
-    const double sh = sin(0.5 * s);
-    const double complex E1 = CMPLX(-2.0 * sh * sh, sin(s)), F1 = CMPLX(-2.0 * sh * sh, sin_minus(s));
-    const double complex e = 1.0 + E1;
-    double complex F = F1, acc = 0.0;
-    for (int p = 1; p < b->N; p++) {
-        acc += B[p] * F;
-        F = F * e + F1 + I * (p * s) * E1;
+    double E1r[PBLOCK], E1i[PBLOCK], F1r[PBLOCK], F1i[PBLOCK], Fr[PBLOCK], Fi[PBLOCK], acc[PBLOCK];
+    for (int k = 0; k < m; k++) {
+        const double sh = sin(0.5 * s[k]);
+        E1r[k] = F1r[k] = -2.0 * sh * sh;
+        E1i[k] = sin(s[k]);
+        F1i[k] = sin_minus(s[k]);
+        Fr[k] = F1r[k];
+        Fi[k] = F1i[k];
+        acc[k] = 0.0;
     }
-    return Ja + J1a * s + 2.0 * creal(acc);
+    for (int p = 1; p < b->N; p++) {
+        const double Br = creal(B[p]), Bi = cimag(B[p]);
+        for (int k = 0; k < m; k++) {
+            const double er = 1.0 + E1r[k], ei = E1i[k], ps = p * s[k];
+            acc[k] += Br * Fr[k] - Bi * Fi[k];
+            const double nr = (Fr[k] * er - Fi[k] * ei + F1r[k]) - ps * E1i[k];
+            Fi[k] = (Fr[k] * ei + Fi[k] * er + F1i[k]) + ps * E1r[k];
+            Fr[k] = nr;
+        }
+    }
+    for (int k = 0; k < m; k++) J[k] = Ja + J1a * s[k] + 2.0 * acc[k];
 }
 
 typedef struct {
@@ -828,9 +893,17 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
     }
     node_values(b, cs, sn, nodes, x, b->hr, b->hi, b->jv);
     for (int c = 0; c < nc; c++)   /* nodes near a close zero: offsets from its foot */
-        for (int k = 0; k < nodes; k++)
-            if (b->base[k] == cen[c].a && fabs(b->th[k]) < NEAR)
-                b->jv[k] = precise_J(b, cen[c].B, cen[c].Ja, cen[c].J1a, b->th[k]);
+        for (int k0 = 0; k0 < nodes;) {
+            int idx[PBLOCK], m = 0;
+            double off[PBLOCK], Jp[PBLOCK];
+            for (; k0 < nodes && m < PBLOCK; k0++)
+                if (b->base[k0] == cen[c].a && fabs(b->th[k0]) < NEAR) {
+                    idx[m] = k0;
+                    off[m++] = b->th[k0];
+                }
+            precise_J(b, cen[c].B, cen[c].Ja, cen[c].J1a, off, m, Jp);
+            for (int i = 0; i < m; i++) b->jv[idx[i]] = Jp[i];
+        }
     memcpy(b->jnode, b->jv, sizeof(double) * (size_t)nodes);   /* node_sums overwrites jv */
     sums s;
     memset(&s, 0, sizeof s);
