@@ -38,7 +38,7 @@ struct swim_barrier_quad {
     double *th, *base, *wt, *jv, *hr, *hi;   /* graded nodes: base + th, weight wt */
     double *ctr, *off;         /* ... = ctr + off, ctr the centre of the node's panel (node_angles) */
     double *jnode;             /* J at the graded nodes of the last call (for the Hessian) */
-    double *gcs, *gsn;         /* cos, sin(j theta_k) at the graded nodes, [j][k] */
+    double *gcs;               /* cos, sin theta_k at the graded nodes and power_sums' workspace */
     size_t gcap;
     double complex *comp, *roots;
     double complex *coef;      /* monic polynomial z^P J(z) / J_P, degree nroots */
@@ -108,9 +108,6 @@ static int reserve_tables(swim_barrier_quad *b, size_t entries)
     double *c = realloc(b->gcs, sizeof(double) * cap);
     if (!c) return -1;
     b->gcs = c;
-    double *sn = realloc(b->gsn, sizeof(double) * cap);
-    if (!sn) return -1;
-    b->gsn = sn;
     b->gcap = cap;
     return 0;
 }
@@ -181,7 +178,6 @@ void swim_barrier_quad_free(swim_barrier_quad *b)
     free(b->ctr);
     free(b->off);
     free(b->gcs);
-    free(b->gsn);
     free(b->hr);
     free(b->hi);
     free(b->comp);
@@ -270,12 +266,45 @@ static void weigh(double alpha, const double *w, double *g, int n, double *f)
         }
 }
 
-/* Adds the nodes with values J (overwritten by g = w J^{-1-alpha}) and weights w (NULL: 1) to s;
- * hr, hi, cs, sn as in node_values. Returns 1 when J <= 0 at a node. */
+/* The gradient sums sum_k g_k z_k^j h_k, j = 0..N-1, at nodes z_k = c_k + i s_k without tables of
+ * cos, sin(j theta): t_k = g_k h_k is multiplied by z_k once per j (error ~ j u, as the
+ * angle-addition tables), each step a vector loop over the nodes; tr, ti hold m doubles each. */
+static void power_sums(const swim_barrier_quad *b, const double *c, const double *sn, int m, const double *hr,
+                       const double *hi, const double *g, double *tr, double *ti, sums *s)
+{
+    const int mv = m - m % 8;
+    for (int k = 0; k < m; k++) {
+        tr[k] = g[k] * hr[k];
+        ti[k] = g[k] * hi[k];
+    }
+    for (int j = 0; j < b->N; j++) {
+        vec4 r0 = {0}, r1 = {0}, i0 = {0}, i1 = {0};
+        for (int k = 0; k < mv; k += 8) {
+            r0 += load4(tr + k);
+            r1 += load4(tr + k + 4);
+            i0 += load4(ti + k);
+            i1 += load4(ti + k + 4);
+        }
+        double rt = 0.0, it = 0.0;
+        for (int k = mv; k < m; k++) {
+            rt += tr[k];
+            it += ti[k];
+        }
+        s->Gr[j] += total8(r0, r1, rt);
+        s->Gi[j] += total8(i0, i1, it);
+        if (j + 1 == b->N) break;
+        for (int k = 0; k < m; k++) {
+            const double a = tr[k] * c[k] - ti[k] * sn[k];
+            ti[k] = tr[k] * sn[k] + ti[k] * c[k];
+            tr[k] = a;
+        }
+    }
+}
+
+/* Adds the nodes with values J (overwritten by g = w J^{-1-alpha}) and weights w (NULL: 1) to
+ * S and (grad) G0 of s. Returns 1 when J <= 0 at a node. */
 #define CHUNK 256
-static int node_sums(const swim_barrier_quad *b, const double *cs, const double *sn, int m,
-                     const double *hr, const double *hi, double *g, const double *w, double alpha,
-                     int grad, sums *s)
+static int weight_sums(int m, double *g, const double *w, double alpha, int grad, sums *s)
 {
     int bad = 0;
     for (int k = 0; k < m; k++) bad |= !(g[k] > 0.0);
@@ -299,8 +328,18 @@ static int node_sums(const swim_barrier_quad *b, const double *cs, const double 
         }
     }
     s->S += total8(S0, S1, St);
+    if (grad) s->G0 += total8(G0, G1, Gt);
+    return 0;
+}
+
+/* weight_sums, and (grad) the sums over g z^j h from the tables cs, sn of node_values. */
+static int node_sums(const swim_barrier_quad *b, const double *cs, const double *sn, int m,
+                     const double *hr, const double *hi, double *g, const double *w, double alpha,
+                     int grad, sums *s)
+{
+    if (weight_sums(m, g, w, alpha, grad, s)) return 1;
     if (!grad) return 0;
-    s->G0 += total8(G0, G1, Gt);
+    const int mv = m - m % 8;
     for (int j = 0; j < b->N; j++) {           /* sum g z^j h, z^j = cos + i sin */
         const double *c = cs + (size_t)j * m, *sj = sn + (size_t)j * m;
         vec4 r0 = {0}, r1 = {0}, i0 = {0}, i1 = {0};
@@ -322,6 +361,37 @@ static int node_sums(const swim_barrier_quad *b, const double *cs, const double 
         s->Gi[j] += total8(i0, i1, it);
     }
     return 0;
+}
+
+/* h and J at nodes k = 0..m-1 from c = cos theta_k, sn = sin theta_k alone: h = sum_j H_j w^j,
+ * w = e^{-i theta} = c - i sn, by Horner (a vector loop over the nodes per j). */
+static void node_values_horner(const swim_barrier_quad *b, const double *c, const double *sn, int m,
+                               const double *x, double *hr, double *hi, double *J)
+{
+    const double c1 = x[0] * x[0] + x[1] * x[1];
+    const int N = b->N;
+    if (N == 0) {
+        for (int k = 0; k < m; k++) {
+            hr[k] = hi[k] = 0.0;
+            J[k] = c1;
+        }
+        return;
+    }
+    const double complex Hl = coef_h(x, N - 1);
+    for (int k = 0; k < m; k++) {
+        hr[k] = creal(Hl);
+        hi[k] = cimag(Hl);
+    }
+    for (int j = N - 2; j >= 0; j--) {
+        const double complex H = coef_h(x, j);
+        const double Hr = creal(H), Hi = cimag(H);
+        for (int k = 0; k < m; k++) {
+            const double a = hr[k] * c[k] + hi[k] * sn[k] + Hr;
+            hi[k] = hi[k] * c[k] - hr[k] * sn[k] + Hi;
+            hr[k] = a;
+        }
+    }
+    for (int k = 0; k < m; k++) J[k] = c1 - hr[k] * hr[k] - hi[k] * hi[k];
 }
 
 /* Adds the trapezoidal nodes of one level (tables cs, sn), with weight 1, to s. */
@@ -525,52 +595,125 @@ static void node_angles(const swim_barrier_quad *b, int nodes, double *c, double
 static inline double modulus(double complex z) { return sqrt(creal(z) * creal(z) + cimag(z) * cimag(z)); }
 
 
-/* The zeros of J in the upper half of the theta plane (one of each pair z, 1/conj z of zeros of
- * z^P J(z)), as theta = arg z + i |log |z||. Returns how many, or -1 on a LAPACK failure. */
 /* Aberth-Ehrlich iteration from the roots of the last call: the shape moves little between two
  * calls (integrator stages), so a few cubically convergent sweeps, O(n^2) each, replace the
  * O(n^3) QR iteration. The simultaneous correction keeps the approximations apart (implicit
- * deflation); the result is accepted only when every correction is below 1e-11 (the roots only place panels and bound their error, to which
- * such a shift does nothing measurable) and no two
- * roots coincide, else the caller recomputes from scratch. Returns 0 when accepted. */
+ * deflation). The roots only place panels and bound their error, to which a shift of 1e-11
+ * does nothing measurable, so the result is accepted when every correction of a sweep is below
+ * 1e-11, or when the corrections delta_i of a sweep predict that the next ones would be below
+ * 1e-12 (next_error) -- and no two roots coincide; else the caller recomputes from scratch.
+ * Returns 0 when accepted. */
+#define MAX_ROOTS 128
+
+/* Error left after an Aberth correction delta_i of root i, from the errors e_j of the others:
+ * e_i' = e_i^2 sigma_i / (1 + e_i sigma_i), sigma_i = -sum_{j != i} e_j / ((z_i - zeta_j)(z_i - z_j))
+ * (zeta the exact roots), so with |e_j| <= 2 |delta_j| (cubic convergence: the correction is the
+ * error up to a far smaller part), D the distance from z_i to its nearest neighbour at the time
+ * of its correction, E = max |delta| and T = sum |delta|, after the sweep
+ *   |e_i'| <= 4 delta_i^2 |sigma_i| / (1 - 2 delta_i |sigma_i|),  |sigma_i| <= 2 T / ((D - 2E) (D - 4E)),
+ * the neighbours having moved by up to 2E since D was measured. Infinity unless D > 8E. */
+static double next_error(double delta, double D, double E, double T)
+{
+    if (!(D > 8.0 * E)) return INFINITY;
+    const double sigma = 2.0 * T / ((D - 2.0 * E) * (D - 4.0 * E)), t = 2.0 * delta * sigma;
+    return t < 0.5 ? 2.0 * delta * t / (1.0 - t) : INFINITY;
+}
+
 static int polish_roots(swim_barrier_quad *b, int n)
 {
+    if (n > MAX_ROOTS) return -1;
     const double complex *a = b->coef;
     double complex *z = b->roots;
-    for (int sweep = 0; sweep < 8; sweep++) {
-        double worst = 0.0;
+    /* structure of arrays: Horner runs over all roots at once (p and p' at z_i do not change in a
+     * sweep until z_i itself is corrected, so they are evaluated up front), the repulsion sums over
+     * the other roots */
+    double zr[MAX_ROOTS], zi[MAX_ROOTS], pr[MAX_ROOTS], pim[MAX_ROOTS], dr_[MAX_ROOTS], di_[MAX_ROOTS];
+    double st[MAX_ROOTS], dmin[MAX_ROOTS];
+    for (int i = 0; i < n; i++) {
+        zr[i] = creal(z[i]);
+        zi[i] = cimag(z[i]);
+    }
+    int accepted = 0;
+    for (int sweep = 0; sweep < 8 && !accepted; sweep++) {
         for (int i = 0; i < n; i++) {
-            double complex p = 1.0, dp = 0.0;   /* Horner for p and p' (monic) */
-            for (int k = n - 1; k >= 0; k--) {
-                dp = dp * z[i] + p;
-                p = p * z[i] + a[k];
-            }
-            if (p == 0.0) continue;
-            double rr = 0.0, ri = 0.0;   /* sum of 1/(z_i - z_j) as conj(d)/|d|^2: no checked complex division */
-            for (int j = 0; j < n; j++) {
-                if (j == i) continue;
-                const double dr = creal(z[i]) - creal(z[j]), di = cimag(z[i]) - cimag(z[j]), q = 1.0 / (dr * dr + di * di);
-                rr += dr * q;
-                ri -= di * q;
-            }
-            const double complex rep = CMPLX(rr, ri);
-            const double complex w = p / dp, step = w / (1.0 - w * rep);
-            if (!isfinite(creal(step)) || !isfinite(cimag(step))) return -1;
-            z[i] -= step;
-            worst = fmax(worst, modulus(step) / (1.0 + modulus(z[i])));
+            pr[i] = 1.0;
+            pim[i] = dr_[i] = di_[i] = 0.0;
         }
-        if (worst < 1e-11) {
-            for (int i = 0; i < n; i++) {   /* |z_i - z_j| < 1e-8 (1 + |z_i|), squared: O(n^2) without hypot */
-                const double lim = 1e-8 * (1.0 + modulus(z[i])), lim2 = lim * lim;
-                for (int j = i + 1; j < n; j++) {
-                    const double dr = creal(z[i]) - creal(z[j]), di = cimag(z[i]) - cimag(z[j]);
-                    if (dr * dr + di * di < lim2) return -1;
-                }
+        for (int k = n - 1; k >= 0; k--) {   /* p and p' (monic) by Horner */
+            const double ar = creal(a[k]), ai = cimag(a[k]);
+            for (int i = 0; i < n; i++) {
+                const double ndr = (dr_[i] * zr[i] - di_[i] * zi[i]) + pr[i];
+                const double ndi = (dr_[i] * zi[i] + di_[i] * zr[i]) + pim[i];
+                const double npr = (pr[i] * zr[i] - pim[i] * zi[i]) + ar;
+                const double npi = (pr[i] * zi[i] + pim[i] * zr[i]) + ai;
+                dr_[i] = ndr;
+                di_[i] = ndi;
+                pr[i] = npr;
+                pim[i] = npi;
             }
-            return 0;
+        }
+        double worst = 0.0, E = 0.0, T = 0.0;
+        for (int i = 0; i < n; i++) {
+            st[i] = 0.0;
+            dmin[i] = INFINITY;
+            if (pr[i] == 0.0 && pim[i] == 0.0) continue;
+            /* sum of 1/(z_i - z_j) as conj(d)/|d|^2, and the nearest neighbour; the term j = i
+             * (d = 0) is masked out */
+            vec4 rr = {0}, ri = {0}, dm = {INFINITY, INFINITY, INFINITY, INFINITY};
+            const vec4 xi = {zr[i], zr[i], zr[i], zr[i]}, yi = {zi[i], zi[i], zi[i], zi[i]};
+            int j = 0;
+            for (; j + 4 <= n; j += 4) {
+                const vec4 dx = xi - load4(zr + j), dy = yi - load4(zi + j), d2 = dx * dx + dy * dy;
+                const vec4 q = 1.0 / d2;
+                typedef long long mask4 __attribute__((vector_size(4 * sizeof(long long))));
+                const mask4 keep = (mask4)(d2 != 0.0);
+                const vec4 qk = (vec4)((mask4)q & keep);
+                rr += dx * qk;
+                ri -= dy * qk;
+                const mask4 lt = (mask4)(d2 < dm) & keep;
+                dm = (vec4)(((mask4)d2 & lt) | ((mask4)dm & ~lt));
+            }
+            double sr = (rr[0] + rr[1]) + (rr[2] + rr[3]), si = (ri[0] + ri[1]) + (ri[2] + ri[3]);
+            double d2min = fmin(fmin(dm[0], dm[1]), fmin(dm[2], dm[3]));
+            for (; j < n; j++) {
+                if (j == i) continue;
+                const double dx = zr[i] - zr[j], dy = zi[i] - zi[j], d2 = dx * dx + dy * dy, q = 1.0 / d2;
+                sr += dx * q;
+                si -= dy * q;
+                d2min = fmin(d2min, d2);
+            }
+            /* w = p / p', step = w / (1 - w rep) */
+            const double den = dr_[i] * dr_[i] + di_[i] * di_[i];
+            const double wr = (pr[i] * dr_[i] + pim[i] * di_[i]) / den, wi = (pim[i] * dr_[i] - pr[i] * di_[i]) / den;
+            const double ur = 1.0 - (wr * sr - wi * si), ui = -(wr * si + wi * sr), uu = ur * ur + ui * ui;
+            const double sr_ = (wr * ur + wi * ui) / uu, si_ = (wi * ur - wr * ui) / uu;
+            if (!isfinite(sr_) || !isfinite(si_)) return -1;
+            zr[i] -= sr_;
+            zi[i] -= si_;
+            st[i] = sqrt(sr_ * sr_ + si_ * si_);
+            dmin[i] = sqrt(d2min);
+            E = fmax(E, st[i]);
+            T += st[i];
+            worst = fmax(worst, st[i] / (1.0 + sqrt(zr[i] * zr[i] + zi[i] * zi[i])));
+        }
+        accepted = worst < 1e-11;
+        if (!accepted && worst < 1e-3) {
+            double pred = 0.0;
+            for (int i = 0; i < n && pred < 1e-12; i++)
+                pred = fmax(pred, next_error(st[i], dmin[i], E, T) / (1.0 + sqrt(zr[i] * zr[i] + zi[i] * zi[i])));
+            accepted = pred < 1e-12;
         }
     }
-    return -1;
+    for (int i = 0; i < n; i++) z[i] = CMPLX(zr[i], zi[i]);
+    if (!accepted) return -1;
+    for (int i = 0; i < n; i++) {   /* |z_i - z_j| < 1e-8 (1 + |z_i|), squared: O(n^2) without hypot */
+        const double lim = 1e-8 * (1.0 + modulus(z[i])), lim2 = lim * lim;
+        for (int j = i + 1; j < n; j++) {
+            const double dx = zr[i] - zr[j], dy = zi[i] - zi[j];
+            if (dx * dx + dy * dy < lim2) return -1;
+        }
+    }
+    return 0;
 }
 
 /* The zeros of J in the upper half of the theta plane (one of each pair z, 1/conj z of zeros of
@@ -872,26 +1015,12 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
                 panels++;
             }
         }
-    /* cos, sin(j theta_k) at the nodes by the angle-addition recurrence in j (error ~ j u),
-     * then J, h and the sums by the loops of the trapezoidal rule */
-    const int w = N > 0 ? N : 1;
-    if (reserve_tables(b, (size_t)w * (size_t)nodes) != 0) return -1;
-    double *cs = b->gcs, *sn = b->gsn;
-    for (int k = 0; k < nodes; k++) {
-        cs[k] = 1.0;
-        sn[k] = 0.0;
-    }
-    if (w > 1) node_angles(b, nodes, cs + nodes, sn + nodes);
-    for (int j = 2; j < w; j++) {
-        const double *c1 = cs + nodes, *s1 = sn + nodes, *cp = cs + (size_t)(j - 1) * nodes,
-                     *sp = sn + (size_t)(j - 1) * nodes;
-        double *cj = cs + (size_t)j * nodes, *sj = sn + (size_t)j * nodes;
-        for (int k = 0; k < nodes; k++) {
-            cj[k] = cp[k] * c1[k] - sp[k] * s1[k];
-            sj[k] = sp[k] * c1[k] + cp[k] * s1[k];
-        }
-    }
-    node_values(b, cs, sn, nodes, x, b->hr, b->hi, b->jv);
+    /* cos, sin theta_k at the nodes; h and J by Horner in e^{-i theta}, the gradient sums by
+     * powers of e^{i theta} (power_sums): no tables of cos, sin(j theta) */
+    if (reserve_tables(b, 4 * (size_t)nodes) != 0) return -1;
+    double *cs = b->gcs;
+    node_angles(b, nodes, cs, cs + nodes);
+    node_values_horner(b, cs, cs + nodes, nodes, x, b->hr, b->hi, b->jv);
     for (int c = 0; c < nc; c++)   /* nodes near a close zero: offsets from its foot */
         for (int k0 = 0; k0 < nodes;) {
             int idx[PBLOCK], m = 0;
@@ -907,7 +1036,8 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
     memcpy(b->jnode, b->jv, sizeof(double) * (size_t)nodes);   /* node_sums overwrites jv */
     sums s;
     memset(&s, 0, sizeof s);
-    if (node_sums(b, cs, sn, nodes, b->hr, b->hi, b->jv, b->wt, alpha, grad != NULL, &s)) return 1;
+    if (weight_sums(nodes, b->jv, b->wt, alpha, grad != NULL, &s)) return 1;
+    if (grad) power_sums(b, cs, cs + nodes, nodes, b->hr, b->hi, b->jv, cs + 2 * nodes, cs + 3 * nodes, &s);
     finish(b, &s, 1.0, x, eps, alpha, W, grad);
     if (info) {
         info->nodes = nodes;
