@@ -483,8 +483,10 @@ static void j_derivs(const swim_barrier_quad *b, double th, double *J, double *J
  * model of J, which is where the trapezoidal rule's error e^{-Qd} comes from. The minima are
  * bracketed on max(16, 4(N+1)) samples and refined by Newton's method on J'. Returns 0 when J <= 0 at a
  * minimum (outside D), INFINITY when J has no minimum (constant), -1 when a minimum could not be
- * refined. */
-static double peak_width(const swim_barrier_quad *b)
+ * refined. The deepest sampled minimum is refined first, and a width below dstop is returned at
+ * once: the caller then takes the graded rule whatever the other minima give (which also finds
+ * a J <= 0 elsewhere: zeros of J on the circle). */
+static double peak_width(const swim_barrier_quad *b, double dstop)
 {
     const int M = b->ns;
     double *J = b->sJ, d = INFINITY;
@@ -494,7 +496,12 @@ static double peak_width(const swim_barrier_quad *b)
         const double *c = b->scs + (size_t)p * M, *sn = b->ssn + (size_t)p * M;
         for (int k = 0; k < M; k++) J[k] += re * c[k] - im * sn[k];
     }
-    for (int k = 0; k < M; k++) {
+    int deepest = -1;
+    for (int k = 0; k < M; k++)
+        if (deepest < 0 || J[k] < J[deepest]) deepest = k;
+    for (int i = -1; i < M; i++) {
+        const int k = i < 0 ? deepest : i;
+        if (i == deepest) continue;
         const double left = J[(k + M - 1) % M], right = J[(k + 1) % M];
         if (!(J[k] < left && J[k] <= right)) continue;
         double th = TWO_PI * k / M, Jt, J1, J2;      /* Newton on J' from the sample */
@@ -516,6 +523,7 @@ static double peak_width(const swim_barrier_quad *b)
          * graded rule decides from J in binary128 at the foot */
         if (!(Jt > 1e-13 * b->c1sq)) return Jt > -1e-13 * b->c1sq ? -1.0 : 0.0;
         if (J2 > 0.0) d = fmin(d, sqrt(2.0 * Jt / J2));
+        if (d < dstop) return d;
     }
     return d;
 }
@@ -530,7 +538,7 @@ static int trapezoid(swim_barrier_quad *b, const double *x, double eps, double a
                      double *grad, int *nodes)
 {
     fourier(b, x);
-    const double d = b->N > 1 ? peak_width(b) : INFINITY;
+    const double d = b->N > 1 ? peak_width(b, PEAK_PERIODS / trap_max(b->N)) : INFINITY;
     if (d == 0.0) return 1;
     if (d < 0.0) return 2;
     const double Qmin = PEAK_PERIODS / d;
@@ -931,8 +939,7 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
 {
     const int N = b->N;
     double complex z[128];
-    fourier(b, x);
-    int nz = zeros(b, z);
+    int nz = zeros(b, z);   /* J_p: fourier() of x, by trapezoid() just before */
     if (nz < 0) return -1;
     nz = refine_close(b, x, z, nz);
     if (nz < 0) return 1;
