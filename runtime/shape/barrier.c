@@ -520,7 +520,7 @@ static double peak_width(const swim_barrier_quad *b, double dstop)
         if (!converged) return -1.0;
         j_derivs(b, th, &Jt, &J1, &J2);
         /* J is known here to the cancellation error of |c_1|^2 - |h|^2 only: within it, the
-         * graded rule decides from J in binary128 at the foot */
+         * graded rule decides from J in extended precision at the foot */
         if (!(Jt > 1e-13 * b->c1sq)) return Jt > -1e-13 * b->c1sq ? -1.0 : 0.0;
         if (J2 > 0.0) d = fmin(d, sqrt(2.0 * Jt / J2));
         if (d < dstop) return d;
@@ -793,7 +793,7 @@ static void j_complex_q(const swim_barrier_quad *b, const double *x, __complex12
  * minimum of J at a): a nearly double root of the polynomial, which double precision places only
  * to ~sqrt(u) ~ 1e-8 -- at min J ~ 1e-16 that is d itself, and the pair may even land on the
  * circle. Every zero closer than REFINE to the real axis is recomputed by Newton's method in
- * binary128 from the quadratic model at its foot, a + i sqrt(2 J(a) / J''(a)) (J(a) in binary128),
+ * binary128 from the quadratic model at its foot, a + i sqrt(2 J(a) / J''(a)) (J(a) in double-double, shape.h),
  * which lies next to the upper zero of the pair; repeats are dropped. */
 #define REFINE 1e-5
 static int refine_close(const swim_barrier_quad *b, const double *x, double complex *z, int nz)
@@ -869,7 +869,7 @@ static int panel_nodes(const double complex *z, int nz, double base, double u, d
     return q < QMIN ? QMIN : (int)q;
 }
 
-/* J(a) and J'(a) in binary128 (shape.h): near a zero of J their double values would carry the
+/* J(a) and J'(a) in double-double (shape.h): near a zero of J their double values would carry the
  * cancellation error of |c_1|^2 - |h|^2, and the rounding of a shifted shape (b->lo). */
 static void precise_base(const swim_barrier_quad *b, const double *x, double a, double *J, double *J1)
 {
@@ -970,7 +970,7 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
         if (cimag(z[r]) >= PRECISE) continue;
         double a = creal(z[r]);
         {   /* where J stays above PRECISE_J |c_1|^2 near the foot, double precision loses no more
-             * than ~1e-14 relative: binary128 (costly) only where it is needed */
+             * than ~1e-14 relative: extended precision (costly) only where it is needed */
             double Jd, J1d, J2d;
             j_derivs(b, a, &Jd, &J1d, &J2d);
             if (Jd > PRECISE_J * (x[0] * x[0] + x[1] * x[1])) continue;
