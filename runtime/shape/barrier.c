@@ -36,7 +36,7 @@ struct swim_barrier_quad {
     /* Workspace: node arrays of the graded rule (grown on demand), the companion matrix, roots. */
     int cap;
     double *th, *base, *wt, *jv, *hr, *hi;   /* graded nodes: base + th, weight wt */
-    double *ctr, *off;         /* ... = ctr + off, ctr the centre of the node's panel (node_angles) */
+    double *ctr, *off;         /* th = ctr + off, ctr the centre of the node's panel (node_angles) */
     double *jnode;             /* J at the graded nodes of the last call (for the Hessian) */
     double *gcs;               /* cos, sin theta_k at the graded nodes and power_sums' workspace */
     size_t gcap;
@@ -570,28 +570,77 @@ static int trapezoid(swim_barrier_quad *b, const double *x, double eps, double a
 
 /* ---- the graded rule --------------------------------------------------------------------- */
 
-/* cos and sin of the graded nodes ctr + off: one sincos per panel for its centre, and for the
- * offsets (|off| <= half the panel) Taylor polynomials where |off| <= 0.05 -- the panels near a
- * zero of J, most of the nodes -- whose truncation error (0.05^11/11!, 0.05^12/12!) is far below
- * u; libm's sincos, which dominated the rule's cost at N = 20, elsewhere. */
+/* sin d - d and cos d - 1 for |d| <= SERIES_MAX by their Taylor series to d^25 and d^24, in Horner
+ * form in d^2 (truncation below 1.6^27/27! = 3e-22; no cancellation between the leading terms
+ * 1, d and the rest, which are returned apart). */
+#define SERIES_MAX 1.6
+static const double inv_fact_odd[12] = {   /* (-1)^k / (2k+3)! */
+    -1.0 / 6, 1.0 / 120, -1.0 / 5040, 1.0 / 362880, -1.0 / 39916800, 1.0 / 6227020800.0,
+    -1.0 / 1307674368000.0, 1.0 / 355687428096000.0, -1.0 / 121645100408832000.0,
+    1.0 / 51090942171709440000.0, -1.0 / 25852016738884976640000.0, 1.0 / 15511210043330985984000000.0};
+static const double inv_fact_even[12] = {   /* (-1)^(k+1) / (2k+2)! */
+    -1.0 / 2, 1.0 / 24, -1.0 / 720, 1.0 / 40320, -1.0 / 3628800, 1.0 / 479001600.0, -1.0 / 87178291200.0,
+    1.0 / 20922789888000.0, -1.0 / 6402373705728000.0, 1.0 / 2432902008176640000.0,
+    -1.0 / 1124000727777607680000.0, 1.0 / 620448401733239439360000.0};
+
+static inline void sincos_series(double d, double *sm, double *cm)
+{
+    const double d2 = d * d;
+    double ps = inv_fact_odd[11], pc = inv_fact_even[11];
+    for (int k = 10; k >= 0; k--) {
+        ps = ps * d2 + inv_fact_odd[k];
+        pc = pc * d2 + inv_fact_even[k];
+    }
+    *sm = d * d2 * ps;   /* sin d - d */
+    *cm = d2 * pc;       /* cos d - 1 */
+}
+
+/* cos and sin of d: the series where |d| <= SERIES_MAX, libm elsewhere. */
+static inline void cos_sin(double d, double *c, double *s)
+{
+    if (fabs(d) <= SERIES_MAX) {
+        double sm, cm;
+        sincos_series(d, &sm, &cm);
+        *c = 1.0 + cm;
+        *s = d + sm;
+    } else {
+        *c = cos(d);
+        *s = sin(d);
+    }
+}
+
+/* cos and sin of the graded nodes base + th, th = ctr + off: one sincos per breakpoint
+ * base, and the offsets of the panel centres from it and of the nodes from their centre (at most
+ * half an interval between breakpoints, pi) by the series of cos_sin -- libm's sincos per panel
+ * and node dominated the rule's cost at N = 20. Angle addition costs a few ulp (absolute: |h| and
+ * the sums are O(1)). */
 static void node_angles(const swim_barrier_quad *b, int nodes, double *c, double *s)
 {
-    double C = 1.0, S = 0.0, last = NAN;
+    for (int k = 0; k < nodes; k++) {   /* the offsets from the panel centres: a vector loop */
+        double sm, cm;
+        sincos_series(b->off[k], &sm, &cm);
+        c[k] = 1.0 + cm;
+        s[k] = b->off[k] + sm;
+    }
+    double C = 1.0, S = 0.0, Cb = 1.0, Sb = 0.0, last = NAN, lastb = NAN;
     for (int k = 0; k < nodes; k++) {
+        if (b->base[k] != lastb) {
+            lastb = b->base[k];
+            Cb = cos(lastb);
+            Sb = sin(lastb);
+            last = NAN;
+        }
         if (b->ctr[k] != last) {
             last = b->ctr[k];
-            C = cos(last);
-            S = sin(last);
+            double cm, sm;
+            cos_sin(last, &cm, &sm);
+            C = Cb * cm - Sb * sm;
+            S = Sb * cm + Cb * sm;
         }
-        const double d = b->off[k];
-        double cd, sd;
-        if (fabs(d) <= 0.05) {
-            const double d2 = d * d;
-            sd = d * (1.0 + d2 * (-1.0 / 6 + d2 * (1.0 / 120 + d2 * (-1.0 / 5040 + d2 * (1.0 / 362880)))));
-            cd = 1.0 + d2 * (-0.5 + d2 * (1.0 / 24 + d2 * (-1.0 / 720 + d2 * (1.0 / 40320 + d2 * (-1.0 / 3628800)))));
-        } else {
-            cd = cos(d);
-            sd = sin(d);
+        double cd = c[k], sd = s[k];
+        if (!(fabs(b->off[k]) <= SERIES_MAX)) {
+            cd = cos(b->off[k]);
+            sd = sin(b->off[k]);
         }
         c[k] = C * cd - S * sd;
         s[k] = S * cd + C * sd;
@@ -879,13 +928,10 @@ static void precise_base(const swim_barrier_quad *b, const double *x, double a, 
 /* sin s - s without cancellation. */
 static double sin_minus(double s)
 {
-    if (fabs(s) >= 0.5) return sin(s) - s;
-    double s2 = s * s, t = -s * s2 / 6.0, sum = t;
-    for (int k = 2; k < 12; k++) {
-        t *= -s2 / ((2.0 * k) * (2.0 * k + 1.0));
-        sum += t;
-    }
-    return sum;
+    if (fabs(s) > SERIES_MAX) return sin(s) - s;
+    double sm, cm;
+    sincos_series(s, &sm, &cm);
+    return sm;
 }
 
 /* J(a + s) = J(a) + J'(a) s + 2 Re sum_p B_p F_p(s), B_p = J_p e^{ipa}, F_p = e^{ips} - 1 - ips,
@@ -899,10 +945,11 @@ static void precise_J(const swim_barrier_quad *b, const double complex *B, doubl
 {
     double E1r[PBLOCK], E1i[PBLOCK], F1r[PBLOCK], F1i[PBLOCK], Fr[PBLOCK], Fi[PBLOCK], acc[PBLOCK];
     for (int k = 0; k < m; k++) {
-        const double sh = sin(0.5 * s[k]);
+        double sh, ch, sm;
+        cos_sin(0.5 * s[k], &ch, &sh);
         E1r[k] = F1r[k] = -2.0 * sh * sh;
-        E1i[k] = sin(s[k]);
-        F1i[k] = sin_minus(s[k]);
+        F1i[k] = sm = sin_minus(s[k]);
+        E1i[k] = s[k] + sm;   /* sin s */
         Fr[k] = F1r[k];
         Fi[k] = F1i[k];
         acc[k] = 0.0;
@@ -1015,7 +1062,7 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
                 for (int k = 0; k < q; k++) {
                     b->base[nodes] = base;
                     b->th[nodes] = mid + half * b->gx[q][k];
-                    b->ctr[nodes] = base + mid;
+                    b->ctr[nodes] = mid;
                     b->off[nodes] = half * b->gx[q][k];
                     b->wt[nodes++] = half * b->gw[q][k];
                 }
