@@ -114,22 +114,32 @@ static double jmin_impl(int modes, const double *x, double *theta, int sign_only
     const double h = TWO_PI / S, margin = 2.0 * (s1 * s1 + s0 * s2) * h * h / 8.0;
     double Js[8 * (SWIM_KERNEL_MAX_MODES + 1)];
     /* samples at theta_q = q h; w_q = e^{-i q h} by rotation, restarted exactly every 16 samples */
+    double wr[8 * (SWIM_KERNEL_MAX_MODES + 1)], wi[8 * (SWIM_KERNEL_MAX_MODES + 1)];
+    double Pr[8 * (SWIM_KERNEL_MAX_MODES + 1)], Pi[8 * (SWIM_KERNEL_MAX_MODES + 1)];
     const double rr = cos(h), ri = -sin(h);
     double zr = 1.0, zi = 0.0, best = INFINITY;
     for (int q = 0; q < S; q++) {
         if (q % 16 == 0) { zr = cos(q * h); zi = -sin(q * h); }
-        double Pr = pr[modes - 1], Pi = pi[modes - 1];
-        for (int m = modes - 1; m >= 1; m--) {   /* Horner in w */
-            const double nr = Pr * zr - Pi * zi + pr[m - 1];
-            Pi = Pr * zi + Pi * zr + pi[m - 1];
-            Pr = nr;
-        }
-        const double J = c1sq - (Pr * Pr + Pi * Pi);
-        Js[q] = J;
-        if (!(J >= best)) best = J;   /* also catches NaN */
+        wr[q] = zr;
+        wi[q] = zi;
         const double nr = zr * rr - zi * ri;
         zi = zr * ri + zi * rr;
         zr = nr;
+    }
+    for (int q = 0; q < S; q++) {
+        Pr[q] = pr[modes - 1];
+        Pi[q] = pi[modes - 1];
+    }
+    for (int m = modes - 1; m >= 1; m--)   /* Horner in w, all samples at once (a vector loop) */
+        for (int q = 0; q < S; q++) {
+            const double nr = Pr[q] * wr[q] - Pi[q] * wi[q] + pr[m - 1];
+            Pi[q] = Pr[q] * wi[q] + Pi[q] * wr[q] + pi[m - 1];
+            Pr[q] = nr;
+        }
+    for (int q = 0; q < S; q++) {
+        const double J = c1sq - (Pr[q] * Pr[q] + Pi[q] * Pi[q]);
+        Js[q] = J;
+        if (!(J >= best)) best = J;   /* also catches NaN */
     }
     if (isnan(best)) return NAN;
     if (sign_only && (best - margin > 0 || !(best > 0))) return best - margin > 0 ? best : fmin(best, 0.0);
