@@ -38,7 +38,7 @@ struct swim_barrier_quad {
     double *th, *base, *wt, *jv, *hr, *hi;   /* graded nodes: base + th, weight wt */
     double *ctr, *off;         /* th = ctr + off, ctr the centre of the node's panel (node_angles) */
     double *jnode;             /* J at the graded nodes of the last call (for the Hessian) */
-    double *gcs;               /* cos, sin theta_k at the graded nodes and power_sums' workspace */
+    double *gcs;               /* cos, sin theta_k at the graded nodes */
     size_t gcap;
     double complex *comp, *roots;
     double complex *coef;      /* monic polynomial z^P J(z) / J_P, degree nroots */
@@ -268,36 +268,46 @@ static void weigh(double alpha, const double *w, double *g, int n, double *f)
 
 /* The gradient sums sum_k g_k z_k^j h_k, j = 0..N-1, at nodes z_k = c_k + i s_k without tables of
  * cos, sin(j theta): t_k = g_k h_k is multiplied by z_k once per j (error ~ j u, as the
- * angle-addition tables), each step a vector loop over the nodes; tr, ti hold m doubles each. */
+ * angle-addition tables). Blocks of 8 nodes outside, j inside: t stays in registers, the sums in
+ * 8 lanes per j (node k in lane k % 8), the rest of the nodes one by one. */
 static void power_sums(const swim_barrier_quad *b, const double *c, const double *sn, int m, const double *hr,
-                       const double *hi, const double *g, double *tr, double *ti, sums *s)
+                       const double *hi, const double *g, sums *s)
 {
-    const int mv = m - m % 8;
-    for (int k = 0; k < m; k++) {
-        tr[k] = g[k] * hr[k];
-        ti[k] = g[k] * hi[k];
+    const int N = b->N, mv = m - m % 8;
+    vec4 ar[64][2], ai[64][2];
+    memset(ar, 0, sizeof(vec4) * 2 * (size_t)N);
+    memset(ai, 0, sizeof(vec4) * 2 * (size_t)N);
+    for (int k = 0; k < mv; k += 8) {
+        const vec4 c0 = load4(c + k), c1 = load4(c + k + 4), s0 = load4(sn + k), s1 = load4(sn + k + 4);
+        const vec4 g0 = load4(g + k), g1 = load4(g + k + 4);
+        vec4 tr0 = g0 * load4(hr + k), tr1 = g1 * load4(hr + k + 4);
+        vec4 ti0 = g0 * load4(hi + k), ti1 = g1 * load4(hi + k + 4);
+        for (int j = 0; j < N; j++) {
+            ar[j][0] += tr0;
+            ar[j][1] += tr1;
+            ai[j][0] += ti0;
+            ai[j][1] += ti1;
+            const vec4 n0 = tr0 * c0 - ti0 * s0, n1 = tr1 * c1 - ti1 * s1;
+            ti0 = tr0 * s0 + ti0 * c0;
+            ti1 = tr1 * s1 + ti1 * c1;
+            tr0 = n0;
+            tr1 = n1;
+        }
     }
-    for (int j = 0; j < b->N; j++) {
-        vec4 r0 = {0}, r1 = {0}, i0 = {0}, i1 = {0};
-        for (int k = 0; k < mv; k += 8) {
-            r0 += load4(tr + k);
-            r1 += load4(tr + k + 4);
-            i0 += load4(ti + k);
-            i1 += load4(ti + k + 4);
+    double rt[64] = {0}, it[64] = {0};
+    for (int k = mv; k < m; k++) {
+        double tr = g[k] * hr[k], ti = g[k] * hi[k];
+        for (int j = 0; j < N; j++) {
+            rt[j] += tr;
+            it[j] += ti;
+            const double a = tr * c[k] - ti * sn[k];
+            ti = tr * sn[k] + ti * c[k];
+            tr = a;
         }
-        double rt = 0.0, it = 0.0;
-        for (int k = mv; k < m; k++) {
-            rt += tr[k];
-            it += ti[k];
-        }
-        s->Gr[j] += total8(r0, r1, rt);
-        s->Gi[j] += total8(i0, i1, it);
-        if (j + 1 == b->N) break;
-        for (int k = 0; k < m; k++) {
-            const double a = tr[k] * c[k] - ti[k] * sn[k];
-            ti[k] = tr[k] * sn[k] + ti[k] * c[k];
-            tr[k] = a;
-        }
+    }
+    for (int j = 0; j < N; j++) {
+        s->Gr[j] += total8(ar[j][0], ar[j][1], rt[j]);
+        s->Gi[j] += total8(ai[j][0], ai[j][1], it[j]);
     }
 }
 
@@ -364,7 +374,7 @@ static int node_sums(const swim_barrier_quad *b, const double *cs, const double 
 }
 
 /* h and J at nodes k = 0..m-1 from c = cos theta_k, sn = sin theta_k alone: h = sum_j H_j w^j,
- * w = e^{-i theta} = c - i sn, by Horner (a vector loop over the nodes per j). */
+ * w = e^{-i theta} = c - i sn, by Horner (8 nodes at a time in vector registers). */
 static void node_values_horner(const swim_barrier_quad *b, const double *c, const double *sn, int m,
                                const double *x, double *hr, double *hi, double *J)
 {
@@ -377,19 +387,38 @@ static void node_values_horner(const swim_barrier_quad *b, const double *c, cons
         }
         return;
     }
-    const double complex Hl = coef_h(x, N - 1);
-    for (int k = 0; k < m; k++) {
-        hr[k] = creal(Hl);
-        hi[k] = cimag(Hl);
-    }
-    for (int j = N - 2; j >= 0; j--) {
+    double Hr[64], Hi[64];
+    for (int j = 0; j < N; j++) {
         const double complex H = coef_h(x, j);
-        const double Hr = creal(H), Hi = cimag(H);
-        for (int k = 0; k < m; k++) {
-            const double a = hr[k] * c[k] + hi[k] * sn[k] + Hr;
-            hi[k] = hi[k] * c[k] - hr[k] * sn[k] + Hi;
-            hr[k] = a;
+        Hr[j] = creal(H);
+        Hi[j] = cimag(H);
+    }
+    const int mv = m - m % 8;
+    for (int k = 0; k < mv; k += 8) {   /* blocks of 8 nodes, h in registers over j */
+        const vec4 c0 = load4(c + k), c1 = load4(c + k + 4), s0 = load4(sn + k), s1 = load4(sn + k + 4);
+        vec4 r0 = {Hr[N - 1], Hr[N - 1], Hr[N - 1], Hr[N - 1]}, i0 = {Hi[N - 1], Hi[N - 1], Hi[N - 1], Hi[N - 1]};
+        vec4 r1 = r0, i1 = i0;
+        for (int j = N - 2; j >= 0; j--) {
+            const vec4 a0 = r0 * c0 + i0 * s0 + Hr[j], a1 = r1 * c1 + i1 * s1 + Hr[j];
+            i0 = i0 * c0 - r0 * s0 + Hi[j];
+            i1 = i1 * c1 - r1 * s1 + Hi[j];
+            r0 = a0;
+            r1 = a1;
         }
+        memcpy(hr + k, &r0, sizeof r0);
+        memcpy(hr + k + 4, &r1, sizeof r1);
+        memcpy(hi + k, &i0, sizeof i0);
+        memcpy(hi + k + 4, &i1, sizeof i1);
+    }
+    for (int k = mv; k < m; k++) {
+        double r = Hr[N - 1], i = Hi[N - 1];
+        for (int j = N - 2; j >= 0; j--) {
+            const double a = r * c[k] + i * sn[k] + Hr[j];
+            i = i * c[k] - r * sn[k] + Hi[j];
+            r = a;
+        }
+        hr[k] = r;
+        hi[k] = i;
     }
     for (int k = 0; k < m; k++) J[k] = c1 - hr[k] * hr[k] - hi[k] * hi[k];
 }
@@ -1071,7 +1100,7 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
         }
     /* cos, sin theta_k at the nodes; h and J by Horner in e^{-i theta}, the gradient sums by
      * powers of e^{i theta} (power_sums): no tables of cos, sin(j theta) */
-    if (reserve_tables(b, 4 * (size_t)nodes) != 0) return -1;
+    if (reserve_tables(b, 2 * (size_t)nodes) != 0) return -1;
     double *cs = b->gcs;
     node_angles(b, nodes, cs, cs + nodes);
     node_values_horner(b, cs, cs + nodes, nodes, x, b->hr, b->hi, b->jv);
@@ -1091,7 +1120,7 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
     sums s;
     memset(&s, 0, sizeof s);
     if (weight_sums(nodes, b->jv, b->wt, alpha, grad != NULL, &s)) return 1;
-    if (grad) power_sums(b, cs, cs + nodes, nodes, b->hr, b->hi, b->jv, cs + 2 * nodes, cs + 3 * nodes, &s);
+    if (grad) power_sums(b, cs, cs + nodes, nodes, b->hr, b->hi, b->jv, &s);
     finish(b, &s, 1.0, x, eps, alpha, W, grad);
     if (info) {
         info->nodes = nodes;
