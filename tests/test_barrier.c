@@ -273,10 +273,58 @@ static void reach(void)
     printf("reach estimate vs W2 along the path, min J 1e-3 -> 1e-5 .. 1e-9: worst %.2e\n", worst);
 }
 
+/* swim_shape_j_precise at the minimum of J (where |c_1|^2 - |h|^2 cancels down to min J) against
+ * J in binary128 at the shape x + lo, lo a rounding-sized carry: the value to its rounding to
+ * double plus ~1e-30 |c_1|^2 (the extended precision), J' to 1e-15 of its terms. */
+static real jq_lo(int N, const double *x, const double *lo, real th)
+{
+    real hr = 0, hi = 0;
+    for (int m = 1; m <= N; m++) {
+        const real ar = m * ((real)x[2 * m] + lo[2 * m]), ai = m * ((real)x[2 * m + 1] + lo[2 * m + 1]);
+        const real c = cosq((m - 1) * th), sn = sinq((m - 1) * th);
+        hr += ar * c + ai * sn;                   /* (ar + i ai) e^{-i (m-1) theta} */
+        hi += ai * c - ar * sn;
+    }
+    const real a1 = (real)x[0] + lo[0], b1 = (real)x[1] + lo[1];
+    return a1 * a1 + b1 * b1 - hr * hr - hi * hi;
+}
+
+static void precise_j(void)
+{
+    static const int modes[] = {3, 8, 20, 32};
+    static const double targets[] = {1e-4, 1e-8, 1e-12, 1e-15};
+    double worst = 0, worst1 = 0;
+    for (size_t a = 0; a < sizeof modes / sizeof *modes; a++)
+        for (size_t t = 0; t < sizeof targets / sizeof *targets; t++) {
+            const int N = modes[a], n = 2 * (N + 1);
+            double x[2 * 33 + 2], lo[2 * 33 + 2];
+            make_shape(N, 1, targets[t], x);
+            for (int i = 0; i < n; i++) lo[i] = 0.5 * urand() * x[i] * 0x1p-52;
+            real th[64], jv[64], wd[64];
+            const int nm = minima(N, x, th, jv, wd);
+            for (int i = 0; i < nm; i++) {
+                const double a0 = (double)th[i];
+                double J1;
+                const double J = swim_shape_j_precise(N, x, lo, a0, &J1);
+                const real Jr = jq_lo(N, x, lo, a0), h = 1e-12Q;
+                const real J1r = (jq_lo(N, x, lo, a0 + h) - jq_lo(N, x, lo, a0 - h)) / (2 * h);
+                const double err = fabs((double)(J - Jr)) - 1.2e-16 * fabs((double)Jr);   /* beyond rounding */
+                const double err1 = fabs((double)(J1 - J1r)) / (1.0 + fabs((double)J1r));
+                worst = fmax(worst, err);
+                worst1 = fmax(worst1, err1);
+                CHECK(err <= 1e-29, "N=%d J %.3g at %.6f: |J - ref| exceeds rounding by %.2e", N, (double)Jr, a0, err);
+                CHECK(err1 <= 1e-15, "N=%d J %.3g at %.6f: J' error %.2e", N, (double)Jr, a0, err1);
+            }
+        }
+    printf("swim_shape_j_precise at the minima of J down to 1e-15: beyond rounding %.2e absolute, J' %.2e\n",
+           worst, worst1);
+}
+
 int main(void)
 {
     gauss30();
     reach();
     accuracy();
+    precise_j();
     return check_report("test_barrier");
 }

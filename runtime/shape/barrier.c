@@ -36,9 +36,9 @@ struct swim_barrier_quad {
     /* Workspace: node arrays of the graded rule (grown on demand), the companion matrix, roots. */
     int cap;
     double *th, *base, *wt, *jv, *hr, *hi;   /* graded nodes: base + th, weight wt */
-    double *ctr, *off;         /* ... = ctr + off, ctr the centre of the node's panel (node_angles) */
+    double *ctr, *off;         /* th = ctr + off, ctr the centre of the node's panel (node_angles) */
     double *jnode;             /* J at the graded nodes of the last call (for the Hessian) */
-    double *gcs, *gsn;         /* cos, sin(j theta_k) at the graded nodes, [j][k] */
+    double *gcs;               /* cos, sin theta_k at the graded nodes */
     size_t gcap;
     double complex *comp, *roots;
     double complex *coef;      /* monic polynomial z^P J(z) / J_P, degree nroots */
@@ -108,9 +108,6 @@ static int reserve_tables(swim_barrier_quad *b, size_t entries)
     double *c = realloc(b->gcs, sizeof(double) * cap);
     if (!c) return -1;
     b->gcs = c;
-    double *sn = realloc(b->gsn, sizeof(double) * cap);
-    if (!sn) return -1;
-    b->gsn = sn;
     b->gcap = cap;
     return 0;
 }
@@ -181,7 +178,6 @@ void swim_barrier_quad_free(swim_barrier_quad *b)
     free(b->ctr);
     free(b->off);
     free(b->gcs);
-    free(b->gsn);
     free(b->hr);
     free(b->hi);
     free(b->comp);
@@ -229,50 +225,202 @@ static void node_values(const swim_barrier_quad *b, const double *cs, const doub
     for (int k = 0; k < m; k++) J[k] = c1 - hr[k] * hr[k] - hi[k] * hi[k];
 }
 
-/* Adds the nodes with values J (overwritten by g = w J^{-1-alpha}) and weights w (NULL: 1) to s;
- * hr, hi, cs, sn as in node_values. Returns 1 when J <= 0 at a node. One loop per exponent so
- * that each vectorizes (1/sqrt and 1/J instead of pow for alpha = 1/2 and 1). */
-static int node_sums(const swim_barrier_quad *b, const double *cs, const double *sn, int m,
-                     const double *hr, const double *hi, double *g, const double *w, double alpha,
-                     int grad, sums *s)
+/* Sums over the nodes in 8 interleaved partial sums (node k into lane k % 8, two vectors of 4),
+ * added up in a fixed order at the end: without reassociation (no -ffast-math) a single running
+ * sum is a serial chain of additions that the compiler cannot vectorize. Only the rounding of
+ * the sums changes. */
+typedef double vec4 __attribute__((vector_size(4 * sizeof(double))));
+
+static inline vec4 load4(const double *p)
+{
+    vec4 v;
+    memcpy(&v, p, sizeof v);
+    return v;
+}
+
+static inline double total8(vec4 a, vec4 b, double tail)
+{
+    const vec4 s = a + b;
+    return ((s[0] + s[1]) + (s[2] + s[3])) + tail;
+}
+
+/* f = w J^-alpha and g = w J^{-1-alpha} = f / J at n nodes (g holds J on entry; w NULL: 1). One
+ * loop per exponent so that each vectorizes (1/sqrt and 1/J instead of pow for alpha = 1/2, 1). */
+static void weigh(double alpha, const double *w, double *g, int n, double *f)
+{
+    if (alpha == 0.5)
+        for (int k = 0; k < n; k++) {
+            f[k] = (w ? w[k] : 1.0) / sqrt(g[k]);
+            g[k] = f[k] / g[k];
+        }
+    else if (alpha == 1.0)
+        for (int k = 0; k < n; k++) {
+            const double r = 1.0 / g[k];
+            f[k] = (w ? w[k] : 1.0) * r;
+            g[k] = f[k] * r;
+        }
+    else
+        for (int k = 0; k < n; k++) {
+            f[k] = (w ? w[k] : 1.0) * pow(g[k], -alpha);
+            g[k] = f[k] / g[k];
+        }
+}
+
+/* The gradient sums sum_k g_k z_k^j h_k, j = 0..N-1, at nodes z_k = c_k + i s_k without tables of
+ * cos, sin(j theta): t_k = g_k h_k is multiplied by z_k once per j (error ~ j u, as the
+ * angle-addition tables). Blocks of 8 nodes outside, j inside: t stays in registers, the sums in
+ * 8 lanes per j (node k in lane k % 8), the rest of the nodes one by one. */
+static void power_sums(const swim_barrier_quad *b, const double *c, const double *sn, int m, const double *hr,
+                       const double *hi, const double *g, sums *s)
+{
+    const int N = b->N, mv = m - m % 8;
+    vec4 ar[64][2], ai[64][2];
+    memset(ar, 0, sizeof(vec4) * 2 * (size_t)N);
+    memset(ai, 0, sizeof(vec4) * 2 * (size_t)N);
+    for (int k = 0; k < mv; k += 8) {
+        const vec4 c0 = load4(c + k), c1 = load4(c + k + 4), s0 = load4(sn + k), s1 = load4(sn + k + 4);
+        const vec4 g0 = load4(g + k), g1 = load4(g + k + 4);
+        vec4 tr0 = g0 * load4(hr + k), tr1 = g1 * load4(hr + k + 4);
+        vec4 ti0 = g0 * load4(hi + k), ti1 = g1 * load4(hi + k + 4);
+        for (int j = 0; j < N; j++) {
+            ar[j][0] += tr0;
+            ar[j][1] += tr1;
+            ai[j][0] += ti0;
+            ai[j][1] += ti1;
+            const vec4 n0 = tr0 * c0 - ti0 * s0, n1 = tr1 * c1 - ti1 * s1;
+            ti0 = tr0 * s0 + ti0 * c0;
+            ti1 = tr1 * s1 + ti1 * c1;
+            tr0 = n0;
+            tr1 = n1;
+        }
+    }
+    double rt[64] = {0}, it[64] = {0};
+    for (int k = mv; k < m; k++) {
+        double tr = g[k] * hr[k], ti = g[k] * hi[k];
+        for (int j = 0; j < N; j++) {
+            rt[j] += tr;
+            it[j] += ti;
+            const double a = tr * c[k] - ti * sn[k];
+            ti = tr * sn[k] + ti * c[k];
+            tr = a;
+        }
+    }
+    for (int j = 0; j < N; j++) {
+        s->Gr[j] += total8(ar[j][0], ar[j][1], rt[j]);
+        s->Gi[j] += total8(ai[j][0], ai[j][1], it[j]);
+    }
+}
+
+/* Adds the nodes with values J (overwritten by g = w J^{-1-alpha}) and weights w (NULL: 1) to
+ * S and (grad) G0 of s. Returns 1 when J <= 0 at a node. */
+#define CHUNK 256
+static int weight_sums(int m, double *g, const double *w, double alpha, int grad, sums *s)
 {
     int bad = 0;
     for (int k = 0; k < m; k++) bad |= !(g[k] > 0.0);
     if (bad) return 1;
-    double S = 0.0, G0 = 0.0;
-    if (alpha == 0.5)
-        for (int k = 0; k < m; k++) {
-            const double f = (w ? w[k] : 1.0) / sqrt(g[k]);
-            S += f;
-            g[k] = f / g[k];
+    const int mv = m - m % 8;   /* nodes in whole blocks of 8; the rest are summed one by one */
+    vec4 S0 = {0}, S1 = {0}, G0 = {0}, G1 = {0};
+    double St = 0.0, Gt = 0.0;
+    for (int k0 = 0; k0 < m; k0 += CHUNK) {
+        double f[CHUNK];
+        const int n = m - k0 < CHUNK ? m - k0 : CHUNK;
+        weigh(alpha, w ? w + k0 : NULL, g + k0, n, f);
+        for (int k = 0; k + 8 <= n && k0 + k < mv; k += 8) {
+            S0 += load4(f + k);
+            S1 += load4(f + k + 4);
+            G0 += load4(g + k0 + k);
+            G1 += load4(g + k0 + k + 4);
         }
-    else if (alpha == 1.0)
-        for (int k = 0; k < m; k++) {
-            const double f = 1.0 / g[k];
-            S += (w ? w[k] : 1.0) * f;
-            g[k] = (w ? w[k] : 1.0) * f * f;
+        for (int k = k0 + n > mv ? mv - k0 : n; k < n; k++) {
+            St += f[k];
+            Gt += g[k0 + k];
         }
-    else
-        for (int k = 0; k < m; k++) {
-            const double f = (w ? w[k] : 1.0) * pow(g[k], -alpha);
-            S += f;
-            g[k] = f / g[k];
-        }
-    for (int k = 0; k < m; k++) G0 += g[k];
-    s->S += S;
+    }
+    s->S += total8(S0, S1, St);
+    if (grad) s->G0 += total8(G0, G1, Gt);
+    return 0;
+}
+
+/* weight_sums, and (grad) the sums over g z^j h from the tables cs, sn of node_values. */
+static int node_sums(const swim_barrier_quad *b, const double *cs, const double *sn, int m,
+                     const double *hr, const double *hi, double *g, const double *w, double alpha,
+                     int grad, sums *s)
+{
+    if (weight_sums(m, g, w, alpha, grad, s)) return 1;
     if (!grad) return 0;
-    s->G0 += G0;
+    const int mv = m - m % 8;
     for (int j = 0; j < b->N; j++) {           /* sum g z^j h, z^j = cos + i sin */
         const double *c = cs + (size_t)j * m, *sj = sn + (size_t)j * m;
-        double re = 0.0, im = 0.0;
-        for (int k = 0; k < m; k++) {
-            re += g[k] * (c[k] * hr[k] - sj[k] * hi[k]);
-            im += g[k] * (c[k] * hi[k] + sj[k] * hr[k]);
+        vec4 r0 = {0}, r1 = {0}, i0 = {0}, i1 = {0};
+        for (int k = 0; k < mv; k += 8) {
+            const vec4 ca = load4(c + k), sa = load4(sj + k), ha = load4(hr + k), ia = load4(hi + k), ga = load4(g + k);
+            const vec4 cb = load4(c + k + 4), sb = load4(sj + k + 4), hb = load4(hr + k + 4), ib = load4(hi + k + 4),
+                       gb = load4(g + k + 4);
+            r0 += ga * (ca * ha - sa * ia);
+            i0 += ga * (ca * ia + sa * ha);
+            r1 += gb * (cb * hb - sb * ib);
+            i1 += gb * (cb * ib + sb * hb);
         }
-        s->Gr[j] += re;
-        s->Gi[j] += im;
+        double rt = 0.0, it = 0.0;
+        for (int k = mv; k < m; k++) {
+            rt += g[k] * (c[k] * hr[k] - sj[k] * hi[k]);
+            it += g[k] * (c[k] * hi[k] + sj[k] * hr[k]);
+        }
+        s->Gr[j] += total8(r0, r1, rt);
+        s->Gi[j] += total8(i0, i1, it);
     }
     return 0;
+}
+
+/* h and J at nodes k = 0..m-1 from c = cos theta_k, sn = sin theta_k alone: h = sum_j H_j w^j,
+ * w = e^{-i theta} = c - i sn, by Horner (8 nodes at a time in vector registers). */
+static void node_values_horner(const swim_barrier_quad *b, const double *c, const double *sn, int m,
+                               const double *x, double *hr, double *hi, double *J)
+{
+    const double c1 = x[0] * x[0] + x[1] * x[1];
+    const int N = b->N;
+    if (N == 0) {
+        for (int k = 0; k < m; k++) {
+            hr[k] = hi[k] = 0.0;
+            J[k] = c1;
+        }
+        return;
+    }
+    double Hr[64], Hi[64];
+    for (int j = 0; j < N; j++) {
+        const double complex H = coef_h(x, j);
+        Hr[j] = creal(H);
+        Hi[j] = cimag(H);
+    }
+    const int mv = m - m % 8;
+    for (int k = 0; k < mv; k += 8) {   /* blocks of 8 nodes, h in registers over j */
+        const vec4 c0 = load4(c + k), c1 = load4(c + k + 4), s0 = load4(sn + k), s1 = load4(sn + k + 4);
+        vec4 r0 = {Hr[N - 1], Hr[N - 1], Hr[N - 1], Hr[N - 1]}, i0 = {Hi[N - 1], Hi[N - 1], Hi[N - 1], Hi[N - 1]};
+        vec4 r1 = r0, i1 = i0;
+        for (int j = N - 2; j >= 0; j--) {
+            const vec4 a0 = r0 * c0 + i0 * s0 + Hr[j], a1 = r1 * c1 + i1 * s1 + Hr[j];
+            i0 = i0 * c0 - r0 * s0 + Hi[j];
+            i1 = i1 * c1 - r1 * s1 + Hi[j];
+            r0 = a0;
+            r1 = a1;
+        }
+        memcpy(hr + k, &r0, sizeof r0);
+        memcpy(hr + k + 4, &r1, sizeof r1);
+        memcpy(hi + k, &i0, sizeof i0);
+        memcpy(hi + k + 4, &i1, sizeof i1);
+    }
+    for (int k = mv; k < m; k++) {
+        double r = Hr[N - 1], i = Hi[N - 1];
+        for (int j = N - 2; j >= 0; j--) {
+            const double a = r * c[k] + i * sn[k] + Hr[j];
+            i = i * c[k] - r * sn[k] + Hi[j];
+            r = a;
+        }
+        hr[k] = r;
+        hi[k] = i;
+    }
+    for (int k = 0; k < m; k++) J[k] = c1 - hr[k] * hr[k] - hi[k] * hi[k];
 }
 
 /* Adds the trapezoidal nodes of one level (tables cs, sn), with weight 1, to s. */
@@ -364,8 +512,10 @@ static void j_derivs(const swim_barrier_quad *b, double th, double *J, double *J
  * model of J, which is where the trapezoidal rule's error e^{-Qd} comes from. The minima are
  * bracketed on max(16, 4(N+1)) samples and refined by Newton's method on J'. Returns 0 when J <= 0 at a
  * minimum (outside D), INFINITY when J has no minimum (constant), -1 when a minimum could not be
- * refined. */
-static double peak_width(const swim_barrier_quad *b)
+ * refined. The deepest sampled minimum is refined first, and a width below dstop is returned at
+ * once: the caller then takes the graded rule whatever the other minima give (which also finds
+ * a J <= 0 elsewhere: zeros of J on the circle). */
+static double peak_width(const swim_barrier_quad *b, double dstop)
 {
     const int M = b->ns;
     double *J = b->sJ, d = INFINITY;
@@ -375,7 +525,12 @@ static double peak_width(const swim_barrier_quad *b)
         const double *c = b->scs + (size_t)p * M, *sn = b->ssn + (size_t)p * M;
         for (int k = 0; k < M; k++) J[k] += re * c[k] - im * sn[k];
     }
-    for (int k = 0; k < M; k++) {
+    int deepest = -1;
+    for (int k = 0; k < M; k++)
+        if (deepest < 0 || J[k] < J[deepest]) deepest = k;
+    for (int i = -1; i < M; i++) {
+        const int k = i < 0 ? deepest : i;
+        if (i == deepest) continue;
         const double left = J[(k + M - 1) % M], right = J[(k + 1) % M];
         if (!(J[k] < left && J[k] <= right)) continue;
         double th = TWO_PI * k / M, Jt, J1, J2;      /* Newton on J' from the sample */
@@ -394,9 +549,10 @@ static double peak_width(const swim_barrier_quad *b)
         if (!converged) return -1.0;
         j_derivs(b, th, &Jt, &J1, &J2);
         /* J is known here to the cancellation error of |c_1|^2 - |h|^2 only: within it, the
-         * graded rule decides from J in binary128 at the foot */
+         * graded rule decides from J in extended precision at the foot */
         if (!(Jt > 1e-13 * b->c1sq)) return Jt > -1e-13 * b->c1sq ? -1.0 : 0.0;
         if (J2 > 0.0) d = fmin(d, sqrt(2.0 * Jt / J2));
+        if (d < dstop) return d;
     }
     return d;
 }
@@ -411,7 +567,7 @@ static int trapezoid(swim_barrier_quad *b, const double *x, double eps, double a
                      double *grad, int *nodes)
 {
     fourier(b, x);
-    const double d = b->N > 1 ? peak_width(b) : INFINITY;
+    const double d = b->N > 1 ? peak_width(b, PEAK_PERIODS / trap_max(b->N)) : INFINITY;
     if (d == 0.0) return 1;
     if (d < 0.0) return 2;
     const double Qmin = PEAK_PERIODS / d;
@@ -443,28 +599,77 @@ static int trapezoid(swim_barrier_quad *b, const double *x, double eps, double a
 
 /* ---- the graded rule --------------------------------------------------------------------- */
 
-/* cos and sin of the graded nodes ctr + off: one sincos per panel for its centre, and for the
- * offsets (|off| <= half the panel) Taylor polynomials where |off| <= 0.05 -- the panels near a
- * zero of J, most of the nodes -- whose truncation error (0.05^11/11!, 0.05^12/12!) is far below
- * u; libm's sincos, which dominated the rule's cost at N = 20, elsewhere. */
+/* sin d - d and cos d - 1 for |d| <= SERIES_MAX by their Taylor series to d^25 and d^24, in Horner
+ * form in d^2 (truncation below 1.6^27/27! = 3e-22; no cancellation between the leading terms
+ * 1, d and the rest, which are returned apart). */
+#define SERIES_MAX 1.6
+static const double inv_fact_odd[12] = {   /* (-1)^k / (2k+3)! */
+    -1.0 / 6, 1.0 / 120, -1.0 / 5040, 1.0 / 362880, -1.0 / 39916800, 1.0 / 6227020800.0,
+    -1.0 / 1307674368000.0, 1.0 / 355687428096000.0, -1.0 / 121645100408832000.0,
+    1.0 / 51090942171709440000.0, -1.0 / 25852016738884976640000.0, 1.0 / 15511210043330985984000000.0};
+static const double inv_fact_even[12] = {   /* (-1)^(k+1) / (2k+2)! */
+    -1.0 / 2, 1.0 / 24, -1.0 / 720, 1.0 / 40320, -1.0 / 3628800, 1.0 / 479001600.0, -1.0 / 87178291200.0,
+    1.0 / 20922789888000.0, -1.0 / 6402373705728000.0, 1.0 / 2432902008176640000.0,
+    -1.0 / 1124000727777607680000.0, 1.0 / 620448401733239439360000.0};
+
+static inline void sincos_series(double d, double *sm, double *cm)
+{
+    const double d2 = d * d;
+    double ps = inv_fact_odd[11], pc = inv_fact_even[11];
+    for (int k = 10; k >= 0; k--) {
+        ps = ps * d2 + inv_fact_odd[k];
+        pc = pc * d2 + inv_fact_even[k];
+    }
+    *sm = d * d2 * ps;   /* sin d - d */
+    *cm = d2 * pc;       /* cos d - 1 */
+}
+
+/* cos and sin of d: the series where |d| <= SERIES_MAX, libm elsewhere. */
+static inline void cos_sin(double d, double *c, double *s)
+{
+    if (fabs(d) <= SERIES_MAX) {
+        double sm, cm;
+        sincos_series(d, &sm, &cm);
+        *c = 1.0 + cm;
+        *s = d + sm;
+    } else {
+        *c = cos(d);
+        *s = sin(d);
+    }
+}
+
+/* cos and sin of the graded nodes base + th, th = ctr + off: one sincos per breakpoint
+ * base, and the offsets of the panel centres from it and of the nodes from their centre (at most
+ * half an interval between breakpoints, pi) by the series of cos_sin -- libm's sincos per panel
+ * and node dominated the rule's cost at N = 20. Angle addition costs a few ulp (absolute: |h| and
+ * the sums are O(1)). */
 static void node_angles(const swim_barrier_quad *b, int nodes, double *c, double *s)
 {
-    double C = 1.0, S = 0.0, last = NAN;
+    for (int k = 0; k < nodes; k++) {   /* the offsets from the panel centres: a vector loop */
+        double sm, cm;
+        sincos_series(b->off[k], &sm, &cm);
+        c[k] = 1.0 + cm;
+        s[k] = b->off[k] + sm;
+    }
+    double C = 1.0, S = 0.0, Cb = 1.0, Sb = 0.0, last = NAN, lastb = NAN;
     for (int k = 0; k < nodes; k++) {
+        if (b->base[k] != lastb) {
+            lastb = b->base[k];
+            Cb = cos(lastb);
+            Sb = sin(lastb);
+            last = NAN;
+        }
         if (b->ctr[k] != last) {
             last = b->ctr[k];
-            C = cos(last);
-            S = sin(last);
+            double cm, sm;
+            cos_sin(last, &cm, &sm);
+            C = Cb * cm - Sb * sm;
+            S = Sb * cm + Cb * sm;
         }
-        const double d = b->off[k];
-        double cd, sd;
-        if (fabs(d) <= 0.05) {
-            const double d2 = d * d;
-            sd = d * (1.0 + d2 * (-1.0 / 6 + d2 * (1.0 / 120 + d2 * (-1.0 / 5040 + d2 * (1.0 / 362880)))));
-            cd = 1.0 + d2 * (-0.5 + d2 * (1.0 / 24 + d2 * (-1.0 / 720 + d2 * (1.0 / 40320 + d2 * (-1.0 / 3628800)))));
-        } else {
-            cd = cos(d);
-            sd = sin(d);
+        double cd = c[k], sd = s[k];
+        if (!(fabs(b->off[k]) <= SERIES_MAX)) {
+            cd = cos(b->off[k]);
+            sd = sin(b->off[k]);
         }
         c[k] = C * cd - S * sd;
         s[k] = S * cd + C * sd;
@@ -476,52 +681,125 @@ static void node_angles(const swim_barrier_quad *b, int nodes, double *c, double
 static inline double modulus(double complex z) { return sqrt(creal(z) * creal(z) + cimag(z) * cimag(z)); }
 
 
-/* The zeros of J in the upper half of the theta plane (one of each pair z, 1/conj z of zeros of
- * z^P J(z)), as theta = arg z + i |log |z||. Returns how many, or -1 on a LAPACK failure. */
 /* Aberth-Ehrlich iteration from the roots of the last call: the shape moves little between two
  * calls (integrator stages), so a few cubically convergent sweeps, O(n^2) each, replace the
  * O(n^3) QR iteration. The simultaneous correction keeps the approximations apart (implicit
- * deflation); the result is accepted only when every correction is below 1e-11 (the roots only place panels and bound their error, to which
- * such a shift does nothing measurable) and no two
- * roots coincide, else the caller recomputes from scratch. Returns 0 when accepted. */
+ * deflation). The roots only place panels and bound their error, to which a shift of 1e-11
+ * does nothing measurable, so the result is accepted when every correction of a sweep is below
+ * 1e-11, or when the corrections delta_i of a sweep predict that the next ones would be below
+ * 1e-12 (next_error) -- and no two roots coincide; else the caller recomputes from scratch.
+ * Returns 0 when accepted. */
+#define MAX_ROOTS 128
+
+/* Error left after an Aberth correction delta_i of root i, from the errors e_j of the others:
+ * e_i' = e_i^2 sigma_i / (1 + e_i sigma_i), sigma_i = -sum_{j != i} e_j / ((z_i - zeta_j)(z_i - z_j))
+ * (zeta the exact roots), so with |e_j| <= 2 |delta_j| (cubic convergence: the correction is the
+ * error up to a far smaller part), D the distance from z_i to its nearest neighbour at the time
+ * of its correction, E = max |delta| and T = sum |delta|, after the sweep
+ *   |e_i'| <= 4 delta_i^2 |sigma_i| / (1 - 2 delta_i |sigma_i|),  |sigma_i| <= 2 T / ((D - 2E) (D - 4E)),
+ * the neighbours having moved by up to 2E since D was measured. Infinity unless D > 8E. */
+static double next_error(double delta, double D, double E, double T)
+{
+    if (!(D > 8.0 * E)) return INFINITY;
+    const double sigma = 2.0 * T / ((D - 2.0 * E) * (D - 4.0 * E)), t = 2.0 * delta * sigma;
+    return t < 0.5 ? 2.0 * delta * t / (1.0 - t) : INFINITY;
+}
+
 static int polish_roots(swim_barrier_quad *b, int n)
 {
+    if (n > MAX_ROOTS) return -1;
     const double complex *a = b->coef;
     double complex *z = b->roots;
-    for (int sweep = 0; sweep < 8; sweep++) {
-        double worst = 0.0;
+    /* structure of arrays: Horner runs over all roots at once (p and p' at z_i do not change in a
+     * sweep until z_i itself is corrected, so they are evaluated up front), the repulsion sums over
+     * the other roots */
+    double zr[MAX_ROOTS], zi[MAX_ROOTS], pr[MAX_ROOTS], pim[MAX_ROOTS], dr_[MAX_ROOTS], di_[MAX_ROOTS];
+    double st[MAX_ROOTS], dmin[MAX_ROOTS];
+    for (int i = 0; i < n; i++) {
+        zr[i] = creal(z[i]);
+        zi[i] = cimag(z[i]);
+    }
+    int accepted = 0;
+    for (int sweep = 0; sweep < 8 && !accepted; sweep++) {
         for (int i = 0; i < n; i++) {
-            double complex p = 1.0, dp = 0.0;   /* Horner for p and p' (monic) */
-            for (int k = n - 1; k >= 0; k--) {
-                dp = dp * z[i] + p;
-                p = p * z[i] + a[k];
-            }
-            if (p == 0.0) continue;
-            double rr = 0.0, ri = 0.0;   /* sum of 1/(z_i - z_j) as conj(d)/|d|^2: no checked complex division */
-            for (int j = 0; j < n; j++) {
-                if (j == i) continue;
-                const double dr = creal(z[i]) - creal(z[j]), di = cimag(z[i]) - cimag(z[j]), q = 1.0 / (dr * dr + di * di);
-                rr += dr * q;
-                ri -= di * q;
-            }
-            const double complex rep = CMPLX(rr, ri);
-            const double complex w = p / dp, step = w / (1.0 - w * rep);
-            if (!isfinite(creal(step)) || !isfinite(cimag(step))) return -1;
-            z[i] -= step;
-            worst = fmax(worst, modulus(step) / (1.0 + modulus(z[i])));
+            pr[i] = 1.0;
+            pim[i] = dr_[i] = di_[i] = 0.0;
         }
-        if (worst < 1e-11) {
-            for (int i = 0; i < n; i++) {   /* |z_i - z_j| < 1e-8 (1 + |z_i|), squared: O(n^2) without hypot */
-                const double lim = 1e-8 * (1.0 + modulus(z[i])), lim2 = lim * lim;
-                for (int j = i + 1; j < n; j++) {
-                    const double dr = creal(z[i]) - creal(z[j]), di = cimag(z[i]) - cimag(z[j]);
-                    if (dr * dr + di * di < lim2) return -1;
-                }
+        for (int k = n - 1; k >= 0; k--) {   /* p and p' (monic) by Horner */
+            const double ar = creal(a[k]), ai = cimag(a[k]);
+            for (int i = 0; i < n; i++) {
+                const double ndr = (dr_[i] * zr[i] - di_[i] * zi[i]) + pr[i];
+                const double ndi = (dr_[i] * zi[i] + di_[i] * zr[i]) + pim[i];
+                const double npr = (pr[i] * zr[i] - pim[i] * zi[i]) + ar;
+                const double npi = (pr[i] * zi[i] + pim[i] * zr[i]) + ai;
+                dr_[i] = ndr;
+                di_[i] = ndi;
+                pr[i] = npr;
+                pim[i] = npi;
             }
-            return 0;
+        }
+        double worst = 0.0, E = 0.0, T = 0.0;
+        for (int i = 0; i < n; i++) {
+            st[i] = 0.0;
+            dmin[i] = INFINITY;
+            if (pr[i] == 0.0 && pim[i] == 0.0) continue;
+            /* sum of 1/(z_i - z_j) as conj(d)/|d|^2, and the nearest neighbour; the term j = i
+             * (d = 0) is masked out */
+            vec4 rr = {0}, ri = {0}, dm = {INFINITY, INFINITY, INFINITY, INFINITY};
+            const vec4 xi = {zr[i], zr[i], zr[i], zr[i]}, yi = {zi[i], zi[i], zi[i], zi[i]};
+            int j = 0;
+            for (; j + 4 <= n; j += 4) {
+                const vec4 dx = xi - load4(zr + j), dy = yi - load4(zi + j), d2 = dx * dx + dy * dy;
+                const vec4 q = 1.0 / d2;
+                typedef long long mask4 __attribute__((vector_size(4 * sizeof(long long))));
+                const mask4 keep = (mask4)(d2 != 0.0);
+                const vec4 qk = (vec4)((mask4)q & keep);
+                rr += dx * qk;
+                ri -= dy * qk;
+                const mask4 lt = (mask4)(d2 < dm) & keep;
+                dm = (vec4)(((mask4)d2 & lt) | ((mask4)dm & ~lt));
+            }
+            double sr = (rr[0] + rr[1]) + (rr[2] + rr[3]), si = (ri[0] + ri[1]) + (ri[2] + ri[3]);
+            double d2min = fmin(fmin(dm[0], dm[1]), fmin(dm[2], dm[3]));
+            for (; j < n; j++) {
+                if (j == i) continue;
+                const double dx = zr[i] - zr[j], dy = zi[i] - zi[j], d2 = dx * dx + dy * dy, q = 1.0 / d2;
+                sr += dx * q;
+                si -= dy * q;
+                d2min = fmin(d2min, d2);
+            }
+            /* w = p / p', step = w / (1 - w rep) */
+            const double den = dr_[i] * dr_[i] + di_[i] * di_[i];
+            const double wr = (pr[i] * dr_[i] + pim[i] * di_[i]) / den, wi = (pim[i] * dr_[i] - pr[i] * di_[i]) / den;
+            const double ur = 1.0 - (wr * sr - wi * si), ui = -(wr * si + wi * sr), uu = ur * ur + ui * ui;
+            const double sr_ = (wr * ur + wi * ui) / uu, si_ = (wi * ur - wr * ui) / uu;
+            if (!isfinite(sr_) || !isfinite(si_)) return -1;
+            zr[i] -= sr_;
+            zi[i] -= si_;
+            st[i] = sqrt(sr_ * sr_ + si_ * si_);
+            dmin[i] = sqrt(d2min);
+            E = fmax(E, st[i]);
+            T += st[i];
+            worst = fmax(worst, st[i] / (1.0 + sqrt(zr[i] * zr[i] + zi[i] * zi[i])));
+        }
+        accepted = worst < 1e-11;
+        if (!accepted && worst < 1e-3) {
+            double pred = 0.0;
+            for (int i = 0; i < n && pred < 1e-12; i++)
+                pred = fmax(pred, next_error(st[i], dmin[i], E, T) / (1.0 + sqrt(zr[i] * zr[i] + zi[i] * zi[i])));
+            accepted = pred < 1e-12;
         }
     }
-    return -1;
+    for (int i = 0; i < n; i++) z[i] = CMPLX(zr[i], zi[i]);
+    if (!accepted) return -1;
+    for (int i = 0; i < n; i++) {   /* |z_i - z_j| < 1e-8 (1 + |z_i|), squared: O(n^2) without hypot */
+        const double lim = 1e-8 * (1.0 + modulus(z[i])), lim2 = lim * lim;
+        for (int j = i + 1; j < n; j++) {
+            const double dx = zr[i] - zr[j], dy = zi[i] - zi[j];
+            if (dx * dx + dy * dy < lim2) return -1;
+        }
+    }
+    return 0;
 }
 
 /* The zeros of J in the upper half of the theta plane (one of each pair z, 1/conj z of zeros of
@@ -593,7 +871,7 @@ static void j_complex_q(const swim_barrier_quad *b, const double *x, __complex12
  * minimum of J at a): a nearly double root of the polynomial, which double precision places only
  * to ~sqrt(u) ~ 1e-8 -- at min J ~ 1e-16 that is d itself, and the pair may even land on the
  * circle. Every zero closer than REFINE to the real axis is recomputed by Newton's method in
- * binary128 from the quadratic model at its foot, a + i sqrt(2 J(a) / J''(a)) (J(a) in binary128),
+ * binary128 from the quadratic model at its foot, a + i sqrt(2 J(a) / J''(a)) (J(a) in double-double, shape.h),
  * which lies next to the upper zero of the pair; repeats are dropped. */
 #define REFINE 1e-5
 static int refine_close(const swim_barrier_quad *b, const double *x, double complex *z, int nz)
@@ -669,7 +947,7 @@ static int panel_nodes(const double complex *z, int nz, double base, double u, d
     return q < QMIN ? QMIN : (int)q;
 }
 
-/* J(a) and J'(a) in binary128 (shape.h): near a zero of J their double values would carry the
+/* J(a) and J'(a) in double-double (shape.h): near a zero of J their double values would carry the
  * cancellation error of |c_1|^2 - |h|^2, and the rounding of a shifted shape (b->lo). */
 static void precise_base(const swim_barrier_quad *b, const double *x, double a, double *J, double *J1)
 {
@@ -679,29 +957,43 @@ static void precise_base(const swim_barrier_quad *b, const double *x, double a, 
 /* sin s - s without cancellation. */
 static double sin_minus(double s)
 {
-    if (fabs(s) >= 0.5) return sin(s) - s;
-    double s2 = s * s, t = -s * s2 / 6.0, sum = t;
-    for (int k = 2; k < 12; k++) {
-        t *= -s2 / ((2.0 * k) * (2.0 * k + 1.0));
-        sum += t;
-    }
-    return sum;
+    if (fabs(s) > SERIES_MAX) return sin(s) - s;
+    double sm, cm;
+    sincos_series(s, &sm, &cm);
+    return sm;
 }
 
 /* J(a + s) = J(a) + J'(a) s + 2 Re sum_p B_p F_p(s), B_p = J_p e^{ipa}, F_p = e^{ips} - 1 - ips,
- * by F_{p+1} = F_p e^{is} + F_1 + i p s (e^{is} - 1): every term is O(s^2). */
-static double precise_J(const swim_barrier_quad *b, const double complex *B, double Ja, double J1a,
-                        double s)
+ * by F_{p+1} = F_p e^{is} + F_1 + i p s (e^{is} - 1): every term is O(s^2). For m <= PBLOCK
+ * offsets s at once, in structure-of-arrays form (p outside, the offsets inside, only the real
+ * part of the sum kept) so that the loop over the offsets vectorizes; each value is the same
+ * sequence of operations as one complex recurrence per offset. */
+#define PBLOCK 64
+static void precise_J(const swim_barrier_quad *b, const double complex *B, double Ja, double J1a,
+                      const double *s, int m, double *J)
 {
-    const double sh = sin(0.5 * s);
-    const double complex E1 = CMPLX(-2.0 * sh * sh, sin(s)), F1 = CMPLX(-2.0 * sh * sh, sin_minus(s));
-    const double complex e = 1.0 + E1;
-    double complex F = F1, acc = 0.0;
-    for (int p = 1; p < b->N; p++) {
-        acc += B[p] * F;
-        F = F * e + F1 + I * (p * s) * E1;
+    double E1r[PBLOCK], E1i[PBLOCK], F1r[PBLOCK], F1i[PBLOCK], Fr[PBLOCK], Fi[PBLOCK], acc[PBLOCK];
+    for (int k = 0; k < m; k++) {
+        double sh, ch, sm;
+        cos_sin(0.5 * s[k], &ch, &sh);
+        E1r[k] = F1r[k] = -2.0 * sh * sh;
+        F1i[k] = sm = sin_minus(s[k]);
+        E1i[k] = s[k] + sm;   /* sin s */
+        Fr[k] = F1r[k];
+        Fi[k] = F1i[k];
+        acc[k] = 0.0;
     }
-    return Ja + J1a * s + 2.0 * creal(acc);
+    for (int p = 1; p < b->N; p++) {
+        const double Br = creal(B[p]), Bi = cimag(B[p]);
+        for (int k = 0; k < m; k++) {
+            const double er = 1.0 + E1r[k], ei = E1i[k], ps = p * s[k];
+            acc[k] += Br * Fr[k] - Bi * Fi[k];
+            const double nr = (Fr[k] * er - Fi[k] * ei + F1r[k]) - ps * E1i[k];
+            Fi[k] = (Fr[k] * ei + Fi[k] * er + F1i[k]) + ps * E1r[k];
+            Fr[k] = nr;
+        }
+    }
+    for (int k = 0; k < m; k++) J[k] = Ja + J1a * s[k] + 2.0 * acc[k];
 }
 
 typedef struct {
@@ -723,8 +1015,7 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
 {
     const int N = b->N;
     double complex z[128];
-    fourier(b, x);
-    int nz = zeros(b, z);
+    int nz = zeros(b, z);   /* J_p: fourier() of x, by trapezoid() just before */
     if (nz < 0) return -1;
     nz = refine_close(b, x, z, nz);
     if (nz < 0) return 1;
@@ -755,7 +1046,7 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
         if (cimag(z[r]) >= PRECISE) continue;
         double a = creal(z[r]);
         {   /* where J stays above PRECISE_J |c_1|^2 near the foot, double precision loses no more
-             * than ~1e-14 relative: binary128 (costly) only where it is needed */
+             * than ~1e-14 relative: extended precision (costly) only where it is needed */
             double Jd, J1d, J2d;
             j_derivs(b, a, &Jd, &J1d, &J2d);
             if (Jd > PRECISE_J * (x[0] * x[0] + x[1] * x[1])) continue;
@@ -800,41 +1091,36 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
                 for (int k = 0; k < q; k++) {
                     b->base[nodes] = base;
                     b->th[nodes] = mid + half * b->gx[q][k];
-                    b->ctr[nodes] = base + mid;
+                    b->ctr[nodes] = mid;
                     b->off[nodes] = half * b->gx[q][k];
                     b->wt[nodes++] = half * b->gw[q][k];
                 }
                 panels++;
             }
         }
-    /* cos, sin(j theta_k) at the nodes by the angle-addition recurrence in j (error ~ j u),
-     * then J, h and the sums by the loops of the trapezoidal rule */
-    const int w = N > 0 ? N : 1;
-    if (reserve_tables(b, (size_t)w * (size_t)nodes) != 0) return -1;
-    double *cs = b->gcs, *sn = b->gsn;
-    for (int k = 0; k < nodes; k++) {
-        cs[k] = 1.0;
-        sn[k] = 0.0;
-    }
-    if (w > 1) node_angles(b, nodes, cs + nodes, sn + nodes);
-    for (int j = 2; j < w; j++) {
-        const double *c1 = cs + nodes, *s1 = sn + nodes, *cp = cs + (size_t)(j - 1) * nodes,
-                     *sp = sn + (size_t)(j - 1) * nodes;
-        double *cj = cs + (size_t)j * nodes, *sj = sn + (size_t)j * nodes;
-        for (int k = 0; k < nodes; k++) {
-            cj[k] = cp[k] * c1[k] - sp[k] * s1[k];
-            sj[k] = sp[k] * c1[k] + cp[k] * s1[k];
-        }
-    }
-    node_values(b, cs, sn, nodes, x, b->hr, b->hi, b->jv);
+    /* cos, sin theta_k at the nodes; h and J by Horner in e^{-i theta}, the gradient sums by
+     * powers of e^{i theta} (power_sums): no tables of cos, sin(j theta) */
+    if (reserve_tables(b, 2 * (size_t)nodes) != 0) return -1;
+    double *cs = b->gcs;
+    node_angles(b, nodes, cs, cs + nodes);
+    node_values_horner(b, cs, cs + nodes, nodes, x, b->hr, b->hi, b->jv);
     for (int c = 0; c < nc; c++)   /* nodes near a close zero: offsets from its foot */
-        for (int k = 0; k < nodes; k++)
-            if (b->base[k] == cen[c].a && fabs(b->th[k]) < NEAR)
-                b->jv[k] = precise_J(b, cen[c].B, cen[c].Ja, cen[c].J1a, b->th[k]);
+        for (int k0 = 0; k0 < nodes;) {
+            int idx[PBLOCK], m = 0;
+            double off[PBLOCK], Jp[PBLOCK];
+            for (; k0 < nodes && m < PBLOCK; k0++)
+                if (b->base[k0] == cen[c].a && fabs(b->th[k0]) < NEAR) {
+                    idx[m] = k0;
+                    off[m++] = b->th[k0];
+                }
+            precise_J(b, cen[c].B, cen[c].Ja, cen[c].J1a, off, m, Jp);
+            for (int i = 0; i < m; i++) b->jv[idx[i]] = Jp[i];
+        }
     memcpy(b->jnode, b->jv, sizeof(double) * (size_t)nodes);   /* node_sums overwrites jv */
     sums s;
     memset(&s, 0, sizeof s);
-    if (node_sums(b, cs, sn, nodes, b->hr, b->hi, b->jv, b->wt, alpha, grad != NULL, &s)) return 1;
+    if (weight_sums(nodes, b->jv, b->wt, alpha, grad != NULL, &s)) return 1;
+    if (grad) power_sums(b, cs, cs + nodes, nodes, b->hr, b->hi, b->jv, &s);
     finish(b, &s, 1.0, x, eps, alpha, W, grad);
     if (info) {
         info->nodes = nodes;

@@ -25,7 +25,7 @@
  *     each peak: the node count grows like log(1/d), i.e. like log(1 / min J) (the graded meshes of
  *     nearly singular boundary-element quadrature, cf. Johnston & Elliott, IJNME 62 (2005)).
  *     Near such a zero, J - J(a) cancels catastrophically in double precision (J = 1e-10 from terms
- *     of size 1), so J(a) and J'(a) are computed in binary128 and J(a + s) = J(a) + J'(a) s +
+ *     of size 1), so J(a) and J'(a) are computed in extended precision and J(a + s) = J(a) + J'(a) s +
  *     2 Re sum_p J_p e^{ipa} (e^{ips} - 1 - ips), whose terms are all of the size of the result.
  *
  * Both rules are smooth in c for a fixed node layout; when the layout changes (Q doubles, a panel
@@ -63,7 +63,7 @@ int swim_barrier_w2(swim_barrier_quad *b, const double *x, double eps, double al
 
 /* The same at the shape x + lo, where lo holds what x lost to rounding (|lo_i| <= ulp(x_i)/2; the
  * integrator carries the shape relative to an origin near the boundary of D, so x = origin + u
- * rounds). Only the binary128 values of J at the feet of the graded rule read lo: J there is
+ * rounds). Only the extended-precision values of J at the feet of the graded rule read lo: J there is
  * |c_1|^2 - |h|^2 ~ 1e-10 from terms of size 1, and the rounding of x alone would move it by
  * 1e-16 -- W2 by kappa 1e-16 / min J, more than rtol of the energy in a deep bounce at
  * alpha = 1/2. Elsewhere the rounding of x is harmless (relative 1e-16 of J). */

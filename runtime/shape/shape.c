@@ -114,22 +114,32 @@ static double jmin_impl(int modes, const double *x, double *theta, int sign_only
     const double h = TWO_PI / S, margin = 2.0 * (s1 * s1 + s0 * s2) * h * h / 8.0;
     double Js[8 * (SWIM_KERNEL_MAX_MODES + 1)];
     /* samples at theta_q = q h; w_q = e^{-i q h} by rotation, restarted exactly every 16 samples */
+    double wr[8 * (SWIM_KERNEL_MAX_MODES + 1)], wi[8 * (SWIM_KERNEL_MAX_MODES + 1)];
+    double Pr[8 * (SWIM_KERNEL_MAX_MODES + 1)], Pi[8 * (SWIM_KERNEL_MAX_MODES + 1)];
     const double rr = cos(h), ri = -sin(h);
     double zr = 1.0, zi = 0.0, best = INFINITY;
     for (int q = 0; q < S; q++) {
         if (q % 16 == 0) { zr = cos(q * h); zi = -sin(q * h); }
-        double Pr = pr[modes - 1], Pi = pi[modes - 1];
-        for (int m = modes - 1; m >= 1; m--) {   /* Horner in w */
-            const double nr = Pr * zr - Pi * zi + pr[m - 1];
-            Pi = Pr * zi + Pi * zr + pi[m - 1];
-            Pr = nr;
-        }
-        const double J = c1sq - (Pr * Pr + Pi * Pi);
-        Js[q] = J;
-        if (!(J >= best)) best = J;   /* also catches NaN */
+        wr[q] = zr;
+        wi[q] = zi;
         const double nr = zr * rr - zi * ri;
         zi = zr * ri + zi * rr;
         zr = nr;
+    }
+    for (int q = 0; q < S; q++) {
+        Pr[q] = pr[modes - 1];
+        Pi[q] = pi[modes - 1];
+    }
+    for (int m = modes - 1; m >= 1; m--)   /* Horner in w, all samples at once (a vector loop) */
+        for (int q = 0; q < S; q++) {
+            const double nr = Pr[q] * wr[q] - Pi[q] * wi[q] + pr[m - 1];
+            Pi[q] = Pr[q] * wi[q] + Pi[q] * wr[q] + pi[m - 1];
+            Pr[q] = nr;
+        }
+    for (int q = 0; q < S; q++) {
+        const double J = c1sq - (Pr[q] * Pr[q] + Pi[q] * Pi[q]);
+        Js[q] = J;
+        if (!(J >= best)) best = J;   /* also catches NaN */
     }
     if (isnan(best)) return NAN;
     if (sign_only && (best - margin > 0 || !(best > 0))) return best - margin > 0 ? best : fmin(best, 0.0);
@@ -188,25 +198,109 @@ int swim_shape_in_D(int modes, const double *x)
     return jmin_impl(modes, x, NULL, 1) > 0.0;
 }
 
+/* ---- double-double arithmetic (value hi + lo, |lo| <= ulp(hi)/2: 106 bits) ------------------ */
+
+typedef struct {
+    double hi, lo;
+} dd;
+
+static inline dd dd_fast_sum(double a, double b)   /* |a| >= |b| */
+{
+    const double s = a + b;
+    return (dd){s, b - (s - a)};
+}
+
+static inline dd dd_sum(double a, double b)        /* a + b exactly (Knuth's TwoSum) */
+{
+    const double s = a + b, bb = s - a;
+    return (dd){s, (a - (s - bb)) + (b - bb)};
+}
+
+static inline dd dd_add(dd x, dd y)
+{
+    dd s = dd_sum(x.hi, y.hi), t = dd_sum(x.lo, y.lo);
+    s.lo += t.hi;
+    s = dd_fast_sum(s.hi, s.lo);
+    s.lo += t.lo;
+    return dd_fast_sum(s.hi, s.lo);
+}
+
+static inline dd dd_neg(dd x) { return (dd){-x.hi, -x.lo}; }
+
+static inline dd dd_mul(dd x, dd y)
+{
+    const double p = x.hi * y.hi, e = fma(x.hi, y.hi, -p);   /* x.hi y.hi exactly: p + e */
+    return dd_fast_sum(p, e + (x.hi * y.lo + x.lo * y.hi));
+}
+
+static inline dd dd_mul_d(dd x, double d)
+{
+    const double p = x.hi * d, e = fma(x.hi, d, -p);
+    return dd_fast_sum(p, e + x.lo * d);
+}
+
+static inline dd dd_div_d(dd x, double d)
+{
+    const double q = x.hi / d, p = q * d, e = fma(q, d, -p);   /* q d = p + e exactly */
+    return dd_fast_sum(q, ((x.hi - p) - e + x.lo) / d);
+}
+
+/* cos and sin of the double theta to about 2^-104: theta - k pi/2 in binary128 (the only
+ * binary128 operations; pi/2 to 113 bits keeps |theta| < 1e6 exact to far below 2^-106), then
+ * the Taylor series of both on |r| <= pi/4, whose terms r^n/n! fall below 2^-110 by n = 29. */
+static void dd_cos_sin(double theta, dd *c, dd *sn)
+{
+    const __float128 halfpi = M_PIq / 2;
+    const double k = nearbyint(theta / (double)halfpi);
+    const __float128 rq = (__float128)theta - (__float128)k * halfpi;
+    const double rh = (double)rq;
+    const dd r = {rh, (double)(rq - (__float128)rh)};
+    dd cr = {1.0, 0.0}, sr = r, t = r;
+    for (int n = 2; n <= 29; n++) {
+        t = dd_div_d(dd_mul(t, r), (double)n);   /* r^n / n! */
+        if (n % 2 == 0) cr = dd_add(cr, n % 4 == 0 ? t : dd_neg(t));
+        else sr = dd_add(sr, n % 4 == 1 ? t : dd_neg(t));
+    }
+    switch (((long long)k % 4 + 4) % 4) {   /* theta = r + k pi/2 */
+    case 0: *c = cr; *sn = sr; break;
+    case 1: *c = dd_neg(sr); *sn = cr; break;
+    case 2: *c = dd_neg(cr); *sn = dd_neg(sr); break;
+    default: *c = sr; *sn = dd_neg(cr); break;
+    }
+}
+
+/* J and J' in double-double at the shape x + lo: P = sum_j H_j conj(z)^j and
+ * dP/dtheta = sum -i j H_j conj(z)^j by powers of conj(z) = e^{-i theta} (as the binary128
+ * evaluation it replaces, a fifth of its cost), J = |c_1|^2 - |P|^2, J' = -2 Re(conj(P) dP). The
+ * error is a few 1e-31 of the terms (|c_1|^2 ~ |P|^2), against their difference J down to 1e-16
+ * of them: still far below the rounding of the result to double. */
 double swim_shape_j_precise(int modes, const double *x, const double *lo, double theta, double *J1)
 {
-    __float128 zr = cosq(theta), zi = -sinq(theta);   /* conj(z) = e^{-i theta} */
-    __float128 pr = 1, pi = 0;                         /* conj(z)^j */
-    __float128 hr = 0, hi = 0, dr = 0, di = 0;         /* P and dP/dtheta = sum -i j H_j conj(z)^j */
+    if (fabs(theta) > 1e6) theta = fmod(theta, TWO_PI);   /* keeps dd_cos_sin's reduction exact */
+    dd zr, zi;
+    dd_cos_sin(theta, &zr, &zi);
+    zi = dd_neg(zi);                                    /* conj(z) = e^{-i theta} */
+    dd pr = {1.0, 0.0}, pi = {0.0, 0.0};               /* conj(z)^j */
+    dd hr = {0.0, 0.0}, hi = {0.0, 0.0}, dr = {0.0, 0.0}, di = {0.0, 0.0};
     for (int j = 0; j < modes; j++) {
         const int r = 2 * (j + 1);
-        const __float128 Hr = (__float128)(j + 1) * ((__float128)x[r] + (lo ? lo[r] : 0.0));
-        const __float128 Hi = (__float128)(j + 1) * ((__float128)x[r + 1] + (lo ? lo[r + 1] : 0.0));
-        const __float128 tr = Hr * pr - Hi * pi, ti = Hr * pi + Hi * pr;
-        hr += tr;
-        hi += ti;
-        dr += j * ti;     /* -i j (tr + i ti) = j ti - i j tr */
-        di -= j * tr;
-        const __float128 nr = pr * zr - pi * zi;
-        pi = pr * zi + pi * zr;
+        const dd Hr = dd_mul_d(dd_sum(x[r], lo ? lo[r] : 0.0), j + 1);
+        const dd Hi = dd_mul_d(dd_sum(x[r + 1], lo ? lo[r + 1] : 0.0), j + 1);
+        const dd tr = dd_add(dd_mul(Hr, pr), dd_neg(dd_mul(Hi, pi)));
+        const dd ti = dd_add(dd_mul(Hr, pi), dd_mul(Hi, pr));
+        hr = dd_add(hr, tr);
+        hi = dd_add(hi, ti);
+        dr = dd_add(dr, dd_mul_d(ti, j));   /* -i j (tr + i ti) = j ti - i j tr */
+        di = dd_add(di, dd_neg(dd_mul_d(tr, j)));
+        const dd nr = dd_add(dd_mul(pr, zr), dd_neg(dd_mul(pi, zi)));
+        pi = dd_add(dd_mul(pr, zi), dd_mul(pi, zr));
         pr = nr;
     }
-    const __float128 a1 = (__float128)x[0] + (lo ? lo[0] : 0.0), b1 = (__float128)x[1] + (lo ? lo[1] : 0.0);
-    if (J1) *J1 = (double)(-2 * (hr * dr + hi * di));
-    return (double)(a1 * a1 + b1 * b1 - hr * hr - hi * hi);
+    const dd a1 = dd_sum(x[0], lo ? lo[0] : 0.0), b1 = dd_sum(x[1], lo ? lo[1] : 0.0);
+    if (J1) {
+        const dd g = dd_add(dd_mul(hr, dr), dd_mul(hi, di));
+        *J1 = -2.0 * (g.hi + g.lo);
+    }
+    const dd J = dd_add(dd_add(dd_mul(a1, a1), dd_mul(b1, b1)), dd_neg(dd_add(dd_mul(hr, hr), dd_mul(hi, hi))));
+    return J.hi + J.lo;
 }

@@ -24,10 +24,11 @@ double swim_shape_jmin_at(int modes, const double *x, double *theta);
  * locates the minimum of J in time between integration steps. */
 double swim_shape_j_rate(int modes, const double *x, const double *v, double theta);
 
-/* J(theta) and (J1 != NULL) J'(theta) in binary128 at the shape x + lo (lo may be NULL: x), rounded
- * to double at the end. Near a zero of J the double value carries the cancellation error of
- * |c_1|^2 - |P|^2 (absolute 1e-16: relative 1e-6 at J = 1e-10), and lo -- what a shape carried as
- * origin + u lost when rounded to x -- moves J by as much; here both are kept. */
+/* J(theta) and (J1 != NULL) J'(theta) in double-double arithmetic (106 bits, about 1e-31 of
+ * |c_1|^2) at the shape x + lo (lo may be NULL: x), rounded to double at the end. Near a zero of J
+ * the double value carries the cancellation error of |c_1|^2 - |P|^2 (absolute 1e-16: relative
+ * 1e-6 at J = 1e-10), and lo -- what a shape carried as origin + u lost when rounded to x -- moves
+ * J by as much; here both are kept (test_barrier: within 1e-31 of rounding down to J = 1e-15). */
 double swim_shape_j_precise(int modes, const double *x, const double *lo, double theta, double *J1);
 
 /* 1 when the shape lies in D (min J > 0), else 0 (NaN counts as outside). Cheap when the shape
