@@ -469,6 +469,17 @@ static double predicted(double D1, double D2)
     return r < 1.0 ? 8.0 * D2 * r * r : INFINITY;
 }
 
+/* Whether the last two changes D1, D2 of a quantity of size `scale` say the finest level is
+ * within TRAP_TOL: by the prediction, or because both are already that small -- changes at the
+ * level of rounding, whose ratio is noise near 1 and would defeat the prediction forever (a
+ * nearly circular shape then fell through to the graded rule). The a priori node count keeps a
+ * change that vanishes by chance from passing alone. */
+static int settled(double D1, double D2, double scale)
+{
+    const double tol = TRAP_TOL * scale;
+    return predicted(D1, D2) <= tol || (D1 <= tol && D2 <= tol);
+}
+
 static double vmax(const double *g, int n)
 {
     double m = 0.0;
@@ -567,10 +578,12 @@ static int trapezoid(swim_barrier_quad *b, const double *x, double eps, double a
                      double *grad, int *nodes)
 {
     fourier(b, x);
-    const double d = b->N > 1 ? peak_width(b, PEAK_PERIODS / trap_max(b->N)) : INFINITY;
+    const double d = b->N > 1 ? peak_width(b, PEAK_PERIODS / (trap_max(b->N) - (b->N - 1))) : INFINITY;
     if (d == 0.0) return 1;
     if (d < 0.0) return 2;
-    const double Qmin = PEAK_PERIODS / d;
+    /* the gradient's integrands carry e^{ik theta}, |k| <= N - 1 (ERRATA B3): their aliasing
+     * error at Q nodes is that of J^-alpha at Q - (N - 1) */
+    const double Qmin = PEAK_PERIODS / d + (b->N - 1);
     if (Qmin > trap_max(b->N)) return 2;
     sums s;
     memset(&s, 0, sizeof s);
@@ -585,8 +598,7 @@ static int trapezoid(swim_barrier_quad *b, const double *x, double eps, double a
         if (l > 0) {
             double dW, dg;
             level_change(grad, gprev, b->n, *W, Wprev, &dW, &dg);
-            if (l > 1 && Q >= Qmin && predicted(dW1, dW) <= TRAP_TOL * fabs(*W) &&
-                (!grad || predicted(dg1, dg) <= TRAP_TOL * vmax(grad, b->n)))
+            if (l > 1 && Q >= Qmin && settled(dW1, dW, fabs(*W)) && (!grad || settled(dg1, dg, vmax(grad, b->n))))
                 return 0;
             dW1 = dW;
             dg1 = dg;
@@ -920,7 +932,7 @@ static double bernstein(double complex zeta)
 
 /* Gauss nodes needed on [base + u, base + v] so that no zero of J is inside the ellipse of the
  * error bound; 0 when more than QMAX are needed (the panel must be halved). */
-static int panel_nodes(const double complex *z, int nz, double base, double u, double v)
+static int panel_nodes(const double complex *z, int nz, double base, double u, double v, int K)
 {
     const double mid = 0.5 * (u + v), half = 0.5 * (v - u);
     /* A zero outside the ellipse E_rho of the running minimum cannot lower it: it is outside
@@ -942,9 +954,20 @@ static int panel_nodes(const double complex *z, int nz, double base, double u, d
             }
         }
     if (!(rho > 1.0)) return 0;
-    double q = ceil(log(1.0 / GAUSS_TOL) / (2.0 * log(rho))) + 2.0;
-    if (q > QMAX) return 0;
-    return q < QMIN ? QMIN : (int)q;
+    const double L = log(1.0 / GAUSS_TOL), smax = log(rho);
+    int q = (int)fmax(QMIN, ceil(L / (2.0 * smax)) + 2.0);
+    /* The gradient's integrands also carry e^{ik theta}, |k| <= K (z^{m-1} h, ERRATA B3), which
+     * grows like e^{K half sinh s} on the ellipse of parameter e^s: the bound of q nodes is then
+     * e^{K half sinh s - 2 (q - 2) s}, least at cosh s = 2 (q - 2) / (K half), s no larger than the
+     * zeros allow. On long panels far from the zeros this, not J, decides (at N = 32 a 35-node
+     * rule that ignored it got the gradient wrong by 260 %). */
+    const double kl = K * half;
+    if (kl * sinh(smax) > 0.1)   /* below, the factor e^0.1 is within the margin of the + 2 */
+        for (; q <= QMAX; q++) {
+            const double c = 2.0 * (q - 2) / kl, s = c > 1.0 ? fmin(smax, acosh(c)) : 0.0;
+            if (2.0 * (q - 2) * s - kl * sinh(s) >= L) break;
+        }
+    return q > QMAX ? 0 : q;
 }
 
 /* J(a) and J'(a) in double-double (shape.h): near a zero of J their double values would carry the
@@ -1078,7 +1101,7 @@ static int graded(swim_barrier_quad *b, const double *x, double eps, double alph
             while (sp > 0) {
                 double pu = stack[sp - 1].u, pv = stack[sp - 1].v;
                 int depth = stack[--sp].depth;
-                int q = panel_nodes(z, nz, base, pu, pv);
+                int q = panel_nodes(z, nz, base, pu, pv, N - 1);
                 if (q == 0) {
                     if (depth >= MAX_DEPTH) return 1;   /* a zero of J on the circle itself */
                     double pm = 0.5 * (pu + pv);

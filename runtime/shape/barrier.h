@@ -20,7 +20,9 @@
  *     max(512, 16N)). The zeros of J are computed as the roots of z^{N-1} J(z) (eigenvalues of the companion
  *     matrix, LAPACK zhseqr). A panel [u, v] is accepted with q Gauss nodes when every zero lies
  *     outside the Bernstein ellipse of parameter rho = tol^{-1/(2q)} of the panel (Trefethen,
- *     Approximation Theory and Approximation Practice, Thm 19.3), otherwise it is halved. Panels
+ *     Approximation Theory and Approximation Practice, Thm 19.3), otherwise it is halved; the
+ *     gradient's factor e^{ik theta}, |k| <= N - 1, which grows on the ellipse, counts in the
+ *     bound too (on long panels far from the zeros it decides). Panels
  *     start at the real parts of the close zeros, so the halving grades them geometrically toward
  *     each peak: the node count grows like log(1/d), i.e. like log(1 / min J) (the graded meshes of
  *     nearly singular boundary-element quadrature, cf. Johnston & Elliott, IJNME 62 (2005)).
