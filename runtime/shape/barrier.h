@@ -14,8 +14,9 @@
  *     A Q^s e^{-Q d} (Trefethen & Weideman, SIAM Review 56 (2014), Thm 3.2; the power s from the
  *     algebraic branch points of J^-alpha), so one doubling of Q multiplies the error by about
  *     e^{-Qd} and the next by its square. The rule doubles Q from max(16, 2N), each level reusing
- *     the nodes of the last, and stops when the error predicted from the last two changes
- *     (value and gradient) is below 1e-14 relative.
+ *     the nodes of the last, and stops at Q >= 36/d + N - 1 (the gradient's factor e^{ik theta},
+ *     |k| <= N - 1, aliases as from Q - N + 1 nodes) once the error predicted from the last two
+ *     changes (value and gradient) is below 1e-14 relative, or both changes are (rounding).
  *  2. Composite Gauss-Legendre with a priori error control (near the boundary, when Q would exceed
  *     max(512, 16N)). The zeros of J are computed as the roots of z^{N-1} J(z) (eigenvalues of the companion
  *     matrix, LAPACK zhseqr). A panel [u, v] is accepted with q Gauss nodes when every zero lies
