@@ -954,8 +954,9 @@ static int panel_nodes(const double complex *z, int nz, double base, double u, d
             }
         }
     if (!(rho > 1.0)) return 0;
-    const double L = log(1.0 / GAUSS_TOL), smax = log(rho);
-    int q = (int)fmax(QMIN, ceil(L / (2.0 * smax)) + 2.0);
+    const double L = log(1.0 / GAUSS_TOL), smax = log(rho), q0 = ceil(L / (2.0 * smax)) + 2.0;
+    if (!(q0 <= QMAX)) return 0;   /* before the conversion: near a zero q0 is huge */
+    int q = q0 < QMIN ? QMIN : (int)q0;
     /* The gradient's integrands also carry e^{ik theta}, |k| <= K (z^{m-1} h, ERRATA B3), which
      * grows like e^{K half sinh s} on the ellipse of parameter e^s: the bound of q nodes is then
      * e^{K half sinh s - 2 (q - 2) s}, least at cosh s = 2 (q - 2) / (K half), s no larger than the
