@@ -102,10 +102,13 @@ def test_jmin_over_steps():
         check(s["left_D_t"] is None and s["stiff_switch"] is None, "%s: no crossing, no switch" % name)
         check(0 <= s["jmin_t"] <= s["t_reached"], "%s: min J at t = %r, outside the run" % (name, s["jmin_t"]))
     # a run ended by a :stop event counts its last step up to the event only: stopped at the first
-    # minimum of J (t = 2.42), before the dip at 18.1 and before the end of that step
+    # minimum of J (t = 2.42), before the dip at 18.1 and before the end of that step. The event
+    # and the watch locate that minimum each in their own way: their values of J agree to
+    # rounding (J is stationary there), not bit for bit; the summary, which includes the rows,
+    # can never be above them.
     p, d, s = run("models/selfpropelled.toml", "sp-event", "--t-end", "20", "--event", "jmin:min:stop")
     check(s["status"] == "completed" and s["t_reached"] < 5 and s["jmin_t"] <= s["t_reached"]
-          and abs(s["jmin"] - d["jmin"][-1]) < 1e-12 and s["jmin"] == np.min(d["jmin"]),
+          and abs(s["jmin"] - d["jmin"][-1]) < 1e-12 and s["jmin"] <= np.min(d["jmin"]),
           "event stop: min J %r at %r, stopped at %r (last row %r)" % (s["jmin"], s["jmin_t"], s["t_reached"],
                                                                      d["jmin"][-1]))
     # without dense output (GSL rk8pd) the summary is over rows only, and says so
