@@ -973,22 +973,40 @@ static int switch_to_fallback(run_ctx *c, double t_last, double t)
     return rc == SWIM_ODE_OK ? swim_ode_advance(c->ode, t, c->ys) : rc;
 }
 
+/* The integrator stopped at shift_t (accept_step): close it, keeping its statistics, and take
+ * the state it accepted there. */
+static void stop_at_shift(run_ctx *c)
+{
+    accumulate_stats(&c->total, c->ode);
+    swim_ode_free(c->ode);
+    c->ode = NULL;
+    memcpy(c->ys, c->ys_shift, sizeof(double) * (size_t)c->sdim);
+    c->shift_pending = 0;
+}
+
+/* A new integrator `method` from c->ys at its time tau0 (absolute d.t_origin + tau0), on to
+ * tout. An ODE status. */
+static int resume(run_ctx *c, const char *method, double tau0, double tout)
+{
+    barrier_tolerance(c, c->ys, 0.0);
+    int rc = swim_ode_create(method, &c->sys, &c->o, tau0, c->ys, &c->ode);
+    if (rc != SWIM_ODE_OK || !(tout - c->d.t_origin > tau0)) return rc;   /* at tout already: ys is its state */
+    return swim_ode_advance(c->ode, tout - c->d.t_origin, c->ys);
+}
+
 /* The integrator stopped at shift_t (accept_step): start it again from the state there, relative
  * to the new origin (or to none), and go on to tout. An ODE status. */
 static int shift_origin(run_ctx *c, double tout)
 {
     const swim_scene *s = &c->s;
-    accumulate_stats(&c->total, c->ode);
-    swim_ode_free(c->ode);
-    c->ode = NULL;
-    memcpy(c->ys, c->ys_shift, sizeof(double) * (size_t)c->sdim);
-    if (swim_dynamics_rebase(&c->d, c->ys, c->shift_pending == 2) != 0) return SWIM_ODE_ENOMEM;
+    const int clear = c->shift_pending == 2;
+    stop_at_shift(c);
+    if (swim_dynamics_rebase(&c->d, c->ys, clear) != 0) return SWIM_ODE_ENOMEM;
     /* the clock too: t0' + tau0 = t0 + shift_t exactly (TwoSum), the integrator starts at tau0 */
     const double a = c->d.t_origin, b = c->shift_t, t0 = a + b, bb = t0 - a;
     const double tau0 = (a - (t0 - bb)) + (b - bb);
     c->d.t_origin = t0;
     swim_run_events_time_origin(c->events, t0);
-    c->shift_pending = 0;
     c->shifts++;
     c->steps_since_shift = 0;
     /* abm weighs errors by rtol |y_i| + atol; with u = y - origin small that is rtol |u_i| + atol_i */
@@ -998,10 +1016,7 @@ static int shift_origin(run_ctx *c, double tout)
     } else {
         c->o.atol_vec = NULL;
     }
-    barrier_tolerance(c, c->ys, 0.0);
-    int rc = swim_ode_create(s->integrator, &c->sys, &c->o, tau0, c->ys, &c->ode);
-    if (rc != SWIM_ODE_OK || !(tout - t0 > tau0)) return rc;   /* at tout already: ys is its state */
-    return swim_ode_advance(c->ode, tout - t0, c->ys);
+    return resume(c, s->integrator, tau0, tout);
 }
 
 /* The integrator stopped at shift_t (accept_step) at the step end where a bounce becomes an
@@ -1010,13 +1025,9 @@ static int shift_origin(run_ctx *c, double tout)
 static int take_impact(run_ctx *c, double tout)
 {
     const swim_scene *s = &c->s;
-    accumulate_stats(&c->total, c->ode);
-    swim_ode_free(c->ode);
-    c->ode = NULL;
-    memcpy(c->ys, c->ys_shift, sizeof(double) * (size_t)c->sdim);
+    stop_at_shift(c);
     const swim_scene_kernel *k = c->d.spec;
     for (int f = 0; f < k->nfree; f++) c->ys[3 + k->nfree + f] += c->impact_dv[k->free_index[f]];
-    c->shift_pending = 0;
     const double t = c->d.t_origin + c->shift_t;
     if (c->impacts++ == 0) {
         c->impact_first_t = t;
@@ -1031,11 +1042,7 @@ static int take_impact(run_ctx *c, double tout)
     c->impact_last_t = t;
     c->impact_j_max = fmax(c->impact_j_max, c->impact_j);
     c->impact_reach_min = fmin(c->impact_reach_min, c->impact_reach);
-    barrier_tolerance(c, c->ys, 0.0);
-    const char *method = c->r.switch_t >= 0 ? s->stiff_fallback : s->integrator;
-    int rc = swim_ode_create(method, &c->sys, &c->o, c->shift_t, c->ys, &c->ode);
-    if (rc != SWIM_ODE_OK || !(tout - c->d.t_origin > c->shift_t)) return rc;   /* at tout already */
-    return swim_ode_advance(c->ode, tout - c->d.t_origin, c->ys);
+    return resume(c, c->r.switch_t >= 0 ? s->stiff_fallback : s->integrator, c->shift_t, tout);
 }
 
 /* Advance to output time *t and leave the row's full state in c->y. A :stop event before *t
