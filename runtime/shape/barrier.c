@@ -248,10 +248,11 @@ static inline double total8(vec4 a, vec4 b, double tail)
  * loop per exponent so that each vectorizes (1/sqrt and 1/J instead of pow for alpha = 1/2, 1). */
 static void weigh(double alpha, const double *w, double *g, int n, double *f)
 {
-    if (alpha == 0.5)
+    if (alpha == 0.5)   /* one division and one square root per node: they dominate the rule at small N */
         for (int k = 0; k < n; k++) {
-            f[k] = (w ? w[k] : 1.0) / sqrt(g[k]);
-            g[k] = f[k] / g[k];
+            const double r = 1.0 / g[k];
+            f[k] = (w ? w[k] : 1.0) * sqrt(r);
+            g[k] = f[k] * r;
         }
     else if (alpha == 1.0)
         for (int k = 0; k < n; k++) {
