@@ -245,7 +245,8 @@ static inline double total8(vec4 a, vec4 b, double tail)
 }
 
 /* f = w J^-alpha and g = w J^{-1-alpha} = f / J at n nodes (g holds J on entry; w NULL: 1). One
- * loop per exponent so that each vectorizes (1/sqrt and 1/J instead of pow for alpha = 1/2, 1). */
+ * loop per exponent so that each vectorizes (1/sqrt and 1/J instead of pow for alpha = 1/2, 1;
+ * sqrt vectorizes because this file is compiled without errno, runtime/shape/module.mk). */
 static void weigh(double alpha, const double *w, double *g, int n, double *f)
 {
     if (alpha == 0.5)   /* one division and one square root per node: they dominate the rule at small N */

@@ -3,4 +3,6 @@ RUNTIME_SRCS += runtime/shape/shape.c runtime/shape/constraints.c runtime/shape/
 TEST_SRCS    += tests/test_barrier.c
 # The quadrature's complex arithmetic never meets infinities or NaN (J > 0 is checked first), so
 # the textbook product and quotient are exact enough and avoid libgcc's checked __muldc3/__divdc3.
-$(BUILD)/runtime/shape/barrier.o: CFLAGS += -fcx-limited-range
+# Nor does it read errno: without -fno-math-errno GCC keeps every sqrt a scalar call (it might set
+# errno), and the node loops of J^-1/2 stop vectorizing.
+$(BUILD)/runtime/shape/barrier.o: CFLAGS += -fcx-limited-range -fno-math-errno
