@@ -332,6 +332,17 @@ static int impact_wanted(run_ctx *c, const double *y, double j)
     return 1;
 }
 
+/* Ends the integration at the step's end, keeping its state, for a restart of kind `pending`
+ * (shift_pending: 1, 2 an origin, 3 an impact) that advance_to carries out. Returns 1. */
+static int stop_for(run_ctx *c, const swim_ode_accepted *step, int pending, double *t_stop)
+{
+    c->shift_pending = pending;
+    c->shift_t = step->tb;
+    *t_stop = step->tb;
+    memcpy(c->ys_shift, step->y_end, sizeof(double) * (size_t)c->sdim);
+    return 1;
+}
+
 static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop)
 {
     run_ctx *c = data;
@@ -355,21 +366,10 @@ static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop
     if (!c->tol_scale || !step->y_end) return rc;
     const double j = barrier_tolerance(c, step->y_end, step->tb - step->ta);
     c->steps_since_shift++;
-    if (!rc && impact_wanted(c, step->y_end, j)) {
-        c->shift_pending = 3;
-        c->shift_t = step->tb;
-        *t_stop = step->tb;
-        memcpy(c->ys_shift, step->y_end, sizeof(double) * (size_t)c->sdim);
-        return 1;
-    }
+    if (!rc && impact_wanted(c, step->y_end, j)) return stop_for(c, step, 3, t_stop);
     if (rc || !c->shift_ok) return rc;
     const int want = shift_wanted(c, j, step->y_end);
-    if (!want) return 0;
-    c->shift_pending = want;
-    c->shift_t = step->tb;
-    *t_stop = step->tb;
-    memcpy(c->ys_shift, step->y_end, sizeof(double) * (size_t)c->sdim);
-    return 1;
+    return want ? stop_for(c, step, want, t_stop) : 0;
 }
 
 /* ---- options ------------------------------------------------------------------------------ */
