@@ -12,14 +12,24 @@
  *     densities and the values of R, cref, D, epsilon, alpha are run-time parameters: changing
  *     them never regenerates.
  *
- * The cache: $SWIM_CACHE, else $XDG_CACHE_HOME/swim, else ~/.cache/swim. One folder per entry,
- * named by a hash of its key: the structure (or N), the kernel ABI, the compiler and its flags,
- * and a hash of every file under the generator folder and of the hand-written C the kernels
- * include (runtime/kernel/). Files are written under temporary names and renamed; the manifest,
- * written last, holds the key and the size and hash of kernel.c and kernel.so, and is checked
- * before dlopen, so a truncated or empty file is rebuilt (one line on stderr) rather than loaded.
- * Concurrent first uses wait on a lock file in the entry; a cache that cannot be written is
- * replaced for this run by a private temporary folder (one line on stderr).
+ * The cache: $SWIM_CACHE, else $XDG_CACHE_HOME/swim, else $HOME/.cache/swim, else the effective
+ * user's home folder from the password database (never a fixed shared path). One folder per
+ * entry, named by a hash of its key: the structure (or N), the kernel ABI, the compiler and its
+ * flags, and a hash of every file under the generator folder and of the hand-written C the
+ * kernels include (runtime/kernel/). Files are written under temporary names and installed by
+ * rename only; the manifest, written last, holds the key and the size and hash of kernel.c and
+ * kernel.so, so a truncated or empty file is rebuilt (one line on stderr) rather than loaded.
+ * Trust (docs/trust.md): a cache root is used only when it and its entry folders belong to this
+ * user (or root) and nobody else may write them, and the folders above it are this user's or
+ * root's and writable by others only with the sticky bit; manifest, kernel.c and kernel.so must
+ * be regular files (no symbolic links) with the same owners and no group or other write bit.
+ * kernel.so is copied into an anonymous memory file while it is hashed, and that copy is loaded:
+ * the code that runs is the code that was checked, and a cache file changed later cannot touch
+ * a running process. Concurrent first uses wait on a lock file in the entry; a cache that cannot
+ * be written or is not trusted is replaced for this run by a private folder (mode 0700 under
+ * $TMPDIR or /tmp, one line on stderr) that is removed once the kernel is loaded. A signal that
+ * stops swim while a generator or compiler runs is passed on to it; its temporary files are
+ * removed before the signal takes effect, and the child ends with swim even on SIGKILL.
  *
  * The generator and the headers are found relative to the executable (/proc/self/exe): in the
  * source tree (bin/swim -> generator/, runtime/kernel/) or an installation (PREFIX/bin/swim ->
