@@ -51,6 +51,10 @@ static const command commands[] = {
      "           [--max-iter K] [--tol S] [--set KEY=VALUE ...] [--quiet]; QUANTITY: x, y, theta,\n"
      "           displacement, work, forcing_work, displacement_per_work, energy (at t_end)",
      "swim optimize models/selfpropelled.toml --set run.t_end=30 --vary parameters.A=0.5:4 --maximize displacement_per_work"},
+    {"cache", swim_cmd_cache,
+     "the kernel cache: where it is, what it holds, removing entries\n"
+     "           path | list | clean [--older-than D (days, or with s, m, h, d; default: every entry)]",
+     "swim cache clean --older-than 30d"},
     {"plot", swim_cmd_plot, "PNG figures of a run directory, or of a sweep directory (matplotlib)", "swim plot out/example3"},
 };
 

@@ -17,6 +17,7 @@
 #include <sys/mman.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
+#include <sys/utsname.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -598,6 +599,15 @@ static int build_entry(const char *root, const char *dir, const entry_spec *e, s
     return rc == 0 ? 0 : -2;
 }
 
+/* The manifest's time is the entry's last use (swim cache clean --older-than); a read-only
+ * cache keeps its old times. */
+static void mark_used(const char *dir)
+{
+    char path[SWIM_CODEGEN_PATH + 32];
+    snprintf(path, sizeof path, "%s/manifest", dir);
+    utimensat(AT_FDCWD, path, NULL, AT_SYMLINK_NOFOLLOW);
+}
+
 /* Look up or build the entry for e under the cache root `croot`, which trusted_root accepted.
  * 0; -1 failed (message printed); -2 cannot write there; -3 stopped by the signal *stopped. */
 static int obtain_in(const char *croot, const char *root, const entry_spec *e, swim_compiled *out,
@@ -611,6 +621,7 @@ static int obtain_in(const char *croot, const char *root, const entry_spec *e, s
     if (check_entry(out->dir, e->key, &so, why, sizeof why) == 0 && load_entry(out->dir, e, &so, out, why, sizeof why) == 0) {
         snprintf(out->source, sizeof out->source, "%s/kernel.c", out->dir);
         out->from_cache = 1;
+        mark_used(out->dir);
         if (verbose > 1) fprintf(stderr, "swim: %s from cache %s\n", e->what, out->dir);
         return 0;
     }
@@ -704,6 +715,75 @@ static int obtain(const entry_spec *e, swim_compiled *out, int verbose)
 
 /* ---- keys ------------------------------------------------------------------------------ */
 
+/* The first line a command prints on stdout (no shell), without its newline; "" if none. */
+static void first_line_of(char *const argv[], char *buf, size_t len)
+{
+    buf[0] = '\0';
+    int fds[2];
+    if (pipe(fds) != 0) return;
+    pid_t pid = fork();
+    if (pid == 0) {
+        close(fds[0]);
+        dup2(fds[1], 1);
+        int devnull = open("/dev/null", O_WRONLY);
+        if (devnull >= 0) dup2(devnull, 2);
+        execvp(argv[0], argv);
+        _exit(127);
+    }
+    close(fds[1]);
+    size_t got = 0;
+    ssize_t n;
+    char chunk[256];
+    while (pid > 0 && (n = read(fds[0], chunk, sizeof chunk)) != 0) {
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) break;
+        for (ssize_t i = 0; i < n && got + 1 < len; i++) buf[got++] = chunk[i];
+    }
+    close(fds[0]);
+    buf[got] = '\0';
+    buf[strcspn(buf, "\n")] = '\0';
+    while (pid > 0 && waitpid(pid, NULL, 0) < 0 && errno == EINTR) {}
+}
+
+/* What compiled code depends on besides its sources and flags: the processor (the flags say
+ * -march=native, so code built on one machine may not run on another that shares the cache)
+ * and the compiler's version. The processor is /proc/cpuinfo's model name (or its
+ * implementer and part on ARM), else the machine name of uname. Computed once per process. */
+static const char *machine_text(void)
+{
+    static char text[512];
+    static int done;
+    if (done) return text;
+    char cpu[200] = "", part[100] = "";
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    char line[512];
+    while (f && fgets(line, sizeof line, f)) {
+        char *colon = strchr(line, ':');
+        if (!colon) continue;
+        char *value = colon + 1 + strspn(colon + 1, " \t");
+        value[strcspn(value, "\n")] = '\0';
+        if (!cpu[0] && (strncmp(line, "model name", 10) == 0 || strncmp(line, "Hardware", 8) == 0))
+            snprintf(cpu, sizeof cpu, "%s", value);
+        else if (!part[0] && strncmp(line, "CPU part", 8) == 0)
+            snprintf(part, sizeof part, "part %s", value);
+    }
+    if (f) fclose(f);
+    if (!cpu[0]) snprintf(cpu, sizeof cpu, "%s", part);
+    if (!cpu[0]) {
+        struct utsname u;
+        snprintf(cpu, sizeof cpu, "%s", uname(&u) == 0 ? u.machine : "unknown");
+    }
+    char version[200];
+    char *argv[] = {SWIM_CC, "--version", NULL};
+    first_line_of(argv, version, sizeof version);
+    /* the key is one line of plain text (manifest, generated C string): no quotes or controls */
+    snprintf(text, sizeof text, " cpu=%s ccversion=%s", cpu, version[0] ? version : "unknown");
+    for (char *c = text; *c; c++)
+        if ((unsigned char)*c < 32 || *c == '"' || *c == '\\') *c = '_';
+    done = 1;
+    return text;
+}
+
 static char *key_suffix(const char *cflags)
 {
     const char *root = swim_share_dir();
@@ -711,8 +791,8 @@ static char *key_suffix(const char *cflags)
     size_t len;
     FILE *f = open_memstream(&s, &len);
     if (!f) return NULL;
-    fprintf(f, " abi=%d sources=%016llx cc=%s cflags=%s", SWIM_KERNEL_ABI,
-            (unsigned long long)(root ? sources_hash(root) : 0), SWIM_CC, cflags);
+    fprintf(f, " abi=%d sources=%016llx cc=%s cflags=%s%s", SWIM_KERNEL_ABI,
+            (unsigned long long)(root ? sources_hash(root) : 0), SWIM_CC, cflags, machine_text());
     fclose(f);
     return s;
 }
@@ -725,7 +805,7 @@ int swim_codegen_kernel(int modes, swim_compiled *out, int verbose)
         return -1;
     }
     if ((out->kernel = swim_kernel_find(modes))) return 0;   /* linked in */
-    char *suffix = key_suffix(SWIM_KERNEL_CFLAGS_N), key[1024], what[64];
+    char *suffix = key_suffix(SWIM_KERNEL_CFLAGS_N), key[2048], what[64];
     if (!suffix) return -1;
     snprintf(key, sizeof key, "kernel N=%d%s", modes, suffix);
     free(suffix);
@@ -844,6 +924,163 @@ void swim_compiled_close(swim_compiled *c)
     c->kernel = NULL;
     c->scene = NULL;
     c->stroke = NULL;
+}
+
+/* ---- the cache as its user manages it ----------------------------------------------------- */
+
+int swim_cache_location(char **root, char *why, size_t len)
+{
+    char croot[SWIM_CODEGEN_PATH];
+    *root = NULL;
+    if (cache_root(croot, sizeof croot) != 0) {
+        snprintf(why, len, "HOME is not set and user %ld has no home folder", (long)geteuid());
+        return -1;
+    }
+    if (!(*root = strdup(croot))) {
+        snprintf(why, len, "out of memory");
+        return -1;
+    }
+    struct stat st;
+    if (stat(croot, &st) != 0) return 0;    /* made on first use */
+    return trusted_root(croot, why, len) == 0 ? 0 : 1;
+}
+
+static long long entry_bytes(const char *dir, double *newest)
+{
+    long long total = 0;
+    DIR *d = opendir(dir);
+    if (!d) return 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        char path[SWIM_CODEGEN_PATH + 300];
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        struct stat st;
+        if (e->d_name[0] == '.' || lstat(path, &st) != 0) continue;
+        total += (long long)st.st_size;
+        if (newest && (double)st.st_mtime > *newest) *newest = (double)st.st_mtime;
+    }
+    closedir(d);
+    return total;
+}
+
+static int by_name(const void *a, const void *b)
+{
+    return strcmp(((const swim_cache_entry *)a)->name, ((const swim_cache_entry *)b)->name);
+}
+
+/* An entry folder's name: the 16 hex digits of its key's hash. */
+static int entry_name(const char *n)
+{
+    if (strlen(n) != 16) return 0;
+    for (const char *c = n; *c; c++)
+        if (!((*c >= '0' && *c <= '9') || (*c >= 'a' && *c <= 'f'))) return 0;
+    return 1;
+}
+
+int swim_cache_entries(const char *root, swim_cache_entry **list, int *count)
+{
+    *list = NULL;
+    *count = 0;
+    DIR *d = opendir(root);
+    if (!d) return errno == ENOENT ? 0 : -1;
+    int cap = 0;
+    struct dirent *de;
+    const double now_s = (double)time(NULL);
+    while ((de = readdir(d))) {
+        if (!entry_name(de->d_name)) continue;
+        if (*count == cap) {
+            cap = cap ? 2 * cap : 16;
+            swim_cache_entry *grown = realloc(*list, (size_t)cap * sizeof **list);
+            if (!grown) {
+                closedir(d);
+                return -1;
+            }
+            *list = grown;
+        }
+        swim_cache_entry *e = &(*list)[(*count)++];
+        memset(e, 0, sizeof *e);
+        snprintf(e->name, sizeof e->name, "%s", de->d_name);
+        char dir[SWIM_CODEGEN_PATH + 32], path[SWIM_CODEGEN_PATH + 64];
+        snprintf(dir, sizeof dir, "%s/%s", root, de->d_name);
+        double newest = 0;
+        e->bytes = entry_bytes(dir, &newest);
+        snprintf(path, sizeof path, "%s/manifest", dir);
+        struct stat st;
+        const int has_manifest = lstat(path, &st) == 0;
+        e->age_days = ((has_manifest ? (double)st.st_mtime : newest) > 0
+                       ? now_s - (has_manifest ? (double)st.st_mtime : newest) : 0) / 86400.0;
+        FILE *f = has_manifest ? fopen(path, "r") : NULL;
+        char line[4096];
+        while (f && fgets(line, sizeof line, f))
+            if (strncmp(line, "key ", 4) == 0) {
+                line[strcspn(line, "\n")] = '\0';
+                e->key = strdup(line + 4);
+            }
+        if (f) fclose(f);
+        so_promise so;
+        if (!has_manifest) {
+            e->state = 1;
+            snprintf(e->why, sizeof e->why, "no manifest (being built, or a build was interrupted)");
+        } else if (!e->key || check_entry(dir, e->key, &so, e->why, sizeof e->why) != 0) {
+            e->state = -1;
+        } else {
+            /* kernel.so as load_entry would take it, without loading it */
+            int absent, fd = open_trusted(dir, "kernel.so", &st, &absent, e->why, sizeof e->why);
+            uint64_t h = 0;
+            long long size = -1;
+            if (fd >= 0) {
+                if (hash_fd(fd, &h, &size, -1) != 0) size = -1;
+                close(fd);
+            }
+            if (fd < 0) e->state = -1;
+            else if (size != so.size || h != so.hash) {
+                e->state = -1;
+                snprintf(e->why, sizeof e->why, "kernel.so differs from its manifest");
+            }
+        }
+    }
+    closedir(d);
+    if (*count > 1) qsort(*list, (size_t)*count, sizeof **list, by_name);
+    return 0;
+}
+
+void swim_cache_entries_free(swim_cache_entry *list, int count)
+{
+    for (int i = 0; i < count; i++) free(list[i].key);
+    free(list);
+}
+
+int swim_cache_clean(const char *root, double older_days, int *removed, int *busy, long long *freed)
+{
+    *removed = *busy = 0;
+    *freed = 0;
+    swim_cache_entry *list;
+    int count;
+    if (swim_cache_entries(root, &list, &count) != 0) return -1;
+    for (int i = 0; i < count; i++) {
+        if (older_days >= 0 && list[i].age_days < older_days) continue;
+        char dir[SWIM_CODEGEN_PATH + 32], lock[SWIM_CODEGEN_PATH + 64];
+        snprintf(dir, sizeof dir, "%s/%s", root, list[i].name);
+        snprintf(lock, sizeof lock, "%s/lock", dir);
+        /* a build holds the entry's lock: leave it alone */
+        int fd = open(lock, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+        if (fd >= 0 && flock(fd, LOCK_EX | LOCK_NB) != 0) {
+            close(fd);
+            (*busy)++;
+            continue;
+        }
+        remove_private(dir);
+        if (fd >= 0) close(fd);
+        struct stat st;
+        if (lstat(dir, &st) == 0) {
+            (*busy)++;
+            continue;
+        }
+        (*removed)++;
+        *freed += list[i].bytes;
+    }
+    swim_cache_entries_free(list, count);
+    return 0;
 }
 
 /* ---- prescribed strokes --------------------------------------------------------------------- */

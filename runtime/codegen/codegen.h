@@ -72,4 +72,29 @@ int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose);
 /* The structure key of a scene as the cache uses it (malloc'd, caller frees), or NULL. */
 char *swim_codegen_scene_key(const swim_scene *s, int generic);
 
+/* ---- the cache as its user manages it (swim cache) ---- */
+
+/* The cache root this process uses (*root, malloc'd): 0 when it is used (or will be made on
+ * first use), 1 when it exists but is not trusted (why; kernels then go to private folders),
+ * -1 when there is none (why; *root NULL). */
+int swim_cache_location(char **root, char *why, size_t len);
+
+typedef struct {
+    char name[32];        /* the entry's folder: the hash of its key */
+    char *key;            /* the key from its manifest; NULL without one */
+    long long bytes;      /* size of its files */
+    double age_days;      /* since its last use (loads refresh the manifest's time) */
+    int state;            /* 0 sound; -1 damaged or not trusted (why); 1 no manifest yet (why) */
+    char why[256];
+} swim_cache_entry;
+
+/* Every entry under root, sorted by name, checked as a load would check it (nothing is
+ * loaded). 0 (an absent root has no entries), or -1 with errno set. */
+int swim_cache_entries(const char *root, swim_cache_entry **list, int *count);
+void swim_cache_entries_free(swim_cache_entry *list, int count);
+
+/* Removes the entries unused for at least older_days (every entry when older_days < 0),
+ * except those whose lock a build holds. 0 with the counts, or -1 with errno set. */
+int swim_cache_clean(const char *root, double older_days, int *removed, int *busy, long long *freed);
+
 #endif
