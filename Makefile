@@ -30,7 +30,7 @@ DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev python3-sympy python3-nu
 MEDIA_PKGS := ffmpeg chromium
 
 RUNTIME_SRCS :=
-TEST_SRCS    :=
+TEST_SRCS    := $(sort $(wildcard tests/test_*.c))
 TEST_LIB_SRCS :=
 BENCH_SRCS   :=
 
@@ -122,11 +122,9 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(BUILD)/libswimtest.a $(BUILD)/libswim.a
 
 $(BUILD)/tests/%.o: CPPFLAGS += -Itests
 
-TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_events.py tests/test_specialized.py tests/test_codegen.py \
-                tests/test_install.sh tests/test_hard.py tests/test_hard_soft.py tests/test_impact.py tests/test_admissible.py tests/test_trust.py tests/test_trust_cache.py tests/test_trust_devices.py tests/test_cache_command.py tests/test_plot.sh \
-                tests/test_flow.py tests/test_figures.py tests/test_animate.py tests/test_paper.py \
-                tests/test_sweep.py tests/test_sweep_mpi.py tests/test_stroke.py tests/test_jacobian_run.py \
-                tests/test_parameters.py tests/test_sensitivity.py tests/test_floquet.py tests/test_optimize.py
+# Every tests/test_*.py and tests/test_*.sh is a test script, and every tests/test_*.c a test
+# program (linked with the runtime and tests/reference/): a new test is picked up by its name.
+TEST_SCRIPTS := $(sort $(wildcard tests/test_*.py tests/test_*.sh))
 
 # Tests keep their kernel cache in the build folder, not in the user's ~/.cache/swim.
 # bin/swim-mpi is built when OpenMPI is there or can be installed; test_sweep_mpi.py says when it is not.
