@@ -55,7 +55,10 @@ static const command commands[] = {
      "the kernel cache: where it is, what it holds, removing entries\n"
      "           path | list | clean [--older-than D (days, or with s, m, h, d; default: every entry)]",
      "swim cache clean --older-than 30d"},
-    {"plot", swim_cmd_plot, "PNG figures of a run directory, or of a sweep directory (matplotlib)", "swim plot out/example3"},
+    {"plot", swim_cmd_plot, "PNG figures of a run directory, or of a sweep directory (matplotlib)\n"
+     "           [--mark T1,T2,...] [--events all|COLUMN:KIND,...] [--only NAME ...]\n"
+     "           marks: the times given and the events selected; without either, the first 12 event times",
+     "swim plot out/fig48 --mark 3.166805989,3.951942753,6.074806130,9.499689605"},
 };
 
 static void usage(FILE *f)
