@@ -126,7 +126,8 @@ TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_events.
                 tests/test_install.sh tests/test_hard.py tests/test_hard_soft.py tests/test_impact.py tests/test_admissible.py tests/test_trust.py tests/test_plot.sh \
                 tests/test_flow.py tests/test_figures.py tests/test_animate.py tests/test_paper.py \
                 tests/test_sweep.py tests/test_sweep_mpi.py tests/test_stroke.py tests/test_jacobian_run.py \
-                tests/test_parameters.py tests/test_sensitivity.py tests/test_floquet.py tests/test_optimize.py
+                tests/test_parameters.py tests/test_sensitivity.py tests/test_floquet.py tests/test_optimize.py \
+                tests/test_trust_control.py
 
 # Tests keep their kernel cache in the build folder, not in the user's ~/.cache/swim.
 # bin/swim-mpi is built when OpenMPI is there or can be installed; test_sweep_mpi.py says when it is not.

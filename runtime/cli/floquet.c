@@ -71,9 +71,12 @@ int swim_cmd_floquet(int argc, char **argv)
     const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     double t_max = 0.0;
     const char *v = swim_args_get(opts, nopts, "t-max");
-    if (v && (swim_args_double("floquet", "t-max", v, &t_max) || !(t_max > 0))) {
-        if (t_max <= 0) swim_message(stderr, "swim floquet: --t-max: must be > 0, got '%s'", v);
-        return 2;
+    if (v) {   /* not a number, or not > 0: one line each, never both */
+        if (swim_args_double("floquet", "t-max", v, &t_max)) return 2;
+        if (!(t_max > 0)) {
+            swim_message(stderr, "swim floquet: --t-max: must be > 0, got '%s'", v);
+            return 2;
+        }
     }
     static swim_model_setup m;
     int rc = swim_setup_open(&m, "floquet", pos[0], sets, nsets, swim_args_get(opts, nopts, "generic") != NULL, quiet);

@@ -19,6 +19,7 @@
 #include "model/flow.h"
 #include "scene/scene.h"
 #include "io/message.h"
+#include "io/stdout_check.h"
 
 #define MAX_TIMES 100000
 
@@ -262,7 +263,7 @@ int swim_cmd_flow(int argc, char **argv)
                 rc = 1;
             }
             if (rc != 0) remove(tmp);
-        } else if (fflush(stdout) != 0) {
+        } else if (swim_stdout_check("flow") != 0) {
             rc = 1;
         }
     }
