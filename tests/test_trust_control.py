@@ -92,5 +92,37 @@ def test_bad_option_values_one_line():
             "optimize --tol nan", "--tol")
 
 
+# ---- swim floquet: prescribed strokes and orbits that do not close -----------------------------
+
+def test_floquet_refuses_a_prescribed_stroke():
+    for sc in [STROKE, os.path.join(ROOT, "models", "stroke_completed.toml"),
+               os.path.join(ROOT, "models", "control", "stroke_phase.toml")]:
+        out = os.path.join(TMP, "floquet-stroke-" + os.path.basename(sc))
+        p = swim("floquet", sc, "--out", out, "--quiet")
+        refused(p, "floquet on %s" % os.path.basename(sc), "[stroke]", sc)
+        check(not os.path.exists(out), "floquet on a stroke: nothing written (%s)" % out)
+
+
+def test_floquet_orbit_that_does_not_close():
+    for name, extra in [("damped", DAMPING),
+                        ("forced", '\n[forcing]\nlaw = "0.5*sin(1.3*t)"\n'
+                                   'direction = [0,0,1,0,0,1,0,0,0,0,0,0,0,0,0,0]\n')]:
+        out = os.path.join(TMP, "floquet-" + name)
+        p = swim("floquet", scene(name, BASE + extra), "--out", out, "--quiet")
+        check(p.returncode == 1, "floquet %s: exit 1 (got %d)" % (name, p.returncode))
+        check(one_line(p) and "no periodic orbit" in p.stderr, "floquet %s: one line: no periodic orbit (%r)"
+              % (name, p.stderr))
+        check("UNSTABLE" not in p.stdout and "stable" not in p.stdout.lower().replace("unstable", ""),
+              "floquet %s: no stability verdict (%r)" % (name, p.stdout[-200:]))
+        path = os.path.join(out, "floquet.json")
+        d = json.load(open(path)) if os.path.exists(path) else {}
+        check(d.get("periodic") is False and d.get("stable", 0) is None,
+              "floquet %s: floquet.json kept, periodic false, stable null (%s)" % (name, d.get("periodic")))
+    p = swim("floquet", EXAMPLE3, "--out", os.path.join(TMP, "floquet-ex3"), "--quiet")
+    d = json.load(open(os.path.join(TMP, "floquet-ex3", "floquet.json"))) if p.returncode == 0 else {}
+    check(p.returncode == 0 and d.get("periodic") is True and d.get("stable") is True,
+          "floquet example3: a closed orbit is periodic and stable (exit %d)" % p.returncode)
+
+
 if __name__ == "__main__":
     sys.exit(main(globals(), "test_trust_control"))
