@@ -124,5 +124,16 @@ def test_floquet_orbit_that_does_not_close():
           "floquet example3: a closed orbit is periodic and stable (exit %d)" % p.returncode)
 
 
+def test_sensitivity_on_a_stroke_refused():
+    out = os.path.join(TMP, "stroke-sens")
+    for opt in [["--sensitivity", "parameters.A"], ["--sensitivity-steps", "state"]]:
+        p = swim("run", STROKE, "--out", out, "--quiet", *opt)
+        refused(p, "stroke run %s" % opt[0], opt[0], "prescribed stroke")
+        check("unknown option" not in p.stderr, "stroke run %s: not 'unknown option' (%r)" % (opt[0], p.stderr))
+    h = swim("run", "--help")
+    check("--sensitivity" in h.stdout and "without --sensitivity" in h.stdout,
+          "swim run --help says --sensitivity is not for prescribed strokes")
+
+
 if __name__ == "__main__":
     sys.exit(main(globals(), "test_trust_control"))

@@ -25,7 +25,8 @@ static const command commands[] = {
      "           [--trace-steps FILE] [--event COLUMN:KIND[:stop]]... [--snapshots] [--quiet]\n"
      "           [--set KEY=VALUE ...] [--summary-only]\n"
      "           [--sensitivity KEY[,KEY...]] [--sensitivity-steps all|state]\n"
-     "           a scene with a [stroke] table is a prescribed stroke: (3.21) only (models/stroke_loop.toml)",
+     "           a scene with a [stroke] table is a prescribed stroke: (3.21) only (models/stroke_loop.toml),\n"
+     "           without --sensitivity (a prescribed shape has no free dynamics to differentiate)",
      "swim run models/example3.toml --out out/example3 --rtol=1e-10"},
     {"flow", swim_cmd_flow,
      "body, density rho0/J and fluid velocity at chosen times of a run, as JSON\n"

@@ -158,7 +158,8 @@ static int read_options(int argc, char **argv, stroke_ctx *c)
     swim_opt opts[] = {{"out", 1, NULL}, {"t-end", 1, NULL}, {"rtol", 1, NULL}, {"output-step", 1, NULL},
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL}, {"generic", 0, NULL},
                        {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL}, {"trace-steps", 1, NULL},
-                       {"event", 1, NULL}, {"snapshots", 0, NULL}, {"summary-only", 0, NULL}};
+                       {"event", 1, NULL}, {"snapshots", 0, NULL}, {"summary-only", 0, NULL},
+                       {"sensitivity", 1, NULL}, {"sensitivity-steps", 1, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *vals[MAX_SETS], *pos[1];
     int npos = 0;
@@ -172,6 +173,15 @@ static int read_options(int argc, char **argv, stroke_ctx *c)
         }
     }
     if (swim_args_parse("run", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
+    /* The variational equations are those of the free shape dynamics; a prescribed stroke has
+     * none (its shape is a given function of time), so there is nothing to differentiate. */
+    const char *sens = swim_args_get(opts, nopts, "sensitivity") ? "sensitivity"
+                       : swim_args_get(opts, nopts, "sensitivity-steps") ? "sensitivity-steps" : NULL;
+    if (sens) {
+        swim_message(stderr, "swim run: --%s: not available on a prescribed stroke ([stroke] in %s): "
+                     "sensitivities are computed for free shape dynamics only", sens, npos ? pos[0] : "the scene");
+        return 2;
+    }
     if (npos != 1) {
         swim_message(stderr, "swim run: expected one scene file, e.g. swim run models/stroke_loop.toml");
         return 2;
