@@ -22,6 +22,7 @@
 #include "model/flow.h"
 #include "scene/scene.h"
 #include "io/message.h"
+#include "io/stdout_check.h"
 
 #define MAX_TIMES 100000
 
@@ -290,10 +291,8 @@ int swim_cmd_flow(int argc, char **argv)
             rc = 1;
         }
         if (rc == 0 && to_stdout) {
-            if (fwrite(text, 1, len, stdout) != len || fflush(stdout) != 0) {
-                swim_message(stderr, "swim flow: cannot write the snapshots to stdout: %s", strerror(errno));
-                rc = 1;
-            }
+            fwrite(text, 1, len, stdout);
+            if (swim_stdout_check("flow") != 0) rc = 1;
         } else if (rc == 0 && swim_replace_file(out, text, len) != 0) {
             swim_message(stderr, "swim flow: --out: cannot write '%s': %s", out, strerror(errno));
             rc = 1;
