@@ -135,11 +135,16 @@ test: $(BIN)/swim $(TEST_BINS) $(MEDIA_STAMP)
 # bin/swim finds PREFIX/share/swim from its own location, so the tree can be moved as a whole.
 SHARE_FILES := $(shell find generator runtime/kernel -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null) \
                $(wildcard runtime/plot/*.py)
+# The destination reaches the shell through the environment, always inside double quotes: a
+# PREFIX with spaces (or quotes, $, *) is one word, never split into stray relative folders.
+install: export SWIM_INSTALL_DEST := $(DESTDIR)$(PREFIX)
+install: export SWIM_INSTALL_BIN := $(BIN)
 install: $(BIN)/swim
-	install -d $(DESTDIR)$(PREFIX)/bin
-	install -m 755 $(BIN)/swim $(DESTDIR)$(PREFIX)/bin/swim
-	if [ -x $(BIN)/swim-mpi ]; then install -m 755 $(BIN)/swim-mpi $(DESTDIR)$(PREFIX)/bin/swim-mpi; fi
-	for f in $(SHARE_FILES); do install -D -m 644 $$f $(DESTDIR)$(PREFIX)/share/swim/$$f || exit 1; done
+	@case "$$SWIM_INSTALL_DEST" in /*) ;; *) echo "make install: PREFIX='$$SWIM_INSTALL_DEST' is not an absolute path" >&2; exit 2 ;; esac
+	install -d "$$SWIM_INSTALL_DEST/bin"
+	install -m 755 "$$SWIM_INSTALL_BIN/swim" "$$SWIM_INSTALL_DEST/bin/swim"
+	if [ -x "$$SWIM_INSTALL_BIN/swim-mpi" ]; then install -m 755 "$$SWIM_INSTALL_BIN/swim-mpi" "$$SWIM_INSTALL_DEST/bin/swim-mpi"; fi
+	for f in $(SHARE_FILES); do install -D -m 644 "$$f" "$$SWIM_INSTALL_DEST/share/swim/$$f" || exit 1; done
 
 # The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer (own build folder;
 # specialized kernels are compiled with the same flags into their own cache entries).

@@ -193,6 +193,30 @@ static int get_integrator(ctx *c, const toml_value *t, const char *key, char *ou
     return 0;
 }
 
+/* run.stiff_fallback (absent: leave *out as it is): "none" (out = ""), or an integrator that
+ * takes over where ABM's stiffness diagnostic fires -- an implicit one: any other integrator is
+ * held to the same stability limit and would crawl on, or stop, where ABM stopped. */
+static int get_stiff_fallback(ctx *c, const toml_value *run, char *out, size_t len)
+{
+    const toml_value *v = toml_get(run, "stiff_fallback");
+    if (!v) return 0;
+    const char *name = toml_string(v);
+    const int line = toml_get_key_line(run, "stiff_fallback");
+    const char *allowed = swim_ode_method_list_with(SWIM_ODE_CAP_IMPLICIT);
+    if (!name) ERR(c, line, "stiff_fallback", "expected a string (%s, or \"none\")", allowed);
+    if (strcmp(name, "none") == 0) {
+        out[0] = '\0';
+        return 0;
+    }
+    if (!swim_ode_method_known(name))
+        ERR(c, line, "stiff_fallback", "unknown integrator \"%s\" (%s, or \"none\")", name, allowed);
+    if (!(swim_ode_capabilities(name) & SWIM_ODE_CAP_IMPLICIT) || strlen(name) >= len)
+        ERR(c, line, "stiff_fallback", "integrator \"%s\" is not implicit: it has the stability limit that stops ABM (%s, or \"none\")",
+            name, allowed);
+    snprintf(out, len, "%s", name);
+    return 0;
+}
+
 static int parse_free(ctx *c, const toml_value *shape, swim_scene *s)
 {
     const toml_value *v = toml_get(shape, "free");
@@ -438,12 +462,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     /* BDF by default: where ABM's stiffness diagnostic fires, a stiff code goes on at a fraction
      * of the cost; "none" keeps the stop with the message naming the remedy */
     snprintf(s->stiff_fallback, sizeof s->stiff_fallback, "cvode-bdf");
-    const toml_value *sf = toml_get(run, "stiff_fallback");
-    if (sf && toml_string(sf) && strcmp(toml_string(sf), "none") == 0) s->stiff_fallback[0] = '\0';
-    else if (sf && toml_string(sf) && !swim_ode_method_known(toml_string(sf)))
-        ERR(c, toml_get_key_line(run, "stiff_fallback"), "stiff_fallback", "unknown integrator \"%s\" (%s, or \"none\")",
-            toml_string(sf), swim_ode_method_list());
-    else if (get_integrator(c, run, "stiff_fallback", s->stiff_fallback, sizeof s->stiff_fallback)) return 2;
+    if (get_stiff_fallback(c, run, s->stiff_fallback, sizeof s->stiff_fallback)) return 2;
     s->projection = 1;
     const toml_value *pj = toml_get(run, "projection");
     if (pj) {
