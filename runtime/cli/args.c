@@ -31,6 +31,15 @@ int swim_args_parse(const char *cmd, int argc, char **argv, int first, swim_opt 
             swim_message(stderr, "swim %s: unknown option '--%.*s' (see swim --help)", cmd, (int)len, name);
             return 2;
         }
+        if (o->value && o->takes_value != 2) {
+            const char *again = eq ? eq + 1 : i + 1 < argc ? argv[i + 1] : "";
+            if (o->takes_value)
+                swim_message(stderr, "swim %s: option '--%s' given twice ('%s', then '%s'); give it once",
+                             cmd, o->name, o->value, again);
+            else
+                swim_message(stderr, "swim %s: option '--%s' given twice; give it once", cmd, o->name);
+            return 2;
+        }
         if (!o->takes_value) {
             if (eq) {
                 swim_message(stderr, "swim %s: option '--%s' takes no value (got '%s')", cmd, o->name, eq + 1);

@@ -5,12 +5,14 @@
 
 typedef struct {
     const char *name;   /* without the leading "--" */
-    int takes_value;    /* 0 = flag */
+    int takes_value;    /* 0 = flag, 1 = a value given once, 2 = a value the caller reads from
+                         * every occurrence in argv itself (value is the last) */
     const char *value;  /* filled in: the value, "" for a flag that was given, NULL if absent */
 } swim_opt;
 
 /* Parses argv[first..argc). Non-option words go to positional[] (at most npos; their count in
- * *npos_out). Returns 0, or 2 after printing "swim CMD: ..." for an unknown or incomplete option. */
+ * *npos_out). Returns 0, or 2 after printing "swim CMD: ..." for an unknown or incomplete option,
+ * or one given twice that is not repeatable (keeping only the last would silently drop the first). */
 int swim_args_parse(const char *cmd, int argc, char **argv, int first, swim_opt *opts, int nopts,
                     const char **positional, int npos, int *npos_out);
 

@@ -63,7 +63,7 @@ typedef struct {
     int quiet, generic;
     int snapshots;      /* --snapshots: write snapshots.json */
     int summary_only;   /* --summary-only: rows computed (the summary needs them), not written */
-    const char *sensitivity;   /* --sensitivity KEY[,KEY...]: DIR/sensitivity.csv (control/sensitivity.h) */
+    char *sensitivity;         /* --sensitivity KEY[,KEY...] (repeatable, joined): DIR/sensitivity.csv */
     int sens_state_steps;      /* --sensitivity-steps state: no error test on the sensitivities */
     swim_override sets[MAX_SETS];   /* --set KEY=VALUE, applied before the scene is validated */
     int nsets;
@@ -405,6 +405,29 @@ static int take_set_options(int *argc, char **argv, swim_override *sets)
     return n;
 }
 
+/* --sensitivity KEYS (repeatable: each adds its keys), taken out of argv and joined with commas
+ * into *out (NULL when absent). 0, or 2 after one line on stderr. */
+static int take_sensitivity_options(int *argc, char **argv, char **out)
+{
+    const char *vals[MAX_SETS];
+    int n = swim_args_take_all("run", argc, argv, 2, "sensitivity", vals, MAX_SETS);
+    if (n < 0) return 2;
+    *out = NULL;
+    for (int i = 0; i < n; i++) {
+        if (vals[i][0] == '\0') {
+            swim_message(stderr, "swim run: --sensitivity: empty list of keys");
+            return 2;
+        }
+        char *joined = *out ? swim_strprintf("%s,%s", *out, vals[i]) : strdup(vals[i]);
+        free(*out);
+        if (!(*out = joined)) {
+            swim_message(stderr, "swim run: out of memory");
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* Parse argv, load the scene, apply the command line over it and validate the result: the run
  * settings pass the same checks (swim_run_settings_check) whether they came from the scene or
  * from here; the events (scene and --event) are checked against the columns and the integrator.
@@ -415,13 +438,14 @@ static int read_options(int argc, char **argv, run_ctx *c)
                        {"output-step", 1, NULL},
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL},
                        {"generic", 0, NULL}, {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL},
-                       {"trace-steps", 1, NULL}, {"event", 1, NULL}, {"snapshots", 0, NULL},
-                       {"summary-only", 0, NULL}, {"sensitivity", 1, NULL},
-                       {"sensitivity-steps", 1, NULL}};
+                       {"trace-steps", 1, NULL}, {"event", 2, NULL}, {"snapshots", 0, NULL},
+                       {"summary-only", 0, NULL}, {"sensitivity-steps", 1, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
     if ((c->opt.nsets = take_set_options(&argc, argv, c->opt.sets)) < 0) return 2;
+    int trc = take_sensitivity_options(&argc, argv, &c->opt.sensitivity);
+    if (trc) return trc;
     if (swim_args_parse("run", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
     if (npos != 1) {
         swim_message(stderr, "swim run: expected one scene file, e.g. swim run models/example3.toml");
@@ -437,7 +461,6 @@ static int read_options(int argc, char **argv, run_ctx *c)
     c->opt.out = swim_args_get(opts, nopts, "out");
     c->opt.trace = swim_args_get(opts, nopts, "trace-steps");
     c->opt.summary_only = swim_args_get(opts, nopts, "summary-only") != NULL;
-    c->opt.sensitivity = swim_args_get(opts, nopts, "sensitivity");
     const char *v = swim_args_get(opts, nopts, "sensitivity-steps");
     if (v) {
         if (strcmp(v, "all") != 0 && strcmp(v, "state") != 0) {
@@ -1420,6 +1443,7 @@ static void release(run_ctx *c)
     free(c->atolv);
     free(c->r.reason);
     free(c->output_error);
+    free(c->opt.sensitivity);
     swim_run_paths_free(&c->paths);
     swim_scene_free(&c->s);
     free(c);

@@ -158,7 +158,7 @@ static int read_options(int argc, char **argv, stroke_ctx *c)
     swim_opt opts[] = {{"out", 1, NULL}, {"t-end", 1, NULL}, {"rtol", 1, NULL}, {"output-step", 1, NULL},
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL}, {"generic", 0, NULL},
                        {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL}, {"trace-steps", 1, NULL},
-                       {"event", 1, NULL}, {"snapshots", 0, NULL}, {"summary-only", 0, NULL},
+                       {"event", 2, NULL}, {"snapshots", 0, NULL}, {"summary-only", 0, NULL},
                        {"sensitivity", 1, NULL}, {"sensitivity-steps", 1, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *vals[MAX_SETS], *pos[1];
