@@ -149,6 +149,8 @@ typedef struct {
     double impact_dv[SWIM_NMAX];   /* the pending impact's change of cdot (full shape layout) */
     double impact_j, impact_reach; /* its min J and predicted turning depth, over |c_1|^2 */
     long impacts;
+    const char *sens_status;   /* summary.json "sensitivity": written, failed, interrupted or skipped */
+    double sens_t;             /* the time sensitivity.csv was meant to reach: where the trajectory ended */
     double impact_first_t, impact_last_t, impact_j_max, impact_reach_min;
     swim_run_watch watch;       /* checks at every accepted step (integrators with dense output) */
     int watch_ready;
@@ -1289,6 +1291,10 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
     fprintf(f, "  \"status\": \"%s\",\n  \"reason\": ", r->status ? "failed" : "completed");
     swim_json_string(f, r->reason ? r->reason : "out of memory");
     fprintf(f, ",\n  \"t_end\": %.17g,\n  \"t_reached\": %.17g,\n  \"rows\": %ld,\n", s->t_end, r->t_reached, r->rows);
+    if (c->opt.sensitivity) {
+        fprintf(f, "  \"sensitivity\": {\"status\": \"%s\", \"t_end\": %.17g, \"file\": \"sensitivity.csv\"},\n",
+                c->sens_status ? c->sens_status : "skipped", c->sens_t);
+    }
     fprintf(f, "  \"initial_velocity_projected\": %s,\n  \"projection_change\": %.3g,\n",
             s->projection_change > 0 ? "true" : "false", s->projection_change);
     fprintf(f, "  \"final_state\": {\"t\": %.17g, \"x\": %.17g, \"y\": %.17g, \"theta\": %.17g, \"c\": ", r->t_reached, y[0], y[1], y[2]);
@@ -1462,14 +1468,24 @@ static int check_sensitivity(run_ctx *c)
     return rc;
 }
 
-/* DIR/sensitivity.csv after a completed run: a second integration, of the state with its
- * variational equations, by the same integrator at the same tolerances. */
-static int run_sensitivity(run_ctx *c)
+/* DIR/sensitivity.csv after the trajectory, before the summary: a second integration, of the state
+ * with its variational equations, by the same integrator at the same tolerances, up to where the
+ * trajectory ended (t_end or a stopping event). Skipped when the trajectory failed or was
+ * interrupted; a sensitivity pass that does not finish fails the run, so that the summary and the
+ * exit status say so. */
+static void run_sensitivity(run_ctx *c)
 {
+    c->sens_t = c->r.t_reached;
+    if (c->r.status != 0 || c->outputs_bad) {
+        c->sens_status = "skipped";
+        swim_message(stderr, "swim run: no sensitivity.csv: the run did not complete");
+        return;
+    }
     if (c->impacts) {   /* the variational equations would need the impact's jump (a saltation matrix) */
-        swim_message(stderr, "swim run: no sensitivity.csv: the run took %ld bounce(s) off the barrier as impacts, "
-                     "across which sensitivities are not computed; set run.impact_depth = 0 to follow them", c->impacts);
-        return 1;
+        c->sens_status = "failed";
+        stop(c, "no sensitivity.csv: the run took %ld bounce(s) off the barrier as impacts, "
+                "across which sensitivities are not computed; set run.impact_depth = 0 to follow them", c->impacts);
+        return;
     }
     swim_sens S;
     char *path = swim_strprintf("%s/sensitivity.csv", c->paths.dir);
@@ -1477,13 +1493,22 @@ static int run_sensitivity(run_ctx *c)
     double sec = 0.0;
     long evals = 0;
     S.error_control = !c->opt.sens_state_steps;
-    if (rc == 0) rc = swim_sens_write_run(&S, c->s.integrator, path, &sec, &evals) ? 1 : 0;
+    if (rc == 0) rc = swim_sens_write_run(&S, c->s.integrator, path, c->sens_t, &sec, &evals) ? 1 : 0;
     if (rc == 0 && !c->opt.quiet)
-        swim_message(stdout, "  sensitivities of %d key(s) in %s: %.3f s, %ld evaluations of the augmented RHS",
-                     S.nkeys, path, sec, evals);
+        swim_message(stdout, "  sensitivities of %d key(s) in %s up to t = %.6g: %.3f s, %ld evaluations of the augmented RHS",
+                     S.nkeys, path, c->sens_t, sec, evals);
+    if (rc == 0) {
+        c->sens_status = "written";
+    } else if (swim_run_stop) {
+        c->sens_status = "interrupted";
+        stop(c, "interrupted (%s) during the sensitivities: sensitivity.csv is partial",
+             swim_run_stop == SIGINT ? "SIGINT" : swim_run_stop == SIGTERM ? "SIGTERM" : "a signal");
+    } else {
+        c->sens_status = "failed";
+        stop(c, "sensitivity.csv is incomplete: the sensitivities stopped before t = %.6g", c->sens_t);
+    }
     if (path) swim_sens_free(&S);
     free(path);
-    return rc;
 }
 
 int swim_cmd_run(int argc, char **argv)
@@ -1506,8 +1531,8 @@ int swim_cmd_run(int argc, char **argv)
         rc = prepare(c);
         if (rc == 0) {
             integrate(c);
+            if (c->opt.sensitivity) run_sensitivity(c);
             rc = report(c);
-            if (rc == 0 && c->opt.sensitivity) rc = run_sensitivity(c);
         }
         swim_run_signals_restore(&sig);
     }

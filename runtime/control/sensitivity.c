@@ -307,8 +307,8 @@ static double now(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double *seconds,
-                        long *rhs_calls)
+int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double t_end,
+                        double *seconds, long *rhs_calls)
 {
     static const char *const what[] = {"dx", "dy", "dtheta", "denergy", "dwork"};
     const swim_scene *s = S->d->scene;
@@ -346,12 +346,12 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
     }
     if (s->step_lookahead >= 0) o.lookahead = s->step_lookahead;
     int orc = swim_ode_create(integrator, &sys, &o, 0.0, Y, &ode);
-    const long rows = (long)floor(s->t_end / s->output_step + 1e-9);
+    const long rows = (long)floor(t_end / s->output_step + 1e-9);
     double t = 0.0;
     for (long k = 0; orc == SWIM_ODE_OK; k++) {   /* the grid of swim run's trajectory.csv */
-        t = k <= rows ? k * s->output_step : s->t_end;
-        if (k == rows && fabs(t - s->t_end) < 1e-9 * s->output_step) t = s->t_end;
-        if (k > rows && (rows * s->output_step >= s->t_end * (1 - 1e-12))) break;
+        t = k <= rows ? k * s->output_step : t_end;
+        if (k == rows && fabs(t - t_end) < 1e-9 * s->output_step) t = t_end;
+        if (k > rows && (rows * s->output_step >= t_end * (1 - 1e-12))) break;
         if (k > rows + 1) break;
         if (k > 0 && (orc = swim_ode_advance(ode, t, Y)) != SWIM_ODE_OK) break;
         row[0] = t;

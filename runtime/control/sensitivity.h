@@ -72,12 +72,13 @@ int swim_sens_rhs(double t, const double *Y, double *dY, void *params);
  * W1 + W2), differentiated along (s_k, 1) like the right-hand side. NAN when a diagnostic fails. */
 double swim_sens_energy(swim_sens *S, const double *Y, int k);
 
-/* Integrates the augmented system with `integrator` (rtol, atol of the scene) from 0 and writes
- * one row per output time (k * output_step and t_end) to csv_path: t, then for each key
+/* Integrates the augmented system with `integrator` (rtol, atol of the scene) from 0 to t_end
+ * (where the trajectory ended: the scene's t_end or an earlier stop) and writes
+ * one row per output time (k * output_step up to t_end, and t_end) to csv_path: t, then for each key
  * dx/dKEY, dy/dKEY, dtheta/dKEY, denergy/dKEY, dwork/dKEY. Rows already written stay on failure.
  * interrupt: as swim_dynamics.interrupt. 0, or 1 after one line on stderr saying where and why
  * it stopped. *seconds gets the wall time of the integration and the rows. */
-int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double *seconds,
-                        long *rhs_calls);
+int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double t_end,
+                        double *seconds, long *rhs_calls);
 
 #endif
