@@ -600,6 +600,16 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
         swim_scene_free(s);
         return 2;
     }
+    int earlier, j = swim_override_conflict(ov, nov, &earlier);
+    if (j >= 0) {
+        char target[100];
+        swim_override_target(&ov[j], target, sizeof target);
+        swim_message(stderr, "swim: %s: --set %s: sets %s, which --set %s already sets to another value "
+                     "(give each value once)", path, ov[j].text, target, ov[earlier].text);
+        toml_free(root);
+        swim_scene_free(s);
+        return 2;
+    }
     for (int i = 0; i < nov; i++) {
         int bad;
         if (!ov[i].word[0])
@@ -626,7 +636,7 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
 
 /* The whole file in a new buffer, refused before reading when it is not a regular file of at
  * most SWIM_SCENE_MAX_BYTES (a pipe is read up to that size). NULL after one line on stderr. */
-static char *read_scene_file(const char *path, size_t *len)
+char *swim_scene_read(const char *path, size_t *len)
 {
     FILE *f = fopen(path, "rb");
     if (!f) {
@@ -657,6 +667,7 @@ static char *read_scene_file(const char *path, size_t *len)
         free(buf);
         return NULL;
     }
+    buf[got] = '\0';
     *len = got;
     return buf;
 }
@@ -675,7 +686,7 @@ int swim_scene_load_with(const char *path, const swim_override *ov, int nov, swi
 {
     memset(s, 0, sizeof *s);
     size_t len;
-    char *buf = read_scene_file(path, &len);
+    char *buf = swim_scene_read(path, &len);
     if (!buf) return 2;
     int rc = swim_scene_parse_with(buf, len, path, ov, nov, s);
     free(buf);
@@ -774,6 +785,33 @@ int swim_override_parse(const char *text, swim_override *o, char *err, size_t er
         return -1;
     }
     return 0;
+}
+
+void swim_override_target(const swim_override *o, char *buf, size_t len)
+{
+    if (o->index < 0) snprintf(buf, len, "%s.%s", o->table, o->key);
+    else snprintf(buf, len, "%s.%s[%ld]", o->table, o->key, o->index);
+}
+
+int swim_override_same_target(const swim_override *a, const swim_override *b)
+{
+    return strcmp(a->table, b->table) == 0 && strcmp(a->key, b->key) == 0 &&
+           (a->index == b->index || a->index < 0 || b->index < 0);
+}
+
+int swim_override_conflict(const swim_override *ov, int n, int *earlier)
+{
+    for (int j = 1; j < n; j++)
+        for (int i = 0; i < j; i++) {
+            if (!swim_override_same_target(&ov[i], &ov[j])) continue;
+            const int same = ov[i].index == ov[j].index && strcmp(ov[i].word, ov[j].word) == 0 &&
+                             (ov[i].word[0] || ov[i].value == ov[j].value);
+            if (!same) {
+                *earlier = i;
+                return j;
+            }
+        }
+    return -1;
 }
 
 void swim_scene_free(swim_scene *s)
