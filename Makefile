@@ -30,7 +30,7 @@ DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev python3-sympy python3-nu
 MEDIA_PKGS := ffmpeg chromium
 
 RUNTIME_SRCS :=
-TEST_SRCS    :=
+TEST_SRCS    := $(sort $(wildcard tests/test_*.c))
 TEST_LIB_SRCS :=
 BENCH_SRCS   :=
 
@@ -122,11 +122,9 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(BUILD)/libswimtest.a $(BUILD)/libswim.a
 
 $(BUILD)/tests/%.o: CPPFLAGS += -Itests
 
-TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_events.py tests/test_specialized.py tests/test_codegen.py \
-                tests/test_install.sh tests/test_hard.py tests/test_hard_soft.py tests/test_impact.py tests/test_admissible.py tests/test_trust.py tests/test_plot.sh \
-                tests/test_flow.py tests/test_figures.py tests/test_animate.py tests/test_paper.py \
-                tests/test_sweep.py tests/test_sweep_mpi.py tests/test_stroke.py tests/test_jacobian_run.py \
-                tests/test_parameters.py tests/test_sensitivity.py tests/test_floquet.py tests/test_optimize.py
+# Every tests/test_*.py and tests/test_*.sh is a test script, and every tests/test_*.c a test
+# program (linked with the runtime and tests/reference/): a new test is picked up by its name.
+TEST_SCRIPTS := $(sort $(wildcard tests/test_*.py tests/test_*.sh))
 
 # Tests keep their kernel cache in the build folder, not in the user's ~/.cache/swim.
 # bin/swim-mpi is built when OpenMPI is there or can be installed; test_sweep_mpi.py says when it is not.
@@ -137,11 +135,16 @@ test: $(BIN)/swim $(TEST_BINS) $(MEDIA_STAMP)
 # bin/swim finds PREFIX/share/swim from its own location, so the tree can be moved as a whole.
 SHARE_FILES := $(shell find generator runtime/kernel -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null) \
                $(wildcard runtime/plot/*.py)
+# The destination reaches the shell through the environment, always inside double quotes: a
+# PREFIX with spaces (or quotes, $, *) is one word, never split into stray relative folders.
+install: export SWIM_INSTALL_DEST := $(DESTDIR)$(PREFIX)
+install: export SWIM_INSTALL_BIN := $(BIN)
 install: $(BIN)/swim
-	install -d $(DESTDIR)$(PREFIX)/bin
-	install -m 755 $(BIN)/swim $(DESTDIR)$(PREFIX)/bin/swim
-	if [ -x $(BIN)/swim-mpi ]; then install -m 755 $(BIN)/swim-mpi $(DESTDIR)$(PREFIX)/bin/swim-mpi; fi
-	for f in $(SHARE_FILES); do install -D -m 644 $$f $(DESTDIR)$(PREFIX)/share/swim/$$f || exit 1; done
+	@case "$$SWIM_INSTALL_DEST" in /*) ;; *) echo "make install: PREFIX='$$SWIM_INSTALL_DEST' is not an absolute path" >&2; exit 2 ;; esac
+	install -d "$$SWIM_INSTALL_DEST/bin"
+	install -m 755 "$$SWIM_INSTALL_BIN/swim" "$$SWIM_INSTALL_DEST/bin/swim"
+	if [ -x "$$SWIM_INSTALL_BIN/swim-mpi" ]; then install -m 755 "$$SWIM_INSTALL_BIN/swim-mpi" "$$SWIM_INSTALL_DEST/bin/swim-mpi"; fi
+	for f in $(SHARE_FILES); do install -D -m 644 "$$f" "$$SWIM_INSTALL_DEST/share/swim/$$f" || exit 1; done
 
 # The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer (own build folder;
 # specialized kernels are compiled with the same flags into their own cache entries).

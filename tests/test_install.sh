@@ -7,17 +7,30 @@ cd "$(dirname "$0")/.."
 pass=0; fail=0
 ok() { pass=$((pass+1)); }
 bad() { echo "FAIL: $*"; fail=$((fail+1)); }
-prefix=$(mktemp -d /tmp/swim-install-XXXXXX)
+# A prefix with spaces and a quote: one folder, wherever the recipe passes it to the shell.
+top=$(mktemp -d "/tmp/swim install-XXXXXX")
+prefix="$top/pre fix 'q'"
 work=$(mktemp -d /tmp/swim-work-XXXXXX)
-trap 'rm -rf "$prefix" "$work"' EXIT
+trap 'rm -rf "$top" "$work"' EXIT
+# every path of the checkout (empty folders too) but the build's own
+checkout() { find . -path ./build -prune -o -path ./bin -prune -o -path ./.git -prune -o -print | LC_ALL=C sort; }
+before=$(checkout)
 if make --no-print-directory -s install PREFIX="$prefix" >"$work/install.log" 2>&1; then ok; else
     bad "make install failed: $(tail -3 "$work/install.log")"; fi
+stray=$(LC_ALL=C comm -13 <(echo "$before") <(checkout) | tr '\n' ' ')
+[ -z "$stray" ] && ok || bad "make install created files in the checkout: $stray"
+[ "$(ls -A "$top")" = "pre fix 'q'" ] && ok || bad "make install: $top holds $(ls -A "$top"), not one prefix folder"
+# a relative PREFIX would install into the checkout: refused before anything is made
+make --no-print-directory -s install PREFIX="rel prefix" >"$work/rel.log" 2>&1
+rc=$?
+[ $rc -ne 0 ] && [ ! -e "rel prefix" ] && [ ! -e rel ] && grep -q "PREFIX='rel prefix'" "$work/rel.log" && ok \
+    || bad "make install PREFIX='rel prefix': exit $rc, $(cat "$work/rel.log")"
+rm -rf "rel prefix" rel
 [ -x "$prefix/bin/swim" ] && [ -f "$prefix/share/swim/generator/generate.py" ] \
     && [ -f "$prefix/share/swim/runtime/kernel/assembly.h" ] && ok || bad "installed tree incomplete"
 cp models/example3.toml "$work/scene.toml"
 # from another directory, the source tree out of sight (moved copy of the install as well)
 mv "$prefix" "$prefix-moved" && prefix="$prefix-moved"
-trap 'rm -rf "$prefix" "$work"' EXIT
 ( cd "$work" && env -u SWIM_SHARE SWIM_CACHE="$work/cache" "$prefix/bin/swim" run scene.toml --out run --t-end 2 --quiet ) \
     >"$work/run.log" 2>&1 && ok || bad "installed swim run failed: $(tail -3 "$work/run.log")"
 grep -q '"status": "completed"' "$work/run/summary.json" 2>/dev/null && ok || bad "installed run: no completed summary"

@@ -1,16 +1,22 @@
 #!/usr/bin/env bash
-# Regenerating the committed kernels must reproduce them byte for byte: run the generator in
-# place and ask git whether generated/ changed.
+# Regenerating the committed kernels must reproduce them byte for byte.
 set -u
 cd "$(dirname "$0")/.."
 pass=0; fail=0
-if ! git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
-    echo "test_regenerate: not a git checkout, nothing to compare"; echo "test_regenerate: 0 passed, 0 failed"; exit 0
+# Into a folder of its own, not in place: other tests run at the same time, and rewriting
+# generated/ would make `make` rebuild bin/swim under them.
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+modes=$(sed -n 's/^MODES *?= *//p' Makefile)
+# (run from $work with `--out generated`: the files record the command that made them)
+root=$PWD
+if (cd "$work" && "${PYTHON:-/usr/bin/python3}" "$root/generator/generate.py" --modes $modes --out generated --quiet) >"$work/log" 2>&1; then
+    for f in generated/*.c; do
+        if cmp -s "$f" "$work/$f"; then pass=$((pass+1)); else
+            echo "FAIL: regenerating $f gives other bytes"; fail=$((fail+1)); fi
+    done
+else
+    echo "FAIL: the generator failed: $(tail -3 "$work/log")"; fail=$((fail+1))
 fi
-before=$(git status --porcelain generated)
-make --no-print-directory -s generate-all >/dev/null || { echo "FAIL: make generate-all failed"; fail=$((fail+1)); }
-after=$(git status --porcelain generated)
-if [ "$before" = "$after" ]; then pass=$((pass+1)); else
-    echo "FAIL: regenerating changed generated/:"; echo "$after"; fail=$((fail+1)); fi
 echo "test_regenerate: $pass passed, $fail failed"
 [ $fail -eq 0 ]

@@ -71,12 +71,23 @@ int swim_cmd_floquet(int argc, char **argv)
     const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     double t_max = 0.0;
     const char *v = swim_args_get(opts, nopts, "t-max");
-    if (v && (swim_args_double("floquet", "t-max", v, &t_max) || !(t_max > 0))) {
-        if (t_max <= 0) swim_message(stderr, "swim floquet: --t-max: must be > 0, got '%s'", v);
-        return 2;
+    if (v) {   /* not a number, or not > 0: one line each, never both */
+        if (swim_args_double("floquet", "t-max", v, &t_max)) return 2;
+        if (!(t_max > 0)) {
+            swim_message(stderr, "swim floquet: --t-max: must be > 0, got '%s'", v);
+            return 2;
+        }
     }
     static swim_model_setup m;
-    int rc = swim_setup_open(&m, "floquet", pos[0], sets, nsets, swim_args_get(opts, nopts, "generic") != NULL, quiet);
+    int rc = swim_setup_load(&m, pos[0], sets, nsets);
+    if (rc == 0 && m.s.stroke) {
+        /* A prescribed stroke gives the shape as a function of time: there is no shape state to
+         * perturb, so no monodromy and no multipliers (swim run reports its strokes instead). */
+        swim_message(stderr, "swim floquet: %s: a prescribed stroke ([stroke]) has no free shape dynamics, so no "
+                     "Floquet multipliers; swim run reports its period and displacement per stroke", pos[0]);
+        rc = 2;
+    }
+    if (rc == 0) rc = swim_setup_kernels(&m, "floquet", swim_args_get(opts, nopts, "generic") != NULL, quiet);
     if (rc) {
         swim_setup_close(&m);
         return rc;
@@ -120,6 +131,12 @@ int swim_cmd_floquet(int argc, char **argv)
         swim_message(stdout, "%s: Floquet multipliers of the stroke (section %s) in %s", pos[0], section, json);
         swim_floquet_table(stdout, &fl);
         printf("  %ld RHS evaluations of the variational equations, %.3f s\n", fl.rhs_calls, fl.seconds);
+        if (!fl.periodic) {   /* what was computed is kept, but it is not what was asked */
+            swim_message(stderr, "swim floquet: %s: no periodic orbit: with T between two events of %s, x(T) "
+                         "differs from x(0) by %.2g relative (tolerance %.0e); results kept in %s",
+                         pos[0], section, fl.closure_rel, SWIM_FLOQUET_CLOSURE_TOL, json);
+            rc = 1;
+        }
     }
     swim_floquet_free(&fl);
     free(dir);

@@ -11,14 +11,18 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "io/files.h"
 #include "codegen/codegen.h"
 #include "model/dynamics.h"
 #include "model/flow.h"
 #include "scene/scene.h"
 #include "io/message.h"
+#include "io/stdout_check.h"
 
 #define MAX_TIMES 100000
 
@@ -152,6 +156,27 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* Whether --out can be written at all, checked before any work: not a folder, and a folder
+ * that exists and may be written when the file is new or regular (it is replaced there). */
+static int output_unwritable(const char *out)
+{
+    struct stat st;
+    if (stat(out, &st) == 0) {
+        if (S_ISDIR(st.st_mode)) {
+            errno = EISDIR;
+            return 1;
+        }
+        if (!S_ISREG(st.st_mode)) return access(out, W_OK) != 0;
+    }
+    char *copy = strdup(out);
+    if (!copy) return 1;
+    char *slash = strrchr(copy, '/');
+    const char *folder = slash ? (slash == copy ? "/" : (*slash = '\0', copy)) : ".";
+    int bad = access(folder, W_OK) != 0;
+    free(copy);
+    return bad;
+}
+
 int swim_cmd_flow(int argc, char **argv)
 {
     swim_opt opts[] = {{"times", 1, NULL}, {"frames", 1, NULL}, {"out", 1, NULL}};
@@ -213,6 +238,15 @@ int swim_cmd_flow(int argc, char **argv)
         ntimes = (int)frames;
         for (int i = 0; i < ntimes; i++) times[i] = ntimes > 1 ? t0 + (t1 - t0) * i / (ntimes - 1) : t0;
     }
+    if ((v = swim_args_get(opts, nopts, "out"))) snprintf(out, sizeof out, "%s", v);
+    else snprintf(out, sizeof out, "%s/snapshots.json", dir);
+    if (strcmp(out, "-") != 0 && output_unwritable(out)) {
+        swim_message(stderr, "swim flow: --out: cannot write '%s': %s", out, strerror(errno));
+        free(tb.t);
+        free(tb.q);
+        swim_scene_free(&s);
+        return 2;
+    }
     /* The kernel of N modes (boundary data and K): linked in, cached, or generated now. */
     swim_compiled kn;
     if (swim_codegen_kernel(s.modes, &kn, 1) != 0) {
@@ -222,20 +256,20 @@ int swim_cmd_flow(int argc, char **argv)
         swim_scene_free(&s);
         return 1;
     }
-    if ((v = swim_args_get(opts, nopts, "out"))) snprintf(out, sizeof out, "%s", v);
-    else snprintf(out, sizeof out, "%s/snapshots.json", dir);
     const int to_stdout = strcmp(out, "-") == 0;
-    /* Written to a temporary name and renamed, so a reader never sees half a file. */
-    char tmp[1100];
-    snprintf(tmp, sizeof tmp, "%s.part", out);
-    FILE *f = to_stdout ? stdout : fopen(tmp, "w");
+    /* Formatted in memory and written whole (swim_replace_file): a reader never sees half a
+     * file, and a device named by --out (/dev/null) stays a device. */
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&text, &len);
     swim_dynamics d;
     int rc = 0;
     if (!f) {
-        swim_message(stderr, "swim flow: --out: cannot write '%s': %s", out, strerror(errno));
-        rc = 2;
+        swim_message(stderr, "swim flow: out of memory");
+        rc = 1;
     } else if (swim_dynamics_init(&d, &s, kn.kernel) != 0) {
         swim_message(stderr, "swim flow: out of memory");
+        fclose(f);
         rc = 1;
     } else {
         double *y = calloc((size_t)d.dim, sizeof(double));
@@ -252,20 +286,19 @@ int swim_cmd_flow(int argc, char **argv)
         fputs("\n]\n", f);
         free(y);
         swim_dynamics_free(&d);
-        if (!to_stdout) {
-            if (fclose(f) != 0 && rc == 0) {
-                swim_message(stderr, "swim flow: write error on %s", tmp);
-                rc = 1;
-            }
-            if (rc == 0 && rename(tmp, out) != 0) {
-                swim_message(stderr, "swim flow: cannot rename %s to %s: %s", tmp, out, strerror(errno));
-                rc = 1;
-            }
-            if (rc != 0) remove(tmp);
-        } else if (fflush(stdout) != 0) {
+        if (fclose(f) != 0 && rc == 0) {
+            swim_message(stderr, "swim flow: out of memory");
+            rc = 1;
+        }
+        if (rc == 0 && to_stdout) {
+            fwrite(text, 1, len, stdout);
+            if (swim_stdout_check("flow") != 0) rc = 1;
+        } else if (rc == 0 && swim_replace_file(out, text, len) != 0) {
+            swim_message(stderr, "swim flow: --out: cannot write '%s': %s", out, strerror(errno));
             rc = 1;
         }
     }
+    free(text);
     swim_compiled_close(&kn);
     free(tb.t);
     free(tb.q);

@@ -4,6 +4,7 @@
 
 #include "cli/commands.h"
 #include "io/message.h"
+#include "io/stdout_check.h"
 #include "kernel/swim_kernel.h"
 
 typedef struct {
@@ -24,7 +25,8 @@ static const command commands[] = {
      "           [--trace-steps FILE] [--event COLUMN:KIND[:stop]]... [--snapshots] [--quiet]\n"
      "           [--set KEY=VALUE ...] [--summary-only]\n"
      "           [--sensitivity KEY[,KEY...]] [--sensitivity-steps all|state]\n"
-     "           a scene with a [stroke] table is a prescribed stroke: (3.21) only (models/stroke_loop.toml)",
+     "           a scene with a [stroke] table is a prescribed stroke: (3.21) only (models/stroke_loop.toml),\n"
+     "           without --sensitivity (a prescribed shape has no free dynamics to differentiate)",
      "swim run models/example3.toml --out out/example3 --rtol=1e-10"},
     {"flow", swim_cmd_flow,
      "body, density rho0/J and fluid velocity at chosen times of a run, as JSON\n"
@@ -51,7 +53,14 @@ static const command commands[] = {
      "           [--max-iter K] [--tol S] [--set KEY=VALUE ...] [--quiet]; QUANTITY: x, y, theta,\n"
      "           displacement, work, forcing_work, displacement_per_work, energy (at t_end)",
      "swim optimize models/selfpropelled.toml --set run.t_end=30 --vary parameters.A=0.5:4 --maximize displacement_per_work"},
-    {"plot", swim_cmd_plot, "PNG figures of a run directory, or of a sweep directory (matplotlib)", "swim plot out/example3"},
+    {"cache", swim_cmd_cache,
+     "the kernel cache: where it is, what it holds, removing entries\n"
+     "           path | list | clean [--older-than D (days, or with s, m, h, d; default: every entry)]",
+     "swim cache clean --older-than 30d"},
+    {"plot", swim_cmd_plot, "PNG figures of a run directory, or of a sweep directory (matplotlib)\n"
+     "           [--mark T1,T2,...] [--events all|COLUMN:KIND,...] [--only NAME ...]\n"
+     "           marks: the times given and the events selected; without either, the first 12 event times",
+     "swim plot out/fig48 --mark 3.166805989,3.951942753,6.074806130,9.499689605"},
 };
 
 static void usage(FILE *f)
@@ -75,16 +84,19 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
         usage(stdout);
-        return 0;
+        return swim_stdout_finish("--help", 0);
     }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         if (strcmp(argv[1], commands[i].name) == 0) {
             for (int a = 2; a < argc; a++)
                 if (strcmp(argv[a], "--help") == 0 || strcmp(argv[a], "-h") == 0) {
                     printf("swim %s: %s\n  e.g. %s\n", commands[i].name, commands[i].summary, commands[i].example);
-                    return 0;
+                    return swim_stdout_finish(commands[i].name, 0);
                 }
-            return commands[i].run(argc, argv);
+            const int rc = commands[i].run(argc, argv);
+            /* A report lost at the flush is a failure of every command that prints one; swim
+             * sweep checks its own (its report and its exit status are made together). */
+            return strcmp(commands[i].name, "sweep") == 0 ? rc : swim_stdout_finish(commands[i].name, rc);
         }
     swim_message(stderr, "swim: unknown command '%s' (see swim --help)", argv[1]);
     return 2;

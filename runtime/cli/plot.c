@@ -13,8 +13,8 @@
 
 int swim_cmd_plot(int argc, char **argv)
 {
-    if (argc != 3 || strncmp(argv[2], "--", 2) == 0) {
-        swim_message(stderr, "swim plot: expected one run directory, e.g. swim plot out/example3");
+    if (argc < 3 || strncmp(argv[2], "--", 2) == 0) {
+        swim_message(stderr, "swim plot: expected a run directory first, e.g. swim plot out/example3 --mark 3.17,3.95");
         return 2;
     }
     if (access(argv[2], R_OK) != 0) {
@@ -42,8 +42,23 @@ int swim_cmd_plot(int argc, char **argv)
         if (self) setenv("SWIM_BIN", self, 1);
         free(self);
     }
+    if (sweep && argc > 3) {
+        swim_message(stderr, "swim plot: %s is a sweep; its figures take no options (got '%s')", argv[2], argv[3]);
+        free(script);
+        return 2;
+    }
+    /* the run's options (--mark, --events, --only) are the script's to check */
+    char **args = calloc((size_t)argc + 1, sizeof *args);
+    if (!args) {
+        swim_message(stderr, "swim plot: out of memory");
+        free(script);
+        return 1;
+    }
+    args[0] = (char *)python;
+    args[1] = script;
+    for (int i = 2; i < argc; i++) args[i] = argv[i];
     fflush(stdout);
-    execlp(python, python, script, argv[2], (char *)NULL);
+    execvp(python, args);
     swim_message(stderr, "swim plot: cannot start %s: %s", python, strerror(errno));
     free(script);
     return 1;

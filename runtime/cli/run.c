@@ -42,6 +42,7 @@
 #include "io/files.h"
 #include "io/json.h"
 #include "io/message.h"
+#include "io/stdout_check.h"
 #include "model/bounce.h"
 #include "model/dynamics.h"
 #include "model/flow.h"
@@ -1389,10 +1390,7 @@ static int report(run_ctx *c)
         printf("  %ld bounce(s) taken as impacts from t = %.6g to %.6g, turning points predicted down to min J ~ %.1e\n",
                c->impacts, c->impact_first_t, c->impact_last_t, c->impact_reach_min);
     printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", c->y[0], c->y[1], c->y[2]);
-    if (fflush(stdout) != 0 || ferror(stdout)) {
-        swim_message(stderr, "swim run: cannot write the report to the standard output: %s", strerror(errno ? errno : EIO));
-        return 1;
-    }
+    if (swim_stdout_check("run") != 0) return 1;
     return c->r.status ? 1 : 0;
 }
 

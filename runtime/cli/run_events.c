@@ -127,7 +127,8 @@ int swim_run_events_parse(const swim_scene *s, int argc, char **argv, const char
         if (n == SWIM_RUN_MAX_EVENTS || parse_one(s->events[i], names, ncol, &specs[n], why, sizeof why)) {
             if (n == SWIM_RUN_MAX_EVENTS)
                 snprintf(why, sizeof why, "more than %d events", SWIM_RUN_MAX_EVENTS);
-            swim_message(stderr, "swim: %s:%d: events.list: %s", s->path, s->events_line, why);
+            char where[512];
+            swim_message(stderr, "swim: %s: events.list: %s", swim_scene_where(s, s->events_line, where, sizeof where), why);
             return 2;
         }
         n++;

@@ -34,6 +34,7 @@
 #include "io/files.h"
 #include "io/json.h"
 #include "io/message.h"
+#include "io/stdout_check.h"
 #include "model/dynamics.h"
 #include "model/flow.h"
 #include "ode/ode.h"
@@ -157,7 +158,8 @@ static int read_options(int argc, char **argv, stroke_ctx *c)
     swim_opt opts[] = {{"out", 1, NULL}, {"t-end", 1, NULL}, {"rtol", 1, NULL}, {"output-step", 1, NULL},
                        {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL}, {"generic", 0, NULL},
                        {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL}, {"trace-steps", 1, NULL},
-                       {"event", 1, NULL}, {"snapshots", 0, NULL}, {"summary-only", 0, NULL}};
+                       {"event", 1, NULL}, {"snapshots", 0, NULL}, {"summary-only", 0, NULL},
+                       {"sensitivity", 1, NULL}, {"sensitivity-steps", 1, NULL}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *vals[MAX_SETS], *pos[1];
     int npos = 0;
@@ -171,6 +173,15 @@ static int read_options(int argc, char **argv, stroke_ctx *c)
         }
     }
     if (swim_args_parse("run", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
+    /* The variational equations are those of the free shape dynamics; a prescribed stroke has
+     * none (its shape is a given function of time), so there is nothing to differentiate. */
+    const char *sens = swim_args_get(opts, nopts, "sensitivity") ? "sensitivity"
+                       : swim_args_get(opts, nopts, "sensitivity-steps") ? "sensitivity-steps" : NULL;
+    if (sens) {
+        swim_message(stderr, "swim run: --%s: not available on a prescribed stroke ([stroke] in %s): "
+                     "sensitivities are computed for free shape dynamics only", sens, npos ? pos[0] : "the scene");
+        return 2;
+    }
     if (npos != 1) {
         swim_message(stderr, "swim run: expected one scene file, e.g. swim run models/stroke_loop.toml");
         return 2;
@@ -202,8 +213,9 @@ static int refuse(const stroke_ctx *c, double t, const char *why)
     const swim_scene *s = &c->s;
     char name[24];
     swim_coord_name(s->stroke_index[0], name, sizeof name);
-    swim_message(stderr, "swim: %s:%d: stroke.%s: the stroke is not allowable at t = %.9g: %s",
-                 s->path, s->stroke_line[0], name, t, why);
+    char where[512];
+    swim_message(stderr, "swim: %s: stroke.%s: the stroke is not allowable at t = %.9g: %s",
+                 swim_scene_where(s, s->stroke_line[0], where, sizeof where), name, t, why);
     return 2;
 }
 
@@ -224,8 +236,9 @@ static int prepare_stroke(stroke_ctx *c)
     c->st_ready = 1;
     c->st.interrupt = (volatile int *)&swim_run_stop;
     if (rc == SWIM_STROKE_EVOLUME) {
-        swim_message(stderr, "swim: %s:%d: shape.c0: c1 is 0: its phase, which c1's completion (2.14) integrates, "
-                     "is undefined", s->path, s->line_c0);
+        char where[512];
+        swim_message(stderr, "swim: %s: shape.c0: c1 is 0: its phase, which c1's completion (2.14) integrates, "
+                     "is undefined", swim_scene_where(s, s->line_c0, where, sizeof where));
         return 2;
     }
     if (rc != 0) return refuse(c, 0.0, swim_stroke_strerror(rc));
@@ -654,7 +667,7 @@ static int report(stroke_ctx *c)
     printf("  work %.6g, positive work %.6g, energy check |E - E0 - work| <= %.3g; min J %.4g\n",
            c->y[SWIM_STROKE_WORK], c->pw.total, c->drift_abs, c->jmin);
     printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", c->full[0], c->full[1], c->full[2]);
-    if (fflush(stdout) != 0 || ferror(stdout)) return 1;
+    if (swim_stdout_check("run") != 0) return 1;
     return c->status ? 1 : 0;
 }
 

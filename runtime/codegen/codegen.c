@@ -1,3 +1,5 @@
+/* memfd_create (Linux): a loaded kernel is a private copy, see load_entry */
+#define _GNU_SOURCE
 #include "codegen/codegen.h"
 
 #include <dirent.h>
@@ -9,8 +11,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <pwd.h>
+#include <signal.h>
 #include <sys/file.h>
+#include <sys/mman.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
+#include <sys/utsname.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -44,25 +51,40 @@ static uint64_t fnv1a(uint64_t h, const void *data, size_t len)
 }
 #define FNV_START 1469598103934665603ull
 
-/* Size and hash of a file's contents; -1 when it cannot be read. */
-static int hash_file(const char *path, uint64_t *hash, long long *size)
+/* Size and hash of what can be read from fd (to its end); with copy >= 0 each block is also
+ * written there. -1 on a read or write error. */
+static int hash_fd(int fd, uint64_t *hash, long long *size, int copy)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) return -1;
     char buf[65536];
-    size_t n;
+    ssize_t n;
     uint64_t h = FNV_START;
     long long total = 0;
-    while ((n = fread(buf, 1, sizeof buf, f)) > 0) {
-        h = fnv1a(h, buf, n);
-        total += (long long)n;
+    while ((n = read(fd, buf, sizeof buf)) != 0) {
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            return -1;
+        }
+        h = fnv1a(h, buf, (size_t)n);
+        total += n;
+        for (ssize_t done = 0; copy >= 0 && done < n;) {
+            ssize_t w = write(copy, buf + done, (size_t)(n - done));
+            if (w < 0 && errno != EINTR) return -1;
+            if (w > 0) done += w;
+        }
     }
-    int bad = ferror(f);
-    fclose(f);
-    if (bad) return -1;
     *hash = h;
     *size = total;
     return 0;
+}
+
+/* Size and hash of a file's contents; -1 when it cannot be read. */
+static int hash_file(const char *path, uint64_t *hash, long long *size)
+{
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return -1;
+    int rc = hash_fd(fd, hash, size, -1);
+    close(fd);
+    return rc;
 }
 
 static int skip_entry(const struct dirent *e)
@@ -116,12 +138,147 @@ static uint64_t sources_hash(const char *root)
     return h;
 }
 
-static void cache_root(char *buf, size_t len)
+/* The cache root: $SWIM_CACHE, $XDG_CACHE_HOME/swim, $HOME/.cache/swim, or the home folder of
+ * the effective user from the password database. 0, or -1 when there is none (no HOME and no
+ * password entry): then no shared folder is used at all, only a private one per run -- a fixed
+ * fallback such as /tmp/.cache would be a folder another local user could prepare. */
+static int cache_root(char *buf, size_t len)
 {
     const char *c = getenv("SWIM_CACHE"), *x = getenv("XDG_CACHE_HOME"), *home = getenv("HOME");
-    if (c && *c) snprintf(buf, len, "%s", c);
-    else if (x && *x) snprintf(buf, len, "%s/swim", x);
-    else snprintf(buf, len, "%s/.cache/swim", home && *home ? home : "/tmp");
+    if (c && *c) return snprintf(buf, len, "%s", c) < (int)len ? 0 : -1;
+    if (x && *x == '/') return snprintf(buf, len, "%s/swim", x) < (int)len ? 0 : -1;
+    if (!(home && *home == '/')) {
+        struct passwd pw, *found = NULL;
+        char pwbuf[4096];
+        if (getpwuid_r(geteuid(), &pw, pwbuf, sizeof pwbuf, &found) != 0 || !found || !pw.pw_dir
+            || pw.pw_dir[0] != '/')
+            return -1;
+        return snprintf(buf, len, "%s/.cache/swim", pw.pw_dir) < (int)len ? 0 : -1;
+    }
+    return snprintf(buf, len, "%s/.cache/swim", home) < (int)len ? 0 : -1;
+}
+
+/* ---- trust: who can have written what is loaded ------------------------------------------
+ * A kernel.so is code that runs in this process, so it is loaded only from files and folders
+ * that nobody but this user (or root, who can replace swim itself) can have written. */
+
+static int trusted_uid(uid_t uid) { return uid == geteuid() || uid == 0; }
+
+/* A file or folder this user or root owns and that neither group nor others may write.
+ * 0, or -1 with the reason in why. */
+static int private_stat(const struct stat *st, const char *path, char *why, size_t len)
+{
+    if (!trusted_uid(st->st_uid)) {
+        snprintf(why, len, "%s belongs to another user (uid %ld)", path, (long)st->st_uid);
+        return -1;
+    }
+    if (st->st_mode & (S_IWGRP | S_IWOTH)) {
+        snprintf(why, len, "%s can be written by %s (mode %03o)", path,
+                 (st->st_mode & S_IWOTH) ? "every user" : "its group", (unsigned)(st->st_mode & 0777));
+        return -1;
+    }
+    return 0;
+}
+
+/* The cache root and the folders above it: the root private (private_stat), every folder above
+ * it this user's or root's, and writable by others only with the sticky bit (as /tmp is), so
+ * that nobody else can rename the root away and put another in its place. 0, or -1 (why). */
+static int trusted_root(const char *croot, char *why, size_t len)
+{
+    char *real = realpath(croot, NULL);
+    if (!real) {
+        snprintf(why, len, "%s cannot be resolved: %s", croot, strerror(errno));
+        return -1;
+    }
+    struct stat st;
+    int rc = 0;
+    if (stat(real, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        snprintf(why, len, "%s is not a folder", real);
+        rc = -1;
+    } else {
+        rc = private_stat(&st, real, why, len);
+    }
+    for (char *slash = strrchr(real, '/'); rc == 0 && slash; slash = strrchr(real, '/')) {
+        if (slash == real) slash[1] = '\0';
+        else *slash = '\0';
+        if (stat(real, &st) != 0) {
+            snprintf(why, len, "%s cannot be read: %s", real, strerror(errno));
+            rc = -1;
+        } else if (!trusted_uid(st.st_uid)) {
+            snprintf(why, len, "the folder above it, %s, belongs to another user (uid %ld)", real, (long)st.st_uid);
+            rc = -1;
+        } else if ((st.st_mode & (S_IWGRP | S_IWOTH)) && !(st.st_mode & S_ISVTX)) {
+            snprintf(why, len, "the folder above it, %s, can be written by others without the sticky bit", real);
+            rc = -1;
+        }
+        if (slash == real) break;
+    }
+    free(real);
+    return rc;
+}
+
+/* Opens dir/name for reading only if it is a regular file (no symbolic link) that private_stat
+ * accepts; its fstat in *st. The descriptor, or -1 (why; *absent set when it does not exist). */
+static int open_trusted(const char *dir, const char *name, struct stat *st, int *absent, char *why, size_t len)
+{
+    char path[SWIM_CODEGEN_PATH + 32];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    *absent = 0;
+    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) {
+        *absent = errno == ENOENT;
+        snprintf(why, len, "%s %s", name, errno == ENOENT ? "is missing" : errno == ELOOP ? "is a symbolic link" : strerror(errno));
+        return -1;
+    }
+    if (fstat(fd, st) != 0 || !S_ISREG(st->st_mode)) {
+        snprintf(why, len, "%s is not a regular file", name);
+        close(fd);
+        return -1;
+    }
+    if (private_stat(st, path, why, len) != 0) {
+        close(fd);
+        return -1;
+    }
+    return fd;
+}
+
+/* Makes the folders of path that do not exist, private to this user (mode 0700). 0, or -1. */
+static int make_private_dirs(const char *path)
+{
+    char *buf = strdup(path);
+    if (!buf) return -1;
+    int rc = 0;
+    for (char *p = buf + 1; rc == 0; p++) {
+        if (*p != '/' && *p != '\0') continue;
+        const char keep = *p;
+        *p = '\0';
+        if (mkdir(buf, 0700) != 0 && errno != EEXIST) rc = -1;
+        *p = keep;
+        if (keep == '\0') break;
+    }
+    struct stat st;
+    if (rc == 0 && (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode))) rc = -1;
+    free(buf);
+    return rc;
+}
+
+/* Removes a private folder of this run with what it holds (one level deep: entries' files). */
+static void remove_private(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (d) {
+        struct dirent *e;
+        while ((e = readdir(d))) {
+            if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
+            char path[SWIM_CODEGEN_PATH + 300];
+            snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+            struct stat st;
+            if (lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) remove_private(path);
+            else unlink(path);
+        }
+        closedir(d);
+    }
+    rmdir(dir);
 }
 
 /* ---- processes ------------------------------------------------------------------------- */
@@ -133,13 +290,32 @@ static double now(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-/* Run argv (found through PATH, no shell); stdout and stderr go to `log`. Exit status or -1. */
-static int run_command(char *const argv[], const char *log)
+/* A signal that asked this process to stop while a generator or compiler ran (0: none). Set
+ * only by the handler below, which run_command installs for the child's lifetime. */
+static volatile sig_atomic_t child_stop;
+static void on_stop_signal(int sig) { child_stop = sig; }
+static const int stop_signals[3] = {SIGINT, SIGTERM, SIGHUP};
+
+/* Run argv (found through PATH, no shell); stdout and stderr go to `log`. Exit status or -1.
+ * SIGINT, SIGTERM and SIGHUP that reach swim meanwhile are passed on to the child and waited
+ * for, and *stopped is set to the signal: the caller removes its temporary files and then
+ * calls resend_stop, so that the signal acts as it would have (the process ends, or a run's
+ * own handler records it). The child also ends with swim if swim is killed (PR_SET_PDEATHSIG):
+ * no generator runs on, writing into the cache, after the process that wanted it is gone. */
+static int run_command(char *const argv[], const char *log, int *stopped)
 {
+    struct sigaction sa, old[3];
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_stop_signal;
+    child_stop = 0;
+    for (int i = 0; i < 3; i++) sigaction(stop_signals[i], &sa, &old[i]);
+    const pid_t parent = getpid();
     pid_t pid = fork();
-    if (pid < 0) return -1;
     if (pid == 0) {
-        int fd = open(log, O_WRONLY | O_CREAT | O_APPEND, 0644);
+        for (int i = 0; i < 3; i++) sigaction(stop_signals[i], &old[i], NULL);
+        prctl(PR_SET_PDEATHSIG, SIGTERM);
+        if (getppid() != parent) _exit(127);   /* swim ended before the line above */
+        int fd = open(log, O_WRONLY | O_CREAT | O_APPEND, 0600);
         if (fd >= 0) {
             dup2(fd, 1);
             dup2(fd, 2);
@@ -149,10 +325,29 @@ static int run_command(char *const argv[], const char *log)
         fprintf(stderr, "cannot run %s: %s\n", argv[0], strerror(errno));
         _exit(127);
     }
-    int st;
-    while (waitpid(pid, &st, 0) < 0)
-        if (errno != EINTR) return -1;
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    int st = 0, rc = -1;
+    if (pid > 0) {
+        int forwarded = 0;
+        for (;;) {
+            if (child_stop && !forwarded) {
+                kill(pid, child_stop);
+                forwarded = 1;
+            }
+            if (waitpid(pid, &st, 0) >= 0) break;
+            if (errno != EINTR) { st = -1; break; }
+        }
+        rc = st != -1 && WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    }
+    for (int i = 0; i < 3; i++) sigaction(stop_signals[i], &old[i], NULL);
+    *stopped = child_stop;
+    if (*stopped) rc = -1;
+    return rc;
+}
+
+/* After run_command was stopped by a signal and the caller cleaned up: raise it again. */
+static void resend_stop(int sig)
+{
+    if (sig) raise(sig);
 }
 
 /* ---- one cache entry ------------------------------------------------------------------- */
@@ -166,13 +361,20 @@ typedef struct {
     int stroke;               /* json is a stroke structure (generate.py --stroke) */
 } entry_spec;
 
+/* Files of an entry are created with fixed modes (0644, kernel.so 0755) whatever the umask, so
+ * that the trust check below never refuses what this user wrote. */
 static int write_atomic(const char *path, const char *text)
 {
     char tmp[SWIM_CODEGEN_PATH + 32];
     snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
-    FILE *f = fopen(tmp, "w");
-    if (!f) return -1;
-    int ok = fputs(text, f) >= 0;
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+    FILE *f = fd >= 0 ? fdopen(fd, "w") : NULL;
+    if (!f) {
+        if (fd >= 0) close(fd);
+        unlink(tmp);
+        return -1;
+    }
+    int ok = fchmod(fd, 0644) == 0 && fputs(text, f) >= 0;
     ok &= fflush(f) == 0 && fsync(fileno(f)) == 0;
     if (fclose(f) != 0 || !ok || rename(tmp, path) != 0) {
         unlink(tmp);
@@ -181,17 +383,31 @@ static int write_atomic(const char *path, const char *text)
     return 0;
 }
 
-/* Checks the manifest of the entry in `dir` against the files: 0 when sound, 1 when there is no
- * entry yet, -1 when damaged (why in `why`). */
-static int verify_entry(const char *dir, const char *key, char *why, size_t len)
+/* What a sound manifest says kernel.so is. */
+typedef struct {
+    long long size;
+    uint64_t hash;
+} so_promise;
+
+/* Checks the manifest of the entry in `dir` for `key` and kernel.c against it; both must be
+ * files only this user or root can have written (open_trusted). 0 when sound (*so filled),
+ * 1 when there is no entry yet, -1 when damaged or not trusted (why in `why`). */
+static int check_entry(const char *dir, const char *key, so_promise *so, char *why, size_t len)
 {
-    char path[SWIM_CODEGEN_PATH + 32];
-    snprintf(path, sizeof path, "%s/manifest", dir);
-    FILE *f = fopen(path, "r");
-    if (!f) {
+    struct stat st;
+    int absent;
+    int fd = open_trusted(dir, "manifest", &st, &absent, why, len);
+    if (fd < 0) {
+        char path[SWIM_CODEGEN_PATH + 32];
         snprintf(path, sizeof path, "%s/kernel.so", dir);
-        if (access(path, F_OK) != 0) return 1;
-        snprintf(why, len, "kernel.so without a manifest (an interrupted build)");
+        if (absent && access(path, F_OK) != 0) return 1;
+        if (absent) snprintf(why, len, "kernel.so without a manifest (an interrupted build)");
+        return -1;
+    }
+    FILE *f = fdopen(fd, "r");
+    if (!f) {
+        close(fd);
+        snprintf(why, len, "unreadable manifest");
         return -1;
     }
     char magic[64] = "";
@@ -216,32 +432,57 @@ static int verify_entry(const char *dir, const char *key, char *why, size_t len)
         snprintf(why, len, "its manifest is for another key");
         return -1;
     }
-    static const char *const files[2] = {"kernel.c", "kernel.so"};
-    const long long want_size[2] = {csize, ssize};
-    const uint64_t want_hash[2] = {chash, shash};
-    for (int i = 0; i < 2; i++) {
-        uint64_t h;
-        long long size;
-        snprintf(path, sizeof path, "%s/%s", dir, files[i]);
-        if (hash_file(path, &h, &size) != 0) {
-            snprintf(why, len, "%s is missing", files[i]);
-            return -1;
-        }
-        if (size != want_size[i] || h != want_hash[i]) {
-            snprintf(why, len, "%s has %lld bytes%s, the manifest says %lld", files[i], size,
-                     size == want_size[i] ? " of other content" : "", want_size[i]);
-            return -1;
-        }
+    fd = open_trusted(dir, "kernel.c", &st, &absent, why, len);
+    if (fd < 0) return -1;
+    uint64_t h;
+    long long size;
+    int bad = hash_fd(fd, &h, &size, -1) != 0;
+    close(fd);
+    if (bad || size != csize || h != chash) {
+        snprintf(why, len, "kernel.c has %lld bytes%s, the manifest says %lld", bad ? -1 : size,
+                 size == csize ? " of other content" : "", csize);
+        return -1;
     }
+    so->size = ssize;
+    so->hash = shash;
     return 0;
 }
 
-static int load_entry(const char *dir, const entry_spec *e, swim_compiled *out)
+/* Loads kernel.so of the entry in `dir`: the file (open_trusted) is copied into an anonymous
+ * memory file while it is hashed, the hash compared with the manifest's, and that copy is what
+ * dlopen maps. So the code that runs is exactly the code that was checked (no file swapped in
+ * between), and a cache file truncated or overwritten later, while the run still uses it,
+ * cannot take pages away from under the run (SIGBUS). 0; -1 when damaged or not trusted (why);
+ * -2 when it does not load as the entry asked for (why). */
+static int load_entry(const char *dir, const entry_spec *e, const so_promise *so, swim_compiled *out,
+                      char *why, size_t len)
 {
-    char so[SWIM_CODEGEN_PATH + 32];
-    snprintf(so, sizeof so, "%s/kernel.so", dir);
-    out->handle = dlopen(so, RTLD_NOW | RTLD_LOCAL);
-    if (!out->handle) return -1;
+    struct stat st;
+    int absent;
+    int fd = open_trusted(dir, "kernel.so", &st, &absent, why, len);
+    if (fd < 0) return -1;
+    int copy = memfd_create("swim-kernel", MFD_CLOEXEC);
+    uint64_t h;
+    long long size;
+    int bad = hash_fd(fd, &h, &size, copy) != 0;
+    if (bad || size != so->size || h != so->hash) {
+        snprintf(why, len, "kernel.so has %lld bytes%s, the manifest says %lld", bad ? -1 : size,
+                 size == so->size ? " of other content" : "", so->size);
+        if (copy >= 0) close(copy);
+        close(fd);
+        return -1;
+    }
+    /* without memory files (very old kernels) the checked descriptor itself is mapped */
+    char path[64];
+    snprintf(path, sizeof path, "/proc/self/fd/%d", copy >= 0 ? copy : fd);
+    out->handle = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    if (copy >= 0) close(copy);
+    close(fd);
+    if (!out->handle) {
+        const char *err = dlerror();
+        snprintf(why, len, "%s", err ? err : "dlopen failed");
+        return -2;
+    }
     if (e->stroke) {
         out->stroke = dlsym(out->handle, "swim_stroke_kernel_entry");
         if (out->stroke && out->stroke->abi == SWIM_STROKE_ABI && strcmp(out->stroke->structure, e->key) == 0)
@@ -261,21 +502,41 @@ static int load_entry(const char *dir, const entry_spec *e, swim_compiled *out)
     out->scene = NULL;
     out->kernel = NULL;
     out->stroke = NULL;
-    return -1;
+    snprintf(why, len, "wrong entry");
+    return -2;
+}
+
+/* Temporary files of builds that did not finish (the lock is held: no build is running). */
+static void remove_stale(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d) return;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (!strstr(e->d_name, ".tmp")) continue;
+        char path[SWIM_CODEGEN_PATH + 300];
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        struct stat st;
+        if (lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) remove_private(path);
+        else unlink(path);
+    }
+    closedir(d);
 }
 
 /* Generate and compile into `dir` (lock held). 0; -1 on a failure (message printed);
- * -2 when the folder cannot be written (nothing printed). */
-static int build_entry(const char *root, const char *dir, const entry_spec *e, swim_compiled *out)
+ * -2 when the folder cannot be written (nothing printed); -3 when a signal stopped it (in
+ * *stopped; temporary files removed, nothing printed). */
+static int build_entry(const char *root, const char *dir, const entry_spec *e, swim_compiled *out, int *stopped)
 {
     char path[SWIM_CODEGEN_PATH + 64], log[SWIM_CODEGEN_PATH + 32], tmp[SWIM_CODEGEN_PATH + 128];
     char gen[SWIM_CODEGEN_PATH + 32], inc[SWIM_CODEGEN_PATH + 32], so[SWIM_CODEGEN_PATH + 32];
+    remove_stale(dir);
     snprintf(path, sizeof path, "%s/manifest", dir);
     if (unlink(path) != 0 && errno != ENOENT) return -2;
     snprintf(log, sizeof log, "%s/build.log", dir);
-    FILE *lf = fopen(log, "w");
-    if (!lf) return -2;
-    fclose(lf);
+    int lfd = open(log, O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0600);
+    if (lfd < 0) return -2;
+    close(lfd);
     snprintf(gen, sizeof gen, "%s/generator/generate.py", root);
     snprintf(out->source, sizeof out->source, "%s/kernel.c", dir);
     const char *python = swim_python();
@@ -286,20 +547,20 @@ static int build_entry(const char *root, const char *dir, const entry_spec *e, s
         if (write_atomic(path, e->json) != 0) return -2;
         snprintf(tmp, sizeof tmp, "%s/kernel.c.tmp%ld", dir, (long)getpid());
         char *argv[] = {(char *)python, gen, e->stroke ? "--stroke" : "--scene", path, "--out", tmp, "--quiet", NULL};
-        rc = run_command(argv, log);
+        rc = run_command(argv, log, stopped);
     } else {
         char modes[16];
         snprintf(modes, sizeof modes, "%d", e->modes);
         snprintf(path, sizeof path, "%s/gen.tmp%ld", dir, (long)getpid());
         char *argv[] = {(char *)python, gen, "--modes", modes, "--out", path, "--quiet", NULL};
-        rc = run_command(argv, log);
+        rc = run_command(argv, log, stopped);
         snprintf(tmp, sizeof tmp, "%s/swim_kernel_n%d.c", path, e->modes);
     }
-    if (rc != 0 || rename(tmp, out->source) != 0) {
-        fprintf(stderr, "swim: generating the %s failed (see %s)\n", e->what, log);
+    if (rc != 0 || chmod(tmp, 0644) != 0 || rename(tmp, out->source) != 0) {
+        if (!*stopped) fprintf(stderr, "swim: generating the %s failed (see %s)\n", e->what, log);
         unlink(tmp);
-        if (!e->json) rmdir(path);
-        return -1;
+        if (!e->json) remove_private(path);
+        return *stopped ? -3 : -1;
     }
     if (!e->json) rmdir(path);
     double t1 = now();
@@ -315,10 +576,11 @@ static int build_entry(const char *root, const char *dir, const entry_spec *e, s
     for (int i = 0; rest[i]; i++) argv[c++] = rest[i];
     argv[c] = NULL;
     snprintf(so, sizeof so, "%s/kernel.so", dir);
-    if (run_command(argv, log) != 0 || rename(tmp, so) != 0) {
-        fprintf(stderr, "swim: compiling the %s failed (see %s)\n", e->what, log);
+    /* installed by rename only: a process that has the old file open keeps it whole */
+    if (run_command(argv, log, stopped) != 0 || chmod(tmp, 0755) != 0 || rename(tmp, so) != 0) {
+        if (!*stopped) fprintf(stderr, "swim: compiling the %s failed (see %s)\n", e->what, log);
         unlink(tmp);
-        return -1;
+        return *stopped ? -3 : -1;
     }
     out->generate_seconds = t1 - t0;
     out->compile_seconds = now() - t1;
@@ -337,45 +599,65 @@ static int build_entry(const char *root, const char *dir, const entry_spec *e, s
     return rc == 0 ? 0 : -2;
 }
 
-/* Look up or build the entry for e under the cache root `croot`. -2: cannot write there. */
+/* The manifest's time is the entry's last use (swim cache clean --older-than); a read-only
+ * cache keeps its old times. */
+static void mark_used(const char *dir)
+{
+    char path[SWIM_CODEGEN_PATH + 32];
+    snprintf(path, sizeof path, "%s/manifest", dir);
+    utimensat(AT_FDCWD, path, NULL, AT_SYMLINK_NOFOLLOW);
+}
+
+/* Look up or build the entry for e under the cache root `croot`, which trusted_root accepted.
+ * 0; -1 failed (message printed); -2 cannot write there; -3 stopped by the signal *stopped. */
 static int obtain_in(const char *croot, const char *root, const entry_spec *e, swim_compiled *out,
-                     int verbose)
+                     int verbose, int *stopped)
 {
     uint64_t h = fnv1a(FNV_START, e->key, strlen(e->key));
     snprintf(out->dir, sizeof out->dir, "%s/%016llx", croot, (unsigned long long)h);
-    char why[256];
+    char why[SWIM_CODEGEN_PATH + 256];
+    so_promise so;
     /* a sound entry is used without writing anything (read-only caches work) */
-    if (verify_entry(out->dir, e->key, why, sizeof why) == 0 && load_entry(out->dir, e, out) == 0) {
+    if (check_entry(out->dir, e->key, &so, why, sizeof why) == 0 && load_entry(out->dir, e, &so, out, why, sizeof why) == 0) {
         snprintf(out->source, sizeof out->source, "%s/kernel.c", out->dir);
         out->from_cache = 1;
+        mark_used(out->dir);
         if (verbose > 1) fprintf(stderr, "swim: %s from cache %s\n", e->what, out->dir);
         return 0;
     }
-    if (swim_mkdirs(out->dir) != 0) return -2;
+    if (make_private_dirs(out->dir) != 0) return -2;
+    struct stat st;
+    if (lstat(out->dir, &st) != 0 || !S_ISDIR(st.st_mode) || private_stat(&st, out->dir, why, sizeof why) != 0)
+        return -2;
     char lock[SWIM_CODEGEN_PATH + 16];
     snprintf(lock, sizeof lock, "%s/lock", out->dir);
-    int fd = open(lock, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    int fd = open(lock, O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0600);
     if (fd < 0) return -2;
     while (flock(fd, LOCK_EX) != 0)
         if (errno != EINTR) { close(fd); return -2; }
     /* another process may have built it while we waited */
-    int state = verify_entry(out->dir, e->key, why, sizeof why);
-    if (state == 0 && load_entry(out->dir, e, out) == 0) {
-        close(fd);
-        snprintf(out->source, sizeof out->source, "%s/kernel.c", out->dir);
-        out->from_cache = 1;
-        if (verbose > 1) fprintf(stderr, "swim: %s from cache %s (built by another process)\n", e->what, out->dir);
-        return 0;
+    int state = check_entry(out->dir, e->key, &so, why, sizeof why);
+    if (state == 0) {
+        int loaded = load_entry(out->dir, e, &so, out, why, sizeof why);
+        if (loaded == 0) {
+            close(fd);
+            snprintf(out->source, sizeof out->source, "%s/kernel.c", out->dir);
+            out->from_cache = 1;
+            if (verbose > 1) fprintf(stderr, "swim: %s from cache %s (built by another process)\n", e->what, out->dir);
+            return 0;
+        }
+        if (loaded == -2)
+            fprintf(stderr, "swim: kernel cache entry %s does not load as a %s (%s); rebuilding it\n", out->dir, e->what, why);
+        else
+            state = -1;
     }
     if (state < 0)
         fprintf(stderr, "swim: kernel cache entry %s is damaged (%s); rebuilding it\n", out->dir, why);
-    else if (state == 0)
-        fprintf(stderr, "swim: kernel cache entry %s does not load as a %s; rebuilding it\n", out->dir, e->what);
     if (verbose) fprintf(stderr, "swim: generating %s ...\n", e->what);
-    int rc = build_entry(root, out->dir, e, out);
-    if (rc == 0 && load_entry(out->dir, e, out) != 0) {
-        fprintf(stderr, "swim: cannot load the %s %s/kernel.so: %s\n", e->what, out->dir,
-                dlerror() ? dlerror() : "wrong entry");
+    int rc = build_entry(root, out->dir, e, out, stopped);
+    if (rc == 0 && check_entry(out->dir, e->key, &so, why, sizeof why) != 0) rc = -2;
+    if (rc == 0 && load_entry(out->dir, e, &so, out, why, sizeof why) != 0) {
+        fprintf(stderr, "swim: cannot load the %s %s/kernel.so: %s\n", e->what, out->dir, why);
         rc = -1;
     }
     close(fd);
@@ -385,31 +667,122 @@ static int obtain_in(const char *croot, const char *root, const entry_spec *e, s
     return rc;
 }
 
+/* A private folder for this run alone (mode 0700 under $TMPDIR or /tmp), in which the entry is
+ * built, loaded and then removed again; kept only when the build failed, for its log. */
+static int obtain_private(const char *root, const entry_spec *e, swim_compiled *out, int verbose, int *stopped)
+{
+    const char *tmpdir = getenv("TMPDIR");
+    char priv[SWIM_CODEGEN_PATH];
+    snprintf(priv, sizeof priv, "%s/swim-cache-XXXXXX", tmpdir && *tmpdir == '/' ? tmpdir : "/tmp");
+    if (!mkdtemp(priv)) {
+        fprintf(stderr, "swim: no private folder for the %s could be made in %s: %s\n", e->what,
+                tmpdir && *tmpdir == '/' ? tmpdir : "/tmp", strerror(errno));
+        return -1;
+    }
+    int rc = obtain_in(priv, root, e, out, verbose, stopped);
+    if (rc == -2) fprintf(stderr, "swim: cannot write the private kernel folder %s either\n", priv);
+    if (rc != -1) remove_private(priv);
+    out->dir[0] = '\0';      /* gone with the run */
+    out->from_cache = 0;
+    return rc;
+}
+
 static int obtain(const entry_spec *e, swim_compiled *out, int verbose)
 {
     const char *root = swim_share_dir();
     if (!root) return -1;
-    char croot[SWIM_CODEGEN_PATH];
-    cache_root(croot, sizeof croot);
-    int rc = obtain_in(croot, root, e, out, verbose);
-    if (rc != -2) return rc;
-    static char priv[64];
-    if (!priv[0]) {
-        snprintf(priv, sizeof priv, "/tmp/swim-cache-XXXXXX");
-        if (!mkdtemp(priv)) {
-            priv[0] = '\0';
-            fprintf(stderr, "swim: kernel cache %s cannot be written and no temporary folder could be made: %s\n",
-                    croot, strerror(errno));
-            return -1;
-        }
+    char croot[SWIM_CODEGEN_PATH], why[SWIM_CODEGEN_PATH + 256];
+    int stopped = 0, rc = -2;
+    if (cache_root(croot, sizeof croot) != 0) {
+        fprintf(stderr, "swim: no kernel cache folder (HOME is not set and user %ld has no home folder); "
+                        "kernels are built in a private folder for this run\n", (long)geteuid());
+    } else if (make_private_dirs(croot) == 0 && trusted_root(croot, why, sizeof why) != 0) {
+        fprintf(stderr, "swim: the kernel cache %s is not used, since %s; kernels are built in a private "
+                        "folder for this run (set SWIM_CACHE to a folder only you can write)\n", croot, why);
+    } else {
+        rc = obtain_in(croot, root, e, out, verbose, &stopped);
+        if (rc == -2)
+            fprintf(stderr, "swim: kernel cache %s cannot be written; the %s is built in a private folder for this run\n",
+                    croot, e->what);
     }
-    fprintf(stderr, "swim: kernel cache %s cannot be written; using %s for this run\n", croot, priv);
-    rc = obtain_in(priv, root, e, out, verbose);
-    if (rc == -2) fprintf(stderr, "swim: cannot write the kernel cache %s either\n", priv);
+    if (rc == -2) rc = obtain_private(root, e, out, verbose, &stopped);
+    if (rc == -3) {
+        resend_stop(stopped);    /* ends the process unless the signal is handled or ignored */
+        fprintf(stderr, "swim: generating the %s was interrupted\n", e->what);
+    }
     return rc == 0 ? 0 : -1;
 }
 
 /* ---- keys ------------------------------------------------------------------------------ */
+
+/* The first line a command prints on stdout (no shell), without its newline; "" if none. */
+static void first_line_of(char *const argv[], char *buf, size_t len)
+{
+    buf[0] = '\0';
+    int fds[2];
+    if (pipe(fds) != 0) return;
+    pid_t pid = fork();
+    if (pid == 0) {
+        close(fds[0]);
+        dup2(fds[1], 1);
+        int devnull = open("/dev/null", O_WRONLY);
+        if (devnull >= 0) dup2(devnull, 2);
+        execvp(argv[0], argv);
+        _exit(127);
+    }
+    close(fds[1]);
+    size_t got = 0;
+    ssize_t n;
+    char chunk[256];
+    while (pid > 0 && (n = read(fds[0], chunk, sizeof chunk)) != 0) {
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) break;
+        for (ssize_t i = 0; i < n && got + 1 < len; i++) buf[got++] = chunk[i];
+    }
+    close(fds[0]);
+    buf[got] = '\0';
+    buf[strcspn(buf, "\n")] = '\0';
+    while (pid > 0 && waitpid(pid, NULL, 0) < 0 && errno == EINTR) {}
+}
+
+/* What compiled code depends on besides its sources and flags: the processor (the flags say
+ * -march=native, so code built on one machine may not run on another that shares the cache)
+ * and the compiler's version. The processor is /proc/cpuinfo's model name (or its
+ * implementer and part on ARM), else the machine name of uname. Computed once per process. */
+static const char *machine_text(void)
+{
+    static char text[512];
+    static int done;
+    if (done) return text;
+    char cpu[200] = "", part[100] = "";
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    char line[512];
+    while (f && fgets(line, sizeof line, f)) {
+        char *colon = strchr(line, ':');
+        if (!colon) continue;
+        char *value = colon + 1 + strspn(colon + 1, " \t");
+        value[strcspn(value, "\n")] = '\0';
+        if (!cpu[0] && (strncmp(line, "model name", 10) == 0 || strncmp(line, "Hardware", 8) == 0))
+            snprintf(cpu, sizeof cpu, "%s", value);
+        else if (!part[0] && strncmp(line, "CPU part", 8) == 0)
+            snprintf(part, sizeof part, "part %s", value);
+    }
+    if (f) fclose(f);
+    if (!cpu[0]) snprintf(cpu, sizeof cpu, "%s", part);
+    if (!cpu[0]) {
+        struct utsname u;
+        snprintf(cpu, sizeof cpu, "%s", uname(&u) == 0 ? u.machine : "unknown");
+    }
+    char version[200];
+    char *argv[] = {SWIM_CC, "--version", NULL};
+    first_line_of(argv, version, sizeof version);
+    /* the key is one line of plain text (manifest, generated C string): no quotes or controls */
+    snprintf(text, sizeof text, " cpu=%s ccversion=%s", cpu, version[0] ? version : "unknown");
+    for (char *c = text; *c; c++)
+        if ((unsigned char)*c < 32 || *c == '"' || *c == '\\') *c = '_';
+    done = 1;
+    return text;
+}
 
 static char *key_suffix(const char *cflags)
 {
@@ -418,8 +791,8 @@ static char *key_suffix(const char *cflags)
     size_t len;
     FILE *f = open_memstream(&s, &len);
     if (!f) return NULL;
-    fprintf(f, " abi=%d sources=%016llx cc=%s cflags=%s", SWIM_KERNEL_ABI,
-            (unsigned long long)(root ? sources_hash(root) : 0), SWIM_CC, cflags);
+    fprintf(f, " abi=%d sources=%016llx cc=%s cflags=%s%s", SWIM_KERNEL_ABI,
+            (unsigned long long)(root ? sources_hash(root) : 0), SWIM_CC, cflags, machine_text());
     fclose(f);
     return s;
 }
@@ -432,7 +805,7 @@ int swim_codegen_kernel(int modes, swim_compiled *out, int verbose)
         return -1;
     }
     if ((out->kernel = swim_kernel_find(modes))) return 0;   /* linked in */
-    char *suffix = key_suffix(SWIM_KERNEL_CFLAGS_N), key[1024], what[64];
+    char *suffix = key_suffix(SWIM_KERNEL_CFLAGS_N), key[2048], what[64];
     if (!suffix) return -1;
     snprintf(key, sizeof key, "kernel N=%d%s", modes, suffix);
     free(suffix);
@@ -551,6 +924,163 @@ void swim_compiled_close(swim_compiled *c)
     c->kernel = NULL;
     c->scene = NULL;
     c->stroke = NULL;
+}
+
+/* ---- the cache as its user manages it ----------------------------------------------------- */
+
+int swim_cache_location(char **root, char *why, size_t len)
+{
+    char croot[SWIM_CODEGEN_PATH];
+    *root = NULL;
+    if (cache_root(croot, sizeof croot) != 0) {
+        snprintf(why, len, "HOME is not set and user %ld has no home folder", (long)geteuid());
+        return -1;
+    }
+    if (!(*root = strdup(croot))) {
+        snprintf(why, len, "out of memory");
+        return -1;
+    }
+    struct stat st;
+    if (stat(croot, &st) != 0) return 0;    /* made on first use */
+    return trusted_root(croot, why, len) == 0 ? 0 : 1;
+}
+
+static long long entry_bytes(const char *dir, double *newest)
+{
+    long long total = 0;
+    DIR *d = opendir(dir);
+    if (!d) return 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        char path[SWIM_CODEGEN_PATH + 300];
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        struct stat st;
+        if (e->d_name[0] == '.' || lstat(path, &st) != 0) continue;
+        total += (long long)st.st_size;
+        if (newest && (double)st.st_mtime > *newest) *newest = (double)st.st_mtime;
+    }
+    closedir(d);
+    return total;
+}
+
+static int by_name(const void *a, const void *b)
+{
+    return strcmp(((const swim_cache_entry *)a)->name, ((const swim_cache_entry *)b)->name);
+}
+
+/* An entry folder's name: the 16 hex digits of its key's hash. */
+static int entry_name(const char *n)
+{
+    if (strlen(n) != 16) return 0;
+    for (const char *c = n; *c; c++)
+        if (!((*c >= '0' && *c <= '9') || (*c >= 'a' && *c <= 'f'))) return 0;
+    return 1;
+}
+
+int swim_cache_entries(const char *root, swim_cache_entry **list, int *count)
+{
+    *list = NULL;
+    *count = 0;
+    DIR *d = opendir(root);
+    if (!d) return errno == ENOENT ? 0 : -1;
+    int cap = 0;
+    struct dirent *de;
+    const double now_s = (double)time(NULL);
+    while ((de = readdir(d))) {
+        if (!entry_name(de->d_name)) continue;
+        if (*count == cap) {
+            cap = cap ? 2 * cap : 16;
+            swim_cache_entry *grown = realloc(*list, (size_t)cap * sizeof **list);
+            if (!grown) {
+                closedir(d);
+                return -1;
+            }
+            *list = grown;
+        }
+        swim_cache_entry *e = &(*list)[(*count)++];
+        memset(e, 0, sizeof *e);
+        snprintf(e->name, sizeof e->name, "%s", de->d_name);
+        char dir[SWIM_CODEGEN_PATH + 32], path[SWIM_CODEGEN_PATH + 64];
+        snprintf(dir, sizeof dir, "%s/%s", root, de->d_name);
+        double newest = 0;
+        e->bytes = entry_bytes(dir, &newest);
+        snprintf(path, sizeof path, "%s/manifest", dir);
+        struct stat st;
+        const int has_manifest = lstat(path, &st) == 0;
+        e->age_days = ((has_manifest ? (double)st.st_mtime : newest) > 0
+                       ? now_s - (has_manifest ? (double)st.st_mtime : newest) : 0) / 86400.0;
+        FILE *f = has_manifest ? fopen(path, "r") : NULL;
+        char line[4096];
+        while (f && fgets(line, sizeof line, f))
+            if (strncmp(line, "key ", 4) == 0) {
+                line[strcspn(line, "\n")] = '\0';
+                e->key = strdup(line + 4);
+            }
+        if (f) fclose(f);
+        so_promise so;
+        if (!has_manifest) {
+            e->state = 1;
+            snprintf(e->why, sizeof e->why, "no manifest (being built, or a build was interrupted)");
+        } else if (!e->key || check_entry(dir, e->key, &so, e->why, sizeof e->why) != 0) {
+            e->state = -1;
+        } else {
+            /* kernel.so as load_entry would take it, without loading it */
+            int absent, fd = open_trusted(dir, "kernel.so", &st, &absent, e->why, sizeof e->why);
+            uint64_t h = 0;
+            long long size = -1;
+            if (fd >= 0) {
+                if (hash_fd(fd, &h, &size, -1) != 0) size = -1;
+                close(fd);
+            }
+            if (fd < 0) e->state = -1;
+            else if (size != so.size || h != so.hash) {
+                e->state = -1;
+                snprintf(e->why, sizeof e->why, "kernel.so differs from its manifest");
+            }
+        }
+    }
+    closedir(d);
+    if (*count > 1) qsort(*list, (size_t)*count, sizeof **list, by_name);
+    return 0;
+}
+
+void swim_cache_entries_free(swim_cache_entry *list, int count)
+{
+    for (int i = 0; i < count; i++) free(list[i].key);
+    free(list);
+}
+
+int swim_cache_clean(const char *root, double older_days, int *removed, int *busy, long long *freed)
+{
+    *removed = *busy = 0;
+    *freed = 0;
+    swim_cache_entry *list;
+    int count;
+    if (swim_cache_entries(root, &list, &count) != 0) return -1;
+    for (int i = 0; i < count; i++) {
+        if (older_days >= 0 && list[i].age_days < older_days) continue;
+        char dir[SWIM_CODEGEN_PATH + 32], lock[SWIM_CODEGEN_PATH + 64];
+        snprintf(dir, sizeof dir, "%s/%s", root, list[i].name);
+        snprintf(lock, sizeof lock, "%s/lock", dir);
+        /* a build holds the entry's lock: leave it alone */
+        int fd = open(lock, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+        if (fd >= 0 && flock(fd, LOCK_EX | LOCK_NB) != 0) {
+            close(fd);
+            (*busy)++;
+            continue;
+        }
+        remove_private(dir);
+        if (fd >= 0) close(fd);
+        struct stat st;
+        if (lstat(dir, &st) == 0) {
+            (*busy)++;
+            continue;
+        }
+        (*removed)++;
+        *freed += list[i].bytes;
+    }
+    swim_cache_entries_free(list, count);
+    return 0;
 }
 
 /* ---- prescribed strokes --------------------------------------------------------------------- */

@@ -12,14 +12,24 @@
  *     densities and the values of R, cref, D, epsilon, alpha are run-time parameters: changing
  *     them never regenerates.
  *
- * The cache: $SWIM_CACHE, else $XDG_CACHE_HOME/swim, else ~/.cache/swim. One folder per entry,
- * named by a hash of its key: the structure (or N), the kernel ABI, the compiler and its flags,
- * and a hash of every file under the generator folder and of the hand-written C the kernels
- * include (runtime/kernel/). Files are written under temporary names and renamed; the manifest,
- * written last, holds the key and the size and hash of kernel.c and kernel.so, and is checked
- * before dlopen, so a truncated or empty file is rebuilt (one line on stderr) rather than loaded.
- * Concurrent first uses wait on a lock file in the entry; a cache that cannot be written is
- * replaced for this run by a private temporary folder (one line on stderr).
+ * The cache: $SWIM_CACHE, else $XDG_CACHE_HOME/swim, else $HOME/.cache/swim, else the effective
+ * user's home folder from the password database (never a fixed shared path). One folder per
+ * entry, named by a hash of its key: the structure (or N), the kernel ABI, the compiler and its
+ * flags, and a hash of every file under the generator folder and of the hand-written C the
+ * kernels include (runtime/kernel/). Files are written under temporary names and installed by
+ * rename only; the manifest, written last, holds the key and the size and hash of kernel.c and
+ * kernel.so, so a truncated or empty file is rebuilt (one line on stderr) rather than loaded.
+ * Trust (docs/trust.md): a cache root is used only when it and its entry folders belong to this
+ * user (or root) and nobody else may write them, and the folders above it are this user's or
+ * root's and writable by others only with the sticky bit; manifest, kernel.c and kernel.so must
+ * be regular files (no symbolic links) with the same owners and no group or other write bit.
+ * kernel.so is copied into an anonymous memory file while it is hashed, and that copy is loaded:
+ * the code that runs is the code that was checked, and a cache file changed later cannot touch
+ * a running process. Concurrent first uses wait on a lock file in the entry; a cache that cannot
+ * be written or is not trusted is replaced for this run by a private folder (mode 0700 under
+ * $TMPDIR or /tmp, one line on stderr) that is removed once the kernel is loaded. A signal that
+ * stops swim while a generator or compiler runs is passed on to it; its temporary files are
+ * removed before the signal takes effect, and the child ends with swim even on SIGKILL.
  *
  * The generator and the headers are found relative to the executable (/proc/self/exe): in the
  * source tree (bin/swim -> generator/, runtime/kernel/) or an installation (PREFIX/bin/swim ->
@@ -61,5 +71,30 @@ int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose);
 
 /* The structure key of a scene as the cache uses it (malloc'd, caller frees), or NULL. */
 char *swim_codegen_scene_key(const swim_scene *s, int generic);
+
+/* ---- the cache as its user manages it (swim cache) ---- */
+
+/* The cache root this process uses (*root, malloc'd): 0 when it is used (or will be made on
+ * first use), 1 when it exists but is not trusted (why; kernels then go to private folders),
+ * -1 when there is none (why; *root NULL). */
+int swim_cache_location(char **root, char *why, size_t len);
+
+typedef struct {
+    char name[32];        /* the entry's folder: the hash of its key */
+    char *key;            /* the key from its manifest; NULL without one */
+    long long bytes;      /* size of its files */
+    double age_days;      /* since its last use (loads refresh the manifest's time) */
+    int state;            /* 0 sound; -1 damaged or not trusted (why); 1 no manifest yet (why) */
+    char why[256];
+} swim_cache_entry;
+
+/* Every entry under root, sorted by name, checked as a load would check it (nothing is
+ * loaded). 0 (an absent root has no entries), or -1 with errno set. */
+int swim_cache_entries(const char *root, swim_cache_entry **list, int *count);
+void swim_cache_entries_free(swim_cache_entry *list, int count);
+
+/* Removes the entries unused for at least older_days (every entry when older_days < 0),
+ * except those whose lock a build holds. 0 with the counts, or -1 with errno set. */
+int swim_cache_clean(const char *root, double older_days, int *removed, int *busy, long long *freed);
 
 #endif

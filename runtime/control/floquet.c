@@ -17,7 +17,7 @@
 /* Multipliers at 1 of a periodic orbit in a one-parameter family (energy) form a Jordan block:
  * an error eps in M moves them by ~sqrt(eps). With M accurate to ~1e-8, 1e-3 separates "on the
  * unit circle" from a genuine instability without calling that splitting unstable. */
-#define FLOQUET_TOL 1e-3
+#define FLOQUET_TOL SWIM_FLOQUET_TOL
 
 static double now(void)
 {
@@ -225,7 +225,7 @@ static void structure(swim_floquet *fl, const double *B, const double *f, const 
         fl->unit_count += cabs(lam - 1.0) < FLOQUET_TOL;
     }
     fl->tol = FLOQUET_TOL;
-    fl->stable = fl->max_abs_dev <= FLOQUET_TOL;
+    fl->stable = fl->periodic && fl->max_abs_dev <= FLOQUET_TOL;
     free(Mt);
 }
 
@@ -256,6 +256,10 @@ static int energy_gradient(swim_dynamics *d, const double *ys, double *gE)
 int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max, swim_floquet *fl)
 {
     memset(fl, 0, sizeof *fl);
+    if (d->scene->stroke || !d->spec) {   /* a prescribed shape has no shape state to perturb */
+        swim_message(stderr, "swim floquet: %s: a prescribed stroke has no free shape dynamics", d->scene->path);
+        return 1;
+    }
     const double t0 = now();
     const int nf = d->spec->nfree, n2 = 2 * nf, N = swim_dynamics_state_dim(d);
     fl->n2 = n2;
@@ -295,10 +299,14 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
         swim_message(stderr, "swim floquet: the variational equations failed: %s", swim_ode_strerror(orc));
         goto done;
     }
+    double scale = d->scene->atol;
     for (int i = 0; i < n2; i++) {
         fl->closure = fmax(fl->closure, fabs(Y[3 + i] - ys[3 + i]));
+        scale = fmax(scale, fabs(ys[3 + i]));
         for (int j = 0; j < n2; j++) fl->M[i * n2 + j] = Y[(size_t)(j + 1) * N + 3 + i];
     }
+    fl->closure_rel = fl->closure / scale;
+    fl->periodic = fl->closure_rel <= SWIM_FLOQUET_CLOSURE_TOL;
     if (eigenvalues(fl->M, n2, fl->re, fl->im) != 0) goto oom;
     if (swim_dynamics_rhs(0.0, ys, f, d) != 0 || energy_gradient(d, ys, gE) != 0) {
         swim_message(stderr, "swim floquet: the right-hand side or the energy failed at the initial state");
@@ -351,6 +359,11 @@ void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const
     swim_json_number(f, fl->t_first);
     fprintf(f, ",\n  \"closure\": ");
     swim_json_number(f, fl->closure);
+    fprintf(f, ",\n  \"closure_relative\": ");
+    swim_json_number(f, fl->closure_rel);
+    fprintf(f, ",\n  \"closure_tolerance\": ");
+    swim_json_number(f, SWIM_FLOQUET_CLOSURE_TOL);
+    fprintf(f, ",\n  \"periodic\": %s", fl->periodic ? "true" : "false");
     fprintf(f, ",\n  \"dimension\": %d,\n  \"tangent_dimension\": %d,\n  \"multipliers_tangent\": ", fl->n2, fl->nt);
     multipliers_json(f, fl->tre, fl->tim, fl->nt);
     fprintf(f, ",\n  \"multipliers_full\": ");
@@ -367,7 +380,7 @@ void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const
     swim_json_number(f, fl->max_abs_dev);
     fprintf(f, ", \"multipliers_at_1\": %d, \"tolerance\": ", fl->unit_count);
     swim_json_number(f, fl->tol);
-    fprintf(f, "},\n  \"stable\": %s,\n  \"monodromy\": ", fl->stable ? "true" : "false");
+    fprintf(f, "},\n  \"stable\": %s,\n  \"monodromy\": ", !fl->periodic ? "null" : fl->stable ? "true" : "false");
     swim_json_matrix(f, fl->M, fl->n2, fl->n2, 2);
     fprintf(f, ",\n  \"rhs_evaluations\": %ld,\n  \"seconds\": ", fl->rhs_calls);
     swim_json_number(f, fl->seconds);
@@ -376,8 +389,8 @@ void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const
 
 void swim_floquet_table(FILE *f, const swim_floquet *fl)
 {
-    fprintf(f, "period T = %.10g (first event at t = %.10g), closure |x(T) - x(0)| = %.2g\n",
-            fl->period, fl->t_first, fl->closure);
+    fprintf(f, "period T = %.10g (first event at t = %.10g), closure |x(T) - x(0)| = %.2g (relative %.2g)\n",
+            fl->period, fl->t_first, fl->closure, fl->closure_rel);
     fprintf(f, "multipliers on the constraint manifold (%d of %d; r and theta are cyclic: trivial 1s, left out):\n",
             fl->nt, fl->n2);
     fprintf(f, "  %-24s %-24s %-14s %s\n", "re", "im", "|lambda|", "arg/pi");
@@ -387,6 +400,10 @@ void swim_floquet_table(FILE *f, const swim_floquet *fl)
     fprintf(f, "checks: flow direction |Mf - f|/|f| = %.2g; energy |(dE M - dE) B|/|dE B| = %.2g; "
             "reciprocal pairs %.2g; det M_t = %.12g; at 1: %d\n",
             fl->flow_residual, fl->energy_residual, fl->reciprocal_residual, fl->det_tangent, fl->unit_count);
-    fprintf(f, "%s: max ||lambda| - 1| = %.3g (tolerance %.0e)\n", fl->stable ? "linearly stable (all |lambda| = 1)" : "UNSTABLE",
-            fl->max_abs_dev, fl->tol);
+    if (!fl->periodic)   /* the multipliers of a map over [0, T] that is not a period: no verdict */
+        fprintf(f, "NO PERIODIC ORBIT: the orbit does not close after T (relative closure %.2g > %.0e); "
+                "the multipliers above are not Floquet multipliers\n", fl->closure_rel, SWIM_FLOQUET_CLOSURE_TOL);
+    else
+        fprintf(f, "%s: max ||lambda| - 1| = %.3g (tolerance %.0e)\n", fl->stable ? "linearly stable (all |lambda| = 1)" : "UNSTABLE",
+                fl->max_abs_dev, fl->tol);
 }

@@ -16,6 +16,14 @@
  *   - the energy gradient is a left eigenvector with multiplier 1 (|grad E M - grad E| / |grad E|);
  *   - the tangent multipliers come in reciprocal pairs (lambda, 1/lambda) and det M_t = 1.
  * Stable (in the linear sense) when every tangent multiplier has |lambda| = 1 to the tolerance.
+ *
+ * All of this presumes a periodic orbit: two events of a section need not be a period (a damped
+ * or forced swimmer crosses its section again at another state). The orbit is periodic when it
+ * closes, max |x(T) - x(0)| <= SWIM_FLOQUET_CLOSURE_TOL * max |x(0)| (the state's own scale, at
+ * least atol). The tolerance is the square of the multipliers' one: an error eps in M moves the
+ * double multiplier at 1 by ~sqrt(eps), and an orbit that misses closing by delta puts an error
+ * of order delta into M, so delta <= tol^2 keeps that motion within tol. Otherwise periodic is 0
+ * and stable means nothing (it is 0): the multipliers are those of the map over [0, T] only.
  */
 #ifndef SWIM_CONTROL_FLOQUET_H
 #define SWIM_CONTROL_FLOQUET_H
@@ -25,10 +33,14 @@
 #include "model/dynamics.h"
 
 #define SWIM_FLOQUET_MAX (2 * SWIM_NMAX)
+#define SWIM_FLOQUET_TOL 1e-3                                   /* on |lambda| (see floquet.c) */
+#define SWIM_FLOQUET_CLOSURE_TOL (SWIM_FLOQUET_TOL * SWIM_FLOQUET_TOL)   /* relative closure */
 
 typedef struct {
     double period, t_first;        /* T and the time of the first event */
     double closure;                /* max |x(T) - x(0)| over the shape state */
+    double closure_rel;            /* closure / max(max |x(0)|, atol) */
+    int periodic;                  /* closure_rel <= SWIM_FLOQUET_CLOSURE_TOL */
     int n2;                        /* 2 * carried coordinates: size of M */
     int nt;                        /* dimension of the tangent space */
     double *M;                     /* n2 x n2, row-major (owned) */
@@ -40,7 +52,7 @@ typedef struct {
     double det_tangent;            /* det M_t */
     double max_abs_dev;            /* max | |lambda| - 1 | over the tangent multipliers */
     int unit_count;                /* tangent multipliers within tol of 1 */
-    int stable;                    /* every tangent |lambda| = 1 to tol */
+    int stable;                    /* periodic and every tangent |lambda| = 1 to tol */
     double tol;                    /* the tolerance of the checks */
     long rhs_calls;
     double seconds;
@@ -53,8 +65,9 @@ typedef struct {
     char kind;
 } swim_floquet_section;
 
-/* Computes everything above; t_max bounds the search for two events. 0, or 1 after one line on
- * stderr (no period found before t_max, an integration failure). */
+/* Computes everything above; t_max bounds the search for two events. 0 (also for an orbit that
+ * does not close: see periodic), or 1 after one line on stderr (no period found before t_max, an
+ * integration failure, a scene without free shape dynamics). */
 int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max, swim_floquet *out);
 void swim_floquet_free(swim_floquet *f);
 /* floquet.json and the table printed by swim floquet. */

@@ -23,9 +23,21 @@ int swim_setup_take_sets(const char *cmd, int *argc, char **argv, int first, swi
 int swim_setup_open(swim_model_setup *m, const char *cmd, const char *path, const swim_override *sets,
                     int nsets, int generic, int quiet)
 {
+    int rc = swim_setup_load(m, path, sets, nsets);
+    return rc ? rc : swim_setup_kernels(m, cmd, generic, quiet);
+}
+
+int swim_setup_load(swim_model_setup *m, const char *path, const swim_override *sets, int nsets)
+{
     memset(m, 0, sizeof *m);
     if (swim_scene_load_with(path, sets, nsets, &m->s)) return 2;
     m->loaded = 1;
+    return 0;
+}
+
+int swim_setup_kernels(swim_model_setup *m, const char *cmd, int generic, int quiet)
+{
+    const char *path = m->s.path;
     /* a prescribed stroke has no scene kernel: the caller builds its stroke kernel */
     if (swim_codegen_kernel(m->s.modes, &m->kn, quiet ? 0 : 1) != 0 ||
         (!m->s.stroke && swim_codegen_scene(&m->s, generic, &m->spz, quiet ? 0 : 1) != 0)) {

@@ -23,9 +23,12 @@ typedef struct {
  * or -1 after one line "swim CMD: --set: ..." on stderr. */
 int swim_setup_take_sets(const char *cmd, int *argc, char **argv, int first, swim_override *sets);
 /* 0; 2 after one line on stderr (bad scene or override, numbers that overflow); 1 when no
- * kernel could be had or out of memory. */
+ * kernel could be had or out of memory. swim_setup_load and swim_setup_kernels are its two
+ * stages, for a command that judges the scene itself before any kernel is made. */
 int swim_setup_open(swim_model_setup *m, const char *cmd, const char *path, const swim_override *sets,
                     int nsets, int generic, int quiet);
+int swim_setup_load(swim_model_setup *m, const char *path, const swim_override *sets, int nsets);
+int swim_setup_kernels(swim_model_setup *m, const char *cmd, int generic, int quiet);
 void swim_setup_close(swim_model_setup *m);
 
 #endif

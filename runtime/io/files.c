@@ -126,8 +126,28 @@ const char *swim_python(void)
     return p && *p ? p : SWIM_PYTHON;
 }
 
+/* A target that exists and is not a regular file: a device such as /dev/null, a FIFO, a
+ * terminal. Renaming a new file over it would put a regular file in the device's place, so the
+ * data are written to it directly. 0, or -1 with errno set (EISDIR for a folder). */
+static int write_in_place(const char *path, const struct stat *st, const void *data, size_t len)
+{
+    if (S_ISDIR(st->st_mode)) {
+        errno = EISDIR;
+        return -1;
+    }
+    int fd = open(path, O_WRONLY | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0) return -1;
+    int rc = write_all(fd, data, len);
+    int saved = errno;
+    if (close(fd) != 0 && rc == 0) { rc = -1; saved = errno; }
+    errno = saved;
+    return rc;
+}
+
 int swim_replace_file(const char *path, const void *data, size_t len)
 {
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) return write_in_place(path, &st, data, len);
     size_t n = strlen(path);
     char *tmp = malloc(n + sizeof ".tmp.XXXXXX");
     if (!tmp) return -1;

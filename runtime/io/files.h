@@ -34,7 +34,10 @@ char *swim_canonical_path(const char *path);
 /* Replaces `path` with the len bytes of data, atomically: they go to a temporary file in the
  * same folder, are flushed to the disk, and the file is renamed over `path` (rename(2) is
  * atomic within a file system). Readers see the old file, no file, or the whole new one, never
- * a part. 0, or -1 with errno set (the temporary file is removed). */
+ * a part. A path that names something other than a regular file -- a device such as /dev/null,
+ * a FIFO, a terminal (also through a symbolic link, as /dev/stdout) -- is written to directly
+ * instead: renaming over it would replace the device node by a regular file. A folder is
+ * EISDIR. 0, or -1 with errno set (the temporary file is removed). */
 int swim_replace_file(const char *path, const void *data, size_t len);
 
 /* The same for text that `fill` writes to a stream in memory (fill(f, ctx)): nothing reaches

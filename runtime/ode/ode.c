@@ -35,6 +35,7 @@ static int abm_create_(const ode_method *m, const swim_ode_system *sys, const sw
 #define CAP_EV SWIM_ODE_CAP_EVENTS
 #define CAP_JAC SWIM_ODE_CAP_JACOBIAN
 #define CAP_STIFF SWIM_ODE_CAP_STIFFNESS
+#define CAP_IMPL SWIM_ODE_CAP_IMPLICIT
 
 /* The one list of integrators: every message, option check and peer constructor uses it. */
 static const ode_method registry[] = {
@@ -42,9 +43,9 @@ static const ode_method registry[] = {
     {"rk8pd", 0, ODE_GSL_RK8PD, swim_ode_gsl_create},
     {"msadams", 0, ODE_GSL_MSADAMS, swim_ode_gsl_create},
     {"rkf45", 0, ODE_GSL_RKF45, swim_ode_gsl_create},
-    {"msbdf", CAP_JAC, ODE_GSL_MSBDF, swim_ode_gsl_create},
+    {"msbdf", CAP_JAC | CAP_IMPL, ODE_GSL_MSBDF, swim_ode_gsl_create},
     {"cvode-adams", CAP_EV, ODE_CVODE_ADAMS, swim_ode_cvode_create},
-    {"cvode-bdf", CAP_PROJ | CAP_EV | CAP_JAC, ODE_CVODE_BDF, swim_ode_cvode_create},
+    {"cvode-bdf", CAP_PROJ | CAP_EV | CAP_JAC | CAP_IMPL, ODE_CVODE_BDF, swim_ode_cvode_create},
 };
 #define NMETHODS (sizeof registry / sizeof registry[0])
 
@@ -82,6 +83,17 @@ const char *swim_ode_method_list(void)
         for (size_t i = 0; i < NMETHODS && len < sizeof list; i++)
             len += (size_t)snprintf(list + len, sizeof list - len, "%s%s", i ? ", " : "", registry[i].name);
     }
+    return list;
+}
+
+const char *swim_ode_method_list_with(unsigned caps)
+{
+    static char list[256];
+    size_t len = 0;
+    list[0] = '\0';
+    for (size_t i = 0; i < NMETHODS && len < sizeof list; i++)
+        if ((registry[i].caps & caps) == caps)
+            len += (size_t)snprintf(list + len, sizeof list - len, "%s%s", len ? ", " : "", registry[i].name);
     return list;
 }
 

@@ -13,14 +13,14 @@
  * (projection, step report, events, stiffness stop) makes swim_ode_create()
  * return SWIM_ODE_EUNSUPPORTED instead of being ignored:
  *
- *   name         projection  step trace  events  user Jacobian  stiffness diagnostic
- *   abm              x           x         x          -               x
- *   rk8pd            -           -         -          -               -
- *   msadams          -           -         -          -               -
- *   rkf45            -           -         -          -               -
- *   msbdf            -           -         -          x               -
- *   cvode-adams      -           -         x          -               -
- *   cvode-bdf        x           -         x          x               -
+ *   name         projection  step trace  events  user Jacobian  stiffness diagnostic  implicit
+ *   abm              x           x         x          -               x                -
+ *   rk8pd            -           -         -          -               -                -
+ *   msadams          -           -         -          -               -                -
+ *   rkf45            -           -         -          -               -                -
+ *   msbdf            -           -         -          x               -                x
+ *   cvode-adams      -           -         x          -               -                -
+ *   cvode-bdf        x           -         x          x               -                x
  *
  * A Jacobian in the system is information, not a request: integrators without
  * SWIM_ODE_CAP_JACOBIAN need none and do not call it.  The GSL steppers have no
@@ -246,17 +246,24 @@ enum {
     SWIM_ODE_CAP_STEP_TRACE = 2,   /* swim_ode_options.on_step */
     SWIM_ODE_CAP_EVENTS = 4,       /* swim_ode_options.events */
     SWIM_ODE_CAP_JACOBIAN = 8,     /* uses swim_ode_system.jacobian (and differences without it) */
-    SWIM_ODE_CAP_STIFFNESS = 16    /* stiffness diagnostic (swim_ode_options.stiff_stop) */
+    SWIM_ODE_CAP_STIFFNESS = 16,   /* stiffness diagnostic (swim_ode_options.stiff_stop) */
+    /* implicit (BDF with Newton iterations): its stability region holds the stiff modes whose
+     * step-size limit stops an explicit or PECE method, so it is what a stiff fallback must be.
+     * cvode-adams is not: its fixed-point corrector has the same limit as explicit Adams. */
+    SWIM_ODE_CAP_IMPLICIT = 32
 };
 
 /* The registry.  swim_ode_methods(): NULL-terminated list of names, in the order
  * of the table above.  swim_ode_method_known(): 1 if name is one of them.
  * swim_ode_capabilities(): the SWIM_ODE_CAP_* flags of name (0 if unknown).
- * swim_ode_method_list(): the names as "abm, rk8pd, ..." for messages (static). */
+ * swim_ode_method_list(): the names as "abm, rk8pd, ..." for messages (static).
+ * swim_ode_method_list_with(): likewise, only the integrators that have every flag of caps
+ * (static, rewritten by the next call). */
 const char *const *swim_ode_methods(void);
 int swim_ode_method_known(const char *name);
 unsigned swim_ode_capabilities(const char *name);
 const char *swim_ode_method_list(void);
+const char *swim_ode_method_list_with(unsigned caps);
 
 typedef struct swim_ode swim_ode;   /* opaque; owns its memory; the caller owns y arrays */
 

@@ -138,7 +138,19 @@ def main(argv):
     duration = opts["duration"] or min(max(t1 - t0, 4.0), 20.0)
     frames = max(2, int(round(fps * duration)))
     out = opts["out"] or os.path.join(outdir, "animation.mp4")
-    poster = os.path.splitext(out)[0] + ".png"
+    # A target that exists and is no regular file (/dev/null, a FIFO) is written in place once
+    # the video is whole: renaming over it would turn the device into a regular file. Such a
+    # target has no poster beside it.
+    if os.path.isdir(out):
+        fail("--out: cannot write '%s': it is a folder" % out, 2)
+    in_place = os.path.exists(out) and not os.path.isfile(out)
+    target_dir = os.path.dirname(os.path.abspath(out))
+    if in_place and not os.access(out, os.W_OK) or not in_place and not os.access(target_dir, os.W_OK):
+        fail("--out: cannot write '%s': %s" % (out, "permission denied" if os.path.isdir(target_dir)
+                                                 else "no folder " + target_dir), 2)
+    work_dir = tempfile.mkdtemp(prefix="swim-animate-") if in_place else None
+    part = os.path.join(work_dir, "animation.mp4") if in_place else out + ".part.mp4"
+    poster = None if in_place else os.path.splitext(out)[0] + ".png"
     clock = time.time()
 
     print("swim animate: computing %d flow frames (swim flow)" % frames, file=sys.stderr)
@@ -213,7 +225,7 @@ def main(argv):
     cmd = ["ffmpeg", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgba",
            "-s", "%dx%d" % (WIDTH, HEIGHT), "-r", "%g" % fps, "-i", "-", "-an",
            "-c:v", "libx264", "-preset", "ultrafast", "-crf", "26", "-pix_fmt", "yuv420p",
-           "-movflags", "+faststart", out + ".part.mp4"]
+           "-movflags", "+faststart", part]
     enc = subprocess.Popen(cmd, stdin=subprocess.PIPE)
     mesh = None
     last = 0.0
@@ -259,7 +271,7 @@ def main(argv):
             else:
                 fig.canvas.draw()
             enc.stdin.write(fig.canvas.buffer_rgba())
-            if i == frames // 3:   # a still for the page (<video poster>) and for a quick look
+            if i == frames // 3 and poster:   # a still for the page (<video poster>) and for a quick look
                 plt.imsave(poster, np.asarray(fig.canvas.buffer_rgba()))
             now = time.time()
             if now - last > 1.0 or i == frames - 1:
@@ -271,11 +283,21 @@ def main(argv):
     except BrokenPipeError:
         rc = enc.wait() or 1
     print("", file=sys.stderr)
-    if rc != 0:
-        if os.path.exists(out + ".part.mp4"):
-            os.remove(out + ".part.mp4")
-        fail("ffmpeg failed (exit status %d)" % rc)
-    os.replace(out + ".part.mp4", out)
+    try:
+        if rc != 0:
+            fail("ffmpeg failed (exit status %d)" % rc)
+        if in_place:
+            with open(part, "rb") as src, open(out, "wb") as dst:
+                shutil.copyfileobj(src, dst)
+        else:
+            os.replace(part, out)
+    except OSError as exc:
+        fail("--out: cannot write '%s': %s" % (out, exc.strerror or exc))
+    finally:
+        if os.path.exists(part):
+            os.remove(part)
+        if work_dir:
+            shutil.rmtree(work_dir, ignore_errors=True)
     print(out)
     print("swim animate: %d frames at %g fps (%.1f s of video for t = %.4g..%.4g) in %.1f s"
           % (frames, fps, frames / fps, t0, t1, time.time() - clock), file=sys.stderr)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Figures of one `swim run` output directory.
 
-Usage: plot_run.py DIR [--only NAME ...] [--mark t1,t2,...]
+Usage: plot_run.py DIR [--only NAME ...] [--mark t1,t2,...] [--events all|COLUMN:KIND,...]
 
 Reads DIR/trajectory.csv, DIR/summary.json, DIR/events.csv (if present) and
 the body pictures: DIR/snapshots.json if present, otherwise computed by
@@ -26,8 +26,12 @@ modes.png for scenes with at least 3 free complex modes, path.png when the
 centre of mass travels at least 0.6 body diameters, stroke.png for prescribed strokes.
 
 Marks (dashed lines on energy.png and impulse.png, the panels of instants.png)
-are the times given with --mark, otherwise the events of DIR/events.csv
-(columns t,column,kind,value; at most 12 distinct times are marked).
+are the times given with --mark and the events of DIR/events.csv (columns
+t,column,kind,value) that --events selects: `all`, or COLUMN:KIND pairs such as
+kinetic_rigid:max (KIND as events.csv has it; `COLUMN:*` for every kind).
+With neither option the first 12 distinct event times are marked, and stderr
+says how many were left out. instants.png shows at most 16 instants (the first
+ones; stderr says when it leaves some out).
 
 NAME is one of the figure names above (with or without ".png"). A figure whose
 input is missing or unusable is skipped with a message on stderr. The CSV may
@@ -53,6 +57,7 @@ FIGURES = ("trajectory", "energy", "impulse", "phase", "snapshots", "instants", 
            "modes", "path", "stroke")
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 MAX_MARKS = 12
+MAX_INSTANTS = 16
 FIGSIZE = (12.0, 5.0)
 DPI = 110
 
@@ -215,16 +220,27 @@ def read_events(path):
     return events
 
 
-def marks_from_events(events):
-    """At most MAX_MARKS distinct times (events closer than 1e-6 share a line)."""
+def marks_from_events(events, limit=MAX_MARKS):
+    """The distinct times of events (events closer than 1e-6 share a mark), the first `limit`
+    of them (None: all), as (t, label); and how many distinct times were left out."""
     marks = []
     for t, col, kind, _ in events:
         label = "%s %s" % (col, kind)
         if marks and abs(marks[-1][0] - t) < 1e-6:
             marks[-1] = (marks[-1][0], marks[-1][1] + ", " + label)
-        elif len(marks) < MAX_MARKS:
+        else:
             marks.append((t, label))
-    return marks
+    if limit is None or len(marks) <= limit:
+        return marks, 0
+    return marks[:limit], len(marks) - limit
+
+
+def select_events(events, spec):
+    """The events that --events SPEC names: "all", or COLUMN:KIND pairs (KIND may be *)."""
+    if spec == "all":
+        return list(events)
+    pairs = [tuple(p.split(":", 1)) for p in spec.split(",")]
+    return [e for e in events if any(e[1] == c and (k == "*" or e[2] == k) for c, k in pairs)]
 
 
 def draw_marks(ax, run, t=None):
@@ -667,6 +683,10 @@ def fig_instants(run):
         times = [tm for tm in times if np.nanmin(t) - 1e-9 <= tm <= np.nanmax(t) + 1e-9]
     if not times:
         raise Skip("no marked instant inside the run")
+    if len(times) > MAX_INSTANTS:
+        warn("instants.png shows the first %d of %d marked instants (up to t = %.6g); choose "
+             "others with --mark T,... or --events COLUMN:KIND" % (MAX_INSTANTS, len(times), times[MAX_INSTANTS - 1]))
+        times = times[:MAX_INSTANTS]
     snaps = parse_snapshots(run.flow(times=times))
     labels = {round(tm, 6): lab for tm, lab in run.marks}
     for s in snaps:
@@ -1012,10 +1032,31 @@ DRAW = {"trajectory": fig_trajectory, "energy": fig_energy, "impulse": fig_impul
 # ---------------------------------------------------------------- main
 
 def parse_args(argv):
-    usage = ("usage: plot_run.py DIR [--only NAME ...] [--mark t1,t2,...]   (NAME: %s)"
+    usage = ("usage: swim plot DIR [--only NAME ...] [--mark t1,t2,...] [--events all|COLUMN:KIND,...]   (NAME: %s)"
              % ", ".join(FIGURES))
-    outdir, only, mode, marks = None, [], None, None
+    outdir, only, mode, marks, events = None, [], None, None, None
     argv = list(argv)
+    for i in reversed(range(len(argv))):
+        a = argv[i]
+        if a == "--events" or a.startswith("--events="):
+            if a == "--events":
+                if i + 1 >= len(argv):
+                    print("plot_run: --events needs all or COLUMN:KIND,...\n" + usage, file=sys.stderr)
+                    sys.exit(2)
+                text = argv[i + 1]
+                del argv[i:i + 2]
+            else:
+                text = a.split("=", 1)[1]
+                del argv[i]
+            if events is not None:
+                print("plot_run: --events given twice (list every selection in one)", file=sys.stderr)
+                sys.exit(2)
+            ok = text == "all" or (text and all(len(p.split(":")) == 2 and all(p.split(":")) for p in text.split(",")))
+            if not ok:
+                print("plot_run: --events: '%s' is not all or COLUMN:KIND,... (e.g. kinetic_rigid:max,potential:min)"
+                      % text, file=sys.stderr)
+                sys.exit(2)
+            events = text
     while "--mark" in argv or any(a.startswith("--mark=") for a in argv):
         i = next(i for i, a in enumerate(argv) if a == "--mark" or a.startswith("--mark="))
         if argv[i] == "--mark":
@@ -1028,9 +1069,12 @@ def parse_args(argv):
             text = argv[i].split("=", 1)[1]
             del argv[i]
         try:
-            marks = (marks or []) + [float(x) for x in text.split(",") if x.strip()]
+            values = [float(x) for x in text.split(",")]
+            if not values or not all(math.isfinite(v) for v in values):
+                raise ValueError
+            marks = (marks or []) + values
         except ValueError:
-            print("plot_run: --mark: '%s' is not a list of numbers" % text, file=sys.stderr)
+            print("plot_run: --mark: '%s' is not a list of finite numbers" % text, file=sys.stderr)
             sys.exit(2)
     for a in argv:
         if a in ("-h", "--help"):
@@ -1058,11 +1102,11 @@ def parse_args(argv):
     if mode == "only" and not only:
         print("plot_run: --only needs at least one NAME\n" + usage, file=sys.stderr)
         sys.exit(2)
-    return outdir, only, marks
+    return outdir, only, marks, events
 
 
 def main(argv):
-    outdir, only, marks = parse_args(argv)
+    outdir, only, marks, events = parse_args(argv)
     if not os.path.isdir(outdir):
         warn("%s is not a directory" % outdir)
         return 1
@@ -1075,10 +1119,20 @@ def main(argv):
         else:
             warn("unknown figure '%s' (known: %s)" % (name, ", ".join(FIGURES)))
     run = Run(outdir)
-    if marks is not None:
-        run.marks = [(tm, None) for tm in sorted(marks)]
-    else:
-        run.marks = marks_from_events(run.events)
+    run.marks = [(tm, None) for tm in sorted(marks or [])]
+    if events is not None:
+        chosen = select_events(run.events, events)
+        if not chosen:
+            warn("--events %s: no such events in %s/events.csv (it has: %s)" % (
+                events, outdir, ", ".join(sorted({"%s:%s" % (e[1], e[2]) for e in run.events})) or "none"))
+        run.marks += marks_from_events(chosen, None)[0]
+    elif marks is None:
+        run.marks, left = marks_from_events(run.events)
+        if left:
+            warn("marked the first %d of %d event times (t = %.4g ... %.4g); %d left out: --events all marks "
+                 "every one, --events COLUMN:KIND a selection, --mark T,... chosen times"
+                 % (len(run.marks), len(run.marks) + left, run.marks[0][0], run.marks[-1][0], left))
+    run.marks.sort(key=lambda m: m[0])
     if run.csv_error:
         warn(run.csv_error)
     written = 0

@@ -1,6 +1,5 @@
 # runtime/scene: scene-file reading (TOML subset, see runtime/scene/toml.h).
 # Fuzzing (clang/libFuzzer, not part of `make test`): bash tests/fuzz/run_fuzz.sh [SECONDS]
 RUNTIME_SRCS += runtime/scene/toml.c
-TEST_SRCS    += tests/test_toml.c
 # Scenes (swim_scene_load) and forcing laws (swim_expr).
 RUNTIME_SRCS += runtime/scene/scene.c runtime/scene/expr.c

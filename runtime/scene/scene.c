@@ -19,9 +19,21 @@
 typedef struct {
     const char *path;
     const char *table;   /* current table name, for messages */
+    const swim_scene *s; /* its overrides name the values they set (swim_scene_where) */
 } ctx;
 
-/* One line "swim: FILE:LINE: TABLE.KEY: message" on stderr (user text quoted by swim_message). */
+const char *swim_scene_where(const swim_scene *s, int line, char *buf, size_t n)
+{
+    if (line > 0) snprintf(buf, n, "%s:%d", s->path, line);
+    else if (line < 0 && -line <= s->nover) snprintf(buf, n, "%s: --set %s", s->path, s->override_text[-line - 1]);
+    else snprintf(buf, n, "%s", s->path);
+    return buf;
+}
+
+#define WHERE_MAX 512   /* a path of any length is cut in messages, not the message itself */
+
+/* One line "swim: FILE:LINE: TABLE.KEY: message" on stderr (user text quoted by swim_message);
+ * for a value an override set, "swim: FILE: --set KEY=VALUE: TABLE.KEY: message". */
 static void scene_error(const ctx *c, int line, const char *key, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
 static void scene_error(const ctx *c, int line, const char *key, const char *fmt, ...)
@@ -30,7 +42,9 @@ static void scene_error(const ctx *c, int line, const char *key, const char *fmt
     va_start(ap, fmt);
     char *msg = swim_vstrprintf(fmt, ap);
     va_end(ap);
-    swim_message(stderr, "swim: %s:%d: %s%s%s: %s", c->path, line, c->table ? c->table : "",
+    char where[WHERE_MAX];
+    swim_scene_where(c->s, line, where, sizeof where);
+    swim_message(stderr, "swim: %s: %s%s%s: %s", where, c->table ? c->table : "",
                  c->table ? "." : "", key, msg ? msg : fmt);
     free(msg);
 }
@@ -75,7 +89,7 @@ int swim_model_overflow(const swim_kernel *k, const double *c, const double *v, 
 
 int swim_scene_check_model(const swim_scene *s, const swim_kernel *k)
 {
-    ctx c = {.path = s->path, .table = "shape"};
+    ctx c = {.path = s->path, .table = "shape", .s = s};
     switch (swim_model_overflow(k, s->c0, s->dc0, s->rho0, s->rhof)) {
     case SWIM_INPUT_SHAPE:
         ERR(&c, s->line_c0, "c0", "too large: the mass matrices at this shape exceed %g", SWIM_MAGNITUDE_MAX);
@@ -155,8 +169,10 @@ static const toml_value *get_table(ctx *c, const toml_value *root, const char *n
         swim_message(stderr, "swim: %s:1: [%s]: missing table", c->path, name);
         *rc = 2;
     } else if (t && toml_kind_of(t) != TOML_TABLE) {
-        swim_message(stderr, "swim: %s:%d: %s: expected a table [%s], got a %s", c->path,
-                toml_get_key_line(root, name), name, name, toml_kind_name(toml_kind_of(t)));
+        char where[WHERE_MAX];
+        swim_message(stderr, "swim: %s: %s: expected a table [%s], got a %s",
+                     swim_scene_where(c->s, toml_get_key_line(root, name), where, sizeof where), name, name,
+                     toml_kind_name(toml_kind_of(t)));
         *rc = 2;
         t = NULL;
     }
@@ -173,6 +189,30 @@ static int get_integrator(ctx *c, const toml_value *t, const char *key, char *ou
     if (!name) ERR(c, line, key, "expected a string (an integrator name)");
     if (!swim_ode_method_known(name) || strlen(name) >= len)
         ERR(c, line, key, "unknown integrator \"%s\" (%s)", name, swim_ode_method_list());
+    snprintf(out, len, "%s", name);
+    return 0;
+}
+
+/* run.stiff_fallback (absent: leave *out as it is): "none" (out = ""), or an integrator that
+ * takes over where ABM's stiffness diagnostic fires -- an implicit one: any other integrator is
+ * held to the same stability limit and would crawl on, or stop, where ABM stopped. */
+static int get_stiff_fallback(ctx *c, const toml_value *run, char *out, size_t len)
+{
+    const toml_value *v = toml_get(run, "stiff_fallback");
+    if (!v) return 0;
+    const char *name = toml_string(v);
+    const int line = toml_get_key_line(run, "stiff_fallback");
+    const char *allowed = swim_ode_method_list_with(SWIM_ODE_CAP_IMPLICIT);
+    if (!name) ERR(c, line, "stiff_fallback", "expected a string (%s, or \"none\")", allowed);
+    if (strcmp(name, "none") == 0) {
+        out[0] = '\0';
+        return 0;
+    }
+    if (!swim_ode_method_known(name))
+        ERR(c, line, "stiff_fallback", "unknown integrator \"%s\" (%s, or \"none\")", name, allowed);
+    if (!(swim_ode_capabilities(name) & SWIM_ODE_CAP_IMPLICIT) || strlen(name) >= len)
+        ERR(c, line, "stiff_fallback", "integrator \"%s\" is not implicit: it has the stability limit that stops ABM (%s, or \"none\")",
+            name, allowed);
     snprintf(out, len, "%s", name);
     return 0;
 }
@@ -243,8 +283,10 @@ static int check_initial_velocity(ctx *c, const toml_value *shape, swim_scene *s
         ERR(c, line, "dc0", "cannot project onto the constraints: they are dependent at c0");
     s->projection_change = 0.0;
     for (int i = 0; i < s->n; i++) s->projection_change = fmax(s->projection_change, fabs(s->dc0[i] - before[i]));
-    swim_message(stderr, "swim: %s:%d: shape.dc0: violated %s by %.3g; projected onto the constraints "
-                 "(largest change %.3g)", c->path, line, what, worst, s->projection_change);
+    char where[WHERE_MAX];
+    swim_message(stderr, "swim: %s: shape.dc0: violated %s by %.3g; projected onto the constraints "
+                 "(largest change %.3g)", swim_scene_where(s, line, where, sizeof where), what, worst,
+                 s->projection_change);
     return 0;
 }
 
@@ -420,12 +462,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     /* BDF by default: where ABM's stiffness diagnostic fires, a stiff code goes on at a fraction
      * of the cost; "none" keeps the stop with the message naming the remedy */
     snprintf(s->stiff_fallback, sizeof s->stiff_fallback, "cvode-bdf");
-    const toml_value *sf = toml_get(run, "stiff_fallback");
-    if (sf && toml_string(sf) && strcmp(toml_string(sf), "none") == 0) s->stiff_fallback[0] = '\0';
-    else if (sf && toml_string(sf) && !swim_ode_method_known(toml_string(sf)))
-        ERR(c, toml_get_key_line(run, "stiff_fallback"), "stiff_fallback", "unknown integrator \"%s\" (%s, or \"none\")",
-            toml_string(sf), swim_ode_method_list());
-    else if (get_integrator(c, run, "stiff_fallback", s->stiff_fallback, sizeof s->stiff_fallback)) return 2;
+    if (get_stiff_fallback(c, run, s->stiff_fallback, sizeof s->stiff_fallback)) return 2;
     s->projection = 1;
     const toml_value *pj = toml_get(run, "projection");
     if (pj) {
@@ -610,7 +647,20 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
         swim_scene_free(s);
         return 2;
     }
+    if (nov > 0 && !(s->override_text = calloc((size_t)nov, sizeof *s->override_text))) {
+        swim_message(stderr, "swim: %s: out of memory", path);
+        toml_free(root);
+        swim_scene_free(s);
+        return 2;
+    }
     for (int i = 0; i < nov; i++) {
+        if (!(s->override_text[i] = strdup(ov[i].text))) {
+            swim_message(stderr, "swim: %s: out of memory", path);
+            toml_free(root);
+            swim_scene_free(s);
+            return 2;
+        }
+        s->nover = i + 1;
         int bad;
         if (!ov[i].word[0])
             bad = toml_set_number(root, ov[i].table, ov[i].key, ov[i].index, ov[i].value, err, sizeof err);
@@ -626,8 +676,9 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
             swim_scene_free(s);
             return 2;
         }
+        toml_set_origin(root, ov[i].table, ov[i].key, ov[i].index, -(i + 1));
     }
-    ctx c = {path, NULL};
+    ctx c = {path, NULL, s};
     int rc = load_tree(&c, root, s);
     toml_free(root);
     if (rc) swim_scene_free(s);
@@ -823,6 +874,10 @@ void swim_scene_free(swim_scene *s)
         s->stroke_law[k] = NULL;
     }
     s->stroke_count = 0;
+    for (int i = 0; i < s->nover; i++) free(s->override_text[i]);
+    free(s->override_text);
+    s->override_text = NULL;
+    s->nover = 0;
     swim_expr_free(s->forcing);
     free(s->path);
     free(s->title);
@@ -847,8 +902,11 @@ static int setting_error(const swim_scene *s, const swim_run_overrides *cli, int
     va_end(ap);
     if (cli && cli->given[i] && setting_option[i])
         swim_message(stderr, "swim run: --%s: %s", setting_option[i], msg ? msg : fmt);
-    else
-        swim_message(stderr, "swim: %s:%d: %s: %s", s->path, s->setting_line[i], setting_key[i], msg ? msg : fmt);
+    else {
+        char where[WHERE_MAX];
+        swim_message(stderr, "swim: %s: %s: %s", swim_scene_where(s, s->setting_line[i], where, sizeof where),
+                     setting_key[i], msg ? msg : fmt);
+    }
     free(msg);
     return 2;
 }

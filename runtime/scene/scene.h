@@ -101,7 +101,17 @@ typedef struct {
     double param_values[SWIM_PARAMS_MAX];
     int jacobian_exact;               /* [run] jacobian: 1 "exact" (default: the kernel's exact
                                          Jacobian for integrators that use one), 0 "differences" */
+    /* The overrides applied (swim_scene_parse_with), as given: a value an override set has the
+     * "line" -(i + 1) in the line fields above, and messages name override i, not a line of a
+     * file it never was on (swim_scene_where). */
+    char **override_text;             /* nover strings (owned) */
+    int nover;
 } swim_scene;
+
+/* Where a value of scene s came from, for a message: "FILE:LINE" for a line of the file,
+ * "FILE: --set KEY=VALUE" for a value override -(line + 1) set, "FILE" for line 0 (no line).
+ * Written to buf (n bytes, cut if longer); returns buf. */
+const char *swim_scene_where(const swim_scene *s, int line, char *buf, size_t n);
 
 /* Which run settings came from the command line (nonzero: its messages name the option). */
 typedef struct {

@@ -1495,3 +1495,18 @@ int toml_set_bool(toml_value *root, const char *table, const char *key, int valu
     v->b = value != 0;
     return 0;
 }
+
+int toml_set_origin(toml_value *root, const char *table, const char *key, long index, int line)
+{
+    size_t k = root && root->kind == TOML_TABLE ? tab_find(root, table) : NOT_FOUND;
+    toml_value *t = k == NOT_FOUND ? NULL : root->ent[k].val;
+    if (!t || t->kind != TOML_TABLE || (k = tab_find(t, key)) == NOT_FOUND) return -1;
+    toml_value *v = t->ent[k].val;
+    t->ent[k].line = line;   /* messages about the key name the key's line */
+    if (index >= 0) {
+        if (v->kind != TOML_ARRAY || (size_t)index >= v->n) return -1;
+        v = v->items[index];
+    }
+    v->line = line;
+    return 0;
+}

@@ -61,7 +61,7 @@ void toml_free(toml_value *root);
 
 toml_kind toml_kind_of(const toml_value *v);   /* v must not be NULL */
 const char *toml_kind_name(toml_kind k);        /* "table" "array" "string" "integer" "float" "boolean" */
-int toml_line(const toml_value *v);             /* 1-based line; 0 for NULL */
+int toml_line(const toml_value *v);             /* 1-based line (or toml_set_origin's); 0 for NULL */
 
 /* tables (wrong kind / out of range: 0 or NULL) */
 size_t toml_table_size(const toml_value *t);
@@ -97,5 +97,10 @@ int toml_set_string(toml_value *root, const char *table, const char *key, const 
                     char *err, size_t errlen);
 /* The same for a boolean (`--set run.projection=false`): the replaced node must be a boolean. */
 int toml_set_bool(toml_value *root, const char *table, const char *key, int value, char *err, size_t errlen);
+/* Where an override's value came from: sets the line of root[table][key] (the key and its
+ * value, or with index >= 0 the key and item `index`) to `line`, which the caller chooses to
+ * tell overrides from lines of the file (swim's scene reader uses -1, -2, ... for its
+ * overrides). 0, or -1 when there is no such node. */
+int toml_set_origin(toml_value *root, const char *table, const char *key, long index, int line);
 
 #endif

@@ -1,5 +1,2 @@
 # Independent reference implementation used by the tests (tests/reference/ref_model.c).
 TEST_LIB_SRCS += tests/reference/ref_model.c tests/reference/ref_rhs.c
-TEST_SRCS += tests/test_reference.c
-TEST_SRCS += tests/test_rhs.c
-TEST_SRCS += tests/test_jacobian.c
