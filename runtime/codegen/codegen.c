@@ -52,7 +52,7 @@ static uint64_t fnv1a(uint64_t h, const void *data, size_t len)
 #define FNV_START 1469598103934665603ull
 
 /* Size and hash of what can be read from fd (to its end); with copy >= 0 each block is also
- * written there. -1 on a read or write error. */
+ * written there. -1 on a read error, -2 on a write error. */
 static int hash_fd(int fd, uint64_t *hash, long long *size, int copy)
 {
     char buf[65536];
@@ -68,7 +68,7 @@ static int hash_fd(int fd, uint64_t *hash, long long *size, int copy)
         total += n;
         for (ssize_t done = 0; copy >= 0 && done < n;) {
             ssize_t w = write(copy, buf + done, (size_t)(n - done));
-            if (w < 0 && errno != EINTR) return -1;
+            if (w < 0 && errno != EINTR) return -2;
             if (w > 0) done += w;
         }
     }
@@ -464,7 +464,14 @@ static int load_entry(const char *dir, const entry_spec *e, const so_promise *so
     int copy = memfd_create("swim-kernel", MFD_CLOEXEC);
     uint64_t h;
     long long size;
-    int bad = hash_fd(fd, &h, &size, copy) != 0;
+    int bad = hash_fd(fd, &h, &size, copy);
+    if (bad == -2) {
+        /* the copy cannot be written (a file-size limit applies to memory files too): the
+         * checked descriptor itself is hashed again and mapped */
+        close(copy);
+        copy = -1;
+        bad = lseek(fd, 0, SEEK_SET) != 0 || hash_fd(fd, &h, &size, -1) != 0;
+    }
     if (bad || size != so->size || h != so->hash) {
         snprintf(why, len, "kernel.so has %lld bytes%s, the manifest says %lld", bad ? -1 : size,
                  size == so->size ? " of other content" : "", so->size);
