@@ -479,12 +479,17 @@ static int load_entry(const char *dir, const entry_spec *e, const so_promise *so
         close(fd);
         return -1;
     }
-    /* without memory files (very old kernels) the checked descriptor itself is mapped */
+    /* Without memory files (very old kernels) the checked descriptor itself is mapped. The
+     * descriptor stays open while the kernel is loaded: dlopen knows a library by its path, and
+     * /proc/self/fd/N names another file once N is reused, so a second kernel opened under the
+     * same N would be taken for the first. */
+    const int keep = copy >= 0 ? copy : fd;
     char path[64];
-    snprintf(path, sizeof path, "/proc/self/fd/%d", copy >= 0 ? copy : fd);
+    snprintf(path, sizeof path, "/proc/self/fd/%d", keep);
     out->handle = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-    if (copy >= 0) close(copy);
-    close(fd);
+    if (keep != fd) close(fd);
+    if (out->handle) out->loaded_fd1 = keep + 1;
+    else close(keep);
     if (!out->handle) {
         const char *err = dlerror();
         snprintf(why, len, "%s", err ? err : "dlopen failed");
@@ -504,11 +509,7 @@ static int load_entry(const char *dir, const entry_spec *e, const so_promise *so
         out->kernel = dlsym(out->handle, sym);
         if (out->kernel && out->kernel->modes == e->modes) return 0;
     }
-    dlclose(out->handle);
-    out->handle = NULL;
-    out->scene = NULL;
-    out->kernel = NULL;
-    out->stroke = NULL;
+    swim_compiled_close(out);
     snprintf(why, len, "wrong entry");
     return -2;
 }
@@ -927,6 +928,8 @@ int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int
 void swim_compiled_close(swim_compiled *c)
 {
     if (c->handle) dlclose(c->handle);
+    if (c->loaded_fd1 > 0) close(c->loaded_fd1 - 1);
+    c->loaded_fd1 = 0;
     c->handle = NULL;
     c->kernel = NULL;
     c->scene = NULL;
