@@ -123,7 +123,7 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(BUILD)/libswimtest.a $(BUILD)/libswim.a
 $(BUILD)/tests/%.o: CPPFLAGS += -Itests
 
 TEST_SCRIPTS := tests/test_regenerate.sh tests/test_scenes.py tests/test_events.py tests/test_specialized.py tests/test_codegen.py \
-                tests/test_install.sh tests/test_hard.py tests/test_hard_soft.py tests/test_impact.py tests/test_admissible.py tests/test_trust.py tests/test_plot.sh \
+                tests/test_install.sh tests/test_hard.py tests/test_hard_soft.py tests/test_impact.py tests/test_admissible.py tests/test_trust.py tests/test_trust_laws.py tests/test_plot.sh \
                 tests/test_flow.py tests/test_figures.py tests/test_animate.py tests/test_paper.py \
                 tests/test_sweep.py tests/test_sweep_mpi.py tests/test_stroke.py tests/test_jacobian_run.py \
                 tests/test_parameters.py tests/test_sensitivity.py tests/test_floquet.py tests/test_optimize.py

@@ -859,7 +859,7 @@ static int check_stroke_laws(const swim_scene *s)
         double t = swim_expr_defined(s->stroke_expr[k], 0.0, NULL, 0) ? law_finite_until(s, s->stroke_expr[k]) : 0.0;
         if (isfinite(t)) {
             swim_expr_defined(s->stroke_expr[k], t, why, sizeof why);
-            swim_message(stderr, "swim: %s:%d: stroke.%s: \"%s\" is not defined at t = %.9g: %s", s->path,
+            swim_message(stderr, "swim: %s:%d: stroke.%s: \"%s\" is not finite at t = %.9g: %s", s->path,
                          s->stroke_line[k], key, s->stroke_law[k], t, why);
             return 2;
         }
