@@ -5,6 +5,9 @@ With the shape prescribed, the rigid motion follows from (3.21) alone: q* = -Mr^
 runtime (runtime/stroke/) takes Mr^-1 N and K from the kernel of N modes; this file supplies
 c(t), c'(t) -- which (3.21) needs exactly, so they are differentiated here by SymPy and never by
 differences -- and c''(t), which the power the body spends, c'.(K c'' + <Gamma, c', c'>), needs.
+c(t) itself is printed from the law's tree (law.py, Law.c): the function the runtime's
+interpreter validated, bit for bit; SymPy's expression (Law.sympy, the same doubles as numbers)
+serves only the derivatives.
 
 structure (JSON written by runtime/codegen):
     {"format": 1, "key": str, "modes": N, "laws": [[index, "law in t"], ...],

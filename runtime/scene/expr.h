@@ -2,7 +2,9 @@
  * "2*(4*atan(t)^2/pi^2)*cos(t/3)" or, with a scene's [parameters] A and w, "A*sin(w*t)".
  * Grammar: numbers, t, pi, e, parameter names; + - * / ^ (right-assoc.),
  * unary minus, parentheses; functions sin cos tan asin acos atan exp log sqrt abs sinh cosh
- * tanh, and step (Heaviside: 1 for x >= 0, else 0). Compiled once to a small stack program; evaluation allocates nothing. */
+ * tanh, and step (Heaviside: 1 for x >= 0, else 0). Compiled once to a small stack program; evaluation allocates nothing.
+ * Stroke laws c(t) use the same grammar. A generated kernel computes the same operations in the
+ * same order on the same doubles (generator/swimgen/law.py), so its value of a law is this one's. */
 #ifndef SWIM_EXPR_H
 #define SWIM_EXPR_H
 
