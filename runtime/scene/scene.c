@@ -911,19 +911,19 @@ static int setting_error(const swim_scene *s, const swim_run_overrides *cli, int
     return 2;
 }
 
-/* The first time in (0, t_end] where the law is not finite among the samples t_k = k*step
- * (k = 1..count, and t_end), located to within a relative 1e-12 after the last finite sample;
- * inf when every sample is finite. */
+/* The first time in (0, t_end] where the law is not defined (swim_expr_defined: a part of it
+ * is not finite) among the samples t_k = k*step (k = 1..count, and t_end), located to within a
+ * relative 1e-12 after the last sample where it is; inf when it is defined at every sample. */
 static double first_nonfinite(const swim_expr *e, double step, long count, double t_end)
 {
     double prev = 0.0;
     for (long k = 1; k <= count + 1; k++) {
         double t = k <= count ? fmin(k * step, t_end) : t_end;
-        if (!isfinite(swim_expr_eval(e, t))) {
-            double lo = prev, hi = t;   /* finite at lo, not at hi */
+        if (!swim_expr_defined(e, t, NULL, 0)) {
+            double lo = prev, hi = t;   /* defined at lo, not at hi */
             while (hi - lo > 1e-12 * fmax(1.0, hi)) {
                 double mid = 0.5 * (lo + hi);
-                if (isfinite(swim_expr_eval(e, mid))) lo = mid;
+                if (swim_expr_defined(e, mid, NULL, 0)) lo = mid;
                 else hi = mid;
             }
             return hi;
@@ -933,15 +933,34 @@ static double first_nonfinite(const swim_expr *e, double step, long count, doubl
     return INFINITY;
 }
 
-/* Samples of the law on the run's interval: 2^16 equal steps, and the output times (the
- * rows; at most 10^6 of them), where an isolated singularity such as 1/(t-1) typically sits. */
+/* Samples of a law on the run's interval: 2^16 equal steps, and the output times (the rows; at
+ * most 10^6 of them), where an isolated singularity such as 1/(t-1) typically sits. */
 #define LAW_SAMPLES 65536
 #define LAW_ROW_SAMPLES 1000000L
-static double law_finite_until(const swim_scene *s)
+static double law_finite_until(const swim_scene *s, const swim_expr *e)
 {
     long rows = (long)fmin(floor(s->t_end / s->output_step), (double)LAW_ROW_SAMPLES);
-    return fmin(first_nonfinite(s->forcing, s->t_end / LAW_SAMPLES, LAW_SAMPLES, s->t_end),
-                first_nonfinite(s->forcing, s->output_step, rows, s->t_end));
+    return fmin(first_nonfinite(e, s->t_end / LAW_SAMPLES, LAW_SAMPLES, s->t_end),
+                first_nonfinite(e, s->output_step, rows, s->t_end));
+}
+
+/* A stroke law must be defined on the whole run (its kernel has no other law to follow, and
+ * the generator refuses a part that is never finite): at t = 0 and at every sample. 0, or 2
+ * after one line naming the file, the key and the law. */
+static int check_stroke_laws(const swim_scene *s)
+{
+    for (int k = 0; k < s->stroke_count; k++) {
+        char key[24], why[160];
+        swim_coord_name(s->stroke_index[k], key, sizeof key);
+        double t = swim_expr_defined(s->stroke_expr[k], 0.0, NULL, 0) ? law_finite_until(s, s->stroke_expr[k]) : 0.0;
+        if (isfinite(t)) {
+            swim_expr_defined(s->stroke_expr[k], t, why, sizeof why);
+            swim_message(stderr, "swim: %s:%d: stroke.%s: \"%s\" is not finite at t = %.9g: %s", s->path,
+                         s->stroke_line[k], key, s->stroke_law[k], t, why);
+            return 2;
+        }
+    }
+    return 0;
 }
 
 int swim_run_settings_check(swim_scene *s, const swim_run_overrides *cli)
@@ -965,10 +984,11 @@ int swim_run_settings_check(swim_scene *s, const swim_run_overrides *cli)
         return setting_error(s, cli, SWIM_SET_ATOL, "%g is above %g: the states are of order 1", s->atol, SWIM_ATOL_MAX);
     s->forcing_finite_until = INFINITY;
     if (s->forcing) {
-        if (!isfinite(swim_expr_eval(s->forcing, 0.0)))
-            return setting_error(s, NULL, SWIM_SET_LAW, "\"%s\" is not finite at t = 0, the start of the run (value %g)",
-                                 s->forcing_text, swim_expr_eval(s->forcing, 0.0));
-        s->forcing_finite_until = law_finite_until(s);
+        char why[160];
+        if (!swim_expr_defined(s->forcing, 0.0, why, sizeof why))
+            return setting_error(s, NULL, SWIM_SET_LAW, "\"%s\" is not finite at t = 0, the start of the run: %s",
+                                 s->forcing_text, why);
+        s->forcing_finite_until = law_finite_until(s, s->forcing);
     }
-    return 0;
+    return s->stroke ? check_stroke_laws(s) : 0;
 }

@@ -131,10 +131,13 @@ int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene 
 void swim_scene_free(swim_scene *scene);
 
 /* The one check of the run settings, whatever set them: the row cap and the tolerance bounds
- * above, and the forcing law on the run's interval [0, t_end] -- not finite at t0 is an error;
- * the first sampled time where it is not finite later is recorded in forcing_finite_until (the
- * run stops there). 0, or 2 after one line on stderr naming the scene key (FILE:LINE:
- * run.rtol: ...) or, for a setting in `cli`, the option (swim run: --rtol: ...). cli may be NULL. */
+ * above, and the laws on the run's interval [0, t_end], before any kernel is asked for. A law is
+ * finite at t when every part of it is (swim_expr_defined: step(sqrt(-1)) is not). The forcing
+ * law not finite at t0 is an error; the first sampled time where it is not finite later is
+ * recorded in forcing_finite_until (the run stops there). A stroke law not finite at t0 or at
+ * any sample is an error naming its key (stroke.am1). 0, or 2 after one line on stderr naming
+ * the scene key (FILE:LINE: run.rtol: ...) or, for a setting in `cli`, the option (swim run:
+ * --rtol: ...). cli may be NULL. */
 int swim_run_settings_check(swim_scene *scene, const swim_run_overrides *cli);
 
 /* The model's numbers at a state must leave room for the products the right-hand side forms
