@@ -262,22 +262,33 @@ static int make_private_dirs(const char *path)
     return rc;
 }
 
-/* Removes a private folder of this run with what it holds (one level deep: entries' files). */
-static void remove_private(const char *dir)
+/* Removes what `dir` holds whose name contains `part` (everything when part is NULL), folders
+ * with their contents. */
+static void remove_entries(const char *dir, const char *part)
 {
     DIR *d = opendir(dir);
-    if (d) {
-        struct dirent *e;
-        while ((e = readdir(d))) {
-            if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
-            char path[SWIM_CODEGEN_PATH + 300];
-            snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-            struct stat st;
-            if (lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) remove_private(path);
-            else unlink(path);
+    if (!d) return;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
+        if (part && !strstr(e->d_name, part)) continue;
+        char path[SWIM_CODEGEN_PATH + 300];
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        struct stat st;
+        if (lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+            remove_entries(path, NULL);
+            rmdir(path);
+        } else {
+            unlink(path);
         }
-        closedir(d);
     }
+    closedir(d);
+}
+
+/* Removes a private folder of this run with what it holds. */
+static void remove_private(const char *dir)
+{
+    remove_entries(dir, NULL);
     rmdir(dir);
 }
 
@@ -517,18 +528,7 @@ static int load_entry(const char *dir, const entry_spec *e, const so_promise *so
 /* Temporary files of builds that did not finish (the lock is held: no build is running). */
 static void remove_stale(const char *dir)
 {
-    DIR *d = opendir(dir);
-    if (!d) return;
-    struct dirent *e;
-    while ((e = readdir(d))) {
-        if (!strstr(e->d_name, ".tmp")) continue;
-        char path[SWIM_CODEGEN_PATH + 300];
-        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-        struct stat st;
-        if (lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) remove_private(path);
-        else unlink(path);
-    }
-    closedir(d);
+    remove_entries(dir, ".tmp");
 }
 
 /* Generate and compile into `dir` (lock held). 0; -1 on a failure (message printed);
