@@ -41,6 +41,24 @@ def run(scene, name, *args, env=None):
     return p, rows, summary
 
 
+def scene(name, text, folder=None):
+    """Writes `text` to FOLDER/name.toml (TMP by default); its path."""
+    path = os.path.join(folder or TMP, name + ".toml")
+    with open(path, "w") as fh:
+        fh.write(text)
+    return path
+
+
+def swim(*args, **kw):
+    """`swim ARGS` from the repository's root, output captured as text."""
+    return subprocess.run([SWIM, *args], capture_output=True, text=True, cwd=ROOT, **kw)
+
+
+def one_line(p):
+    """Exactly one line on stderr (the form of every refusal)."""
+    return len(p.stderr.strip().splitlines()) == 1
+
+
 def main(namespace, name):
     for fname, fn in sorted(namespace.items()):
         if fname.startswith("test_") and callable(fn):

@@ -893,8 +893,8 @@ static void test_registry(void)
     static const char *const want[] = {"abm", "rk8pd", "msadams", "rkf45", "msbdf", "cvode-adams", "cvode-bdf"};
     static const unsigned caps[] = {
         SWIM_ODE_CAP_PROJECTION | SWIM_ODE_CAP_STEP_TRACE | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_STIFFNESS,
-        0, 0, 0, SWIM_ODE_CAP_JACOBIAN, SWIM_ODE_CAP_EVENTS,
-        SWIM_ODE_CAP_PROJECTION | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_JACOBIAN};
+        0, 0, 0, SWIM_ODE_CAP_JACOBIAN | SWIM_ODE_CAP_IMPLICIT, SWIM_ODE_CAP_EVENTS,
+        SWIM_ODE_CAP_PROJECTION | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_JACOBIAN | SWIM_ODE_CAP_IMPLICIT};
     const char *const *m = swim_ode_methods();
     int i = 0;
     for (; m[i]; i++) {

@@ -115,9 +115,9 @@ def test_bad_input():
         (["--vary", "run.t_end=log:0:2:3"], "START > 0"),
         (["--vary", "run.t_end=1,x"], "item 2 ('x')"),
         (["--vary", "run.t_end=1,2", "--vary", "run.rtol=1e-8", "--zip"], "counts must agree"),
-        (["--vary", "run.t_end=1,-2"], "member 1 (run.t_end=-2): models/example1.toml:19: run.t_end: must be > 0"),
-        (["--vary", "shape.c0.am1=0.5,2"], "member 1 (shape.c0.am1=2): models/example1.toml:14: shape.c0: shape outside"),
-        (["--vary", "shape.dc0.am1=0,1"], "member 1 (shape.dc0.am1=1): models/example1.toml:15: shape.dc0: violates"),
+        (["--vary", "run.t_end=1,-2"], "member 1 (run.t_end=-2): models/example1.toml: --set run.t_end=-2: run.t_end: must be > 0"),
+        (["--vary", "shape.c0.am1=0.5,2"], "member 1 (shape.c0.am1=2): models/example1.toml: --set shape.c0.am1=2: shape.c0: shape outside"),
+        (["--vary", "shape.dc0.am1=0,1"], "member 1 (shape.dc0.am1=1): models/example1.toml: --set shape.dc0.am1=1: shape.dc0: violates"),
         (["--vary", "run.t_end=1", "--set", "run.nokey=3"], "run.nokey: unknown key"),
         (["--vary", "run.t_end=1", "--keep", "all"], "--keep: expected"),
         (["--vary", "run.t_end=1", "--jobs", "0"], "--jobs: 0 is out of range"),
@@ -180,28 +180,53 @@ def test_failing_and_crashing_member():
     check(r[1]["status"] == "failed" and "left the admissible set D" in r[1]["reason"],
           "the failing member's row says why: %r" % r[1]["reason"])
     check(r[0]["status"] == "completed" and r[2]["status"] == "completed", "the others completed")
-    # a member killed by a signal: its row says so, and a resume does not rerun it
+    # a member that crashes (SIGSEGV: its own fault) gets a "crashed" row and is not rerun
     out = os.path.join(TMP, "crash")
-    proc = subprocess.Popen([SWIM, "sweep", EX1, "--out", out, "--quiet", "--jobs", "1", "--t-end", "3000",
-                             "--vary", "shape.dc0.bm2=-0.7,0.7"], cwd=ROOT, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
-    child = None
-    for _ in range(200):
-        time.sleep(0.05)
-        ps = subprocess.run(["pgrep", "-P", str(proc.pid)], capture_output=True, text=True).stdout.split()
-        if ps:
-            child = int(ps[0])
-            break
-    if child:
-        time.sleep(0.3)
-        os.kill(child, signal.SIGKILL)
+    proc, child = start_and_signal(out, "3000", signal.SIGSEGV)
     time.sleep(0.3)
     proc.send_signal(signal.SIGINT)   # stop the second (long) member: it is unfinished
     proc.communicate(timeout=60)
     r = by_id(out)
-    check(child is not None and 0 in r and r[0]["status"] == "crashed" and "signal 9" in r[0]["reason"],
-          "a killed member gets a row 'crashed ... signal 9': %r" % (r.get(0),))
+    check(child is not None and 0 in r and r[0]["status"] == "crashed" and "signal 11" in r[0]["reason"],
+          "a crashing member gets a row 'crashed ... signal 11': %r" % (r.get(0),))
     check(1 not in r and proc.returncode == 1, "SIGINT: the running member is not recorded, exit 1")
+
+
+def start_and_signal(out, t_end, sig):
+    """A two-member sweep; its first member gets `sig` once it runs. (process, member pid)."""
+    proc = subprocess.Popen([SWIM, "sweep", EX1, "--out", out, "--quiet", "--jobs", "1", "--t-end", t_end,
+                             "--vary", "shape.dc0.bm2=-0.7,0.7"], cwd=ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    child = None
+    for _ in range(400):
+        time.sleep(0.02)
+        ps = subprocess.run(["pgrep", "-P", str(proc.pid)], capture_output=True, text=True).stdout.split()
+        if not ps:
+            continue
+        time.sleep(0.2)
+        try:
+            os.kill(int(ps[0]), sig)
+            child = int(ps[0])
+            break
+        except ProcessLookupError:   # a short-lived helper process, not the member
+            continue
+    return proc, child
+
+
+def test_member_stopped_by_a_signal_reruns():
+    """A member killed by someone (SIGTERM, SIGKILL: a scheduler, an operator) did not fail: it is
+    not recorded, and a resume runs it again to completion."""
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        out = os.path.join(TMP, "stopped%d" % sig)
+        proc, child = start_and_signal(out, "8000", sig)
+        proc.communicate(timeout=120)
+        r = by_id(out)
+        check(child is not None and 0 not in r, "a member stopped by signal %d was recorded: %r" % (sig, r.get(0)))
+        p = subprocess.run([SWIM, "sweep", EX1, "--out", out, "--quiet", "--t-end", "8000",
+                            "--vary", "shape.dc0.bm2=-0.7,0.7"], cwd=ROOT, capture_output=True, text=True)
+        r = by_id(out)
+        check(p.returncode == 0 and 0 in r and r[0]["status"] == "completed",
+              "resume after signal %d: member 0 should rerun and complete: %d %r" % (sig, p.returncode, r.get(0)))
 
 
 def test_resume_after_kill9_and_jobs():

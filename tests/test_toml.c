@@ -1,5 +1,6 @@
 /* Tests for the TOML reader (runtime/scene/toml.c): every supported construct, line numbers,
- * a table of malformed inputs with their messages, truncated and mutated documents. */
+ * a table of malformed inputs with their messages, truncated and mutated documents. And the
+ * scene's law interpreter (runtime/scene/expr.c): when a law is defined (every part finite). */
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -7,6 +8,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "scene/expr.h"
 #include "scene/toml.h"
 
 static char err[256];
@@ -736,8 +738,44 @@ static void test_truncated(void)
     CHECK(ok, "mutated documents parse or give a proper error");
 }
 
+/* A law is defined at t when every operation in it is finite there, whatever its value: step
+ * and pow can hide a NaN (step(NaN) = 0, NaN^0 = 1) that the generator, which folds constant
+ * parts, refuses. The first failing operation is named. */
+static void test_law_defined(void)
+{
+    static const struct { const char *law; double t; int defined; const char *why; } cases[] = {
+        {"sin(t)*10^20/(1e20+t)", 0.0, 1, ""},
+        {"step(t - 1)*abs(t)", 0.5, 1, ""},
+        {"step(sqrt(-1))*t", 0.0, 0, "sqrt(-1) is not a finite real number"},
+        {"sqrt(-1)^0 + t", 2.0, 0, "sqrt(-1)"},
+        {"t + 0*log(0)", 0.0, 0, "log(0) is not"},
+        {"step(1/t)", 0.0, 0, "1 / 0 is not"},
+        {"step(1/t)", 1.0, 1, ""},
+        {"(-8)^(1/3) + t", 1.0, 0, "-8 ^ 0.333333 is not"},
+        {"10^400*0", 0.0, 0, "10 ^ 400 is not"},
+        {"step(sqrt(1 - t))", 0.5, 1, ""},
+        {"step(sqrt(1 - t))", 1.5, 0, "sqrt(-0.5)"},
+        {"A*t", 1.0, 1, ""},
+        {"sqrt(A - 1)*t", 1.0, 0, "sqrt(-0.25)"},
+    };
+    static const char *const names[] = {"A"};
+    const double values[] = {0.75};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char e_err[160], why[160] = "";
+        swim_expr *e = swim_expr_compile_params(cases[i].law, names, 1, values, e_err, sizeof e_err);
+        CHECK(e != NULL, "%s: %s", cases[i].law, e_err);
+        if (!e) continue;
+        int d = swim_expr_defined(e, cases[i].t, why, sizeof why);
+        CHECK(d == cases[i].defined && strstr(why, cases[i].why),
+              "%s at t = %g: defined %d (%s), want %d (%s)", cases[i].law, cases[i].t, d, why, cases[i].defined,
+              cases[i].why);
+        swim_expr_free(e);
+    }
+}
+
 int main(void)
 {
+    test_law_defined();
     test_scalars();
     test_keys();
     test_tables();

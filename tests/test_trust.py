@@ -24,25 +24,13 @@ import time
 import numpy as np
 
 import swimtest
-from swimtest import ROOT, SWIM, TMP, check, main
+from swimtest import ROOT, SWIM, TMP, check, main, one_line, scene, swim
 
 BASE = open(os.path.join(ROOT, "models", "example3.toml")).read()
 FORCING = '\n[forcing]\nlaw = "%s"\ndirection = [0,0,1,0,0,1,0,0,0,0,0,0,0,0,0,0]\n'
 
 
-def scene(name, text):
-    path = os.path.join(TMP, name + ".toml")
-    with open(path, "w") as fh:
-        fh.write(text)
-    return path
 
-
-def swim(*args, **kw):
-    return subprocess.run([SWIM, *args], capture_output=True, text=True, cwd=ROOT, **kw)
-
-
-def one_line(p):
-    return len(p.stderr.strip().splitlines()) == 1
 
 
 def read_summary(out):

@@ -274,6 +274,24 @@ def test_kernel_overwritten_while_running():
     check(p.returncode == 0 and "damaged" in p.stderr, "the damaged entry should be rebuilt: %d %s" % (p.returncode, p.stderr))
 
 
+def test_file_size_limit_smaller_than_the_kernel():
+    """RLIMIT_FSIZE below kernel.so's size (it applies to the private copy too): a sound entry
+    still loads, and is neither called damaged nor rebuilt."""
+    import resource
+    cache = os.path.join(TMP, "fsize-cache")
+    shutil.rmtree(cache, ignore_errors=True)
+    env = env_with(SWIM_CACHE=cache)
+    swim_run("fsize-warm", env)
+
+    def limit():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (8192, 8192))
+    out = os.path.join(TMP, "fsize")
+    p = subprocess.run([SWIM, "run", SCENE, "--out", out, "--quiet", "--t-end", "0.1", "--summary-only"],
+                       capture_output=True, text=True, cwd=ROOT, env=env, preexec_fn=limit)
+    check(p.returncode == 0 and "damaged" not in p.stderr, "kernel under a file-size limit: exit %d %s" % (p.returncode, p.stderr))
+
+
 # ---- interrupted builds ------------------------------------------------------------------------
 
 def children_of(pid):

@@ -18,7 +18,7 @@ import time
 import numpy as np
 
 import swimtest
-from swimtest import ROOT, SWIM, TMP, check, main
+from swimtest import ROOT, SWIM, TMP, check, main, one_line, scene, swim
 
 EXAMPLE3 = os.path.join(ROOT, "models", "example3.toml")
 STROKE = os.path.join(ROOT, "models", "stroke_loop.toml")
@@ -26,19 +26,7 @@ BASE = open(EXAMPLE3).read()
 DAMPING = '\n[damping]\ndiagonal = [0,0,0.3,0.3,0.3,0.3,0,0,0,0,0,0,0,0,0,0]\n'
 
 
-def scene(name, text):
-    path = os.path.join(TMP, name + ".toml")
-    with open(path, "w") as fh:
-        fh.write(text)
-    return path
 
-
-def swim(*args, **kw):
-    return subprocess.run([SWIM, *args], capture_output=True, text=True, cwd=ROOT, **kw)
-
-
-def one_line(p):
-    return len(p.stderr.strip().splitlines()) == 1
 
 
 def refused(p, what, *words):

@@ -12,24 +12,12 @@ import os
 import subprocess
 import sys
 
-from swimtest import ROOT, SWIM, TMP, check, main
+from swimtest import ROOT, SWIM, TMP, check, main, one_line, scene, swim
 
 BASE = open(os.path.join(ROOT, "models", "example3.toml")).read()
 
 
-def scene(name, text, folder=TMP):
-    path = os.path.join(folder, name + ".toml")
-    with open(path, "w") as fh:
-        fh.write(text)
-    return path
 
-
-def swim(*args, **kw):
-    return subprocess.run([SWIM, *args], capture_output=True, text=True, cwd=ROOT, **kw)
-
-
-def one_line(p):
-    return len(p.stderr.strip().splitlines()) == 1
 
 
 def with_run_key(line):

@@ -30,6 +30,37 @@ class KernelPrinter(C99CodePrinter):
         """Heaviside with step(0) = 1 (swimgen.law.Step, the runtime's `step`)."""
         return "((%s) >= 0.0 ? 1.0 : 0.0)" % self._print(expr.args[0])
 
+    # Numbers are printed as the doubles they stand for, exactly: an integer beyond 2^53 (C
+    # would read 10^20 as an integer constant it cannot hold, and cut it), a rational with such
+    # terms, and a Float of 53 bits (a law's double: 15 digits would round it) become the
+    # nearest double, written so that it reads back as that double.
+    def _print_Integer(self, expr):
+        if abs(expr.p) <= 2 ** 53:
+            return super()._print_Integer(expr)
+        return self._double(expr.p, 1)
+
+    def _print_Rational(self, expr):
+        if abs(expr.p) <= 2 ** 53 and expr.q <= 2 ** 53:   # both exact: p/q rounds once
+            return super()._print_Rational(expr)
+        return self._double(expr.p, expr.q)
+
+    def _print_Float(self, expr):
+        if expr._prec <= 53:
+            return self._double(float(expr), 1)
+        return super()._print_Float(expr)
+
+    @staticmethod
+    def _double(p, q):
+        """p/q (Python ints, or a float and 1) correctly rounded to a double, as C text."""
+        try:
+            v = p / q   # int / int is correctly rounded
+        except OverflowError:
+            v = float("inf")
+        if v != v or v in (float("inf"), float("-inf")):
+            raise ValueError("the number %s/%s has no C double" % (p, q))
+        text = repr(v)
+        return "(%s)" % text if text.startswith("-") else text
+
     def _print_Pow(self, expr):
         if expr.exp.is_Integer and 2 <= int(expr.exp) <= 4:
             base = self.parenthesize(expr.base, precedence(expr))

@@ -14,10 +14,10 @@ hand-written C in runtime/kernel/ that the emitted file includes.
 import sympy as sp
 
 from .cprint import KernelPrinter, emit_assignments
-from .law import parameter_symbols, parse_law
+from .law import parameter_symbols, parse
 from .model import SwimmerModel
-from .template import (INCLUDE_ASSEMBLY, INCLUDE_SCENE_RHS, KERNEL_HEAD,
-                       QUICK_OPTIMIZATION_BEGIN, QUICK_OPTIMIZATION_END, SCENE_JACOBIAN_PIECES,
+from .template import (INCLUDE_ASSEMBLY, INCLUDE_LAW_FUNCTIONS, INCLUDE_SCENE_RHS,
+                       KERNEL_HEAD, QUICK_OPTIMIZATION_BEGIN, QUICK_OPTIMIZATION_END, SCENE_JACOBIAN_PIECES,
                        SCENE_PIECES,
                        SYMBOLIC_CORE, SYMBOLIC_DERIV, SYMBOLIC_JACOBIAN, TABLE)
 
@@ -176,18 +176,31 @@ def _scene_force_exprs(e, m, structure):
             f[pos[i]] -= term
             power -= term * e.v[pos[i]]
     fo = structure.get("forcing")
-    law = "-"
+    law = None
     if fo and any(i in pos for i in fo["direction"]):
-        law = fo["law"]
-        params = parameter_symbols(fo.get("parameters", []))
-        for i, name in enumerate(fo.get("parameters", [])):
-            names[params[name]] = "p->law_params[%d]" % i   # run-time values
-        ft = parse_law(law, t, params)   # F(t) = f(t) direction (5.1)
+        pnames = list(fo.get("parameters", []))
+        parameter_symbols(pnames)   # refuses a reserved name
+        law = parse(fo["law"], pnames)
+        # F(t) = f(t) direction (5.1). f(t) enters as one value, computed first by law.c (the
+        # interpreter's operations): SymPy never sees, so never rewrites, the law itself.
+        ft = sp.Symbol("law_value", real=True)
+        names[ft] = LAW_VALUE
         for i in fo["direction"]:
             if i in pos:
                 f[pos[i]] += ft * param("direction", i)
                 power += ft * param("direction", i) * e.v[pos[i]]
     return f, power, names, law
+
+
+LAW_VALUE = "law_value"
+
+
+def _law_line(law):
+    """The C statement computing the forcing law's value (see _scene_force_exprs)."""
+    names = {"t": "t"}
+    for i, name in enumerate(law.params):
+        names[name] = "p->law_params[%d]" % i   # run-time values
+    return "    const double %s = %s;" % (LAW_VALUE, law.c(names))
 
 
 def _unused(lines, args):
@@ -201,13 +214,15 @@ def _scene_forces(e, m, structure):
     pr = KernelPrinter(names)
     lines = emit_assignments([("f[%d]" % k, fk) for k, fk in enumerate(f)] + [("*power", power)],
                              pr)
+    if law is not None:
+        lines.insert(0, _law_line(law))
     return "\n".join(_unused(lines, ("t", "x", "v", "p")) + lines), law
 
 
 def _scene_forces_jac(e, m, structure):
     """The partial derivatives of f (at fixed <Gamma, v, v>: the runtime differentiates that
     term) and of the power with respect to the carried x and v, non-zeros only."""
-    f, power, names, _ = _scene_force_exprs(e, m, structure)
+    f, power, names, law = _scene_force_exprs(e, m, structure)
     xs = [m.x[i] for i in m.free]
     out = []
     for k, fk in enumerate(f):
@@ -222,6 +237,8 @@ def _scene_forces_jac(e, m, structure):
             if d != 0:
                 out.append(("%s[%d]" % (arr, s), d))
     lines = emit_assignments(out, KernelPrinter(names))
+    if law is not None and _mentions("".join(lines), LAW_VALUE):   # d power / d v = F.direction
+        lines.insert(0, _law_line(law))
     return "\n".join(_unused(lines, ("t", "x", "v", "p")) + lines)
 
 
@@ -325,7 +342,7 @@ def scene_kernel_source(structure, command):
     d = e.subs(filename="scene kernel",
                what="right-hand side specialized to one scene structure.",
                banner=banner(command), options=options(*opts),
-               structure=c_string(structure["key"]), law=c_comment(law),
+               structure=c_string(structure["key"]), law=c_comment(law.text if law else "-"),
                free_index=", ".join(str(i) for i in m.free),
                force_body=force_body, constraint_body=_scene_constraints(e, m),
                force_jac_body=_scene_forces_jac(e, m, structure),
@@ -333,6 +350,8 @@ def scene_kernel_source(structure, command):
     d.update(_scene_jacobian_subs(e, m))
     text = (KERNEL_HEAD.substitute(d) + _symbolic(m, SYMBOLIC_CORE.substitute(d))
             + INCLUDE_ASSEMBLY)
+    if law is not None:
+        text += INCLUDE_LAW_FUNCTIONS
     return (text + "\n" + SCENE_PIECES.substitute(d)
             + _symbolic(m, SCENE_JACOBIAN_PIECES.substitute(d)) + INCLUDE_SCENE_RHS)
 

@@ -5,6 +5,9 @@ With the shape prescribed, the rigid motion follows from (3.21) alone: q* = -Mr^
 runtime (runtime/stroke/) takes Mr^-1 N and K from the kernel of N modes; this file supplies
 c(t), c'(t) -- which (3.21) needs exactly, so they are differentiated here by SymPy and never by
 differences -- and c''(t), which the power the body spends, c'.(K c'' + <Gamma, c', c'>), needs.
+c(t) itself is printed from the law's tree (law.py, Law.c): the function the runtime's
+interpreter validated, bit for bit; SymPy's expression (Law.sympy, the same doubles as numbers)
+serves only the derivatives.
 
 structure (JSON written by runtime/codegen):
     {"format": 1, "key": str, "modes": N, "laws": [[index, "law in t"], ...],
@@ -17,7 +20,7 @@ import sympy as sp
 
 from .cprint import KernelPrinter, emit_assignments
 from .emit import banner, c_string
-from .law import LawError, parse_law
+from .law import LawError, parse
 
 STROKE_FORMAT = 1
 
@@ -32,16 +35,19 @@ def _smooth(expr):
 
 
 def stroke_laws(structure, t, params):
-    """[(index, c, c', c'')] of the prescribed coordinates as SymPy expressions."""
+    """[(index, law, c, c', c'')] of the prescribed coordinates: the Law (its value is printed
+    from it, operation for operation, as the runtime's interpreter computes it) and c, c', c''
+    as SymPy expressions."""
     out = []
     for index, text in structure["laws"]:
-        c = parse_law(text, t, params)
+        law = parse(text, list(params))
+        c = law.sympy(t, params)
         dc = sp.diff(c, t)
         ddc = sp.diff(dc, t)
         if not _smooth(ddc):
             raise LawError("\"%s\" is not twice differentiable in t (step, or abs at its kink): "
                            "a stroke needs c'' for its power" % text)
-        out.append((int(index), c, dc, ddc))
+        out.append((int(index), law, c, dc, ddc))
     return out
 
 
@@ -57,19 +63,23 @@ def stroke_kernel_source(structure, command):
     if not laws:
         raise ValueError("a stroke needs at least one prescribed coordinate")
     printed = {t: "t"}
+    law_names = {"t": "t"}
     for i, name in enumerate(names):
         printed[params[name]] = "par[%d]" % i
+        law_names[name] = "par[%d]" % i
     pr = KernelPrinter(printed)
     rows = []
-    for k, (_, c, dc, ddc) in enumerate(laws):
-        rows += [("c[%d]" % k, c), ("dc[%d]" % k, dc), ("ddc[%d]" % k, ddc)]
-    lines = emit_assignments(rows, pr)
+    for k, (_, _, _, dc, ddc) in enumerate(laws):
+        rows += [("dc[%d]" % k, dc), ("ddc[%d]" % k, ddc)]
+    # c itself as the interpreter that validated it computes it; its derivatives from SymPy
+    lines = ["    c[%d] = %s;" % (k, law.c(law_names)) for k, (_, law, _, _, _) in enumerate(laws)]
+    lines += emit_assignments(rows, pr)
     body = "\n".join(lines)
     unused = "".join("    (void)%s;\n" % a for a in ("t", "par")
                      if not any(_uses(l, a) for l in lines))
     return STROKE_TEMPLATE.format(
         banner=banner(command), modes=modes, count=len(laws), nparams=len(names),
-        index=", ".join(str(i) for i, _, _, _ in laws),
+        index=", ".join(str(i) for i, _, _, _, _ in laws),
         laws="\n".join(" *   x[%d] = %s" % (i, _comment(text))
                        for (i, text) in structure["laws"]),
         key=c_string(structure["key"]), body=unused + body)
@@ -94,6 +104,7 @@ STROKE_TEMPLATE = """\
  */
 #include <math.h>
 
+#include "kernel/law_functions.h"
 #include "kernel/stroke_kernel.h"
 
 static const int stroke_index[{count}] = {{{index}}};

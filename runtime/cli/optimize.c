@@ -21,8 +21,11 @@
 static volatile int stop_signal;   /* set by SIGINT/SIGTERM; the search ends with what it has */
 static void on_stop(int sig) { stop_signal = sig; }
 
-/* KEY=LO:HI into p->keys[i], lo, hi. 0, or 2 after one line on stderr. */
-static int parse_vary(swim_opt_problem *p, const char *spec)
+/* KEY=LO:HI into p->keys[i], lo, hi. A key is compared with the others and with the --set
+ * overrides by the value it sets, whatever its spelling (shape.c0.am1 is shape.c0[2]): a value
+ * varied twice, or varied and set, would leave one of them a dead variable the search "converges"
+ * over. 0, or 2 after one line on stderr. */
+static int parse_vary(swim_opt_problem *p, const char *spec, const swim_override *sets, int nsets)
 {
     const int i = p->nkeys;
     if (i == SWIM_OPT_MAX_KEYS) {
@@ -52,9 +55,18 @@ static int parse_vary(swim_opt_problem *p, const char *spec)
         swim_message(stderr, "swim optimize: --vary %s: LO and HI must be finite numbers with LO < HI", spec);
         return 2;
     }
+    char target[100];
+    swim_override_target(&p->keys[i], target, sizeof target);
     for (int k = 0; k < i; k++)
-        if (strcmp(p->keys[k].text, key) == 0) {
-            swim_message(stderr, "swim optimize: --vary %s: %s is varied twice", spec, key);
+        if (swim_override_same_target(&p->keys[k], &p->keys[i])) {
+            swim_message(stderr, "swim optimize: --vary %s: varies %s, which --vary %s already varies (vary each "
+                         "value once)", spec, target, p->keys[k].text);
+            return 2;
+        }
+    for (int k = 0; k < nsets; k++)
+        if (swim_override_same_target(&sets[k], &p->keys[i])) {
+            swim_message(stderr, "swim optimize: --set %s: sets %s, which --vary %s varies (the set value would "
+                         "never be used)", sets[k].text, target, spec);
             return 2;
         }
     p->nkeys++;
@@ -161,7 +173,7 @@ int swim_cmd_optimize(int argc, char **argv)
         return 2;
     }
     for (int i = 0; i < nvary; i++)
-        if (parse_vary(&p, vary[i])) return 2;
+        if (parse_vary(&p, vary[i], sets, nsets)) return 2;
     const char *qmax = swim_args_get(opts, nopts, "maximize"), *qmin = swim_args_get(opts, nopts, "minimize");
     if (!!qmax == !!qmin) {
         swim_message(stderr, "swim optimize: give exactly one of --maximize QUANTITY or --minimize QUANTITY (%s)",

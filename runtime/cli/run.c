@@ -943,7 +943,7 @@ static void stop_on_integrator(run_ctx *c, int rc, double t)
         return;
     }
     /* A forcing law that is finite at t0 (checked when the scene is read) may not stay so. */
-    if (s->forced && !isfinite(swim_expr_eval(s->forcing, c->d.last_rhs_t))) {
+    if (s->forced && !swim_expr_defined(s->forcing, c->d.last_rhs_t, NULL, 0)) {
         stop(c, "the forcing law is NaN or Inf at t = %.9g", fmin(c->d.last_rhs_t, s->forcing_finite_until));
         return;
     }

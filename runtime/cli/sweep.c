@@ -52,7 +52,7 @@ int swim_cmd_sweep(int argc, char **argv)
     sigaction(SIGTERM, &sa, &old_term);
 
     const double t0 = now();
-    long next = 0, running = 0, ran = 0, failed = 0, lost = 0;
+    long next = 0, running = 0, ran = 0, failed = 0, interrupted = 0;
     double last_progress = t0;
     char row[2048];
     if (!p.quiet && p.already)
@@ -85,16 +85,18 @@ int swim_cmd_sweep(int argc, char **argv)
         if (slot == slots) continue;
         running_pids[slot] = 0;
         running--;
-        int bad = 0;
-        if (sweep_collect(&p, ids[slot], status, stop_signal != 0, row, sizeof row, &bad)) {
+        int bad = 0, got = sweep_collect(&p, ids[slot], status, stop_signal != 0, row, sizeof row, &bad);
+        if (got > 0) {
             if (sweep_append_row(rows, row) != 0) {
-                swim_message(stderr, "swim sweep: write error on %s/members.csv", p.dir);
+                swim_message(stderr, "swim sweep: cannot append to %s/members.csv: %s", p.dir, strerror(errno));
                 stop_signal = -1;
             }
             ran++;
             failed += bad;
+        } else if (got == 0) {
+            interrupted++;
         } else {
-            lost++;
+            stop_signal = -1;   /* named on stderr; the next members would meet the same disk */
         }
         double t = now();
         if (!p.quiet && t - last_progress > 1.0) {
@@ -105,7 +107,10 @@ int swim_cmd_sweep(int argc, char **argv)
     if (!p.quiet && last_progress > t0) fputc('\n', stderr);
     sigaction(SIGINT, &old_int, NULL);
     sigaction(SIGTERM, &old_term, NULL);
-    fclose(rows);
+    if (fclose(rows) != 0 && !stop_signal) {
+        swim_message(stderr, "swim sweep: cannot write %s/members.csv: %s", p.dir, strerror(errno));
+        stop_signal = -1;
+    }
     const double seconds = now() - t0;
     const long finished = p.already + ran, all_failed = p.already_failed + failed;
     if (stop_signal) {
@@ -120,8 +125,11 @@ int swim_cmd_sweep(int argc, char **argv)
         printf("  rows in %s/members.csv, definition in %s/sweep.json\n", p.dir, p.dir);
         rc = all_failed || finished < p.members ? 1 : 0;
     }
-    if (lost && !stop_signal)
-        swim_message(stderr, "swim sweep: %ld members could not be recorded (see their members/ID/log.txt); rerun to retry them", lost);
+    if (interrupted && !stop_signal)
+        swim_message(stderr, "swim sweep: %ld members were stopped by a signal sent to them (not recorded); run the "
+                     "same command again to rerun them", interrupted);
+    /* The report is the result of the command: a report that could not be written is a failure. */
+    if (sweep_finish_stdout(&p, 1) != 0) rc = 1;
     free(running_pids);
     free(ids);
     sweep_free(&p);

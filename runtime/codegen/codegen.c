@@ -52,7 +52,7 @@ static uint64_t fnv1a(uint64_t h, const void *data, size_t len)
 #define FNV_START 1469598103934665603ull
 
 /* Size and hash of what can be read from fd (to its end); with copy >= 0 each block is also
- * written there. -1 on a read or write error. */
+ * written there. -1 on a read error, -2 on a write error. */
 static int hash_fd(int fd, uint64_t *hash, long long *size, int copy)
 {
     char buf[65536];
@@ -68,7 +68,7 @@ static int hash_fd(int fd, uint64_t *hash, long long *size, int copy)
         total += n;
         for (ssize_t done = 0; copy >= 0 && done < n;) {
             ssize_t w = write(copy, buf + done, (size_t)(n - done));
-            if (w < 0 && errno != EINTR) return -1;
+            if (w < 0 && errno != EINTR) return -2;
             if (w > 0) done += w;
         }
     }
@@ -262,22 +262,33 @@ static int make_private_dirs(const char *path)
     return rc;
 }
 
-/* Removes a private folder of this run with what it holds (one level deep: entries' files). */
-static void remove_private(const char *dir)
+/* Removes what `dir` holds whose name contains `part` (everything when part is NULL), folders
+ * with their contents. */
+static void remove_entries(const char *dir, const char *part)
 {
     DIR *d = opendir(dir);
-    if (d) {
-        struct dirent *e;
-        while ((e = readdir(d))) {
-            if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
-            char path[SWIM_CODEGEN_PATH + 300];
-            snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-            struct stat st;
-            if (lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) remove_private(path);
-            else unlink(path);
+    if (!d) return;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
+        if (part && !strstr(e->d_name, part)) continue;
+        char path[SWIM_CODEGEN_PATH + 300];
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        struct stat st;
+        if (lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+            remove_entries(path, NULL);
+            rmdir(path);
+        } else {
+            unlink(path);
         }
-        closedir(d);
     }
+    closedir(d);
+}
+
+/* Removes a private folder of this run with what it holds. */
+static void remove_private(const char *dir)
+{
+    remove_entries(dir, NULL);
     rmdir(dir);
 }
 
@@ -464,7 +475,14 @@ static int load_entry(const char *dir, const entry_spec *e, const so_promise *so
     int copy = memfd_create("swim-kernel", MFD_CLOEXEC);
     uint64_t h;
     long long size;
-    int bad = hash_fd(fd, &h, &size, copy) != 0;
+    int bad = hash_fd(fd, &h, &size, copy);
+    if (bad == -2) {
+        /* the copy cannot be written (a file-size limit applies to memory files too): the
+         * checked descriptor itself is hashed again and mapped */
+        close(copy);
+        copy = -1;
+        bad = lseek(fd, 0, SEEK_SET) != 0 || hash_fd(fd, &h, &size, -1) != 0;
+    }
     if (bad || size != so->size || h != so->hash) {
         snprintf(why, len, "kernel.so has %lld bytes%s, the manifest says %lld", bad ? -1 : size,
                  size == so->size ? " of other content" : "", so->size);
@@ -472,12 +490,17 @@ static int load_entry(const char *dir, const entry_spec *e, const so_promise *so
         close(fd);
         return -1;
     }
-    /* without memory files (very old kernels) the checked descriptor itself is mapped */
+    /* Without memory files (very old kernels) the checked descriptor itself is mapped. The
+     * descriptor stays open while the kernel is loaded: dlopen knows a library by its path, and
+     * /proc/self/fd/N names another file once N is reused, so a second kernel opened under the
+     * same N would be taken for the first. */
+    const int keep = copy >= 0 ? copy : fd;
     char path[64];
-    snprintf(path, sizeof path, "/proc/self/fd/%d", copy >= 0 ? copy : fd);
+    snprintf(path, sizeof path, "/proc/self/fd/%d", keep);
     out->handle = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-    if (copy >= 0) close(copy);
-    close(fd);
+    if (keep != fd) close(fd);
+    if (out->handle) out->loaded_fd1 = keep + 1;
+    else close(keep);
     if (!out->handle) {
         const char *err = dlerror();
         snprintf(why, len, "%s", err ? err : "dlopen failed");
@@ -497,11 +520,7 @@ static int load_entry(const char *dir, const entry_spec *e, const so_promise *so
         out->kernel = dlsym(out->handle, sym);
         if (out->kernel && out->kernel->modes == e->modes) return 0;
     }
-    dlclose(out->handle);
-    out->handle = NULL;
-    out->scene = NULL;
-    out->kernel = NULL;
-    out->stroke = NULL;
+    swim_compiled_close(out);
     snprintf(why, len, "wrong entry");
     return -2;
 }
@@ -509,18 +528,7 @@ static int load_entry(const char *dir, const entry_spec *e, const so_promise *so
 /* Temporary files of builds that did not finish (the lock is held: no build is running). */
 static void remove_stale(const char *dir)
 {
-    DIR *d = opendir(dir);
-    if (!d) return;
-    struct dirent *e;
-    while ((e = readdir(d))) {
-        if (!strstr(e->d_name, ".tmp")) continue;
-        char path[SWIM_CODEGEN_PATH + 300];
-        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-        struct stat st;
-        if (lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) remove_private(path);
-        else unlink(path);
-    }
-    closedir(d);
+    remove_entries(dir, ".tmp");
 }
 
 /* Generate and compile into `dir` (lock held). 0; -1 on a failure (message printed);
@@ -920,6 +928,8 @@ int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int
 void swim_compiled_close(swim_compiled *c)
 {
     if (c->handle) dlclose(c->handle);
+    if (c->loaded_fd1 > 0) close(c->loaded_fd1 - 1);
+    c->loaded_fd1 = 0;
     c->handle = NULL;
     c->kernel = NULL;
     c->scene = NULL;

@@ -48,6 +48,7 @@ typedef struct {
     const swim_kernel *kernel;            /* the kernel of N modes */
     const swim_scene_kernel *scene;       /* a scene's right-hand side (swim_codegen_scene) */
     void *handle;                         /* dlopen handle, owned (NULL when linked in) */
+    int loaded_fd1;                       /* descriptor of the loaded copy + 1 (0: none), owned */
     char dir[SWIM_CODEGEN_PATH];          /* its cache entry ("" when linked in) */
     char source[SWIM_CODEGEN_PATH + 16];  /* its generated C file */
     int from_cache, generic;

@@ -11,6 +11,8 @@
  * MPI_Recv, which would spin a core that the workers' members need. */
 #include <mpi.h>
 
+#include <errno.h>
+#include <fcntl.h>
 #include <libgen.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -51,11 +53,27 @@ static int member_program(sweep_plan *p)
     return 0;
 }
 
+/* sweep_parse on every rank (each needs the plan), but only rank 0 speaks: the command line is
+ * the same on every rank, so is the verdict, and K ranks must not print one error K times. */
+static int parse(sweep_plan *p, int rank, int argc, char **argv)
+{
+    if (rank == 0) return sweep_parse(p, "sweep", argc, argv, 2);
+    fflush(stderr);
+    int saved = dup(2), null = open("/dev/null", O_WRONLY);
+    if (saved >= 0 && null >= 0) dup2(null, 2);
+    if (null >= 0) close(null);
+    int rc = sweep_parse(p, "sweep", argc, argv, 2);
+    fflush(stderr);
+    if (saved >= 0) { dup2(saved, 2); close(saved); }
+    return rc;
+}
+
 static int deal(sweep_plan *p, int ranks)
 {
     FILE *rows = sweep_open_rows(p);
     if (!rows) return 1;
     long next = 0, ran = 0, failed = 0, handled = 0;
+    int stop = 0;   /* a row or a summary could not be written (named on stderr): deal no more */
     int active = ranks - 1;
     double busy = 0.0, t0 = now();
     long nap = 50000;   /* ns; doubles while idle up to 2 ms: few wake-ups, at most 2 ms of latency */
@@ -75,27 +93,41 @@ static int deal(sweep_plan *p, int ranks)
         long id;
         int finished, bad, off = 0;
         if (sscanf(msg, "%ld %d %d %n", &id, &finished, &bad, &off) == 3 && id >= 0) {
-            if (finished) {
-                if (sweep_append_row(rows, msg + off) != 0) swim_message(stderr, "swim-mpi: write error on members.csv");
+            if (finished > 0) {
+                if (sweep_append_row(rows, msg + off) != 0) {
+                    swim_message(stderr, "swim-mpi: cannot append to %s/members.csv: %s", p->dir, strerror(errno));
+                    stop = 1;
+                }
                 ran++;
                 failed += bad;
+            } else if (finished < 0) {
+                stop = 1;   /* the worker named the file and the reason */
             }
             handled++;
         }
         while (next < p->members && p->finished[next]) next++;
-        long give = next < p->members ? next++ : -1;
+        long give = next < p->members && !stop ? next++ : -1;
         if (give < 0) active--;
         MPI_Send(&give, 1, MPI_LONG, st.MPI_SOURCE, TAG_WORK, MPI_COMM_WORLD);
         busy += now() - tb;
     }
-    fclose(rows);
+    if (fclose(rows) != 0 && !stop) {
+        swim_message(stderr, "swim-mpi: cannot write %s/members.csv: %s", p->dir, strerror(errno));
+        stop = 1;
+    }
     double seconds = now() - t0;
     const long finished = p->already + ran, all_failed = p->already_failed + failed;
+    if (stop) {
+        swim_message(stderr, "swim-mpi: %s: stopped after %ld of %ld members (%ld failed); run the same command "
+                     "again to resume", p->dir, finished, p->members, all_failed);
+        return 1;
+    }
     printf("%s: %ld members, %ld completed, %ld failed (%ld ran now in %.3f s, %.2f members/s on %d worker ranks%s)\n",
            p->dir, p->members, finished - all_failed, all_failed, ran, seconds, seconds > 0 ? ran / seconds : 0.0,
            ranks - 1, p->already ? "; the others were finished before" : "");
     printf("  rank 0: %ld results handled, %.6f s busy (%.2f us per member)\n", handled, busy,
            handled ? 1e6 * busy / handled : 0.0);
+    if (sweep_finish_stdout(p, 0) != 0) return 1;
     return all_failed || finished < p->members ? 1 : 0;
 }
 
@@ -112,7 +144,7 @@ static void work(sweep_plan *p)
         pid_t pid = sweep_spawn(p, m);
         if (pid > 0 && waitpid(pid, &status, 0) == pid)
             finished = sweep_collect(p, m, status, 0, row, sizeof row, &bad);
-        snprintf(msg, sizeof msg, "%ld %d %d %s", m, finished, bad, finished ? row : "");
+        snprintf(msg, sizeof msg, "%ld %d %d %s", m, finished, bad, finished > 0 ? row : "");
     }
 }
 
@@ -132,7 +164,7 @@ int main(int argc, char **argv)
                                     "on one machine without MPI use swim sweep --jobs J");
         rc = 2;
     } else {
-        rc = sweep_parse(&p, "sweep", argc, argv, 2);
+        rc = parse(&p, rank, argc, argv);
         if (!rc) rc = member_program(&p);
         if (!rc && rank == 0) rc = sweep_prepare(&p);
     }

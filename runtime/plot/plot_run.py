@@ -1031,43 +1031,42 @@ DRAW = {"trajectory": fig_trajectory, "energy": fig_energy, "impulse": fig_impul
 
 # ---------------------------------------------------------------- main
 
+def take_values(argv, name, needs, usage):
+    """Removes every `--NAME V` and `--NAME=V` from argv; their values in order."""
+    values, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        if a == "--" + name:
+            if i + 1 >= len(argv):
+                print("plot_run: --%s needs %s\n%s" % (name, needs, usage), file=sys.stderr)
+                sys.exit(2)
+            values.append(argv[i + 1])
+            del argv[i:i + 2]
+        elif a.startswith("--%s=" % name):
+            values.append(a.split("=", 1)[1])
+            del argv[i]
+        else:
+            i += 1
+    return values
+
+
 def parse_args(argv):
     usage = ("usage: swim plot DIR [--only NAME ...] [--mark t1,t2,...] [--events all|COLUMN:KIND,...]   (NAME: %s)"
              % ", ".join(FIGURES))
     outdir, only, mode, marks, events = None, [], None, None, None
     argv = list(argv)
-    for i in reversed(range(len(argv))):
-        a = argv[i]
-        if a == "--events" or a.startswith("--events="):
-            if a == "--events":
-                if i + 1 >= len(argv):
-                    print("plot_run: --events needs all or COLUMN:KIND,...\n" + usage, file=sys.stderr)
-                    sys.exit(2)
-                text = argv[i + 1]
-                del argv[i:i + 2]
-            else:
-                text = a.split("=", 1)[1]
-                del argv[i]
-            if events is not None:
-                print("plot_run: --events given twice (list every selection in one)", file=sys.stderr)
-                sys.exit(2)
-            ok = text == "all" or (text and all(len(p.split(":")) == 2 and all(p.split(":")) for p in text.split(",")))
-            if not ok:
-                print("plot_run: --events: '%s' is not all or COLUMN:KIND,... (e.g. kinetic_rigid:max,potential:min)"
-                      % text, file=sys.stderr)
-                sys.exit(2)
-            events = text
-    while "--mark" in argv or any(a.startswith("--mark=") for a in argv):
-        i = next(i for i, a in enumerate(argv) if a == "--mark" or a.startswith("--mark="))
-        if argv[i] == "--mark":
-            if i + 1 >= len(argv):
-                print("plot_run: --mark needs a list of times\n" + usage, file=sys.stderr)
-                sys.exit(2)
-            text = argv[i + 1]
-            del argv[i:i + 2]
-        else:
-            text = argv[i].split("=", 1)[1]
-            del argv[i]
+    chosen = take_values(argv, "events", "all or COLUMN:KIND,...", usage)
+    if len(chosen) > 1:
+        print("plot_run: --events given twice (list every selection in one)", file=sys.stderr)
+        sys.exit(2)
+    for text in chosen:
+        ok = text == "all" or (text and all(len(p.split(":")) == 2 and all(p.split(":")) for p in text.split(",")))
+        if not ok:
+            print("plot_run: --events: '%s' is not all or COLUMN:KIND,... (e.g. kinetic_rigid:max,potential:min)"
+                  % text, file=sys.stderr)
+            sys.exit(2)
+        events = text
+    for text in take_values(argv, "mark", "a list of times", usage):
         try:
             values = [float(x) for x in text.split(",")]
             if not values or not all(math.isfinite(v) for v in values):

@@ -219,64 +219,59 @@ swim_expr *swim_expr_compile_params(const char *text, const char *const *names, 
     return e;
 }
 
+/* Executes one instruction on the stack st (top st[*sp - 1]); its operands are left in a and b
+ * (for messages). Returns the result, now on top. */
+static inline double exec(const swim_expr *e, const instr *in, double t, double *st, int *sp, double *a,
+                          double *b)
+{
+    switch (in->op) {
+    case OP_NUM: st[(*sp)++] = in->v; break;
+    case OP_T: st[(*sp)++] = *a = t; break;
+    case OP_PAR: st[(*sp)++] = *a = e->values[in->fn]; break;
+    case OP_NEG: *a = st[*sp - 1]; st[*sp - 1] = -*a; break;
+    case OP_FUN: *a = st[*sp - 1]; st[*sp - 1] = funcs[in->fn].f(*a); break;
+    default:
+        *b = st[--*sp];
+        *a = st[*sp - 1];
+        st[*sp - 1] = in->op == OP_ADD ? *a + *b : in->op == OP_SUB ? *a - *b
+                    : in->op == OP_MUL ? *a * *b : in->op == OP_DIV ? *a / *b : pow(*a, *b);
+    }
+    return st[*sp - 1];
+}
+
 double swim_expr_eval(const swim_expr *e, double t)
+{
+    double st[MAX_STACK], a, b;
+    int sp = 0;
+    for (int i = 0; i < e->len; i++) exec(e, &e->code[i], t, st, &sp, &a, &b);
+    return st[0];
+}
+
+/* The operation at `in` with operands a (and b) and its result, as "sqrt(-1)" or "10 ^ 400". */
+static void describe(const instr *in, double a, double b, char *why, size_t len)
+{
+    static const char ops[] = "+-*/^";
+    switch (in->op) {
+    case OP_T: snprintf(why, len, "t = %g is not finite", a); break;
+    case OP_PAR: snprintf(why, len, "parameter %d = %g is not finite", in->fn + 1, a); break;
+    case OP_NEG: snprintf(why, len, "-(%g) is not finite", a); break;
+    case OP_FUN: snprintf(why, len, "%s(%g) is not a finite real number", funcs[in->fn].name, a); break;
+    default: snprintf(why, len, "%g %c %g is not a finite real number", a, ops[in->op - OP_ADD], b);
+    }
+}
+
+int swim_expr_defined(const swim_expr *e, double t, char *why, size_t len)
 {
     double st[MAX_STACK];
     int sp = 0;
     for (int i = 0; i < e->len; i++) {
-        const instr *in = &e->code[i];
-        switch (in->op) {
-        case OP_NUM: st[sp++] = in->v; break;
-        case OP_T: st[sp++] = t; break;
-        case OP_PAR: st[sp++] = e->values[in->fn]; break;
-        case OP_NEG: st[sp - 1] = -st[sp - 1]; break;
-        case OP_FUN: st[sp - 1] = funcs[in->fn].f(st[sp - 1]); break;
-        default: {
-            double b = st[--sp], a = st[sp - 1];
-            st[sp - 1] = in->op == OP_ADD ? a + b : in->op == OP_SUB ? a - b
-                       : in->op == OP_MUL ? a * b : in->op == OP_DIV ? a / b : pow(a, b);
-        }
+        double a = 0.0, b = 0.0;
+        if (!isfinite(exec(e, &e->code[i], t, st, &sp, &a, &b))) {
+            if (why && len) describe(&e->code[i], a, b, why, len);
+            return 0;
         }
     }
-    return st[0];
-}
-
-int swim_expr_to_c(const swim_expr *e, char *buf, size_t len)
-{
-    /* Rebuild infix text with full parentheses from the stack program. */
-    char *st[MAX_STACK];
-    int sp = 0, ok = 1;
-    for (int i = 0; i < e->len && ok; i++) {
-        const instr *in = &e->code[i];
-        char *s = NULL;
-        size_t need;
-        switch (in->op) {
-        case OP_NUM: need = 32; s = malloc(need); if (s) snprintf(s, need, "%.17g", in->v); break;
-        case OP_T: s = strdup("t"); break;
-        case OP_PAR: need = 40; s = malloc(need); if (s) snprintf(s, need, "p->law_params[%d]", in->fn); break;
-        case OP_NEG: need = strlen(st[sp - 1]) + 4; s = malloc(need);
-            if (s) snprintf(s, need, "(-%s)", st[sp - 1]);
-            free(st[--sp]); break;
-        case OP_FUN: need = strlen(st[sp - 1]) + 32; s = malloc(need);
-            if (s && in->fn == FUN_STEP) snprintf(s, need, "((%s) >= 0.0 ? 1.0 : 0.0)", st[sp - 1]);
-            else if (s) snprintf(s, need, "%s(%s)", in->fn == FUN_ABS ? "fabs" : funcs[in->fn].name, st[sp - 1]);
-            free(st[--sp]); break;
-        default: {
-            char *b = st[--sp], *a = st[--sp];
-            need = strlen(a) + strlen(b) + 16;
-            s = malloc(need);
-            if (s) {
-                if (in->op == OP_POW) snprintf(s, need, "pow(%s, %s)", a, b);
-                else snprintf(s, need, "(%s %c %s)", a, "+-*/"[in->op - OP_ADD], b);
-            }
-            free(a); free(b);
-        }
-        }
-        if (!s) ok = 0; else st[sp++] = s;
-    }
-    int n = ok && sp == 1 ? snprintf(buf, len, "%s", st[0]) : -1;
-    while (sp > 0) free(st[--sp]);
-    return n;
+    return 1;
 }
 
 void swim_expr_free(swim_expr *e)

@@ -637,6 +637,16 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
         swim_scene_free(s);
         return 2;
     }
+    int earlier, j = swim_override_conflict(ov, nov, &earlier);
+    if (j >= 0) {
+        char target[100];
+        swim_override_target(&ov[j], target, sizeof target);
+        swim_message(stderr, "swim: %s: --set %s: sets %s, which --set %s already sets to another value "
+                     "(give each value once)", path, ov[j].text, target, ov[earlier].text);
+        toml_free(root);
+        swim_scene_free(s);
+        return 2;
+    }
     if (nov > 0 && !(s->override_text = calloc((size_t)nov, sizeof *s->override_text))) {
         swim_message(stderr, "swim: %s: out of memory", path);
         toml_free(root);
@@ -677,7 +687,7 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
 
 /* The whole file in a new buffer, refused before reading when it is not a regular file of at
  * most SWIM_SCENE_MAX_BYTES (a pipe is read up to that size). NULL after one line on stderr. */
-static char *read_scene_file(const char *path, size_t *len)
+char *swim_scene_read(const char *path, size_t *len)
 {
     FILE *f = fopen(path, "rb");
     if (!f) {
@@ -708,6 +718,7 @@ static char *read_scene_file(const char *path, size_t *len)
         free(buf);
         return NULL;
     }
+    buf[got] = '\0';
     *len = got;
     return buf;
 }
@@ -726,7 +737,7 @@ int swim_scene_load_with(const char *path, const swim_override *ov, int nov, swi
 {
     memset(s, 0, sizeof *s);
     size_t len;
-    char *buf = read_scene_file(path, &len);
+    char *buf = swim_scene_read(path, &len);
     if (!buf) return 2;
     int rc = swim_scene_parse_with(buf, len, path, ov, nov, s);
     free(buf);
@@ -827,6 +838,33 @@ int swim_override_parse(const char *text, swim_override *o, char *err, size_t er
     return 0;
 }
 
+void swim_override_target(const swim_override *o, char *buf, size_t len)
+{
+    if (o->index < 0) snprintf(buf, len, "%s.%s", o->table, o->key);
+    else snprintf(buf, len, "%s.%s[%ld]", o->table, o->key, o->index);
+}
+
+int swim_override_same_target(const swim_override *a, const swim_override *b)
+{
+    return strcmp(a->table, b->table) == 0 && strcmp(a->key, b->key) == 0 &&
+           (a->index == b->index || a->index < 0 || b->index < 0);
+}
+
+int swim_override_conflict(const swim_override *ov, int n, int *earlier)
+{
+    for (int j = 1; j < n; j++)
+        for (int i = 0; i < j; i++) {
+            if (!swim_override_same_target(&ov[i], &ov[j])) continue;
+            const int same = ov[i].index == ov[j].index && strcmp(ov[i].word, ov[j].word) == 0 &&
+                             (ov[i].word[0] || ov[i].value == ov[j].value);
+            if (!same) {
+                *earlier = i;
+                return j;
+            }
+        }
+    return -1;
+}
+
 void swim_scene_free(swim_scene *s)
 {
     for (int k = 0; k < s->stroke_count; k++) {
@@ -873,19 +911,19 @@ static int setting_error(const swim_scene *s, const swim_run_overrides *cli, int
     return 2;
 }
 
-/* The first time in (0, t_end] where the law is not finite among the samples t_k = k*step
- * (k = 1..count, and t_end), located to within a relative 1e-12 after the last finite sample;
- * inf when every sample is finite. */
+/* The first time in (0, t_end] where the law is not defined (swim_expr_defined: a part of it
+ * is not finite) among the samples t_k = k*step (k = 1..count, and t_end), located to within a
+ * relative 1e-12 after the last sample where it is; inf when it is defined at every sample. */
 static double first_nonfinite(const swim_expr *e, double step, long count, double t_end)
 {
     double prev = 0.0;
     for (long k = 1; k <= count + 1; k++) {
         double t = k <= count ? fmin(k * step, t_end) : t_end;
-        if (!isfinite(swim_expr_eval(e, t))) {
-            double lo = prev, hi = t;   /* finite at lo, not at hi */
+        if (!swim_expr_defined(e, t, NULL, 0)) {
+            double lo = prev, hi = t;   /* defined at lo, not at hi */
             while (hi - lo > 1e-12 * fmax(1.0, hi)) {
                 double mid = 0.5 * (lo + hi);
-                if (isfinite(swim_expr_eval(e, mid))) lo = mid;
+                if (swim_expr_defined(e, mid, NULL, 0)) lo = mid;
                 else hi = mid;
             }
             return hi;
@@ -895,15 +933,34 @@ static double first_nonfinite(const swim_expr *e, double step, long count, doubl
     return INFINITY;
 }
 
-/* Samples of the law on the run's interval: 2^16 equal steps, and the output times (the
- * rows; at most 10^6 of them), where an isolated singularity such as 1/(t-1) typically sits. */
+/* Samples of a law on the run's interval: 2^16 equal steps, and the output times (the rows; at
+ * most 10^6 of them), where an isolated singularity such as 1/(t-1) typically sits. */
 #define LAW_SAMPLES 65536
 #define LAW_ROW_SAMPLES 1000000L
-static double law_finite_until(const swim_scene *s)
+static double law_finite_until(const swim_scene *s, const swim_expr *e)
 {
     long rows = (long)fmin(floor(s->t_end / s->output_step), (double)LAW_ROW_SAMPLES);
-    return fmin(first_nonfinite(s->forcing, s->t_end / LAW_SAMPLES, LAW_SAMPLES, s->t_end),
-                first_nonfinite(s->forcing, s->output_step, rows, s->t_end));
+    return fmin(first_nonfinite(e, s->t_end / LAW_SAMPLES, LAW_SAMPLES, s->t_end),
+                first_nonfinite(e, s->output_step, rows, s->t_end));
+}
+
+/* A stroke law must be defined on the whole run (its kernel has no other law to follow, and
+ * the generator refuses a part that is never finite): at t = 0 and at every sample. 0, or 2
+ * after one line naming the file, the key and the law. */
+static int check_stroke_laws(const swim_scene *s)
+{
+    for (int k = 0; k < s->stroke_count; k++) {
+        char key[24], why[160];
+        swim_coord_name(s->stroke_index[k], key, sizeof key);
+        double t = swim_expr_defined(s->stroke_expr[k], 0.0, NULL, 0) ? law_finite_until(s, s->stroke_expr[k]) : 0.0;
+        if (isfinite(t)) {
+            swim_expr_defined(s->stroke_expr[k], t, why, sizeof why);
+            swim_message(stderr, "swim: %s:%d: stroke.%s: \"%s\" is not finite at t = %.9g: %s", s->path,
+                         s->stroke_line[k], key, s->stroke_law[k], t, why);
+            return 2;
+        }
+    }
+    return 0;
 }
 
 int swim_run_settings_check(swim_scene *s, const swim_run_overrides *cli)
@@ -927,10 +984,11 @@ int swim_run_settings_check(swim_scene *s, const swim_run_overrides *cli)
         return setting_error(s, cli, SWIM_SET_ATOL, "%g is above %g: the states are of order 1", s->atol, SWIM_ATOL_MAX);
     s->forcing_finite_until = INFINITY;
     if (s->forcing) {
-        if (!isfinite(swim_expr_eval(s->forcing, 0.0)))
-            return setting_error(s, NULL, SWIM_SET_LAW, "\"%s\" is not finite at t = 0, the start of the run (value %g)",
-                                 s->forcing_text, swim_expr_eval(s->forcing, 0.0));
-        s->forcing_finite_until = law_finite_until(s);
+        char why[160];
+        if (!swim_expr_defined(s->forcing, 0.0, why, sizeof why))
+            return setting_error(s, NULL, SWIM_SET_LAW, "\"%s\" is not finite at t = 0, the start of the run: %s",
+                                 s->forcing_text, why);
+        s->forcing_finite_until = law_finite_until(s, s->forcing);
     }
-    return 0;
+    return s->stroke ? check_stroke_laws(s) : 0;
 }

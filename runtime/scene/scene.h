@@ -120,16 +120,24 @@ typedef struct {
 
 /* 0 on success; 2 after printing a one-line error naming the file, the key and the value. */
 int swim_scene_load(const char *path, swim_scene *scene);
+/* The scene file's text, read once into a new buffer (NUL-terminated, *len bytes), refused
+ * before reading when it is not a regular file of at most SWIM_SCENE_MAX_BYTES: for a command
+ * that parses one scene many times (swim sweep), so that every parse sees the same text even if
+ * the file is edited meanwhile. NULL after one line on stderr. */
+char *swim_scene_read(const char *path, size_t *len);
 /* The same on text already in memory (len bytes, not necessarily NUL-terminated); `path` names
  * it in messages. */
 int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *scene);
 void swim_scene_free(swim_scene *scene);
 
 /* The one check of the run settings, whatever set them: the row cap and the tolerance bounds
- * above, and the forcing law on the run's interval [0, t_end] -- not finite at t0 is an error;
- * the first sampled time where it is not finite later is recorded in forcing_finite_until (the
- * run stops there). 0, or 2 after one line on stderr naming the scene key (FILE:LINE:
- * run.rtol: ...) or, for a setting in `cli`, the option (swim run: --rtol: ...). cli may be NULL. */
+ * above, and the laws on the run's interval [0, t_end], before any kernel is asked for. A law is
+ * finite at t when every part of it is (swim_expr_defined: step(sqrt(-1)) is not). The forcing
+ * law not finite at t0 is an error; the first sampled time where it is not finite later is
+ * recorded in forcing_finite_until (the run stops there). A stroke law not finite at t0 or at
+ * any sample is an error naming its key (stroke.am1). 0, or 2 after one line on stderr naming
+ * the scene key (FILE:LINE: run.rtol: ...) or, for a setting in `cli`, the option (swim run:
+ * --rtol: ...). cli may be NULL. */
 int swim_run_settings_check(swim_scene *scene, const swim_run_overrides *cli);
 
 /* The model's numbers at a state must leave room for the products the right-hand side forms
@@ -166,9 +174,20 @@ int swim_override_key(const char *key, swim_override *o, char *err, size_t errle
 /* Parses KEY=VALUE (VALUE a finite number, or a word of letters, digits, '-' and '_' that is
  * set as a string). 0, or -1 with a one-line reason in err. */
 int swim_override_parse(const char *text, swim_override *o, char *err, size_t errlen);
+/* The value an override sets, spelled one way: TABLE.KEY, or TABLE.KEY[I] for an item
+ * (shape.c0.am1 and shape.c0[2] both name shape.c0[2]). */
+void swim_override_target(const swim_override *o, char *buf, size_t len);
+/* 1 when a and b set one value: the same table and key, and the same item or one of them the
+ * whole key. Commands that take several overrides compare them with this, never by their text,
+ * or two spellings of one key would both be accepted and one of them silently lost. */
+int swim_override_same_target(const swim_override *a, const swim_override *b);
+/* The first override of ov[0..n) that sets a value an earlier one sets differently (another
+ * value, or the whole key against one item): its index, with the earlier one's in *earlier; or
+ * -1. Given twice with the same value, an override is not ambiguous and not a conflict. */
+int swim_override_conflict(const swim_override *ov, int n, int *earlier);
 /* swim_scene_load / swim_scene_parse with overrides applied first; an override that does not
- * fit the file (no such table, not a number, index out of range) is one line
- * "swim: FILE: --set KEY=VALUE: reason" and 2. */
+ * fit the file (no such table, not a number, index out of range) or that conflicts with an
+ * earlier one (swim_override_conflict) is one line "swim: FILE: --set KEY=VALUE: reason" and 2. */
 int swim_scene_load_with(const char *path, const swim_override *ov, int nov, swim_scene *scene);
 int swim_scene_parse_with(const char *text, size_t len, const char *path, const swim_override *ov,
                           int nov, swim_scene *scene);

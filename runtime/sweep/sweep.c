@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -107,7 +108,8 @@ double sweep_value(const sweep_plan *p, long m, int v)
 
 /* --------------------------------------------------------------- options */
 
-static int add_set(sweep_plan *p, const char *text)
+/* One fixed override; option names the run option it came from (t-end, ...), NULL for a --set. */
+static int add_set(sweep_plan *p, const char *text, const char *option)
 {
     char err[256];
     if (p->nsets >= SWEEP_MAX_SETS) {
@@ -118,13 +120,56 @@ static int add_set(sweep_plan *p, const char *text)
         swim_message(stderr, "swim %s: --set: %s", p->cmd, err);
         return 2;
     }
-    p->nsets++;
+    p->set_option[p->nsets++] = option;
+    return 0;
+}
+
+/* How fixed override i was given, for messages: "--set KEY=VALUE" or "--t-end VALUE". */
+static void set_label(const sweep_plan *p, int i, char *buf, size_t len)
+{
+    if (p->set_option[i]) snprintf(buf, len, "--%s %s", p->set_option[i], strchr(p->sets[i].text, '=') + 1);
+    else snprintf(buf, len, "--set %s", p->sets[i].text);
+}
+
+/* Each value is varied or set once, whatever the spelling of its key (shape.c0.am1 and
+ * shape.c0[2] are one value): a second --vary of it, or a --set of a varied value, would be
+ * dead (one of them never reaches the members, yet members.csv would show its values), and two
+ * --set of it with different values are ambiguous. 0, or 2 after one line. */
+static int check_distinct_keys(const sweep_plan *p)
+{
+    char target[100], a[200], b[200];
+    for (int i = 0; i < p->nvary; i++) {
+        swim_override_target(&p->vary[i].tmpl, target, sizeof target);
+        for (int j = 0; j < i; j++)
+            if (swim_override_same_target(&p->vary[j].tmpl, &p->vary[i].tmpl)) {
+                swim_message(stderr, "swim %s: --vary %s: varies %s, which --vary %s already varies (vary each "
+                             "value once)", p->cmd, p->vary[i].key, target, p->vary[j].key);
+                return 2;
+            }
+        for (int j = 0; j < p->nsets; j++)
+            if (swim_override_same_target(&p->sets[j], &p->vary[i].tmpl)) {
+                set_label(p, j, a, sizeof a);
+                swim_message(stderr, "swim %s: %s: sets %s, which --vary %s varies (the set value would never be "
+                             "used)", p->cmd, a, target, p->vary[i].key);
+                return 2;
+            }
+    }
+    int earlier, j = swim_override_conflict(p->sets, p->nsets, &earlier);
+    if (j >= 0) {
+        swim_override_target(&p->sets[j], target, sizeof target);
+        set_label(p, j, a, sizeof a);
+        set_label(p, earlier, b, sizeof b);
+        swim_message(stderr, "swim %s: %s: sets %s, which %s already sets to another value (give each value "
+                     "once)", p->cmd, a, target, b);
+        return 2;
+    }
     return 0;
 }
 
 int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first)
 {
     memset(p, 0, sizeof *p);
+    p->lock_fd = -1;
     snprintf(p->cmd, sizeof p->cmd, "%s", cmd);
     const char *varies[SWEEP_MAX_VARY + 1], *sets[SWEEP_MAX_SETS];
     int nv = swim_args_take_all(cmd, &argc, argv, first, "vary", varies, SWEEP_MAX_VARY);
@@ -170,11 +215,6 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
             swim_message(stderr, "swim %s: --vary %s: %s", cmd, varies[i], err);
             return 2;
         }
-        for (int j = 0; j < i; j++)
-            if (strcmp(p->vary[j].key, w->key) == 0) {
-                swim_message(stderr, "swim %s: --vary %s: key varied twice", cmd, w->key);
-                return 2;
-            }
         if (sweep_parse_spec(w->spec, &w->values, &w->count, err, sizeof err) != 0) {
             swim_message(stderr, "swim %s: --vary %s: %s", cmd, w->key, err);
             return 2;
@@ -214,10 +254,11 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
         if ((v = swim_args_get(opts, nopts, as_set[i][0]))) {
             char text[200];
             snprintf(text, sizeof text, "%s=%s", as_set[i][1], v);
-            if (add_set(p, text)) return 2;
+            if (add_set(p, text, as_set[i][0])) return 2;
         }
     for (int i = 0; i < ns; i++)
-        if (add_set(p, sets[i])) return 2;
+        if (add_set(p, sets[i], NULL)) return 2;
+    if (check_distinct_keys(p)) return 2;
     if ((v = swim_args_get(opts, nopts, "integrator"))) {
         int known = 0;
         for (const char *const *m = swim_ode_methods(); *m; m++) known |= strcmp(*m, v) == 0;
@@ -245,6 +286,10 @@ void sweep_free(sweep_plan *p)
     for (int i = 0; i < p->nvary; i++) free(p->vary[i].values);
     free(p->finished);
     p->finished = NULL;
+    free(p->scene_text);
+    p->scene_text = NULL;
+    if (p->lock_fd >= 0) close(p->lock_fd);   /* releases DIR's lock */
+    p->lock_fd = -1;
 }
 
 /* --------------------------------------------------------- member scenes */
@@ -271,17 +316,50 @@ static void member_label(const sweep_plan *p, long m, char *buf, size_t len)
     if (k > 0 && (size_t)k < len) snprintf(buf + k, len - (size_t)k, ")");
 }
 
-/* Loads member m's scene with stderr captured: the loader's one-line message is re-emitted with
- * the member named in front of it. 0 or 2. */
-static int load_member(const sweep_plan *p, long m, swim_scene *s)
+/* The kernels of N modes met while validating the members, one per N, open until the end of
+ * sweep_prepare (the magnitude check of every member needs its N's kernel). */
+typedef struct {
+    swim_compiled kn[SWIM_KERNEL_MAX_MODES + 1];
+    unsigned char open[SWIM_KERNEL_MAX_MODES + 1];
+} mode_kernels;
+
+static void mode_kernels_close(mode_kernels *mk)
+{
+    for (int n = 0; n <= SWIM_KERNEL_MAX_MODES; n++)
+        if (mk->open[n]) swim_compiled_close(&mk->kn[n]);
+    memset(mk->open, 0, sizeof mk->open);
+}
+
+/* A member's scene as swim run checks it: the scene reader on the text read once (the file may
+ * have changed since), then, with mk, the magnitude check of its model (swim_scene_check_model:
+ * a density of 1e308 passes the reader but overflows the mass matrices). 0 or 2, or 1 when no
+ * kernel of its N could be had. */
+static int check_member(const sweep_plan *p, long m, swim_scene *s, mode_kernels *mk)
 {
     swim_override ov[SWEEP_MAX_SETS + SWEEP_MAX_VARY];
     int nov = member_overrides(p, m, ov);
+    int rc = swim_scene_parse_with(p->scene_text, p->scene_len, p->scene, ov, nov, s);
+    if (rc || !mk) return rc;
+    const int n = s->modes;
+    if (n < 1 || n > SWIM_KERNEL_MAX_MODES) return 0;   /* the reader refuses these */
+    if (!mk->open[n]) {
+        if (swim_codegen_kernel(n, &mk->kn[n], 0) != 0) rc = 1;
+        else mk->open[n] = 1;
+    }
+    if (!rc) rc = swim_scene_check_model(s, mk->kn[n].kernel);
+    if (rc) swim_scene_free(s);
+    return rc;
+}
+
+/* Loads member m's scene (check_member) with stderr captured: the one-line message is re-emitted
+ * with the member named in front of it. 0, 2, or 1 (no kernel). */
+static int load_member(const sweep_plan *p, long m, swim_scene *s, mode_kernels *mk)
+{
     fflush(stderr);
     FILE *cap = tmpfile();
     int saved = dup(2);
     if (cap && saved >= 0) dup2(fileno(cap), 2);
-    int rc = swim_scene_load_with(p->scene, ov, nov, s);
+    int rc = check_member(p, m, s, mk);
     fflush(stderr);
     if (cap && saved >= 0) { dup2(saved, 2); close(saved); }
     if (rc != 0) {
@@ -333,10 +411,11 @@ static char *read_file(const char *path, size_t *len)
  * ranks, --quiet), so a sweep may be resumed with other resources. */
 static char *definition(const sweep_plan *p)
 {
-    size_t len = 0, n = 0;
-    char *text = read_file(p->scene, &n), *out = NULL;
+    size_t len = 0, n = p->scene_len;
+    const char *text = p->scene_text;
+    char *out = NULL;
     FILE *f = open_memstream(&out, &len);
-    if (!f) { free(text); return NULL; }
+    if (!f) return NULL;
     fprintf(f, "{\n  \"scene\": ");
     swim_json_string(f, p->scene);
     fprintf(f, ",\n  \"scene_fnv1a64\": \"%016llx\",\n  \"members\": %ld,\n  \"zip\": %s,\n  \"vary\": [",
@@ -361,42 +440,102 @@ static char *definition(const sweep_plan *p)
             p->generic ? "true" : "false", p->no_projection ? "true" : "false",
             p->keep_trajectories ? "trajectories" : "summaries");
     fclose(f);
-    free(text);
     return out;
 }
 
+/* text replaces path atomically; 0, or -1 with errno set (the reason a message names). */
 static int write_atomic(const char *path, const char *text)
 {
-    char tmp[1100];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f) return -1;
-    int bad = fputs(text, f) < 0;
-    bad |= fflush(f) != 0;
-    bad |= fsync(fileno(f)) != 0;
-    bad |= fclose(f) != 0;
-    if (bad || rename(tmp, path) != 0) { remove(tmp); return -1; }
+    return swim_replace_file(path, text, strlen(text));
+}
+
+/* DIR/sweep.lock, flock-ed for the whole sweep (until sweep_free): two sweeps into one DIR would
+ * run members twice, rebuild members.csv under each other's appends (rows into a file already
+ * renamed away) and take each other's running members for crashed ones. The lock is the kernel's,
+ * so a sweep killed by any signal releases it; the pid written into the file only names the
+ * holder in the refusal. 0, or 2 (DIR in use) or 1 (the lock file cannot be had). */
+static int lock_dir(sweep_plan *p)
+{
+    char path[1100], holder[128] = "";
+    snprintf(path, sizeof path, "%s/sweep.lock", p->dir);
+    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) {
+        swim_message(stderr, "swim %s: cannot open %s: %s", p->cmd, path, strerror(errno));
+        return 1;
+    }
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        const int busy = errno == EWOULDBLOCK;
+        ssize_t n = busy ? pread(fd, holder, sizeof holder - 1, 0) : -1;
+        holder[n > 0 ? n : 0] = '\0';
+        holder[strcspn(holder, "\n")] = '\0';
+        if (busy)
+            swim_message(stderr, "swim %s: --out: '%s' is in use by another sweep (%s%s); wait for it to end or "
+                         "use another --out", p->cmd, p->dir, holder[0] ? "pid " : "its pid unknown", holder);
+        else
+            swim_message(stderr, "swim %s: cannot lock %s: %s", p->cmd, path, strerror(errno));
+        close(fd);
+        return busy ? 2 : 1;
+    }
+    /* Who holds it, for a second sweep's message only: a failed write here (a full disk) costs
+     * nothing but that name, and the writes of the sweep proper report it. */
+    char host[64] = "";
+    gethostname(host, sizeof host - 1);
+    int len = snprintf(holder, sizeof holder, "%ld on %s\n", (long)getpid(), host[0] ? host : "this host");
+    if (ftruncate(fd, 0) != 0 || pwrite(fd, holder, (size_t)len, 0) != len) {
+        /* not reported: see above */
+    }
+    p->lock_fd = fd;
     return 0;
 }
 
-/* A new sweep needs an empty (or absent) directory; an existing one must hold the same definition. */
-static int setup_dir(const sweep_plan *p)
+/* DIR/scene.toml: the scene text every member runs. A new sweep writes it; a resumed one must
+ * find there the text it read from the scene file now (an edited scene file would mix two
+ * scenes in one family); a sweep directory from before this copy gets it. 0, 1 or 2. */
+static int setup_scene_copy(const sweep_plan *p, int resumed)
+{
+    char path[1100];
+    snprintf(path, sizeof path, "%s/scene.toml", p->dir);
+    size_t n = 0;
+    char *old = resumed ? read_file(path, &n) : NULL;
+    if (old) {
+        const int same = n == p->scene_len && memcmp(old, p->scene_text, n) == 0;
+        free(old);
+        if (!same) {
+            swim_message(stderr, "swim %s: %s: the scene file changed since the sweep in %s began (%s holds the "
+                         "text its members ran); restore it or use another --out", p->cmd, p->scene, p->dir, path);
+            return 2;
+        }
+        return 0;
+    }
+    if (swim_replace_file(path, p->scene_text, p->scene_len) != 0) {
+        swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, path, strerror(errno));
+        return 1;
+    }
+    return 0;
+}
+
+/* A new sweep needs an empty (or absent) directory; an existing one must hold the same definition
+ * and scene text. DIR is locked first. */
+static int setup_dir(sweep_plan *p)
 {
     char path[1100];
     if (swim_mkdirs(p->dir) != 0) {
         swim_message(stderr, "swim %s: --out: cannot create directory '%s': %s", p->cmd, p->dir, strerror(errno));
         return 2;
     }
+    int rc = lock_dir(p);
+    if (rc) return rc;
     char *def = definition(p);
     if (!def) { swim_message(stderr, "swim %s: out of memory", p->cmd); return 1; }
     snprintf(path, sizeof path, "%s/sweep.json", p->dir);
     char *old = read_file(path, NULL);
     if (old) {
+        if ((rc = setup_scene_copy(p, 1))) { free(old); free(def); return rc; }
         int same = strcmp(old, def) == 0;
         free(old);
         if (!same) {
             swim_message(stderr, "swim %s: %s holds a different sweep (its sweep.json differs from this command's "
-                         "definition or the scene file changed); use another --out", p->cmd, p->dir);
+                         "definition); use another --out", p->cmd, p->dir);
             free(def);
             return 2;
         }
@@ -406,7 +545,8 @@ static int setup_dir(const sweep_plan *p)
     DIR *dh = opendir(p->dir);
     struct dirent *e;
     while (dh && (e = readdir(dh)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && strcmp(e->d_name, "sweep.json.tmp")) {
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && strncmp(e->d_name, "sweep.json.tmp", 14) &&
+            strcmp(e->d_name, "sweep.lock") && strncmp(e->d_name, "scene.toml", 10)) {
             swim_message(stderr, "swim %s: --out: '%s' is not empty and holds no sweep.json (not a sweep directory)",
                          p->cmd, p->dir);
             closedir(dh);
@@ -414,7 +554,9 @@ static int setup_dir(const sweep_plan *p)
             return 2;
         }
     if (dh) closedir(dh);
-    int rc = write_atomic(path, def);
+    /* the scene copy first: a DIR with a sweep.json always has the text its members run */
+    if ((rc = setup_scene_copy(p, 0))) { free(def); return rc; }
+    rc = write_atomic(path, def);
     free(def);
     if (rc) {
         swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, path, strerror(errno));
@@ -469,21 +611,43 @@ static void member_dir(const sweep_plan *p, long m, char *buf, size_t len)
     snprintf(buf, len, "%s/members/%05ld", p->dir, m);
 }
 
-/* 1 when the text is a whole summary (written by swim run to the end, or by the sweep for a
- * crashed member) of a run that was not interrupted. */
-static int summary_finished(const char *text)
+/* 1 when the text is a whole summary: written by swim run to the end, or by the sweep for a
+ * crashed member. */
+static int summary_whole(const char *text)
 {
     if (!text) return 0;
     size_t n = strlen(text);
     while (n && (text[n - 1] == '\n' || text[n - 1] == ' ')) n--;
     if (!n || text[n - 1] != '}') return 0;
-    char status[32], reason[64];
+    char status[32];
     json_string_at(json_find(text, "status"), status, sizeof status);
-    json_string_at(json_find(text, "reason"), reason, sizeof reason);
     if (!status[0]) return 0;
-    if (strcmp(status, "crashed") != 0 && !json_find(text, "max_rss_kb")) return 0;
-    /* a member stopped by a signal (SIGINT, or the SIGTERM a stopping sweep sends) is unfinished */
-    return strncmp(reason, "interrupted", 11) != 0 && strncmp(reason, "terminated by", 13) != 0;
+    return strcmp(status, "crashed") == 0 || json_find(text, "max_rss_kb") != NULL;
+}
+
+/* 1 when a whole summary says the run was stopped by a signal (SIGINT, SIGTERM, SIGHUP: swim run
+ * stops, writes its summary and exits 1). */
+static int summary_stopped(const char *text)
+{
+    if (!summary_whole(text)) return 0;
+    char reason[64];
+    json_string_at(json_find(text, "reason"), reason, sizeof reason);
+    return strncmp(reason, "interrupted", 11) == 0 || strncmp(reason, "terminated by", 13) == 0;
+}
+
+/* Finished: a whole summary of a run that was not stopped by a signal (a stopped one reruns). */
+static int summary_finished(const char *text)
+{
+    return summary_whole(text) && !summary_stopped(text);
+}
+
+/* A signal someone sends to stop a process -- a user (^C, kill), a batch scheduler at the end of
+ * a job (SIGTERM, then SIGKILL), a closed terminal, a stopping sweep -- rather than one its own
+ * fault raises (SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, ...): the member did not fail, it was
+ * interrupted, and a resume reruns it. */
+static int stop_request(int sig)
+{
+    return sig == SIGINT || sig == SIGTERM || sig == SIGHUP || sig == SIGKILL;
 }
 
 static const char *const row_numbers[][2] = {
@@ -562,7 +726,7 @@ static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys)
     const int verbose = p->quiet ? 0 : 1;
     for (int k = 0; k < nkeys; k++) {
         swim_scene s;
-        if (load_member(p, rep[k], &s)) return 2;
+        if (load_member(p, rep[k], &s, NULL)) return 2;
         swim_compiled kn, sc;
         int bad = swim_codegen_kernel(s.modes, &kn, verbose) != 0;
         if (!bad) {
@@ -585,9 +749,13 @@ int sweep_prepare(sweep_plan *p)
     char **keys = NULL;
     long *rep = NULL;
     int nkeys = 0, cap = 0, rc = 0;
+    free(p->scene_text);
+    if (!(p->scene_text = swim_scene_read(p->scene, &p->scene_len))) return 2;
+    mode_kernels mk;
+    memset(mk.open, 0, sizeof mk.open);
     for (long m = 0; m < p->members && !rc; m++) {
         swim_scene s;
-        if ((rc = load_member(p, m, &s))) break;
+        if ((rc = load_member(p, m, &s, &mk))) break;
         char *key = swim_codegen_scene_key(&s, p->generic);
         swim_scene_free(&s);
         if (!key) {
@@ -617,6 +785,7 @@ int sweep_prepare(sweep_plan *p)
         keys[nkeys] = key;
         rep[nkeys++] = m;
     }
+    mode_kernels_close(&mk);
     if (!rc) rc = setup_dir(p);
     char path[1100];
     snprintf(path, sizeof path, "%s/members", p->dir);
@@ -648,10 +817,12 @@ pid_t sweep_spawn(const sweep_plan *p, long m)
     swim_override ov[SWEEP_MAX_SETS + SWEEP_MAX_VARY];
     int nov = member_overrides(p, m, ov);
     const char *args[16 + 2 * (SWEEP_MAX_SETS + SWEEP_MAX_VARY)];
+    char scene[1100];
+    snprintf(scene, sizeof scene, "%s/scene.toml", p->dir);   /* the text validated, not the file now */
     int a = 0;
     args[a++] = p->exe;
     args[a++] = "run";
-    args[a++] = p->scene;
+    args[a++] = scene;
     args[a++] = "--out";
     args[a++] = dir;
     args[a++] = "--quiet";
@@ -669,6 +840,7 @@ pid_t sweep_spawn(const sweep_plan *p, long m)
     /* child */
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (getppid() != parent) _exit(127);
+    if (p->lock_fd >= 0) close(p->lock_fd);   /* DIR's lock is the sweep's: a member dying late must not hold it */
     sigset_t none;
     sigemptyset(&none);
     sigprocmask(SIG_SETMASK, &none, NULL);
@@ -711,7 +883,10 @@ int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char
     char *text = read_file(path, NULL);
     int done = summary_finished(text);
     int exited_normally = WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 1);
-    if (!done && interrupted) { free(text); return 0; }
+    if (!done && (interrupted || summary_stopped(text) || (WIFSIGNALED(status) && stop_request(WTERMSIG(status))))) {
+        free(text);
+        return 0;
+    }
     if (!done || !exited_normally) {
         /* Died without a (whole) summary: say so in one, so the row and a resume agree. */
         char reason[600], last[400];
@@ -725,14 +900,22 @@ int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char
         } else {
             free(text);
             FILE *f = open_memstream(&text, &(size_t){0});
-            if (!f) return 0;
+            if (!f) {
+                swim_message(stderr, "swim %s: member %ld: out of memory", p->cmd, m);
+                return -1;
+            }
             fprintf(f, "{\n  \"scene\": ");
             swim_json_string(f, p->scene);
             fprintf(f, ",\n  \"status\": \"crashed\",\n  \"reason\": ");
             swim_json_string(f, reason);
             fprintf(f, "\n}\n");
             fclose(f);
-            if (write_atomic(path, text) != 0) { free(text); return 0; }
+            if (write_atomic(path, text) != 0) {
+                /* the sweep's stderr, not the member's log: the disk that refused this may hold the log */
+                swim_message(stderr, "swim %s: member %ld (%s): cannot write %s: %s", p->cmd, m, reason, path, strerror(errno));
+                free(text);
+                return -1;
+            }
         }
     }
     char status_s[32];
@@ -756,4 +939,17 @@ int sweep_append_row(FILE *f, const char *row)
 {
     if (fputs(row, f) < 0 || fflush(f) != 0) return -1;
     return 0;
+}
+
+int sweep_finish_stdout(const sweep_plan *p, int close_it)
+{
+    int bad = fflush(stdout) != 0 || ferror(stdout);
+    int err = bad ? errno : 0;
+    if (close_it && fclose(stdout) != 0 && !bad) {
+        bad = 1;
+        err = errno;
+    }
+    if (!bad) return 0;
+    swim_message(stderr, "swim %s: cannot write the report to stdout: %s", p->cmd, err ? strerror(err) : "write error");
+    return -1;
 }

@@ -9,13 +9,21 @@
  * elsewhere (bin/swim-mpi) the child execs bin/swim.
  *
  * Files of DIR: sweep.json (the definition; a different definition in an existing DIR is refused),
- * members/ID/summary.json (+ trajectory.csv with --keep trajectories, + log.txt: the member's
- * stdout and stderr), and members.csv, one row per finished member, rebuilt from the summaries
- * when a sweep starts or resumes and then appended and flushed as members finish.
+ * scene.toml (the scene text as read and validated once at the start: every member runs this
+ * copy, so editing the scene file during a sweep cannot mix two scenes in one family, and a
+ * resume whose scene file no longer has this text is refused), sweep.lock (flock(2)-ed by the
+ * sweep that uses DIR, for its whole life, and holding its pid: a second sweep into the same DIR
+ * is refused while the first runs), members/ID/summary.json (+ trajectory.csv with --keep
+ * trajectories, + log.txt: the member's stdout and stderr), and members.csv, one row per
+ * finished member, rebuilt from the summaries when a sweep starts or resumes and then appended
+ * and flushed as members finish.
  *
- * A member is finished when its summary.json is complete and does not say it was interrupted; a
- * member whose process died without a summary gets one written for it (status "crashed"), so
- * resuming does not retry a member that crashes every time. Everything else reruns on resume.
+ * A member is finished when its summary.json is complete and does not say it was interrupted.
+ * A member stopped by a signal someone sent (SIGINT, SIGTERM, SIGHUP, SIGKILL: a user, a batch
+ * scheduler, a stopping sweep) is interrupted and reruns on resume; a member whose process died
+ * otherwise without a summary (SIGSEGV, SIGBUS, SIGABRT, ..., or an exit status other than 0/1)
+ * gets one written for it (status "crashed"), so resuming does not retry a member that crashes
+ * every time.
  */
 #ifndef SWIM_SWEEP_H
 #define SWIM_SWEEP_H
@@ -49,39 +57,56 @@ typedef struct {
     long jobs;
     char integrator[32];
     swim_override sets[SWEEP_MAX_SETS];   /* --set and --t-end, --rtol, ... as run.* overrides */
+    const char *set_option[SWEEP_MAX_SETS];   /* "t-end", ... for those, NULL for a --set (messages) */
     int nsets;
+    char *scene_text;             /* the scene file as read once by sweep_prepare (owned) */
+    size_t scene_len;
+    int lock_fd;                  /* DIR/sweep.lock, held from sweep_prepare to sweep_free; -1 */
     long members;
     unsigned char *finished;      /* per member, after sweep_prepare */
     long already, already_failed; /* members found finished (and of them failed) at the start */
 } sweep_plan;
 
 /* Parses `swim sweep SCENE --out DIR --vary KEY=SPEC ... [--zip] [--jobs J] [--keep WHAT]
- * [--set KEY=VALUE ...] [run options]` (argv[first..argc)). 0, or 2 after one line on stderr. */
+ * [--set KEY=VALUE ...] [run options]` (argv[first..argc)). Keys are compared by the value they
+ * set (swim_override_same_target): a value varied twice, varied and set, or set twice to two
+ * values (in any spelling) is refused. 0, or 2 after one line on stderr. */
 int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first);
 /* Parses one SPEC into a freshly allocated array of values. 0, or -1 with a reason in err. */
 int sweep_parse_spec(const char *spec, double **values, long *count, char *err, size_t errlen);
 /* The value of varied key v for member m (grid: the last --vary varies fastest). */
 double sweep_value(const sweep_plan *p, long m, int v);
 
-/* Everything before the first member runs: every member validated as a scene (a bad one: one line
- * naming the member and the key, 2), DIR set up (sweep.json written, or compared with the one there:
- * a different definition is 2), the finished members found and members.csv rebuilt from their
- * summaries, the kernel of every distinct structure (runtime/codegen) generated once. 0, 1 (I/O
- * error or a structure without a kernel, printed) or 2. */
+/* Everything before the first member runs: the scene file read once, every member validated as
+ * swim run validates a scene (the scene reader, then the magnitude check of its model on its
+ * kernel: a bad member is one line naming the member and the key, 2), DIR locked (another sweep
+ * using it: one line naming DIR and that sweep's pid, 2), DIR set up (sweep.json and scene.toml
+ * written, or compared with the ones there: a different definition or scene text is 2), the
+ * finished members found and members.csv rebuilt from their summaries, the kernel of every
+ * distinct structure (runtime/codegen) generated once. 0, 1 (I/O error or a structure without a
+ * kernel, printed) or 2. */
 int sweep_prepare(sweep_plan *p);
 
-/* Starts member m as a child process (stdout/stderr to its log.txt); its pid, or -1. The child
- * dies with the parent (PR_SET_PDEATHSIG), so a killed sweep leaves no member running. */
+/* Starts member m as a child process running DIR/scene.toml (stdout/stderr to its log.txt); its
+ * pid, or -1. The child dies with the parent (PR_SET_PDEATHSIG), so a killed sweep leaves no
+ * member running, and does not hold DIR's lock. */
 pid_t sweep_spawn(const sweep_plan *p, long m);
 /* After the child of member m exited with wait status `status`: writes a "crashed" summary if it
- * left none (unless `interrupted`), and formats the member's members.csv row (with '\n') into
- * row. Returns 1 if the member is finished (row valid), 0 if it must be rerun, and sets *failed. */
+ * left none and was not interrupted (by a signal someone sent, or `interrupted`: the sweep is
+ * stopping), and formats the member's members.csv row (with '\n') into row. Returns 1 if the
+ * member is finished (row valid) and sets *failed, 0 if it must be rerun, -1 if its crashed
+ * summary could not be written (one line naming the file and strerror on stderr). */
 int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char *row, size_t len,
                   int *failed);
 
 /* members.csv: opened for appending after sweep_prepare rebuilt it. */
 FILE *sweep_open_rows(const sweep_plan *p);
-int sweep_append_row(FILE *f, const char *row);   /* write + flush; 0 or -1 */
+int sweep_append_row(FILE *f, const char *row);   /* write + flush; 0 or -1 (errno) */
+
+/* The end of the sweep's report on stdout: flushed and checked (a full disk, /dev/full, a closed
+ * pipe), and closed when close_it. 0, or -1 after one line "swim CMD: cannot write the report to
+ * stdout: REASON" on stderr: the caller's exit status is then 1, never that of a reported sweep. */
+int sweep_finish_stdout(const sweep_plan *p, int close_it);
 
 void sweep_free(sweep_plan *p);
 

@@ -39,11 +39,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (!(s.t_end > 0) || !(s.output_step > 0) || !(s.t_end / s.output_step <= SWIM_ROWS_MAX)) abort();
         if (!(s.rtol >= SWIM_RTOL_MIN && s.rtol <= SWIM_RTOL_MAX) || !(s.atol > 0 && s.atol <= SWIM_ATOL_MAX)) abort();
         if (s.forcing) {
-            if (!isfinite(swim_expr_eval(s.forcing, 0.0))) abort();
+            if (!swim_expr_defined(s.forcing, 0.0, NULL, 0) || !isfinite(swim_expr_eval(s.forcing, 0.0))) abort();
             double u = s.forcing_finite_until;
             if (!(u > 0)) abort();
-            /* a recorded onset is a time where the law was evaluated and found not finite */
-            if (isfinite(u) && (u > s.t_end || isfinite(swim_expr_eval(s.forcing, u)))) abort();
+            /* a recorded onset is a time where the law was evaluated and a part of it found not finite */
+            if (isfinite(u) && (u > s.t_end || swim_expr_defined(s.forcing, u, NULL, 0))) abort();
         }
     }
     swim_expr_free(s.forcing);
