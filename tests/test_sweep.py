@@ -124,7 +124,9 @@ def test_bad_input():
         ([], "at least one --vary"),
     ]
     for i, (args, msg) in enumerate(cases):
-        p, out = sweep("bad%d" % i, *args)
+        jobs = args[args.index("--jobs") + 1] if "--jobs" in args else 1   # an option is given once
+        args = [a for j, a in enumerate(args) if "--jobs" not in args[max(j - 1, 0):j + 1]]
+        p, out = sweep("bad%d" % i, *args, jobs=jobs)
         lines = p.stderr.strip().splitlines()
         check(p.returncode == 2 and len(lines) == 1 and msg in lines[0],
               "bad sweep %s: exit 2 and one line with %r (got %d, %r)" % (args, msg, p.returncode, p.stderr))
