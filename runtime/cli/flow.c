@@ -205,7 +205,14 @@ int swim_cmd_flow(int argc, char **argv)
     } else if ((v = swim_args_get(opts, nopts, "frames"))) {
         if (swim_args_int("flow", "frames", v, 1, MAX_TIMES, &frames)) return 2;
     }
-    char path[1024], out[1024];
+    char path[4200], out[4200];
+    const char *given = swim_args_get(opts, nopts, "out");
+    if (strlen(dir) + 32 >= sizeof path || (given && strlen(given) >= sizeof out)) {
+        swim_message(stderr, "swim flow: %s: a path of %zu characters is longer than the system's limit of 4095",
+                     strlen(dir) + 32 >= sizeof path ? "the run directory" : "--out",
+                     strlen(dir) + 32 >= sizeof path ? strlen(dir) : strlen(given));
+        return 2;
+    }
     snprintf(path, sizeof path, "%s/scene.toml", dir);
     static swim_scene s;
     FILE *probe = fopen(path, "r");

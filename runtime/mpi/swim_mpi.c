@@ -43,7 +43,7 @@ static int member_program(sweep_plan *p)
     const char *e = getenv("SWIM_MPI_EXEC");
     p->in_process = !(e && strcmp(e, "1") == 0);
     if (p->in_process) return 0;
-    char self[1024];
+    char self[4096];
     snprintf(self, sizeof self, "%s", p->exe);
     snprintf(p->exe, sizeof p->exe, "%s/swim", dirname(self));
     if (access(p->exe, X_OK) != 0) {

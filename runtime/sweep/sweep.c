@@ -189,10 +189,20 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
                      "--vary shape.dc0.bm2=-1:1:11", cmd, cmd);
         return 2;
     }
+    if (strlen(pos[0]) >= sizeof p->scene) {
+        swim_message(stderr, "swim %s: the scene path has %zu characters, more than the system's limit of %zu",
+                     cmd, strlen(pos[0]), sizeof p->scene - 1);
+        return 2;
+    }
     snprintf(p->scene, sizeof p->scene, "%s", pos[0]);
     const char *v = swim_args_get(opts, nopts, "out");
     if (!v || !*v) {
         swim_message(stderr, "swim %s: --out DIR is required (the sweep's directory)", cmd);
+        return 2;
+    }
+    if (strlen(v) >= sizeof p->dir - 32) {   /* room for DIR/members/NNNNN/summary.json */
+        swim_message(stderr, "swim %s: --out: the path has %zu characters, more than the %zu a sweep folder may have "
+                     "(the system's limit of %d less its members' names)", cmd, strlen(v), sizeof p->dir - 33, SWIM_SWEEP_PATH);
         return 2;
     }
     snprintf(p->dir, sizeof p->dir, "%s", v);
@@ -456,7 +466,7 @@ static int write_atomic(const char *path, const char *text)
  * holder in the refusal. 0, or 2 (DIR in use) or 1 (the lock file cannot be had). */
 static int lock_dir(sweep_plan *p)
 {
-    char path[1100], holder[128] = "";
+    char path[SWIM_SWEEP_PATH + 64], holder[128] = "";
     snprintf(path, sizeof path, "%s/sweep.lock", p->dir);
     int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) {
@@ -493,7 +503,7 @@ static int lock_dir(sweep_plan *p)
  * scenes in one family); a sweep directory from before this copy gets it. 0, 1 or 2. */
 static int setup_scene_copy(const sweep_plan *p, int resumed)
 {
-    char path[1100];
+    char path[SWIM_SWEEP_PATH + 64];
     snprintf(path, sizeof path, "%s/scene.toml", p->dir);
     size_t n = 0;
     char *old = resumed ? read_file(path, &n) : NULL;
@@ -518,7 +528,7 @@ static int setup_scene_copy(const sweep_plan *p, int resumed)
  * and scene text. DIR is locked first. */
 static int setup_dir(sweep_plan *p)
 {
-    char path[1100];
+    char path[SWIM_SWEEP_PATH + 64];
     if (swim_mkdirs(p->dir) != 0) {
         swim_message(stderr, "swim %s: --out: cannot create directory '%s': %s", p->cmd, p->dir, strerror(errno));
         return 2;
@@ -683,7 +693,7 @@ static void format_row(const sweep_plan *p, long m, const char *text, char *row,
 /* Rebuild members.csv from the summaries of the finished members, in member order. */
 static int rebuild_rows(sweep_plan *p)
 {
-    char path[1100], mpath[1100], row[2048];
+    char path[SWIM_SWEEP_PATH + 64], mpath[SWIM_SWEEP_PATH + 64], row[2048];
     snprintf(path, sizeof path, "%s/members.csv.tmp", p->dir);
     FILE *f = fopen(path, "w");
     if (!f) { swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, path, strerror(errno)); return 1; }
@@ -706,7 +716,7 @@ static int rebuild_rows(sweep_plan *p)
     }
     int bad = fflush(f) != 0;
     bad |= fclose(f) != 0;
-    char final[1100];
+    char final[SWIM_SWEEP_PATH + 64];
     snprintf(final, sizeof final, "%s/members.csv", p->dir);
     if (bad || rename(path, final) != 0) {
         swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, final, strerror(errno));
@@ -787,7 +797,7 @@ int sweep_prepare(sweep_plan *p)
     }
     mode_kernels_close(&mk);
     if (!rc) rc = setup_dir(p);
-    char path[1100];
+    char path[SWIM_SWEEP_PATH + 64];
     snprintf(path, sizeof path, "%s/members", p->dir);
     if (!rc && swim_mkdirs(path) != 0) {
         swim_message(stderr, "swim %s: cannot create %s: %s", p->cmd, path, strerror(errno));
@@ -809,7 +819,7 @@ int sweep_prepare(sweep_plan *p)
 
 pid_t sweep_spawn(const sweep_plan *p, long m)
 {
-    char dir[1100], path[1200];
+    char dir[SWIM_SWEEP_PATH + 64], path[SWIM_SWEEP_PATH + 128];
     member_dir(p, m, dir, sizeof dir);
     if (swim_mkdirs(dir) != 0) return -1;
     snprintf(path, sizeof path, "%s/summary.json", dir);
@@ -817,7 +827,7 @@ pid_t sweep_spawn(const sweep_plan *p, long m)
     swim_override ov[SWEEP_MAX_SETS + SWEEP_MAX_VARY];
     int nov = member_overrides(p, m, ov);
     const char *args[16 + 2 * (SWEEP_MAX_SETS + SWEEP_MAX_VARY)];
-    char scene[1100];
+    char scene[SWIM_SWEEP_PATH + 64];
     snprintf(scene, sizeof scene, "%s/scene.toml", p->dir);   /* the text validated, not the file now */
     int a = 0;
     args[a++] = p->exe;
@@ -862,7 +872,7 @@ pid_t sweep_spawn(const sweep_plan *p, long m)
 /* The last line of the member's log, for the reason of a member that died without a summary. */
 static void last_log_line(const char *dir, char *out, size_t len)
 {
-    char path[1200];
+    char path[SWIM_SWEEP_PATH + 128];
     snprintf(path, sizeof path, "%s/log.txt", dir);
     char *text = read_file(path, NULL);
     out[0] = '\0';
@@ -877,7 +887,7 @@ static void last_log_line(const char *dir, char *out, size_t len)
 
 int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char *row, size_t len, int *failed)
 {
-    char dir[1100], path[1200];
+    char dir[SWIM_SWEEP_PATH + 64], path[SWIM_SWEEP_PATH + 128];
     member_dir(p, m, dir, sizeof dir);
     snprintf(path, sizeof path, "%s/summary.json", dir);
     char *text = read_file(path, NULL);
@@ -928,7 +938,7 @@ int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char
 
 FILE *sweep_open_rows(const sweep_plan *p)
 {
-    char path[1100];
+    char path[SWIM_SWEEP_PATH + 64];
     snprintf(path, sizeof path, "%s/members.csv", p->dir);
     FILE *f = fopen(path, "a");
     if (!f) swim_message(stderr, "swim %s: cannot append to %s: %s", p->cmd, path, strerror(errno));

@@ -37,6 +37,10 @@
 #define SWEEP_MAX_SETS 48   /* with SWEEP_MAX_VARY: at most the 64 --set of swim run */
 #define SWEEP_MAX_MEMBERS 1000000L
 
+/* The longest path a sweep holds: the system's PATH_MAX. A longer scene path or DIR is refused
+ * (one line, exit 2), never cut. */
+#define SWIM_SWEEP_PATH 4096
+
 typedef struct {
     char key[128];
     char spec[512];
@@ -47,9 +51,9 @@ typedef struct {
 
 typedef struct {
     char cmd[16];                 /* "sweep" (for messages) */
-    char scene[512];
-    char dir[900];
-    char exe[1024];               /* the program members run with (`EXE run ...`) */
+    char scene[SWIM_SWEEP_PATH];
+    char dir[SWIM_SWEEP_PATH];
+    char exe[SWIM_SWEEP_PATH];               /* the program members run with (`EXE run ...`) */
     int in_process;               /* 1: the forked child runs `swim run` without exec (this program
                                    * is bin/swim); 0: it execs exe */
     sweep_vary vary[SWEEP_MAX_VARY];
