@@ -13,7 +13,7 @@
 #include "check.h"
 
 #include <math.h>
-#include <quadmath.h>
+#include "shape/quad.h"
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>

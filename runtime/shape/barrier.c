@@ -4,7 +4,7 @@
 #include <complex.h>
 #include <lapacke.h>
 #include <math.h>
-#include <quadmath.h>
+#include "shape/quad.h"
 #include <stdlib.h>
 #include <string.h>
 

@@ -3,7 +3,7 @@
 #include "kernel/coords.h"
 
 #include <math.h>
-#include <quadmath.h>
+#include "shape/quad.h"
 #include <stdlib.h>
 #include <string.h>
 

@@ -27,7 +27,7 @@ FLAGS=(-g -O1 -std=c11 -D_XOPEN_SOURCE=700 -fsanitize=fuzzer,address,undefined
 # The scene and CLI targets link the runtime with the committed kernels (N = 0..7).
 "${PYTHON:-/usr/bin/python3}" generator/generate.py --table 0 1 2 3 4 5 6 7 --out "$out/kernel_table.c"
 runtime_srcs=$(ls runtime/*/*.c | grep -v -e 'runtime/cli/main.c' -e 'runtime/mpi/')   # bin/swim-mpi is built by make mpi
-libs=(-ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lm)
+libs=(-ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lquadmath -lm)
 for t in scene cli quote settings; do
     "$CLANG" "${FLAGS[@]}" "tests/fuzz/fuzz_$t.c" $runtime_srcs generated/swim_kernel_n[0-7].c \
         "$out/kernel_table.c" -o "$out/fuzz_$t" "${libs[@]}"
