@@ -108,7 +108,7 @@ def test_cache():
         ("more free coordinates", scene_variant("c-free", lambda s: s.replace('"bm2"]', '"bm2", "am3", "bm3"]')), []),
         ("elasticity added", scene_variant("c-el", lambda s: s.replace("[run]", "[elastic]\nstiffness = [0,0,1,1,1,1,0,0,0,0,0,0,0,0,0,0]\nreference = [1,0,0.5,0,0,0,0,0,0,0,0,0,0,0,0,0]\n\n[run]")), []),
     ]:
-        _, _, s = run(path, "cache-" + label.replace(" ", "-"), "--t-end", "1", *args)
+        _, _, s = run(path, "cache-" + label.replace(" ", "-"), *(args or ["--t-end", "1"]))
         cache_runs.append((label, s["kernel"]["from_cache"], s["kernel"]["cache"]))
     expect = [False, True, True, True, False, False]
     for (label, hit, _), want in zip(cache_runs, expect):
