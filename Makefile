@@ -11,6 +11,8 @@ CC         ?= gcc
 # Kernels are fixed-size loops: -O3 unrolls them and -march=native vectorizes them for the
 # machine that builds (and runs) the simulator. Override with OPT=-O2 for a portable build.
 OPT        ?= -O3 -march=native
+# Flags of the kernels bin/swim generates and caches at run time (default: those of the build).
+KERNEL_OPT ?= $(OPT)
 CFLAGS     ?= $(OPT) -g
 CFLAGS     += -std=c11 -D_XOPEN_SOURCE=700 -Wall -Wextra -Wno-unused-parameter -MMD -MP
 CPPFLAGS   += -Iruntime -I/usr/include/sundials
@@ -28,6 +30,8 @@ DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev python3-sympy python3-nu
 # Installed on demand by the targets that need them (animations, the page and its browser test):
 # ffmpeg pulls ~90 packages and chromium ~280 MB, too much for a plain build.
 MEDIA_PKGS := ffmpeg chromium
+# `make fuzz` only: clang with libFuzzer and the sanitizer runtimes (compiler-rt).
+FUZZ_PKGS  := clang libclang-rt-14-dev
 
 RUNTIME_SRCS :=
 TEST_SRCS    := $(sort $(wildcard tests/test_*.c))
@@ -38,6 +42,7 @@ BENCH_SRCS   :=
 DEPS_STAMP  := $(BUILD)/.deps-ok
 MEDIA_STAMP := $(BUILD)/.deps-media-ok
 MPI_STAMP   := $(BUILD)/.deps-mpi-ok
+FUZZ_STAMP  := $(BUILD)/.deps-fuzz-ok
 
 include $(wildcard runtime/*/module.mk) $(wildcard tests/*/module.mk)
 
@@ -49,7 +54,7 @@ TESTLIB_OBJS := $(TEST_LIB_SRCS:%.c=$(BUILD)/%.o)
 TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 
-.PHONY: FORCE all deps deps-media paper paper-test help install test sanitize fuzz bench bench-accuracy bench-drift bench-hard bench-soft generate generate-all run readme-figures clean
+.PHONY: FORCE asan-tests all deps deps-media paper paper-test help install test sanitize fuzz bench bench-accuracy bench-drift bench-hard bench-soft generate generate-all run readme-figures clean
 all: $(BIN)/swim
 
 help:
@@ -60,7 +65,8 @@ help:
 	@echo "make paper-test make paper, then check the page in headless Chromium (out/paper/screenshot.png)"
 	@echo "make test       build and run every test program in tests/"
 	@echo "make mpi        bin/swim-mpi: swim sweep over MPI ranks (installs OpenMPI); make test-mpi tests it"
-	@echo "make sanitize   the test suite under AddressSanitizer + UndefinedBehaviorSanitizer"
+	@echo "make sanitize   the whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer"
+	@echo "                 (make test already runs the C unit tests so built, as asan-test_*)"
 	@echo "make fuzz       fuzz the scene parser, the CLI arguments, message quoting and run settings (libFuzzer, FUZZ_SECONDS=60)"
 	@echo "make bench      run the benchmarks (numbers quoted in README.md)"
 	@echo "make bench-accuracy  work-precision diagrams and table for every paper scene (~9 min)"
@@ -82,7 +88,8 @@ deps-media: $(MEDIA_STAMP)
 $(DEPS_STAMP): PKGS := $(DEB_PKGS)
 $(MEDIA_STAMP): PKGS := $(MEDIA_PKGS)
 $(MPI_STAMP): PKGS := $(MPI_PKGS)
-$(DEPS_STAMP) $(MEDIA_STAMP) $(MPI_STAMP):
+$(FUZZ_STAMP): PKGS := $(FUZZ_PKGS)
+$(DEPS_STAMP) $(MEDIA_STAMP) $(MPI_STAMP) $(FUZZ_STAMP):
 	@missing=""; for p in $(PKGS); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
 	done; \
@@ -128,9 +135,23 @@ TEST_SCRIPTS := $(sort $(wildcard tests/test_*.py tests/test_*.sh))
 
 # Tests keep their kernel cache in the build folder, not in the user's ~/.cache/swim.
 # bin/swim-mpi is built when OpenMPI is there or can be installed; test_sweep_mpi.py says when it is not.
-test: $(BIN)/swim $(TEST_BINS) $(MEDIA_STAMP)
+# The C unit tests also run built with ASan + UBSan (ASAN_BUILD, the programs asan-test_*), beside
+# the plain suite; the kernels they generate at run time keep the plain flags, so both share one
+# kernel cache. A build that is itself sanitized (make sanitize) does not add them again.
+ASAN_BUILD := build/asan
+ifeq ($(findstring -fsanitize,$(OPT)),)
+ASAN_TEST_BINS := $(patsubst $(BUILD)/%,$(ASAN_BUILD)/%,$(TEST_BINS))
+endif
+SAN_ENV := ASAN_OPTIONS=detect_leaks=1:halt_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+
+asan-tests: | $(DEPS_STAMP)
+	@$(MAKE) --no-print-directory BUILD=$(ASAN_BUILD) BIN=$(ASAN_BUILD)/bin OPT="$(SANITIZE_OPT)" \
+	  KERNEL_OPT="$(KERNEL_OPT)" $(ASAN_TEST_BINS)
+
+test: $(BIN)/swim $(TEST_BINS) $(if $(ASAN_TEST_BINS),asan-tests) $(MEDIA_STAMP)
 	@$(MAKE) --no-print-directory mpi >/dev/null 2>&1 || echo "make mpi failed: the MPI sweep tests are skipped"
-	@SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim bash tests/run_tests.sh $(TEST_BINS) $(TEST_SCRIPTS)
+	@$(SAN_ENV) SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim \
+	  bash tests/run_tests.sh $(TEST_BINS) $(ASAN_TEST_BINS) $(TEST_SCRIPTS)
 
 # bin/swim finds PREFIX/share/swim from its own location, so the tree can be moved as a whole.
 SHARE_FILES := $(shell find generator runtime/kernel -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null) \
@@ -157,7 +178,7 @@ sanitize: | $(DEPS_STAMP)
 # user text in messages and the run-settings check (libFuzzer,
 # clang); FUZZ_SECONDS per target.
 FUZZ_SECONDS ?= 60
-fuzz: | $(DEPS_STAMP)
+fuzz: | $(DEPS_STAMP) $(FUZZ_STAMP)
 	bash tests/fuzz/run_fuzz.sh $(FUZZ_SECONDS)
 
 BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_latency.py tests/bench/bench_drift.py \

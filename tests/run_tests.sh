@@ -13,7 +13,9 @@ mkdir -p "$logs"
 durations="$logs/durations"
 touch "$durations"
 
-name_of() { basename "$1" | sed -E 's/\.(py|sh)$//'; }
+# A program's name: its path without the build and tests folders, "/" as "-" (build/tests/test_io
+# is test_io, the sanitized build/asan/tests/test_io is asan-test_io, tests/test_flow.py test_flow).
+name_of() { sed -E -e 's#^(\./)?(build/)?##' -e 's#(^|/)tests/#\1#' -e 's#/#-#g' -e 's/\.(py|sh)$//' <<<"$1"; }
 
 run_one() {   # run_one PROG: output to its log, exit status and seconds to its .rc file
     local prog="$1" name start rc
@@ -48,8 +50,9 @@ for prog in "$@"; do
     read -r rc secs <"$logs/$name.rc" 2>/dev/null || { rc=255; secs=0; }
     echo "$name $secs" >>"$durations.new"
     out="$logs/$name.log"
-    grep -E 'FAIL|passed, [0-9]+ failed' "$out" || true
+    grep -E 'FAIL' "$out" || true
     line=$(grep -E '^[A-Za-z0-9_.-]+: [0-9]+ passed, [0-9]+ failed' "$out" | tail -n 1)
+    [ -n "$line" ] && echo "$name:${line#*:}"
     if [ -n "$line" ]; then
         p=$(sed -E 's/.*: ([0-9]+) passed, ([0-9]+) failed.*/\1/' <<<"$line")
         f=$(sed -E 's/.*: ([0-9]+) passed, ([0-9]+) failed.*/\2/' <<<"$line")

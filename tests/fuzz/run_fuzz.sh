@@ -21,16 +21,22 @@ fi
 out=build/fuzz
 mkdir -p "$out/corpus" "$out/artifacts"
 
-FLAGS=(-g -O1 -std=c11 -D_XOPEN_SOURCE=700 -fsanitize=fuzzer,address,undefined
-       -fno-sanitize-recover=undefined -Iruntime -I/usr/include/sundials)
-"$CLANG" "${FLAGS[@]}" tests/fuzz/fuzz_toml.c runtime/scene/toml.c -o "$out/fuzz_toml" -lm
+# The runtime is compiled once, instrumented for coverage and the sanitizers
+# (fuzzer-no-link), and each target links it with libFuzzer's main.
+SAN=(-g -O1 -std=c11 -D_XOPEN_SOURCE=700 -fsanitize=address,undefined -fno-sanitize-recover=undefined
+     -Wno-psabi -Iruntime -I/usr/include/sundials)
+"$CLANG" "${SAN[@]}" -fsanitize=fuzzer tests/fuzz/fuzz_toml.c runtime/scene/toml.c -o "$out/fuzz_toml" -lm
 # The scene and CLI targets link the runtime with the committed kernels (N = 0..7).
 "${PYTHON:-/usr/bin/python3}" generator/generate.py --table 0 1 2 3 4 5 6 7 --out "$out/kernel_table.c"
-runtime_srcs=$(ls runtime/*/*.c | grep -v -e 'runtime/cli/main.c' -e 'runtime/mpi/')   # bin/swim-mpi is built by make mpi
+srcs=$(ls runtime/*/*.c generated/swim_kernel_n[0-7].c | grep -v -e 'runtime/cli/main.c' -e 'runtime/mpi/')
+srcs="$srcs $out/kernel_table.c"   # bin/swim-mpi is built by make mpi
+mkdir -p "$out/obj"
+export CLANG out
+printf '%s\n' $srcs | xargs -P "$(nproc)" -I{} sh -c \
+    'o="$out/obj/$(echo "{}" | tr / _).o"; "$CLANG" '"${SAN[*]}"' -fsanitize=fuzzer-no-link -c "{}" -o "$o"'
 libs=(-ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lquadmath -lm)
 for t in scene cli quote settings; do
-    "$CLANG" "${FLAGS[@]}" "tests/fuzz/fuzz_$t.c" $runtime_srcs generated/swim_kernel_n[0-7].c \
-        "$out/kernel_table.c" -o "$out/fuzz_$t" "${libs[@]}"
+    "$CLANG" "${SAN[@]}" -fsanitize=fuzzer "tests/fuzz/fuzz_$t.c" "$out"/obj/*.o -o "$out/fuzz_$t" "${libs[@]}"
 done
 
 # fresh seeds each run (the working corpus keeps what earlier runs found)
