@@ -148,7 +148,7 @@ asan-tests: | $(DEPS_STAMP)
 	@$(MAKE) --no-print-directory BUILD=$(ASAN_BUILD) BIN=$(ASAN_BUILD)/bin OPT="$(SANITIZE_OPT)" \
 	  KERNEL_OPT="$(KERNEL_OPT)" $(ASAN_TEST_BINS)
 
-test: $(BIN)/swim $(TEST_BINS) $(if $(ASAN_TEST_BINS),asan-tests) $(MEDIA_STAMP)
+test: $(BIN)/swim $(TEST_BINS) $(if $(ASAN_TEST_BINS),asan-tests) $(MEDIA_STAMP) $(FUZZ_STAMP)
 	@$(MAKE) --no-print-directory mpi >/dev/null 2>&1 || echo "make mpi failed: the MPI sweep tests are skipped"
 	@$(SAN_ENV) SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim \
 	  bash tests/run_tests.sh $(TEST_BINS) $(ASAN_TEST_BINS) $(TEST_SCRIPTS)

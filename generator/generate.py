@@ -38,6 +38,10 @@ def write_if_changed(path, text):
         os.replace(tmp, path)
 
 
+# Exit status of --stroke when a law is valid but cannot be a stroke (runtime/codegen/codegen.c).
+STROKE_LAW_REFUSED = 3
+
+
 def _stroke(args):
     try:
         with open(args.stroke, encoding="utf-8") as fh:
@@ -45,6 +49,11 @@ def _stroke(args):
         text = stroke_kernel_source(structure, "generator/generate.py --stroke %s --out %s"
                                     % (os.path.basename(args.stroke), os.path.basename(args.out)))
     except LawError as exc:
+        # exit 3 and the coordinate's index: bin/swim names the scene's key and refuses the scene
+        index = getattr(exc, "index", None)
+        if index is not None:
+            print("refused law %d: %s" % (index, exc), file=sys.stderr)
+            return STROKE_LAW_REFUSED
         print("generate.py: --stroke %s: stroke law: %s" % (args.stroke, exc), file=sys.stderr)
         return 2
     except (OSError, ValueError, KeyError, TypeError) as exc:

@@ -294,6 +294,30 @@ def test_non_real_laws_refused_before_any_kernel():
     shutil.rmtree(cache, ignore_errors=True)
 
 
+def test_hidden_kinks_in_stroke_laws_refused():
+    """A stroke law that parses and is finite but is not twice differentiable (an abs hidden as
+    sqrt(u^2), which the generator reduces to |u|) is bad input as well, found when its kernel is
+    generated: exit 2, one line naming the file, the key and the law, nothing written; in a sweep,
+    no DIR either."""
+    env = dict(os.environ, SWIM_CACHE=os.path.join(TMP, "kink_cache"))
+    for key, law in (("am1", "0.4*cos(t) + 0.01*sqrt((t-0.5)^2)"), ("bm2", "0.4*sqrt(sin(t)^2)/sqrt(2)")):
+        laws = {"am1": "0.4*cos(t)", "bm2": "0.4*sin(t)/sqrt(2)"}
+        laws[key] = law
+        path = scene("kink_" + key, stroke_scene(laws))
+        out = os.path.join(TMP, "kink_out_" + key)
+        p = swim("run", path, "--out", out, "--quiet", env=env)
+        one = p.stderr.strip().splitlines()
+        check(p.returncode == 2 and len(one) == 1 and (path + ":") in p.stderr and ("stroke." + key) in p.stderr
+              and law in p.stderr and "twice differentiable" in p.stderr,
+              "hidden kink %s: want exit 2 and one line naming the key: got %d %r" % (law, p.returncode, p.stderr))
+        check(not os.path.exists(out), "hidden kink %s: %s was written" % (law, out))
+        sweep_dir = os.path.join(TMP, "kink_sweep_" + key)
+        p = swim("sweep", path, "--vary", "model.rho0=1,2", "--out", sweep_dir, "--quiet", env=env)
+        check(p.returncode == 2 and ("stroke." + key) in p.stderr and not os.path.exists(sweep_dir),
+              "sweep with hidden kink %s: exit %d, DIR exists %s, %r" % (law, p.returncode, os.path.exists(sweep_dir),
+                                                                        p.stderr[-300:]))
+
+
 def test_law_with_undefined_part_later_stops_run():
     """step(sqrt(1-t)) is defined (0 or 1) only up to t = 1, where sqrt goes NaN: the forcing run
     stops there and says so, as for 1/(t-1), instead of going on with a law that has no meaning."""

@@ -45,8 +45,10 @@ def stroke_laws(structure, t, params):
         dc = sp.diff(c, t)
         ddc = sp.diff(dc, t)
         if not _smooth(ddc):
-            raise LawError("\"%s\" is not twice differentiable in t (step, or abs at its kink): "
-                           "a stroke needs c'' for its power" % text)
+            err = LawError("\"%s\" is not twice differentiable in t (step, or abs at a kink, "
+                           "perhaps hidden as sqrt(u^2)): a stroke needs c'' for its power" % text)
+            err.index = int(index)
+            raise err
         out.append((int(index), law, c, dc, ddc))
     return out
 

@@ -219,12 +219,27 @@ static int refuse(const stroke_ctx *c, double t, const char *why)
     return 2;
 }
 
+/* One line naming the law the generator refused (swim_codegen_stroke -2): bad input, exit 2. */
+static int law_refused(const stroke_ctx *c)
+{
+    const swim_scene *s = &c->s;
+    int k = 0;
+    while (k < s->stroke_count - 1 && s->stroke_index[k] != c->law.refused_index) k++;
+    char name[24], where[512];
+    swim_coord_name(s->stroke_index[k], name, sizeof name);
+    swim_message(stderr, "swim: %s: stroke.%s: %s", swim_scene_where(s, s->stroke_line[k], where, sizeof where),
+                 name, c->law.refused);
+    return 2;
+}
+
 /* The kernels, the stroke model, the check over [0, t_end], the period. 0, 1 or 2. */
 static int prepare_stroke(stroke_ctx *c)
 {
     swim_scene *s = &c->s;
     const int verbose = c->quiet ? 0 : 1;
-    if (swim_codegen_kernel(s->modes, &c->kn, verbose) != 0 || swim_codegen_stroke(s, &c->law, verbose) != 0) {
+    int got = swim_codegen_kernel(s->modes, &c->kn, verbose) != 0 ? -1 : swim_codegen_stroke(s, &c->law, verbose);
+    if (got == -2) return law_refused(c);
+    if (got != 0) {
         swim_message(stderr, "swim run: %s: no kernel for this stroke, nothing computed", s->path);
         return 1;
     }

@@ -531,9 +531,34 @@ static void remove_stale(const char *dir)
     remove_entries(dir, ".tmp");
 }
 
+/* Exit status of generate.py --stroke for a law that cannot be a stroke (generator/generate.py). */
+#define GENERATOR_LAW_REFUSED 3
+
+/* The generator's "refused law I: why" line in `log` into out->refused_index, out->refused.
+ * 0, or -1 when the log holds no such line. */
+static int read_refusal(const char *log, swim_compiled *out)
+{
+    FILE *f = fopen(log, "r");
+    if (!f) return -1;
+    char line[1024];
+    int found = -1;
+    while (found != 0 && fgets(line, sizeof line, f)) {
+        int index, at = 0;
+        if (sscanf(line, "refused law %d: %n", &index, &at) == 1 && at > 0) {
+            line[strcspn(line, "\n")] = '\0';
+            out->refused_index = index;
+            snprintf(out->refused, sizeof out->refused, "%s", line + at);
+            found = 0;
+        }
+    }
+    fclose(f);
+    return found;
+}
+
 /* Generate and compile into `dir` (lock held). 0; -1 on a failure (message printed);
  * -2 when the folder cannot be written (nothing printed); -3 when a signal stopped it (in
- * *stopped; temporary files removed, nothing printed). */
+ * *stopped; temporary files removed, nothing printed); -4 when the generator refused a stroke
+ * law (out->refused_index, out->refused; nothing printed). */
 static int build_entry(const char *root, const char *dir, const entry_spec *e, swim_compiled *out, int *stopped)
 {
     char path[SWIM_CODEGEN_PATH + 64], log[SWIM_CODEGEN_PATH + 32], tmp[SWIM_CODEGEN_PATH + 128];
@@ -563,6 +588,10 @@ static int build_entry(const char *root, const char *dir, const entry_spec *e, s
         char *argv[] = {(char *)python, gen, "--modes", modes, "--out", path, "--quiet", NULL};
         rc = run_command(argv, log, stopped);
         snprintf(tmp, sizeof tmp, "%s/swim_kernel_n%d.c", path, e->modes);
+    }
+    if (rc == GENERATOR_LAW_REFUSED && e->stroke && !*stopped && read_refusal(log, out) == 0) {
+        unlink(tmp);
+        return -4;
     }
     if (rc != 0 || chmod(tmp, 0644) != 0 || rename(tmp, out->source) != 0) {
         if (!*stopped) fprintf(stderr, "swim: generating the %s failed (see %s)\n", e->what, log);
@@ -718,7 +747,7 @@ static int obtain(const entry_spec *e, swim_compiled *out, int verbose)
         resend_stop(stopped);    /* ends the process unless the signal is handled or ignored */
         fprintf(stderr, "swim: generating the %s was interrupted\n", e->what);
     }
-    return rc == 0 ? 0 : -1;
+    return rc == 0 ? 0 : rc == -4 ? -2 : -1;
 }
 
 /* ---- keys ------------------------------------------------------------------------------ */

@@ -54,6 +54,8 @@ typedef struct {
     int from_cache, generic;
     double generate_seconds, compile_seconds;
     const swim_stroke_kernel *stroke;     /* a prescribed stroke's laws (swim_codegen_stroke) */
+    int refused_index;                    /* swim_codegen_stroke -2: the coordinate of the law refused */
+    char refused[512];                    /* ... and why (the generator's words) */
 } swim_compiled;
 
 /* verbose: 0 quiet (damage and fallback notices only), 1 also progress of a generation,
@@ -67,7 +69,9 @@ void swim_compiled_close(swim_compiled *c);
 
 /* The laws of the scene's [stroke] with their exact first and second derivatives
  * (generator/swimgen/stroke.py), cached like scene kernels under the key "stroke {structure}".
- * 0, or -1 after one line on stderr (a law that is not twice differentiable fails here). */
+ * 0; -1 after one line on stderr; -2 when a law is refused (nothing printed): it parses and is
+ * finite, but the generator finds it not twice differentiable (an abs or step, perhaps hidden,
+ * as in sqrt((t-1)^2)); out->refused_index is its coordinate, out->refused says why. */
 int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose);
 
 /* The structure key of a scene as the cache uses it (malloc'd, caller frees), or NULL. */

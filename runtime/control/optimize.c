@@ -140,8 +140,9 @@ static void integrate_stroke(swim_model_setup *m, swim_eval_result *r)
     memset(&st, 0, sizeof st);
     swim_ode *ode = NULL;
     r->status = 1;
-    if (swim_codegen_stroke(s, &law, 0) != 0) {
-        snprintf(r->reason, sizeof r->reason, "no stroke kernel");
+    const int got = swim_codegen_stroke(s, &law, 0);
+    if (got != 0) {
+        snprintf(r->reason, sizeof r->reason, got == -2 ? "a stroke law is refused: %s" : "no stroke kernel", law.refused);
         goto done;
     }
     int rc = swim_stroke_init(&st, s, m->kn.kernel, law.stroke, s->param_values);

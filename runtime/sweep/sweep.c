@@ -741,9 +741,19 @@ static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys)
         int bad = swim_codegen_kernel(s.modes, &kn, verbose) != 0;
         if (!bad) {
             /* a prescribed stroke's members run on its laws' kernel (runtime/stroke) */
-            bad = (s.stroke ? swim_codegen_stroke(&s, &sc, verbose) : swim_codegen_scene(&s, p->generic, &sc, verbose)) != 0;
+            bad = s.stroke ? swim_codegen_stroke(&s, &sc, verbose) : swim_codegen_scene(&s, p->generic, &sc, verbose);
             if (!bad) swim_compiled_close(&sc);
             swim_compiled_close(&kn);
+        }
+        if (bad == -2) {   /* a stroke law the generator refuses: bad input */
+            int j = 0;
+            while (j < s.stroke_count - 1 && s.stroke_index[j] != sc.refused_index) j++;
+            char name[24], where[512];
+            swim_coord_name(s.stroke_index[j], name, sizeof name);
+            swim_message(stderr, "swim: %s: stroke.%s: %s (member %ld)",
+                         swim_scene_where(&s, s.stroke_line[j], where, sizeof where), name, sc.refused, rep[k]);
+            swim_scene_free(&s);
+            return 2;
         }
         swim_scene_free(&s);
         if (bad) {
@@ -796,6 +806,8 @@ int sweep_prepare(sweep_plan *p)
         rep[nkeys++] = m;
     }
     mode_kernels_close(&mk);
+    /* kernels before DIR: a law the generator refuses is bad input, refused before anything is written */
+    if (!rc) rc = generate_kernels(p, rep, nkeys);
     if (!rc) rc = setup_dir(p);
     char path[SWIM_SWEEP_PATH + 64];
     snprintf(path, sizeof path, "%s/members", p->dir);
@@ -808,7 +820,6 @@ int sweep_prepare(sweep_plan *p)
         rc = 1;
     }
     if (!rc) rc = rebuild_rows(p);
-    if (!rc && p->already < p->members) rc = generate_kernels(p, rep, nkeys);
     for (int k = 0; k < nkeys; k++) free(keys[k]);
     free(keys);
     free(rep);
