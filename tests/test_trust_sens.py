@@ -36,6 +36,8 @@ def test_event_stop_ends_sensitivities():
     s = (summary or {}).get("sensitivity", {})
     check(s.get("status") == "written" and abs(s.get("t_end", -1) - rows["t"][-1]) < 1e-12,
           "summary.json records the sensitivities and where they end: %r" % s)
+    check(s.get("rows") == len(sens) and s.get("t_reached") == sens["t"][-1],
+          "summary.json counts the sensitivity rows (%d, last t %r): %r" % (len(sens), sens["t"][-1], s))
 
 
 def test_sigint_during_sensitivities_is_interrupted():
@@ -63,6 +65,11 @@ def test_sigint_during_sensitivities_is_interrupted():
           "summary.json says interrupted: %r" % summary["reason"])
     check(summary.get("sensitivity", {}).get("status") == "interrupted",
           "summary.json's sensitivity entry says interrupted: %r" % summary.get("sensitivity"))
+    with open(sens) as fh:
+        partial = max(0, sum(1 for _ in fh) - 1)
+    entry = summary.get("sensitivity", {})
+    check(entry.get("rows") == partial and (partial == 0 or entry.get("t_reached") < entry.get("t_end")),
+          "the interrupted entry counts the %d rows the partial file holds: %r" % (partial, entry))
 
 
 def test_repeated_sensitivity_accumulates():

@@ -151,6 +151,8 @@ typedef struct {
     long impacts;
     const char *sens_status;   /* summary.json "sensitivity": written, failed, interrupted or skipped */
     double sens_t;             /* the time sensitivity.csv was meant to reach: where the trajectory ended */
+    long sens_rows;            /* rows sensitivity.csv holds, the last at sens_t_last (NAN: none) */
+    double sens_t_last;
     double impact_first_t, impact_last_t, impact_j_max, impact_reach_min;
     swim_run_watch watch;       /* checks at every accepted step (integrators with dense output) */
     int watch_ready;
@@ -1292,8 +1294,11 @@ static void summary_json(FILE *f, const run_ctx *c, double wall_s)
     swim_json_string(f, r->reason ? r->reason : "out of memory");
     fprintf(f, ",\n  \"t_end\": %.17g,\n  \"t_reached\": %.17g,\n  \"rows\": %ld,\n", s->t_end, r->t_reached, r->rows);
     if (c->opt.sensitivity) {
-        fprintf(f, "  \"sensitivity\": {\"status\": \"%s\", \"t_end\": %.17g, \"file\": \"sensitivity.csv\"},\n",
-                c->sens_status ? c->sens_status : "skipped", c->sens_t);
+        fprintf(f, "  \"sensitivity\": {\"status\": \"%s\", \"t_end\": %.17g, \"rows\": %ld, \"t_reached\": ",
+                c->sens_status ? c->sens_status : "skipped", c->sens_t, c->sens_rows);
+        if (c->sens_rows > 0) swim_json_number(f, c->sens_t_last);
+        else fprintf(f, "null");
+        fprintf(f, ", \"file\": \"sensitivity.csv\"},\n");
     }
     fprintf(f, "  \"initial_velocity_projected\": %s,\n  \"projection_change\": %.3g,\n",
             s->projection_change > 0 ? "true" : "false", s->projection_change);
@@ -1493,7 +1498,11 @@ static void run_sensitivity(run_ctx *c)
     double sec = 0.0;
     long evals = 0;
     S.error_control = !c->opt.sens_state_steps;
-    if (rc == 0) rc = swim_sens_write_run(&S, c->s.integrator, path, c->sens_t, &sec, &evals) ? 1 : 0;
+    if (rc == 0) {
+        rc = swim_sens_write_run(&S, c->s.integrator, path, c->sens_t, &sec, &evals) ? 1 : 0;
+        c->sens_rows = S.rows;
+        c->sens_t_last = S.t_last;
+    }
     if (rc == 0 && !c->opt.quiet)
         swim_message(stdout, "  sensitivities of %d key(s) in %s up to t = %.6g: %.3f s, %ld evaluations of the augmented RHS",
                      S.nkeys, path, c->sens_t, sec, evals);

@@ -348,6 +348,8 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
     int orc = swim_ode_create(integrator, &sys, &o, 0.0, Y, &ode);
     const long rows = (long)floor(t_end / s->output_step + 1e-9);
     double t = 0.0;
+    S->rows = 0;
+    S->t_last = NAN;
     for (long k = 0; orc == SWIM_ODE_OK; k++) {   /* the grid of swim run's trajectory.csv */
         t = k <= rows ? k * s->output_step : t_end;
         if (k == rows && fabs(t - t_end) < 1e-9 * s->output_step) t = t_end;
@@ -367,6 +369,8 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
             swim_message(stderr, "swim: %s: write failed at t = %.6g: %s", csv_path, t, strerror(errno));
             goto done;
         }
+        S->rows++;
+        S->t_last = t;
     }
     if (orc != SWIM_ODE_OK) {
         int st = ode ? swim_ode_rhs_status(ode) : 0;

@@ -46,6 +46,8 @@ typedef struct {
      * may need several times the state's steps; 0: it covers the state only, and the
      * sensitivities take the state's steps (swim run --sensitivity-steps state) */
     int error_control;
+    long rows;              /* rows swim_sens_write_run wrote, ... */
+    double t_last;          /* ... the last at this time (0 rows: NAN) */
 } swim_sens;
 
 /* 0, or -1 (out of memory). */
