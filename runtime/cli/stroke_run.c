@@ -222,13 +222,9 @@ static int refuse(const stroke_ctx *c, double t, const char *why)
 /* One line naming the law the generator refused (swim_codegen_stroke -2): bad input, exit 2. */
 static int law_refused(const stroke_ctx *c)
 {
-    const swim_scene *s = &c->s;
-    int k = 0;
-    while (k < s->stroke_count - 1 && s->stroke_index[k] != c->law.refused_index) k++;
-    char name[24], where[512];
-    swim_coord_name(s->stroke_index[k], name, sizeof name);
-    swim_message(stderr, "swim: %s: stroke.%s: %s", swim_scene_where(s, s->stroke_line[k], where, sizeof where),
-                 name, c->law.refused);
+    char where[640];
+    swim_message(stderr, "swim: %s: %s", swim_scene_stroke_where(&c->s, c->law.refused_index, where, sizeof where),
+                 c->law.refused);
     return 2;
 }
 

@@ -290,6 +290,16 @@ static int check_initial_velocity(ctx *c, const toml_value *shape, swim_scene *s
     return 0;
 }
 
+const char *swim_scene_stroke_where(const swim_scene *s, int coord, char *buf, size_t n)
+{
+    int k = 0;
+    while (k < s->stroke_count - 1 && s->stroke_index[k] != coord) k++;
+    char where[WHERE_MAX], name[24];
+    swim_coord_name(s->stroke_index[k], name, sizeof name);
+    snprintf(buf, n, "%s: stroke.%s", swim_scene_where(s, s->stroke_line[k], where, sizeof where), name);
+    return buf;
+}
+
 /* The first of step, abs used in `law` (a word of the text), or NULL: neither is twice
  * differentiable where it switches, and a stroke needs c'' (its power). */
 static const char *not_smooth(const char *law)

@@ -113,6 +113,10 @@ typedef struct {
  * Written to buf (n bytes, cut if longer); returns buf. */
 const char *swim_scene_where(const swim_scene *s, int line, char *buf, size_t n);
 
+/* "FILE:LINE: stroke.NAME" of the [stroke] law that prescribes coordinate `coord` (the first
+ * law's when none does), for a message about that law. Written to buf; returns buf. */
+const char *swim_scene_stroke_where(const swim_scene *s, int coord, char *buf, size_t n);
+
 /* Which run settings came from the command line (nonzero: its messages name the option). */
 typedef struct {
     int given[SWIM_SET_COUNT];

@@ -746,12 +746,9 @@ static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys)
             swim_compiled_close(&kn);
         }
         if (bad == -2) {   /* a stroke law the generator refuses: bad input */
-            int j = 0;
-            while (j < s.stroke_count - 1 && s.stroke_index[j] != sc.refused_index) j++;
-            char name[24], where[512];
-            swim_coord_name(s.stroke_index[j], name, sizeof name);
-            swim_message(stderr, "swim: %s: stroke.%s: %s (member %ld)",
-                         swim_scene_where(&s, s.stroke_line[j], where, sizeof where), name, sc.refused, rep[k]);
+            char where[640];
+            swim_message(stderr, "swim: %s: %s (member %ld)",
+                         swim_scene_stroke_where(&s, sc.refused_index, where, sizeof where), sc.refused, rep[k]);
             swim_scene_free(&s);
             return 2;
         }
