@@ -16,7 +16,7 @@ KERNEL_OPT ?= $(OPT)
 CFLAGS     ?= $(OPT) -g
 CFLAGS     += -std=c11 -D_XOPEN_SOURCE=700 -Wall -Wextra -Wno-unused-parameter -MMD -MP
 CPPFLAGS   += -Iruntime -I/usr/include/sundials
-LDLIBS     += -ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lquadmath -lm
+LDLIBS     += -ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -ljansson -lquadmath -lm
 BUILD      ?= build
 BIN        ?= bin
 # Mode counts whose kernels are committed (generated/) and linked into bin/swim; any other N up
@@ -25,8 +25,9 @@ MODES      ?= 0 1 2 3 4 5 6 7
 N          ?= 7
 PREFIX     ?= /usr/local
 
-# Debian packages a fresh machine lacks (checked by `make deps`).
-DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev python3-sympy python3-numpy python3-matplotlib
+# Debian packages a fresh machine lacks (checked by `make deps`). libjansson-dev: the JSON parser
+# that reads summaries back (runtime/driver/summary_read.c).
+DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev libjansson-dev python3-sympy python3-numpy python3-matplotlib
 # Installed on demand by the targets that need them (animations, the page and its browser test):
 # ffmpeg pulls ~90 packages and chromium ~280 MB, too much for a plain build.
 MEDIA_PKGS := ffmpeg chromium
@@ -89,7 +90,9 @@ $(DEPS_STAMP): PKGS := $(DEB_PKGS)
 $(MEDIA_STAMP): PKGS := $(MEDIA_PKGS)
 $(MPI_STAMP): PKGS := $(MPI_PKGS)
 $(FUZZ_STAMP): PKGS := $(FUZZ_PKGS)
-$(DEPS_STAMP) $(MEDIA_STAMP) $(MPI_STAMP) $(FUZZ_STAMP):
+# The stamps depend on the Makefile (and the module fragments listing packages): a package added to
+# a list is checked again in a build folder whose stamp predates it.
+$(DEPS_STAMP) $(MEDIA_STAMP) $(MPI_STAMP) $(FUZZ_STAMP): Makefile $(wildcard runtime/mpi/module.mk)
 	@missing=""; for p in $(PKGS); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
 	done; \
@@ -115,7 +118,7 @@ $(BUILD)/kernel_table.o: $(BUILD)/kernel_table.c
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
 $(BUILD)/libswim.a: $(LIB_OBJS)
-	ar rcs $@ $^
+	rm -f $@ && ar rcs $@ $^   # afresh: a member whose source was moved or removed must not stay
 
 $(BUILD)/libswimtest.a: $(TESTLIB_OBJS)
 	ar rcs $@ $^

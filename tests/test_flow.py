@@ -26,8 +26,12 @@ def test_run_directory():
     d = os.path.join(swimtest.TMP, "lazy")
     check(p.returncode == 0, "swim run failed: %s" % p.stderr)
     check(not os.path.exists(os.path.join(d, "snapshots.json")), "swim run wrote snapshots.json unasked")
-    with open(os.path.join(swimtest.ROOT, SCENE)) as a, open(os.path.join(d, "scene.toml")) as b:
-        check(a.read() == b.read(), "DIR/scene.toml is not a copy of the scene")
+    with open(os.path.join(swimtest.ROOT, SCENE)) as a, open(os.path.join(d, "scene.original.toml")) as b:
+        check(a.read() == b.read(), "DIR/scene.original.toml is not a copy of the scene")
+    with open(os.path.join(d, "scene.toml")) as b:
+        resolved = b.read()
+    check(resolved.startswith("# resolved by swim: --set run.t_end=2 applied to") and "t_end = 2" in resolved,
+          "DIR/scene.toml is the scene as run (--t-end 2 written in)")
     # a stale snapshots.json from an earlier run is removed, not left to contradict the new rows
     with open(os.path.join(d, "snapshots.json"), "w") as fh:
         fh.write("[]")

@@ -887,12 +887,20 @@ static int unit_circle(double t, double *y, void *p)
 static void ignore_step(const swim_ode_step *st, void *data) { (void)st; (void)data; }
 static double ev_y0(double t, const double *y, const double *yp, void *d) { (void)t; (void)yp; (void)d; return y[0]; }
 static void ev_ignore(const swim_ode_event_hit *h, void *d) { (void)h; (void)d; }
+/* A balance that never moves: only what the registry says about it is tested here. */
+static double zero_balance(double t, const double *y, double *noise, void *data)
+{
+    (void)t; (void)y; (void)data;
+    *noise = 0.0;
+    return 0.0;
+}
 
 static void test_registry(void)
 {
     static const char *const want[] = {"abm", "rk8pd", "msadams", "rkf45", "msbdf", "cvode-adams", "cvode-bdf"};
     static const unsigned caps[] = {
-        SWIM_ODE_CAP_PROJECTION | SWIM_ODE_CAP_STEP_TRACE | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_STIFFNESS,
+        SWIM_ODE_CAP_PROJECTION | SWIM_ODE_CAP_STEP_TRACE | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_STIFFNESS |
+            SWIM_ODE_CAP_WEIGHTS | SWIM_ODE_CAP_INVARIANT,
         0, 0, 0, SWIM_ODE_CAP_JACOBIAN | SWIM_ODE_CAP_IMPLICIT, SWIM_ODE_CAP_EVENTS,
         SWIM_ODE_CAP_PROJECTION | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_JACOBIAN | SWIM_ODE_CAP_IMPLICIT};
     const char *const *m = swim_ode_methods();
@@ -911,7 +919,8 @@ static void test_registry(void)
     double y0[2] = { 1.0, 0.0 };
     swim_ode_event ev = { ev_y0, NULL, 0, 0 };
     for (i = 0; i < 7; i++) {
-        for (int opt = 0; opt < 4; opt++) {
+        for (int opt = 0; opt < 6; opt++) {
+            static const double scale[2] = {1.0, 1.0};
             swim_ode_options o;
             swim_ode_options_default(&o);
             unsigned need = 0;
@@ -920,6 +929,8 @@ static void test_registry(void)
             case 1: o.on_step = ignore_step; need = SWIM_ODE_CAP_STEP_TRACE; break;
             case 2: o.events = &ev; o.nevents = 1; o.on_event = ev_ignore; need = SWIM_ODE_CAP_EVENTS; break;
             case 3: o.stiff_stop = 1; need = SWIM_ODE_CAP_STIFFNESS; break;
+            case 4: o.tol_scale = scale; need = SWIM_ODE_CAP_WEIGHTS; break;
+            case 5: o.invariant = zero_balance; o.invariant_tol = 1e-8; need = SWIM_ODE_CAP_INVARIANT; break;
             }
             swim_ode *s = NULL;
             int rc = swim_ode_create(want[i], &sys, &o, 0.0, y0, &s);

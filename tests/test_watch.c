@@ -1,8 +1,8 @@
 /* Checks at every accepted step: the ODE layer's on_accept report and swim_ode_dense, and the
- * run's watch (cli/run_watch.h) on paths of the shape whose minimum of J and crossing of J = 0
+ * run's watch (driver/watch.h) on paths of the shape whose minimum of J and crossing of J = 0
  * are known in closed form. */
 #include "check.h"
-#include "cli/run_watch.h"
+#include "driver/watch.h"
 #include "model/dynamics.h"
 #include "ode/ode.h"
 #include "ode_problems.h"

@@ -157,3 +157,18 @@ int swim_args_list(const char *cmd, const char *opt, const char *s, double *out,
     *count = k;
     return 0;
 }
+
+int swim_args_take_sets(const char *cmd, int *argc, char **argv, int first, swim_override *sets, int cap)
+{
+    const char *vals[256];
+    const int n = swim_args_take_all(cmd, argc, argv, first, "set", vals, cap < 256 ? cap : 256);
+    if (n < 0) return -1;
+    for (int i = 0; i < n; i++) {
+        char err[256];
+        if (swim_override_parse(vals[i], &sets[i], err, sizeof err) != 0) {
+            swim_message(stderr, "swim %s: --set: %s", cmd, err);
+            return -1;
+        }
+    }
+    return n;
+}

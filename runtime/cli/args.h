@@ -3,6 +3,8 @@
 #ifndef SWIM_ARGS_H
 #define SWIM_ARGS_H
 
+#include "scene/scene.h"
+
 typedef struct {
     const char *name;   /* without the leading "--" */
     int takes_value;    /* 0 = flag, 1 = a value given once, 2 = a value the caller reads from
@@ -21,6 +23,10 @@ int swim_args_parse(const char *cmd, int argc, char **argv, int first, swim_opt 
  * Returns their count, or -1 after printing "swim CMD: ..." (value missing, more than cap). */
 int swim_args_take_all(const char *cmd, int *argc, char **argv, int first, const char *name,
                        const char **vals, int cap);
+
+/* Every `--set KEY=VALUE` taken out of argv (swim_args_take_all) and parsed into sets (at most cap):
+ * how many, or -1 after one line "swim CMD: --set: ..." on stderr. */
+int swim_args_take_sets(const char *cmd, int *argc, char **argv, int first, swim_override *sets, int cap);
 
 const char *swim_args_get(const swim_opt *opts, int nopts, const char *name);
 

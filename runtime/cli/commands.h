@@ -13,10 +13,4 @@ int swim_cmd_floquet(int argc, char **argv);
 int swim_cmd_optimize(int argc, char **argv);
 int swim_cmd_cache(int argc, char **argv);
 
-/* swim run on a scene with a [stroke] table (cli/stroke_run.c): swim_cmd_run hands such a scene
- * to swim_cmd_stroke, with the same arguments. swim_stroke_requested: 1 when the scene named on
- * the command line has a [stroke] table. */
-int swim_stroke_requested(int argc, char **argv);
-int swim_cmd_stroke(int argc, char **argv);
-
 #endif

@@ -56,7 +56,7 @@ static void fill(FILE *f, void *ctx)
 int swim_cmd_floquet(int argc, char **argv)
 {
     swim_override sets[SWIM_SETUP_MAX_SETS];
-    int nsets = swim_setup_take_sets("floquet", &argc, argv, 2, sets);
+    int nsets = swim_args_take_sets("floquet", &argc, argv, 2, sets, (int)(sizeof sets / sizeof sets[0]));
     if (nsets < 0) return 2;
     swim_opt opts[] = {{"out", 1, NULL}, {"event", 1, NULL}, {"t-max", 1, NULL}, {"quiet", 0, NULL},
                        {"generic", 0, NULL}};

@@ -149,10 +149,10 @@ static int plot(const char *dir)
 
 int swim_cmd_optimize(int argc, char **argv)
 {
-    static swim_override sets[SWIM_SETUP_MAX_SETS];
+    static swim_override sets[SWIM_OPT_MAX_SETS];
     static swim_opt_problem p;
     memset(&p, 0, sizeof p);
-    int nsets = swim_setup_take_sets("optimize", &argc, argv, 2, sets);
+    int nsets = swim_args_take_sets("optimize", &argc, argv, 2, sets, (int)(sizeof sets / sizeof sets[0]));
     if (nsets < 0) return 2;
     const char *vary[SWIM_OPT_MAX_KEYS + 1];
     int nvary = swim_args_take_all("optimize", &argc, argv, 2, "vary", vary, SWIM_OPT_MAX_KEYS + 1);
@@ -209,7 +209,7 @@ int swim_cmd_optimize(int argc, char **argv)
     /* The scene with the keys at the middle of their ranges is read and checked now: a key the
      * scene does not have, or a quantity it cannot give, is one line and exit 2 before any run. */
     {
-        swim_override ov[SWIM_SETUP_MAX_SETS + SWIM_OPT_MAX_KEYS];
+        swim_override ov[SWIM_OPT_MAX_SETS + SWIM_OPT_MAX_KEYS];
         int k = 0;
         for (int i = 0; i < nsets; i++) ov[k++] = sets[i];
         for (int i = 0; i < p.nkeys; i++) {

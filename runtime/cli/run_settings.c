@@ -1,9 +1,14 @@
 #include "cli/run_settings.h"
 
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
+#include "io/files.h"
 #include "io/message.h"
 #include "ode/ode.h"
+#include "scene/resolve.h"
 
 /* A number option: parsed into *dst; *given says whether it was on the command line. */
 static int number_option(const swim_opt *opts, int nopts, const char *name, double *dst, int *given)
@@ -35,4 +40,28 @@ int swim_run_settings_options(const swim_opt *opts, int nopts, swim_scene *s)
         s->step_lookahead = (int)p;
     }
     return swim_run_settings_check(s, &cli) != 0 ? 2 : 0;
+}
+
+int swim_run_settings_record(const swim_opt *opts, int nopts, const swim_scene *s, swim_override *out)
+{
+    static const char *const numeric[][2] = {{"t-end", "run.t_end"}, {"output-step", "run.output_step"},
+                                             {"rtol", "run.rtol"}, {"atol", "run.atol"}};
+    const double values[] = {s->t_end, s->output_step, s->rtol, s->atol};
+    char text[160];
+    int n = 0;
+    for (int i = 0; i < 4; i++)
+        if (swim_args_get(opts, nopts, numeric[i][0])) {
+            snprintf(text, sizeof text, "%s=%.17g", numeric[i][1], values[i]);
+            if (swim_override_parse(text, &out[n], NULL, 0) == 0) n++;
+        }
+    if (swim_args_get(opts, nopts, "integrator")) {
+        snprintf(text, sizeof text, "run.integrator=%s", s->integrator);
+        if (swim_override_parse(text, &out[n], NULL, 0) == 0) n++;
+    }
+    if (swim_args_get(opts, nopts, "step-lookahead")) {
+        snprintf(text, sizeof text, "run.step_lookahead=%d", s->step_lookahead);
+        if (swim_override_parse(text, &out[n], NULL, 0) == 0) n++;
+    }
+    if (swim_args_get(opts, nopts, "no-projection") && swim_override_parse("run.projection=false", &out[n], NULL, 0) == 0) n++;
+    return n;
 }

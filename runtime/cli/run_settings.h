@@ -12,4 +12,9 @@
  * 0, or 2 after one line on stderr (an unparsable number, an unknown integrator, a bound). */
 int swim_run_settings_options(const swim_opt *opts, int nopts, swim_scene *s);
 
+/* The overrides that write into DIR/scene.toml what the options given changed in s (--t-end,
+ * --output-step, --rtol, --atol, --integrator, --step-lookahead, --no-projection), at most 7,
+ * into out. Their count. */
+int swim_run_settings_record(const swim_opt *opts, int nopts, const swim_scene *s, swim_override *out);
+
 #endif

@@ -1,3 +1,4 @@
+#include "io/clock.h"
 #include "cli/run_signals.h"
 
 #include <string.h>
@@ -22,9 +23,3 @@ void swim_run_signals_restore(const swim_run_signals *s)
     for (int i = 0; i < SWIM_RUN_NSIGNALS; i++) sigaction(signals[i], &s->old[i], NULL);
 }
 
-double swim_wall(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}

@@ -20,7 +20,5 @@ void swim_run_signals_install(swim_run_signals *s);
 /* Put the previous actions back. */
 void swim_run_signals_restore(const swim_run_signals *s);
 
-/* Monotonic wall-clock seconds (for the run's timings). */
-double swim_wall(void);
 
 #endif

@@ -9,7 +9,9 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "io/clock.h"
 #include "cli/commands.h"
+#include "cli/sweep_args.h"
 #include "sweep/sweep.h"
 #include "io/message.h"
 
@@ -26,12 +28,6 @@ static void on_stop(int sig)
         if (running_pids[i] > 0) kill(running_pids[i], SIGTERM);
 }
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 int swim_cmd_sweep(int argc, char **argv)
 {
@@ -51,7 +47,7 @@ int swim_cmd_sweep(int argc, char **argv)
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
 
-    const double t0 = now();
+    const double t0 = swim_clock_seconds();
     long next = 0, running = 0, ran = 0, failed = 0, interrupted = 0;
     double last_progress = t0;
     char row[2048];
@@ -98,7 +94,7 @@ int swim_cmd_sweep(int argc, char **argv)
         } else {
             stop_signal = -1;   /* named on stderr; the next members would meet the same disk */
         }
-        double t = now();
+        double t = swim_clock_seconds();
         if (!p.quiet && t - last_progress > 1.0) {
             fprintf(stderr, "\rswim sweep: %ld / %ld members (%ld failed)   ", p.already + ran, p.members, p.already_failed + failed);
             last_progress = t;
@@ -111,7 +107,7 @@ int swim_cmd_sweep(int argc, char **argv)
         swim_message(stderr, "swim sweep: cannot write %s/members.csv: %s", p.dir, strerror(errno));
         stop_signal = -1;
     }
-    const double seconds = now() - t0;
+    const double seconds = swim_clock_seconds() - t0;
     const long finished = p.already + ran, all_failed = p.already_failed + failed;
     if (stop_signal) {
         swim_message(stderr, "swim sweep: %s: stopped%s after %ld of %ld members (%ld failed); run the same command "

@@ -1,5 +1,6 @@
 /* memfd_create (Linux): a loaded kernel is a private copy, see load_entry */
 #define _GNU_SOURCE
+#include "io/clock.h"
 #include "codegen/codegen.h"
 
 #include <dirent.h>
@@ -294,12 +295,6 @@ static void remove_private(const char *dir)
 
 /* ---- processes ------------------------------------------------------------------------- */
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 /* A signal that asked this process to stop while a generator or compiler ran (0: none). Set
  * only by the handler below, which run_command installs for the child's lifetime. */
@@ -573,7 +568,7 @@ static int build_entry(const char *root, const char *dir, const entry_spec *e, s
     snprintf(gen, sizeof gen, "%s/generator/generate.py", root);
     snprintf(out->source, sizeof out->source, "%s/kernel.c", dir);
     const char *python = swim_python();
-    double t0 = now();
+    double t0 = swim_clock_seconds();
     int rc;
     if (e->json) {
         snprintf(path, sizeof path, "%s/structure.json", dir);
@@ -600,7 +595,7 @@ static int build_entry(const char *root, const char *dir, const entry_spec *e, s
         return *stopped ? -3 : -1;
     }
     if (!e->json) rmdir(path);
-    double t1 = now();
+    double t1 = swim_clock_seconds();
     snprintf(tmp, sizeof tmp, "%s/kernel.so.tmp%ld", dir, (long)getpid());
     snprintf(inc, sizeof inc, "-I%s/runtime", root);
     char flags[512];
@@ -620,7 +615,7 @@ static int build_entry(const char *root, const char *dir, const entry_spec *e, s
         return *stopped ? -3 : -1;
     }
     out->generate_seconds = t1 - t0;
-    out->compile_seconds = now() - t1;
+    out->compile_seconds = swim_clock_seconds() - t1;
     /* the manifest last: an entry without one is never loaded */
     uint64_t ch, sh;
     long long cs, ss;

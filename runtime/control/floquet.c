@@ -1,3 +1,4 @@
+#include "io/clock.h"
 #include "control/floquet.h"
 
 #include <complex.h>
@@ -19,12 +20,6 @@
  * unit circle" from a genuine instability without calling that splitting unstable. */
 #define FLOQUET_TOL SWIM_FLOQUET_TOL
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 typedef struct {
     double t[2];
@@ -260,7 +255,7 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
         swim_message(stderr, "swim floquet: %s: a prescribed stroke has no free shape dynamics", d->scene->path);
         return 1;
     }
-    const double t0 = now();
+    const double t0 = swim_clock_seconds();
     const int nf = d->spec->nfree, n2 = 2 * nf, N = swim_dynamics_state_dim(d);
     fl->n2 = n2;
     double *full = calloc((size_t)d->dim, sizeof(double)), *ys = malloc(sizeof(double) * N);
@@ -322,7 +317,7 @@ oom:
 done:
     if (have_sens) swim_sens_free(&S);
     free(full); free(ys); free(f); free(gE); free(C); free(B); free(Y);
-    fl->seconds = now() - t0;
+    fl->seconds = swim_clock_seconds() - t0;
     return rc;
 }
 

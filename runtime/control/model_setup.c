@@ -2,23 +2,7 @@
 
 #include <string.h>
 
-#include "cli/args.h"
 #include "io/message.h"
-
-int swim_setup_take_sets(const char *cmd, int *argc, char **argv, int first, swim_override *sets)
-{
-    const char *vals[SWIM_SETUP_MAX_SETS];
-    int n = swim_args_take_all(cmd, argc, argv, first, "set", vals, SWIM_SETUP_MAX_SETS);
-    if (n < 0) return -1;
-    for (int i = 0; i < n; i++) {
-        char err[256];
-        if (swim_override_parse(vals[i], &sets[i], err, sizeof err) != 0) {
-            swim_message(stderr, "swim %s: --set: %s", cmd, err);
-            return -1;
-        }
-    }
-    return n;
-}
 
 int swim_setup_open(swim_model_setup *m, const char *cmd, const char *path, const swim_override *sets,
                     int nsets, int generic, int quiet)

@@ -19,9 +19,6 @@ typedef struct {
     int loaded, dyn_ready;
 } swim_model_setup;
 
-/* Takes every --set KEY=VALUE out of argv[first..*argc) (compacting argv) into sets; how many,
- * or -1 after one line "swim CMD: --set: ..." on stderr. */
-int swim_setup_take_sets(const char *cmd, int *argc, char **argv, int first, swim_override *sets);
 /* 0; 2 after one line on stderr (bad scene or override, numbers that overflow); 1 when no
  * kernel could be had or out of memory. swim_setup_load and swim_setup_kernels are its two
  * stages, for a command that judges the scene itself before any kernel is made. */

@@ -29,6 +29,7 @@
 #include "scene/scene.h"
 
 #define SWIM_OPT_MAX_KEYS 8
+#define SWIM_OPT_MAX_SETS 64   /* --set overrides */
 
 enum { SWIM_Q_X, SWIM_Q_Y, SWIM_Q_THETA, SWIM_Q_DISPLACEMENT, SWIM_Q_WORK, SWIM_Q_FORCING_WORK,
        SWIM_Q_DISPLACEMENT_PER_WORK, SWIM_Q_ENERGY, SWIM_Q_COUNT };

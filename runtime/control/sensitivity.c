@@ -1,3 +1,4 @@
+#include "io/clock.h"
 #include "control/sensitivity.h"
 
 #include <errno.h>
@@ -300,12 +301,6 @@ double swim_sens_energy(swim_sens *S, const double *Y, int k)
     return rc == 0 ? (E[0] - E[1]) / (2 * h) : NAN;
 }
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double t_end,
                         double *seconds, long *rhs_calls)
@@ -313,7 +308,7 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
     static const char *const what[] = {"dx", "dy", "dtheta", "denergy", "dwork"};
     const swim_scene *s = S->d->scene;
     const int n = S->dim, ncol = 1 + 5 * S->nkeys, N = swim_sens_dimension(S);
-    const double t0 = now();
+    const double t0 = swim_clock_seconds();
     char **names = calloc((size_t)ncol, sizeof *names);
     double *Y = malloc(sizeof(double) * N), *row = malloc(sizeof(double) * ncol);
     double *y0 = calloc((size_t)S->d->dim, sizeof(double)), *ys = malloc(sizeof(double) * n), *atolv = NULL;
@@ -396,6 +391,6 @@ done:
     if (names)
         for (int c = 0; c < ncol; c++) free(names[c]);
     free(names); free(Y); free(row); free(y0); free(ys); free(atolv);
-    if (seconds) *seconds = now() - t0;
+    if (seconds) *seconds = swim_clock_seconds() - t0;
     return rc;
 }

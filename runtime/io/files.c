@@ -236,3 +236,43 @@ int swim_copy_file(const char *src, const char *dst)
     errno = saved;
     return rc;
 }
+
+char *swim_read_file(const char *path, size_t max, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    size_t cap = 4096, n = 0;
+    char *buf = malloc(cap + 1);
+    while (buf) {
+        const size_t got = fread(buf + n, 1, cap - n, f);
+        n += got;
+        if (n < cap) break;
+        if (cap >= max + 1) {   /* more than max bytes */
+            free(buf);
+            buf = NULL;
+            errno = EFBIG;
+            break;
+        }
+        cap = cap * 2 > max + 1 ? max + 1 : cap * 2;
+        char *nb = realloc(buf, cap + 1);
+        if (!nb) free(buf);
+        buf = nb;
+    }
+    const int bad = buf && ferror(f), saved = errno;
+    fclose(f);
+    if (bad) {
+        free(buf);
+        errno = saved ? saved : EIO;
+        return NULL;
+    }
+    if (buf && n > max) {
+        free(buf);
+        errno = EFBIG;
+        return NULL;
+    }
+    if (buf) {
+        buf[n] = '\0';
+        if (len) *len = n;
+    }
+    return buf;
+}

@@ -52,4 +52,9 @@ int swim_still_names(const char *path, const struct stat *st);
  * a partial copy. 0, or -1 with errno set. Copying a file onto itself is a no-op. */
 int swim_copy_file(const char *src, const char *dst);
 
+/* The whole file at path, NUL-terminated, in a new buffer (*len bytes without the NUL; len may be
+ * NULL). NULL with errno set when it cannot be opened or read, or EFBIG when it holds more than
+ * max bytes. The one read-whole-file of the runtime. */
+char *swim_read_file(const char *path, size_t max, size_t *len);
+
 #endif

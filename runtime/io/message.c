@@ -103,3 +103,25 @@ char *swim_strprintf(const char *fmt, ...)
     va_end(ap);
     return buf;
 }
+
+char *swim_shell_words(int argc, const char *const *argv)
+{
+    size_t len = 1;
+    for (int i = 0; i < argc; i++) len += 4 * strlen(argv[i]) + 3;
+    char *s = malloc(len), *p = s;
+    if (!s) return NULL;
+    for (int i = 0; i < argc; i++) {
+        const char *a = argv[i];
+        const int plain = a[0] && strspn(a, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_./:=,+-@%") == strlen(a);
+        if (i) *p++ = ' ';
+        if (!plain) *p++ = '\'';
+        for (; *a; a++) {
+            if (!plain && *a == '\'') { memcpy(p, "'\\''", 4); p += 4; }
+            else *p++ = *a;
+        }
+        if (!plain) *p++ = '\'';
+    }
+    *p = '\0';
+    return s;
+}
+

@@ -35,4 +35,9 @@ size_t swim_utf8_sequence(const unsigned char *s, size_t n, unsigned long *cp);
 char *swim_strprintf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 char *swim_vstrprintf(const char *fmt, va_list ap);
 
+/* argv[0..argc) as one line a shell reads back as the same words (a word with characters other
+ * than [A-Za-z0-9_./:=,+-@%] in single quotes): the command line a summary records. NULL when
+ * out of memory; the caller frees it. */
+char *swim_shell_words(int argc, const char *const *argv);
+
 #endif

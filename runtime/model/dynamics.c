@@ -1,3 +1,4 @@
+#include "io/clock.h"
 #include "model/dynamics.h"
 
 #include <math.h>
@@ -66,12 +67,6 @@ void swim_dynamics_initial_state(const swim_dynamics *d, double *y)
     memcpy(y + 3 + s->n, s->dc0, sizeof(double) * s->n);
 }
 
-static double seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 /* The barrier callback of scene kernels: W2's gradient from shape/barrier.h at the full shape x,
  * restricted to the coordinates the kernel carries. A generic kernel always asks; without a
@@ -272,7 +267,7 @@ double swim_dynamics_jmin(const swim_dynamics *d, const double *u, double *theta
 int swim_dynamics_rhs(double t, const double *u, double *dy, void *params)
 {
     swim_dynamics *d = params;
-    double t0 = seconds();
+    double t0 = swim_clock_seconds();
     int rc;
     const double *y = split_state(d, u);
     if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;   /* fatal: negative */
@@ -281,7 +276,7 @@ int swim_dynamics_rhs(double t, const double *u, double *dy, void *params)
     d->lo_valid = 0;
     d->bal_valid = d->bal_track && rc == 0 && (!d->scene->barrier || d->w2_valid);
     if (d->bal_valid) memcpy(d->bal_u, u, sizeof(double) * (size_t)swim_dynamics_state_dim(d));
-    d->rhs_seconds += seconds() - t0;
+    d->rhs_seconds += swim_clock_seconds() - t0;
     d->rhs_calls++;
     d->last_rhs_t = d->t_origin + t;
     return rc;
@@ -368,14 +363,14 @@ double swim_dynamics_balance(double t, const double *u, double *noise, void *par
 int swim_dynamics_jacobian(double t, const double *y, double *J, void *params)
 {
     swim_dynamics *d = params;
-    double t0 = seconds();
+    double t0 = swim_clock_seconds();
     int rc;
     if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;
     else if (!d->spec->jacobian) rc = -SWIM_DYN_ENAN;   /* a kernel without one: run.c does not ask */
     else rc = d->spec->jacobian(d->t_origin + t, split_state(d, y), J, &d->spec_params);
     d->lo_valid = 0;
     if (rc < 0 && rc != -SWIM_DYN_EINTERRUPT) rc = -SWIM_DYN_ENAN;
-    d->jac_seconds += seconds() - t0;
+    d->jac_seconds += swim_clock_seconds() - t0;
     d->jac_calls++;
     return rc;
 }

@@ -21,19 +21,15 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "io/clock.h"
 #include "io/message.h"
+#include "cli/sweep_args.h"
 #include "sweep/sweep.h"
 
 
 enum { TAG_RESULT = 1, TAG_WORK = 2 };
 #define MSG_LEN 2304
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 /* With SWIM_MPI_EXEC=1 members are run by exec of bin/swim next to this program (for an MPI stack
  * that objects to a forked rank running code without exec); by default the forked child calls the
@@ -75,7 +71,7 @@ static int deal(sweep_plan *p, int ranks)
     long next = 0, ran = 0, failed = 0, handled = 0;
     int stop = 0;   /* a row or a summary could not be written (named on stderr): deal no more */
     int active = ranks - 1;
-    double busy = 0.0, t0 = now();
+    double busy = 0.0, t0 = swim_clock_seconds();
     long nap = 50000;   /* ns; doubles while idle up to 2 ms: few wake-ups, at most 2 ms of latency */
     char msg[MSG_LEN];
     while (active > 0) {
@@ -88,7 +84,7 @@ static int deal(sweep_plan *p, int ranks)
             continue;
         }
         nap = 50000;
-        double tb = now();
+        double tb = swim_clock_seconds();
         MPI_Recv(msg, MSG_LEN, MPI_CHAR, st.MPI_SOURCE, TAG_RESULT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         long id;
         int finished, bad, off = 0;
@@ -109,13 +105,13 @@ static int deal(sweep_plan *p, int ranks)
         long give = next < p->members && !stop ? next++ : -1;
         if (give < 0) active--;
         MPI_Send(&give, 1, MPI_LONG, st.MPI_SOURCE, TAG_WORK, MPI_COMM_WORLD);
-        busy += now() - tb;
+        busy += swim_clock_seconds() - tb;
     }
     if (fclose(rows) != 0 && !stop) {
         swim_message(stderr, "swim-mpi: cannot write %s/members.csv: %s", p->dir, strerror(errno));
         stop = 1;
     }
-    double seconds = now() - t0;
+    double seconds = swim_clock_seconds() - t0;
     const long finished = p->already + ran, all_failed = p->already_failed + failed;
     if (stop) {
         swim_message(stderr, "swim-mpi: %s: stopped after %ld of %ld members (%ld failed); run the same command "

@@ -1003,7 +1003,6 @@ double abm_time(const abm *a) { return a->t; }
 int abm_rhs_status(const abm *a) { return a->rhs_status; }
 const double *abm_state(const abm *a) { return a->y; }
 double abm_next_h(const abm *a) { return a->h; }
-int abm_next_order(const abm *a) { return a->k; }
 
 size_t abm_snapshot(const abm *a, double *buf)
 {

@@ -45,8 +45,7 @@ const double *abm_state(const abm *a);
  * leave unchanged (t, y, difference table, step history and its coefficients) into buf; returns the
  * number of doubles written (call with buf = NULL to get the size). */
 size_t abm_snapshot(const abm *a, double *buf);
-/* Proposed size and order of the next step. */
+/* Proposed size of the next step. */
 double abm_next_h(const abm *a);
-int abm_next_order(const abm *a);
 
 #endif

@@ -36,10 +36,12 @@ static int abm_create_(const ode_method *m, const swim_ode_system *sys, const sw
 #define CAP_JAC SWIM_ODE_CAP_JACOBIAN
 #define CAP_STIFF SWIM_ODE_CAP_STIFFNESS
 #define CAP_IMPL SWIM_ODE_CAP_IMPLICIT
+#define CAP_W SWIM_ODE_CAP_WEIGHTS
+#define CAP_INV SWIM_ODE_CAP_INVARIANT
 
 /* The one list of integrators: every message, option check and peer constructor uses it. */
 static const ode_method registry[] = {
-    {"abm", CAP_PROJ | CAP_TRACE | CAP_EV | CAP_STIFF, 0, abm_create_},
+    {"abm", CAP_PROJ | CAP_TRACE | CAP_EV | CAP_STIFF | CAP_W | CAP_INV, 0, abm_create_},
     {"rk8pd", 0, ODE_GSL_RK8PD, swim_ode_gsl_create},
     {"msadams", 0, ODE_GSL_MSADAMS, swim_ode_gsl_create},
     {"rkf45", 0, ODE_GSL_RKF45, swim_ode_gsl_create},
@@ -160,7 +162,9 @@ static int check_capabilities(const ode_method *m, const swim_ode_options *o)
     if ((o->project && !(m->caps & SWIM_ODE_CAP_PROJECTION)) ||
         (o->on_step && !(m->caps & SWIM_ODE_CAP_STEP_TRACE)) ||
         (o->nevents > 0 && !(m->caps & SWIM_ODE_CAP_EVENTS)) ||
-        (o->stiff_stop && !(m->caps & SWIM_ODE_CAP_STIFFNESS)))
+        (o->stiff_stop && !(m->caps & SWIM_ODE_CAP_STIFFNESS)) ||
+        (o->tol_scale && !(m->caps & SWIM_ODE_CAP_WEIGHTS)) ||
+        (o->invariant && !(m->caps & SWIM_ODE_CAP_INVARIANT)))
         return SWIM_ODE_EUNSUPPORTED;
     return SWIM_ODE_OK;
 }

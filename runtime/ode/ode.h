@@ -13,14 +13,14 @@
  * (projection, step report, events, stiffness stop) makes swim_ode_create()
  * return SWIM_ODE_EUNSUPPORTED instead of being ignored:
  *
- *   name         projection  step trace  events  user Jacobian  stiffness diagnostic  implicit
- *   abm              x           x         x          -               x                -
- *   rk8pd            -           -         -          -               -                -
- *   msadams          -           -         -          -               -                -
- *   rkf45            -           -         -          -               -                -
- *   msbdf            -           -         -          x               -                x
- *   cvode-adams      -           -         x          -               -                -
- *   cvode-bdf        x           -         x          x               -                x
+ *   name         projection  step trace  events  user Jacobian  stiffness diagnostic  implicit  live weights  balance test
+ *   abm              x           x         x          -               x                -          x             x
+ *   rk8pd            -           -         -          -               -                -          -             -
+ *   msadams          -           -         -          -               -                -          -             -
+ *   rkf45            -           -         -          -               -                -          -             -
+ *   msbdf            -           -         -          x               -                x          -             -
+ *   cvode-adams      -           -         x          -               -                -          -             -
+ *   cvode-bdf        x           -         x          x               -                x          -             -
  *
  * A Jacobian in the system is information, not a request: integrators without
  * SWIM_ODE_CAP_JACOBIAN need none and do not call it.  The GSL steppers have no
@@ -183,11 +183,11 @@ typedef struct {
      * reaches t_stop; events of the step after t_stop are not located).  Ignored by the others. */
     int (*on_accept)(const swim_ode_accepted *step, void *data, double *t_stop);
     void *on_accept_data;
-    /* ABM only: optional per-component factors in (0, 1] on the error weights, read live at every
+    /* SWIM_ODE_CAP_WEIGHTS: optional per-component factors in (0, 1] on the error weights, read live at every
      * step (not copied: the caller may change them between steps, e.g. from on_accept). The
      * tolerance of component i becomes tol_scale[i] (rtol |y_i| + atol_i). NULL = 1. */
     const double *tol_scale;
-    /* ABM only: an optional balance B(t, y) -- a first integral, or one whose source is carried
+    /* SWIM_ODE_CAP_INVARIANT: an optional balance B(t, y) -- a first integral, or one whose source is carried
      * in y (energy minus the work of the forces, both in the state) -- whose local error joins
      * the error test.  To first order the step's error estimate moves B by
      * r (B(t_{n+1}, y_c) - B(t_{n+1}, p)), p the predictor, y_c the (projected) corrector,
@@ -250,7 +250,12 @@ enum {
     /* implicit (BDF with Newton iterations): its stability region holds the stiff modes whose
      * step-size limit stops an explicit or PECE method, so it is what a stiff fallback must be.
      * cvode-adams is not: its fixed-point corrector has the same limit as explicit Adams. */
-    SWIM_ODE_CAP_IMPLICIT = 32
+    SWIM_ODE_CAP_IMPLICIT = 32,
+    /* error weights that may change between steps: swim_ode_options.tol_scale, read live, and
+     * atol_vec (what a caller that moves the state's origin needs, swim run near the barrier) */
+    SWIM_ODE_CAP_WEIGHTS = 64,
+    /* a balance in the error test: swim_ode_options.invariant */
+    SWIM_ODE_CAP_INVARIANT = 128
 };
 
 /* The registry.  swim_ode_methods(): NULL-terminated list of names, in the order

@@ -187,13 +187,6 @@ int swim_expr_reserved(const char *name)
     return 0;
 }
 
-int swim_expr_uses_param(const swim_expr *e, int i)
-{
-    for (int k = 0; k < e->len; k++)
-        if (e->code[k].op == OP_PAR && e->code[k].fn == i) return 1;
-    return 0;
-}
-
 swim_expr *swim_expr_compile_params(const char *text, const char *const *names, int count,
                                     const double *values, char *err, size_t errlen)
 {

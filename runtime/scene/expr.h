@@ -30,8 +30,6 @@ swim_expr *swim_expr_compile_params(const char *text, const char *const *names, 
                                     const double *values, char *err, size_t errlen);
 /* 1 when `name` is taken by the grammar (t, pi, e or a function name): it cannot name a parameter. */
 int swim_expr_reserved(const char *name);
-/* 1 when the expression reads parameter i. */
-int swim_expr_uses_param(const swim_expr *e, int i);
 void swim_expr_free(swim_expr *e);
 
 #endif

@@ -30,11 +30,6 @@ int swim_constraint_locked_index(int n, const int *free_mask, int row)
     return -1;
 }
 
-double swim_constraint_curvature_g1(int n, const double *v)
-{
-    return swim_area_constant(n, v);   /* the same quadratic form, sum_k k |v_k|^2 */
-}
-
 int swim_constraint_project(int n, int m, const double *G, double *v)
 {
     double *A = malloc(sizeof(double) * (size_t)(m * m + m));

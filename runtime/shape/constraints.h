@@ -9,8 +9,6 @@
 int swim_constraint_rows(int n, const double *x, const int *free_mask, double *G);
 /* The coordinate locked by constraint row `row` (>= 2). */
 int swim_constraint_locked_index(int n, const int *free_mask, int row);
-/* (DG1[v]) . v = sum_k k (va_k^2 + vb_k^2); (DG2[v]) . v = 0 and locks give 0 (ERRATA C2). */
-double swim_constraint_curvature_g1(int n, const double *v);
 /* v <- v - G^T (G G^T)^-1 G v, the l2-orthogonal projection onto {G v = 0} (ERRATA D5).
  * 0, or -1 when G G^T is singular. */
 int swim_constraint_project(int n, int m, const double *G, double *v);

@@ -1,3 +1,3 @@
 # runtime/stroke: prescribed strokes (scene table [stroke], (3.21) only) and `swim run` on them
-# (cli/stroke_run.c, listed here so that the stroke path is one module).
-RUNTIME_SRCS += runtime/stroke/stroke.c runtime/cli/stroke_run.c
+# (the run of a stroke scene is driver/stroke_run.c).
+RUNTIME_SRCS += runtime/stroke/stroke.c

@@ -1,3 +1,4 @@
+#include "io/clock.h"
 #include "stroke/stroke.h"
 
 #include <math.h>
@@ -124,12 +125,6 @@ void swim_stroke_initial_state(const swim_stroke *st, double *y)
     y[SWIM_STROKE_PSI] = st->psi0;
 }
 
-static double seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 /* q* = P c' in the body frame, and P = c'.(K c'' + <Gamma, c', c'>), at shape c. */
 static int rigid_and_power(swim_stroke *st, const double *c, const double *dc, const double *ddc, double *qs,
@@ -155,7 +150,7 @@ static int rigid_and_power(swim_stroke *st, const double *c, const double *dc, c
 int swim_stroke_rhs(double t, const double *y, double *dy, void *params)
 {
     swim_stroke *st = params;
-    const double t0 = seconds();
+    const double t0 = swim_clock_seconds();
     st->rhs_calls++;
     st->last_rhs_t = t;
     if (st->interrupt && *st->interrupt) return -SWIM_STROKE_EINTERRUPT;
@@ -171,7 +166,7 @@ int swim_stroke_rhs(double t, const double *y, double *dy, void *params)
         for (int i = 0; i < SWIM_STROKE_DIM; i++)
             if (!isfinite(dy[i])) rc = SWIM_RHS_ENAN;
     }
-    st->rhs_seconds += seconds() - t0;
+    st->rhs_seconds += swim_clock_seconds() - t0;
     return rc;
 }
 

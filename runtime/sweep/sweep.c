@@ -15,13 +15,14 @@
 #include <unistd.h>
 #include <dirent.h>
 
-#include "cli/args.h"
-#include "cli/commands.h"
 #include "io/files.h"
 #include "io/json.h"
 #include "codegen/codegen.h"
 #include "ode/ode.h"
 #include "io/message.h"
+#include "driver/summary_read.h"
+#include "output/job.h"
+#include "scene/scene.h"
 
 /* ------------------------------------------------------------------ specs */
 
@@ -107,189 +108,6 @@ double sweep_value(const sweep_plan *p, long m, int v)
 }
 
 /* --------------------------------------------------------------- options */
-
-/* One fixed override; option names the run option it came from (t-end, ...), NULL for a --set. */
-static int add_set(sweep_plan *p, const char *text, const char *option)
-{
-    char err[256];
-    if (p->nsets >= SWEEP_MAX_SETS) {
-        swim_message(stderr, "swim %s: more than %d overrides", p->cmd, SWEEP_MAX_SETS);
-        return 2;
-    }
-    if (swim_override_parse(text, &p->sets[p->nsets], err, sizeof err) != 0) {
-        swim_message(stderr, "swim %s: --set: %s", p->cmd, err);
-        return 2;
-    }
-    p->set_option[p->nsets++] = option;
-    return 0;
-}
-
-/* How fixed override i was given, for messages: "--set KEY=VALUE" or "--t-end VALUE". */
-static void set_label(const sweep_plan *p, int i, char *buf, size_t len)
-{
-    if (p->set_option[i]) snprintf(buf, len, "--%s %s", p->set_option[i], strchr(p->sets[i].text, '=') + 1);
-    else snprintf(buf, len, "--set %s", p->sets[i].text);
-}
-
-/* Each value is varied or set once, whatever the spelling of its key (shape.c0.am1 and
- * shape.c0[2] are one value): a second --vary of it, or a --set of a varied value, would be
- * dead (one of them never reaches the members, yet members.csv would show its values), and two
- * --set of it with different values are ambiguous. 0, or 2 after one line. */
-static int check_distinct_keys(const sweep_plan *p)
-{
-    char target[100], a[200], b[200];
-    for (int i = 0; i < p->nvary; i++) {
-        swim_override_target(&p->vary[i].tmpl, target, sizeof target);
-        for (int j = 0; j < i; j++)
-            if (swim_override_same_target(&p->vary[j].tmpl, &p->vary[i].tmpl)) {
-                swim_message(stderr, "swim %s: --vary %s: varies %s, which --vary %s already varies (vary each "
-                             "value once)", p->cmd, p->vary[i].key, target, p->vary[j].key);
-                return 2;
-            }
-        for (int j = 0; j < p->nsets; j++)
-            if (swim_override_same_target(&p->sets[j], &p->vary[i].tmpl)) {
-                set_label(p, j, a, sizeof a);
-                swim_message(stderr, "swim %s: %s: sets %s, which --vary %s varies (the set value would never be "
-                             "used)", p->cmd, a, target, p->vary[i].key);
-                return 2;
-            }
-    }
-    int earlier, j = swim_override_conflict(p->sets, p->nsets, &earlier);
-    if (j >= 0) {
-        swim_override_target(&p->sets[j], target, sizeof target);
-        set_label(p, j, a, sizeof a);
-        set_label(p, earlier, b, sizeof b);
-        swim_message(stderr, "swim %s: %s: sets %s, which %s already sets to another value (give each value "
-                     "once)", p->cmd, a, target, b);
-        return 2;
-    }
-    return 0;
-}
-
-int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first)
-{
-    memset(p, 0, sizeof *p);
-    p->lock_fd = -1;
-    snprintf(p->cmd, sizeof p->cmd, "%s", cmd);
-    const char *varies[SWEEP_MAX_VARY + 1], *sets[SWEEP_MAX_SETS];
-    int nv = swim_args_take_all(cmd, &argc, argv, first, "vary", varies, SWEEP_MAX_VARY);
-    if (nv < 0) return 2;
-    int ns = swim_args_take_all(cmd, &argc, argv, first, "set", sets, SWEEP_MAX_SETS - 5);   /* 5: --t-end, --rtol, ... */
-    if (ns < 0) return 2;
-    swim_opt opts[] = {{"out", 1, NULL}, {"zip", 0, NULL}, {"jobs", 1, NULL}, {"keep", 1, NULL},
-                       {"t-end", 1, NULL}, {"output-step", 1, NULL}, {"rtol", 1, NULL},
-                       {"atol", 1, NULL}, {"integrator", 1, NULL}, {"generic", 0, NULL},
-                       {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL}, {"quiet", 0, NULL}};
-    const int nopts = (int)(sizeof opts / sizeof opts[0]);
-    const char *pos[1];
-    int npos = 0;
-    if (swim_args_parse(cmd, argc, argv, first, opts, nopts, pos, 1, &npos)) return 2;
-    if (npos != 1) {
-        swim_message(stderr, "swim %s: expected one scene file, e.g. swim %s models/example1.toml --out out/fam "
-                     "--vary shape.dc0.bm2=-1:1:11", cmd, cmd);
-        return 2;
-    }
-    if (strlen(pos[0]) >= sizeof p->scene) {
-        swim_message(stderr, "swim %s: the scene path has %zu characters, more than the system's limit of %zu",
-                     cmd, strlen(pos[0]), sizeof p->scene - 1);
-        return 2;
-    }
-    snprintf(p->scene, sizeof p->scene, "%s", pos[0]);
-    const char *v = swim_args_get(opts, nopts, "out");
-    if (!v || !*v) {
-        swim_message(stderr, "swim %s: --out DIR is required (the sweep's directory)", cmd);
-        return 2;
-    }
-    if (strlen(v) >= sizeof p->dir - 32) {   /* room for DIR/members/NNNNN/summary.json */
-        swim_message(stderr, "swim %s: --out: the path has %zu characters, more than the %zu a sweep folder may have "
-                     "(the system's limit of %d less its members' names)", cmd, strlen(v), sizeof p->dir - 33, SWIM_SWEEP_PATH);
-        return 2;
-    }
-    snprintf(p->dir, sizeof p->dir, "%s", v);
-    if (nv == 0) {
-        swim_message(stderr, "swim %s: at least one --vary KEY=SPEC is required", cmd);
-        return 2;
-    }
-    p->nvary = nv;
-    for (int i = 0; i < nv; i++) {
-        sweep_vary *w = &p->vary[i];
-        const char *eq = strchr(varies[i], '=');
-        char err[300];
-        if (!eq || eq == varies[i] || (size_t)(eq - varies[i]) >= sizeof w->key) {
-            swim_message(stderr, "swim %s: --vary: expected KEY=SPEC, got '%s'", cmd, varies[i]);
-            return 2;
-        }
-        snprintf(w->key, sizeof w->key, "%.*s", (int)(eq - varies[i]), varies[i]);
-        snprintf(w->spec, sizeof w->spec, "%s", eq + 1);
-        if (swim_override_key(w->key, &w->tmpl, err, sizeof err) != 0) {
-            swim_message(stderr, "swim %s: --vary %s: %s", cmd, varies[i], err);
-            return 2;
-        }
-        if (sweep_parse_spec(w->spec, &w->values, &w->count, err, sizeof err) != 0) {
-            swim_message(stderr, "swim %s: --vary %s: %s", cmd, w->key, err);
-            return 2;
-        }
-    }
-    p->zip = swim_args_get(opts, nopts, "zip") != NULL;
-    p->members = p->zip ? p->vary[0].count : 1;
-    for (int i = 0; i < nv; i++) {
-        if (p->zip && p->vary[i].count != p->members) {
-            swim_message(stderr, "swim %s: --zip: --vary %s has %ld values but --vary %s has %ld (zip pairs them, "
-                         "so the counts must agree)", cmd, p->vary[0].key, p->vary[0].count, p->vary[i].key, p->vary[i].count);
-            return 2;
-        }
-        if (!p->zip) {
-            if (p->members > SWEEP_MAX_MEMBERS / p->vary[i].count) {
-                swim_message(stderr, "swim %s: the grid has more than %ld members", cmd, SWEEP_MAX_MEMBERS);
-                return 2;
-            }
-            p->members *= p->vary[i].count;
-        }
-    }
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    p->jobs = cores > 0 ? cores : 1;
-    if ((v = swim_args_get(opts, nopts, "jobs")) && swim_args_int(cmd, "jobs", v, 1, 4096, &p->jobs)) return 2;
-    if ((v = swim_args_get(opts, nopts, "keep"))) {
-        if (strcmp(v, "trajectories") == 0) p->keep_trajectories = 1;
-        else if (strcmp(v, "summaries") != 0) {
-            swim_message(stderr, "swim %s: --keep: expected 'summaries' (default) or 'trajectories', got '%s'", cmd, v);
-            return 2;
-        }
-    }
-    /* Run options that are scene values become overrides, so every member validates them. */
-    static const char *const as_set[][2] = {{"t-end", "run.t_end"}, {"output-step", "run.output_step"},
-                                            {"rtol", "run.rtol"}, {"atol", "run.atol"},
-                                            {"step-lookahead", "run.step_lookahead"}};
-    for (size_t i = 0; i < sizeof as_set / sizeof as_set[0]; i++)
-        if ((v = swim_args_get(opts, nopts, as_set[i][0]))) {
-            char text[200];
-            snprintf(text, sizeof text, "%s=%s", as_set[i][1], v);
-            if (add_set(p, text, as_set[i][0])) return 2;
-        }
-    for (int i = 0; i < ns; i++)
-        if (add_set(p, sets[i], NULL)) return 2;
-    if (check_distinct_keys(p)) return 2;
-    if ((v = swim_args_get(opts, nopts, "integrator"))) {
-        int known = 0;
-        for (const char *const *m = swim_ode_methods(); *m; m++) known |= strcmp(*m, v) == 0;
-        if (!known || strlen(v) >= sizeof p->integrator) {
-            swim_message(stderr, "swim %s: --integrator: unknown integrator '%s'", cmd, v);
-            return 2;
-        }
-        snprintf(p->integrator, sizeof p->integrator, "%s", v);
-    }
-    p->generic = swim_args_get(opts, nopts, "generic") != NULL;
-    p->no_projection = swim_args_get(opts, nopts, "no-projection") != NULL;
-    p->quiet = swim_args_get(opts, nopts, "quiet") != NULL;
-    ssize_t len = readlink("/proc/self/exe", p->exe, sizeof p->exe - 1);
-    if (len <= 0) {
-        swim_message(stderr, "swim %s: cannot find the program itself (/proc/self/exe)", cmd);
-        return 2;
-    }
-    p->exe[len] = '\0';
-    p->in_process = 1;
-    return 0;
-}
 
 void sweep_free(sweep_plan *p)
 {
@@ -577,78 +395,26 @@ static int setup_dir(sweep_plan *p)
 
 /* ---------------------------------------------------------- summary.json */
 
-/* Pointer to the value of "key" in text (after from), or NULL. */
-static const char *json_find(const char *text, const char *key)
-{
-    char pat[80];
-    snprintf(pat, sizeof pat, "\"%s\": ", key);
-    const char *q = text ? strstr(text, pat) : NULL;
-    return q ? q + strlen(pat) : NULL;
-}
-
-/* Copies a JSON number token (or "" for null / absent) into out, verbatim: rows carry the exact
- * digits of the summary. */
-static void json_token(const char *v, char *out, size_t len)
-{
-    out[0] = '\0';
-    if (!v || strncmp(v, "null", 4) == 0) return;
-    size_t n = strspn(v, "0123456789+-.eEinfa");
-    if (n >= len) n = len - 1;
-    memcpy(out, v, n);
-    out[n] = '\0';
-}
-
-static void json_string_at(const char *v, char *out, size_t len)
-{
-    size_t k = 0;
-    out[0] = '\0';
-    if (!v || *v != '"') return;
-    for (v++; *v && *v != '"' && k + 1 < len; v++) {
-        if (*v == '\\' && v[1]) {
-            v++;
-            if (*v == 'n') out[k++] = ' ';
-            else if (*v == 'u') { out[k++] = '?'; v += strlen(v) >= 5 ? 4 : 0; }
-            else out[k++] = *v;
-        } else {
-            out[k++] = *v;
-        }
-    }
-    out[k] = '\0';
-}
-
 static void member_dir(const sweep_plan *p, long m, char *buf, size_t len)
 {
     snprintf(buf, len, "%s/members/%05ld", p->dir, m);
 }
 
-/* 1 when the text is a whole summary: written by swim run to the end, or by the sweep for a
- * crashed member. */
-static int summary_whole(const char *text)
+/* Member m's summary, read by the one summary reader (runtime/driver/summary_read.h). A summary
+ * that is absent, unreadable or not JSON is not whole: the member is not finished. */
+static void read_summary(const sweep_plan *p, long m, const char *text, swim_summary *s)
 {
-    if (!text) return 0;
-    size_t n = strlen(text);
-    while (n && (text[n - 1] == '\n' || text[n - 1] == ' ')) n--;
-    if (!n || text[n - 1] != '}') return 0;
-    char status[32];
-    json_string_at(json_find(text, "status"), status, sizeof status);
-    if (!status[0]) return 0;
-    return strcmp(status, "crashed") == 0 || json_find(text, "max_rss_kb") != NULL;
+    char path[SWIM_SWEEP_PATH + 64], err[SWIM_SWEEP_PATH + 256];
+    member_dir(p, m, path, sizeof path);
+    strncat(path, "/summary.json", sizeof path - strlen(path) - 1);
+    swim_summary_read(path, text, s, err, sizeof err);   /* on failure *s is cleared: not whole */
 }
 
-/* 1 when a whole summary says the run was stopped by a signal (SIGINT, SIGTERM, SIGHUP: swim run
- * stops, writes its summary and exits 1). */
-static int summary_stopped(const char *text)
+/* Finished: a whole summary (written by swim run to the end, or by the sweep for a crashed
+ * member) of a run that was not stopped by a signal (a stopped one reruns). */
+static int summary_finished(const swim_summary *s)
 {
-    if (!summary_whole(text)) return 0;
-    char reason[64];
-    json_string_at(json_find(text, "reason"), reason, sizeof reason);
-    return strncmp(reason, "interrupted", 11) == 0 || strncmp(reason, "terminated by", 13) == 0;
-}
-
-/* Finished: a whole summary of a run that was not stopped by a signal (a stopped one reruns). */
-static int summary_finished(const char *text)
-{
-    return summary_whole(text) && !summary_stopped(text);
+    return s->whole && !s->stopped;
 }
 
 /* A signal someone sends to stop a process -- a user (^C, kill), a batch scheduler at the end of
@@ -660,11 +426,6 @@ static int stop_request(int sig)
     return sig == SIGINT || sig == SIGTERM || sig == SIGHUP || sig == SIGKILL;
 }
 
-static const char *const row_numbers[][2] = {
-    {"t_reached", NULL}, {"x", "final_state"}, {"y", "final_state"}, {"theta", "final_state"},
-    {"energy_drift_rel", NULL}, {"energy_drift_abs", NULL}, {"jmin", NULL}, {"steps", NULL},
-    {"rhs_evaluations", NULL}, {"integrate_seconds", NULL}, {"wall_seconds", NULL}};
-
 static void csv_header(const sweep_plan *p, FILE *f)
 {
     fprintf(f, "id");
@@ -673,18 +434,68 @@ static void csv_header(const sweep_plan *p, FILE *f)
             "rhs_evaluations,integrate_seconds,wall_seconds\n");
 }
 
-static void format_row(const sweep_plan *p, long m, const char *text, char *row, size_t len)
+/* A number of the summary as the field of a row: the shortest digits that read back as the same
+ * double (%.17g at most); "" when null or absent. */
+static void real_field(const swim_summary_real *r, char *out, size_t len)
 {
-    char status[32], reason[400], tok[64];
-    json_string_at(json_find(text, "status"), status, sizeof status);
-    json_string_at(json_find(text, "reason"), reason, sizeof reason);
-    for (char *c = reason; *c; c++) if (*c == '"') *c = '\'';
+    out[0] = '\0';
+    if (!r->set) return;
+    for (int prec = 1; prec <= 17; prec++) {
+        snprintf(out, len, "%.*g", prec, r->value);
+        if (strtod(out, NULL) == r->value) return;
+    }
+}
+
+static void count_field(const swim_summary_count *c, char *out, size_t len)
+{
+    out[0] = '\0';
+    if (c->set) snprintf(out, len, "%lld", c->value);
+}
+
+/* The reason as members.csv quotes it: between double quotes, a double quote as ', a newline as a
+ * space, other control characters and U+FFFD (what the summary writer makes of bytes that are not
+ * UTF-8) as ?, at most 399 bytes cut at a character boundary. */
+static void reason_field(const char *reason, char *out, size_t len)
+{
+    size_t k = 0;
+    for (const unsigned char *c = (const unsigned char *)reason; *c && k + 4 < len && k < 399;) {
+        if (c[0] == 0xEF && c[1] == 0xBF && c[2] == 0xBD) { out[k++] = '?'; c += 3; continue; }
+        if (*c == '"') out[k++] = '\'';
+        else if (*c == '\n') out[k++] = ' ';
+        else if (*c < 0x20 || *c == 0x7F) out[k++] = '?';
+        else {
+            size_t n = *c < 0x80 ? 1 : *c >= 0xF0 ? 4 : *c >= 0xE0 ? 3 : 2;   /* the reader gives UTF-8 */
+            if (k + n > 399) break;
+            while (n-- && *c) out[k++] = (char)*c++;
+            continue;
+        }
+        c++;
+    }
+    out[k] = '\0';
+}
+
+static void format_row(const sweep_plan *p, long m, const swim_summary *s, char *row, size_t len)
+{
+    char reason[404];
+    reason_field(s->reason, reason, sizeof reason);
     int k = snprintf(row, len, "%ld", m);
     for (int v = 0; v < p->nvary && (size_t)k < len; v++) k += snprintf(row + k, len - (size_t)k, ",%.17g", sweep_value(p, m, v));
-    if ((size_t)k < len) k += snprintf(row + k, len - (size_t)k, ",%s,\"%s\"", status, reason);
-    for (size_t i = 0; i < sizeof row_numbers / sizeof row_numbers[0] && (size_t)k < len; i++) {
-        const char *base = row_numbers[i][1] ? json_find(text, row_numbers[i][1]) : text;
-        json_token(json_find(base, row_numbers[i][0]), tok, sizeof tok);
+    if ((size_t)k < len) k += snprintf(row + k, len - (size_t)k, ",%s,\"%s\"", s->status, reason);
+    const swim_summary_real *reals[] = {&s->t_reached, &s->x, &s->y, &s->theta, &s->energy_drift_rel,
+                                        &s->energy_balance_abs, &s->jmin};
+    const swim_summary_count *counts[] = {&s->steps, &s->rhs_evaluations};
+    const swim_summary_real *times[] = {&s->integrate_seconds, &s->wall_seconds};
+    char tok[64];
+    for (size_t i = 0; i < sizeof reals / sizeof reals[0] && (size_t)k < len; i++) {
+        real_field(reals[i], tok, sizeof tok);
+        k += snprintf(row + k, len - (size_t)k, ",%s", tok);
+    }
+    for (size_t i = 0; i < sizeof counts / sizeof counts[0] && (size_t)k < len; i++) {
+        count_field(counts[i], tok, sizeof tok);
+        k += snprintf(row + k, len - (size_t)k, ",%s", tok);
+    }
+    for (size_t i = 0; i < sizeof times / sizeof times[0] && (size_t)k < len; i++) {
+        real_field(times[i], tok, sizeof tok);
         k += snprintf(row + k, len - (size_t)k, ",%s", tok);
     }
     if ((size_t)k < len) snprintf(row + k, len - (size_t)k, "\n");
@@ -693,26 +504,22 @@ static void format_row(const sweep_plan *p, long m, const char *text, char *row,
 /* Rebuild members.csv from the summaries of the finished members, in member order. */
 static int rebuild_rows(sweep_plan *p)
 {
-    char path[SWIM_SWEEP_PATH + 64], mpath[SWIM_SWEEP_PATH + 64], row[2048];
+    char path[SWIM_SWEEP_PATH + 64], row[2048];
     snprintf(path, sizeof path, "%s/members.csv.tmp", p->dir);
     FILE *f = fopen(path, "w");
     if (!f) { swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, path, strerror(errno)); return 1; }
     csv_header(p, f);
     p->already = p->already_failed = 0;
     for (long m = 0; m < p->members; m++) {
-        member_dir(p, m, mpath, sizeof mpath);
-        strncat(mpath, "/summary.json", sizeof mpath - strlen(mpath) - 1);
-        char *text = read_file(mpath, NULL);
-        p->finished[m] = (unsigned char)summary_finished(text);
+        swim_summary s;
+        read_summary(p, m, NULL, &s);
+        p->finished[m] = (unsigned char)summary_finished(&s);
         if (p->finished[m]) {
-            format_row(p, m, text, row, sizeof row);
+            format_row(p, m, &s, row, sizeof row);
             fputs(row, f);
             p->already++;
-            char status[32];
-            json_string_at(json_find(text, "status"), status, sizeof status);
-            p->already_failed += strcmp(status, "completed") != 0;
+            p->already_failed += strcmp(s.status, "completed") != 0;
         }
-        free(text);
     }
     int bad = fflush(f) != 0;
     bad |= fclose(f) != 0;
@@ -825,6 +632,44 @@ int sweep_prepare(sweep_plan *p)
 
 /* ------------------------------------------------------------- members */
 
+/* The sweep's run options over a member's scene (as swim run's --integrator and --no-projection),
+ * recorded for its DIR/scene.toml. */
+static int member_adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx)
+{
+    const sweep_plan *p = ctx;
+    char text[64];
+    *nrecorded = 0;
+    if (p->integrator[0]) {
+        snprintf(s->integrator, sizeof s->integrator, "%s", p->integrator);
+        snprintf(text, sizeof text, "run.integrator=%s", p->integrator);
+        if (swim_override_parse(text, &recorded[*nrecorded], NULL, 0) == 0) (*nrecorded)++;
+    }
+    if (p->no_projection && s->stroke_count == 0) {
+        s->projection = 0;
+        if (swim_override_parse("run.projection=false", &recorded[*nrecorded], NULL, 0) == 0) (*nrecorded)++;
+    }
+    if (p->no_projection && s->stroke_count > 0) {
+        swim_message(stderr, "swim run: --no-projection: does not apply to a prescribed stroke (%s has [stroke]: "
+                     "only (3.21) is integrated)", s->path);
+        return 2;
+    }
+    return swim_run_settings_check(s, NULL) != 0 ? 2 : 0;
+}
+
+/* Member m in this process (the forked child): a job of the run layer (output/job.h), with the
+ * command line it stands for in its summary. The exit status of `swim run`. */
+static int run_member(const sweep_plan *p, const char *scene, const char *dir, const swim_override *ov, int nov,
+                      int argc, const char **argv)
+{
+    char *command = swim_shell_words(argc, argv);
+    const swim_run_job job = {.cmd = "run", .scene_file = scene, .sets = ov, .nsets = nov, .adjust = member_adjust,
+                              .adjust_ctx = (void *)p, .out = dir, .quiet = 1, .generic = p->generic,
+                              .summary_only = !p->keep_trajectories, .command = command};
+    const int rc = swim_job_execute(&job);
+    free(command);
+    return rc;
+}
+
 pid_t sweep_spawn(const sweep_plan *p, long m)
 {
     char dir[SWIM_SWEEP_PATH + 64], path[SWIM_SWEEP_PATH + 128];
@@ -868,7 +713,7 @@ pid_t sweep_spawn(const sweep_plan *p, long m)
     if (fd >= 0) { dup2(fd, 1); dup2(fd, 2); close(fd); }
     if (p->in_process) {
         /* _exit, not exit: the parent's atexit handlers and stdio buffers are not the member's */
-        int rc = swim_cmd_run(a, (char **)args);
+        int rc = run_member(p, scene, dir, ov, nov, a, args);
         fflush(NULL);
         _exit(rc);
     }
@@ -898,13 +743,12 @@ int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char
     char dir[SWIM_SWEEP_PATH + 64], path[SWIM_SWEEP_PATH + 128];
     member_dir(p, m, dir, sizeof dir);
     snprintf(path, sizeof path, "%s/summary.json", dir);
-    char *text = read_file(path, NULL);
-    int done = summary_finished(text);
+    swim_summary s;
+    read_summary(p, m, NULL, &s);
+    int done = summary_finished(&s);
     int exited_normally = WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 1);
-    if (!done && (interrupted || summary_stopped(text) || (WIFSIGNALED(status) && stop_request(WTERMSIG(status))))) {
-        free(text);
+    if (!done && (interrupted || s.stopped || (WIFSIGNALED(status) && stop_request(WTERMSIG(status)))))
         return 0;
-    }
     if (!done || !exited_normally) {
         /* Died without a (whole) summary: say so in one, so the row and a resume agree. */
         char reason[600], last[400];
@@ -916,7 +760,7 @@ int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char
         if (done && !exited_normally) {
             /* a whole summary but an abnormal exit: keep the summary, it says what happened */
         } else {
-            free(text);
+            char *text = NULL;
             FILE *f = open_memstream(&text, &(size_t){0});
             if (!f) {
                 swim_message(stderr, "swim %s: member %ld: out of memory", p->cmd, m);
@@ -934,13 +778,12 @@ int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char
                 free(text);
                 return -1;
             }
+            read_summary(p, m, text, &s);   /* the row from the summary as written */
+            free(text);
         }
     }
-    char status_s[32];
-    json_string_at(json_find(text, "status"), status_s, sizeof status_s);
-    *failed = strcmp(status_s, "completed") != 0;
-    format_row(p, m, text, row, len);
-    free(text);
+    *failed = strcmp(s.status, "completed") != 0;
+    format_row(p, m, &s, row, len);
     return 1;
 }
 

@@ -18,7 +18,10 @@
  * finished member, rebuilt from the summaries when a sweep starts or resumes and then appended
  * and flushed as members finish.
  *
- * A member is finished when its summary.json is complete and does not say it was interrupted.
+ * Summaries are read back by the one summary reader (driver/summary_read.h, jansson): values at
+ * their path in the JSON tree (steps is stats.steps). A member is finished when its summary.json
+ * is whole (one JSON object with stats.max_rss_kb, or a "crashed" one) and does not say it was
+ * interrupted.
  * A member stopped by a signal someone sent (SIGINT, SIGTERM, SIGHUP, SIGKILL: a user, a batch
  * scheduler, a stopping sweep) is interrupted and reruns on resume; a member whose process died
  * otherwise without a summary (SIGSEGV, SIGBUS, SIGABRT, ..., or an exit status other than 0/1)
@@ -71,11 +74,7 @@ typedef struct {
     long already, already_failed; /* members found finished (and of them failed) at the start */
 } sweep_plan;
 
-/* Parses `swim sweep SCENE --out DIR --vary KEY=SPEC ... [--zip] [--jobs J] [--keep WHAT]
- * [--set KEY=VALUE ...] [run options]` (argv[first..argc)). Keys are compared by the value they
- * set (swim_override_same_target): a value varied twice, varied and set, or set twice to two
- * values (in any spelling) is refused. 0, or 2 after one line on stderr. */
-int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first);
+/* The command line of a sweep is read by cli/sweep_args.h (sweep_parse). */
 /* Parses one SPEC into a freshly allocated array of values. 0, or -1 with a reason in err. */
 int sweep_parse_spec(const char *spec, double **values, long *count, char *err, size_t errlen);
 /* The value of varied key v for member m (grid: the last --vary varies fastest). */

@@ -53,7 +53,7 @@ rm -rf "$out/obj" && mkdir -p "$out/obj"
 export CLANG out
 printf '%s\n' $srcs | xargs -P "$(nproc)" -I{} sh -c \
     'o="$out/obj/$(echo "{}" | tr / _).o"; "$CLANG" '"${SAN[*]}"' -fsanitize=fuzzer-no-link -c "{}" -o "$o"'
-libs=(-ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -lquadmath -lm)
+libs=(-ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -ljansson -lquadmath -lm)
 for t in $targets; do
     if [ "$t" = toml ]; then
         "$CLANG" "${SAN[@]}" -fsanitize=fuzzer tests/fuzz/fuzz_toml.c runtime/scene/toml.c -o "$out/fuzz_toml" -lm

@@ -9,8 +9,8 @@
  *   - the energy balance (5.3) |E - E0 - work| and the constraint residuals at each step end.
  * Trial states outside D are refused before a step is accepted (the right-hand side,
  * model/dynamics.h); the watch sees what gets through, inside a step. */
-#ifndef SWIM_CLI_RUN_WATCH_H
-#define SWIM_CLI_RUN_WATCH_H
+#ifndef SWIM_DRIVER_WATCH_H
+#define SWIM_DRIVER_WATCH_H
 
 #include "model/dynamics.h"
 #include "ode/ode.h"

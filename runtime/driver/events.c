@@ -15,7 +15,7 @@
  * kind and, for zero events, the same direction of crossing) are one period of the
  * motion apart when the column is periodic; the differences of t and of x, y, theta
  * between them are reported as the period and the displacement per period (stroke). */
-#include "cli/run_events.h"
+#include "driver/events.h"
 
 #include <errno.h>
 #include <math.h>
@@ -116,8 +116,8 @@ static int parse_one(const char *text, const char *const *names, int ncol, spec 
     return 0;
 }
 
-int swim_run_events_parse(const swim_scene *s, int argc, char **argv, const char *const *names, int ncol,
-                          swim_run_events **out)
+int swim_run_events_parse(const swim_scene *s, const char *const *extra, int nextra, const char *const *names,
+                          int ncol, swim_run_events **out, char *err, size_t errlen)
 {
     *out = NULL;
     spec specs[SWIM_RUN_MAX_EVENTS];
@@ -128,24 +128,16 @@ int swim_run_events_parse(const swim_scene *s, int argc, char **argv, const char
             if (n == SWIM_RUN_MAX_EVENTS)
                 snprintf(why, sizeof why, "more than %d events", SWIM_RUN_MAX_EVENTS);
             char where[512];
-            swim_message(stderr, "swim: %s: events.list: %s", swim_scene_where(s, s->events_line, where, sizeof where), why);
+            snprintf(err, errlen, "swim: %s: events.list: %s", swim_scene_where(s, s->events_line, where, sizeof where), why);
             return 2;
         }
         n++;
     }
-    /* every --event (the option parser keeps only the last value of an option) */
-    for (int a = 2; a < argc; a++) {
-        const char *v = NULL;
-        if (strcmp(argv[a], "--event") == 0 && a + 1 < argc)
-            v = argv[++a];
-        else if (strncmp(argv[a], "--event=", 8) == 0)
-            v = argv[a] + 8;
-        if (!v)
-            continue;
-        if (n == SWIM_RUN_MAX_EVENTS || parse_one(v, names, ncol, &specs[n], why, sizeof why)) {
+    for (int a = 0; a < nextra; a++) {
+        if (n == SWIM_RUN_MAX_EVENTS || parse_one(extra[a], names, ncol, &specs[n], why, sizeof why)) {
             if (n == SWIM_RUN_MAX_EVENTS)
                 snprintf(why, sizeof why, "more than %d events", SWIM_RUN_MAX_EVENTS);
-            swim_message(stderr, "swim run: --event: %s", why);
+            snprintf(err, errlen, "swim run: --event: %s", why);
             return 2;
         }
         n++;
@@ -153,17 +145,17 @@ int swim_run_events_parse(const swim_scene *s, int argc, char **argv, const char
     if (n == 0)
         return 0;
     if (!(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
-        swim_message(stderr, "swim run: --event: integrator '%s' cannot locate events (it has no dense output)", s->integrator);
+        snprintf(err, errlen, "swim run: --event: integrator '%s' cannot locate events (it has no dense output)", s->integrator);
         return 2;
     }
     if (s->stiff_fallback[0] && !(swim_ode_capabilities(s->stiff_fallback) & SWIM_ODE_CAP_EVENTS)) {
-        swim_message(stderr, "swim: %s: run.stiff_fallback: integrator '%s' cannot locate the events asked for", s->path,
-                     s->stiff_fallback);
+        snprintf(err, errlen, "swim: %s: run.stiff_fallback: integrator '%s' cannot locate the events asked for", s->path,
+                 s->stiff_fallback);
         return 2;
     }
     swim_run_events *ev = calloc(1, sizeof *ev);
     if (!ev) {
-        swim_message(stderr, "swim run: out of memory");
+        snprintf(err, errlen, "swim run: out of memory");
         return 1;
     }
     ev->nspec = n;

@@ -1,5 +1,6 @@
 /* Checks and diagnostics at every accepted step (run_watch.h). */
-#include "cli/run_watch.h"
+#include "io/clock.h"
+#include "driver/watch.h"
 
 #include "kernel/coords.h"
 #include "shape/constraints.h"
@@ -12,12 +13,6 @@
 
 #define ROOT_MAXIT 100
 
-static double seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 int swim_run_watch_init(swim_run_watch *w, swim_dynamics *d, int sdim, int energy)
 {
@@ -177,7 +172,7 @@ static void balance(swim_run_watch *w, double tb, const double *u)
 int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
 {
     swim_run_watch *w = data;
-    const double t0 = seconds();
+    const double t0 = swim_clock_seconds();
     int stop = 0;
     commit(&w->r, &w->pend, INFINITY);   /* a step followed by another is part of the run */
     swim_run_watch_pending *p = &w->pend;
@@ -190,7 +185,7 @@ int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
     w->end_y = NULL;
     if (j_at(w, st, st->tb, st->y_end, &Jb, &rb) != 0) {
         w->have_prev = 0;
-        w->seconds += seconds() - t0;
+        w->seconds += swim_clock_seconds() - t0;
         return 0;
     }
     const double theta_b = w->theta_last;
@@ -219,6 +214,6 @@ int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
     w->end_y = st->y_end;
     w->end_j = Jb;
     w->end_theta = theta_b;
-    w->seconds += seconds() - t0;
+    w->seconds += swim_clock_seconds() - t0;
     return stop;
 }

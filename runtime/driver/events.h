@@ -1,12 +1,12 @@
-/* Events of `swim run`: instants where a column of trajectory.csv crosses zero or has a
+/* events.h -- events of a run: instants where a column of trajectory.csv crosses zero or has a
  * minimum or maximum, located by the integrator (ode.h, "Events"), written to DIR/events.csv
  * and summary.json, with the period and displacement per period of each event sequence.
  *
  * An event is "COLUMN:KIND[:stop]" (--event, repeatable, and the scene's [events] list):
  * KIND zero (sign change of the column), min or max (sign change of its time derivative,
  * rising for a minimum, falling for a maximum); ":stop" ends the run at the first one. */
-#ifndef SWIM_CLI_RUN_EVENTS_H
-#define SWIM_CLI_RUN_EVENTS_H
+#ifndef SWIM_DRIVER_EVENTS_H
+#define SWIM_DRIVER_EVENTS_H
 
 #include <stdio.h>
 
@@ -22,11 +22,12 @@ typedef struct swim_run_events swim_run_events;
  * no diagnostics needed). */
 typedef int (*swim_run_row_func)(void *ctx, double t, const double *ys, int all, double *row);
 
-/* Collects the scene's [events] list and every --event of argv, checks them against the
- * columns (names[0..ncol), names[0] = "t") and the integrator's capabilities.  0 with *out
- * (NULL when there are no events), 2 after one line on stderr (bad input) or 1 (out of memory). */
-int swim_run_events_parse(const swim_scene *s, int argc, char **argv, const char *const *names, int ncol,
-                          swim_run_events **out);
+/* Collects the scene's [events] list and the extra specifications extra[0..nextra) (--event),
+ * checks them against the columns (names[0..ncol), names[0] = "t") and the integrator's
+ * capabilities.  0 with *out (NULL when there are no events); 2 (bad input) or 1 (out of memory)
+ * with the one line to show in err. Prints nothing. */
+int swim_run_events_parse(const swim_scene *s, const char *const *extra, int nextra, const char *const *names,
+                          int ncol, swim_run_events **out, char *err, size_t errlen);
 
 /* Registers the events in o (o->events, o->on_event); row(ctx, ...) gives the columns, the
  * first nstate of which (after t) are state columns; state_dim is the integrator's state

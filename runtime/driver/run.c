@@ -1,0 +1,1087 @@
+/* run.c -- one run of a dynamic scene (driver/run.h): rows at k*output_step and t_end from the
+ * integrator's interpolant, every accepted step checked (driver/watch.h), restarts near the
+ * boundary of D (a shifted origin, impacts), the stiff fallback, and why the run stopped.
+ *
+ * A shape that leaves D (4.1) ends the run at the crossing, whose row is the last (the trial
+ * states beyond it are refused by the right-hand side, model/dynamics.h). When ABM's stiffness
+ * diagnostic fires, the run goes on from the last row with the scene's stiff_fallback (cvode-bdf
+ * unless "none"). A run that stops early (NaN, step-size underflow, the shape leaving D, a stop
+ * request, a row the sink could not keep) says where and why in its result; a run ended by a
+ * :stop event has its last row at the event and is completed. */
+#include "driver/run.h"
+
+#include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "driver/run_internal.h"
+#include "io/clock.h"
+#include "io/message.h"
+#include "model/bounce.h"
+#include "shape/barrier.h"
+#include "shape/shape.h"
+
+static double ode_time(const swim_run *c) { return c->d.t_origin + swim_ode_time(c->ode); }
+
+/* A stop was asked for (a signal, through req.stop). */
+static int stop_requested(const swim_run *c) { return c->req.stop && *c->req.stop; }
+
+/* A line for the user (printf-like), through the sink. */
+static void notice(swim_run *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void notice(swim_run *c, const char *fmt, ...)
+{
+    if (!c->req.sink.notice) return;
+    va_list ap;
+    va_start(ap, fmt);
+    char *line = swim_vstrprintf(fmt, ap);
+    va_end(ap);
+    if (line) c->req.sink.notice(c->req.sink.ctx, line);
+    free(line);
+}
+
+/* ---- the error test near the barrier -------------------------------------------------------- */
+
+/* Near the boundary of D the barrier energy W2 ~ kappa ln(1/min J) (alpha = 1/2; steeper for
+ * larger alpha) turns an error dx of the shape into an energy error ~ kappa |grad J|_1 |dx| / min J:
+ * with the usual weights rtol |x_i| + atol, a bounce to min J = 1e-8 at rtol 1e-8 loses 1e-5 of the
+ * energy (measured on soft_n15_a05). So after every accepted step the tolerance of each carried
+ * shape coordinate is cut to rtol min J / |grad J|_1 (J then moves by at most rtol of itself),
+ * when that is smaller and min J < 1e-3 |c_1|^2. Farther from the boundary the factors stay 1 and
+ * the run is unchanged: cutting them there too (from min J < 0.1 |c_1|^2 on) made the drift of
+ * the soft scenes 3-7x larger, not smaller (abm's step control reacts to the changing weights). The
+ * floor 40 u / rtol keeps abm's round-off test (2u max|y/w| < 1/2) satisfied ten times over. */
+static double barrier_tolerance(swim_run *c, const double *y, double h)
+{
+    const swim_scene *s = c->s;
+    const swim_scene_kernel *k = c->d.spec;
+    double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    swim_dynamics_unpack(&c->d, y, full);
+    const double *x = full + 3;
+    double theta, j0;
+    if (c->watch_ready && c->watch.end_y == y) {   /* the watch has just computed it at this step end */
+        j0 = c->watch.end_j;
+        theta = c->watch.end_theta;
+    } else {
+        j0 = swim_dynamics_jmin(&c->d, y, &theta);
+    }
+    const double c1 = x[0] * x[0] + x[1] * x[1];
+    double scale[SWIM_NMAX];
+    for (int i = 0; i < k->nfree; i++) scale[i] = 1.0;
+    if (j0 > 0 && j0 < 1e-3 * c1) {
+        double e[SWIM_NMAX] = {0.0}, g1 = 0.0, umax = 0.0, vmax = 0.0;
+        for (int i = 0; i < k->nfree; i++) {
+            e[k->free_index[i]] = 1.0;
+            g1 += fabs(swim_shape_j_rate(s->modes, x, e, theta));
+            e[k->free_index[i]] = 0.0;
+            umax = fmax(umax, fabs(y[3 + i]));
+            vmax = fmax(vmax, fabs(x[s->n + k->free_index[i]]));
+        }
+        const double want = s->rtol * j0 / g1, floor_s = 40.0 * 1.11e-16 / s->rtol;
+        for (int i = 0; i < k->nfree; i++) {
+            const double allowed = s->rtol * fabs(x[k->free_index[i]]) + s->atol;
+            /* with an origin abm rounds u, not the shape: the floor follows the largest |u| (and
+             * what one more step can add to it) instead of the shape itself */
+            const double floor_i = c->d.origin ? 40.0 * 1.11e-16 * (umax + h * vmax) / allowed : floor_s;
+            scale[i] = fmin(1.0, fmax(floor_i, want / allowed));
+        }
+    }
+    for (int i = 0; i < k->nfree; i++) c->tol_scale[3 + i] = scale[i];
+    return j0 / c1;
+}
+
+/* ---- the energy balance in the error test ------------------------------------------------ */
+
+/* abm keeps each component's local error within rtol of it, yet lets the balance E - E0 - work
+ * drift by a systematic amount per step: for the oscillations of a conservative scene Adams
+ * methods are slightly dissipative, and the drift adds up over the steps (measured on a soft
+ * alpha = 1/2 scene at rtol 1e-8: ~1e-12 of E per step at every step size, 1.1e-7 over 67 000
+ * steps; rtol 1e-9 only halved it). So the balance's share of the error estimate is tested too,
+ * against ENERGY_CONTROL rtol of the energy scale (swim_ode_options.invariant). Chosen on
+ * perturbed families at rtol 1e-8 (tests/bench/bench_soft_family.py, rebuilt with other values):
+ * 16 copies of soft_n10_a05 kept balance median / max 1.2e-8 / 2.5e-8 at 1e-2, 3.7e-9 / 6.1e-9
+ * at 3e-3 and 1.4e-9 / 3.0e-9 at 1e-3 (3.6e-8 / 1.1e-7 without), for 14, 17 and 27 % more steps;
+ * 4 copies of soft_n20_a05: 2.5e-8 / 4.6e-8, 1.3e-8 / 1.4e-8, 4.9e-9 / 6.4e-9 (1.1e-7 / 1.6e-7
+ * without). 1e-1 changed nothing. */
+#define ENERGY_CONTROL 3e-3
+
+static double scaled_balance(double t, const double *u, double *noise, void *data)
+{
+    swim_run *c = data;
+    if (!(c->bal_scale > 0)) {   /* before E0 is known, or E0 = 0 and no energy yet */
+        *noise = 0.0;
+        return 0.0;
+    }
+    const double B = swim_dynamics_balance(t, u, noise, &c->d);
+    *noise /= c->bal_scale;
+    return B / c->bal_scale;
+}
+
+/* Where abm carries the state relative to an origin (model/dynamics.h): from min J below
+ * SHIFT_IN |c_1|^2 at a step end until it is back above SHIFT_OUT |c_1|^2, with a new origin
+ * when the state has moved too far from it for the depth (shift_wanted). The
+ * rounding of the shape costs ~kappa 1e-16 |grad J| / min J of the energy per step, a random walk
+ * over the 10^4-10^5 steps a soft scene spends near the wall: on 8 perturbed soft_n10_a05 runs
+ * at rtol 1e-8 (tests/bench/bench_soft_family.py, rebuilt with other values here) the largest
+ * balance was 3.8e-7 with SHIFT_IN = 1e-6 and 1.1e-7 with 1e-3, for ~10 % more steps; 1e-2 was
+ * no better and took 50 % more steps. The gap
+ * between the two levels keeps an approach that hovers from restarting abm at every step. */
+#define SHIFT_IN 1e-3
+#define SHIFT_OUT 1e-2
+#define SHIFT_DEEP 1e-12
+#define SHIFT_EVERY 64
+#define SHIFT_URGENT 1e-6
+
+/* A step in the integrator's time seen in absolute time (the watch keeps absolute times): an
+ * absolute t maps back to the step, its ends exactly (in a deep bounce t0 + ta and t0 + tb can be
+ * one double). */
+typedef struct {
+    const swim_ode_accepted *st;
+    double t0, ta, tb;
+} absolute_step;
+
+static int absolute_interp(void *ctx, double t, double *y, double *yp)
+{
+    const absolute_step *a = ctx;
+    const double tau = t == a->tb ? a->st->tb : t == a->ta ? a->st->ta : fmin(fmax(t - a->t0, a->st->ta), a->st->tb);
+    return a->st->interp(a->st->ctx, tau, y, yp);
+}
+
+/* Where the next origin goes (0: stay, 1: move it to the step end, 2: drop it), from min J /
+ * |c_1|^2 = j at the step end and the state u there. */
+static int shift_wanted(const swim_run *c, double j, const double *u)
+{
+    /* a restart costs abm a new start (order 1, a few rejected steps): above SHIFT_URGENT, where
+     * the rounding of the shape costs little per step, not more often than every SHIFT_EVERY
+     * steps (a forced shape vibrating near the wall would otherwise restart it every few steps) */
+    if (c->steps_since_shift < SHIFT_EVERY && j > SHIFT_URGENT) return 0;
+    if (!c->d.origin) return j < SHIFT_IN;
+    if (j > SHIFT_OUT) return 2;
+    /* u rounds by ~u|u|, which costs ~kappa u |u| / (min J) of the energy per step; without an
+     * origin at SHIFT_OUT that is kappa u / SHIFT_OUT: keep |u| below j / SHIFT_OUT for the same
+     * cost at depth j (as a bounce deepens, this moves the origin each time min J falls ~100x) */
+    double umax = 0.0;
+    for (int i = 0; i < c->d.spec->nfree; i++) umax = fmax(umax, fabs(u[3 + i]));
+    return umax > j / SHIFT_OUT;
+}
+
+/* ---- the work of the forcing -------------------------------------------------------------- */
+
+/* W_F = int_0^t f(s) direction . cdot ds, the work of F(t) = f(t) direction (5.1) alone (the
+ * state's work also holds the damping's), measured on the integrator's own interpolant so that
+ * the trajectory is the one without it: 4-point Gauss-Legendre on every accepted step, and on the
+ * part of the latest step up to each row. NAN without dense output. */
+static const double GL_X[4] = {-0.86113631159405258, -0.33998104358485626, 0.33998104358485626, 0.86113631159405258};
+static const double GL_W[4] = {0.34785484513745385, 0.65214515486254609, 0.65214515486254609, 0.34785484513745385};
+
+/* The power f(t) direction . cdot at the integrator state ys (absolute time t). */
+static double forcing_power(swim_run *c, double t, const double *ys)
+{
+    const swim_scene *s = c->s;
+    swim_dynamics_unpack(&c->d, ys, c->fw_full);
+    double p = 0.0;
+    for (int i = 0; i < s->n; i++) p += s->direction[i] * c->fw_full[3 + s->n + i];
+    return p * swim_expr_eval(s->forcing, t);
+}
+
+/* int_a^b of the power (absolute times) on an interpolant in the integrator's time. -1 if it fails. */
+static int forcing_integral(swim_run *c, double a, double b, int (*interp)(void *, double, double *, double *),
+                            void *ctx, double *out)
+{
+    double sum = 0.0;
+    const double h = 0.5 * (b - a), m = 0.5 * (a + b);
+    for (int k = 0; k < 4 && h > 0; k++) {
+        const double t = m + h * GL_X[k];
+        if (interp(ctx, t - c->d.t_origin, c->fw_ys, NULL) != 0) return -1;
+        sum += GL_W[k] * forcing_power(c, t, c->fw_ys);
+    }
+    *out = h * sum;
+    return 0;
+}
+
+static int step_interp(void *ctx, double tau, double *y, double *yp)
+{
+    const swim_ode_accepted *st = ctx;
+    return st->interp(st->ctx, tau, y, yp);
+}
+
+static int ode_interp(void *ctx, double tau, double *y, double *yp)
+{
+    return swim_ode_dense(ctx, tau, y, yp) == SWIM_ODE_OK ? 0 : -1;
+}
+
+/* An accepted step [ta, tb] (integrator's time): the one before it is now wholly part of the run. */
+static void forcing_step(swim_run *c, const swim_ode_accepted *step)
+{
+    c->fw_done += c->fw_pending;
+    c->fw_ta = c->d.t_origin + step->ta;
+    c->fw_tb = c->d.t_origin + step->tb;
+    if (forcing_integral(c, c->fw_ta, c->fw_tb, step_interp, (void *)step, &c->fw_pending) != 0) c->fw_bad = 1;
+}
+
+/* W_F at a row t (in the latest step, or at its end). */
+static void forcing_row(swim_run *c, double t)
+{
+    double part = c->fw_pending;
+    if (t < c->fw_tb && (!c->ode || forcing_integral(c, c->fw_ta, t, ode_interp, c->ode, &part) != 0)) c->fw_bad = 1;
+    c->fw_at_row = c->fw_bad ? NAN : c->fw_done + part;
+}
+
+/* The stiff fallback restarts from the row at t: the work there is where it goes on from. */
+static void forcing_rewind(swim_run *c, double t)
+{
+    c->fw_done = c->fw_at_row;
+    c->fw_pending = 0.0;
+    c->fw_ta = c->fw_tb = t;
+}
+
+/* ---- bounces too deep to follow ---------------------------------------------------------- */
+
+/* With alpha = 1/2 an approach carrying the normal kinetic energy T turns at min J ~ j0 e^(-T/kappa)
+ * (shape/barrier.h, swim_barrier_reach), far below what double precision resolves under strong
+ * forcing (1e-25 ... 1e-110 in models/hard/large_forcing.toml), in a time of the same order. Such a
+ * bounce is an impact (model/bounce.h). It is taken once min J, falling, is below IMPACT_AT rtol
+ * |c_1|^2, when the turning point is predicted below impact_depth |c_1|^2 (by default the
+ * resolution of J in double precision) and below IMPACT_DEEPER times the depth reached (then the speed
+ * toward the wall hardly changes before the last e-folds, as the impulsive limit assumes). The
+ * rest of the bounce lasts ~2 min J / |d min J/dt|; what the impact neglects over that time is
+ * O(min J) of the state (measured: ~6 min J, tests/test_impact.py), a few hundredths of rtol. */
+#define IMPACT_AT 0.01
+#define IMPACT_DEEPER 1e-3
+
+/* The impact at full state y (model/bounce.h), along the barrier's gradient there, computed on
+ * the diagnostics' quadrature (its warm start is not the right-hand side's). 0 or -1. */
+static int bounce_at(swim_run *c, const double *y, swim_bounce *b)
+{
+    const swim_scene *s = c->s;
+    double grad[SWIM_NMAX], W;
+    if (!c->d.diag_barrier ||
+        swim_barrier_w2(c->d.diag_barrier, y + 3, s->epsilon, s->alpha, &W, grad, NULL) != SWIM_BARRIER_OK)
+        return -1;
+    return swim_bounce_along(&c->d, y, grad, b);
+}
+
+/* Whether the step end y, at min J / |c_1|^2 = j, is where a bounce becomes an impact; then its
+ * change of cdot is left in c->impact_dv. */
+static int impact_wanted(swim_run *c, const double *y, double j)
+{
+    const swim_scene *s = c->s;
+    if (!(s->impact_depth > 0) || !(j < IMPACT_AT * s->rtol) || !c->d.diag_barrier) return 0;
+    double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    swim_dynamics_unpack(&c->d, y, full);
+    const double j0 = c->watch_ready && c->watch.end_y == y ? c->watch.end_j   /* just computed at this step end */
+                                                             : swim_dynamics_jmin(&c->d, y, NULL);
+    swim_bounce b;
+    if (!(j0 > 0) || bounce_at(c, full, &b) != 0 || !(b.rate > 0)) return 0;
+    const double reach = swim_barrier_reach(c->d.diag_barrier, full + 3, s->epsilon, s->alpha, b.normal_kinetic, NULL);
+    const double c1 = full[3] * full[3] + full[4] * full[4];
+    if (!(reach > 0) || !(reach < s->impact_depth * c1) || !(reach < IMPACT_DEEPER * j0)) return 0;
+    memcpy(c->impact_dv, b.dv, sizeof(double) * (size_t)s->n);
+    c->impact_j = j0 / c1;
+    c->impact_reach = reach / c1;
+    return 1;
+}
+
+/* Ends the integration at the step's end, keeping its state, for a restart of kind `pending`
+ * (shift_pending: 1, 2 an origin, 3 an impact) that advance_to carries out. Returns 1. */
+static int stop_for(swim_run *c, const swim_ode_accepted *step, int pending, double *t_stop)
+{
+    c->shift_pending = pending;
+    c->shift_t = step->tb;
+    *t_stop = step->tb;
+    memcpy(c->ys_shift, step->y_end, sizeof(double) * (size_t)c->sdim);
+    return 1;
+}
+
+static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop)
+{
+    swim_run *c = data;
+    int rc;
+    const double t0 = c->d.t_origin;
+    if (t0 == 0.0) {
+        rc = swim_run_watch_step(step, &c->watch, t_stop);
+        if (rc) c->left_native = *t_stop;
+    } else {
+        absolute_step a = {step, t0, t0 + step->ta, t0 + step->tb};
+        const swim_ode_accepted abs_step = {a.ta, a.tb, absolute_interp, &a, step->y_end};
+        double t_abs;
+        rc = swim_run_watch_step(&abs_step, &c->watch, &t_abs);
+        if (rc) {
+            *t_stop = t_abs == a.tb ? step->tb : fmin(fmax(t_abs - t0, step->ta), step->tb);
+            if (!(*t_stop > step->ta)) *t_stop = step->tb;
+            c->left_native = *t_stop;
+        }
+    }
+    if (c->watch.pend.balanced) c->bal_scale = fmax(c->bal_scale, fabs(c->watch.pend.e));
+    if (c->fw_on) forcing_step(c, step);
+    if (!c->tol_scale || !step->y_end) return rc;
+    const double j = barrier_tolerance(c, step->y_end, step->tb - step->ta);
+    c->steps_since_shift++;
+    if (!rc && impact_wanted(c, step->y_end, j)) return stop_for(c, step, 3, t_stop);
+    if (rc || !c->shift_ok) return rc;
+    const int want = shift_wanted(c, j, step->y_end);
+    return want ? stop_for(c, step, want, t_stop) : 0;
+}
+
+/* ---- the rows ---------------------------------------------------------------------------- */
+
+int swim_run_state_columns(int n, const char **names, char storage[][24])
+{
+    static const char *const head[] = {"t", "x", "y", "theta"};
+    int c = 0;
+    for (int i = 0; i < 4; i++) names[c++] = head[i];
+    for (int i = 0; i < n; i++) {
+        swim_coord_name(i, storage[i], 24);
+        names[c++] = storage[i];
+    }
+    for (int i = 0; i < n; i++) {
+        storage[n + i][0] = 'd';
+        swim_coord_name(i, storage[n + i] + 1, 23);
+        names[c++] = storage[n + i];
+    }
+    return c;
+}
+
+int swim_run_columns(const swim_scene *s, const char **names, char storage[][24])
+{
+    if (s->stroke_count > 0) return swim_stroke_run_columns(s, names, storage);
+    static const char *const tail[] = {
+        "kinetic_fluid", "kinetic_shape", "kinetic_rigid", "potential", "energy",
+        "impulse_body_x", "impulse_body_y", "impulse_body_ang",
+        "impulse_fluid_rigid_x", "impulse_fluid_rigid_y", "impulse_fluid_rigid_ang",
+        "impulse_fluid_shape_x", "impulse_fluid_shape_y", "impulse_fluid_shape_ang",
+        "res_volume", "res_volume_rate", "res_angular", "res_locks", "jmin", "work", "w1", "w2"};
+    int c = swim_run_state_columns(s->n, names, storage);
+    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) names[c++] = tail[i];
+    return c;
+}
+
+/* Every attempted step, in absolute time, to the sink (--trace-steps). */
+static void trace_step(const swim_ode_step *st, void *data)
+{
+    swim_run *c = data;
+    swim_ode_step abs_st = *st;
+    abs_st.t = c->d.t_origin + st->t;
+    c->req.sink.step(c->req.sink.ctx, &abs_st, &c->d);
+}
+
+static int packed_row(void *p, double t, const double *ys, int all, double *row);
+
+static int prepare(swim_run *c)
+{
+    swim_scene *s = c->s;
+    if (swim_dynamics_init(&c->d, s, c->kn->kernel) != 0) goto oom;
+    c->d_ready = 1;
+    c->d.interrupt = (volatile int *)c->req.stop;
+    swim_dynamics_use_scene_kernel(&c->d, c->spz->scene, c->req.generic);
+    c->sdim = swim_dynamics_state_dim(&c->d);
+    c->y = calloc((size_t)c->d.dim, sizeof(double));
+    c->row = calloc((size_t)c->ncol, sizeof(double));
+    c->ys = calloc((size_t)c->sdim, sizeof(double));
+    c->ys_last = calloc((size_t)c->sdim, sizeof(double));
+    c->ys_row = calloc((size_t)c->sdim, sizeof(double));
+    c->y_inside = calloc((size_t)c->d.dim, sizeof(double));
+    if (!c->y || !c->row || !c->ys || !c->ys_last || !c->ys_row || !c->y_inside) goto oom;
+    swim_dynamics_initial_state(&c->d, c->y);
+    swim_dynamics_pack(&c->d, c->y, c->ys);
+    memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
+    c->sys = (swim_ode_system){swim_dynamics_rhs, (size_t)c->sdim, &c->d, NULL};
+    if (s->jacobian_exact && c->spz->scene->jacobian)   /* [run] jacobian: BDF methods use it */
+        c->sys.jacobian = swim_dynamics_jacobian;
+    swim_ode_options *o = &c->o;
+    swim_ode_options_default(o);
+    o->rtol = s->rtol;
+    o->atol = s->atol;
+    swim_dynamics_track_balance(&c->d, 1);   /* the step checks and the balance test read it */
+    /* by default where the scene has a barrier: its long stays near the wall (10^4-10^5 steps) are
+     * where the drift adds up; a smooth paper scene at rtol 1e-8 keeps ~1e-10 without it, and would
+     * pay 30-40 % more steps for 1e-12 (any scene can ask for it) */
+    if (s->energy_control < 0) s->energy_control = s->barrier;
+    const unsigned caps = swim_ode_capabilities(s->integrator);
+    if (s->energy_control && (caps & SWIM_ODE_CAP_INVARIANT)) {
+        o->invariant = scaled_balance;
+        o->invariant_data = c;
+        o->invariant_tol = ENERGY_CONTROL * s->rtol;   /* abm never asks for less than B's rounding */
+        c->invariant_on = 1;
+    }
+    if (s->step_lookahead >= 0) o->lookahead = s->step_lookahead;
+    s->step_lookahead = o->lookahead;   /* the summary records the value used */
+    o->stiff_stop = (caps & SWIM_ODE_CAP_STIFFNESS) != 0;   /* stop and report (or switch) on stiffness */
+    if (s->projection && (caps & SWIM_ODE_CAP_PROJECTION)) o->project = swim_dynamics_project;  /* drift control */
+    if (c->req.sink.step && (caps & SWIM_ODE_CAP_STEP_TRACE)) {
+        o->on_step = trace_step;
+        o->on_step_data = c;
+    }
+    if (c->events) {
+        c->rowc = (row_ctx){s, &c->d, calloc((size_t)c->d.dim, sizeof(double))};
+        if (!c->rowc.full ||
+            swim_run_events_attach(c->events, o, (size_t)c->sdim, 3 + 2 * s->n, packed_row, &c->rowc) != 0)
+            goto oom;
+    }
+    if (caps & SWIM_ODE_CAP_EVENTS) {   /* dense output: the watch sees every accepted step */
+        if (swim_run_watch_init(&c->watch, &c->d, c->sdim, 1) != 0) goto oom;
+        c->watch_ready = 1;
+        o->on_accept = accept_step;
+        o->on_accept_data = c;
+        if (s->forced) {
+            c->fw_full = calloc((size_t)c->d.dim, sizeof(double));
+            c->fw_ys = calloc((size_t)c->sdim, sizeof(double));
+            if (!c->fw_full || !c->fw_ys) goto oom;
+            c->fw_on = 1;
+        }
+        /* near the barrier: per-component weights (barrier_tolerance) and the shifted origin */
+        if (s->barrier && (caps & SWIM_ODE_CAP_WEIGHTS)) {
+            c->tol_scale = malloc(sizeof(double) * (size_t)c->sdim);
+            if (!c->tol_scale) goto oom;
+            for (int i = 0; i < c->sdim; i++) c->tol_scale[i] = 1.0;
+            barrier_tolerance(c, c->ys, 0.0);
+            o->tol_scale = c->tol_scale;
+            c->ys_shift = malloc(sizeof(double) * (size_t)c->sdim);
+            c->atolv = malloc(sizeof(double) * (size_t)c->sdim);
+            if (!c->ys_shift || !c->atolv) goto oom;
+            c->shift_ok = s->origin_shift;
+        }
+    }
+    c->r.switch_t = -1.0;
+    c->r.left_t = NAN;
+    c->r.jmin_t = NAN;
+    c->row_jmin = NAN;
+    snprintf(c->r.used, sizeof c->r.used, "%s", s->integrator);
+    return 0;
+oom:
+    return 1;
+}
+
+static int row_values(const swim_scene *s, double t, const double *y, const swim_diag *g, double *v)
+{
+    int c = 0;
+    v[c++] = t;
+    for (int i = 0; i < 3 + 2 * s->n; i++) v[c++] = y[i];
+    const double tail[] = {
+        g->kinetic_fluid, g->kinetic_shape, g->kinetic_rigid, g->w1 + g->w2, g->energy,
+        g->impulse_body[0], g->impulse_body[1], g->impulse_body[2],
+        g->impulse_fluid_rigid[0], g->impulse_fluid_rigid[1], g->impulse_fluid_rigid[2],
+        g->impulse_fluid_shape[0], g->impulse_fluid_shape[1], g->impulse_fluid_shape[2],
+        g->res_volume, g->res_volume_rate, g->res_angular, g->res_locks, g->jmin, g->work, g->w1, g->w2};
+    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) v[c++] = tail[i];
+    return c;
+}
+
+static void track(run_report *r, double t, const swim_diag *g, int first)
+{
+    if (first) { r->e0 = g->energy; r->jmin = INFINITY; }
+    r->t_reached = t;
+    r->drift_abs = fmax(r->drift_abs, fabs(g->energy - r->e0 - g->work));
+    r->emax = fmax(r->emax, fabs(g->energy));
+    if (g->jmin < r->jmin || isnan(g->jmin)) {
+        r->jmin = g->jmin;
+        r->jmin_t = t;
+    }
+    r->res_volume = fmax(r->res_volume, fabs(g->res_volume));
+    r->res_volume_rate = fmax(r->res_volume_rate, fabs(g->res_volume_rate));
+    r->res_angular = fmax(r->res_angular, fabs(g->res_angular));
+    r->res_locks = fmax(r->res_locks, g->res_locks);
+}
+
+/* The columns at integrator state ys for the event functions (swim_run_row_func): all, or t and
+ * the state columns only (no diagnostics needed). */
+static int packed_row(void *p, double t, const double *ys, int all, double *row)
+{
+    row_ctx *rc = p;
+    swim_diag g;
+    swim_dynamics_unpack(rc->d, ys, rc->full);
+    if (!all) {
+        row[0] = t;
+        memcpy(row + 1, rc->full, sizeof(double) * (3 + 2 * rc->s->n));
+        return 0;
+    }
+    if (swim_dynamics_diagnostics(rc->d, rc->full, &g) != 0) return -1;
+    row_values(rc->s, t, rc->full, &g, row);
+    return 0;
+}
+
+/* Add the counters of `ode` to `total` (a run may use two integrators). */
+static void accumulate_stats(swim_ode_stats *total, const swim_ode *ode)
+{
+    swim_ode_stats st;
+    if (swim_ode_get_stats(ode, &st) != SWIM_ODE_OK) return;
+    total->steps += st.steps;
+    total->rhs_evals += st.rhs_evals;
+    total->rejected += st.rejected;
+    total->rejected_invariant += st.rejected_invariant;
+    total->jac_evals += st.jac_evals;
+    for (int i = 0; i < 13; i++) total->order_hist[i] += st.order_hist[i];
+    total->last_h = st.last_h;
+    total->last_order = st.last_order;
+    total->stiff_suspected |= st.stiff_suspected;
+}
+
+/* Why the run ended (printf-like); `failed` sets the status. */
+static void end_run(swim_run *c, int failed, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void end_run(swim_run *c, int failed, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    free(c->r.reason);
+    c->r.reason = swim_vstrprintf(fmt, ap);   /* NULL: reported as out of memory */
+    va_end(ap);
+    c->r.status = failed;
+}
+#define stop(c, ...) end_run((c), 1, __VA_ARGS__)
+
+static void stop_by_signal(swim_run *c, double t)
+{
+    int sig = *c->req.stop;
+    if (sig == SIGINT) stop(c, "interrupted (SIGINT) at t = %.6g", t);
+    else stop(c, "terminated by %s at t = %.6g", sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal", t);
+}
+
+
+/* The remedy that keeps the scene as it is, when the run did not use it. */
+static const char *impact_hint(const swim_scene *s)
+{
+    return s->impact_depth > 0 ? "" : ", or take such bounces as impacts (run.impact_depth, default 1e-16)";
+}
+
+/* With a barrier, why it did not stop the shape: from the last row inside D, how deep into the
+ * barrier the kinetic energy there could carry the shape (shape/barrier.h, swim_barrier_reach),
+ * compared with the resolution of J = |c_1|^2 - |h|^2 in double precision. Empty when the reach
+ * is resolvable (then the crossing is not explained by the barrier's weakness). */
+static void barrier_diagnosis(swim_run *c, char *buf, size_t len)
+{
+    buf[0] = '\0';
+    const swim_scene *s = c->s;
+    if (!s->barrier || !c->d.barrier) return;
+    /* the integrator's last accepted state when it is inside D (closest to the failure), else the
+     * last row inside D */
+    double *full = malloc(sizeof(double) * (size_t)c->d.dim);
+    if (!full) return;
+    double *ys = malloc(sizeof(double) * (size_t)c->sdim), j0 = NAN;
+    int have = ys && c->ode && swim_ode_dense(c->ode, swim_ode_time(c->ode), ys, NULL) == SWIM_ODE_OK;
+    if (have) {
+        swim_dynamics_unpack(&c->d, ys, full);
+        j0 = swim_dynamics_jmin(&c->d, ys, NULL);
+    }
+    free(ys);
+    if (!(j0 > 0)) {
+        if (!c->have_inside) {
+            free(full);
+            return;
+        }
+        memcpy(full, c->y_inside, sizeof(double) * (size_t)c->d.dim);
+        j0 = swim_shape_jmin(s->modes, full + 3);
+    }
+    const double *x = full + 3, c1 = x[0] * x[0] + x[1] * x[1];
+    swim_bounce bn;
+    const double T = bounce_at(c, full, &bn) == 0 ? bn.normal_kinetic : NAN;
+    double kappa = NAN;
+    double reach = swim_barrier_reach(c->d.barrier, x, s->epsilon, s->alpha, T, &kappa);
+    if (!(kappa > 0) && c->have_inside) {
+        /* a shape deeper than its rounding (J(x) <= 0, shifted coordinates): kappa, which follows
+         * J'' at the foot and barely changes with depth, from the last row inside D */
+        swim_barrier_reach(c->d.barrier, c->y_inside + 3, s->epsilon, s->alpha, T, &kappa);
+        if (kappa > 0 && fabs(s->alpha - 0.5) < 1e-12) reach = j0 * exp(-T / kappa);
+    }
+    free(full);
+    /* Without shifted coordinates the shape is known to rounding, which moves J by ~4u |c_1|^2
+     * (u = 2^-53) and so W2 by kappa 4u |c_1|^2 / min J: deeper than where that exceeds rtol of
+     * the energy scale, a bounce cannot be followed to the tolerance. With them (abm), rounding
+     * is no longer the limit; what remains is time itself: a bounce to min J turns within
+     * ~min J / |dJ/dt|, and the step sizes, the forces (~kappa / min J) and their rounding follow
+     * it: a failure inside a bounce deeper than SHIFT_DEEP |c_1|^2 is put down to its depth. */
+    const double escale = fmax(fmax(c->r.emax, T), 1e-300);
+    const double floor_j = kappa * 4.0 * 1.11e-16 * c1 / (s->rtol * escale);
+    if (!(kappa > 0) || !(c->shift_ok ? j0 < SHIFT_DEEP * c1 : reach < floor_j)) return;
+    if (reach > 0 && c->shift_ok)
+        snprintf(buf, len, "; at min J = %.3g the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold "
+                 "of min J, and absorbing the kinetic energy still moving toward the boundary (%.3g) takes min J "
+                 "down to ~1e%d: abm, in coordinates shifted to the bounce, could not follow it; "
+                 "use alpha >= 1, a larger epsilon or a looser rtol%s",
+                 j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)), impact_hint(s));
+    else if (reach > 0)
+        snprintf(buf, len, "; at min J = %.3g the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold "
+                 "of min J, and absorbing the kinetic energy still moving toward the boundary (%.3g) takes min J "
+                 "down to ~1e%d, where the rounding of the shape (~1e-16 in J = |c1|^2 - |h|^2) moves W2 by "
+                 "more than rtol of the energy (min J < %.1e): double precision cannot follow this bounce "
+                 "without run.origin_shift; use alpha >= 1, a larger epsilon or a looser rtol%s",
+                 j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)), floor_j, impact_hint(s));
+    else
+        snprintf(buf, len, "; the barrier (alpha = %g < 1/2, epsilon = %g) is finite at the boundary of D and "
+                 "cannot stop the kinetic energy moving toward it (%.3g)", s->alpha, s->epsilon, T);
+}
+
+/* The shape left D at t (4.1): the crossing of min J = 0, located at a step (see advance_to). */
+static void stop_left_D(swim_run *c, double t)
+{
+    char why[1024];
+    barrier_diagnosis(c, why, sizeof why);
+    stop(c, "left D at t = %.10g: the shape left the admissible set D (min J reaches 0 on the circle, (4.1))%s%s", t,
+         c->s->barrier ? "; the barrier did not stop it" : "; the scene has no barrier", why);
+}
+
+/* Why the integrator could not reach t. */
+static void stop_on_integrator(swim_run *c, int rc, double t)
+{
+    const swim_scene *s = c->s;
+    if (stop_requested(c)) {
+        stop_by_signal(c, c->r.t_reached);
+        return;
+    }
+    /* A forcing law that is finite at t0 (checked when the scene is read) may not stay so. */
+    if (s->forced && !swim_expr_defined(s->forcing, c->d.last_rhs_t, NULL, 0)) {
+        stop(c, "the forcing law is NaN or Inf at t = %.9g", fmin(c->d.last_rhs_t, s->forcing_finite_until));
+        return;
+    }
+    if (rc == SWIM_ODE_ERHS && swim_ode_rhs_status(c->ode) == SWIM_DYN_EBARRIER)
+        stop_left_D(c, c->r.left_t);
+    else {
+        /* near the boundary of D with a barrier too weak to be resolved, that is the cause */
+        char why[1024];
+        barrier_diagnosis(c, why, sizeof why);
+        if (rc == SWIM_ODE_ERHS)
+            stop(c, "%s near t = %.6g%s", swim_dynamics_strerror(swim_ode_rhs_status(c->ode)), c->d.last_rhs_t, why);
+        else if (rc == SWIM_ODE_ESTIFF && !why[0])
+            stop(c, "stiffness detected near t = %.6g: Adams PECE is "
+                 "stability-limited here; rerun with --integrator cvode-bdf (or msbdf), or remove "
+                 "[run] stiff_fallback = \"none\" from the scene (the default switches to cvode-bdf)",
+                 c->ode ? ode_time(c) : t);
+        else
+            stop(c, "%s near t = %.6g%s", swim_ode_strerror(rc), c->ode ? ode_time(c) : t, why);
+    }
+}
+
+/* Restart from the last output row (exact state there) with the stiff fallback integrator. */
+static int switch_to_fallback(swim_run *c, double t_last, double t)
+{
+    const swim_scene *s = c->s;
+    double ts = ode_time(c);
+    accumulate_stats(&c->total, c->ode);
+    swim_ode_free(c->ode);
+    c->ode = NULL;
+    /* for the user even in a quiet run: the rest of the run is computed by another method than asked for */
+    notice(c, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g",
+           ts, s->integrator, s->stiff_fallback, t_last);
+    c->r.switch_t = t_last;
+    swim_run_events_rewind(c->events, t_last);   /* the fallback locates them again from t_last */
+    if (c->watch_ready) swim_run_watch_rewind(&c->watch, t_last);
+    if (c->fw_on) forcing_rewind(c, t_last);
+    snprintf(c->r.used, sizeof c->r.used, "%s+%s", s->integrator, s->stiff_fallback);
+    memcpy(c->ys, c->ys_last, sizeof(double) * c->sdim);
+    if (c->d.origin || c->d.t_origin != 0.0) {
+        /* the fallback carries the absolute state, the row's (c->y, projected), in absolute time */
+        swim_dynamics_set_origin(&c->d, NULL);
+        swim_dynamics_pack(&c->d, c->y, c->ys);
+        c->o.atol_vec = NULL;
+        c->d.t_origin = 0.0;
+        swim_run_events_time_origin(c->events, 0.0);
+    }
+    c->shift_ok = 0;
+    c->shift_pending = 0;
+    c->o.stiff_stop = 0;
+    const unsigned caps = swim_ode_capabilities(s->stiff_fallback);
+    if (!(caps & SWIM_ODE_CAP_PROJECTION)) c->o.project = NULL;
+    if (!(caps & SWIM_ODE_CAP_WEIGHTS)) c->o.tol_scale = NULL;   /* the cut near the barrier is abm's */
+    if (!(caps & SWIM_ODE_CAP_INVARIANT)) c->o.invariant = NULL;
+    if (!(caps & SWIM_ODE_CAP_STEP_TRACE)) c->o.on_step = NULL;
+    int rc = swim_ode_create(s->stiff_fallback, &c->sys, &c->o, t_last, c->ys, &c->ode);
+    return rc == SWIM_ODE_OK ? swim_ode_advance(c->ode, t, c->ys) : rc;
+}
+
+/* The integrator stopped at shift_t (accept_step): close it, keeping its statistics, and take
+ * the state it accepted there. */
+static void stop_at_shift(swim_run *c)
+{
+    accumulate_stats(&c->total, c->ode);
+    swim_ode_free(c->ode);
+    c->ode = NULL;
+    memcpy(c->ys, c->ys_shift, sizeof(double) * (size_t)c->sdim);
+    c->shift_pending = 0;
+}
+
+/* A new integrator `method` from c->ys at its time tau0 (absolute d.t_origin + tau0), on to
+ * tout. An ODE status. */
+static int resume(swim_run *c, const char *method, double tau0, double tout)
+{
+    barrier_tolerance(c, c->ys, 0.0);
+    int rc = swim_ode_create(method, &c->sys, &c->o, tau0, c->ys, &c->ode);
+    if (rc != SWIM_ODE_OK || !(tout - c->d.t_origin > tau0)) return rc;   /* at tout already: ys is its state */
+    return swim_ode_advance(c->ode, tout - c->d.t_origin, c->ys);
+}
+
+/* The integrator stopped at shift_t (accept_step): start it again from the state there, relative
+ * to the new origin (or to none), and go on to tout. An ODE status. */
+static int shift_origin(swim_run *c, double tout)
+{
+    const swim_scene *s = c->s;
+    const int clear = c->shift_pending == 2;
+    stop_at_shift(c);
+    if (swim_dynamics_rebase(&c->d, c->ys, clear) != 0) return SWIM_ODE_ENOMEM;
+    /* the clock too: t0' + tau0 = t0 + shift_t exactly (TwoSum), the integrator starts at tau0 */
+    const double a = c->d.t_origin, b = c->shift_t, t0 = a + b, bb = t0 - a;
+    const double tau0 = (a - (t0 - bb)) + (b - bb);
+    c->d.t_origin = t0;
+    swim_run_events_time_origin(c->events, t0);
+    c->shifts++;
+    c->steps_since_shift = 0;
+    /* abm weighs errors by rtol |y_i| + atol; with u = y - origin small that is rtol |u_i| + atol_i */
+    if (c->d.origin) {
+        for (int i = 0; i < c->sdim; i++) c->atolv[i] = s->atol + s->rtol * fabs(c->d.origin[i]);
+        c->o.atol_vec = c->atolv;
+    } else {
+        c->o.atol_vec = NULL;
+    }
+    return resume(c, s->integrator, tau0, tout);
+}
+
+/* The integrator stopped at shift_t (accept_step) at the step end where a bounce becomes an
+ * impact: start it again from the state there with the reflected cdot (model/bounce.h), at the
+ * same origin and clock, and go on to tout. An ODE status. */
+static int take_impact(swim_run *c, double tout)
+{
+    const swim_scene *s = c->s;
+    stop_at_shift(c);
+    const swim_scene_kernel *k = c->d.spec;
+    for (int f = 0; f < k->nfree; f++) c->ys[3 + k->nfree + f] += c->impact_dv[k->free_index[f]];
+    const double t = c->d.t_origin + c->shift_t;
+    if (c->impacts++ == 0) {
+        c->impact_first_t = t;
+        c->impact_j_max = c->impact_j;
+        c->impact_reach_min = c->impact_reach;
+        /* for the user even in a quiet run: from here on the run is the impulsive limit of the bounce */
+        notice(c, "swim run: t = %.10g: a bounce off the barrier predicted to turn at min J ~ %.1e |c1|^2 "
+               "(below run.impact_depth = %g) taken as an impact at min J = %.2e |c1|^2 (docs/barrier.md); "
+               "summary.json counts them",
+               t, c->impact_reach, s->impact_depth, c->impact_j);
+    }
+    c->impact_last_t = t;
+    c->impact_j_max = fmax(c->impact_j_max, c->impact_j);
+    c->impact_reach_min = fmin(c->impact_reach_min, c->impact_reach);
+    return resume(c, c->r.switch_t >= 0 ? s->stiff_fallback : s->integrator, c->shift_t, tout);
+}
+
+/* Advance to output time *t and leave the row's full state in c->y. A :stop event before *t
+ * ends the run there: *t becomes the event time, whose row is the last. An ODE status. */
+static int advance_to(swim_run *c, double *t, double *t_last)
+{
+    double ta = swim_clock_seconds();
+    int rc = swim_ode_advance(c->ode, *t - c->d.t_origin, c->ys);
+    while (rc == SWIM_ODE_TERMINATED && c->shift_pending && swim_ode_time(c->ode) == c->shift_t)
+        rc = c->shift_pending == 3 ? take_impact(c, *t) : shift_origin(c, *t);
+    c->r.integrate_seconds += swim_clock_seconds() - ta;
+    if (rc == SWIM_ODE_ESTIFF && c->s->stiff_fallback[0] && c->r.switch_t < 0 && !stop_requested(c)) {
+        /* An alarm raised by a bounce off the barrier that double precision cannot follow is
+         * not stiffness: BDF's larger steps would only cross the unresolved wall with a wrong
+         * energy. The run stops there, saying why (stop_on_integrator). */
+        char why[1024];
+        barrier_diagnosis(c, why, sizeof why);
+        if (!why[0]) rc = switch_to_fallback(c, *t_last, *t);
+    }
+    if (rc == SWIM_ODE_TERMINATED && c->watch_ready && c->watch.left && swim_ode_time(c->ode) == c->left_native) {
+        *t = c->watch.t_left;   /* min J reached 0 inside a step: ys holds the state at the crossing */
+        c->r.left_t = *t;
+        c->r.left_stop = 1;
+        rc = SWIM_ODE_OK;
+    } else if (rc == SWIM_ODE_TERMINATED) {   /* ys holds the state at the event */
+        *t = ode_time(c);
+        end_run(c, 0, "stopped by event %s at t = %.10g", swim_run_events_stop_name(c->events), *t);
+        c->r.event_stop = 1;
+        rc = SWIM_ODE_OK;
+    } else if (rc == SWIM_ODE_ERHS && swim_ode_rhs_status(c->ode) == SWIM_DYN_EBARRIER && !stop_requested(c)) {
+        /* Every trial state beyond the crossing was refused, so the integrator crept up to it
+         * with ever smaller steps until the step size underflowed: its last accepted state is
+         * the crossing (to a few units of rounding in t). Its row is the last. */
+        const double tb = ode_time(c);
+        c->r.left_t = tb;
+        if (tb > *t_last && tb < *t && swim_ode_dense(c->ode, swim_ode_time(c->ode), c->ys, NULL) == SWIM_ODE_OK) {
+            *t = tb;
+            c->r.left_stop = 1;
+            rc = SWIM_ODE_OK;
+        }
+    }
+    if (rc != SWIM_ODE_OK) return rc;
+    const double tr = *t;
+    /* Rows come from the interpolant, which leaves the constraint manifold by the local error
+     * between two projected steps: project the row as well (a copy; the integrator's state is
+     * untouched). */
+    const double *row = c->ys;
+    if (c->o.project && c->ode) {
+        memcpy(c->ys_row, c->ys, sizeof(double) * c->sdim);
+        c->o.project(tr, c->ys_row, &c->d);
+        row = c->ys_row;
+    }
+    swim_dynamics_unpack(&c->d, row, c->y);
+    c->row_jmin = c->d.origin ? swim_dynamics_jmin(&c->d, row, NULL) : NAN;
+    memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
+    *t_last = tr;
+    if (c->fw_on) forcing_row(c, tr);
+    if (c->watch_ready) swim_run_watch_mark(&c->watch);   /* where a stiff fallback would restart */
+    return SWIM_ODE_OK;
+}
+
+/* Diagnostics, the CSV row and maybe a snapshot at t. 0, or -1 when the run must stop. */
+static int emit_row(swim_run *c, long k, long rows, long every, double t)
+{
+    swim_diag g;
+    const double t_diag = swim_clock_seconds();
+    const int diag_rc = swim_dynamics_diagnostics(&c->d, c->y, &g);
+    c->r.diagnostics_seconds += swim_clock_seconds() - t_diag;
+    if (diag_rc != 0) {
+        stop(c, "diagnostics failed at t = %.6g (K not positive definite)", t);
+        return -1;
+    }
+    if (!isnan(c->row_jmin)) g.jmin = c->row_jmin;   /* the rounded row may show 0 in a deep bounce */
+    track(&c->r, t, &g, k == 0);
+    c->last_energy = g.energy;
+    c->last_work = g.work;
+    if (g.jmin > 0) {
+        memcpy(c->y_inside, c->y, sizeof(double) * (size_t)c->d.dim);
+        c->kinetic_inside = g.kinetic_fluid + g.kinetic_shape + g.kinetic_rigid;
+        c->have_inside = 1;
+    }
+    const double t_out = swim_clock_seconds();
+    row_values(c->s, t, c->y, &g, c->row);
+    swim_run_row row = {k, t, c->row, c->ncol, c->y, &c->d, 0};
+    if ((k % every == 0 || k > rows || c->r.event_stop) && c->nsnap < SWIM_RUN_SNAPSHOTS + 1) {
+        row.snapshot = 1;
+        c->nsnap++;
+    }
+    char why[1024] = "";
+    const int rc = c->req.sink.row ? c->req.sink.row(c->req.sink.ctx, &row, why, sizeof why) : 0;
+    if (rc == 0) c->r.rows++;
+    c->r.output_seconds += swim_clock_seconds() - t_out;
+    if (rc != 0) {
+        stop(c, "%s (at t = %.6g)", why[0] ? why : "an output could not be written", t);
+        return -1;
+    }
+    if (!(g.jmin > 0)) {   /* only at a crossing located by the watch, or without dense output */
+        c->r.left_t = t;
+        stop_left_D(c, t);
+        return -1;
+    }
+    return 0;
+}
+
+/* The maxima and min J over the accepted steps into the report, which holds those over the rows.
+ * A run that ended at its last row (t_end, a :stop event, the crossing) counts the last step up
+ * to that row only; a failed one every step it accepted. */
+static void take_watch(run_report *r, swim_run_watch *w)
+{
+    swim_run_watch_finish(w, r->status == 0 || r->left_stop ? r->t_reached : INFINITY);
+    const swim_run_watch_results *s = &w->r;
+    if (s->jmin < r->jmin || isnan(s->jmin)) {
+        r->jmin = s->jmin;
+        r->jmin_t = s->jmin_t;
+    }
+    r->drift_abs = fmax(r->drift_abs, s->drift_abs);
+    r->emax = fmax(r->emax, s->emax);
+    r->res_volume = fmax(r->res_volume, s->res_volume);
+    r->res_volume_rate = fmax(r->res_volume_rate, s->res_volume_rate);
+    r->res_angular = fmax(r->res_angular, s->res_angular);
+    r->res_locks = fmax(r->res_locks, s->res_locks);
+}
+
+/* The output loop: rows at k*output_step up to t_end, stopping at the first failure. */
+static void integrate(swim_run *c)
+{
+    const swim_scene *s = c->s;
+    c->t_start = swim_clock_seconds();
+    double t_last = 0.0;
+    int rc = swim_ode_create(s->integrator, &c->sys, &c->o, 0.0, c->ys, &c->ode);
+    const long rows = (long)floor(s->t_end / s->output_step + 1e-9);
+    const long every = rows / (SWIM_RUN_SNAPSHOTS - 1) > 0 ? rows / (SWIM_RUN_SNAPSHOTS - 1) : 1;
+    if (rc != SWIM_ODE_OK)
+        stop(c, "integrator '%s' could not start: %s", s->integrator, swim_ode_strerror(rc));
+    for (long k = 0; rc == SWIM_ODE_OK; k++) {
+        double t = k <= rows ? k * s->output_step : s->t_end;
+        if (k == rows && fabs(t - s->t_end) < 1e-9 * s->output_step) t = s->t_end;
+        if (k > rows && (rows * s->output_step >= s->t_end * (1 - 1e-12))) break;
+        if (k > rows + 1) break;
+        if (s->forced && t >= s->forcing_finite_until) {   /* found when the settings were checked */
+            stop(c, "the forcing law is NaN or Inf at t = %.9g; stopped before the step to t = %.6g",
+                 s->forcing_finite_until, t);
+            break;
+        }
+        if (k > 0 && (rc = advance_to(c, &t, &t_last)) != SWIM_ODE_OK) {
+            stop_on_integrator(c, rc, t);
+            break;
+        }
+        if (emit_row(c, k, rows, every, t) != 0) break;
+        if (k == 0 && c->watch_ready) c->watch.e0 = c->r.e0;
+        if (k == 0) c->bal_scale = fabs(c->r.e0);
+        if (c->r.left_stop) {
+            stop_left_D(c, t);
+            break;
+        }
+        if (stop_requested(c)) {
+            stop_by_signal(c, t);
+            break;
+        }
+        if (c->r.event_stop) break;   /* the row at the event was the last */
+        if (c->req.sink.progress) c->req.sink.progress(c->req.sink.ctx, t, s->t_end);
+    }
+    if (c->r.status == 0 && !c->r.event_stop) end_run(c, 0, "reached t_end = %.6g", s->t_end);
+    if (c->ode) accumulate_stats(&c->total, c->ode);
+    if (c->watch_ready) take_watch(&c->r, &c->watch);
+}
+
+
+/* The kernel of N modes (diagnostics) and the scene's right-hand side or the stroke's laws:
+ * linked in, cached, or generated and compiled now (runtime/codegen); then the magnitude check of
+ * a dynamic scene's initial state, which needs the kernel (a stroke's runs on the stroke's own
+ * initial state, when its run opens). 0; 1 when no kernel could be had; 2 for a law the generator
+ * refuses or numbers that overflow. */
+int swim_run_kernels(const char *cmd, const swim_scene *s, int generic, int verbose, swim_compiled *kn, swim_compiled *sys)
+{
+    if (s->stroke_count > 0) {
+        const int got = swim_codegen_kernel(s->modes, kn, verbose) != 0 ? -1 : swim_codegen_stroke(s, sys, verbose);
+        if (got == -2) {   /* a law that parses but is not twice differentiable: bad input */
+            char where[640];
+            swim_message(stderr, "swim: %s: %s", swim_scene_stroke_where(s, sys->refused_index, where, sizeof where),
+                         sys->refused);
+            return 2;
+        }
+        if (got != 0) {
+            swim_message(stderr, "swim %s: %s: no kernel for this stroke, nothing computed", cmd, s->path);
+            return 1;
+        }
+        return 0;
+    }
+    if (swim_codegen_kernel(s->modes, kn, verbose) != 0 || swim_codegen_scene(s, generic, sys, verbose) != 0) {
+        swim_message(stderr, "swim %s: %s: no kernel for this scene, nothing computed", cmd, s->path);
+        return 1;
+    }
+    return swim_scene_check_model(s, kn->kernel);
+}
+
+/* ---- the contract (driver/run.h) ---------------------------------------------------------- */
+
+/* The report and the features of the run into its public result. */
+static void fill_result(swim_run *c)
+{
+    swim_run_result *res = &c->res;
+    const run_report *r = &c->r;
+    res->status = r->status;
+    res->reason = r->reason;
+    res->t_reached = r->t_reached;
+    res->rows = r->rows;
+    res->e0 = r->e0;
+    res->drift_abs = r->drift_abs;
+    res->emax = r->emax;
+    res->res_volume = r->res_volume;
+    res->res_volume_rate = r->res_volume_rate;
+    res->res_angular = r->res_angular;
+    res->res_locks = r->res_locks;
+    res->jmin = r->jmin;
+    res->jmin_t = r->jmin_t;
+    res->left_t = r->left_t;
+    res->switch_t = r->switch_t;
+    snprintf(res->used, sizeof res->used, "%s", r->used);
+    res->event_stop = r->event_stop;
+    res->stats = c->total;
+    res->integrate_seconds = r->integrate_seconds;
+    res->diagnostics_seconds = r->diagnostics_seconds;
+    res->output_seconds = r->output_seconds;
+    res->wall_seconds = swim_clock_seconds() - c->t_start;
+    res->projection = c->s->projection && (swim_ode_capabilities(c->s->integrator) & SWIM_ODE_CAP_PROJECTION);
+    res->step_checks = c->watch_ready;
+    res->step_check_steps = c->watch.r.steps;
+    res->step_check_seconds = c->watch.seconds;
+    res->origin_shift_enabled = c->shift_ok || c->shifts;
+    res->shifts = c->shifts;
+    res->impacts_enabled = c->ys_shift && c->s->impact_depth > 0;
+    res->impacts = c->impacts;
+    res->impact_first_t = c->impact_first_t;
+    res->impact_last_t = c->impact_last_t;
+    res->impact_j_max = c->impact_j_max;
+    res->impact_reach_min = c->impact_reach_min;
+    res->energy_control = c->invariant_on;
+    res->energy_control_tol = c->invariant_on ? c->o.invariant_tol : 0.0;
+    res->final_state = c->y;
+    res->energy = c->last_energy;
+    res->work = c->last_work;
+    res->forcing_work = !c->s->forced ? 0.0 : c->fw_on ? c->fw_at_row : NAN;
+}
+
+int swim_run_open(const swim_run_request *req, swim_run **out, char *err, size_t errlen)
+{
+    *out = NULL;
+    swim_run *c = calloc(1, sizeof *c);
+    if (!c) {
+        snprintf(err, errlen, "out of memory");
+        return 1;
+    }
+    c->req = *req;
+    if (req->scene->stroke_count > 0) {
+        const int rc = swim_stroke_run_open(req, &c->stroke, err, errlen);
+        if (rc) free(c);
+        else *out = c;
+        return rc;
+    }
+    c->s = req->scene;
+    c->kn = req->kernel;
+    c->spz = req->system;
+    c->events = req->events;
+    c->ncol = swim_run_columns(c->s, c->names, c->storage);
+    if (prepare(c) != 0) {
+        swim_run_free(c);
+        snprintf(err, errlen, "out of memory");
+        return 1;
+    }
+    *out = c;
+    return 0;
+}
+
+int swim_run_integrate(swim_run *c)
+{
+    if (c->stroke) {
+        swim_stroke_run_integrate(c->stroke);
+        c->res = *swim_stroke_run_result(c->stroke);
+        c->res.is_stroke = 1;
+        return c->res.status;
+    }
+    integrate(c);
+    fill_result(c);
+    return c->r.status;
+}
+
+void swim_run_fail(swim_run *c, const char *reason)
+{
+    if (c->stroke) {
+        swim_stroke_run_fail(c->stroke, reason);
+        c->res.status = swim_stroke_run_result(c->stroke)->status;
+        c->res.reason = swim_stroke_run_result(c->stroke)->reason;
+        return;
+    }
+    if (c->r.status == 0) stop(c, "%s", reason);
+    c->res.status = c->r.status;
+    c->res.reason = c->r.reason;
+}
+
+const swim_run_result *swim_run_get_result(const swim_run *c) { return &c->res; }
+
+swim_dynamics *swim_run_dynamics(swim_run *c) { return c->stroke ? swim_stroke_run_dynamics(c->stroke) : &c->d; }
+
+void swim_run_free(swim_run *c)
+{
+    if (!c) return;
+    swim_stroke_run_free(c->stroke);
+    free(c->rowc.full);
+    if (c->watch_ready) swim_run_watch_free(&c->watch);
+    swim_ode_free(c->ode);
+    if (c->d_ready) swim_dynamics_free(&c->d);
+    free(c->y);
+    free(c->row);
+    free(c->ys);
+    free(c->ys_last);
+    free(c->ys_row);
+    free(c->y_inside);
+    free(c->tol_scale);
+    free(c->ys_shift);
+    free(c->atolv);
+    free(c->fw_full);
+    free(c->fw_ys);
+    free(c->r.reason);
+    free(c);
+}

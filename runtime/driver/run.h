@@ -1,0 +1,145 @@
+/* run.h -- one run of a dynamic scene: the policy of swim run below every command that integrates
+ * a scene (swim run, sweep members, optimize, floquet, sensitivities).
+ *
+ * The driver owns the integration and everything that decides it: the output grid (rows exactly
+ * at k*output_step and at t_end, from the integrator's interpolant), the one mapping of the scene's
+ * settings to swim_ode_options (by the integrator's capabilities, never by its name), the checks
+ * at every accepted step (driver/watch.h), the tolerance cut and the shifted origin near the
+ * boundary of D, bounces taken as impacts, the stiff fallback, events (driver/events.h) and why
+ * the run stopped. It owns no path and prints nothing: rows, notices and progress leave through
+ * a sink of callbacks (the caller writes files, or keeps arrays), and the result is a struct that
+ * summary.h writes as summary.json.
+ *
+ * Use: fill a swim_run_request (a validated scene and its kernels, which the caller obtains and
+ * keeps open for the run's life), swim_run_open, swim_run_integrate, read swim_run_result (and the
+ * dynamics for anything computed after), swim_run_free. Errors come back as a status and one line
+ * of text, never as an exit.
+ */
+#ifndef SWIM_DRIVER_RUN_H
+#define SWIM_DRIVER_RUN_H
+
+#include <signal.h>
+#include <stddef.h>
+
+#include "codegen/codegen.h"
+#include "driver/events.h"
+#include "model/dynamics.h"
+#include "ode/ode.h"
+#include "scene/scene.h"
+
+/* One row of trajectory.csv, handed to the sink as it is computed. */
+typedef struct {
+    long index;                 /* 0, 1, ...: the k of t = k*output_step (the last may be t_end or an event) */
+    double t;
+    const double *values;       /* the columns (swim_run_columns), ncol of them */
+    int ncol;
+    const double *full;         /* the full state (model/dynamics.h layout) at t */
+    swim_dynamics *d;           /* for anything the sink computes from the state (flow snapshots) */
+    int snapshot;               /* one of the rows a flow snapshot is taken at: SWIM_RUN_SNAPSHOTS
+                                   evenly spaced, and the last */
+} swim_run_row;
+
+#define SWIM_RUN_SNAPSHOTS 10
+
+/* Where the rows go. Every callback may be NULL. */
+typedef struct {
+    /* A row: 0, or nonzero when it could not be kept (the run stops; `why` says what failed, e.g.
+     * "cannot write PATH: No space left on device"). */
+    int (*row)(void *ctx, const swim_run_row *row, char *why, size_t len);
+    /* Every attempted step of integrators that report them (SWIM_ODE_CAP_STEP_TRACE), in the
+     * absolute time of the run, with the dynamics for the state's energy. */
+    void (*step)(void *ctx, const swim_ode_step *st, swim_dynamics *d);
+    /* A line the user must see even in a quiet run: the switch to the stiff fallback, the first
+     * bounce taken as an impact. */
+    void (*notice)(void *ctx, const char *line);
+    /* After every row: where the run is. */
+    void (*progress)(void *ctx, double t, double t_end);
+    void *ctx;
+} swim_run_sink;
+
+typedef struct {
+    swim_scene *scene;              /* validated (swim_scene_load_with); the driver records in it the
+                                       settings it resolves: energy_control, step_lookahead */
+    const swim_compiled *kernel;    /* the kernel of N modes (codegen) */
+    const swim_compiled *system;    /* the scene's right-hand side (swim_codegen_scene) */
+    int generic;                    /* the kernel of the generic structure was asked for */
+    swim_run_events *events;        /* borrowed, may be NULL (swim_run_events_parse) */
+    volatile sig_atomic_t *stop;    /* set by a signal handler to stop the run (NULL: never) */
+    swim_run_sink sink;
+} swim_run_request;
+
+/* What a prescribed stroke adds (scene with a [stroke] table). */
+typedef struct {
+    int laws, completed_c1;              /* the laws, and whether c1 is completed from the volume */
+    long rhs_calls;
+    double period;                       /* > 0, or none */
+    const char *period_source;           /* "scene", "detected" or "none" */
+    long strokes;                        /* whole strokes reported */
+    double first_dx, first_dy, first_dtheta, first_work_positive;   /* of the first stroke (NAN: none) */
+    double work, work_positive;
+} swim_stroke_report;
+
+/* What a run found: the numbers of summary.json. */
+typedef struct {
+    int status;                 /* 0 completed, 1 failed */
+    char *reason;               /* why it stopped (NULL only when out of memory) */
+    double t_reached;
+    long rows;
+    double e0, drift_abs, emax;          /* E(0), max |E - E0 - work|, max |E| over rows and steps */
+    double res_volume, res_volume_rate, res_angular, res_locks;
+    double jmin, jmin_t;                 /* smallest min J (rows and steps) and when */
+    double left_t;                       /* where the shape left D, or NAN */
+    double switch_t;                     /* the switch to the stiff fallback, or -1 */
+    char used[80];                       /* the integrator(s) used: "abm" or "abm+cvode-bdf" */
+    int event_stop;                      /* a :stop event ended the run */
+    swim_ode_stats stats;                /* the integrators' counters, summed */
+    double integrate_seconds, diagnostics_seconds, output_seconds, wall_seconds;
+    /* features of the run and what they did */
+    int projection, step_checks, origin_shift_enabled, impacts_enabled, energy_control;
+    long step_check_steps;
+    double step_check_seconds;
+    long shifts, impacts;
+    double impact_first_t, impact_last_t, impact_j_max, impact_reach_min;
+    double energy_control_tol;
+    const double *final_state;           /* full state of the last row (dynamics layout) */
+    double energy, work;                 /* E and the work of forcing and damping (5.3) at the last row */
+    double forcing_work;                 /* the work of the forcing alone to the last row (0 without
+                                            forcing; NAN without dense output); a stroke: the positive work */
+    int is_stroke;                       /* a prescribed stroke: */
+    swim_stroke_report stroke;
+} swim_run_result;
+
+typedef struct swim_run swim_run;
+
+/* The columns of trajectory.csv for scene s (a prescribed stroke has three more): names[] (at most SWIM_RUN_MAX_COLUMNS) pointing
+ * into storage. The count. */
+#define SWIM_RUN_MAX_COLUMNS (8 + 4 * SWIM_NMAX + 64)
+int swim_run_columns(const swim_scene *s, const char **names, char storage[][24]);
+/* The leading columns, shared by dynamic runs and strokes: t, x, y, theta, the n shape
+ * coordinates and their velocities ("d" + name) into names[0 .. 4 + 2n) (the coordinates' names
+ * written into storage[0 .. 2n)). The count; a kind's own columns follow. */
+int swim_run_state_columns(int n, const char **names, char storage[][24]);
+
+/* The kernels a run of s needs: the kernel of N modes and the scene's right-hand side (generic:
+ * the generated generic structure) or, for a prescribed stroke, its laws (swim_codegen_stroke),
+ * linked in, cached or generated now (verbose 1: progress of a generation); then the magnitude
+ * check of a dynamic scene's initial state. 0; 1 when no kernel could be had; 2 for a law the
+ * generator refuses or numbers that overflow; one line on stderr each (codegen speaks too). */
+int swim_run_kernels(const char *cmd, const swim_scene *s, int generic, int verbose, swim_compiled *kn,
+                     swim_compiled *sys);
+
+/* The run of req (copied; what it points to is borrowed): a dynamic run, or a prescribed stroke
+ * when the scene has a [stroke] table (req->system then holds its laws, swim_codegen_stroke).
+ * 0; 1 (out of memory) or 2 (a stroke that is not allowable) with the line in err (empty when a
+ * lower layer printed it). Nothing is integrated yet. */
+int swim_run_open(const swim_run_request *req, swim_run **out, char *err, size_t errlen);
+/* Rows from t = 0 to t_end or until the run stops. Returns the result's status. */
+int swim_run_integrate(swim_run *run);
+/* The output rows failed after the run (closing a file): the run is failed with this reason. */
+void swim_run_fail(swim_run *run, const char *reason);
+const swim_run_result *swim_run_get_result(const swim_run *run);
+/* The run's dynamics (the scene's model at its kernels): for work after the run, sensitivities. */
+swim_dynamics *swim_run_dynamics(swim_run *run);
+void swim_run_free(swim_run *run);
+
+#endif

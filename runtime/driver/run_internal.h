@@ -1,0 +1,86 @@
+/* run_internal.h -- the state of one run (driver/run.c), shared with the summary writer
+ * (driver/summary.c) only. Not part of the driver's contract. */
+#ifndef SWIM_DRIVER_RUN_INTERNAL_H
+#define SWIM_DRIVER_RUN_INTERNAL_H
+
+#include "driver/run.h"
+#include "driver/stroke_run.h"
+#include "driver/watch.h"
+
+typedef struct {
+    double t_reached, jmin, e0, drift_abs, emax, res_volume, res_volume_rate, res_angular, res_locks;
+    double jmin_t;        /* when min J was smallest (rows and, with the watch, every accepted step) */
+    double left_t;        /* where the shape left D (the crossing), or NAN */
+    long rows;
+    int status;           /* 0 completed, 1 failed */
+    char *reason;         /* why it stopped (owned) */
+    double switch_t;      /* time of a switch to the stiff fallback integrator, or -1 */
+    double integrate_seconds;   /* time inside the integrator (steps, RHS, interpolation) */
+    double diagnostics_seconds; /* energies, impulses, residuals, min J of the output rows */
+    double output_seconds;      /* in the sink: formatting and writing rows and snapshots */
+    char used[80];        /* integrator(s) used: two names of at most 31 characters */
+    int event_stop;       /* a :stop event ended the run (status completed, reason says which) */
+    int left_stop;        /* the row just reached is where the shape left D: the last one */
+} run_report;
+
+/* The row of trajectory.csv at an integrator state (event functions evaluate columns). */
+typedef struct {
+    const swim_scene *s;
+    swim_dynamics *d;
+    double *full;
+} row_ctx;
+
+struct swim_run {
+    swim_run_request req;
+    swim_stroke_run *stroke;    /* a prescribed stroke: everything else below is unused */
+    swim_scene *s;              /* req.scene */
+    const swim_compiled *kn, *spz;   /* req.kernel, req.system */
+    swim_run_events *events;    /* req.events */
+    swim_dynamics d;
+    int d_ready;
+    swim_ode *ode;
+    swim_ode_system sys;
+    swim_ode_options o;
+    swim_ode_stats total;
+    int sdim, ncol;
+    double *y, *row, *ys, *ys_last, *ys_row;
+    double *y_inside;           /* full state of the last row with min J > 0 (NULL: none yet) ... */
+    double kinetic_inside;      /* ... its kinetic energy, for the barrier's reach when D is left */
+    int have_inside;
+    const char *names[SWIM_RUN_MAX_COLUMNS];
+    char storage[2 * SWIM_NMAX][24];
+    row_ctx rowc;
+    double bal_scale;           /* energy scale of abm's balance test: max(|E0|, max |E| so far) */
+    double *tol_scale;          /* abm's per-component tolerance factors near the barrier (or NULL) */
+    /* shifted coordinates near the barrier (model/dynamics.h, swim_dynamics_set_origin) */
+    int shift_ok;               /* the integrator in use may shift */
+    int shift_pending;          /* the integrator stopped at shift_t to move the origin (1), drop it (2)
+                                   or take an impact (3) */
+    double shift_t;             /* in the integrator's time (absolute: d.t_origin + shift_t) */
+    double left_native;         /* the watch's crossing, in the integrator's time */
+    double row_jmin;            /* min J of the row's exact state with an origin (else NAN) */
+    double *ys_shift;           /* the accepted state at shift_t, in the integrator's coordinates */
+    double *atolv;              /* absolute tolerances with an origin: atol + rtol |origin_i| */
+    long shifts;                /* restarts for the origin */
+    long steps_since_shift;     /* accepted steps since the last one */
+    /* bounces too deep to follow, taken as impacts (model/bounce.h, impact_wanted) */
+    double impact_dv[SWIM_NMAX];   /* the pending impact's change of cdot (full shape layout) */
+    double impact_j, impact_reach; /* its min J and predicted turning depth, over |c_1|^2 */
+    long impacts;
+    double impact_first_t, impact_last_t, impact_j_max, impact_reach_min;
+    swim_run_watch watch;       /* checks at every accepted step (integrators with dense output) */
+    int watch_ready;
+    run_report r;
+    swim_run_result res;        /* filled at the end of the integration */
+    int nsnap;                  /* rows flagged for a flow snapshot */
+    int invariant_on;           /* the energy balance is in the error test (summary: energy_control) */
+    /* the work of the forcing alone, W_F (forcing_step, forcing_row) */
+    int fw_on, fw_bad;
+    double fw_done, fw_pending, fw_ta, fw_tb, fw_at_row;
+    double *fw_full, *fw_ys;
+    /* the last row's energy and work */
+    double last_energy, last_work;
+    double t_start;
+};
+
+#endif

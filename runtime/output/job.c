@@ -1,0 +1,322 @@
+#include "output/job.h"
+
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "codegen/codegen.h"
+#include "control/sensitivity.h"
+#include "driver/events.h"
+#include "driver/summary.h"
+#include "io/files.h"
+#include "io/message.h"
+#include "scene/resolve.h"
+
+struct swim_job {
+    swim_run_job req;
+    swim_scene s;
+    int stroke;                  /* the scene has a [stroke] table */
+    swim_override recorded[2 * SWIM_JOB_MAX_SETS];   /* DIR/scene.toml: the overrides and the adjustments */
+    int nrecorded;
+    char *resolved;              /* the scene with them written in (NULL without any) */
+    swim_run_events *events;
+    swim_compiled kn, spz;       /* the kernel of N modes; the scene's right-hand side or stroke laws */
+    swim_folder *folder;
+    swim_run *run;
+    const char *sens_status;
+    double sens_t, sens_t_last;
+    long sens_rows;
+    int summary_failed;
+};
+
+/* ---- before the run ------------------------------------------------------------------------ */
+
+/* Options that mean something for free dynamics only are refused on a prescribed stroke. */
+static int refuse_for_stroke(const swim_job *j)
+{
+    const swim_run_job *r = &j->req;
+    if (r->sensitivity) {
+        /* the variational equations are those of the free shape dynamics; a prescribed stroke has
+         * none (its shape is a given function of time) */
+        swim_message(stderr, "swim %s: --sensitivity: not available on a prescribed stroke ([stroke] in %s): "
+                     "sensitivities are computed for free shape dynamics only", r->cmd, r->scene_file);
+        return 2;
+    }
+    const char *opt = r->generic ? "generic" : r->trace ? "trace-steps" : NULL;
+    if (opt) {
+        swim_message(stderr, "swim %s: --%s: does not apply to a prescribed stroke (%s has [stroke]: "
+                     "only (3.21) is integrated)", r->cmd, opt, r->scene_file);
+        return 2;
+    }
+    return 0;
+}
+
+/* The scene read with the overrides, adjusted, its events checked; the text for DIR/scene.toml. */
+static int read_scene(swim_job *j)
+{
+    const swim_run_job *r = &j->req;
+    swim_scene *s = &j->s;
+    if (swim_scene_load_with(r->scene_file, r->sets, r->nsets, s)) return 2;
+    j->stroke = s->stroke_count > 0;
+    int nadj = 0;
+    swim_override adjusted[SWIM_JOB_MAX_SETS];
+    if (r->adjust && r->adjust(s, adjusted, &nadj, r->adjust_ctx) != 0) return 2;
+    if (j->stroke && refuse_for_stroke(j)) return 2;
+    if (r->trace && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
+        swim_message(stderr, "swim %s: --trace-steps: integrator '%s' does not report its steps", r->cmd, s->integrator);
+        return 2;
+    }
+    /* events name columns of trajectory.csv: checked against them, before any output */
+    const char *names[SWIM_RUN_MAX_COLUMNS];
+    char storage[2 * SWIM_NMAX][24], err[1024];
+    const int ncol = swim_run_columns(s, names, storage);
+    const int erc = swim_run_events_parse(s, r->events, r->nevents, names, ncol, &j->events, err, sizeof err);
+    if (erc) {
+        swim_message(stderr, "%s", err);
+        return erc;
+    }
+    /* the record of the run: the overrides, except those an adjustment sets again, then those */
+    for (int i = 0; i < r->nsets; i++) {
+        int again = 0;
+        for (int k = 0; k < nadj; k++) again |= swim_override_same_target(&r->sets[i], &adjusted[k]);
+        if (!again) j->recorded[j->nrecorded++] = r->sets[i];
+    }
+    for (int k = 0; k < nadj; k++) j->recorded[j->nrecorded++] = adjusted[k];
+    if (j->nrecorded == 0) return 0;
+    size_t len = 0, outlen = 0;
+    char *text = swim_read_file(r->scene_file, SWIM_SCENE_MAX_BYTES, &len), why[512];
+    if (!text) {
+        swim_message(stderr, "swim: %s: cannot read: %s", r->scene_file, strerror(errno));
+        return 2;
+    }
+    const int rc = swim_scene_resolve(text, len, r->scene_file, j->recorded, j->nrecorded, &j->resolved, &outlen, why, sizeof why);
+    free(text);
+    if (rc != 0) {
+        swim_message(stderr, "swim %s: %s: cannot write the overrides into the output's scene.toml: %s", r->cmd,
+                     r->scene_file, why);
+        return 2;
+    }
+    return 0;
+}
+
+static int acquire_kernels(swim_job *j)
+{
+    return swim_run_kernels(j->req.cmd, &j->s, j->req.generic, j->req.quiet ? 0 : 1, &j->kn, &j->spz);
+}
+
+/* --sensitivity: the keys resolved on a dynamics of their own, before any output (exit 2). */
+static int check_sensitivity(swim_job *j)
+{
+    swim_dynamics d;
+    swim_sens S;
+    if (swim_dynamics_init(&d, &j->s, j->kn.kernel) != 0) return 1;
+    swim_dynamics_use_scene_kernel(&d, j->spz.scene, j->req.generic);
+    int rc = swim_sens_init(&S, &d) != 0 ? 1 : swim_sens_add_list(&S, &j->s, j->req.cmd, j->req.sensitivity);
+    swim_sens_free(&S);
+    swim_dynamics_free(&d);
+    return rc;
+}
+
+static swim_folder_request folder_request(const swim_job *j, const char **names, char storage[][24])
+{
+    const int ncol = swim_run_columns(&j->s, names, storage);
+    return (swim_folder_request){j->req.cmd, j->req.out, j->req.scene_file, j->s.path, j->resolved, j->req.trace,
+                                 j->req.summary_only, j->req.snapshots && !j->req.summary_only, names, ncol};
+}
+
+static int preflight(const swim_job *j)
+{
+    const char *names[SWIM_RUN_MAX_COLUMNS];
+    char storage[2 * SWIM_NMAX][24], err[2 * 4096 + 256];
+    const swim_folder_request fr = folder_request(j, names, storage);
+    const int rc = swim_folder_preflight(&fr, err, sizeof err);
+    if (rc) swim_message(stderr, "%s", err);
+    return rc;
+}
+
+/* The rows to the folder, the rest to the caller's callbacks. */
+static int sink_row(void *ctx, const swim_run_row *row, char *why, size_t len)
+{
+    swim_job *j = ctx;
+    const swim_run_sink f = swim_folder_sink(j->folder);
+    return f.row(f.ctx, row, why, len);
+}
+
+static void sink_step(void *ctx, const swim_ode_step *st, swim_dynamics *d)
+{
+    swim_job *j = ctx;
+    const swim_run_sink f = swim_folder_sink(j->folder);
+    if (f.step) f.step(f.ctx, st, d);
+}
+
+static void sink_notice(void *ctx, const char *line)
+{
+    const swim_job *j = ctx;
+    if (j->req.notice) j->req.notice(j->req.ctx, line);
+}
+
+static void sink_progress(void *ctx, double t, double t_end)
+{
+    const swim_job *j = ctx;
+    if (j->req.progress) j->req.progress(j->req.ctx, t, t_end);
+}
+
+/* The run (whose opening checks a stroke on its whole interval), then the folder. */
+static int open_run(swim_job *j)
+{
+    if (!j->req.quiet && j->spz.from_cache && !j->stroke)
+        swim_message(stderr, "swim: scene kernel from cache %s", j->spz.dir);
+    const swim_run_request rr = {&j->s, &j->kn, &j->spz, j->req.generic, j->events, j->req.stop,
+                                 {sink_row, j->req.trace ? sink_step : NULL, sink_notice, sink_progress, j}};
+    char err[1024] = "";
+    int rc = swim_run_open(&rr, &j->run, err, sizeof err);
+    if (rc) {
+        if (err[0]) swim_message(stderr, "%s", err);
+        return rc;
+    }
+    const char *names[SWIM_RUN_MAX_COLUMNS];
+    char storage[2 * SWIM_NMAX][24], ferr[2 * 4096 + 256];
+    const swim_folder_request fr = folder_request(j, names, storage);
+    rc = swim_folder_open(&fr, &j->folder, ferr, sizeof ferr);
+    if (rc) swim_message(stderr, "%s", ferr);
+    return rc;
+}
+
+int swim_job_open(const swim_run_job *req, swim_job **out)
+{
+    *out = NULL;
+    swim_job *j = calloc(1, sizeof *j);
+    if (!j) {
+        swim_message(stderr, "swim %s: out of memory", req->cmd);
+        return 1;
+    }
+    j->req = *req;
+    int rc = read_scene(j);
+    if (rc == 0) rc = preflight(j);
+    if (rc == 0) rc = acquire_kernels(j);
+    if (rc == 0 && req->sensitivity) rc = check_sensitivity(j);
+    if (rc == 0) rc = open_run(j);
+    if (rc) {
+        swim_job_free(j);
+        return rc;
+    }
+    *out = j;
+    return 0;
+}
+
+/* ---- the run ------------------------------------------------------------------------------- */
+
+/* DIR/sensitivity.csv after the trajectory, before the summary: a second integration, of the state
+ * with its variational equations, by the same integrator at the same tolerances, up to where the
+ * trajectory ended (t_end or a stopping event). Skipped when the trajectory failed or was
+ * interrupted; a sensitivity pass that does not finish fails the run, so that the summary and the
+ * exit status say so. */
+static void run_sensitivity(swim_job *j)
+{
+    const swim_run_result *r = swim_run_get_result(j->run);
+    j->sens_t = r->t_reached;
+    char why[256];
+    if (r->status != 0) {
+        j->sens_status = "skipped";
+        swim_message(stderr, "swim %s: no sensitivity.csv: the run did not complete", j->req.cmd);
+        return;
+    }
+    if (r->impacts) {   /* the variational equations would need the impact's jump (a saltation matrix) */
+        j->sens_status = "failed";
+        snprintf(why, sizeof why, "no sensitivity.csv: the run took %ld bounce(s) off the barrier as impacts, "
+                 "across which sensitivities are not computed; set run.impact_depth = 0 to follow them", r->impacts);
+        swim_run_fail(j->run, why);
+        return;
+    }
+    swim_sens S;
+    char *path = swim_strprintf("%s/sensitivity.csv", swim_folder_paths(j->folder)->dir);
+    int rc = !path || swim_sens_init(&S, swim_run_dynamics(j->run)) != 0 ? 1
+             : swim_sens_add_list(&S, &j->s, j->req.cmd, j->req.sensitivity);
+    double sec = 0.0;
+    long evals = 0;
+    S.error_control = !j->req.sens_state_steps;
+    if (rc == 0) {
+        rc = swim_sens_write_run(&S, j->s.integrator, path, j->sens_t, &sec, &evals) ? 1 : 0;
+        j->sens_rows = S.rows;
+        j->sens_t_last = S.t_last;
+    }
+    const int sig = j->req.stop ? *j->req.stop : 0;
+    if (rc == 0) {
+        j->sens_status = "written";
+        if (j->req.sens_done) j->req.sens_done(j->req.ctx, S.nkeys, path, j->sens_t, sec, evals);
+    } else if (sig) {
+        j->sens_status = "interrupted";
+        snprintf(why, sizeof why, "interrupted (%s) during the sensitivities: sensitivity.csv is partial",
+                 sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal");
+        swim_run_fail(j->run, why);
+    } else {
+        j->sens_status = "failed";
+        snprintf(why, sizeof why, "sensitivity.csv is incomplete: the sensitivities stopped before t = %.6g", j->sens_t);
+        swim_run_fail(j->run, why);
+    }
+    if (path) swim_sens_free(&S);
+    free(path);
+}
+
+static void fill_summary(FILE *f, void *ctx)
+{
+    const swim_job *j = ctx;
+    const swim_summary_context x = {swim_folder_paths(j->folder)->dir, j->req.command, j->req.scene_file,
+                                    j->recorded, j->nrecorded, j->req.sensitivity != NULL, j->sens_status,
+                                    j->sens_t, j->sens_rows, j->sens_t_last};
+    swim_run_summary_json(f, j->run, &x);
+}
+
+int swim_job_run(swim_job *j)
+{
+    swim_run_integrate(j->run);
+    if (swim_folder_finish(j->folder, j->events) != 0) swim_run_fail(j->run, swim_folder_error(j->folder));
+    if (j->req.sensitivity) run_sensitivity(j);
+    const swim_run_result *r = swim_run_get_result(j->run);
+    if (swim_folder_write_summary(j->folder, fill_summary, j) != 0) {
+        swim_message(stderr, "swim %s: cannot write %s: %s (the run %s: %s)", j->req.cmd,
+                     swim_folder_paths(j->folder)->summary_path, strerror(errno), r->status ? "FAILED" : "completed",
+                     r->reason ? r->reason : "out of memory");
+        j->summary_failed = 1;
+    }
+    return r->status || j->summary_failed ? 1 : 0;
+}
+
+/* ---- what it found ------------------------------------------------------------------------- */
+
+const swim_scene *swim_job_scene(const swim_job *j) { return &j->s; }
+const swim_run_result *swim_job_result(const swim_job *j) { return swim_run_get_result(j->run); }
+const swim_run_paths *swim_job_paths(const swim_job *j) { return swim_folder_paths(j->folder); }
+swim_dynamics *swim_job_dynamics(swim_job *j) { return swim_run_dynamics(j->run); }
+int swim_job_summary_failed(const swim_job *j) { return j->summary_failed; }
+
+const char *swim_job_output_error(const swim_job *j)
+{
+    const char *e = swim_folder_error(j->folder), *reason = swim_job_result(j)->reason;
+    return e && !(reason && strstr(reason, e)) ? e : NULL;
+}
+
+void swim_job_free(swim_job *j)
+{
+    if (!j) return;
+    swim_run_free(j->run);
+    swim_folder_free(j->folder);
+    swim_run_events_free(j->events);
+    swim_compiled_close(&j->spz);   /* after everything that may still point into the kernels */
+    swim_compiled_close(&j->kn);
+    free(j->resolved);
+    swim_scene_free(&j->s);
+    free(j);
+}
+
+int swim_job_execute(const swim_run_job *req)
+{
+    swim_job *j;
+    int rc = swim_job_open(req, &j);
+    if (rc) return rc;
+    rc = swim_job_run(j);
+    swim_job_free(j);
+    return rc;
+}

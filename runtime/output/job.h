@@ -1,0 +1,73 @@
+/* job.h -- one scene run into its output folder: what `swim run` does once its command line is
+ * read, and what a sweep member is (a request struct, not an argv).
+ *
+ * A job reads the scene (the overrides applied before it is validated), checks everything a run
+ * needs before any output is touched (events, the output folder, the kernels -- generated and
+ * cached when missing --, the model's magnitudes, the sensitivity keys, a stroke's allowability),
+ * then integrates it (driver/run.h) into its folder (output/folder.h) and writes the summary
+ * (driver/summary.h). Dynamic scenes and prescribed strokes alike.
+ *
+ * Bad input is one line on stderr and status 2, before any output; a run that fails keeps what it
+ * wrote and says why in its summary (status 1). The lines come from the layers that find the
+ * fault (the scene reader, codegen, this module); nothing else is printed and nothing exits.
+ */
+#ifndef SWIM_OUTPUT_JOB_H
+#define SWIM_OUTPUT_JOB_H
+
+#include <signal.h>
+
+#include "driver/run.h"
+#include "output/folder.h"
+#include "scene/scene.h"
+
+#define SWIM_JOB_MAX_SETS 64
+
+typedef struct {
+    const char *cmd;                    /* "run", for messages */
+    const char *scene_file;
+    const swim_override *sets;          /* applied before the scene is validated (--set) */
+    int nsets;
+    /* Settings applied to the read scene (the command line's run options, checked there with
+     * their option's name): 0, or 2 after one line. It may add to `recorded` (at most
+     * SWIM_JOB_MAX_SETS) the overrides that write its changes into DIR/scene.toml. May be NULL. */
+    int (*adjust)(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx);
+    void *adjust_ctx;
+    const char *out;                    /* NULL: out/<scene name> */
+    const char *trace;                  /* --trace-steps FILE (dynamic scenes) */
+    int quiet;                          /* no progress of kernel generation */
+    int generic;                        /* the kernel of the generic structure */
+    int summary_only, snapshots;
+    const char *const *events;          /* --event specifications, besides the scene's */
+    int nevents;
+    const char *sensitivity;            /* KEY[,KEY...]: DIR/sensitivity.csv (dynamic scenes) */
+    int sens_state_steps;               /* the sensitivities without an error test of their own */
+    const char *command;                /* the command line, for the summary (may be NULL) */
+    volatile sig_atomic_t *stop;        /* a stop request (signal), or NULL */
+    void (*notice)(void *ctx, const char *line);           /* lines for the user (driver/run.h) */
+    void (*progress)(void *ctx, double t, double t_end);
+    void (*sens_done)(void *ctx, int nkeys, const char *path, double t, double seconds, long evals);
+    void *ctx;
+} swim_run_job;
+
+typedef struct swim_job swim_job;
+
+/* Everything before the integration. 0 with *out; 1 or 2 after one line on stderr (*out is NULL). */
+int swim_job_open(const swim_run_job *req, swim_job **out);
+/* The integration, the outputs closed, the sensitivities, the summary. The run's status: 0
+ * completed, 1 failed (also when an output, or the summary itself, could not be written). */
+int swim_job_run(swim_job *j);
+
+const swim_scene *swim_job_scene(const swim_job *j);
+const swim_run_result *swim_job_result(const swim_job *j);
+const swim_run_paths *swim_job_paths(const swim_job *j);
+swim_dynamics *swim_job_dynamics(swim_job *j);
+/* After swim_job_run: the output error the run's reason does not name (NULL: none), and whether
+ * the summary itself could not be written. */
+const char *swim_job_output_error(const swim_job *j);
+int swim_job_summary_failed(const swim_job *j);
+void swim_job_free(swim_job *j);
+
+/* The convenience of a sweep member: open, run, free. The exit status of `swim run`. */
+int swim_job_execute(const swim_run_job *req);
+
+#endif
