@@ -124,5 +124,23 @@ def test_bad_event():
     check(p.returncode == 1 and "fewer than two events" in p.stderr, "no period before --t-max: exit 1 saying so (%r)" % p.stderr)
 
 
+def test_scene_integrator():
+    """The period and the monodromy are integrated by the scene's own integrator (its [run] settings,
+    as swim run has them); one that cannot locate events is refused with one line, before any output."""
+    ex3 = os.path.join("models", "example3.toml")
+    pa, da = floquet(ex3, "int_abm")
+    pb, db = floquet(ex3, "int_bdf", "--set", "run.integrator=cvode-bdf")
+    check(pa.returncode == 0 and pb.returncode == 0, "abm and cvode-bdf: %s %s" % (pa.stderr, pb.stderr))
+    if da and db:
+        check(da["period"] != db["period"] and abs(da["period"] - db["period"]) < 1e-6,
+              "cvode-bdf's period is its own (%r vs abm %r), within the tolerance" % (db["period"], da["period"]))
+    out = os.path.join(TMP, "int_rk8pd")
+    p = subprocess.run([SWIM, "floquet", ex3, "--out", out, "--set", "run.integrator=rk8pd"], capture_output=True,
+                       text=True, cwd=ROOT)
+    check(p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1 and "rk8pd" in p.stderr
+          and "events" in p.stderr, "rk8pd refused in one line naming it (%r)" % p.stderr)
+    check(not os.path.exists(out), "nothing written for a refused integrator")
+
+
 if __name__ == "__main__":
     sys.exit(main(globals(), "test_floquet"))

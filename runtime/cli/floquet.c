@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "control/floquet.h"
 #include "control/model_setup.h"
+#include "ode/ode.h"
 #include "io/files.h"
 #include "io/message.h"
 #include "kernel/coords.h"
@@ -91,6 +92,14 @@ int swim_cmd_floquet(int argc, char **argv)
     if (rc) {
         swim_setup_close(&m);
         return rc;
+    }
+    /* the period is found from events of the scene's own integrator, which must locate them */
+    if (!(swim_ode_capabilities(m.s.integrator) & SWIM_ODE_CAP_EVENTS)) {
+        swim_message(stderr, "swim floquet: %s: run.integrator = \"%s\" cannot locate the section's events (no dense "
+                     "output); use one of %s (e.g. --set run.integrator=abm)", pos[0], m.s.integrator,
+                     swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
+        swim_setup_close(&m);
+        return 2;
     }
     const char *section = swim_args_get(opts, nopts, "event");
     char dflt[40];

@@ -1,5 +1,5 @@
-#include "io/clock.h"
 #include "cli/run_signals.h"
+#include "io/clock.h"
 
 #include <string.h>
 #include <time.h>

@@ -9,9 +9,9 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "io/clock.h"
 #include "cli/commands.h"
 #include "cli/sweep_args.h"
+#include "io/clock.h"
 #include "sweep/sweep.h"
 #include "io/message.h"
 

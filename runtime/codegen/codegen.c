@@ -1,6 +1,5 @@
 /* memfd_create (Linux): a loaded kernel is a private copy, see load_entry */
 #define _GNU_SOURCE
-#include "io/clock.h"
 #include "codegen/codegen.h"
 
 #include <dirent.h>
@@ -23,8 +22,10 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "io/clock.h"
 #include "io/files.h"
 #include "io/json.h"
+#include "io/message.h"
 
 #ifndef SWIM_CC
 #define SWIM_CC "cc"
@@ -1172,4 +1173,27 @@ int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose)
     free(key);
     free(json);
     return rc;
+}
+
+int swim_codegen_for_scene(const char *cmd, const swim_scene *s, int generic, int verbose, swim_compiled *kn, swim_compiled *sys)
+{
+    if (s->stroke_count > 0) {
+        const int got = swim_codegen_kernel(s->modes, kn, verbose) != 0 ? -1 : swim_codegen_stroke(s, sys, verbose);
+        if (got == -2) {   /* a law that parses but is not twice differentiable: bad input */
+            char where[640];
+            swim_message(stderr, "swim: %s: %s", swim_scene_stroke_where(s, sys->refused_index, where, sizeof where),
+                         sys->refused);
+            return 2;
+        }
+        if (got != 0) {
+            swim_message(stderr, "swim %s: %s: no kernel for this stroke, nothing computed", cmd, s->path);
+            return 1;
+        }
+        return 0;
+    }
+    if (swim_codegen_kernel(s->modes, kn, verbose) != 0 || swim_codegen_scene(s, generic, sys, verbose) != 0) {
+        swim_message(stderr, "swim %s: %s: no kernel for this scene, nothing computed", cmd, s->path);
+        return 1;
+    }
+    return swim_scene_check_model(s, kn->kernel);
 }

@@ -67,6 +67,15 @@ int swim_codegen_kernel(int modes, swim_compiled *out, int verbose);
 int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int verbose);
 void swim_compiled_close(swim_compiled *c);
 
+/* The kernels a run of s needs: the kernel of N modes and the scene's right-hand side (generic:
+ * the generated generic structure) or, for a prescribed stroke, its laws (swim_codegen_stroke),
+ * linked in, cached or generated now (verbose 1: progress of a generation); then the magnitude
+ * check of a dynamic scene's initial state. 0; 1 when no kernel could be had; 2 for a law the
+ * generator refuses or numbers that overflow; one line on stderr each (codegen speaks too). */
+int swim_codegen_for_scene(const char *cmd, const swim_scene *s, int generic, int verbose, swim_compiled *kn,
+                           swim_compiled *sys);
+
+
 /* The laws of the scene's [stroke] with their exact first and second derivatives
  * (generator/swimgen/stroke.py), cached like scene kernels under the key "stroke {structure}".
  * 0; -1 after one line on stderr; -2 when a law is refused (nothing printed): it parses and is

@@ -1,4 +1,3 @@
-#include "io/clock.h"
 #include "control/floquet.h"
 
 #include <complex.h>
@@ -9,6 +8,8 @@
 #include <time.h>
 
 #include "control/sensitivity.h"
+#include "driver/run.h"
+#include "io/clock.h"
 #include "io/json.h"
 #include "io/message.h"
 #include "kernel/coords.h"
@@ -60,16 +61,14 @@ static int find_period(swim_dynamics *d, const swim_floquet_section *sec, double
                          sec->kind == 'x' ? -1 : +1, 0};
     swim_ode_system sys = {swim_dynamics_rhs, (size_t)n, d, NULL};
     swim_ode_options o;
-    swim_ode_options_default(&o);
-    o.rtol = s->rtol;
-    o.atol = s->atol;
-    if (s->projection) o.project = swim_dynamics_project;
+    swim_run_ode_options(s, &o);   /* the scene's integrator, as swim run has it */
+    if (s->projection && (swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_PROJECTION)) o.project = swim_dynamics_project;
     o.events = &ev;
     o.nevents = 1;
     o.on_event = on_event;
     o.on_event_data = &log;
     swim_ode *ode = NULL;
-    int rc = swim_ode_create("abm", &sys, &o, 0.0, y, &ode);
+    int rc = swim_ode_create(s->integrator, &sys, &o, 0.0, y, &ode);
     const double dt = s->output_step;
     for (double t = dt; rc == SWIM_ODE_OK && log.count < 2 && t < t_max + dt; t += dt)
         rc = swim_ode_advance(ode, fmin(t, t_max), y);
@@ -278,11 +277,11 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
     swim_sens_initial(&S, ys, Y);
     swim_ode_system sys = {swim_sens_rhs, (size_t)dimY, &S, NULL};
     swim_ode_options o;
-    swim_ode_options_default(&o);
+    swim_run_ode_options(d->scene, &o);
     o.rtol = fmax(d->scene->rtol, 1e-10);   /* as swim_sens_write_run: the differences' noise */
     o.atol = fmax(d->scene->atol, 1e-12);
     swim_ode *ode = NULL;
-    int orc = swim_ode_create("abm", &sys, &o, 0.0, Y, &ode);
+    int orc = swim_ode_create(d->scene->integrator, &sys, &o, 0.0, Y, &ode);
     if (orc == SWIM_ODE_OK) orc = swim_ode_advance(ode, fl->period, Y);
     if (ode) {
         swim_ode_stats st;

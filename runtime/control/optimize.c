@@ -56,7 +56,7 @@ static void integrate(const swim_opt_problem *p, const swim_override *ov, int no
         snprintf(r->reason, sizeof r->reason, "values refused by the scene checks");
         return;
     }
-    int rc = swim_run_kernels("optimize", &s, 0, 0, &kn, &sys);
+    int rc = swim_codegen_for_scene("optimize", &s, 0, 0, &kn, &sys);
     if (rc) {
         r->status = rc == 2 ? 2 : 1;
         snprintf(r->reason, sizeof r->reason, rc == 2 ? "values refused by the scene checks" : "no kernel");

@@ -1,4 +1,3 @@
-#include "io/clock.h"
 #include "control/sensitivity.h"
 
 #include <errno.h>
@@ -7,6 +6,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "driver/run.h"
+#include "io/clock.h"
 #include "io/csv.h"
 #include "io/message.h"
 #include "kernel/coords.h"
@@ -331,7 +332,7 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
     swim_sens_initial(S, ys, Y);
     swim_ode_system sys = {swim_sens_rhs, (size_t)N, S, NULL};
     swim_ode_options o;
-    swim_ode_options_default(&o);
+    swim_run_ode_options(s, &o);   /* the run's settings; the tolerances floored for the differences' noise */
     o.rtol = fmax(s->rtol, SENS_RTOL_MIN);
     o.atol = fmax(s->atol, SENS_ATOL_MIN);
     if (!S->error_control) {   /* the sensitivities ride on the state's steps */
@@ -339,7 +340,6 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
         for (int i = 0; i < N; i++) atolv[i] = i < n ? o.atol : 1e300;
         o.atol_vec = atolv;
     }
-    if (s->step_lookahead >= 0) o.lookahead = s->step_lookahead;
     int orc = swim_ode_create(integrator, &sys, &o, 0.0, Y, &ode);
     const long rows = (long)floor(t_end / s->output_step + 1e-9);
     double t = 0.0;

@@ -391,9 +391,7 @@ static int prepare(swim_run *c)
     if (s->jacobian_exact && c->spz->scene->jacobian)   /* [run] jacobian: BDF methods use it */
         c->sys.jacobian = swim_dynamics_jacobian;
     swim_ode_options *o = &c->o;
-    swim_ode_options_default(o);
-    o->rtol = s->rtol;
-    o->atol = s->atol;
+    swim_run_ode_options(s, o);
     swim_dynamics_track_balance(&c->d, 1);   /* the step checks and the balance test read it */
     /* by default where the scene has a barrier: its long stays near the wall (10^4-10^5 steps) are
      * where the drift adds up; a smooth paper scene at rtol 1e-8 keeps ~1e-10 without it, and would
@@ -406,7 +404,6 @@ static int prepare(swim_run *c)
         o->invariant_tol = ENERGY_CONTROL * s->rtol;   /* abm never asks for less than B's rounding */
         c->invariant_on = 1;
     }
-    if (s->step_lookahead >= 0) o->lookahead = s->step_lookahead;
     s->step_lookahead = o->lookahead;   /* the summary records the value used */
     o->stiff_stop = (caps & SWIM_ODE_CAP_STIFFNESS) != 0;   /* stop and report (or switch) on stiffness */
     if (s->projection && (caps & SWIM_ODE_CAP_PROJECTION)) o->project = swim_dynamics_project;  /* drift control */
@@ -932,27 +929,12 @@ static void integrate(swim_run *c)
  * a dynamic scene's initial state, which needs the kernel (a stroke's runs on the stroke's own
  * initial state, when its run opens). 0; 1 when no kernel could be had; 2 for a law the generator
  * refuses or numbers that overflow. */
-int swim_run_kernels(const char *cmd, const swim_scene *s, int generic, int verbose, swim_compiled *kn, swim_compiled *sys)
+void swim_run_ode_options(const swim_scene *s, swim_ode_options *o)
 {
-    if (s->stroke_count > 0) {
-        const int got = swim_codegen_kernel(s->modes, kn, verbose) != 0 ? -1 : swim_codegen_stroke(s, sys, verbose);
-        if (got == -2) {   /* a law that parses but is not twice differentiable: bad input */
-            char where[640];
-            swim_message(stderr, "swim: %s: %s", swim_scene_stroke_where(s, sys->refused_index, where, sizeof where),
-                         sys->refused);
-            return 2;
-        }
-        if (got != 0) {
-            swim_message(stderr, "swim %s: %s: no kernel for this stroke, nothing computed", cmd, s->path);
-            return 1;
-        }
-        return 0;
-    }
-    if (swim_codegen_kernel(s->modes, kn, verbose) != 0 || swim_codegen_scene(s, generic, sys, verbose) != 0) {
-        swim_message(stderr, "swim %s: %s: no kernel for this scene, nothing computed", cmd, s->path);
-        return 1;
-    }
-    return swim_scene_check_model(s, kn->kernel);
+    swim_ode_options_default(o);
+    o->rtol = s->rtol;
+    o->atol = s->atol;
+    if (s->step_lookahead >= 0) o->lookahead = s->step_lookahead;
 }
 
 /* ---- the contract (driver/run.h) ---------------------------------------------------------- */

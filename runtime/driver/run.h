@@ -120,13 +120,11 @@ int swim_run_columns(const swim_scene *s, const char **names, char storage[][24]
  * written into storage[0 .. 2n)). The count; a kind's own columns follow. */
 int swim_run_state_columns(int n, const char **names, char storage[][24]);
 
-/* The kernels a run of s needs: the kernel of N modes and the scene's right-hand side (generic:
- * the generated generic structure) or, for a prescribed stroke, its laws (swim_codegen_stroke),
- * linked in, cached or generated now (verbose 1: progress of a generation); then the magnitude
- * check of a dynamic scene's initial state. 0; 1 when no kernel could be had; 2 for a law the
- * generator refuses or numbers that overflow; one line on stderr each (codegen speaks too). */
-int swim_run_kernels(const char *cmd, const swim_scene *s, int generic, int verbose, swim_compiled *kn,
-                     swim_compiled *sys);
+/* The scene's integrator settings as swim_ode_options (defaults, then rtol, atol, the step
+ * look-ahead): the one mapping every integration of a scene starts from. What a run adds on top
+ * (projection, events, the checks at every step, the error weights and the balance test near the
+ * barrier) depends on the integrator's capabilities and is the driver's. */
+void swim_run_ode_options(const swim_scene *s, swim_ode_options *o);
 
 /* The run of req (copied; what it points to is borrowed): a dynamic run, or a prescribed stroke
  * when the scene has a [stroke] table (req->system then holds its laws, swim_codegen_stroke).

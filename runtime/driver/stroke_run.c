@@ -264,10 +264,7 @@ static void integrate(swim_stroke_run *c)
 {
     const swim_scene *s = c->s;
     swim_ode_system sys = {swim_stroke_rhs, SWIM_STROKE_DIM, &c->st, NULL};
-    swim_ode_options_default(&c->o);
-    c->o.rtol = s->rtol;
-    c->o.atol = s->atol;
-    if (s->step_lookahead >= 0) c->o.lookahead = s->step_lookahead;
+    swim_run_ode_options(s, &c->o);
     if (c->events && swim_run_events_attach(c->events, &c->o, SWIM_STROKE_DIM, 3 + 2 * s->n, event_row, c) != 0) {
         end_run(c, 1, "out of memory");
         return;

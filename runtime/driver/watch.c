@@ -1,7 +1,7 @@
 /* Checks and diagnostics at every accepted step (run_watch.h). */
-#include "io/clock.h"
 #include "driver/watch.h"
 
+#include "io/clock.h"
 #include "kernel/coords.h"
 #include "shape/constraints.h"
 

@@ -1,4 +1,3 @@
-#include "io/clock.h"
 #include "model/dynamics.h"
 
 #include <math.h>
@@ -6,6 +5,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "io/clock.h"
 #include "kernel/coords.h"
 #include "shape/constraints.h"
 #include "shape/shape.h"

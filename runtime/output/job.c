@@ -103,7 +103,7 @@ static int read_scene(swim_job *j)
 
 static int acquire_kernels(swim_job *j)
 {
-    return swim_run_kernels(j->req.cmd, &j->s, j->req.generic, j->req.quiet ? 0 : 1, &j->kn, &j->spz);
+    return swim_codegen_for_scene(j->req.cmd, &j->s, j->req.generic, j->req.quiet ? 0 : 1, &j->kn, &j->spz);
 }
 
 /* --sensitivity: the keys resolved on a dynamics of their own, before any output (exit 2). */

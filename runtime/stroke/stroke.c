@@ -1,4 +1,3 @@
-#include "io/clock.h"
 #include "stroke/stroke.h"
 
 #include <math.h>
@@ -7,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "io/clock.h"
 #include "kernel/coords.h"
 #include "shape/shape.h"
 

@@ -1,0 +1,69 @@
+#!/usr/bin/env python3
+"""The layers of runtime/ only call down (docs/run-driver.md):
+  - no file below cli/ includes a cli/ header or calls a command (swim_cmd_*); mpi/ is a program's
+    front end and may read its command line with cli/sweep_args.h, nothing else of cli/;
+  - the run driver (driver/) prints nothing and exits nowhere: lines leave through its sink;
+  - no integrator is tested by name outside the integrator registry (ode/): capabilities decide;
+  - the command layer stays a command layer: runtime/cli/ at most 3 000 lines.
+Prints "test_layering: P passed, F failed"."""
+import glob
+import os
+import re
+import sys
+
+import swimtest
+from swimtest import ROOT, check
+
+INTEGRATORS = ("abm", "rk8pd", "msadams", "rkf45", "msbdf", "cvode-adams", "cvode-bdf")
+
+
+def sources(folder=""):
+    for p in sorted(glob.glob(os.path.join(ROOT, "runtime", folder, "**", "*.[ch]"), recursive=True)):
+        yield os.path.relpath(p, ROOT), open(p, encoding="utf-8").read()
+
+
+def code(text):
+    """The text without comments and string literals (what the compiler sees as calls)."""
+    text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
+    text = re.sub(r"//[^\n]*", " ", text)
+    return re.sub(r'"(\\.|[^"\\])*"', '""', text)
+
+
+def test_nothing_below_cli_reaches_up():
+    below = [(p, t) for p, t in sources() if not p.startswith("runtime/cli/")]
+    check(len(below) > 50, "the runtime's files are found (%d)" % len(below))
+    for path, text in below:
+        includes = re.findall(r'#include\s+"(cli/[^"]+)"', text)
+        allowed = {"cli/sweep_args.h"} if path.startswith("runtime/mpi/") else set()
+        bad = [h for h in includes if h not in allowed]
+        check(not bad, "%s includes %s" % (path, ", ".join(bad)))
+        calls = re.findall(r"\bswim_cmd_\w+", code(text))
+        check(not calls, "%s calls a command: %s" % (path, ", ".join(sorted(set(calls)))))
+
+
+def test_driver_prints_nothing():
+    for path, text in sources("driver"):
+        c = code(text)
+        for pat in (r"\bswim_message\s*\(", r"\bprintf\s*\(", r"\bputs\s*\(", r"\bexit\s*\(", r"\bstderr\b",
+                    r"\bstdout\b", r"\babort\s*\("):
+            check(not re.search(pat, c), "%s: %s" % (path, pat))
+
+
+def test_no_integrator_named():
+    names = "|".join(re.escape(n) for n in INTEGRATORS)
+    for path, text in sources():
+        if path.startswith("runtime/ode/"):
+            continue
+        hits = re.findall(r'strn?cmp\s*\([^;]*"(%s)"' % names, text)
+        check(not hits, "%s tests an integrator by name: %s" % (path, ", ".join(hits)))
+        creates = re.findall(r'swim_ode_create\s*\(\s*"(%s)"' % names, text)
+        check(not creates, "%s hard-codes integrator %s" % (path, ", ".join(creates)))
+
+
+def test_cli_is_small():
+    lines = sum(t.count("\n") for _, t in sources("cli"))
+    check(0 < lines <= 3000, "runtime/cli/ has %d lines (at most 3000)" % lines)
+
+
+if __name__ == "__main__":
+    sys.exit(swimtest.main(globals(), "test_layering"))
