@@ -17,6 +17,7 @@
 #include "io/files.h"
 #include "io/json.h"
 #include "io/message.h"
+#include "scene/keys.h"
 
 static volatile int stop_signal;   /* set by SIGINT/SIGTERM; the search ends with what it has */
 static void on_stop(int sig) { stop_signal = sig; }
@@ -42,6 +43,19 @@ static int parse_vary(swim_opt_problem *p, const char *spec, const swim_override
     memset(&p->keys[i], 0, sizeof p->keys[i]);
     if (swim_override_key(key, &p->keys[i], err, sizeof err) != 0) {
         swim_message(stderr, "swim optimize: --vary %s: %s", spec, err);
+        return 2;
+    }
+    /* a value that can be varied continuously: a number of the scene (scene/keys.h) */
+    const swim_scene_key *row = swim_scene_key_find(p->keys[i].table, p->keys[i].key);
+    if (!row || !(row->kind == SWIM_KEY_NUMBER || row->kind == SWIM_KEY_VECTOR)) {
+        swim_message(stderr, "swim optimize: --vary %s: %s (vary a number: a [parameters] value, an item of a "
+                     "vector such as elastic.stiffness.am1, model.rho0, ...)", spec,
+                     !row ? "not a key of a scene" : "not a number");
+        return 2;
+    }
+    if (row->kind == SWIM_KEY_VECTOR && p->keys[i].index < 0) {
+        swim_message(stderr, "swim optimize: --vary %s: %s.%s is a vector: vary one item of it (%s.%s.am1 or %s.%s[I])",
+                     spec, row->table, row->key, row->table, row->key, row->table, row->key);
         return 2;
     }
     snprintf(p->keys[i].text, sizeof p->keys[i].text, "%s", key);

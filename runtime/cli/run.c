@@ -22,7 +22,7 @@
 #include "output/job.h"
 
 typedef struct {
-    swim_opt opts[14];
+    swim_opt opts[40];
     int nopts;
     swim_override sets[SWIM_JOB_MAX_SETS];
     const char *events[SWIM_RUN_MAX_EVENTS + 1];
@@ -82,10 +82,11 @@ static int read_options(int argc, char **argv, run_cmd *c)
 {
     const swim_opt opts[] = {{"out", 1, NULL}, {"t-end", 1, NULL}, {"rtol", 1, NULL}, {"output-step", 1, NULL},
                              {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL}, {"generic", 0, NULL},
-                             {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL}, {"trace-steps", 1, NULL},
+                             {"no-projection", 0, NULL}, {"trace-steps", 1, NULL},
                              {"snapshots", 0, NULL}, {"summary-only", 0, NULL}, {"sensitivity-steps", 1, NULL}};
     c->nopts = (int)(sizeof opts / sizeof opts[0]);
     memcpy(c->opts, opts, sizeof opts);
+    swim_run_settings_key_options(c->opts, &c->nopts, (int)(sizeof c->opts / sizeof c->opts[0]));
     swim_run_job *j = &c->job;
     if (!(c->command = swim_shell_words(argc, (const char *const *)argv))) return 1;
     if ((j->nsets = swim_args_take_sets("run", &argc, argv, 2, c->sets, SWIM_JOB_MAX_SETS)) < 0) return 2;

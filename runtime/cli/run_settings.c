@@ -8,7 +8,7 @@
 #include "io/files.h"
 #include "io/message.h"
 #include "ode/ode.h"
-#include "scene/resolve.h"
+#include "scene/keys.h"
 
 /* A number option: parsed into *dst; *given says whether it was on the command line. */
 static int number_option(const swim_opt *opts, int nopts, const char *name, double *dst, int *given)
@@ -16,6 +16,52 @@ static int number_option(const swim_opt *opts, int nopts, const char *name, doub
     const char *v = swim_args_get(opts, nopts, name);
     *given = v != NULL;
     return v ? swim_args_double("run", name, v, dst) : 0;
+}
+
+/* The options of the plain keys (scene/keys.h): each parsed and bounded as its row says. 0 or 2. */
+static int plain_options(const swim_opt *opts, int nopts, swim_scene *s)
+{
+    int count;
+    const swim_scene_key *keys = swim_scene_keys(&count);
+    for (int i = 0; i < count; i++) {
+        const swim_scene_key *k = &keys[i];
+        const char *v = k->option && (k->flags & SWIM_KEY_PLAIN) ? swim_args_get(opts, nopts, k->option) : NULL;
+        if (!v) continue;
+        void *field = (char *)s + k->offset;
+        long p;
+        double x;
+        int found = -1;
+        switch (k->kind) {
+        case SWIM_KEY_INTEGER:
+            if (swim_args_int("run", k->option, v, (long)k->lo, (long)k->hi, &p)) return 2;
+            *(int *)field = (int)p;
+            break;
+        case SWIM_KEY_NUMBER:
+            if (swim_args_double("run", k->option, v, &x)) return 2;
+            if (!(x >= k->lo && x < k->hi)) {
+                swim_message(stderr, "swim run: --%s: must be %s, got '%s'", k->option, k->expect, v);
+                return 2;
+            }
+            *(double *)field = x;
+            break;
+        case SWIM_KEY_BOOL:
+        case SWIM_KEY_CHOICE: {
+            static const char *const tf[] = {"false", "true", NULL};
+            const char *const *words = k->kind == SWIM_KEY_BOOL ? tf : k->words;
+            for (int j = 0; words[j]; j++)
+                if (strcmp(v, words[j]) == 0) found = j;
+            if (found < 0) {
+                swim_message(stderr, "swim run: --%s: expected %s, got '%s'", k->option, k->expect, v);
+                return 2;
+            }
+            *(int *)field = found;
+            break;
+        }
+        default:
+            break;
+        }
+    }
+    return 0;
 }
 
 int swim_run_settings_options(const swim_opt *opts, int nopts, swim_scene *s)
@@ -34,11 +80,7 @@ int swim_run_settings_options(const swim_opt *opts, int nopts, swim_scene *s)
         }
         snprintf(s->integrator, sizeof s->integrator, "%s", v);   /* a known name: it fits */
     }
-    if ((v = swim_args_get(opts, nopts, "step-lookahead"))) {
-        long p;
-        if (swim_args_int("run", "step-lookahead", v, 0, 12, &p)) return 2;
-        s->step_lookahead = (int)p;
-    }
+    if (plain_options(opts, nopts, s)) return 2;
     return swim_run_settings_check(s, &cli) != 0 ? 2 : 0;
 }
 
@@ -58,10 +100,26 @@ int swim_run_settings_record(const swim_opt *opts, int nopts, const swim_scene *
         snprintf(text, sizeof text, "run.integrator=%s", s->integrator);
         if (swim_override_parse(text, &out[n], NULL, 0) == 0) n++;
     }
-    if (swim_args_get(opts, nopts, "step-lookahead")) {
-        snprintf(text, sizeof text, "run.step_lookahead=%d", s->step_lookahead);
+    int count;
+    const swim_scene_key *keys = swim_scene_keys(&count);
+    for (int i = 0; i < count; i++) {   /* the plain keys' options, as their rows spell the value */
+        const swim_scene_key *k = &keys[i];
+        if (!k->option || !(k->flags & SWIM_KEY_PLAIN) || !swim_args_get(opts, nopts, k->option)) continue;
+        const void *field = (const char *)s + k->offset;
+        if (k->kind == SWIM_KEY_NUMBER) snprintf(text, sizeof text, "run.%s=%.17g", k->key, *(const double *)field);
+        else if (k->kind == SWIM_KEY_BOOL) snprintf(text, sizeof text, "run.%s=%s", k->key, *(const int *)field ? "true" : "false");
+        else if (k->kind == SWIM_KEY_CHOICE) snprintf(text, sizeof text, "run.%s=%s", k->key, k->words[*(const int *)field]);
+        else snprintf(text, sizeof text, "run.%s=%d", k->key, *(const int *)field);
         if (swim_override_parse(text, &out[n], NULL, 0) == 0) n++;
     }
     if (swim_args_get(opts, nopts, "no-projection") && swim_override_parse("run.projection=false", &out[n], NULL, 0) == 0) n++;
     return n;
+}
+
+void swim_run_settings_key_options(swim_opt *opts, int *nopts, int cap)
+{
+    int count;
+    const swim_scene_key *keys = swim_scene_keys(&count);
+    for (int i = 0; i < count && *nopts < cap; i++)
+        if (keys[i].option && (keys[i].flags & SWIM_KEY_PLAIN)) opts[(*nopts)++] = (swim_opt){keys[i].option, 1, NULL};
 }

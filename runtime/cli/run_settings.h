@@ -7,14 +7,20 @@
 #include "cli/args.h"
 #include "scene/scene.h"
 
-/* Applies the options given to the loaded scene s, then checks the scene's run settings with
+/* Applies the options given to the loaded scene s (the plain keys' options from their rows,
+ * scene/keys.h), then checks the scene's run settings with
  * them (swim_run_settings_check: its bounds name the option when it came from the command line).
  * 0, or 2 after one line on stderr (an unparsable number, an unknown integrator, a bound). */
 int swim_run_settings_options(const swim_opt *opts, int nopts, swim_scene *s);
 
+/* The options of the scene keys that have one (scene/keys.h) besides those above, for a command's
+ * option list: appended to opts[*nopts ..] (room for cap in all). */
+void swim_run_settings_key_options(swim_opt *opts, int *nopts, int cap);
+
 /* The overrides that write into DIR/scene.toml what the options given changed in s (--t-end,
- * --output-step, --rtol, --atol, --integrator, --step-lookahead, --no-projection), at most 7,
- * into out. Their count. */
+ * --output-step, --rtol, --atol, --integrator, --no-projection and every plain key's option),
+ * into out (room for SWIM_RUN_SETTINGS_MAX). Their count. */
+#define SWIM_RUN_SETTINGS_MAX 32
 int swim_run_settings_record(const swim_opt *opts, int nopts, const swim_scene *s, swim_override *out);
 
 #endif

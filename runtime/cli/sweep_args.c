@@ -8,8 +8,10 @@
 #include <unistd.h>
 
 #include "cli/args.h"
+#include "cli/run_settings.h"
 #include "io/message.h"
 #include "ode/ode.h"
+#include "scene/keys.h"
 
 /* One fixed override; option names the run option it came from (t-end, ...), NULL for a --set. */
 static int add_set(sweep_plan *p, const char *text, const char *option)
@@ -79,11 +81,12 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
     if (nv < 0) return 2;
     int ns = swim_args_take_all(cmd, &argc, argv, first, "set", sets, SWEEP_MAX_SETS - 5);   /* 5: --t-end, --rtol, ... */
     if (ns < 0) return 2;
-    swim_opt opts[] = {{"out", 1, NULL}, {"zip", 0, NULL}, {"jobs", 1, NULL}, {"keep", 1, NULL},
-                       {"t-end", 1, NULL}, {"output-step", 1, NULL}, {"rtol", 1, NULL},
-                       {"atol", 1, NULL}, {"integrator", 1, NULL}, {"generic", 0, NULL},
-                       {"no-projection", 0, NULL}, {"step-lookahead", 1, NULL}, {"quiet", 0, NULL}};
-    const int nopts = (int)(sizeof opts / sizeof opts[0]);
+    swim_opt opts[40] = {{"out", 1, NULL}, {"zip", 0, NULL}, {"jobs", 1, NULL}, {"keep", 1, NULL},
+                         {"t-end", 1, NULL}, {"output-step", 1, NULL}, {"rtol", 1, NULL},
+                         {"atol", 1, NULL}, {"integrator", 1, NULL}, {"generic", 0, NULL},
+                         {"no-projection", 0, NULL}, {"quiet", 0, NULL}};
+    int nopts = 12;
+    swim_run_settings_key_options(opts, &nopts, 40);   /* --step-lookahead, ... (scene/keys.h) */
     const char *pos[1];
     int npos = 0;
     if (swim_args_parse(cmd, argc, argv, first, opts, nopts, pos, 1, &npos)) return 2;
@@ -159,15 +162,16 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
             return 2;
         }
     }
-    /* Run options that are scene values become overrides, so every member validates them. */
-    static const char *const as_set[][2] = {{"t-end", "run.t_end"}, {"output-step", "run.output_step"},
-                                            {"rtol", "run.rtol"}, {"atol", "run.atol"},
-                                            {"step-lookahead", "run.step_lookahead"}};
-    for (size_t i = 0; i < sizeof as_set / sizeof as_set[0]; i++)
-        if ((v = swim_args_get(opts, nopts, as_set[i][0]))) {
+    /* Run options that are scene values (scene/keys.h: the rows with an option, but the
+     * integrator, which the members get from the plan) become overrides, so every member
+     * validates them. */
+    int nkeys;
+    const swim_scene_key *keys = swim_scene_keys(&nkeys);
+    for (int i = 0; i < nkeys; i++)
+        if (keys[i].option && keys[i].kind != SWIM_KEY_TEXT && (v = swim_args_get(opts, nopts, keys[i].option))) {
             char text[200];
-            snprintf(text, sizeof text, "%s=%s", as_set[i][1], v);
-            if (add_set(p, text, as_set[i][0])) return 2;
+            snprintf(text, sizeof text, "%s.%s=%s", keys[i].table, keys[i].key, v);
+            if (add_set(p, text, keys[i].option)) return 2;
         }
     for (int i = 0; i < ns; i++)
         if (add_set(p, sets[i], NULL)) return 2;

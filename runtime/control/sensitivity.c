@@ -11,6 +11,7 @@
 #include "io/csv.h"
 #include "io/message.h"
 #include "kernel/coords.h"
+#include "scene/keys.h"
 #include "ode/ode.h"
 #include "shape/constraints.h"
 
@@ -119,6 +120,24 @@ static int key_error(const char *cmd, const char *key, const char *fmt, const ch
     return 2;
 }
 
+/* The keys a sensitivity may be taken with respect to: the values the equations read at run
+ * time and the initial conditions (scene/keys.h), for the message that lists them. */
+static const char *differentiable_keys(char *buf, size_t len)
+{
+    int count, at = snprintf(buf, len, "not a value the equations read (keys:");
+    const swim_scene_key *keys = swim_scene_keys(&count);
+    for (int i = 0, first = 1; i < count && at > 0 && (size_t)at < len; i++) {
+        const swim_scene_key *k = &keys[i];
+        if (!(k->flags & (SWIM_KEY_RUNTIME | SWIM_KEY_INITIAL))) continue;
+        const char *tail = k->kind == SWIM_KEY_VECTOR ? ".NAME" : "";
+        at += snprintf(buf + at, len - (size_t)at, "%s %s.%s%s", first ? "" : ",", k->table,
+                       strcmp(k->key, "*") == 0 ? "NAME" : k->key, tail);
+        first = 0;
+    }
+    if (at > 0 && (size_t)at < len) snprintf(buf + at, len - (size_t)at, "; NAME a coordinate such as am1, or [I])");
+    return buf;
+}
+
 int swim_sens_add_key(swim_sens *S, swim_scene *s, const char *cmd, const char *key)
 {
     swim_dynamics *d = S->d;
@@ -180,10 +199,8 @@ int swim_sens_add_key(swim_sens *S, swim_scene *s, const char *cmd, const char *
             if (strcmp(s->param_names[j], o.key) == 0) v0 = &s->param_values[j];
         if (!v0) return key_error(cmd, key, "the scene's [parameters] has no '%s'", o.key);
     } else {
-        return key_error(cmd, key, "%s", "not a value the equations read (keys: model.rho0, model.rhof, "
-                         "elastic.stiffness.NAME, elastic.reference.NAME, damping.diagonal.NAME, "
-                         "forcing.direction.NAME, barrier.epsilon, barrier.alpha, parameters.NAME, "
-                         "c0.NAME, dc0.NAME; NAME a coordinate such as am1, or [I])");
+        char list[600];
+        return key_error(cmd, key, "%s", differentiable_keys(list, sizeof list));
     }
     if (absent) {
         char why[200];

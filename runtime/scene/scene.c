@@ -14,6 +14,7 @@
 #include "shape/constraints.h"
 #include "shape/shape.h"
 #include "ode/ode.h"
+#include "scene/keys.h"
 #include "scene/toml.h"
 
 typedef struct {
@@ -410,20 +411,67 @@ static int parse_parameters(ctx *c, const toml_value *root, swim_scene *s)
     return 0;
 }
 
+/* The plain keys of table t (named `table`, scene/keys.h): each read, bounded and defaulted from
+ * its row, in the table's order. */
+static int read_plain(ctx *c, const toml_value *t, const char *table, swim_scene *s)
+{
+    int count;
+    const swim_scene_key *keys = swim_scene_keys(&count);
+    for (int i = 0; i < count; i++) {
+        const swim_scene_key *k = &keys[i];
+        if (!(k->flags & SWIM_KEY_PLAIN) || strcmp(k->table, table) != 0) continue;
+        void *field = (char *)s + k->offset;
+        const toml_value *v = toml_get(t, k->key);
+        const int line = toml_get_key_line(t, k->key);
+        switch (k->kind) {
+        case SWIM_KEY_BOOL:
+            *(int *)field = (int)k->dflt;
+            if (v && toml_kind_of(v) != TOML_BOOL) ERR(c, line, k->key, "expected %s", k->expect);
+            if (v) *(int *)field = toml_bool(v);
+            break;
+        case SWIM_KEY_INTEGER:
+            *(int *)field = (int)k->dflt;
+            if (v && (toml_kind_of(v) != TOML_INT || toml_int(v) < k->lo || toml_int(v) > k->hi))
+                ERR(c, line, k->key, "expected %s", k->expect);
+            if (v) *(int *)field = (int)toml_int(v);
+            break;
+        case SWIM_KEY_NUMBER:
+            *(double *)field = k->dflt;
+            if (get_number(c, t, k->key, 0, (double *)field)) return 2;
+            if (!(*(double *)field >= k->lo && *(double *)field < k->hi))
+                ERR(c, line, k->key, "value %g must be %s", *(double *)field, k->expect);
+            break;
+        case SWIM_KEY_CHOICE: {
+            *(int *)field = (int)k->dflt;
+            if (!v) break;
+            const char *w = toml_string(v);
+            int found = -1;
+            for (int j = 0; w && k->words[j]; j++)
+                if (strcmp(w, k->words[j]) == 0) found = j;
+            if (found < 0) ERR(c, line, k->key, "expected %s", k->expect);
+            *(int *)field = found;
+            break;
+        }
+        default:
+            break;
+        }
+    }
+    return 0;
+}
+
+/* check_keys with the keys scene/keys.h lists for `table`. */
+static int check_table_keys(ctx *c, const toml_value *t, const char *table)
+{
+    const char *names[64];
+    swim_scene_table_keys(table, names, 64);
+    return check_keys(c, t, names);
+}
+
 static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
 {
-    static const char *const top[] = {"title", "model", "shape", "elastic", "barrier", "damping", "forcing", "run", "events", "stroke", "parameters", NULL};
-    static const char *const k_model[] = {"modes", "rho0", "rhof", NULL};
-    static const char *const k_shape[] = {"c0", "dc0", "free", NULL};
-    static const char *const k_elastic[] = {"stiffness", "reference", NULL};
-    static const char *const k_barrier[] = {"epsilon", "alpha", NULL};
-    static const char *const k_damping[] = {"diagonal", NULL};
-    static const char *const k_forcing[] = {"law", "direction", NULL};
-    static const char *const k_events[] = {"list", NULL};
-    static const char *const k_run[] = {"t_end", "output_step", "rtol", "atol", "integrator", "stiff_fallback", "project_initial", "projection", "origin_shift", "energy_control", "impact_depth", "step_lookahead", "jacobian", NULL};
     int rc;
     c->table = NULL;
-    if (check_keys(c, root, top)) return 2;
+    if (check_keys(c, root, swim_scene_tables())) return 2;
     const toml_value *title = toml_get(root, "title");
     if (title) {
         if (!toml_string(title)) ERR(c, toml_get_key_line(root, "title"), "title", "expected a string");
@@ -434,7 +482,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     const toml_value *model = get_table(c, root, "model", 1, &rc);
     if (rc) return rc;
     c->table = "model";
-    if (check_keys(c, model, k_model)) return 2;
+    if (check_table_keys(c, model, "model")) return 2;
     const toml_value *mv = toml_get(model, "modes");
     if (!mv) ERR(c, toml_line(model), "modes", "missing (an integer 0..%d is required)", SWIM_KERNEL_MAX_MODES);
     if (toml_kind_of(mv) != TOML_INT) ERR(c, toml_get_key_line(model, "modes"), "modes", "expected an integer, got a %s", toml_kind_name(toml_kind_of(mv)));
@@ -457,7 +505,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     const toml_value *run = get_table(c, root, "run", 1, &rc);
     if (rc) return rc;
     c->table = "run";
-    if (check_keys(c, run, k_run)) return 2;
+    if (check_table_keys(c, run, "run")) return 2;
     /* Bounds and the row cap: swim_run_settings_check, once the forcing law is read too. */
     if (get_number(c, run, "t_end", 1, &s->t_end)) return 2;
     if (get_number(c, run, "output_step", 1, &s->output_step)) return 2;
@@ -473,56 +521,17 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
      * of the cost; "none" keeps the stop with the message naming the remedy */
     snprintf(s->stiff_fallback, sizeof s->stiff_fallback, "cvode-bdf");
     if (get_stiff_fallback(c, run, s->stiff_fallback, sizeof s->stiff_fallback)) return 2;
-    s->projection = 1;
-    const toml_value *pj = toml_get(run, "projection");
-    if (pj) {
-        if (toml_kind_of(pj) != TOML_BOOL) ERR(c, toml_get_key_line(run, "projection"), "projection", "expected true or false");
-        s->projection = toml_bool(pj);
-    }
-    s->origin_shift = 1;
-    const toml_value *os = toml_get(run, "origin_shift");
-    if (os) {
-        if (toml_kind_of(os) != TOML_BOOL) ERR(c, toml_get_key_line(run, "origin_shift"), "origin_shift", "expected true or false");
-        s->origin_shift = toml_bool(os);
-    }
-    s->energy_control = -1;   /* the scene's default: with a barrier (swim run) */
-    const toml_value *ec = toml_get(run, "energy_control");
-    if (ec) {
-        if (toml_kind_of(ec) != TOML_BOOL) ERR(c, toml_get_key_line(run, "energy_control"), "energy_control", "expected true or false");
-        s->energy_control = toml_bool(ec);
-    }
-    /* turning points below the resolution of J = |c_1|^2 - |h|^2 in double precision (u |c_1|^2):
-     * the shifted coordinates follow some deeper bounces, at a cost that explodes (one to 3e-19
-     * took > 200 s at rtol 1e-8, and one to 5e-23 never finished) -- model/bounce.h */
-    s->impact_depth = 1e-16;
-    if (get_number(c, run, "impact_depth", 0, &s->impact_depth)) return 2;
-    if (!(s->impact_depth >= 0.0 && s->impact_depth < 1.0))
-        ERR(c, toml_get_key_line(run, "impact_depth"), "impact_depth", "value %g must be in [0, 1) (0: never)", s->impact_depth);
-    s->step_lookahead = -1;
-    const toml_value *la = toml_get(run, "step_lookahead");
-    if (la) {
-        if (toml_kind_of(la) != TOML_INT || toml_int(la) < 0 || toml_int(la) > 12)
-            ERR(c, toml_get_key_line(run, "step_lookahead"), "step_lookahead", "expected an integer 0..12");
-        s->step_lookahead = (int)toml_int(la);
-    }
-    s->jacobian_exact = 1;
-    const toml_value *jm = toml_get(run, "jacobian");
-    if (jm) {
-        const char *w = toml_string(jm);
-        if (!w || (strcmp(w, "exact") != 0 && strcmp(w, "differences") != 0))
-            ERR(c, toml_get_key_line(run, "jacobian"), "jacobian", "expected \"exact\" or \"differences\"");
-        s->jacobian_exact = strcmp(w, "exact") == 0;
-    }
-    const toml_value *pi = toml_get(run, "project_initial");
-    if (pi) {
-        if (toml_kind_of(pi) != TOML_BOOL) ERR(c, toml_get_key_line(run, "project_initial"), "project_initial", "expected true or false");
-        s->project_initial = toml_bool(pi);
-    }
+    /* projection, origin_shift, energy_control, impact_depth, step_lookahead, jacobian,
+     * project_initial: plain keys (scene/keys.h). Turning points below the resolution of
+     * J = |c_1|^2 - |h|^2 in double precision (u |c_1|^2) are impacts by default: the shifted
+     * coordinates follow some deeper bounces, at a cost that explodes (one to 3e-19 took > 200 s
+     * at rtol 1e-8, and one to 5e-23 never finished) -- model/bounce.h */
+    if (read_plain(c, run, "run", s)) return 2;
 
     const toml_value *shape = get_table(c, root, "shape", 1, &rc);
     if (rc) return rc;
     c->table = "shape";
-    if (check_keys(c, shape, k_shape)) return 2;
+    if (check_table_keys(c, shape, "shape")) return 2;
     if (get_vector(c, shape, "c0", s->n, 1, s->c0, NULL)) return 2;
     if (parse_parameters(c, root, s)) return 2;   /* before the laws that may use them */
     c->table = "shape";
@@ -550,7 +559,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (rc) return rc;
     if (el) {
         c->table = "elastic";
-        if (check_keys(c, el, k_elastic)) return 2;
+        if (check_table_keys(c, el, "elastic")) return 2;
         if (get_vector(c, el, "stiffness", s->n, 1, s->stiffness, NULL)) return 2;
         if (get_vector(c, el, "reference", s->n, 1, s->reference, NULL)) return 2;
         for (int i = 0; i < s->n; i++) {
@@ -562,7 +571,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (rc) return rc;
     if (ba) {
         c->table = "barrier";
-        if (check_keys(c, ba, k_barrier)) return 2;
+        if (check_table_keys(c, ba, "barrier")) return 2;
         if (get_number(c, ba, "epsilon", 1, &s->epsilon)) return 2;
         if (get_number(c, ba, "alpha", 1, &s->alpha)) return 2;
         if (s->epsilon < 0) ERR(c, toml_get_key_line(ba, "epsilon"), "epsilon", "must be >= 0, got %g", s->epsilon);
@@ -573,7 +582,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (rc) return rc;
     if (da) {
         c->table = "damping";
-        if (check_keys(c, da, k_damping)) return 2;
+        if (check_table_keys(c, da, "damping")) return 2;
         if (get_vector(c, da, "diagonal", s->n, 1, s->damping, NULL)) return 2;
         for (int i = 0; i < s->n; i++) {
             if (s->damping[i] < 0) ERR(c, toml_get_key_line(da, "diagonal"), "diagonal", "item %d is %g; D must be >= 0 (4.15)", i + 1, s->damping[i]);
@@ -584,7 +593,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (rc) return rc;
     if (fo) {
         c->table = "forcing";
-        if (check_keys(c, fo, k_forcing)) return 2;
+        if (check_table_keys(c, fo, "forcing")) return 2;
         const toml_value *law = toml_get(fo, "law");
         if (!law || !toml_string(law)) ERR(c, law ? toml_get_key_line(fo, "law") : toml_line(fo), "law", "expected a string expression in t, e.g. \"sin(t)\"");
         char err[160];
@@ -601,7 +610,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (rc) return rc;
     if (evt) {
         c->table = "events";
-        if (check_keys(c, evt, k_events)) return 2;
+        if (check_table_keys(c, evt, "events")) return 2;
         const toml_value *list = toml_get(evt, "list");
         int line = list ? toml_get_key_line(evt, "list") : toml_line(evt);
         if (!list || toml_kind_of(list) != TOML_ARRAY)

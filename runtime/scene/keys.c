@@ -1,0 +1,104 @@
+#include "scene/keys.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "scene/scene.h"
+
+#define F(field) offsetof(swim_scene, field)
+#define NONE SWIM_KEY_NONE
+#define PLAIN SWIM_KEY_PLAIN
+#define RT SWIM_KEY_RUNTIME
+#define INIT SWIM_KEY_INITIAL
+#define STRUCT SWIM_KEY_STRUCTURE
+#define REQ SWIM_KEY_REQUIRED
+
+/* "*" as a key: any name (a parameter, a stroke law's coordinate). */
+static const swim_scene_key keys[] = {
+    {"", "title", SWIM_KEY_TEXT, NONE, 0, 0, 0, {NULL}, NULL, NULL, 0, "shown in the summary and on the plots"},
+    {"model", "modes", SWIM_KEY_INTEGER, F(modes), 0, SWIM_KERNEL_MAX_MODES, 0, {NULL}, NULL, NULL, REQ | STRUCT,
+     "N, the number of modes c_-1 ... c_-N"},
+    {"model", "rho0", SWIM_KEY_NUMBER, F(rho0), 0, INFINITY, 0, {NULL}, NULL, NULL, REQ | RT,
+     "body density rho0 in the reference configuration (2.3)"},
+    {"model", "rhof", SWIM_KEY_NUMBER, F(rhof), 0, INFINITY, 0, {NULL}, NULL, NULL, REQ | RT,
+     "fluid density rho_f, or \"neutral\" for rho0 / mu^2 (2.10)"},
+    {"shape", "c0", SWIM_KEY_VECTOR, F(c0), 0, 0, 0, {NULL}, NULL, NULL, REQ | RT | INIT,
+     "initial shape c(0), in D (4.1); a locked coordinate keeps its value, which the equations read"},
+    {"shape", "dc0", SWIM_KEY_VECTOR, F(dc0), 0, 0, 0, {NULL}, NULL, NULL, REQ | INIT,
+     "initial velocity, on G1 (2.8), G2 (2.14) and the locks"},
+    {"shape", "free", SWIM_KEY_TEXT, NONE, 0, 0, 0, {NULL}, NULL, NULL, REQ | STRUCT,
+     "the coordinates that move (\"all\" or names); the others are locked (4.2.2)"},
+    {"elastic", "stiffness", SWIM_KEY_VECTOR, F(stiffness), 0, 0, 0, {NULL}, NULL, NULL, RT | STRUCT,
+     "diagonal of the rigidity R (its zeros are the kernel's structure)"},
+    {"elastic", "reference", SWIM_KEY_VECTOR, F(reference), 0, 0, 0, {NULL}, NULL, NULL, RT,
+     "c_ref of W1 = 1/2 (c - c_ref)^T R (c - c_ref) (ERRATA E2)"},
+    {"barrier", "epsilon", SWIM_KEY_NUMBER, F(epsilon), 0, 0, 0, {NULL}, NULL, NULL, RT | STRUCT,
+     "epsilon of W2 (4.1.1); 0 switches the barrier off"},
+    {"barrier", "alpha", SWIM_KEY_NUMBER, F(alpha), 0, 0, 0, {NULL}, NULL, NULL, RT, "alpha of W2 (4.1.1)"},
+    {"damping", "diagonal", SWIM_KEY_VECTOR, F(damping), 0, 0, 0, {NULL}, NULL, NULL, RT | STRUCT,
+     "diagonal of the damping D (4.15) (its zeros are the kernel's structure)"},
+    {"forcing", "law", SWIM_KEY_TEXT, NONE, 0, 0, 0, {NULL}, NULL, NULL, STRUCT, "f(t) of F(t) = f(t) direction (5.1)"},
+    {"parameters", "*", SWIM_KEY_NUMBER, NONE, 0, 0, 0, {NULL}, NULL, NULL, RT,
+     "a named value the laws use, read at run time (the names are the structure)"},
+    {"forcing", "direction", SWIM_KEY_VECTOR, F(direction), 0, 0, 0, {NULL}, NULL, NULL, RT | STRUCT,
+     "direction of F(t) (5.1) (its zeros are the kernel's structure)"},
+    {"run", "t_end", SWIM_KEY_NUMBER, F(t_end), 0, 0, 0, {NULL}, NULL, "t-end", REQ, "final time"},
+    {"run", "output_step", SWIM_KEY_NUMBER, F(output_step), 0, 0, 0, {NULL}, NULL, "output-step", REQ,
+     "spacing of the output rows"},
+    {"run", "rtol", SWIM_KEY_NUMBER, F(rtol), 0, 0, 1e-8, {NULL}, NULL, "rtol", 0, "relative tolerance"},
+    {"run", "atol", SWIM_KEY_NUMBER, F(atol), 0, 0, 1e-10, {NULL}, NULL, "atol", 0, "absolute tolerance"},
+    {"run", "integrator", SWIM_KEY_TEXT, F(integrator), 0, 0, 0, {NULL}, NULL, "integrator", 0,
+     "the integrator (ode/ode.h's registry)"},
+    {"run", "stiff_fallback", SWIM_KEY_TEXT, F(stiff_fallback), 0, 0, 0, {NULL}, NULL, NULL, 0,
+     "the integrator a run continues with when ABM detects stiffness, or \"none\""},
+    {"run", "projection", SWIM_KEY_BOOL, F(projection), 0, 0, 1, {NULL}, "true or false", NULL, PLAIN,
+     "drift control: the state put back on the constraints after each step"},
+    {"run", "origin_shift", SWIM_KEY_BOOL, F(origin_shift), 0, 0, 1, {NULL}, "true or false", NULL, PLAIN,
+     "abm with a barrier: the state carried relative to an origin near the boundary of D"},
+    {"run", "energy_control", SWIM_KEY_BOOL, F(energy_control), 0, 0, -1, {NULL}, "true or false", NULL, PLAIN,
+     "abm: the energy balance in the error test (default: with a barrier)"},
+    {"run", "impact_depth", SWIM_KEY_NUMBER, F(impact_depth), 0, 1, 1e-16, {NULL}, "in [0, 1) (0: never)", NULL,
+     PLAIN, "abm with a barrier: bounces predicted to turn below impact_depth |c1|^2 taken as impacts"},
+    {"run", "step_lookahead", SWIM_KEY_INTEGER, F(step_lookahead), 0, 12, -1, {NULL}, "an integer 0..12",
+     "step-lookahead", PLAIN, "ABM step-size look-ahead p"},
+    {"run", "jacobian", SWIM_KEY_CHOICE, F(jacobian_exact), 0, 0, 1, {"differences", "exact", NULL},
+     "\"exact\" or \"differences\"", NULL, PLAIN, "the Newton matrix of the BDF integrators"},
+    {"events", "list", SWIM_KEY_TEXT, NONE, 0, 0, 0, {NULL}, NULL, NULL, 0, "events to locate, \"COLUMN:KIND[:stop]\""},
+    {"run", "project_initial", SWIM_KEY_BOOL, F(project_initial), 0, 0, 0, {NULL}, "true or false", NULL, PLAIN,
+     "project an inconsistent dc0 onto the constraints instead of refusing it"},
+    {"stroke", "*", SWIM_KEY_TEXT, NONE, 0, 0, 0, {NULL}, NULL, NULL, STRUCT, "the law of a prescribed coordinate"},
+    {"stroke", "period", SWIM_KEY_NUMBER, F(stroke_period), 0, 0, 0, {NULL}, NULL, NULL, 0,
+     "the stroke's period for the per-stroke report"},
+};
+
+static const char *const tables[] = {"title", "model", "shape", "elastic", "barrier", "damping", "forcing", "run",
+                                     "events", "stroke", "parameters", NULL};
+
+const swim_scene_key *swim_scene_keys(int *count)
+{
+    *count = (int)(sizeof keys / sizeof keys[0]);
+    return keys;
+}
+
+const swim_scene_key *swim_scene_key_find(const char *table, const char *key)
+{
+    const swim_scene_key *any = NULL;
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
+        if (strcmp(keys[i].table, table) != 0) continue;
+        if (strcmp(keys[i].key, key) == 0) return &keys[i];
+        if (strcmp(keys[i].key, "*") == 0) any = &keys[i];
+    }
+    return any;
+}
+
+int swim_scene_table_keys(const char *table, const char **names, int cap)
+{
+    int n = 0;
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0] && n + 1 < cap; i++)
+        if (strcmp(keys[i].table, table) == 0) names[n++] = keys[i].key;
+    names[n] = NULL;
+    return n;
+}
+
+const char *const *swim_scene_tables(void) { return tables; }
