@@ -153,20 +153,12 @@ static void balance(swim_run_watch *w, double tb, const double *u)
     p->tb = tb;
     p->drift = fabs(E - w->e0 - work);
     p->e = fabs(E);
-    p->res_volume = fabs(swim_area_constant(n, c) - swim_area_constant(n, s->c0));
-    const int m = swim_constraint_rows(n, c, s->free_mask, w->G);
-    double rate = 0.0, ang = 0.0;
-    for (int k = 0; k < n; k++) {
-        rate += w->G[k] * v[k];
-        ang += w->G[n + k] * v[k];
-    }
-    p->res_volume_rate = fabs(rate);
-    p->res_angular = fabs(ang);
-    p->res_locks = 0.0;
-    for (int j = 2; j < m; j++) {
-        const int i = swim_constraint_locked_index(n, s->free_mask, j);
-        p->res_locks = fmax(p->res_locks, fabs(c[i] - s->c0[i]) + fabs(v[i]));
-    }
+    swim_constraint_residuals res;
+    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, w->G, &res);
+    p->res_volume = fabs(res.volume);
+    p->res_volume_rate = fabs(res.volume_rate);
+    p->res_angular = fabs(res.angular);
+    p->res_locks = res.locks;
 }
 
 int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)

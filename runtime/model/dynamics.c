@@ -418,17 +418,12 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     swim_to_fixed_frame(y[2], fr, o->impulse_fluid_rigid);
     swim_to_fixed_frame(y[2], Ncv, o->impulse_fluid_shape);
     memcpy(o->rigid_velocity, q, sizeof q);
-    o->res_volume = swim_area_constant(n, c) - swim_area_constant(n, s->c0);
-    double *G = d->G;
-    int m = swim_constraint_rows(n, c, s->free_mask, G);
-    for (int k = 0; k < n; k++) {
-        o->res_volume_rate += G[k] * v[k];
-        o->res_angular += G[n + k] * v[k];
-    }
-    for (int j = 2; j < m; j++) {
-        int i = swim_constraint_locked_index(n, s->free_mask, j);
-        o->res_locks = fmax(o->res_locks, fabs(c[i] - s->c0[i]) + fabs(v[i]));
-    }
+    swim_constraint_residuals res;
+    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, d->G, &res);
+    o->res_volume = res.volume;
+    o->res_volume_rate = res.volume_rate;
+    o->res_angular = res.angular;
+    o->res_locks = res.locks;
     o->jmin = swim_shape_jmin(s->modes, c);
     free(Nc);
     free(Md);

@@ -51,3 +51,22 @@ int swim_constraint_project(int n, int m, const double *G, double *v)
     free(A);
     return rc;
 }
+
+void swim_constraint_residuals_at(int n, const double *c, const double *v, const double *c0, const int *free_mask,
+                                  double *G, swim_constraint_residuals *r)
+{
+    r->volume = swim_area_constant(n, c) - swim_area_constant(n, c0);
+    const int m = swim_constraint_rows(n, c, free_mask, G);
+    double rate = 0.0, ang = 0.0;
+    for (int k = 0; k < n; k++) {
+        rate += G[k] * v[k];
+        ang += G[n + k] * v[k];
+    }
+    r->volume_rate = rate;
+    r->angular = ang;
+    r->locks = 0.0;
+    for (int j = 2; j < m; j++) {
+        const int i = swim_constraint_locked_index(n, free_mask, j);
+        r->locks = fmax(r->locks, fabs(c[i] - c0[i]) + fabs(v[i]));
+    }
+}
