@@ -214,26 +214,8 @@ static uint64_t fnv1a(const unsigned char *s, size_t n)
     return h;
 }
 
-static char *read_file(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    size_t cap = 4096, n = 0;
-    char *buf = malloc(cap + 1);
-    while (buf) {
-        size_t got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (n < cap) break;
-        if (cap > (64u << 20)) { free(buf); buf = NULL; break; }
-        cap *= 2;
-        char *nb = realloc(buf, cap + 1);
-        if (!nb) free(buf);
-        buf = nb;
-    }
-    fclose(f);
-    if (buf) { buf[n] = '\0'; if (len) *len = n; }
-    return buf;
-}
+/* A file of the sweep's folder, whole (64 MiB at most: a summary, a log, sweep.json). */
+static char *read_file(const char *path, size_t *len) { return swim_read_file(path, 64u << 20, len); }
 
 /* The definition: everything that decides the members' results, nothing that does not (jobs, MPI
  * ranks, --quiet), so a sweep may be resumed with other resources. */
