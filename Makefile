@@ -52,6 +52,7 @@ LIB_SRCS    := $(RUNTIME_SRCS) $(KERNEL_SRCS)
 LIB_OBJS    := $(LIB_SRCS:%.c=$(BUILD)/%.o) $(BUILD)/kernel_table.o
 export PYTHONHASHSEED := 0
 TESTLIB_OBJS := $(TEST_LIB_SRCS:%.c=$(BUILD)/%.o)
+include runtime/lib/rules.mk
 TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 
@@ -151,7 +152,8 @@ asan-tests: | $(DEPS_STAMP)
 	@$(MAKE) --no-print-directory BUILD=$(ASAN_BUILD) BIN=$(ASAN_BUILD)/bin OPT="$(SANITIZE_OPT)" \
 	  KERNEL_OPT="$(KERNEL_OPT)" $(ASAN_TEST_BINS)
 
-test: $(BIN)/swim $(TEST_BINS) $(if $(ASAN_TEST_BINS),asan-tests) $(MEDIA_STAMP) $(FUZZ_STAMP)
+# Everything the tests install is built first: two tests running `make install` at once only copy.
+test: $(BIN)/swim lib $(TEST_BINS) $(if $(ASAN_TEST_BINS),asan-tests) $(MEDIA_STAMP) $(FUZZ_STAMP)
 	@$(MAKE) --no-print-directory mpi >/dev/null 2>&1 || echo "make mpi failed: the MPI sweep tests are skipped"
 	@$(SAN_ENV) SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim \
 	  bash tests/run_tests.sh $(TEST_BINS) $(ASAN_TEST_BINS) $(TEST_SCRIPTS)

@@ -6,6 +6,7 @@
 #include "io/message.h"
 #include "io/stdout_check.h"
 #include "kernel/swim_kernel.h"
+#include "lib/swim.h"
 
 typedef struct {
     const char *name;
@@ -66,7 +67,7 @@ static const command commands[] = {
 static void usage(FILE *f)
 {
     int modes[64], count = swim_kernel_list(modes, 64);
-    fprintf(f, "usage: swim COMMAND [options]\n\ncommands:\n");
+    fprintf(f, "usage: swim COMMAND [options]   (swim --version: the version)\n\ncommands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(f, "  %-8s %s\n           e.g. %s\n", commands[i].name, commands[i].summary,
                 commands[i].example);
@@ -85,6 +86,10 @@ int main(int argc, char **argv)
     if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
         usage(stdout);
         return swim_stdout_finish("--help", 0);
+    }
+    if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "version") == 0) {
+        printf("swim %s\n", swim_version());   /* VERSION's number, as libswim and swim.pc report it */
+        return swim_stdout_finish("--version", 0);
     }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         if (strcmp(argv[1], commands[i].name) == 0) {

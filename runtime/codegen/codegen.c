@@ -126,8 +126,8 @@ static uint64_t hash_tree(uint64_t h, const char *dir, const char *rel)
 /* Hash of everything that shapes the generated code besides the key's own text. */
 static uint64_t sources_hash(const char *root)
 {
-    static uint64_t h;
-    static int done;
+    static _Thread_local uint64_t h;
+    static _Thread_local int done;
     if (!done) {
         char dir[SWIM_CODEGEN_PATH];
         h = FNV_START;
@@ -781,11 +781,11 @@ static void first_line_of(char *const argv[], char *buf, size_t len)
 /* What compiled code depends on besides its sources and flags: the processor (the flags say
  * -march=native, so code built on one machine may not run on another that shares the cache)
  * and the compiler's version. The processor is /proc/cpuinfo's model name (or its
- * implementer and part on ARM), else the machine name of uname. Computed once per process. */
+ * implementer and part on ARM), else the machine name of uname. Computed once per thread. */
 static const char *machine_text(void)
 {
-    static char text[512];
-    static int done;
+    static _Thread_local char text[512];
+    static _Thread_local int done;
     if (done) return text;
     char cpu[200] = "", part[100] = "";
     FILE *f = fopen("/proc/cpuinfo", "r");

@@ -289,7 +289,7 @@ void swim_run_events_time_origin(swim_run_events *ev, double t0)
 
 const char *swim_run_events_stop_name(const swim_run_events *ev)
 {
-    static char buf[100];
+    static _Thread_local char buf[100];   /* per thread: two runs may stop on two threads */
     if (!ev || ev->stopped_by < 0)
         return "";
     const spec *sp = &ev->specs[ev->stopped_by];
@@ -369,6 +369,12 @@ static void fill_csv(FILE *f, void *ctx)
         const record *e = &ev->rec[r];
         fprintf(f, "%.17g,%s,%s,%.17g\n", e->t, ev->specs[e->spec].name, kind_names[ev->specs[e->spec].kind], e->value);
     }
+}
+
+void swim_run_events_csv(const swim_run_events *ev, FILE *f)
+{
+    if (ev) fill_csv(f, (void *)ev);
+    else fprintf(f, "t,column,kind,value\n");
 }
 
 int swim_run_events_write_csv(const swim_run_events *ev, const char *path)

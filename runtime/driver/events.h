@@ -52,6 +52,9 @@ void swim_run_events_json(const swim_run_events *ev, FILE *f);
  * nothing when ev is NULL.  0, or -1 with errno set (nothing printed: the caller reports it). */
 int swim_run_events_write_csv(const swim_run_events *ev, const char *path);
 
+/* The same text on f (the header alone when ev is NULL). */
+void swim_run_events_csv(const swim_run_events *ev, FILE *f);
+
 void swim_run_events_free(swim_run_events *ev);
 
 #endif

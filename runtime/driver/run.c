@@ -846,7 +846,7 @@ static int emit_row(swim_run *c, long k, long rows, long every, double t)
     }
     char why[1024] = "";
     const int rc = c->req.sink.row ? c->req.sink.row(c->req.sink.ctx, &row, why, sizeof why) : 0;
-    if (rc == 0) c->r.rows++;
+    if (rc == 0 || rc == SWIM_RUN_ROW_STOP) c->r.rows++;   /* kept (with --summary-only: computed) */
     c->r.output_seconds += swim_clock_seconds() - t_out;
     if (rc != 0) {
         stop(c, "%s (at t = %.6g)", why[0] ? why : "an output could not be written", t);
@@ -880,47 +880,84 @@ static void take_watch(run_report *r, swim_run_watch *w)
 }
 
 /* The output loop: rows at k*output_step up to t_end, stopping at the first failure. */
-static void integrate(swim_run *c)
+/* The output loop, one row at a time (swim_run_advance stops between rows): rows at
+ * k*output_step up to t_end, stopping at the first failure. */
+static void start_loop(swim_run *c)
 {
     const swim_scene *s = c->s;
+    c->loop_started = 1;
     c->t_start = swim_clock_seconds();
-    double t_last = 0.0;
-    int rc = swim_ode_create(s->integrator, &c->sys, &c->o, 0.0, c->ys, &c->ode);
-    const long rows = (long)floor(s->t_end / s->output_step + 1e-9);
-    const long every = rows / (SWIM_RUN_SNAPSHOTS - 1) > 0 ? rows / (SWIM_RUN_SNAPSHOTS - 1) : 1;
-    if (rc != SWIM_ODE_OK)
-        stop(c, "integrator '%s' could not start: %s", s->integrator, swim_ode_strerror(rc));
-    for (long k = 0; rc == SWIM_ODE_OK; k++) {
-        double t = k <= rows ? k * s->output_step : s->t_end;
-        if (k == rows && fabs(t - s->t_end) < 1e-9 * s->output_step) t = s->t_end;
-        if (k > rows && (rows * s->output_step >= s->t_end * (1 - 1e-12))) break;
-        if (k > rows + 1) break;
-        if (s->forced && t >= s->forcing_finite_until) {   /* found when the settings were checked */
-            stop(c, "the forcing law is NaN or Inf at t = %.9g; stopped before the step to t = %.6g",
-                 s->forcing_finite_until, t);
-            break;
-        }
-        if (k > 0 && (rc = advance_to(c, &t, &t_last)) != SWIM_ODE_OK) {
-            stop_on_integrator(c, rc, t);
-            break;
-        }
-        if (emit_row(c, k, rows, every, t) != 0) break;
-        if (k == 0 && c->watch_ready) c->watch.e0 = c->r.e0;
-        if (k == 0) c->bal_scale = fabs(c->r.e0);
-        if (c->r.left_stop) {
-            stop_left_D(c, t);
-            break;
-        }
-        if (stop_requested(c)) {
-            stop_by_signal(c, t);
-            break;
-        }
-        if (c->r.event_stop) break;   /* the row at the event was the last */
-        if (c->req.sink.progress) c->req.sink.progress(c->req.sink.ctx, t, s->t_end);
+    c->t_last = 0.0;
+    c->loop_rc = swim_ode_create(s->integrator, &c->sys, &c->o, 0.0, c->ys, &c->ode);
+    c->nrows = (long)floor(s->t_end / s->output_step + 1e-9);
+    c->every = c->nrows / (SWIM_RUN_SNAPSHOTS - 1) > 0 ? c->nrows / (SWIM_RUN_SNAPSHOTS - 1) : 1;
+    if (c->loop_rc != SWIM_ODE_OK) {
+        stop(c, "integrator '%s' could not start: %s", s->integrator, swim_ode_strerror(c->loop_rc));
+        c->loop_done = 1;
     }
+}
+
+/* The time of row k, or NAN past the last row. */
+static double row_time(const swim_run *c, long k)
+{
+    const swim_scene *s = c->s;
+    double t = k <= c->nrows ? k * s->output_step : s->t_end;
+    if (k == c->nrows && fabs(t - s->t_end) < 1e-9 * s->output_step) t = s->t_end;
+    if (k > c->nrows && (c->nrows * s->output_step >= s->t_end * (1 - 1e-12))) return NAN;
+    if (k > c->nrows + 1) return NAN;
+    return t;
+}
+
+/* Row c->k: 0, or 1 when the run has ended (its last row written, or a failure). */
+static int next_row(swim_run *c)
+{
+    const swim_scene *s = c->s;
+    const long k = c->k;
+    double t = row_time(c, k);
+    if (isnan(t)) return 1;
+    if (s->forced && t >= s->forcing_finite_until) {   /* found when the settings were checked */
+        stop(c, "the forcing law is NaN or Inf at t = %.9g; stopped before the step to t = %.6g",
+             s->forcing_finite_until, t);
+        return 1;
+    }
+    if (k > 0 && (c->loop_rc = advance_to(c, &t, &c->t_last)) != SWIM_ODE_OK) {
+        stop_on_integrator(c, c->loop_rc, t);
+        return 1;
+    }
+    if (emit_row(c, k, c->nrows, c->every, t) != 0) return 1;
+    c->k++;
+    if (k == 0 && c->watch_ready) c->watch.e0 = c->r.e0;
+    if (k == 0) c->bal_scale = fabs(c->r.e0);
+    if (c->r.left_stop) {
+        stop_left_D(c, t);
+        return 1;
+    }
+    if (stop_requested(c)) {
+        stop_by_signal(c, t);
+        return 1;
+    }
+    if (c->r.event_stop) return 1;   /* the row at the event was the last */
+    if (c->req.sink.progress) c->req.sink.progress(c->req.sink.ctx, t, s->t_end);
+    return 0;
+}
+
+static void finish_loop(swim_run *c)
+{
+    const swim_scene *s = c->s;
     if (c->r.status == 0 && !c->r.event_stop) end_run(c, 0, "reached t_end = %.6g", s->t_end);
     if (c->ode) accumulate_stats(&c->total, c->ode);
     if (c->watch_ready) take_watch(&c->r, &c->watch);
+}
+
+/* Rows up to time t (every row at or before it); the run's end when it comes. */
+static void advance_rows(swim_run *c, double t)
+{
+    if (!c->loop_started) start_loop(c);
+    while (!c->loop_done) {
+        const double tk = row_time(c, c->k);
+        if (!isnan(tk) && tk > t) break;
+        if (next_row(c)) c->loop_done = 1;
+    }
 }
 
 
@@ -1015,16 +1052,28 @@ int swim_run_open(const swim_run_request *req, swim_run **out, char *err, size_t
     return 0;
 }
 
-int swim_run_integrate(swim_run *c)
+int swim_run_integrate(swim_run *c) { return swim_run_advance(c, INFINITY); }
+
+int swim_run_advance(swim_run *c, double t)
 {
-    if (c->stroke) {
-        swim_stroke_run_integrate(c->stroke);
-        c->res = *swim_stroke_run_result(c->stroke);
-        c->res.is_stroke = 1;
+    if (c->stroke) {   /* a stroke runs to its end in one call */
+        if (!c->res.is_stroke) {
+            swim_stroke_run_integrate(c->stroke);
+            c->res = *swim_stroke_run_result(c->stroke);
+            c->res.is_stroke = 1;
+            c->res.finished = 1;
+        }
         return c->res.status;
     }
-    integrate(c);
-    fill_result(c);
+    if (c->res.finished) return c->r.status;
+    advance_rows(c, t);
+    if (c->loop_done) {
+        finish_loop(c);
+        fill_result(c);
+        c->res.finished = 1;
+    } else {
+        fill_result(c);   /* so far: the reason and the summary's wall time are the end's */
+    }
     return c->r.status;
 }
 

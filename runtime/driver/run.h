@@ -41,10 +41,13 @@ typedef struct {
 
 #define SWIM_RUN_SNAPSHOTS 10
 
+enum { SWIM_RUN_ROW_FAILED = 1, SWIM_RUN_ROW_STOP = 2 };
+
 /* Where the rows go. Every callback may be NULL. */
 typedef struct {
-    /* A row: 0, or nonzero when it could not be kept (the run stops; `why` says what failed, e.g.
-     * "cannot write PATH: No space left on device"). */
+    /* A row: 0 to go on; SWIM_RUN_ROW_FAILED when it could not be kept, SWIM_RUN_ROW_STOP when it
+     * was and the run must end there (either way the run stops, failed, and `why` says why, e.g.
+     * "cannot write PATH: No space left on device", "stopped by the caller"). */
     int (*row)(void *ctx, const swim_run_row *row, char *why, size_t len);
     /* Every attempted step of integrators that report them (SWIM_ODE_CAP_STEP_TRACE), in the
      * absolute time of the run, with the dynamics for the state's energy. */
@@ -105,6 +108,7 @@ typedef struct {
     double energy, work;                 /* E and the work of forcing and damping (5.3) at the last row */
     double forcing_work;                 /* the work of the forcing alone to the last row (0 without
                                             forcing; NAN without dense output); a stroke: the positive work */
+    int finished;                        /* the run has ended (swim_run_advance) */
     int is_stroke;                       /* a prescribed stroke: */
     swim_stroke_report stroke;
 } swim_run_result;
@@ -133,6 +137,11 @@ void swim_run_ode_options(const swim_scene *s, swim_ode_options *o);
 int swim_run_open(const swim_run_request *req, swim_run **out, char *err, size_t errlen);
 /* Rows from t = 0 to t_end or until the run stops. Returns the result's status. */
 int swim_run_integrate(swim_run *run);
+/* Rows up to time t (every row at or before t), going on from where the last call stopped: the
+ * same rows, bit for bit, as one swim_run_integrate. result.finished says when the run has
+ * ended (t_end, a :stop event, a failure); before, the result holds the rows so far. A prescribed
+ * stroke runs to its end at the first call. Returns the status. */
+int swim_run_advance(swim_run *run, double t);
 /* The output rows failed after the run (closing a file): the run is failed with this reason. */
 void swim_run_fail(swim_run *run, const char *reason);
 const swim_run_result *swim_run_get_result(const swim_run *run);

@@ -73,6 +73,10 @@ struct swim_run {
     run_report r;
     swim_run_result res;        /* filled at the end of the integration */
     int nsnap;                  /* rows flagged for a flow snapshot */
+    /* the output loop (start_loop, next_row), kept between calls of swim_run_advance */
+    int loop_started, loop_done, loop_rc;
+    long k, nrows, every;       /* the next row, the rows of the grid, the snapshot spacing */
+    double t_last;              /* the last row's time */
     int invariant_on;           /* the energy balance is in the error test (summary: energy_control) */
     /* the work of the forcing alone, W_F (forcing_step, forcing_row) */
     int fw_on, fw_bad;

@@ -226,11 +226,12 @@ static int emit_row(swim_stroke_run *c, long k, long every, int last, double t)
         c->nsnap++;
     }
     char why[1024] = "";
-    if (c->req.sink.row && c->req.sink.row(c->req.sink.ctx, &row, why, sizeof why) != 0) {
+    const int src = c->req.sink.row ? c->req.sink.row(c->req.sink.ctx, &row, why, sizeof why) : 0;
+    if (src == 0 || src == SWIM_RUN_ROW_STOP) c->rows++;
+    if (src != 0) {
         end_run(c, 1, "%s", why[0] ? why : "an output could not be written");
         return -1;
     }
-    c->rows++;
     c->output_seconds += swim_clock_seconds() - to;
     if (!(g.jmin > 0)) {
         c->left_D_t = t;

@@ -13,7 +13,9 @@
 #include "driver/run.h"
 #include "scene/scene.h"
 
-#define SWIM_VERSION "0.3.0"
+#ifndef SWIM_VERSION   /* from VERSION, by the Makefile */
+#define SWIM_VERSION "unknown"
+#endif
 
 /* What the caller adds to a run's summary. Every pointer may be NULL. */
 typedef struct {

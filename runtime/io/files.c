@@ -1,6 +1,8 @@
+#define _GNU_SOURCE   /* dladdr */
 #include "io/files.h"
 #include "io/message.h"
 
+#include <dlfcn.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
@@ -88,8 +90,8 @@ static int has_sources(const char *root)
 
 const char *swim_share_dir(void)
 {
-    static char root[4200];
-    static int done;
+    static _Thread_local char root[4200];
+    static _Thread_local int done;
     if (done) return root[0] ? root : NULL;
     done = 1;
     const char *env = getenv("SWIM_SHARE");
@@ -100,11 +102,18 @@ const char *swim_share_dir(void)
         root[0] = '\0';
         return NULL;
     }
+    /* next to the program (bin/swim, build/tests/x, build/tests/bench/x), else next to the
+     * library this code is in (PREFIX/lib/libswim.so: a program of the user's linked with it) */
     char exe[4096];
     ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    if (n > 0) {
-        exe[n] = '\0';
-        for (int up = 0; up < 4; up++) {   /* bin/swim, build/tests/x, build/tests/bench/x */
+    Dl_info info;
+    for (int where = 0; where < 2; where++) {
+        if (where == 0 && n <= 0) continue;
+        if (where == 0) exe[n] = '\0';
+        else if (dladdr((void *)swim_share_dir, &info) && info.dli_fname && info.dli_fname[0] == '/')
+            snprintf(exe, sizeof exe, "%s", info.dli_fname);
+        else break;
+        for (int up = 0; up < 4; up++) {
             char *slash = strrchr(exe, '/');
             if (!slash) break;
             *slash = '\0';

@@ -79,7 +79,7 @@ unsigned swim_ode_capabilities(const char *name)
 
 const char *swim_ode_method_list(void)
 {
-    static char list[256];
+    static _Thread_local char list[256];
     if (!list[0]) {
         size_t len = 0;
         for (size_t i = 0; i < NMETHODS && len < sizeof list; i++)
@@ -90,7 +90,7 @@ const char *swim_ode_method_list(void)
 
 const char *swim_ode_method_list_with(unsigned caps)
 {
-    static char list[256];
+    static _Thread_local char list[256];
     size_t len = 0;
     list[0] = '\0';
     for (size_t i = 0; i < NMETHODS && len < sizeof list; i++)

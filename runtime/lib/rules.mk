@@ -1,0 +1,50 @@
+# runtime/lib's rules (runtime/lib/module.mk says what they build); included after LIB_OBJS.
+# (target-specific flags of a module -- barrier.o, codegen.o, files.o -- name both objects)
+PIC_OBJS   := $(LIB_SRCS:%.c=$(BUILD)/pic/%.o) $(BUILD)/pic/kernel_table.o
+LIB_SO     := $(BUILD)/lib/libswim.so.$(SWIM_VERSION)
+LIB_A      := $(BUILD)/lib/libswim_static.a
+
+.PHONY: lib install-lib uninstall-lib uninstall
+lib: $(LIB_SO) $(LIB_A)
+
+# The objects again, position-independent and with hidden symbols (only SWIM_API's are seen).
+$(BUILD)/pic/%.o: %.c | $(DEPS_STAMP)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -fPIC -fvisibility=hidden -c $< -o $@
+$(BUILD)/pic/kernel_table.o: $(BUILD)/kernel_table.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -fPIC -fvisibility=hidden -c $< -o $@
+
+$(LIB_SO): $(PIC_OBJS)
+	@mkdir -p $(dir $@)
+	$(CC) -shared -Wl,-soname,libswim.so.$(SWIM_MAJOR) -Wl,--no-undefined $(CFLAGS) $^ -o $@ $(LDLIBS)
+$(LIB_A): $(LIB_OBJS)
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+
+# swim.pc for PREFIX, written at install (PREFIX may hold spaces and quotes: it goes through the
+# environment, never through make's text): the shared library with its run path, so a program
+# finds it without LD_LIBRARY_PATH; --static links the archive and what it needs.
+LIB_INSTALLED = lib/libswim.so.$(SWIM_VERSION) lib/libswim.so.$(SWIM_MAJOR) lib/libswim.so lib/libswim.a \
+                include/swim.h lib/pkgconfig/swim.pc
+install: install-lib
+install-lib: export SWIM_INSTALL_DEST := $(DESTDIR)$(PREFIX)
+install-lib: export SWIM_INSTALL_PREFIX := $(PREFIX)
+install-lib: export SWIM_LIBS_PRIVATE := $(LDLIBS)
+install-lib: lib
+	@case "$$SWIM_INSTALL_DEST" in /*) ;; *) echo "make install: PREFIX='$$SWIM_INSTALL_DEST' is not an absolute path" >&2; exit 2 ;; esac
+	install -D -m 755 $(LIB_SO) "$$SWIM_INSTALL_DEST/lib/libswim.so.$(SWIM_VERSION)"
+	ln -sf libswim.so.$(SWIM_VERSION) "$$SWIM_INSTALL_DEST/lib/libswim.so.$(SWIM_MAJOR)"
+	ln -sf libswim.so.$(SWIM_MAJOR) "$$SWIM_INSTALL_DEST/lib/libswim.so"
+	install -D -m 644 $(LIB_A) "$$SWIM_INSTALL_DEST/lib/libswim.a"
+	install -D -m 644 runtime/lib/swim.h "$$SWIM_INSTALL_DEST/include/swim.h"
+	install -d "$$SWIM_INSTALL_DEST/lib/pkgconfig"
+	{ printf 'prefix=%s\n' "$$SWIM_INSTALL_PREFIX"; printf '%s\n' 'libdir=$${prefix}/lib' 'includedir=$${prefix}/include' '' \
+	  'Name: swim' 'Description: an elastic swimmer in a 2D perfect fluid (Munnier), as a C library' \
+	  'Version: $(SWIM_VERSION)' 'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -Wl,-rpath,$${libdir} -lswim'; \
+	  printf 'Libs.private: %s\n' "$$SWIM_LIBS_PRIVATE"; } > "$$SWIM_INSTALL_DEST/lib/pkgconfig/swim.pc"
+
+uninstall: uninstall-lib
+uninstall-lib: export SWIM_INSTALL_DEST := $(DESTDIR)$(PREFIX)
+uninstall-lib:
+	cd "$$SWIM_INSTALL_DEST" 2>/dev/null && rm -f $(LIB_INSTALLED) && rmdir -p lib/pkgconfig include 2>/dev/null; true

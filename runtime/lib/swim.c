@@ -1,0 +1,345 @@
+/* swim.c -- libswim (lib/swim.h) over the run driver: a model is the scene's text with its
+ * overrides and the kernels of its structure; a simulation parses its own copy of the scene (a run
+ * resolves settings into it, a stroke its initial state) and runs it through driver/run.h with
+ * the model's kernels, which any number of simulations share read-only.
+ *
+ * The layers below report bad input as one line on stderr; during a library call those lines are
+ * redirected (swim_message_redirect, per thread) into the swim_error returned, "FILE:LINE: KEY:
+ * message" taken apart into its fields. */
+#include "lib/swim.h"
+
+#include <ctype.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "codegen/codegen.h"
+#include "driver/events.h"
+#include "driver/run.h"
+#include "driver/summary.h"
+#include "io/files.h"
+#include "io/message.h"
+#include "scene/resolve.h"
+#include "scene/scene.h"
+
+#define MAX_SETS 64
+
+struct swim_model {
+    char *text, *name, *resolved;
+    size_t len;
+    swim_override sets[MAX_SETS];
+    int nsets;
+    swim_scene s;                /* as validated, for the columns and the kernels */
+    int loaded;
+    swim_compiled kn, sys;
+    const char *names[SWIM_RUN_MAX_COLUMNS];
+    char storage[2 * SWIM_NMAX][24];
+    int ncol;
+};
+
+struct swim_sim {
+    const swim_model *m;
+    swim_scene s;
+    int loaded;
+    swim_run_events *events;
+    swim_run *run;
+    swim_sim_options o;
+    int caller_stopped;
+};
+
+/* ---- errors --------------------------------------------------------------------------------- */
+
+typedef struct {
+    swim_error *err;
+    int have;
+} capture;
+
+/* The first line of a failing call is its error: "swim[ CMD]: FILE:LINE: KEY: message". */
+static void on_line(void *ctx, const char *line)
+{
+    capture *c = ctx;
+    if (c->have || !c->err) return;
+    c->have = 1;
+    swim_error *e = c->err;
+    const char *p = line;
+    if (strncmp(p, "swim", 4) == 0) {   /* "swim: " or "swim run: " */
+        const char *colon = strstr(p, ": ");
+        if (colon && colon - p < 16) p = colon + 2;
+    }
+    snprintf(e->message, sizeof e->message, "%s", p);
+    /* FILE: --set KEY=VALUE: KEY: ... (an override's value) */
+    const char *ov = strstr(p, ": --set ");
+    if (ov) {
+        snprintf(e->file, sizeof e->file, "%.*s", (int)(ov - p), p);
+        const char *k = strstr(ov + 8, ": ");
+        const char *kc = k ? strstr(k + 2, ": ") : NULL;
+        if (kc && (size_t)(kc - k - 2) < sizeof e->key && !memchr(k + 2, ' ', (size_t)(kc - k - 2)))
+            snprintf(e->key, sizeof e->key, "%.*s", (int)(kc - k - 2), k + 2);
+        return;
+    }
+    /* FILE:LINE: KEY: ... */
+    const char *c1 = strchr(p, ':');
+    while (c1 && !isdigit((unsigned char)c1[1])) c1 = strchr(c1 + 1, ':');
+    if (!c1) return;
+    char *end;
+    long line_no = strtol(c1 + 1, &end, 10);
+    if (*end != ':' || end[1] != ' ') return;
+    snprintf(e->file, sizeof e->file, "%.*s", (int)(c1 - p), p);
+    e->line = (int)line_no;
+    const char *k = end + 2, *kc = strstr(k, ": ");
+    if (kc && (size_t)(kc - k) < sizeof e->key && !memchr(k, ' ', (size_t)(kc - k)))
+        snprintf(e->key, sizeof e->key, "%.*s", (int)(kc - k), k);
+}
+
+static void begin(capture *c, swim_error *err)
+{
+    c->err = err;
+    c->have = 0;
+    if (err) memset(err, 0, sizeof *err);
+    swim_message_redirect(on_line, c);
+}
+
+static int end(capture *c, int status, const char *fallback)
+{
+    swim_message_redirect(NULL, NULL);
+    if (c->err && status) {
+        c->err->status = status;
+        if (!c->have) snprintf(c->err->message, sizeof c->err->message, "%s", fallback);
+    }
+    return status;
+}
+
+const char *swim_version(void) { return SWIM_VERSION; }
+
+void swim_free(void *p) { free(p); }
+
+/* ---- models --------------------------------------------------------------------------------- */
+
+static int model_open(swim_model *m, const char *const *sets, int nsets)
+{
+    if (nsets > MAX_SETS) {
+        swim_message(stderr, "swim: %s: more than %d overrides", m->name, MAX_SETS);
+        return SWIM_EINPUT;
+    }
+    for (int i = 0; i < nsets; i++) {
+        char why[256];
+        if (swim_override_parse(sets[i], &m->sets[i], why, sizeof why) != 0) {
+            swim_message(stderr, "swim: %s: --set: %s", m->name, why);
+            return SWIM_EINPUT;
+        }
+    }
+    m->nsets = nsets;
+    if (swim_scene_parse_with(m->text, m->len, m->name, m->sets, m->nsets, &m->s) != 0) return SWIM_EINPUT;
+    m->loaded = 1;
+    if (swim_run_settings_check(&m->s, NULL) != 0) return SWIM_EINPUT;
+    size_t outlen;
+    char why[512];
+    if (nsets > 0 && swim_scene_resolve(m->text, m->len, m->name, m->sets, m->nsets, &m->resolved, &outlen, why, sizeof why) != 0) {
+        swim_message(stderr, "swim: %s: %s", m->name, why);
+        return SWIM_EINPUT;
+    }
+    const int rc = swim_codegen_for_scene("library", &m->s, 0, 0, &m->kn, &m->sys);
+    if (rc) return rc == 2 ? SWIM_EINPUT : SWIM_EKERNEL;
+    m->ncol = swim_run_columns(&m->s, m->names, m->storage);
+    return SWIM_OK;
+}
+
+static int model_new(char *text, size_t len, const char *name, const char *const *sets, int nsets, swim_model **out,
+                     swim_error *err)
+{
+    capture c;
+    begin(&c, err);
+    *out = NULL;
+    swim_model *m = calloc(1, sizeof *m);
+    if (!m || !text || !(m->name = strdup(name))) {
+        free(text);
+        if (m) free(m);
+        return end(&c, SWIM_ENOMEM, "out of memory");
+    }
+    m->text = text;
+    m->len = len;
+    const int rc = model_open(m, sets, nsets);
+    if (rc) {
+        swim_model_free(m);
+        return end(&c, rc, "the scene could not be read");
+    }
+    *out = m;
+    return end(&c, SWIM_OK, "");
+}
+
+int swim_model_from_file(const char *path, const char *const *sets, int nsets, swim_model **out, swim_error *err)
+{
+    capture c;
+    begin(&c, err);
+    size_t len = 0;
+    char *text = swim_scene_read(path, &len);   /* refuses what is not a scene file, in one line */
+    end(&c, 0, "");
+    if (!text) {
+        *out = NULL;
+        if (err) {
+            err->status = SWIM_EINPUT;
+            if (!err->message[0]) snprintf(err->message, sizeof err->message, "%s: cannot be read", path);
+            if (!err->file[0]) snprintf(err->file, sizeof err->file, "%s", path);
+        }
+        return SWIM_EINPUT;
+    }
+    return model_new(text, len, path, sets, nsets, out, err);
+}
+
+int swim_model_from_text(const char *toml, const char *name, const char *const *sets, int nsets, swim_model **out,
+                         swim_error *err)
+{
+    const size_t len = toml ? strlen(toml) : 0;
+    char *text = malloc(len + 1);
+    if (text) memcpy(text, toml ? toml : "", len + 1);
+    return model_new(text, len, name ? name : "(text)", sets, nsets, out, err);
+}
+
+int swim_model_columns(const swim_model *m, const char *const **names)
+{
+    *names = m->names;
+    return m->ncol;
+}
+
+const char *swim_model_scene_text(const swim_model *m) { return m->resolved ? m->resolved : m->text; }
+
+void swim_model_free(swim_model *m)
+{
+    if (!m) return;
+    swim_compiled_close(&m->sys);
+    swim_compiled_close(&m->kn);
+    if (m->loaded) swim_scene_free(&m->s);
+    free(m->text);
+    free(m->name);
+    free(m->resolved);
+    free(m);
+}
+
+/* ---- simulations ---------------------------------------------------------------------------- */
+
+static int sink_row(void *ctx, const swim_run_row *row, char *why, size_t len)
+{
+    swim_sim *s = ctx;
+    if (!s->o.rows || s->o.rows(s->o.rows_ctx, row->t, row->values, row->ncol) == 0) return 0;
+    s->caller_stopped = 1;
+    snprintf(why, len, "stopped by the caller");
+    return SWIM_RUN_ROW_STOP;
+}
+
+static int sim_open(swim_sim *s)
+{
+    const swim_model *m = s->m;
+    if (swim_scene_parse_with(m->text, m->len, m->name, m->sets, m->nsets, &s->s) != 0) return SWIM_EINPUT;
+    s->loaded = 1;
+    if (swim_run_settings_check(&s->s, NULL) != 0) return SWIM_EINPUT;
+    char why[1024];
+    int rc = swim_run_events_parse(&s->s, s->o.events, s->o.nevents, m->names, m->ncol, &s->events, why, sizeof why);
+    if (rc) {
+        swim_message(stderr, "%s", why);
+        return rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
+    }
+    const swim_run_request req = {&s->s, &m->kn, &m->sys, 0, s->events, (volatile sig_atomic_t *)s->o.stop,
+                                  {sink_row, NULL, NULL, NULL, s}};
+    why[0] = '\0';
+    rc = swim_run_open(&req, &s->run, why, sizeof why);
+    if (rc && why[0]) swim_message(stderr, "%s", why);
+    return rc == 0 ? SWIM_OK : rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
+}
+
+int swim_sim_create(const swim_model *m, const swim_sim_options *o, swim_sim **out, swim_error *err)
+{
+    capture c;
+    begin(&c, err);
+    *out = NULL;
+    swim_sim *s = calloc(1, sizeof *s);
+    if (!s) return end(&c, SWIM_ENOMEM, "out of memory");
+    s->m = m;
+    if (o) s->o = *o;
+    const int rc = sim_open(s);
+    if (rc) {
+        swim_sim_free(s);
+        return end(&c, rc, "the simulation could not be set up");
+    }
+    *out = s;
+    return end(&c, SWIM_OK, "");
+}
+
+int swim_sim_advance(swim_sim *s, double t, swim_error *err)
+{
+    capture c;
+    begin(&c, err);
+    const int status = swim_run_advance(s->run, t);
+    const swim_run_result *r = swim_run_get_result(s->run);
+    return end(&c, status ? SWIM_EFAILED : SWIM_OK, r->reason ? r->reason : "out of memory");
+}
+
+int swim_sim_run(swim_sim *s, swim_error *err) { return swim_sim_advance(s, __builtin_inf(), err); }
+
+int swim_sim_result(const swim_sim *s, swim_result *out)
+{
+    const swim_run_result *r = swim_run_get_result(s->run);
+    memset(out, 0, sizeof *out);
+    out->finished = r->finished;
+    out->completed = r->finished && r->status == 0;
+    out->t_reached = r->t_reached;
+    out->rows = r->rows;
+    if (r->final_state) {
+        out->x = r->final_state[0];
+        out->y = r->final_state[1];
+        out->theta = r->final_state[2];
+    }
+    out->energy_initial = r->e0;
+    out->energy_drift_abs = r->drift_abs;
+    out->energy_drift_rel = r->emax > 0 ? r->drift_abs / r->emax : 0.0;
+    out->jmin = r->jmin;
+    out->steps = r->stats.steps;
+    out->rhs_evaluations = r->stats.rhs_evals;
+    return SWIM_OK;
+}
+
+int swim_sim_state(const swim_sim *s, double *y, int len)
+{
+    const swim_run_result *r = swim_run_get_result(s->run);
+    const int n = 3 + 2 * s->s.n;
+    for (int i = 0; i < n && i < len && r->final_state; i++) y[i] = r->final_state[i];
+    return n;
+}
+
+char *swim_sim_summary_json(const swim_sim *s)
+{
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    if (!f) return NULL;
+    const swim_summary_context x = {NULL, NULL, s->m->name, s->m->sets, s->m->nsets, 0, NULL, 0.0, 0, 0.0};
+    swim_run_summary_json(f, s->run, &x);
+    if (fclose(f) != 0) {
+        free(buf);
+        return NULL;
+    }
+    return buf;
+}
+
+char *swim_sim_events_csv(const swim_sim *s)
+{
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    if (!f) return NULL;
+    swim_run_events_csv(s->events, f);
+    if (fclose(f) != 0) {
+        free(buf);
+        return NULL;
+    }
+    return buf;
+}
+
+void swim_sim_free(swim_sim *s)
+{
+    if (!s) return;
+    swim_run_free(s->run);
+    swim_run_events_free(s->events);
+    if (s->loaded) swim_scene_free(&s->s);
+    free(s);
+}

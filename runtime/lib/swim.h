@@ -1,0 +1,126 @@
+/* swim.h -- libswim, the simulator of an elastic swimmer in a 2D perfect fluid as a C library.
+ *
+ * The model is Munnier's (a deformable body of N modes c = (c_1, c_-1, ..., c_-N) in a perfect
+ * fluid); a scene is the TOML file `swim run` reads (models/README.md has its keys). The library
+ * is the run driver of `swim run` (docs/run-driver.md): the same rows, the same summary, bit for
+ * bit, without a process per run.
+ *
+ * Manner of GSL and CVODE: the caller owns its arrays; objects are created, used and freed
+ * through functions of one pattern (swim_model_*, swim_sim_*); every function that can fail
+ * returns a status (SWIM_OK = 0) and, given a swim_error, fills it (file, line and key of a bad
+ * scene value, and one line of text). The library never exits and never prints; it keeps no
+ * global state, so two simulations may run on two threads at once. Kernels are generated and
+ * cached on first use of a structure as for `swim run` (the kernel cache, docs/kernels-and-cache.md).
+ *
+ *   swim_model *m;  swim_sim *s;  swim_error e;  swim_result r;
+ *   if (swim_model_from_file("models/example3.toml", NULL, 0, &m, &e)) { puts(e.message); ... }
+ *   swim_sim_options o = {0};                  // rows to a callback, events, a stop flag
+ *   swim_sim_create(m, &o, &s, &e);
+ *   swim_sim_advance(s, 5.0, &e);              // rows up to t = 5, then on to t_end:
+ *   swim_sim_run(s, &e);
+ *   swim_sim_result(s, &r);                    // r.x, r.y, r.theta at r.t_reached
+ *   swim_sim_free(s);  swim_model_free(m);
+ */
+#ifndef SWIM_H
+#define SWIM_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__GNUC__)
+#define SWIM_API __attribute__((visibility("default")))
+#else
+#define SWIM_API
+#endif
+
+enum {
+    SWIM_OK = 0,
+    SWIM_EFAILED = 1,       /* the run failed or stopped early (its reason in the error) */
+    SWIM_EINPUT = 2,        /* bad input: a scene, an override, an event, an option */
+    SWIM_ENOMEM = 3,
+    SWIM_EKERNEL = 4        /* no kernel could be had for the scene (generation or compilation failed) */
+};
+
+/* What went wrong. file/line/key are set for a scene value ("" and 0 otherwise). */
+typedef struct {
+    int status;
+    char file[1024];
+    int line;
+    char key[128];
+    char message[2048];     /* one line, without "swim: " */
+} swim_error;
+
+/* "MAJOR.MINOR.PATCH", the version of the library (VERSION). */
+SWIM_API const char *swim_version(void);
+
+/* ---- a model: a scene read and validated, with its kernels -------------------------------- */
+
+typedef struct swim_model swim_model;
+
+/* The scene file at path, or the TOML text (named `name` in errors), with the overrides
+ * sets[0..nsets) ("KEY=VALUE", the --set grammar: "run.t_end=5", "model.rho0=2",
+ * "elastic.stiffness.am1=3", "run.integrator=cvode-bdf") applied before it is validated. */
+SWIM_API int swim_model_from_file(const char *path, const char *const *sets, int nsets, swim_model **out,
+                                  swim_error *err);
+SWIM_API int swim_model_from_text(const char *toml, const char *name, const char *const *sets, int nsets,
+                                  swim_model **out, swim_error *err);
+/* The columns of the rows (trajectory.csv's names), *names valid while the model lives. */
+SWIM_API int swim_model_columns(const swim_model *m, const char *const **names);
+/* The scene as it will run (the overrides written into its text), a string owned by the model. */
+SWIM_API const char *swim_model_scene_text(const swim_model *m);
+SWIM_API void swim_model_free(swim_model *m);
+
+/* ---- a simulation of a model --------------------------------------------------------------- */
+
+typedef struct swim_sim swim_sim;
+
+/* A row: t and the ncol columns (swim_model_columns). Return 0 to go on, nonzero to stop the
+ * run (it then fails with "stopped by the caller"). */
+typedef int (*swim_row_fn)(void *ctx, double t, const double *values, int ncol);
+
+typedef struct {
+    swim_row_fn rows;                 /* NULL: rows not delivered */
+    void *rows_ctx;
+    const char *const *events;        /* "COLUMN:KIND[:stop]" as `swim run --event`, besides the scene's */
+    int nevents;
+    volatile int *stop;               /* set (to nonzero) from anywhere to stop the run; may be NULL */
+} swim_sim_options;
+
+SWIM_API int swim_sim_create(const swim_model *m, const swim_sim_options *o, swim_sim **out, swim_error *err);
+/* Rows up to time t, going on from where the last call stopped; the same rows, bit for bit, as
+ * one swim_sim_run. SWIM_OK while the run goes on or when it completed; SWIM_EFAILED with the
+ * reason when it failed or stopped early. A prescribed stroke runs to its end at the first call. */
+SWIM_API int swim_sim_advance(swim_sim *s, double t, swim_error *err);
+/* To t_end (or a :stop event). */
+SWIM_API int swim_sim_run(swim_sim *s, swim_error *err);
+
+typedef struct {
+    int finished;                     /* the run has ended */
+    int completed;                    /* ... and reached t_end or a :stop event */
+    double t_reached;
+    long rows;
+    double x, y, theta;               /* the body's position at t_reached */
+    double energy_initial, energy_drift_abs, energy_drift_rel, jmin;
+    long steps, rhs_evaluations;
+} swim_result;
+
+SWIM_API int swim_sim_result(const swim_sim *s, swim_result *r);
+/* The state at t_reached in the layout of trajectory.csv's columns 1 .. 3 + 2n (x, y, theta,
+ * c, cdot): at most len doubles into y; how many there are. */
+SWIM_API int swim_sim_state(const swim_sim *s, double *y, int len);
+/* summary.json of the run (after it finished) as text, malloc'd: free it with swim_free. */
+SWIM_API char *swim_sim_summary_json(const swim_sim *s);
+/* events.csv of the run as text (header only without events), malloc'd; swim_free. */
+SWIM_API char *swim_sim_events_csv(const swim_sim *s);
+SWIM_API void swim_sim_free(swim_sim *s);
+
+SWIM_API void swim_free(void *p);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
