@@ -3,7 +3,9 @@
  *   - a bad scene or override comes back as an error struct (file, line, key, message), nothing
  *     printed, and the process goes on to the next call;
  *   - two simulations on two threads give the results of two sequential ones, bit for bit;
- *   - the row callback can stop a run, which then fails saying so. */
+ *   - the row callback can stop a run, which then fails saying so;
+ *   - swim_inspect's K is Md - N^T Mr^-1 N and symmetric, Gamma(v, v) is Gamma contracted twice,
+ *     and an inadmissible shape is refused naming the argument. */
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -161,11 +163,61 @@ static void test_threads(void)
     }
 }
 
+/* Mr^-1 N column by column (Cramer's rule on the 3 x 3 Mr). */
+static void solve3(const double *A, const double *b, double *x)
+{
+    const double d = A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) +
+                     A[2] * (A[3] * A[7] - A[4] * A[6]);
+    for (int c = 0; c < 3; c++) {
+        double M[9];
+        memcpy(M, A, sizeof M);
+        for (int r = 0; r < 3; r++) M[3 * r + c] = b[r];
+        x[c] = (M[0] * (M[4] * M[8] - M[5] * M[7]) - M[1] * (M[3] * M[8] - M[5] * M[6]) +
+                M[2] * (M[3] * M[7] - M[4] * M[6])) / d;
+    }
+}
+
+static void test_inspect(void)
+{
+    enum { N = 2, n = 2 * (N + 1) };
+    const double c[n] = {1, 0, 0.2, -0.05, 0.1, 0.04}, v[n] = {0, 0, 0.1, 0.3, -0.2, 0.1};
+    double Mr[9], Nc[3 * n], Md[n * n], K[n * n], gvv[n], G[n * n * n];
+    swim_inspection in = {0, Mr, Nc, Md, K, gvv, G};
+    swim_error e;
+    CHECK(swim_inspect(N, c, v, 1.3, 0.7, &in, &e) == SWIM_OK, "swim_inspect at an admissible shape: %s", e.message);
+    double worst = 0, asym = 0, scale = 0, gerr = 0;
+    for (int j = 0; j < n; j++) {
+        double b[3] = {Nc[j], Nc[n + j], Nc[2 * n + j]}, y[3];
+        solve3(Mr, b, y);
+        for (int i = 0; i < n; i++) {
+            const double want = Md[i * n + j] - (Nc[i] * y[0] + Nc[n + i] * y[1] + Nc[2 * n + i] * y[2]);
+            worst = fmax(worst, fabs(K[i * n + j] - want));
+            asym = fmax(asym, fabs(K[i * n + j] - K[j * n + i]));
+            scale = fmax(scale, fabs(Md[i * n + j]));
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        double g = 0;
+        for (int j = 0; j < n; j++)
+            for (int k = 0; k < n; k++) g += G[(i * n + j) * n + k] * v[j] * v[k];
+        gerr = fmax(gerr, fabs(g - gvv[i]));
+    }
+    CHECK(worst <= 1e-13 * scale && asym <= 1e-13 * scale, "K = Md - N^T Mr^-1 N (%.2g), symmetric (%.2g)", worst, asym);
+    CHECK(in.jmin > 0 && gerr <= 1e-12 * (1 + scale), "Gamma(v, v) = Gamma^i_jk v^j v^k (%.2g)", gerr);
+    const double out_of_d[n] = {1, 0, 0, 0, 0.6, 0};
+    int rc = swim_inspect(N, out_of_d, NULL, 1, 1, &in, &e);
+    CHECK(rc == SWIM_EINPUT && strcmp(e.key, "shape") == 0 && strstr(e.message, "admissible"),
+          "a shape outside D: SWIM_EINPUT, key shape (%d, %s)", rc, e.message);
+    rc = swim_inspect(N, c, NULL, 1, 0, &in, &e);
+    CHECK(rc == SWIM_EINPUT && strcmp(e.key, "rhof") == 0, "rhof = 0 refused, key rhof (%d, %s)", rc, e.key);
+}
+
 int main(void)
 {
     CHECK(strcmp(swim_version(), "unknown") != 0 && strchr(swim_version(), '.'), "a version: %s", swim_version());
     test_pieces();
     test_errors();
     test_threads();
+    test_inspect();
     return check_report("test_library");
 }

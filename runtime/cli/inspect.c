@@ -1,5 +1,4 @@
 /* swim inspect: the mass matrices of section 3.2, K and the Christoffel symbol at one shape. */
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,10 +7,8 @@
 #include "cli/commands.h"
 #include "io/json.h"
 #include "io/message.h"
-#include "shape/shape.h"
-#include "codegen/codegen.h"
 #include "kernel/swim_kernel.h"
-#include "scene/scene.h"
+#include "lib/swim.h"
 
 int swim_cmd_inspect(int argc, char **argv)
 {
@@ -47,57 +44,25 @@ int swim_cmd_inspect(int argc, char **argv)
     const char *r0 = swim_args_get(opts, nopts, "rho0"), *rf = swim_args_get(opts, nopts, "rhof");
     if (r0 && swim_args_double("inspect", "rho0", r0, &rho0)) return 2;
     if (rf && swim_args_double("inspect", "rhof", rf, &rhof)) return 2;
-    if (!(rho0 > 0.0) || !(rhof > 0.0)) {
-        swim_message(stderr, "swim inspect: --%s: density must be > 0 (got %g)",
-                rho0 > 0.0 ? "rhof" : "rho0", rho0 > 0.0 ? rhof : rho0);
-        return 2;
-    }
-    double jmin = swim_shape_jmin((int)N, x);
-    if (!(jmin > 0.0)) {
-        swim_message(stderr, "swim inspect: --shape: %s is outside the admissible set D "
-                "(min J = %.6g <= 0 on the unit circle, (4.1))", ss, jmin);
-        return 2;
-    }
-
-    swim_compiled kc;   /* linked in, cached, or generated now (progress on stderr) */
-    if (swim_codegen_kernel((int)N, &kc, 1) != 0) return 1;
-    const swim_kernel *k = kc.kernel;
-    /* Numbers that overflow would print as null: refuse them, naming the option that did it. */
-    static const char *const culprit[] = {NULL, "shape", "rho0", "rhof", "velocity"};
-    int over = swim_model_overflow(k, x, vs ? v : NULL, rho0, rhof);
-    if (over != SWIM_INPUT_OK) {
-        swim_message(stderr, "swim inspect: --%s: too large: the mass matrices, K or the Christoffel term "
-                     "exceed %g at these values", culprit[over], SWIM_MAGNITUDE_MAX);
-        swim_compiled_close(&kc);
-        return 2;
-    }
-    int full = swim_args_get(opts, nopts, "full") != NULL;
-    double *buf = calloc((size_t)(9 + 3 * n + 3 * n * n + (full ? n * n * n : 0) + n), sizeof(double));
+    const int full = swim_args_get(opts, nopts, "full") != NULL;
+    double *buf = calloc((size_t)(9 + 3 * n + 2 * n * n + n + (full ? n * n * n : 0)), sizeof(double));
     if (!buf) {
         swim_message(stderr, "swim inspect: out of memory");
-        swim_compiled_close(&kc);
         return 1;
     }
-    double *Mr = buf, *Nc = Mr + 9, *Md = Nc + 3 * n, *K = Md + n * n, *gvv = K + n * n;
-    double *G = gvv + n;
-    k->mass(x, rho0, rhof, Mr, Nc, Md);
-    if (k->reduced(x, vs ? v : NULL, rho0, rhof, K, NULL, vs ? gvv : NULL) != 0 ||
-        (full && k->reduced_deriv(x, rho0, rhof, NULL, G) != 0)) {
-        swim_message(stderr, "swim inspect: Mr is not positive definite at this shape");
+    swim_inspection in = {0.0, buf, buf + 9, buf + 9 + 3 * n, buf + 9 + 3 * n + n * n, NULL, NULL};
+    if (vs) in.christoffel_vv = in.mass_reduced + n * n;
+    if (full) in.christoffel = in.mass_reduced + n * n + n;
+    swim_error e;
+    const int rc = swim_inspect((int)N, x, vs ? v : NULL, rho0, rhof, &in, &e);
+    if (rc != SWIM_OK) {   /* the library names the argument at fault; here it is an option */
+        if (e.key[0]) swim_message(stderr, "swim inspect: --%s: %s", e.key, e.message);
+        else swim_message(stderr, "swim inspect: %s", e.message);
         free(buf);
-        swim_compiled_close(&kc);
-        return 1;
+        return rc == SWIM_EINPUT ? 2 : 1;
     }
-    size_t count_out = (size_t)(9 + 3 * n + 2 * n * n + (vs ? n : 0));
-    int finite = 1;
-    for (size_t i = 0; i < count_out; i++) finite &= isfinite(buf[i]) != 0;
-    for (size_t i = 0; full && i < (size_t)n * n * n; i++) finite &= isfinite(G[i]) != 0;
-    if (!finite) {   /* within bounds but a derivative still overflowed */
-        swim_message(stderr, "swim inspect: --shape: the results are not finite at this shape");
-        free(buf);
-        swim_compiled_close(&kc);
-        return 2;
-    }
+    const double *Mr = in.mass_rigid, *Nc = in.mass_coupling, *Md = in.mass_shape, *K = in.mass_reduced;
+    const double *gvv = in.christoffel_vv, *G = in.christoffel, jmin = in.jmin;
     printf("{\n  \"modes\": %ld,\n  \"rho0\": ", N);
     swim_json_number(stdout, rho0);
     printf(",\n  \"rhof\": ");
@@ -126,6 +91,5 @@ int swim_cmd_inspect(int argc, char **argv)
     }
     printf("\n}\n");
     free(buf);
-    swim_compiled_close(&kc);
     return 0;
 }

@@ -9,6 +9,8 @@
 #include "lib/swim.h"
 
 #include <ctype.h>
+#include <math.h>
+#include <stdarg.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,8 +22,10 @@
 #include "driver/summary.h"
 #include "io/files.h"
 #include "io/message.h"
+#include "kernel/swim_kernel.h"
 #include "scene/resolve.h"
 #include "scene/scene.h"
+#include "shape/shape.h"
 
 #define MAX_SETS 64
 
@@ -342,4 +346,80 @@ void swim_sim_free(swim_sim *s)
     swim_run_events_free(s->events);
     if (s->loaded) swim_scene_free(&s->s);
     free(s);
+}
+
+/* ---- inspection ----------------------------------------------------------------------------- */
+
+static int refuse(swim_error *err, int status, const char *key, const char *fmt, ...)
+{
+    if (!err) return status;
+    err->status = status;
+    snprintf(err->key, sizeof err->key, "%s", key);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err->message, sizeof err->message, fmt, ap);
+    va_end(ap);
+    return status;
+}
+
+static int all_finite(const double *a, size_t count)
+{
+    for (size_t i = 0; a && i < count; i++)
+        if (!isfinite(a[i])) return 0;
+    return 1;
+}
+
+int swim_inspect(int modes, const double *shape, const double *velocity, double rho0, double rhof,
+                 swim_inspection *out, swim_error *err)
+{
+    if (err) memset(err, 0, sizeof *err);
+    if (modes < 0 || modes > SWIM_KERNEL_MAX_MODES)
+        return refuse(err, SWIM_EINPUT, "modes", "%d is not a mode count in 0..%d", modes, SWIM_KERNEL_MAX_MODES);
+    if (!(rho0 > 0.0)) return refuse(err, SWIM_EINPUT, "rho0", "density must be > 0 (got %g)", rho0);
+    if (!(rhof > 0.0)) return refuse(err, SWIM_EINPUT, "rhof", "density must be > 0 (got %g)", rhof);
+    out->jmin = swim_shape_jmin(modes, shape);
+    if (!(out->jmin > 0.0))
+        return refuse(err, SWIM_EINPUT, "shape", "the shape is outside the admissible set D "
+                      "(min J = %.6g <= 0 on the unit circle, (4.1))", out->jmin);
+    capture c;
+    begin(&c, err);
+    swim_compiled kc;   /* linked in, cached, or generated now */
+    if (swim_codegen_kernel(modes, &kc, 0) != 0) return end(&c, SWIM_EKERNEL, "no kernel could be had");
+    end(&c, SWIM_OK, "");
+    const swim_kernel *k = kc.kernel;
+    static const char *const culprit[] = {"", "shape", "rho0", "rhof", "velocity"};
+    const int over = swim_model_overflow(k, shape, velocity, rho0, rhof);
+    if (over != SWIM_INPUT_OK) {
+        swim_compiled_close(&kc);
+        return refuse(err, SWIM_EINPUT, culprit[over], "too large: the mass matrices, K or the Christoffel term "
+                      "exceed %g at these values", SWIM_MAGNITUDE_MAX);
+    }
+    const int n = 2 * (modes + 1);
+    double *work = malloc(sizeof(double) * (size_t)(9 + 3 * n + 2 * n * n + n));
+    if (!work) {
+        swim_compiled_close(&kc);
+        return refuse(err, SWIM_ENOMEM, "", "out of memory");
+    }
+    double *Mr = work, *Nc = Mr + 9, *Md = Nc + 3 * n, *K = Md + n * n, *gvv = K + n * n;
+    k->mass(shape, rho0, rhof, Mr, Nc, Md);
+    int rc = k->reduced(shape, velocity, rho0, rhof, K, NULL, velocity ? gvv : NULL);
+    if (rc == 0 && out->christoffel) rc = k->reduced_deriv(shape, rho0, rhof, NULL, out->christoffel);
+    swim_compiled_close(&kc);
+    if (rc != 0) {
+        free(work);
+        return refuse(err, SWIM_EFAILED, "shape", "Mr is not positive definite at this shape");
+    }
+    const size_t nn = (size_t)n * (size_t)n;
+    if (!all_finite(work, 9 + 3 * (size_t)n + 2 * nn) || (velocity && !all_finite(gvv, (size_t)n)) ||
+        (out->christoffel && !all_finite(out->christoffel, nn * (size_t)n))) {
+        free(work);   /* within bounds but a derivative still overflowed */
+        return refuse(err, SWIM_EINPUT, "shape", "the results are not finite at this shape");
+    }
+    if (out->mass_rigid) memcpy(out->mass_rigid, Mr, sizeof(double) * 9);
+    if (out->mass_coupling) memcpy(out->mass_coupling, Nc, sizeof(double) * 3 * (size_t)n);
+    if (out->mass_shape) memcpy(out->mass_shape, Md, sizeof(double) * nn);
+    if (out->mass_reduced) memcpy(out->mass_reduced, K, sizeof(double) * nn);
+    if (out->christoffel_vv && velocity) memcpy(out->christoffel_vv, gvv, sizeof(double) * (size_t)n);
+    free(work);
+    return SWIM_OK;
 }

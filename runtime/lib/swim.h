@@ -117,6 +117,27 @@ SWIM_API char *swim_sim_summary_json(const swim_sim *s);
 SWIM_API char *swim_sim_events_csv(const swim_sim *s);
 SWIM_API void swim_sim_free(swim_sim *s);
 
+/* ---- the model's matrices at one shape (`swim inspect`) ----------------------------------- */
+
+/* For N modes, n = 2(N + 1) shape coordinates (a_1, b_1, a_-1, b_-1, ..., a_-N, b_-N). The
+ * arrays are the caller's, row-major; a NULL pointer skips that output. */
+typedef struct {
+    double jmin;              /* out: min J on the unit circle, > 0 inside the admissible set (4.1) */
+    double *mass_rigid;       /* 3 x 3: Mr (section 3.2) */
+    double *mass_coupling;    /* 3 x n: N */
+    double *mass_shape;       /* n x n: Md */
+    double *mass_reduced;     /* n x n: K = Md - N^T Mr^-1 N */
+    double *christoffel_vv;   /* n: Gamma(c)(v, v) (section 4.1.4); needs a velocity */
+    double *christoffel;      /* n x n x n: Gamma^i_jk at [(i n + j) n + k] */
+} swim_inspection;
+
+/* The matrices of `modes` modes at `shape` (n doubles), velocity v (n doubles, or NULL), with
+ * densities rho0 (body) and rhof (fluid). SWIM_EINPUT (err->key names the argument: "modes",
+ * "shape", "velocity", "rho0", "rhof") for a shape outside D, a density <= 0 or values whose
+ * matrices overflow; SWIM_EKERNEL when no kernel of that size can be had. */
+SWIM_API int swim_inspect(int modes, const double *shape, const double *velocity, double rho0, double rhof,
+                          swim_inspection *out, swim_error *err);
+
 SWIM_API void swim_free(void *p);
 
 #ifdef __cplusplus
