@@ -26,6 +26,8 @@ export PKG_CONFIG_PATH="$prefix/lib/pkgconfig"
 # one version: VERSION's, as the installed swim --version says it
 [ "$("$prefix/bin/swim" --version)" = "swim $(pkg-config --modversion swim)" ] && ok \
     || bad "swim --version '$("$prefix/bin/swim" --version 2>&1)' vs pkg-config '$(pkg-config --modversion swim)'"
+# CITATION.cff cites this version, not another
+[ "$(sed -n 's/^version: "\(.*\)"$/\1/p' CITATION.cff)" = "$(cat VERSION)" ] && ok || bad "CITATION.cff's version is not VERSION's"
 # only swim.h's functions are exported by the shared library
 others=$(nm -D --defined-only "$prefix/lib/libswim.so" | awk '$2 == "T" && $3 !~ /^swim_(version|free|model_|sim_)/ {print $3}' | head -5)
 [ -z "$others" ] && ok || bad "libswim.so exports more than swim.h: $others"

@@ -50,6 +50,7 @@ int swim_cmd_sweep(int argc, char **argv)
     const double t0 = swim_clock_seconds();
     long next = 0, running = 0, ran = 0, failed = 0, interrupted = 0;
     double last_progress = t0;
+    int drawn = 0;
     char row[2048];
     if (!p.quiet && p.already)
         swim_message(stderr, "swim sweep: resuming %s: %ld of %ld members already finished", p.dir, p.already, p.members);
@@ -94,13 +95,9 @@ int swim_cmd_sweep(int argc, char **argv)
         } else {
             stop_signal = -1;   /* named on stderr; the next members would meet the same disk */
         }
-        double t = swim_clock_seconds();
-        if (!p.quiet && t - last_progress > 1.0) {
-            fprintf(stderr, "\rswim sweep: %ld / %ld members (%ld failed)   ", p.already + ran, p.members, p.already_failed + failed);
-            last_progress = t;
-        }
+        sweep_progress(&p, ran, failed, t0, &last_progress, &drawn);
     }
-    if (!p.quiet && last_progress > t0) fputc('\n', stderr);
+    if (drawn) fputc('\n', stderr);
     sigaction(SIGINT, &old_int, NULL);
     sigaction(SIGTERM, &old_term, NULL);
     if (fclose(rows) != 0 && !stop_signal) {
@@ -108,6 +105,7 @@ int swim_cmd_sweep(int argc, char **argv)
         stop_signal = -1;
     }
     const double seconds = swim_clock_seconds() - t0;
+    if (sweep_sort_rows(&p) != 0) stop_signal = -1;   /* rows in member order, as a reader expects */
     const long finished = p.already + ran, all_failed = p.already_failed + failed;
     if (stop_signal) {
         swim_message(stderr, "swim sweep: %s: stopped%s after %ld of %ld members (%ld failed); run the same command "

@@ -15,6 +15,7 @@
 #include <unistd.h>
 #include <dirent.h>
 
+#include "io/clock.h"
 #include "io/files.h"
 #include "io/json.h"
 #include "codegen/codegen.h"
@@ -483,26 +484,30 @@ static void format_row(const sweep_plan *p, long m, const swim_summary *s, char 
     if ((size_t)k < len) snprintf(row + k, len - (size_t)k, "\n");
 }
 
-/* Rebuild members.csv from the summaries of the finished members, in member order. */
-static int rebuild_rows(sweep_plan *p)
+/* members.csv from the summaries of the finished members, in member order; with counts, the
+ * plan's tally of members found finished is redone. */
+static int write_rows(const sweep_plan *p, long *already, long *already_failed, unsigned char *finished)
 {
     char path[SWIM_SWEEP_PATH + 64], row[2048];
     snprintf(path, sizeof path, "%s/members.csv.tmp", p->dir);
     FILE *f = fopen(path, "w");
     if (!f) { swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, path, strerror(errno)); return 1; }
     csv_header(p, f);
-    p->already = p->already_failed = 0;
+    long done = 0, failed = 0;
     for (long m = 0; m < p->members; m++) {
         swim_summary s;
         read_summary(p, m, NULL, &s);
-        p->finished[m] = (unsigned char)summary_finished(&s);
-        if (p->finished[m]) {
+        const int is_finished = summary_finished(&s);
+        if (finished) finished[m] = (unsigned char)is_finished;
+        if (is_finished) {
             format_row(p, m, &s, row, sizeof row);
             fputs(row, f);
-            p->already++;
-            p->already_failed += strcmp(s.status, "completed") != 0;
+            done++;
+            failed += strcmp(s.status, "completed") != 0;
         }
     }
+    if (already) *already = done;
+    if (already_failed) *already_failed = failed;
     int bad = fflush(f) != 0;
     bad |= fclose(f) != 0;
     char final[SWIM_SWEEP_PATH + 64];
@@ -512,6 +517,45 @@ static int rebuild_rows(sweep_plan *p)
         return 1;
     }
     return 0;
+}
+
+static int rebuild_rows(sweep_plan *p) { return write_rows(p, &p->already, &p->already_failed, p->finished); }
+
+int sweep_sort_rows(const sweep_plan *p) { return write_rows(p, NULL, NULL, NULL); }
+
+/* "1 h 05 min", "3 min 20 s", "12 s": what a reader takes in at a glance. */
+static void duration_text(double s, char *out, size_t len)
+{
+    const long t = (long)(s + 0.5);
+    if (t >= 3600) snprintf(out, len, "%ld h %02ld min", t / 3600, (t % 3600) / 60);
+    else if (t >= 60) snprintf(out, len, "%ld min %02ld s", t / 60, t % 60);
+    else snprintf(out, len, "%ld s", t);
+}
+
+void sweep_progress_line(const sweep_plan *p, long ran, long failed, double seconds, char *line, size_t len)
+{
+    const long done = p->already + ran, left = p->members - done;
+    int k = snprintf(line, len, "swim %s: %ld / %ld members (%ld failed)", p->cmd, done, p->members,
+                     p->already_failed + failed);
+    if (ran > 0 && seconds > 0 && k >= 0 && (size_t)k < len) {
+        const double rate = ran / seconds;
+        char eta[32];
+        duration_text(left / rate, eta, sizeof eta);
+        snprintf(line + k, len - (size_t)k, ", %.3g members/s, about %s left", rate, eta);
+    }
+}
+
+void sweep_progress(const sweep_plan *p, long ran, long failed, double t0, double *last, int *drawn)
+{
+    const double t = swim_clock_seconds();
+    const int on_terminal = isatty(STDERR_FILENO);
+    if (p->quiet || t - *last < (on_terminal ? 0.5 : p->progress_every)) return;
+    char line[256];
+    sweep_progress_line(p, ran, failed, t - t0, line, sizeof line);
+    if (on_terminal) fprintf(stderr, "\r%s\033[K", line);
+    else fprintf(stderr, "%s\n", line);
+    *last = t;
+    *drawn |= on_terminal;
 }
 
 /* ---------------------------------------------------------------- prepare */

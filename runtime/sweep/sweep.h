@@ -15,8 +15,8 @@
  * sweep that uses DIR, for its whole life, and holding its pid: a second sweep into the same DIR
  * is refused while the first runs), members/ID/summary.json (+ trajectory.csv with --keep
  * trajectories, + log.txt: the member's stdout and stderr), and members.csv, one row per
- * finished member, rebuilt from the summaries when a sweep starts or resumes and then appended
- * and flushed as members finish.
+ * finished member, rebuilt from the summaries when a sweep starts or resumes, then appended
+ * and flushed as members finish, and rewritten in member-id order when the sweep ends.
  *
  * Summaries are read back by the one summary reader (driver/summary_read.h, jansson): values at
  * their path in the JSON tree (steps is stats.steps). A member is finished when its summary.json
@@ -61,6 +61,8 @@ typedef struct {
                                    * is bin/swim); 0: it execs exe */
     sweep_vary vary[SWEEP_MAX_VARY];
     int nvary, zip, keep_trajectories, generic, no_projection, quiet;
+    double progress_every;        /* seconds between progress lines on stderr when it is not a
+                                   * terminal (--progress; on a terminal one line is redrawn) */
     long jobs;
     char integrator[32];
     swim_override sets[SWEEP_MAX_SETS];   /* --set and --t-end, --rtol, ... as run.* overrides */
@@ -105,6 +107,22 @@ int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char
 /* members.csv: opened for appending after sweep_prepare rebuilt it. */
 FILE *sweep_open_rows(const sweep_plan *p);
 int sweep_append_row(FILE *f, const char *row);   /* write + flush; 0 or -1 (errno) */
+
+/* members.csv rewritten from the finished members' summaries in member-id order (rows were
+ * appended in the order members finished): when the sweep ends, stopped or not. 0, or 1 after
+ * one line naming the file on stderr. */
+int sweep_sort_rows(const sweep_plan *p);
+
+/* Progress of a sweep as one line: "swim sweep: D / T members (F failed), R members/s, about
+ * E left" where D counts the members finished before a resume, R is the rate of the members run
+ * now since `seconds` ago and E the time the remaining members take at that rate (none while
+ * nothing has finished yet). */
+void sweep_progress_line(const sweep_plan *p, long ran, long failed, double seconds, char *line, size_t len);
+
+/* The progress line on stderr (not with --quiet): on a terminal redrawn in place at most every
+ * 0.5 s, otherwise a line every --progress seconds; *last is when it was last drawn and *drawn
+ * is set once a terminal line is open (the caller ends it with a newline). */
+void sweep_progress(const sweep_plan *p, long ran, long failed, double t0, double *last, int *drawn);
 
 /* The end of the sweep's report on stdout: flushed and checked (a full disk, /dev/full, a closed
  * pipe), and closed when close_it. 0, or -1 after one line "swim CMD: cannot write the report to
