@@ -39,8 +39,9 @@ static const command commands[] = {
      "swim animate out/example3 --fps 25 --duration 15"},
     {"sweep", swim_cmd_sweep,
      "a family of runs: DIR/members.csv, sweep.json, members/ID/summary.json\n"
-     "           --out DIR --vary KEY=SPEC [--vary ...] [--zip] [--jobs J] [--keep trajectories] [--progress S]\n"
-     "           [--set KEY=VALUE ...] [run options]; SPEC: START:STOP:COUNT, log:START:STOP:COUNT, V1,V2,...",
+     "           --out DIR --vary KEY=SPEC [--vary ...] [--zip] [--jobs J] [--keep trajectories]\n"
+     "           [--format csv|hdf5] [--progress S] [--set KEY=VALUE ...] [run options]\n"
+     "           SPEC: START:STOP:COUNT, log:START:STOP:COUNT, V1,V2,...",
      "swim sweep models/example1.toml --out out/fig42 --vary shape.dc0.bm2=-0.7,0.7 --keep trajectories"},
     {"floquet", swim_cmd_floquet,
      "monodromy matrix and Floquet multipliers of a periodic stroke: DIR/floquet.json, a table\n"

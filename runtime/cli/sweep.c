@@ -12,6 +12,7 @@
 #include "cli/commands.h"
 #include "cli/sweep_args.h"
 #include "io/clock.h"
+#include "sweep/family_hdf5.h"
 #include "sweep/sweep.h"
 #include "io/message.h"
 
@@ -106,6 +107,7 @@ int swim_cmd_sweep(int argc, char **argv)
     }
     const double seconds = swim_clock_seconds() - t0;
     if (sweep_sort_rows(&p) != 0) stop_signal = -1;   /* rows in member order, as a reader expects */
+    if (p.format_hdf5 && sweep_write_family_hdf5(&p) != 0) stop_signal = -1;
     const long finished = p.already + ran, all_failed = p.already_failed + failed;
     if (stop_signal) {
         swim_message(stderr, "swim sweep: %s: stopped%s after %ld of %ld members (%ld failed); run the same command "
@@ -116,7 +118,8 @@ int swim_cmd_sweep(int argc, char **argv)
         printf("%s: %ld members, %ld completed, %ld failed (%ld ran now in %.3f s, %.2f members/s with %ld jobs%s)\n",
                p.dir, p.members, finished - all_failed, all_failed, ran, seconds, seconds > 0 ? ran / seconds : 0.0,
                p.jobs, p.already ? "; the others were finished before" : "");
-        printf("  rows in %s/members.csv, definition in %s/sweep.json\n", p.dir, p.dir);
+        printf("  rows in %s/members.csv%s, definition in %s/sweep.json\n", p.dir,
+               p.format_hdf5 ? " and the family in family.h5" : "", p.dir);
         rc = all_failed || finished < p.members ? 1 : 0;
     }
     if (interrupted && !stop_signal)

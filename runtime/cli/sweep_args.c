@@ -84,8 +84,9 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
     swim_opt opts[40] = {{"out", 1, NULL}, {"zip", 0, NULL}, {"jobs", 1, NULL}, {"keep", 1, NULL},
                          {"t-end", 1, NULL}, {"output-step", 1, NULL}, {"rtol", 1, NULL},
                          {"atol", 1, NULL}, {"integrator", 1, NULL}, {"generic", 0, NULL},
-                         {"no-projection", 0, NULL}, {"quiet", 0, NULL}, {"progress", 1, NULL}};
-    int nopts = 13;
+                         {"no-projection", 0, NULL}, {"quiet", 0, NULL}, {"progress", 1, NULL},
+                         {"format", 1, NULL}};
+    int nopts = 14;
     swim_run_settings_key_options(opts, &nopts, 40);   /* --step-lookahead, ... (scene/keys.h) */
     const char *pos[1];
     int npos = 0;
@@ -188,6 +189,13 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
     p->generic = swim_args_get(opts, nopts, "generic") != NULL;
     p->no_projection = swim_args_get(opts, nopts, "no-projection") != NULL;
     p->quiet = swim_args_get(opts, nopts, "quiet") != NULL;
+    if ((v = swim_args_get(opts, nopts, "format"))) {
+        if (strcmp(v, "hdf5") == 0) p->format_hdf5 = 1;
+        else if (strcmp(v, "csv") != 0) {
+            swim_message(stderr, "swim %s: --format: expected 'csv' (default) or 'hdf5', got '%s'", cmd, v);
+            return 2;
+        }
+    }
     p->progress_every = 10.0;
     if ((v = swim_args_get(opts, nopts, "progress"))) {
         if (swim_args_double(cmd, "progress", v, &p->progress_every)) return 2;

@@ -1,5 +1,12 @@
 # runtime/sweep: families of runs (swim sweep; bin/swim-mpi with `make mpi`).
-RUNTIME_SRCS += runtime/sweep/sweep.c
+RUNTIME_SRCS += runtime/sweep/sweep.c runtime/sweep/family_hdf5.c
+# --format hdf5: Debian's serial HDF5 (h5py reads the file; the tests use it)
+DEB_PKGS     += libhdf5-dev python3-h5py
+HDF5_CFLAGS  := $(shell pkg-config --cflags hdf5-serial 2>/dev/null || echo -I/usr/include/hdf5/serial)
+HDF5_LIBS    := $(shell pkg-config --libs hdf5-serial 2>/dev/null || echo -L/usr/lib/x86_64-linux-gnu/hdf5/serial -lhdf5)
+CPPFLAGS     += $(HDF5_CFLAGS)
+LDLIBS       += $(HDF5_LIBS)
+$(BUILD)/runtime/sweep/family_hdf5.o $(BUILD)/pic/runtime/sweep/family_hdf5.o: VERSION
 
 # The paper's families (Figs 4.1, 4.2, 4.5, 4.6, 4.7): one sweep and one `swim plot` each, into
 # out/families/; initial data on the curve (4.17) from runtime/plot/reduction_members.py.

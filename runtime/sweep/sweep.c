@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <stddef.h>
 #include <signal.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -400,6 +401,14 @@ static int summary_finished(const swim_summary *s)
     return s->whole && !s->stopped;
 }
 
+int sweep_member_summary(const sweep_plan *p, long m, swim_summary *s)
+{
+    read_summary(p, m, NULL, s);
+    return summary_finished(s);
+}
+
+void sweep_member_dir(const sweep_plan *p, long m, char *buf, size_t len) { member_dir(p, m, buf, len); }
+
 /* A signal someone sends to stop a process -- a user (^C, kill), a batch scheduler at the end of
  * a job (SIGTERM, then SIGKILL), a closed terminal, a stopping sweep -- rather than one its own
  * fault raises (SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, ...): the member did not fail, it was
@@ -409,12 +418,35 @@ static int stop_request(int sig)
     return sig == SIGINT || sig == SIGTERM || sig == SIGHUP || sig == SIGKILL;
 }
 
+/* The columns of a member's row after id, the varied values, status and reason (members.csv,
+ * family.h5), each a number of its summary: one list for every writer of the family table. */
+static const sweep_column columns[] = {
+    {"t_reached", offsetof(swim_summary, t_reached), 0},
+    {"x", offsetof(swim_summary, x), 0},
+    {"y", offsetof(swim_summary, y), 0},
+    {"theta", offsetof(swim_summary, theta), 0},
+    {"energy_drift_rel", offsetof(swim_summary, energy_drift_rel), 0},
+    {"energy_balance_abs", offsetof(swim_summary, energy_balance_abs), 0},
+    {"jmin", offsetof(swim_summary, jmin), 0},
+    {"steps", offsetof(swim_summary, steps), 1},
+    {"rhs_evaluations", offsetof(swim_summary, rhs_evaluations), 1},
+    {"integrate_seconds", offsetof(swim_summary, integrate_seconds), 0},
+    {"wall_seconds", offsetof(swim_summary, wall_seconds), 0},
+};
+
+const sweep_column *sweep_columns(int *count)
+{
+    *count = (int)(sizeof columns / sizeof columns[0]);
+    return columns;
+}
+
 static void csv_header(const sweep_plan *p, FILE *f)
 {
     fprintf(f, "id");
     for (int v = 0; v < p->nvary; v++) fprintf(f, ",%s", p->vary[v].key);
-    fprintf(f, ",status,reason,t_reached,x,y,theta,energy_drift_rel,energy_balance_abs,jmin,steps,"
-            "rhs_evaluations,integrate_seconds,wall_seconds\n");
+    fprintf(f, ",status,reason");
+    for (size_t i = 0; i < sizeof columns / sizeof columns[0]; i++) fprintf(f, ",%s", columns[i].name);
+    fprintf(f, "\n");
 }
 
 /* A number of the summary as the field of a row: the shortest digits that read back as the same
@@ -464,21 +496,11 @@ static void format_row(const sweep_plan *p, long m, const swim_summary *s, char 
     int k = snprintf(row, len, "%ld", m);
     for (int v = 0; v < p->nvary && (size_t)k < len; v++) k += snprintf(row + k, len - (size_t)k, ",%.17g", sweep_value(p, m, v));
     if ((size_t)k < len) k += snprintf(row + k, len - (size_t)k, ",%s,\"%s\"", s->status, reason);
-    const swim_summary_real *reals[] = {&s->t_reached, &s->x, &s->y, &s->theta, &s->energy_drift_rel,
-                                        &s->energy_balance_abs, &s->jmin};
-    const swim_summary_count *counts[] = {&s->steps, &s->rhs_evaluations};
-    const swim_summary_real *times[] = {&s->integrate_seconds, &s->wall_seconds};
     char tok[64];
-    for (size_t i = 0; i < sizeof reals / sizeof reals[0] && (size_t)k < len; i++) {
-        real_field(reals[i], tok, sizeof tok);
-        k += snprintf(row + k, len - (size_t)k, ",%s", tok);
-    }
-    for (size_t i = 0; i < sizeof counts / sizeof counts[0] && (size_t)k < len; i++) {
-        count_field(counts[i], tok, sizeof tok);
-        k += snprintf(row + k, len - (size_t)k, ",%s", tok);
-    }
-    for (size_t i = 0; i < sizeof times / sizeof times[0] && (size_t)k < len; i++) {
-        real_field(times[i], tok, sizeof tok);
+    for (size_t i = 0; i < sizeof columns / sizeof columns[0] && (size_t)k < len; i++) {
+        const char *field = (const char *)s + columns[i].offset;
+        if (columns[i].integer) count_field((const swim_summary_count *)field, tok, sizeof tok);
+        else real_field((const swim_summary_real *)field, tok, sizeof tok);
         k += snprintf(row + k, len - (size_t)k, ",%s", tok);
     }
     if ((size_t)k < len) snprintf(row + k, len - (size_t)k, "\n");

@@ -34,6 +34,7 @@
 #include <stdio.h>
 #include <sys/types.h>
 
+#include "driver/summary_read.h"
 #include "scene/scene.h"
 
 #define SWEEP_MAX_VARY 8
@@ -61,6 +62,7 @@ typedef struct {
                                    * is bin/swim); 0: it execs exe */
     sweep_vary vary[SWEEP_MAX_VARY];
     int nvary, zip, keep_trajectories, generic, no_projection, quiet;
+    int format_hdf5;              /* --format hdf5: also DIR/family.h5 (sweep/family_hdf5.h) */
     double progress_every;        /* seconds between progress lines on stderr when it is not a
                                    * terminal (--progress; on a terminal one line is redrawn) */
     long jobs;
@@ -107,6 +109,19 @@ int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char
 /* members.csv: opened for appending after sweep_prepare rebuilt it. */
 FILE *sweep_open_rows(const sweep_plan *p);
 int sweep_append_row(FILE *f, const char *row);   /* write + flush; 0 or -1 (errno) */
+
+/* A number of a member's summary in the family table: members.csv's column `name` (after id, the
+ * varied keys, status and reason), at `offset` in swim_summary, a swim_summary_count when
+ * integer, else a swim_summary_real. */
+typedef struct {
+    const char *name;
+    size_t offset;
+    int integer;
+} sweep_column;
+const sweep_column *sweep_columns(int *count);
+/* Member m's summary (the one reader): 1 if the member is finished, 0 if not (yet). */
+int sweep_member_summary(const sweep_plan *p, long m, swim_summary *s);
+void sweep_member_dir(const sweep_plan *p, long m, char *buf, size_t len);   /* DIR/members/ID */
 
 /* members.csv rewritten from the finished members' summaries in member-id order (rows were
  * appended in the order members finished): when the sweep ends, stopped or not. 0, or 1 after

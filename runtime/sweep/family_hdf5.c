@@ -1,0 +1,323 @@
+/* family_hdf5.c -- DIR/family.h5 from a sweep's folder (sweep/family_hdf5.h has the layout). */
+#include "sweep/family_hdf5.h"
+
+#include <errno.h>
+#include <hdf5.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/files.h"
+#include "io/message.h"
+
+#ifndef SWIM_VERSION   /* from VERSION, by the Makefile */
+#define SWIM_VERSION "unknown"
+#endif
+
+#define MAX_TRAJECTORY_BYTES (4ull << 30)   /* a member's trajectory.csv read whole: 4 GiB at most */
+
+/* ---- HDF5 in small pieces: each returns 0 or -1 ------------------------------------------ */
+
+static hid_t string_type(void)
+{
+    hid_t t = H5Tcopy(H5T_C_S1);
+    if (t < 0) return t;
+    if (H5Tset_size(t, H5T_VARIABLE) < 0 || H5Tset_cset(t, H5T_CSET_UTF8) < 0) {
+        H5Tclose(t);
+        return -1;
+    }
+    return t;
+}
+
+static int text_attribute(hid_t obj, const char *name, const char *text)
+{
+    hid_t t = string_type(), sp = H5Screate(H5S_SCALAR);
+    hid_t a = t >= 0 && sp >= 0 ? H5Acreate2(obj, name, t, sp, H5P_DEFAULT, H5P_DEFAULT) : -1;
+    int rc = a >= 0 && H5Awrite(a, t, &text) >= 0 ? 0 : -1;
+    if (a >= 0) H5Aclose(a);
+    if (sp >= 0) H5Sclose(sp);
+    if (t >= 0) H5Tclose(t);
+    return rc;
+}
+
+static int long_attribute(hid_t obj, const char *name, long value)
+{
+    const long long v = value;
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t a = sp >= 0 ? H5Acreate2(obj, name, H5T_STD_I64LE, sp, H5P_DEFAULT, H5P_DEFAULT) : -1;
+    int rc = a >= 0 && H5Awrite(a, H5T_NATIVE_LLONG, &v) >= 0 ? 0 : -1;
+    if (a >= 0) H5Aclose(a);
+    if (sp >= 0) H5Sclose(sp);
+    return rc;
+}
+
+static int names_attribute(hid_t obj, const char *name, const char *const *names, int n)
+{
+    const hsize_t dims[1] = {(hsize_t)n};
+    hid_t t = string_type(), sp = H5Screate_simple(1, dims, NULL);
+    hid_t a = t >= 0 && sp >= 0 ? H5Acreate2(obj, name, t, sp, H5P_DEFAULT, H5P_DEFAULT) : -1;
+    int rc = a >= 0 && H5Awrite(a, t, names) >= 0 ? 0 : -1;
+    if (a >= 0) H5Aclose(a);
+    if (sp >= 0) H5Sclose(sp);
+    if (t >= 0) H5Tclose(t);
+    return rc;
+}
+
+/* A 1-D or 2-D dataset of `type` in the file, `memtype` in memory; 2-D ones are chunked and
+ * compressed (trajectories: long, smooth columns). */
+static int dataset(hid_t where, const char *name, hid_t type, hid_t memtype, int rank, const hsize_t *dims,
+                   const void *data)
+{
+    hid_t sp = H5Screate_simple(rank, dims, NULL), pl = H5Pcreate(H5P_DATASET_CREATE);
+    int rc = sp >= 0 && pl >= 0 ? 0 : -1;
+    if (rc == 0 && rank == 2 && dims[0] > 0 && dims[1] > 0) {
+        const hsize_t chunk[2] = {dims[0] < 4096 ? dims[0] : 4096, dims[1]};
+        rc = H5Pset_chunk(pl, 2, chunk) < 0 || H5Pset_shuffle(pl) < 0 || H5Pset_deflate(pl, 4) < 0 ? -1 : 0;
+    }
+    hid_t d = rc == 0 ? H5Dcreate2(where, name, type, sp, H5P_DEFAULT, pl, H5P_DEFAULT) : -1;
+    if (d < 0 || (dims[0] > 0 && H5Dwrite(d, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)) rc = -1;
+    if (d >= 0) H5Dclose(d);
+    if (pl >= 0) H5Pclose(pl);
+    if (sp >= 0) H5Sclose(sp);
+    return rc;
+}
+
+static int text_dataset(hid_t where, const char *name, const char *const *texts, long n)
+{
+    const hsize_t dims[1] = {(hsize_t)n};
+    hid_t t = string_type();
+    int rc = t >= 0 ? dataset(where, name, t, t, 1, dims, texts) : -1;
+    if (t >= 0) H5Tclose(t);
+    return rc;
+}
+
+/* ---- the members table ------------------------------------------------------------------- */
+
+typedef struct {
+    long n;                 /* finished members */
+    long long *id;
+    double *vary;           /* [v * n + row] */
+    char **status, **reason;
+    double *real;           /* [c * n + row], the numbers of sweep_columns */
+    long long *count;
+} table;
+
+static void table_free(table *t)
+{
+    for (long i = 0; i < t->n; i++) {
+        if (t->status) free(t->status[i]);
+        if (t->reason) free(t->reason[i]);
+    }
+    free(t->id);
+    free(t->vary);
+    free(t->status);
+    free(t->reason);
+    free(t->real);
+    free(t->count);
+}
+
+static int table_read(const sweep_plan *p, table *t)
+{
+    int ncol;
+    const sweep_column *cols = sweep_columns(&ncol);
+    const size_t cap = (size_t)p->members ? (size_t)p->members : 1;
+    memset(t, 0, sizeof *t);
+    t->id = malloc(cap * sizeof *t->id);
+    t->vary = malloc(cap * (size_t)(p->nvary ? p->nvary : 1) * sizeof *t->vary);
+    t->status = calloc(cap, sizeof *t->status);
+    t->reason = calloc(cap, sizeof *t->reason);
+    t->real = malloc(cap * (size_t)ncol * sizeof *t->real);
+    t->count = malloc(cap * (size_t)ncol * sizeof *t->count);
+    if (!t->id || !t->vary || !t->status || !t->reason || !t->real || !t->count) return -1;
+    long r = 0;
+    for (long m = 0; m < p->members; m++) {
+        swim_summary s;
+        if (!sweep_member_summary(p, m, &s)) continue;
+        t->id[r] = m;
+        for (int v = 0; v < p->nvary; v++) t->vary[(size_t)v * cap + (size_t)r] = sweep_value(p, m, v);
+        t->status[r] = strdup(s.status);
+        t->reason[r] = strdup(s.reason);
+        t->n = r + 1;   /* freed from here on */
+        if (!t->status[r] || !t->reason[r]) return -1;
+        for (int c = 0; c < ncol; c++) {
+            const char *field = (const char *)&s + cols[c].offset;
+            const swim_summary_real *x = (const swim_summary_real *)field;
+            const swim_summary_count *k = (const swim_summary_count *)field;
+            t->real[(size_t)c * cap + (size_t)r] = cols[c].integer ? NAN : x->set ? x->value : NAN;
+            t->count[(size_t)c * cap + (size_t)r] = cols[c].integer && k->set ? k->value : -1;
+        }
+        r++;
+    }
+    return 0;
+}
+
+static int table_write(const sweep_plan *p, const table *t, hid_t file)
+{
+    int ncol;
+    const sweep_column *cols = sweep_columns(&ncol);
+    const size_t cap = (size_t)p->members ? (size_t)p->members : 1;
+    const hsize_t dims[1] = {(hsize_t)t->n};
+    hid_t g = H5Gcreate2(file, "members", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (g < 0) return -1;
+    int rc = dataset(g, "id", H5T_STD_I64LE, H5T_NATIVE_LLONG, 1, dims, t->id);
+    for (int v = 0; rc == 0 && v < p->nvary; v++)
+        rc = dataset(g, p->vary[v].key, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, dims, t->vary + (size_t)v * cap);
+    if (rc == 0) rc = text_dataset(g, "status", (const char *const *)t->status, t->n);
+    if (rc == 0) rc = text_dataset(g, "reason", (const char *const *)t->reason, t->n);
+    for (int c = 0; rc == 0 && c < ncol; c++)
+        rc = cols[c].integer
+                 ? dataset(g, cols[c].name, H5T_STD_I64LE, H5T_NATIVE_LLONG, 1, dims, t->count + (size_t)c * cap)
+                 : dataset(g, cols[c].name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, dims, t->real + (size_t)c * cap);
+    /* HDF5 lists a group's datasets by name: the attribute keeps members.csv's order */
+    const char *order[SWEEP_MAX_VARY + 32];
+    int k = 0;
+    order[k++] = "id";
+    for (int v = 0; v < p->nvary; v++) order[k++] = p->vary[v].key;
+    order[k++] = "status";
+    order[k++] = "reason";
+    for (int c = 0; c < ncol && k < (int)(sizeof order / sizeof order[0]); c++) order[k++] = cols[c].name;
+    if (rc == 0) rc = names_attribute(g, "columns", order, k);
+    H5Gclose(g);
+    return rc;
+}
+
+/* ---- trajectories ------------------------------------------------------------------------ */
+
+/* A numeric CSV as swim writes it (runtime/io/csv.h: a header, then rows of %.17g or nan): the
+ * names and a row-major matrix. 0, or -1 with a reason. */
+static int csv_matrix(const char *text, char ***names, int *ncol, double **data, long *nrow, char *why, size_t len)
+{
+    *names = NULL;
+    *data = NULL;
+    *ncol = 0;
+    *nrow = 0;
+    const char *eol = strchr(text, '\n');
+    if (!eol) {
+        snprintf(why, len, "no header line");
+        return -1;
+    }
+    int n = 1;
+    for (const char *c = text; c < eol; c++) n += *c == ',';
+    char **nm = calloc((size_t)n, sizeof *nm);
+    if (!nm) return snprintf(why, len, "out of memory"), -1;
+    const char *start = text;
+    for (int i = 0; i < n; i++) {
+        const char *end = memchr(start, ',', (size_t)(eol - start));
+        if (!end) end = eol;
+        nm[i] = strndup(start, (size_t)(end - start));
+        start = end + 1;
+    }
+    *names = nm;
+    *ncol = n;
+    long rows = 0;
+    for (const char *c = eol + 1; *c; c++) rows += *c == '\n';
+    double *d = malloc(((size_t)rows * (size_t)n + 1) * sizeof *d);
+    if (!d) return snprintf(why, len, "out of memory"), -1;
+    *data = d;
+    const char *c = eol + 1;
+    for (long r = 0; r < rows; r++)
+        for (int j = 0; j < n; j++) {
+            char *end;
+            d[(size_t)r * (size_t)n + (size_t)j] = strtod(c, &end);
+            const char want = j + 1 < n ? ',' : '\n';
+            if (end == c || *end != want) {
+                snprintf(why, len, "row %ld, column %d is not a number", r + 1, j + 1);
+                return -1;
+            }
+            c = end + 1;
+        }
+    *nrow = rows;
+    return 0;
+}
+
+static int trajectories_write(const sweep_plan *p, const table *t, hid_t file, char *why, size_t len)
+{
+    hid_t g = H5Gcreate2(file, "trajectories", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (g < 0) return snprintf(why, len, "cannot create /trajectories"), -1;
+    int rc = 0;
+    for (long r = 0; rc == 0 && r < t->n; r++) {
+        char dir[SWIM_SWEEP_PATH + 64], path[SWIM_SWEEP_PATH + 96], name[32];
+        sweep_member_dir(p, (long)t->id[r], dir, sizeof dir);
+        snprintf(path, sizeof path, "%s/trajectory.csv", dir);
+        size_t bytes;
+        char *text = swim_read_file(path, MAX_TRAJECTORY_BYTES, &bytes);
+        if (!text) continue;   /* a member that failed before writing rows, or crashed */
+        char **names;
+        double *data;
+        int ncol;
+        long nrow;
+        char bad[128];
+        if (csv_matrix(text, &names, &ncol, &data, &nrow, bad, sizeof bad) != 0) {
+            snprintf(why, len, "%s: %s", path, bad);
+            rc = -1;
+        } else {
+            const hsize_t dims[2] = {(hsize_t)nrow, (hsize_t)ncol};
+            snprintf(name, sizeof name, "%05lld", t->id[r]);
+            if (dataset(g, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, data) != 0) rc = -1;
+            hid_t ds = rc == 0 ? H5Dopen2(g, name, H5P_DEFAULT) : -1;
+            if (ds < 0 || names_attribute(ds, "columns", (const char *const *)names, ncol) != 0) rc = -1;
+            if (ds >= 0) H5Dclose(ds);
+            if (rc) snprintf(why, len, "cannot write /trajectories/%s", name);
+        }
+        for (int j = 0; names && j < ncol; j++) free(names[j]);
+        free(names);
+        free(data);
+        free(text);
+    }
+    H5Gclose(g);
+    return rc;
+}
+
+/* ---- the file ------------------------------------------------------------------------------ */
+
+static int write_file(const sweep_plan *p, const char *path, const table *t, char *why, size_t len)
+{
+    char def_path[SWIM_SWEEP_PATH + 64];
+    snprintf(def_path, sizeof def_path, "%s/sweep.json", p->dir);
+    size_t def_len;
+    char *definition = swim_read_file(def_path, 64u << 20, &def_len);
+    if (!definition) return snprintf(why, len, "cannot read %s: %s", def_path, strerror(errno)), -1;
+    hid_t file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (file < 0) {
+        free(definition);
+        return snprintf(why, len, "cannot create the file"), -1;
+    }
+    int rc = text_attribute(file, "swim_version", SWIM_VERSION) || text_attribute(file, "definition", definition) ||
+             text_attribute(file, "scene", p->scene_text ? p->scene_text : "") ||
+             long_attribute(file, "members", p->members)
+                 ? -1 : 0;
+    if (rc) snprintf(why, len, "cannot write the attributes of /");
+    if (rc == 0 && table_write(p, t, file) != 0) {
+        snprintf(why, len, "cannot write /members");
+        rc = -1;
+    }
+    if (rc == 0 && p->keep_trajectories) rc = trajectories_write(p, t, file, why, len);
+    if (H5Fclose(file) < 0 && rc == 0) {
+        snprintf(why, len, "cannot finish the file");
+        rc = -1;
+    }
+    free(definition);
+    return rc;
+}
+
+int sweep_write_family_hdf5(const sweep_plan *p)
+{
+    char path[SWIM_SWEEP_PATH + 64], tmp[SWIM_SWEEP_PATH + 64], why[SWIM_SWEEP_PATH + 256] = "";
+    snprintf(path, sizeof path, "%s/family.h5", p->dir);
+    snprintf(tmp, sizeof tmp, "%s/family.h5.tmp", p->dir);
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);   /* its own error stack print: the one line below says it */
+    table t;
+    int rc = table_read(p, &t);
+    if (rc) snprintf(why, sizeof why, "out of memory");
+    if (rc == 0) rc = write_file(p, tmp, &t, why, sizeof why);
+    table_free(&t);
+    if (rc == 0 && rename(tmp, path) != 0) {
+        snprintf(why, sizeof why, "%s", strerror(errno));
+        rc = -1;
+    }
+    if (rc == 0) return 0;
+    remove(tmp);
+    swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, path, why);
+    return 1;
+}

@@ -1,0 +1,27 @@
+/* family_hdf5.h -- a sweep's family in one HDF5 file (swim sweep --format hdf5), for h5py.
+ *
+ * DIR/family.h5, written when the sweep ends (stopped or not) from the member folders, the same
+ * finished members as members.csv and in its order (member id):
+ *
+ *   /                  attributes: swim_version, definition (sweep.json's text), scene (the
+ *                      scene text every member ran), members (how many the family has)
+ *   /members/COLUMN    (attribute "columns": the names in members.csv's order)
+ *                      one dataset per members.csv column: id (int64), each varied key (float64,
+ *                      named by the key, e.g. "model.rho0"), status and reason (strings), the
+ *                      numbers of the summaries (float64, NaN where a summary has none; steps and
+ *                      rhs_evaluations int64, -1 where none)
+ *   /trajectories/ID   with --keep trajectories: member ID's trajectory.csv as a float64 matrix
+ *                      (rows x columns), its attribute "columns" the CSV header's names
+ *
+ * The folder stays the sweep's state (resume reads the summaries); family.h5 is rewritten from it
+ * at every end, under a temporary name then renamed, so a reader never sees half a file.
+ */
+#ifndef SWIM_FAMILY_HDF5_H
+#define SWIM_FAMILY_HDF5_H
+
+#include "sweep/sweep.h"
+
+/* 0, or 1 after one line naming the file and the reason on stderr. */
+int sweep_write_family_hdf5(const sweep_plan *p);
+
+#endif
