@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """The docs point at things that exist: every relative link in README.md and docs/*.md resolves
 (to a file or folder of the repository), every path written as `docs/NAME.md` in them names a
-file, and every `make TARGET` the README names is a target of the Makefile.
+file, and every `make TARGET` they name is a target of the Makefile. The README is a front door:
+under 250 lines, linking every docs/*.md, its command list naming only commands of `swim --help`.
+The Fig. 4.8 recipe (docs/integrators-and-events.md) runs as written.
 Prints "test_docs: P passed, F failed"."""
 
 import glob
@@ -14,6 +16,18 @@ from swimtest import ROOT, check, main
 
 DOCS = [os.path.join(ROOT, "README.md")] + sorted(glob.glob(os.path.join(ROOT, "docs", "*.md")))
 LINK = re.compile(r"\[[^\]]*\]\(([^)\s]+)\)")
+# Pages being written at the same time as the README that links them: a link to one of these is
+# accepted while the file does not exist yet (once it exists it is checked like any other).
+PENDING = {"docs/python.md", "docs/export.md"}
+RECIPE_DOC = os.path.join(ROOT, "docs", "integrators-and-events.md")
+
+
+def pending(path):
+    rel = os.path.relpath(path, ROOT)
+    if rel in PENDING and not os.path.exists(path):
+        print("note: %s is linked but not written yet (allowed: pending)" % rel)
+        return True
+    return False
 
 
 def make_targets():
@@ -34,6 +48,8 @@ def test_relative_links_resolve():
                 continue
             path = target.split("#", 1)[0]
             full = os.path.normpath(os.path.join(os.path.dirname(doc), path))
+            if pending(full):
+                continue
             check(os.path.exists(full), "%s: the link %s does not resolve" % (os.path.relpath(doc, ROOT), target))
 
 
@@ -41,25 +57,79 @@ def test_named_doc_files_exist():
     for doc in DOCS:
         text = open(doc, encoding="utf-8").read()
         for path in set(re.findall(r"\bdocs/[A-Za-z0-9_/.-]+\.md\b", text)):
+            if pending(os.path.join(ROOT, path)):
+                continue
             check(os.path.exists(os.path.join(ROOT, path)), "%s names %s, which does not exist" % (os.path.relpath(doc, ROOT), path))
 
 
-def test_readme_make_targets_exist():
+def test_make_targets_exist():
+    """Every `make TARGET` in README.md and docs/*.md, and every target the README's list of
+    targets names (`bench-soft`, ...), is a target of the Makefile."""
     targets = make_targets()
     check(len(targets) > 10, "could not read the Makefile's targets")
+    for doc in DOCS:
+        text = open(doc, encoding="utf-8").read()
+        # (a placeholder such as `make fig-4-N` is no target name)
+        for m in set(re.findall(r"`make ([a-z][a-z0-9-]*)(?![A-Za-z0-9_-])", text)):
+            check(m in targets, "%s names `make %s`, which is not a target" % (os.path.relpath(doc, ROOT), m))
     text = open(os.path.join(ROOT, "README.md"), encoding="utf-8").read()
-    for m in set(re.findall(r"`make ([a-z][a-z0-9-]*)", text)):
-        check(m in targets, "README.md names `make %s`, which is not a target" % m)
+    block = re.search(r"The targets \(`make help` describes them\).*?\n\n(.*?)\n\n", text, re.S)
+    check(block is not None, "README.md has no list of make targets")
+    if block:
+        listed = set(re.findall(r"`([a-z][a-z0-9-]*)`", block.group(1)))
+        for m in listed:
+            check(m in targets, "README.md lists the target %s, which is not a target" % m)
+        # every target `make help` describes is in the README's list
+        p = subprocess.run(["make", "-s", "help"], capture_output=True, text=True, cwd=ROOT)
+        helped = set(re.findall(r"^make ([a-z][a-z0-9-]*)", p.stdout, re.M))
+        check(len(helped) > 10, "could not read make help")
+        for m in sorted(helped - {"run", "test"}):
+            check(m in listed, "make help describes `make %s`, which the README's list of targets leaves out" % m)
+
+
+def test_readme_is_a_front_door():
+    """README.md stays short, links every page of docs/ (and the pages being written), and its
+    command list names only commands `swim --help` knows."""
+    text = open(os.path.join(ROOT, "README.md"), encoding="utf-8").read()
+    check(len(text.splitlines()) < 250, "README.md has %d lines (limit 250)" % len(text.splitlines()))
+    linked = set(LINK.findall(text))
+    for doc in sorted(glob.glob(os.path.join(ROOT, "docs", "*.md"))) + [os.path.join(ROOT, p) for p in sorted(PENDING)]:
+        rel = os.path.relpath(doc, ROOT)
+        check(rel in linked, "README.md does not link %s" % rel)
+    check("docs/figures/" in text and re.search(r"!\[[^\]]*\]\(docs/figures/[^)]+\.png\)", text) is not None,
+          "README.md shows no figure of docs/figures/")
+    block = re.search(r"## The contract: `bin/swim`.*?```\n(.*?)```", text, re.S)
+    check(block is not None, "README.md has no command list")
+    if block is None:
+        return
+    from swimtest import SWIM
+    helptext = subprocess.run([SWIM, "--help"], capture_output=True, text=True, cwd=ROOT)
+    known = set(re.findall(r"^  ([a-z]+)\s", helptext.stdout + helptext.stderr, re.M))
+    check(len(known) >= 8, "could not read the commands of swim --help: %s" % sorted(known))
+    listed = set()
+    for line in block.group(1).splitlines():
+        words = line.split()
+        if not words:
+            continue
+        cmd = words[words.index("bin/swim-mpi") + 1] if "bin/swim-mpi" in words else words[1]
+        listed.add(cmd)
+        check(words[0] in ("swim", "mpirun") and cmd in known, "README command line names no command of swim --help: " + line)
+        doc = re.search(r"\((docs/[a-z-]+\.md)\)\s*$", line)
+        check(doc is not None and (os.path.exists(os.path.join(ROOT, doc.group(1))) or doc.group(1) in PENDING),
+              "README command line points to no existing doc: " + line)
+    for cmd in sorted(known - listed):
+        check(False, "swim --help has the command %s, which the README's command list leaves out" % cmd)
 
 
 def test_fig48_recipe_as_written():
-    """The README's Fig. 4.8 recipe, run as written (swim -> this build, out/ -> a temporary
-    folder): it marks the paper's four instants, each an event of the run."""
+    """The Fig. 4.8 recipe of docs/integrators-and-events.md (it was the README's), run as written
+    (swim -> this build, out/ -> a temporary folder): it marks the paper's four instants, each an
+    event of the run."""
     import csv
     import tempfile
-    text = open(os.path.join(ROOT, "README.md"), encoding="utf-8").read()
+    text = open(RECIPE_DOC, encoding="utf-8").read()
     block = re.search(r"Fig\. 4\.8 recipe.*?```sh\n(.*?)```", text, re.S)
-    check(block is not None, "README.md has no Fig. 4.8 recipe block")
+    check(block is not None, "docs/integrators-and-events.md has no Fig. 4.8 recipe block")
     if block is None:
         return
     from swimtest import SWIM

@@ -1,6 +1,6 @@
 """swim sweep as a long family is watched: a progress line on stderr (members done / total, failed,
 members/s, time left), one every --progress seconds when stderr is not a terminal, none with
---quiet; members.csv in member-id order when the sweep ends although members finish out of order
+--quiet, and at every tenth of the family in a log; members.csv in member-id order when the sweep ends although members finish out of order
 (a long member 0 beside short ones on two jobs), and again after a resume."""
 
 import csv
@@ -42,10 +42,13 @@ def test_quiet_and_period():
     out = os.path.join(TMP, "quiet")
     p = swim("sweep", EX3, "--out", out, "--vary", LENGTHS, "--jobs", "2", "--quiet")
     check(p.returncode == 0 and p.stderr == "", "--quiet: nothing on stderr: %r" % p.stderr)
+    # a log (stderr not a terminal), the default period of 10 s: a line at every tenth of the
+    # members, so a family of a few seconds still shows its progress, and not one per member
     out = os.path.join(TMP, "default")
-    p = swim("sweep", EX3, "--out", out, "--vary", "model.rho0=1,2", "--jobs", "2")
-    check(p.returncode == 0 and "swim sweep:" not in p.stderr,
-          "a sweep shorter than the default 10 s period prints no progress line: %r" % p.stderr)
+    p = swim("sweep", EX3, "--out", out, "--vary", "model.rho0=1:3:40", "--t-end", "0.2", "--jobs", "2")
+    lines = [ln for ln in p.stderr.splitlines() if ln.startswith("swim sweep:")]
+    check(p.returncode == 0 and 9 <= len(lines) <= 11 and lines and lines[-1].startswith("swim sweep: 40 / 40 members"),
+          "40 members, default period: a line per tenth, the last at 40 / 40: %r" % lines)
 
 
 def test_resume_keeps_order():

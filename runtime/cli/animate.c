@@ -6,12 +6,24 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "cli/args.h"
 #include "cli/commands.h"
 #include "io/files.h"
 #include "io/message.h"
 
+/* The options of runtime/plot/animate_run.py (which parses them), for --help. */
+static const swim_opt animate_options[] = {
+    {"fps", 1, NULL, "F", "frames per second, 1..120 (default 25)"},
+    {"duration", 1, NULL, "S", "length of the video in seconds, 0.1..3600 (default: the simulated time, clamped to [4, 20])"},
+    {"out", 1, NULL, "FILE", "the video (default DIR/animation.mp4; a still DIR/animation.png beside it)"}};
+
 int swim_cmd_animate(int argc, char **argv)
 {
+    for (int i = 2; i < argc; i++)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            swim_args_help(stdout, animate_options, (int)(sizeof animate_options / sizeof animate_options[0]));
+            return SWIM_ARGS_HELP;
+        }
     if (argc < 3 || strncmp(argv[2], "--", 2) == 0) {
         swim_message(stderr, "swim animate: expected a run directory first, e.g. swim animate out/example3 --fps 25");
         return 2;

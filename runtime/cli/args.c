@@ -8,9 +8,49 @@
 
 #include "io/message.h"
 
+/* Words of text wrapped at `width` columns, each line indented by `indent`. */
+static void wrapped(FILE *f, const char *text, int indent, int width)
+{
+    int col = indent;
+    fprintf(f, "%*s", indent, "");
+    for (const char *w = text; *w;) {
+        while (*w == ' ') w++;
+        size_t len = strcspn(w, " ");
+        if (!len) break;
+        if (col > indent && col + 1 + (int)len > width) {
+            fprintf(f, "\n%*s", indent, "");
+            col = indent;
+        } else if (col > indent) {
+            fputc(' ', f);
+            col++;
+        }
+        fprintf(f, "%.*s", (int)len, w);
+        col += (int)len;
+        w += len;
+    }
+    fputc('\n', f);
+}
+
+void swim_args_help(FILE *f, const swim_opt *opts, int nopts)
+{
+    fprintf(f, "options:\n");
+    for (int i = 0; i < nopts; i++) {
+        const swim_opt *o = &opts[i];
+        fprintf(f, "  --%s%s%s%s\n", o->name, o->takes_value ? " " : "", o->takes_value ? (o->arg ? o->arg : "VALUE") : "",
+                o->takes_value == 2 ? " (repeatable)" : "");
+        wrapped(f, o->help ? o->help : "(undocumented)", 6, 100);
+    }
+    fprintf(f, "  --help\n      print this list of options and exit\n");
+}
+
 int swim_args_parse(const char *cmd, int argc, char **argv, int first, swim_opt *opts, int nopts,
                     const char **positional, int npos, int *npos_out)
 {
+    for (int i = first; i < argc; i++)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            swim_args_help(stdout, opts, nopts);
+            return SWIM_ARGS_HELP;
+        }
     int np = 0;
     for (int i = first; i < argc; i++) {
         const char *a = argv[i];

@@ -3,6 +3,8 @@
 #ifndef SWIM_ARGS_H
 #define SWIM_ARGS_H
 
+#include <stdio.h>
+
 #include "scene/scene.h"
 
 typedef struct {
@@ -10,11 +12,21 @@ typedef struct {
     int takes_value;    /* 0 = flag, 1 = a value given once, 2 = a value the caller reads from
                          * every occurrence in argv itself (value is the last) */
     const char *value;  /* filled in: the value, "" for a flag that was given, NULL if absent */
+    const char *arg;    /* --help: the value's placeholder ("DIR", "T"); NULL for a flag */
+    const char *help;   /* --help: what it does, its default and its allowed values */
 } swim_opt;
+
+/* What swim_args_parse returns after printing the options for --help (the command then ends
+ * with status 0). */
+#define SWIM_ARGS_HELP (-1)
 
 /* Parses argv[first..argc). Non-option words go to positional[] (at most npos; their count in
  * *npos_out). Returns 0, or 2 after printing "swim CMD: ..." for an unknown or incomplete option,
- * or one given twice that is not repeatable (keeping only the last would silently drop the first). */
+ * or one given twice that is not repeatable (keeping only the last would silently drop the first).
+ * With --help (or -h) anywhere it prints every option of opts with its help on stdout instead and
+ * returns SWIM_ARGS_HELP: the help is made from the table the parser uses, so it lists every
+ * option the command accepts. Repeatable options a command takes out of argv beforehand
+ * (swim_args_take_all) are listed by giving them a row with takes_value 2. */
 int swim_args_parse(const char *cmd, int argc, char **argv, int first, swim_opt *opts, int nopts,
                     const char **positional, int npos, int *npos_out);
 
@@ -27,6 +39,9 @@ int swim_args_take_all(const char *cmd, int *argc, char **argv, int first, const
 /* Every `--set KEY=VALUE` taken out of argv (swim_args_take_all) and parsed into sets (at most cap):
  * how many, or -1 after one line "swim CMD: --set: ..." on stderr. */
 int swim_args_take_sets(const char *cmd, int *argc, char **argv, int first, swim_override *sets, int cap);
+
+/* The options block of --help: one entry per option, its help wrapped under it. */
+void swim_args_help(FILE *f, const swim_opt *opts, int nopts);
 
 const char *swim_args_get(const swim_opt *opts, int nopts, const char *name);
 

@@ -58,10 +58,12 @@ static int finish(void)
 
 int swim_cmd_cache(int argc, char **argv)
 {
-    swim_opt opts[] = {{"older-than", 1, NULL}};
+    swim_opt opts[] = {{"older-than", 1, NULL, "D", "with clean: only entries not used for D days (or a number "
+                                                    "with s, m, h or d: 12h, 30d); default: every entry"}};
     const char *pos[2];
     int npos = 0;
-    if (swim_args_parse("cache", argc, argv, 2, opts, 1, pos, 2, &npos)) return 2;
+    const int prc = swim_args_parse("cache", argc, argv, 2, opts, 1, pos, 2, &npos);
+    if (prc) return prc;
     const char *what = npos >= 1 ? pos[0] : NULL;
     if (!what || npos > 1 || (strcmp(what, "path") && strcmp(what, "list") && strcmp(what, "clean"))) {
         swim_message(stderr, "swim cache: expected one of path, list, clean%s%s", what ? ", got " : "", what ? what : "");

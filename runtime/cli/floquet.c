@@ -59,12 +59,20 @@ int swim_cmd_floquet(int argc, char **argv)
     swim_override sets[SWIM_SETUP_MAX_SETS];
     int nsets = swim_args_take_sets("floquet", &argc, argv, 2, sets, (int)(sizeof sets / sizeof sets[0]));
     if (nsets < 0) return 2;
-    swim_opt opts[] = {{"out", 1, NULL}, {"event", 1, NULL}, {"t-max", 1, NULL}, {"quiet", 0, NULL},
-                       {"generic", 0, NULL}};
+    swim_opt opts[] = {
+        {"out", 1, NULL, "DIR", "the output folder of floquet.json (default: out/NAME-floquet)"},
+        {"event", 1, NULL, "COLUMN:KIND", "the section that defines the period: two successive events of a moving "
+                                          "coordinate or its velocity, KIND max, min or zero (default: the first moving "
+                                          "coordinate's max, e.g. am1:max)"},
+        {"t-max", 1, NULL, "T", "how long to look for the two events (default: the scene's run.t_end)"},
+        {"set", 2, NULL, "KEY=VALUE", "a scene value overridden before the scene is validated (as for swim run)"},
+        {"quiet", 0, NULL, NULL, "no notices on stderr (kernel generation); the table stays on stdout"},
+        {"generic", 0, NULL, NULL, "use the generic kernel of N modes, not one specialized to the scene"}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
-    if (swim_args_parse("floquet", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
+    const int prc = swim_args_parse("floquet", argc, argv, 2, opts, nopts, pos, 1, &npos);
+    if (prc) return prc;
     if (npos != 1) {
         swim_message(stderr, "swim floquet: expected one scene file, e.g. swim floquet models/example3.toml");
         return 2;

@@ -179,11 +179,15 @@ static int output_unwritable(const char *out)
 
 int swim_cmd_flow(int argc, char **argv)
 {
-    swim_opt opts[] = {{"times", 1, NULL}, {"frames", 1, NULL}, {"out", 1, NULL}};
+    swim_opt opts[] = {
+        {"times", 1, NULL, "T1,T2,...", "the times (within the run) at which to compute the body and the flow"},
+        {"frames", 1, NULL, "K", "K times evenly spaced over the run, 1..100000 (default 10; not with --times)"},
+        {"out", 1, NULL, "FILE|-", "where the JSON goes, - for stdout (default: DIR/snapshots.json)"}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
-    if (swim_args_parse("flow", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
+    const int prc = swim_args_parse("flow", argc, argv, 2, opts, nopts, pos, 1, &npos);
+    if (prc) return prc;
     if (npos != 1) {
         swim_message(stderr, "swim flow: expected one run directory, e.g. swim flow out/example3 --frames 10");
         return 2;

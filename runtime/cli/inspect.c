@@ -12,10 +12,16 @@
 
 int swim_cmd_inspect(int argc, char **argv)
 {
-    swim_opt opts[] = {{"modes", 1, NULL}, {"shape", 1, NULL}, {"velocity", 1, NULL},
-                       {"rho0", 1, NULL},  {"rhof", 1, NULL},  {"full", 0, NULL}};
+    swim_opt opts[] = {
+        {"modes", 1, NULL, "N", "the number of modes N, 0..32 (required)"},
+        {"shape", 1, NULL, "a1,b1,a-1,b-1,...", "the shape c: 2(N + 1) coordinates, inside the admissible set D (required)"},
+        {"velocity", 1, NULL, "V1,V2,...", "a shape velocity (2(N + 1) components): also Gamma(c)(v, v)"},
+        {"rho0", 1, NULL, "RHO", "the body's density, > 0 (default 1)"},
+        {"rhof", 1, NULL, "RHO", "the fluid's density, > 0 (default 1)"},
+        {"full", 0, NULL, NULL, "also the whole Christoffel symbol Gamma^i_jk (n^3 numbers)"}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
-    if (swim_args_parse("inspect", argc, argv, 2, opts, nopts, NULL, 0, NULL)) return 2;
+    const int prc = swim_args_parse("inspect", argc, argv, 2, opts, nopts, NULL, 0, NULL);
+    if (prc) return prc;
     const char *ms = swim_args_get(opts, nopts, "modes"), *ss = swim_args_get(opts, nopts, "shape");
     if (!ms || !ss) {
         swim_message(stderr, "swim inspect: --modes and --shape are required");

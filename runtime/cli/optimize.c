@@ -171,12 +171,22 @@ int swim_cmd_optimize(int argc, char **argv)
     const char *vary[SWIM_OPT_MAX_KEYS + 1];
     int nvary = swim_args_take_all("optimize", &argc, argv, 2, "vary", vary, SWIM_OPT_MAX_KEYS + 1);
     if (nvary < 0) return 2;
-    swim_opt opts[] = {{"out", 1, NULL}, {"maximize", 1, NULL}, {"minimize", 1, NULL},
-                       {"max-iter", 1, NULL}, {"tol", 1, NULL}, {"quiet", 0, NULL}};
+    swim_opt opts[] = {
+        {"vary", 2, NULL, "KEY=LO:HI", "a run-time scene key searched within [LO, HI] (at least one; keys: "
+                                       "models/README.md, e.g. parameters.A=0.5:4)"},
+        {"maximize", 1, NULL, "QUANTITY", "the quantity at t_end to make largest: x, y, theta, displacement, work, "
+                                          "forcing_work, displacement_per_work or energy"},
+        {"minimize", 1, NULL, "QUANTITY", "the quantity to make smallest (one of --maximize and --minimize)"},
+        {"out", 1, NULL, "DIR", "the output folder (default: out/NAME-optimize)"},
+        {"max-iter", 1, NULL, "K", "at most K Nelder-Mead iterations, 1..100000 (default 60)"},
+        {"tol", 1, NULL, "S", "converged when the simplex is smaller than S in the transformed variables (default 1e-3)"},
+        {"set", 2, NULL, "KEY=VALUE", "a scene value overridden before the scene is validated (as for swim run)"},
+        {"quiet", 0, NULL, NULL, "no iteration lines on stderr; the result line stays on stdout"}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
     const char *pos[1];
     int npos = 0;
-    if (swim_args_parse("optimize", argc, argv, 2, opts, nopts, pos, 1, &npos)) return 2;
+    const int prc = swim_args_parse("optimize", argc, argv, 2, opts, nopts, pos, 1, &npos);
+    if (prc) return prc;
     if (npos != 1) {
         swim_message(stderr, "swim optimize: expected one scene file, e.g. swim optimize models/selfpropelled.toml "
                      "--vary parameters.A=0.5:4 --maximize displacement_per_work");

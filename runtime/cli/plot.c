@@ -6,13 +6,29 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "cli/args.h"
 #include "cli/commands.h"
 #include "io/files.h"
 #include "io/message.h"
 
 
+/* The options of runtime/plot/plot_run.py (which parses them), for --help. */
+static const swim_opt plot_options[] = {
+    {"only", 1, NULL, "NAME ...", "only these figures: trajectory, energy, impulse, phase, snapshots, instants, "
+                                  "phase3d, modes, path, stroke (default: every one the run has data for)"},
+    {"mark", 2, NULL, "T1,T2,...", "mark these times on the time plots and draw the body at them (instants.png)"},
+    {"events", 1, NULL, "all|COLUMN:KIND,...", "mark the events of DIR/events.csv: all of them, or the pairs "
+                                               "named (KIND max, min, zero or *); without --mark and --events: the "
+                                               "first 12 event times, the rest counted in a note"}};
+
 int swim_cmd_plot(int argc, char **argv)
 {
+    for (int i = 2; i < argc; i++)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            swim_args_help(stdout, plot_options, (int)(sizeof plot_options / sizeof plot_options[0]));
+            printf("a sweep folder (DIR/sweep.json) gets the family's figures, which take no options\n");
+            return SWIM_ARGS_HELP;
+        }
     if (argc < 3 || strncmp(argv[2], "--", 2) == 0) {
         swim_message(stderr, "swim plot: expected a run directory first, e.g. swim plot out/example3 --mark 3.17,3.95");
         return 2;

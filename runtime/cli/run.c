@@ -80,10 +80,28 @@ static int adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *
 /* argv into the job. 0, 2 after one line on stderr, or 1 (out of memory). */
 static int read_options(int argc, char **argv, run_cmd *c)
 {
-    const swim_opt opts[] = {{"out", 1, NULL}, {"t-end", 1, NULL}, {"rtol", 1, NULL}, {"output-step", 1, NULL},
-                             {"atol", 1, NULL}, {"integrator", 1, NULL}, {"quiet", 0, NULL}, {"generic", 0, NULL},
-                             {"no-projection", 0, NULL}, {"trace-steps", 1, NULL},
-                             {"snapshots", 0, NULL}, {"summary-only", 0, NULL}, {"sensitivity-steps", 1, NULL}};
+    const swim_opt opts[] = {
+        {"out", 1, NULL, "DIR", "the output folder (default: out/NAME, NAME the scene file's name without .toml)"},
+        {"t-end", 1, NULL, "T", "final time (default: the scene's run.t_end)"},
+        {"output-step", 1, NULL, "H", "time between output rows (default: the scene's run.output_step)"},
+        {"rtol", 1, NULL, "R", "relative tolerance (default: the scene's run.rtol, else 1e-8)"},
+        {"atol", 1, NULL, "A", "absolute tolerance (default: the scene's run.atol, else 1e-10)"},
+        {"integrator", 1, NULL, "NAME", swim_run_settings_integrator_help()},
+        {"set", 2, NULL, "KEY=VALUE", "a scene value overridden before the scene is validated, e.g. model.rho0=2 or "
+                                      "shape.c0.am1=0.3 (keys: models/README.md); recorded in DIR/scene.toml"},
+        {"event", 2, NULL, "COLUMN:KIND[:stop]", "locate the times where a trajectory column (a header name of "
+                                                 "trajectory.csv) has KIND zero, min or max, into DIR/events.csv; "
+                                                 ":stop ends the run there; besides the scene's [events] list"},
+        {"quiet", 0, NULL, NULL, "print nothing but errors (no progress, no report)"},
+        {"generic", 0, NULL, NULL, "use the generic kernel of N modes, not one specialized to the scene's structure"},
+        {"no-projection", 0, NULL, NULL, "do not put the state back on the constraints after each step (run.projection = false)"},
+        {"trace-steps", 1, NULL, "FILE", "write every step attempt to FILE as CSV (t, h, order, accepted, error estimates, energy, work); abm only"},
+        {"snapshots", 0, NULL, NULL, "also DIR/snapshots.json: the body's boundary and density at the output rows"},
+        {"summary-only", 0, NULL, NULL, "write summary.json (and events) but no trajectory.csv"},
+        {"sensitivity", 2, NULL, "KEY[,KEY...]", "also DIR/sensitivity.csv: d(x, y, theta, E, work)/d(KEY) by the "
+                                                 "variational equations, for run-time keys (docs/control.md)"},
+        {"sensitivity-steps", 1, NULL, "all|state", "with --sensitivity: the sensitivities in the error test (all, "
+                                                    "default) or riding on the state's steps (state)"}};
     c->nopts = (int)(sizeof opts / sizeof opts[0]);
     memcpy(c->opts, opts, sizeof opts);
     swim_run_settings_key_options(c->opts, &c->nopts, (int)(sizeof c->opts / sizeof c->opts[0]));
@@ -96,7 +114,8 @@ static int read_options(int argc, char **argv, run_cmd *c)
     if (j->nevents < 0) return 2;
     const char *pos[1];
     int npos = 0;
-    if (swim_args_parse("run", argc, argv, 2, c->opts, c->nopts, pos, 1, &npos)) return 2;
+    const int prc = swim_args_parse("run", argc, argv, 2, c->opts, c->nopts, pos, 1, &npos);
+    if (prc) return prc;
     if (npos != 1) {
         swim_message(stderr, "swim run: expected one scene file, e.g. swim run models/example3.toml");
         return 2;
@@ -187,6 +206,12 @@ static int report(run_cmd *c, swim_job *job, int status)
     const char *oerr = swim_job_output_error(job);
     if (oerr) swim_message(stderr, "swim run: %s", oerr);   /* the reason names another cause */
     const swim_scene *s = swim_job_scene(job);
+    if (c->job.quiet) {   /* nothing but errors: a failed run is one line on stderr */
+        if (status)
+            swim_message(stderr, "swim run: %s: FAILED (%s); %ld rows in %s", s->path,
+                         r->reason ? r->reason : "out of memory", r->rows, c->job.summary_only ? p->summary_path : p->csv_path);
+        return status ? 1 : 0;
+    }
     swim_message(stdout, c->job.summary_only ? "%s: %s (%s); %ld rows computed, summary in %s" : "%s: %s (%s); %ld rows in %s",
                  s->path, status ? "FAILED" : "completed", r->reason ? r->reason : "out of memory", r->rows,
                  c->job.summary_only ? p->summary_path : p->csv_path);

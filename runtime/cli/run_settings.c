@@ -118,8 +118,25 @@ int swim_run_settings_record(const swim_opt *opts, int nopts, const swim_scene *
 
 void swim_run_settings_key_options(swim_opt *opts, int *nopts, int cap)
 {
-    int count;
+    static char help[8][320];   /* the command line's, for --help: its row's documentation */
+    int count, made = 0;
     const swim_scene_key *keys = swim_scene_keys(&count);
     for (int i = 0; i < count && *nopts < cap; i++)
-        if (keys[i].option && (keys[i].flags & SWIM_KEY_PLAIN)) opts[(*nopts)++] = (swim_opt){keys[i].option, 1, NULL};
+        if (keys[i].option && (keys[i].flags & SWIM_KEY_PLAIN)) {
+            const swim_scene_key *k = &keys[i];
+            char dflt[64] = "";
+            if (k->kind == SWIM_KEY_INTEGER && k->dflt < 0) snprintf(dflt, sizeof dflt, "; default: the integrator's own");
+            else if (k->kind == SWIM_KEY_INTEGER || k->kind == SWIM_KEY_NUMBER) snprintf(dflt, sizeof dflt, "; default %g", k->dflt);
+            if (made < 8) snprintf(help[made], sizeof help[made], "%s (run.%s: %s%s)", k->doc, k->key, k->expect, dflt);
+            opts[(*nopts)++] = (swim_opt){k->option, 1, NULL, "VALUE", made < 8 ? help[made] : k->doc};
+            made++;
+        }
+}
+
+const char *swim_run_settings_integrator_help(void)
+{
+    static char help[512];
+    snprintf(help, sizeof help, "the integrator, one of %s (default: the scene's run.integrator, else abm; "
+             "docs/integrators-and-events.md compares them)", swim_ode_method_list());
+    return help;
 }

@@ -16,6 +16,8 @@ int swim_run_settings_options(const swim_opt *opts, int nopts, swim_scene *s);
 /* The options of the scene keys that have one (scene/keys.h) besides those above, for a command's
  * option list: appended to opts[*nopts ..] (room for cap in all). */
 void swim_run_settings_key_options(swim_opt *opts, int *nopts, int cap);
+/* --integrator's help: the names of the registry (ode/ode.h), the default. */
+const char *swim_run_settings_integrator_help(void);
 
 /* The overrides that write into DIR/scene.toml what the options given changed in s (--t-end,
  * --output-step, --rtol, --atol, --integrator, --no-projection and every plain key's option),

@@ -50,8 +50,7 @@ int swim_cmd_sweep(int argc, char **argv)
 
     const double t0 = swim_clock_seconds();
     long next = 0, running = 0, ran = 0, failed = 0, interrupted = 0;
-    double last_progress = t0;
-    int drawn = 0;
+    sweep_progress_state progress = {t0, p.members > 0 ? 10 * p.already / p.members : 10, 0};
     char row[2048];
     if (!p.quiet && p.already)
         swim_message(stderr, "swim sweep: resuming %s: %ld of %ld members already finished", p.dir, p.already, p.members);
@@ -96,9 +95,9 @@ int swim_cmd_sweep(int argc, char **argv)
         } else {
             stop_signal = -1;   /* named on stderr; the next members would meet the same disk */
         }
-        sweep_progress(&p, ran, failed, t0, &last_progress, &drawn);
+        sweep_progress(&p, ran, failed, t0, &progress);
     }
-    if (drawn) fputc('\n', stderr);
+    if (progress.drawn) fputc('\n', stderr);
     sigaction(SIGINT, &old_int, NULL);
     sigaction(SIGTERM, &old_term, NULL);
     if (fclose(rows) != 0 && !stop_signal) {

@@ -81,16 +81,31 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
     if (nv < 0) return 2;
     int ns = swim_args_take_all(cmd, &argc, argv, first, "set", sets, SWEEP_MAX_SETS - 5);   /* 5: --t-end, --rtol, ... */
     if (ns < 0) return 2;
-    swim_opt opts[40] = {{"out", 1, NULL}, {"zip", 0, NULL}, {"jobs", 1, NULL}, {"keep", 1, NULL},
-                         {"t-end", 1, NULL}, {"output-step", 1, NULL}, {"rtol", 1, NULL},
-                         {"atol", 1, NULL}, {"integrator", 1, NULL}, {"generic", 0, NULL},
-                         {"no-projection", 0, NULL}, {"quiet", 0, NULL}, {"progress", 1, NULL},
-                         {"format", 1, NULL}};
-    int nopts = 14;
+    swim_opt opts[40] = {
+        {"out", 1, NULL, "DIR", "the sweep's folder (required): sweep.json, members.csv, members/ID/"},
+        {"vary", 2, NULL, "KEY=SPEC", "a varied scene key; SPEC START:STOP:COUNT, log:START:STOP:COUNT or V1,V2,...; "
+                                      "the members are the grid of every --vary (the last varies fastest)"},
+        {"zip", 0, NULL, NULL, "pair the --vary lists (same length) instead of taking their grid"},
+        {"jobs", 1, NULL, "J", "members run at once, 1..4096 (default: the machine's cores)"},
+        {"keep", 1, NULL, "summaries|trajectories", "what a member keeps besides its summary (default summaries)"},
+        {"format", 1, NULL, "csv|hdf5", "hdf5: also DIR/family.h5, the family in one file for h5py (default csv)"},
+        {"progress", 1, NULL, "S", "when stderr is not a terminal: a progress line every S seconds (default 10) and at "
+                                   "every tenth of the members; on a terminal one line is redrawn"},
+        {"set", 2, NULL, "KEY=VALUE", "a scene value every member gets (as for swim run)"},
+        {"t-end", 1, NULL, "T", "final time of every member (run.t_end)"},
+        {"output-step", 1, NULL, "H", "time between output rows (run.output_step)"},
+        {"rtol", 1, NULL, "R", "relative tolerance (run.rtol)"},
+        {"atol", 1, NULL, "A", "absolute tolerance (run.atol)"},
+        {"integrator", 1, NULL, "NAME", swim_run_settings_integrator_help()},
+        {"generic", 0, NULL, NULL, "use the generic kernel of N modes, not ones specialized to the scene"},
+        {"no-projection", 0, NULL, NULL, "members without the projection on the constraints (run.projection = false)"},
+        {"quiet", 0, NULL, NULL, "no progress lines and no notices; the final report stays on stdout"}};
+    int nopts = 16;
     swim_run_settings_key_options(opts, &nopts, 40);   /* --step-lookahead, ... (scene/keys.h) */
     const char *pos[1];
     int npos = 0;
-    if (swim_args_parse(cmd, argc, argv, first, opts, nopts, pos, 1, &npos)) return 2;
+    const int prc = swim_args_parse(cmd, argc, argv, first, opts, nopts, pos, 1, &npos);
+    if (prc) return prc;
     if (npos != 1) {
         swim_message(stderr, "swim %s: expected one scene file, e.g. swim %s models/example1.toml --out out/fam "
                      "--vary shape.dc0.bm2=-1:1:11", cmd, cmd);

@@ -72,8 +72,8 @@ static int deal(sweep_plan *p, int ranks)
     long next = 0, ran = 0, failed = 0, handled = 0;
     int stop = 0;   /* a row or a summary could not be written (named on stderr): deal no more */
     int active = ranks - 1;
-    double busy = 0.0, t0 = swim_clock_seconds(), last_progress = t0;
-    int drawn = 0;
+    double busy = 0.0, t0 = swim_clock_seconds();
+    sweep_progress_state progress = {t0, p->members > 0 ? 10 * p->already / p->members : 10, 0};
     long nap = 50000;   /* ns; doubles while idle up to 2 ms: few wake-ups, at most 2 ms of latency */
     char msg[MSG_LEN];
     while (active > 0) {
@@ -102,7 +102,7 @@ static int deal(sweep_plan *p, int ranks)
                 stop = 1;   /* the worker named the file and the reason */
             }
             handled++;
-            sweep_progress(p, ran, failed, t0, &last_progress, &drawn);
+            sweep_progress(p, ran, failed, t0, &progress);
         }
         while (next < p->members && p->finished[next]) next++;
         long give = next < p->members && !stop ? next++ : -1;
@@ -110,7 +110,7 @@ static int deal(sweep_plan *p, int ranks)
         MPI_Send(&give, 1, MPI_LONG, st.MPI_SOURCE, TAG_WORK, MPI_COMM_WORLD);
         busy += swim_clock_seconds() - tb;
     }
-    if (drawn) fputc('\n', stderr);
+    if (progress.drawn) fputc('\n', stderr);
     if (fclose(rows) != 0 && !stop) {
         swim_message(stderr, "swim-mpi: cannot write %s/members.csv: %s", p->dir, strerror(errno));
         stop = 1;
@@ -179,5 +179,5 @@ int main(int argc, char **argv)
     }
     sweep_free(&p);
     MPI_Finalize();
-    return rc;
+    return rc < 0 ? 0 : rc;   /* < 0: --help was printed */
 }

@@ -567,17 +567,20 @@ void sweep_progress_line(const sweep_plan *p, long ran, long failed, double seco
     }
 }
 
-void sweep_progress(const sweep_plan *p, long ran, long failed, double t0, double *last, int *drawn)
+void sweep_progress(const sweep_plan *p, long ran, long failed, double t0, sweep_progress_state *st)
 {
+    if (p->quiet) return;
     const double t = swim_clock_seconds();
     const int on_terminal = isatty(STDERR_FILENO);
-    if (p->quiet || t - *last < (on_terminal ? 0.5 : p->progress_every)) return;
+    const long decile = p->members > 0 ? 10 * (p->already + ran) / p->members : 10;
+    if (on_terminal ? t - st->last < 0.5 : t - st->last < p->progress_every && decile == st->decile) return;
     char line[256];
     sweep_progress_line(p, ran, failed, t - t0, line, sizeof line);
     if (on_terminal) fprintf(stderr, "\r%s\033[K", line);
     else fprintf(stderr, "%s\n", line);
-    *last = t;
-    *drawn |= on_terminal;
+    st->last = t;
+    st->decile = decile;
+    st->drawn |= on_terminal;
 }
 
 /* ---------------------------------------------------------------- prepare */

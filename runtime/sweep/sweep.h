@@ -134,10 +134,16 @@ int sweep_sort_rows(const sweep_plan *p);
  * nothing has finished yet). */
 void sweep_progress_line(const sweep_plan *p, long ran, long failed, double seconds, char *line, size_t len);
 
-/* The progress line on stderr (not with --quiet): on a terminal redrawn in place at most every
- * 0.5 s, otherwise a line every --progress seconds; *last is when it was last drawn and *drawn
- * is set once a terminal line is open (the caller ends it with a newline). */
-void sweep_progress(const sweep_plan *p, long ran, long failed, double t0, double *last, int *drawn);
+/* The progress line on stderr (not with --quiet), called as members finish: on a terminal
+ * redrawn in place at most every 0.5 s; otherwise a line every --progress seconds or whenever
+ * another tenth of the members is done, whichever comes first (so a short family in a log still
+ * shows its progress). */
+typedef struct {
+    double last;   /* when the line was last drawn (swim_clock_seconds; the sweep's start at first) */
+    long decile;   /* tenths of the members done then */
+    int drawn;     /* a terminal line is open: the caller ends it with a newline */
+} sweep_progress_state;
+void sweep_progress(const sweep_plan *p, long ran, long failed, double t0, sweep_progress_state *st);
 
 /* The end of the sweep's report on stdout: flushed and checked (a full disk, /dev/full, a closed
  * pipe), and closed when close_it. 0, or -1 after one line "swim CMD: cannot write the report to
