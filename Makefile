@@ -27,7 +27,7 @@ PREFIX     ?= /usr/local
 
 # Debian packages a fresh machine lacks (checked by `make deps`). libjansson-dev: the JSON parser
 # that reads summaries back (runtime/driver/summary_read.c).
-DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev libjansson-dev python3-sympy python3-numpy python3-matplotlib
+DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev libjansson-dev python3-sympy python3-numpy python3-matplotlib python3-pytest
 # Installed on demand by the targets that need them (animations, the page and its browser test):
 # ffmpeg pulls ~90 packages and chromium ~280 MB, too much for a plain build.
 MEDIA_PKGS := ffmpeg chromium
@@ -53,6 +53,7 @@ LIB_OBJS    := $(LIB_SRCS:%.c=$(BUILD)/%.o) $(BUILD)/kernel_table.o
 export PYTHONHASHSEED := 0
 TESTLIB_OBJS := $(TEST_LIB_SRCS:%.c=$(BUILD)/%.o)
 include runtime/lib/rules.mk
+include python/rules.mk
 TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 
@@ -79,7 +80,9 @@ help:
 	@echo "make bench-soft      perturbed families of the soft hard scenes: completion, energy, time (~20 min)"
 	@echo "make generate N=12   regenerate the kernel for one mode count into generated/"
 	@echo "make generate-all    regenerate the committed kernels (N = $(MODES))"
-	@echo "make install PREFIX=/usr/local   bin/swim (and bin/swim-mpi if built) + the generator, kernel headers and plot scripts"
+	@echo "make install PREFIX=/usr/local   bin/swim (and bin/swim-mpi if built) + the generator, kernel headers and plot scripts,"
+	@echo "                 libswim, swim.h, swim.pc, the Python package, swim(1) and the bash completion"
+	@echo "make uninstall PREFIX=/usr/local removes exactly what install put there"
 	@echo "make run        main job: simulate models/example3.toml and plot it"
 	@echo "make readme-figures  rebuild docs/figures/ from the main job"
 	@echo "make clean      remove build/ and bin/"
@@ -93,7 +96,7 @@ $(MPI_STAMP): PKGS := $(MPI_PKGS)
 $(FUZZ_STAMP): PKGS := $(FUZZ_PKGS)
 # The stamps depend on the Makefile (and the module fragments listing packages): a package added to
 # a list is checked again in a build folder whose stamp predates it.
-$(DEPS_STAMP) $(MEDIA_STAMP) $(MPI_STAMP) $(FUZZ_STAMP): Makefile $(wildcard runtime/mpi/module.mk)
+$(DEPS_STAMP) $(MEDIA_STAMP) $(MPI_STAMP) $(FUZZ_STAMP): Makefile $(wildcard runtime/*/module.mk)
 	@missing=""; for p in $(PKGS); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
 	done; \
@@ -153,7 +156,7 @@ asan-tests: | $(DEPS_STAMP)
 	  KERNEL_OPT="$(KERNEL_OPT)" $(ASAN_TEST_BINS)
 
 # Everything the tests install is built first: two tests running `make install` at once only copy.
-test: $(BIN)/swim lib $(TEST_BINS) $(if $(ASAN_TEST_BINS),asan-tests) $(MEDIA_STAMP) $(FUZZ_STAMP)
+test: $(BIN)/swim lib $(BUILD)/man/swim.1 $(TEST_BINS) $(if $(ASAN_TEST_BINS),asan-tests) $(MEDIA_STAMP) $(FUZZ_STAMP)
 	@$(MAKE) --no-print-directory mpi >/dev/null 2>&1 || echo "make mpi failed: the MPI sweep tests are skipped"
 	@$(SAN_ENV) SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim \
 	  bash tests/run_tests.sh $(TEST_BINS) $(ASAN_TEST_BINS) $(TEST_SCRIPTS)
@@ -171,6 +174,31 @@ install: $(BIN)/swim
 	install -m 755 "$$SWIM_INSTALL_BIN/swim" "$$SWIM_INSTALL_DEST/bin/swim"
 	if [ -x "$$SWIM_INSTALL_BIN/swim-mpi" ]; then install -m 755 "$$SWIM_INSTALL_BIN/swim-mpi" "$$SWIM_INSTALL_DEST/bin/swim-mpi"; fi
 	for f in $(SHARE_FILES); do install -D -m 644 "$$f" "$$SWIM_INSTALL_DEST/share/swim/$$f" || exit 1; done
+	install -D -m 644 $(BUILD)/man/swim.1 "$$SWIM_INSTALL_DEST/share/man/man1/swim.1"
+	install -D -m 644 $(BUILD)/swim.bash "$$SWIM_INSTALL_DEST/share/bash-completion/completions/swim"
+
+# swim(1) and the bash completion, made from the program's own --help (runtime/cli/help_pages.py).
+$(BUILD)/man/swim.1: $(BIN)/swim runtime/cli/help_pages.py
+	@mkdir -p $(dir $@)
+	$(PYTHON) runtime/cli/help_pages.py $(BIN)/swim --man $@ --completion $(BUILD)/swim.bash
+$(BUILD)/swim.bash: $(BUILD)/man/swim.1
+install: $(BUILD)/man/swim.1
+
+# Exactly what install put there (the library's and the Python package's files by their own
+# rules), then the folders it made that are left empty.
+uninstall: export SWIM_INSTALL_DEST := $(DESTDIR)$(PREFIX)
+uninstall: uninstall-bin
+.PHONY: uninstall-bin
+uninstall-bin: export SWIM_INSTALL_DEST := $(DESTDIR)$(PREFIX)
+uninstall-bin: uninstall-lib uninstall-python
+	@case "$$SWIM_INSTALL_DEST" in /*) ;; *) echo "make uninstall: PREFIX='$$SWIM_INSTALL_DEST' is not an absolute path" >&2; exit 2 ;; esac
+	rm -f "$$SWIM_INSTALL_DEST/bin/swim" "$$SWIM_INSTALL_DEST/bin/swim-mpi" "$$SWIM_INSTALL_DEST/share/man/man1/swim.1" \
+	  "$$SWIM_INSTALL_DEST/share/bash-completion/completions/swim"
+	for f in $(SHARE_FILES); do rm -f "$$SWIM_INSTALL_DEST/share/swim/$$f"; done
+	if [ -d "$$SWIM_INSTALL_DEST/share/swim" ]; then find "$$SWIM_INSTALL_DEST/share/swim" -name __pycache__ -type d -prune -exec rm -rf {} +; \
+	  find "$$SWIM_INSTALL_DEST/share/swim" -depth -type d -empty -delete; fi
+	cd "$$SWIM_INSTALL_DEST" && for d in bin share/man/man1 share/man share/bash-completion/completions share/bash-completion share lib/pkgconfig lib include; do \
+	  rmdir "$$d" 2>/dev/null; done; true
 
 # The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer (own build folder;
 # specialized kernels are compiled with the same flags into their own cache entries).
@@ -187,7 +215,7 @@ fuzz: | $(DEPS_STAMP) $(FUZZ_STAMP)
 	bash tests/fuzz/run_fuzz.sh $(FUZZ_SECONDS)
 
 BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_latency.py tests/bench/bench_drift.py \
-                 tests/bench/bench_step_checks.py tests/bench/bench_jacobian.py
+                 tests/bench/bench_step_checks.py tests/bench/bench_jacobian.py tests/bench/bench_python_loop.py
 
 bench: $(BIN)/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs $(BUILD)/tests/bench/bench_jacobian_cost
 	@bash tests/bench/run_bench.sh $(BENCH_SCRIPTS) $(BENCH_BINS)
@@ -240,6 +268,8 @@ readme-figures: run
 clean:
 	rm -rf $(BUILD) bin
 
--include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
+# (not the dependency files of the other checkout tests/compare_reference.sh builds inside build/:
+# their targets have the same names and would force rebuilds)
+-include $(shell find $(BUILD) -name '*.d' -not -path '$(BUILD)/compare-reference/*' 2>/dev/null)
 # Keep intermediate objects (no rebuild on every make test).
 .SECONDARY: $(TEST_BINS:%=%.o)

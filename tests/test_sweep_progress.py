@@ -62,6 +62,19 @@ def test_resume_keeps_order():
     check(ids(out) == [0, 1, 2, 3, 4], "members.csv in id order after a resume: %s" % ids(out))
 
 
+def test_family_of_200_listed_values():
+    # 200 values as one list (a SPEC of ~1 kB, kept whole) on the default period: a line at every
+    # tenth, 200 rows in id order
+    values = ",".join(repr(1 + i / 100) for i in range(200))
+    out = os.path.join(TMP, "two-hundred")
+    p = swim("sweep", EX3, "--out", out, "--vary", "model.rho0=" + values, "--t-end", "0.05", "--jobs", "2")
+    lines = [ln for ln in p.stderr.splitlines() if ln.startswith("swim sweep:")]
+    check(p.returncode == 0 and "200 members" in p.stdout, "200 members run: %r" % p.stdout[-200:])
+    check(ids(out) == list(range(200)), "200 rows in id order")
+    check(10 <= len(lines) <= 12 and lines[-1].startswith("swim sweep: 200 / 200 members"),
+          "progress lines at every tenth: %r" % lines[-3:])
+
+
 def test_bad_progress():
     p = swim("sweep", EX3, "--out", os.path.join(TMP, "bad"), "--vary", LENGTHS, "--progress", "-1")
     check(p.returncode == 2 and swimtest.one_line(p) and "--progress" in p.stderr,

@@ -12,5 +12,6 @@ int swim_cmd_sweep(int argc, char **argv);
 int swim_cmd_floquet(int argc, char **argv);
 int swim_cmd_optimize(int argc, char **argv);
 int swim_cmd_cache(int argc, char **argv);
+int swim_cmd_export(int argc, char **argv);
 
 #endif

@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "cli/args.h"
 #include "cli/commands.h"
 #include "io/message.h"
 #include "io/stdout_check.h"
@@ -59,6 +60,11 @@ static const command commands[] = {
      "the kernel cache: where it is, what it holds, removing entries\n"
      "           path | list | clean [--older-than D (days, or with s, m, h, d; default: every entry)]",
      "swim cache clean --older-than 30d"},
+    {"export", swim_cmd_export,
+     "a self-contained C source tree for one scene: `make -C DIR` builds DIR/simulate (C, GSL, LAPACK;\n"
+     "           no Python), which writes what swim run writes, digit for digit\n"
+     "           --out DIR [--set KEY=VALUE ...] [--quiet]; DIR/simulate [--out OUT] [--t-end T] [--rtol R] [--atol A] [--set ...]",
+     "swim export models/example3.toml --out out/example3-src && make -C out/example3-src"},
     {"plot", swim_cmd_plot, "PNG figures of a run directory, or of a sweep directory (matplotlib)\n"
      "           [--mark T1,T2,...] [--events all|COLUMN:KIND,...] [--only NAME ...]\n"
      "           marks: the times given and the events selected; without either, the first 12 event times",
@@ -96,8 +102,10 @@ int main(int argc, char **argv)
         if (strcmp(argv[1], commands[i].name) == 0) {
             for (int a = 2; a < argc; a++)
                 if (strcmp(argv[a], "--help") == 0 || strcmp(argv[a], "-h") == 0) {
-                    printf("swim %s: %s\n  e.g. %s\n", commands[i].name, commands[i].summary, commands[i].example);
-                    return swim_stdout_finish(commands[i].name, 0);
+                    /* the synopsis here; the options from the command's own parser table */
+                    printf("swim %s: %s\n  e.g. %s\n\n", commands[i].name, commands[i].summary, commands[i].example);
+                    const int rc = commands[i].run(argc, argv);
+                    return swim_stdout_finish(commands[i].name, rc == SWIM_ARGS_HELP ? 0 : rc);
                 }
             const int rc = commands[i].run(argc, argv);
             /* A report lost at the flush is a failure of every command that prints one; swim

@@ -142,7 +142,7 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
             return 2;
         }
         snprintf(w->key, sizeof w->key, "%.*s", (int)(eq - varies[i]), varies[i]);
-        snprintf(w->spec, sizeof w->spec, "%s", eq + 1);
+        w->spec = eq + 1;   /* argv outlives the plan; a list of any length is kept whole */
         if (swim_override_key(w->key, &w->tmpl, err, sizeof err) != 0) {
             swim_message(stderr, "swim %s: --vary %s: %s", cmd, varies[i], err);
             return 2;

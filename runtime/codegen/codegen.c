@@ -1,6 +1,7 @@
 /* memfd_create (Linux): a loaded kernel is a private copy, see load_entry */
 #define _GNU_SOURCE
 #include "codegen/codegen.h"
+#include "codegen/structure.h"
 
 #include <dirent.h>
 #include <dlfcn.h>
@@ -847,74 +848,9 @@ int swim_codegen_kernel(int modes, swim_compiled *out, int verbose)
     return obtain(&e, out, verbose);
 }
 
-/* Indices i of the shape vector for which pick(s, i) holds, as a JSON array. */
-static void index_list(FILE *f, const swim_scene *s, int generic, int which)
-{
-    int first = 1;
-    fputc('[', f);
-    for (int i = 0; i < s->n; i++) {
-        int take = 0;
-        const int fr = generic || s->free_mask[i];
-        switch (which) {
-        case 0: take = fr; break;                                              /* carried */
-        case 1: take = !fr && s->c0[i] == 0.0; break;                         /* locked at 0 */
-        case 2: take = generic || (fr && s->elastic && s->stiffness[i] != 0); break;
-        case 3: take = generic || (fr && s->damped && s->damping[i] != 0); break;
-        case 4: take = s->forced && (generic || (fr && s->direction[i] != 0)); break;
-        }
-        if (take) {
-            fprintf(f, "%s%d", first ? "" : ", ", i);
-            first = 0;
-        }
-    }
-    fputc(']', f);
-}
-
-/* The structure as JSON for the generator; with key == NULL, the key itself (no "key" field). */
-static char *structure_text(const swim_scene *s, int generic, const char *key)
-{
-    char *text = NULL;
-    size_t len;
-    FILE *f = open_memstream(&text, &len);
-    if (!f) return NULL;
-    fprintf(f, "{\"format\": 2, ");
-    if (key) {
-        fprintf(f, "\"key\": ");
-        swim_json_string(f, key);
-        fprintf(f, ", ");
-    }
-    static const char *const names[] = {"free", "zero", "elastic", "damping"};
-    fprintf(f, "\"modes\": %d, \"multipliers\": %s", s->modes, generic ? "true" : "false");
-    for (int w = 0; w < 4; w++) {
-        fprintf(f, ", \"%s\": ", names[w]);
-        index_list(f, s, generic, w);
-    }
-    fprintf(f, ", \"barrier\": %s, \"forcing\": ", generic || s->barrier ? "true" : "false");
-    if (s->forced) {
-        fprintf(f, "{\"law\": ");
-        swim_json_string(f, s->forcing_text);
-        fprintf(f, ", \"direction\": ");
-        index_list(f, s, generic, 4);
-        if (s->nparams > 0) {   /* the names only: values are run-time (law_params) */
-            fprintf(f, ", \"parameters\": [");
-            for (int i = 0; i < s->nparams; i++) {
-                if (i) fprintf(f, ", ");
-                swim_json_string(f, s->param_names[i]);
-            }
-            fprintf(f, "]");
-        }
-        fprintf(f, "}");
-    } else {
-        fprintf(f, "null");
-    }
-    fprintf(f, "}\n");
-    fclose(f);
-    return text;
-}
-
 char *swim_codegen_scene_key(const swim_scene *s, int generic)
 {
-    char *structure = structure_text(s, generic, NULL), *suffix = key_suffix(SWIM_KERNEL_CFLAGS);
+    char *structure = swim_codegen_structure_text(s, generic, NULL), *suffix = key_suffix(SWIM_KERNEL_CFLAGS);
     char *key = NULL;
     if (structure && suffix) {
         structure[strcspn(structure, "\n")] = '\0';
@@ -932,7 +868,7 @@ int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int
     memset(out, 0, sizeof *out);
     out->generic = generic;
     char *key = swim_codegen_scene_key(s, generic);
-    char *json = key ? structure_text(s, generic, key) : NULL;
+    char *json = key ? swim_codegen_structure_text(s, generic, key) : NULL;
     if (!json) {
         free(key);
         fprintf(stderr, "swim: %s: out of memory describing the scene structure\n", s->path);
@@ -1120,45 +1056,16 @@ int swim_cache_clean(const char *root, double older_days, int *removed, int *bus
 
 /* ---- prescribed strokes --------------------------------------------------------------------- */
 
-/* The stroke structure as JSON (generator/swimgen/stroke.py); with key == NULL the key itself. */
-static char *stroke_text(const swim_scene *s, const char *key)
-{
-    char *text = NULL;
-    size_t len;
-    FILE *f = open_memstream(&text, &len);
-    if (!f) return NULL;
-    fprintf(f, "{\"format\": 1, ");
-    if (key) {
-        fprintf(f, "\"key\": ");
-        swim_json_string(f, key);
-        fprintf(f, ", ");
-    }
-    fprintf(f, "\"modes\": %d, \"laws\": [", s->modes);
-    for (int k = 0; k < s->stroke_count; k++) {
-        fprintf(f, "%s[%d, ", k ? ", " : "", s->stroke_index[k]);
-        swim_json_string(f, s->stroke_law[k]);
-        fputc(']', f);
-    }
-    fprintf(f, "], \"parameters\": [");   /* the names only: values are run-time (par[i]) */
-    for (int i = 0; i < s->nparams; i++) {
-        if (i) fprintf(f, ", ");
-        swim_json_string(f, s->param_names[i]);
-    }
-    fprintf(f, "]}\n");
-    fclose(f);
-    return text;
-}
-
 int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose)
 {
     memset(out, 0, sizeof *out);
-    char *structure = stroke_text(s, NULL), *suffix = key_suffix(SWIM_KERNEL_CFLAGS), *key = NULL, *json = NULL;
+    char *structure = swim_codegen_stroke_text(s, NULL), *suffix = key_suffix(SWIM_KERNEL_CFLAGS), *key = NULL, *json = NULL;
     if (structure && suffix) {
         structure[strcspn(structure, "\n")] = '\0';
         size_t len = strlen(structure) + strlen(suffix) + 16;
         if ((key = malloc(len))) snprintf(key, len, "stroke %s%s", structure, suffix);
     }
-    if (key) json = stroke_text(s, key);
+    if (key) json = swim_codegen_stroke_text(s, key);
     free(structure);
     free(suffix);
     if (!json) {

@@ -1,4 +1,4 @@
 # Run-time code generation: generator process, compiler, kernel cache (runtime/codegen/codegen.h).
-RUNTIME_SRCS += runtime/codegen/codegen.c
+RUNTIME_SRCS += runtime/codegen/codegen.c runtime/codegen/structure.c
 $(BUILD)/runtime/codegen/codegen.o $(BUILD)/pic/runtime/codegen/codegen.o: CPPFLAGS += -DSWIM_CC='"$(CC)"' -DSWIM_KERNEL_CFLAGS='"$(KERNEL_OPT)"'
 BENCH_SRCS   += tests/bench/bench_cache.c

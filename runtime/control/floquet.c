@@ -46,9 +46,8 @@ static void on_event(const swim_ode_event_hit *hit, void *data)
     log->count++;
 }
 
-/* T from two successive events of the section, on the run's own integration (drift control on). */
-static int find_period(swim_dynamics *d, const swim_floquet_section *sec, double t_max, const double *ys0,
-                       double *t1, double *period)
+int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_section *sec, double t_max,
+                        const double *ys0, double *t1, double *period)
 {
     const swim_scene *s = d->scene;
     const int n = swim_dynamics_state_dim(d);
@@ -73,10 +72,10 @@ static int find_period(swim_dynamics *d, const swim_floquet_section *sec, double
     for (double t = dt; rc == SWIM_ODE_OK && log.count < 2 && t < t_max + dt; t += dt)
         rc = swim_ode_advance(ode, fmin(t, t_max), y);
     if (rc != SWIM_ODE_OK)
-        swim_message(stderr, "swim floquet: the run for the period failed: %s", swim_ode_strerror(rc));
+        swim_message(stderr, "swim %s: the run for the period failed: %s", cmd, swim_ode_strerror(rc));
     else if (log.count < 2)
-        swim_message(stderr, "swim floquet: fewer than two events of the section before t = %g: no period "
-                     "(raise --t-max or choose another --event)", t_max);
+        swim_message(stderr, "swim %s: fewer than two events of the section before t = %g: no period "
+                     "(raise --t-max or choose another event)", cmd, t_max);
     swim_ode_free(ode);
     free(y);
     if (rc != SWIM_ODE_OK || log.count < 2) return 1;
@@ -231,7 +230,7 @@ static int energy_gradient(swim_dynamics *d, const double *ys, double *gE)
     int rc = yp && full ? 0 : -1;
     for (int j = 0; j < 2 * nf && rc == 0; j++) {
         const double step = 1e-6 * (1.0 + fabs(ys[3 + j]));
-        double E[2];
+        double E[2] = {0.0, 0.0};
         for (int side = 0; side < 2 && rc == 0; side++) {
             swim_diag g;
             memcpy(yp, ys, sizeof(double) * N);
@@ -255,19 +254,40 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
         return 1;
     }
     const double t0 = swim_clock_seconds();
+    const int N = swim_dynamics_state_dim(d);
+    double *full = calloc((size_t)d->dim, sizeof(double)), *ys = malloc(sizeof(double) * N);
+    int rc = 1;
+    if (!full || !ys) {
+        swim_message(stderr, "swim floquet: out of memory");
+    } else {
+        swim_dynamics_initial_state(d, full);
+        swim_dynamics_pack(d, full, ys);
+        double t_first, period;
+        if (swim_floquet_period(d, "floquet", sec, t_max, ys, &t_first, &period) == 0) {
+            rc = swim_floquet_at(d, ys, period, fl);   /* the monodromy based at t = 0 */
+            fl->t_first = t_first;
+        }
+    }
+    free(full);
+    free(ys);
+    fl->seconds = swim_clock_seconds() - t0;
+    return rc;
+}
+
+int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floquet *fl)
+{
+    memset(fl, 0, sizeof *fl);
+    const double t0 = swim_clock_seconds();
     const int nf = d->spec->nfree, n2 = 2 * nf, N = swim_dynamics_state_dim(d);
     fl->n2 = n2;
-    double *full = calloc((size_t)d->dim, sizeof(double)), *ys = malloc(sizeof(double) * N);
-    double *f = malloc(sizeof(double) * N), *gE = malloc(sizeof(double) * n2);
-    double *C = malloc(sizeof(double) * 3 * n2), *B = malloc(sizeof(double) * n2 * n2);
+    fl->period = period;
+    double *f = malloc(sizeof(double) * N), *C = malloc(sizeof(double) * 3 * n2);
     double *Y = NULL;
     swim_sens S;
     int have_sens = 0, rc = 1;
     fl->M = malloc(sizeof(double) * n2 * n2);
-    if (!full || !ys || !f || !gE || !C || !B || !fl->M) goto oom;
-    swim_dynamics_initial_state(d, full);
-    swim_dynamics_pack(d, full, ys);
-    if (find_period(d, sec, t_max, ys, &fl->t_first, &fl->period)) goto done;
+    fl->B = malloc(sizeof(double) * n2 * n2);
+    if (!f || !C || !fl->B || !fl->M) goto oom;
     if (swim_sens_init(&S, d) != 0) goto oom;
     have_sens = 1;
     for (int j = 0; j < n2; j++)
@@ -282,7 +302,7 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
     o.atol = fmax(d->scene->atol, 1e-12);
     swim_ode *ode = NULL;
     int orc = swim_ode_create(d->scene->integrator, &sys, &o, 0.0, Y, &ode);
-    if (orc == SWIM_ODE_OK) orc = swim_ode_advance(ode, fl->period, Y);
+    if (orc == SWIM_ODE_OK) orc = swim_ode_advance(ode, period, Y);
     if (ode) {
         swim_ode_stats st;
         swim_ode_get_stats(ode, &st);
@@ -302,20 +322,21 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
     fl->closure_rel = fl->closure / scale;
     fl->periodic = fl->closure_rel <= SWIM_FLOQUET_CLOSURE_TOL;
     if (eigenvalues(fl->M, n2, fl->re, fl->im) != 0) goto oom;
-    if (swim_dynamics_rhs(0.0, ys, f, d) != 0 || energy_gradient(d, ys, gE) != 0) {
+    if (swim_dynamics_rhs(0.0, ys, f, d) != 0 || energy_gradient(d, ys, fl->grad_energy) != 0) {
         swim_message(stderr, "swim floquet: the right-hand side or the energy failed at the initial state");
         goto done;
     }
+    memcpy(fl->flow, f + 3, sizeof(double) * n2);
     const int rows = constraint_gradients(d, ys, C);
-    if (rows < 0 || (fl->nt = tangent_basis(C, rows, n2, B)) < 0) goto oom;
-    structure(fl, B, f + 3, gE);
+    if (rows < 0 || (fl->nt = tangent_basis(C, rows, n2, fl->B)) < 0) goto oom;
+    structure(fl, fl->B, fl->flow, fl->grad_energy);
     rc = 0;
     goto done;
 oom:
     swim_message(stderr, "swim floquet: out of memory");
 done:
     if (have_sens) swim_sens_free(&S);
-    free(full); free(ys); free(f); free(gE); free(C); free(B); free(Y);
+    free(f); free(C); free(Y);
     fl->seconds = swim_clock_seconds() - t0;
     return rc;
 }
@@ -323,7 +344,8 @@ done:
 void swim_floquet_free(swim_floquet *fl)
 {
     free(fl->M);
-    fl->M = NULL;
+    free(fl->B);
+    fl->M = fl->B = NULL;
 }
 
 static void multipliers_json(FILE *f, const double *re, const double *im, int n)

@@ -44,6 +44,9 @@ typedef struct {
     int n2;                        /* 2 * carried coordinates: size of M */
     int nt;                        /* dimension of the tangent space */
     double *M;                     /* n2 x n2, row-major (owned) */
+    double *B;                     /* n2 x nt: orthonormal basis of the tangent space (owned) */
+    double flow[SWIM_FLOQUET_MAX];         /* f(x(0)) on the shape state */
+    double grad_energy[SWIM_FLOQUET_MAX];  /* grad E(x(0)) on the shape state */
     double re[SWIM_FLOQUET_MAX], im[SWIM_FLOQUET_MAX];       /* multipliers of M */
     double tre[SWIM_FLOQUET_MAX], tim[SWIM_FLOQUET_MAX];     /* of M_t */
     double flow_residual;          /* |M f - f| / |f| */
@@ -69,6 +72,13 @@ typedef struct {
  * does not close: see periodic), or 1 after one line on stderr (no period found before t_max, an
  * integration failure, a scene without free shape dynamics). */
 int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max, swim_floquet *out);
+/* The same analysis of the map over [0, period] from the integrator state ys (a point of the
+ * orbit, e.g. the phase point of control/periodic.h); t_first is left 0. 0 or 1 (said). */
+int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floquet *out);
+/* T and the time t_first of the first of two successive events of the section from state ys0
+ * at t = 0, on the scene's integrator with its drift control (messages "swim CMD: ..."). 0 or 1. */
+int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_section *sec, double t_max,
+                        const double *ys0, double *t_first, double *period);
 void swim_floquet_free(swim_floquet *f);
 /* floquet.json and the table printed by swim floquet. */
 void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const char *section);

@@ -77,8 +77,9 @@ SWIM_API void swim_model_free(swim_model *m);
 
 typedef struct swim_sim swim_sim;
 
-/* A row: t and the ncol columns (swim_model_columns). Return 0 to go on, nonzero to stop the
- * run (it then fails with "stopped by the caller"). */
+/* A row: its time t, and values[0 .. ncol), the ncol columns named by swim_model_columns (the
+ * header of trajectory.csv, whose first column is t again: values[0] == t). Return 0 to go on,
+ * nonzero to stop the run (it then fails with "stopped by the caller"). */
 typedef int (*swim_row_fn)(void *ctx, double t, const double *values, int ncol);
 
 typedef struct {

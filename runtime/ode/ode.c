@@ -46,8 +46,8 @@ static const ode_method registry[] = {
     {"msadams", 0, ODE_GSL_MSADAMS, swim_ode_gsl_create},
     {"rkf45", 0, ODE_GSL_RKF45, swim_ode_gsl_create},
     {"msbdf", CAP_JAC | CAP_IMPL, ODE_GSL_MSBDF, swim_ode_gsl_create},
-    {"cvode-adams", CAP_EV, ODE_CVODE_ADAMS, swim_ode_cvode_create},
-    {"cvode-bdf", CAP_PROJ | CAP_EV | CAP_JAC | CAP_IMPL, ODE_CVODE_BDF, swim_ode_cvode_create},
+    {"cvode-adams", CAP_EV | SWIM_ODE_CAP_SUNDIALS, ODE_CVODE_ADAMS, swim_ode_cvode_create},
+    {"cvode-bdf", CAP_PROJ | CAP_EV | CAP_JAC | CAP_IMPL | SWIM_ODE_CAP_SUNDIALS, ODE_CVODE_BDF, swim_ode_cvode_create},
 };
 #define NMETHODS (sizeof registry / sizeof registry[0])
 

@@ -255,7 +255,10 @@ enum {
      * atol_vec (what a caller that moves the state's origin needs, swim run near the barrier) */
     SWIM_ODE_CAP_WEIGHTS = 64,
     /* a balance in the error test: swim_ode_options.invariant */
-    SWIM_ODE_CAP_INVARIANT = 128
+    SWIM_ODE_CAP_INVARIANT = 128,
+    /* implemented over SUNDIALS CVODE: a program built from a subset of the runtime (swim
+     * export) links libsundials when its scene may use it */
+    SWIM_ODE_CAP_SUNDIALS = 256
 };
 
 /* The registry.  swim_ode_methods(): NULL-terminated list of names, in the order

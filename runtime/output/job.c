@@ -59,6 +59,15 @@ static int read_scene(swim_job *j)
     const swim_run_job *r = &j->req;
     swim_scene *s = &j->s;
     if (swim_scene_load_with(r->scene_file, r->sets, r->nsets, s)) return 2;
+    char *name = r->scene_name ? strdup(r->scene_name) : NULL;
+    if (r->scene_name && !name) {
+        swim_message(stderr, "swim %s: out of memory", r->cmd);
+        return 2;
+    }
+    if (name) {
+        free(s->path);
+        s->path = name;
+    }
     j->stroke = s->stroke_count > 0;
     int nadj = 0;
     swim_override adjusted[SWIM_JOB_MAX_SETS];
@@ -91,7 +100,7 @@ static int read_scene(swim_job *j)
         swim_message(stderr, "swim: %s: cannot read: %s", r->scene_file, strerror(errno));
         return 2;
     }
-    const int rc = swim_scene_resolve(text, len, r->scene_file, j->recorded, j->nrecorded, &j->resolved, &outlen, why, sizeof why);
+    const int rc = swim_scene_resolve(text, len, r->scene_name ? r->scene_name : r->scene_file, j->recorded, j->nrecorded, &j->resolved, &outlen, why, sizeof why);
     free(text);
     if (rc != 0) {
         swim_message(stderr, "swim %s: %s: cannot write the overrides into the output's scene.toml: %s", r->cmd,
@@ -263,7 +272,8 @@ static void run_sensitivity(swim_job *j)
 static void fill_summary(FILE *f, void *ctx)
 {
     const swim_job *j = ctx;
-    const swim_summary_context x = {swim_folder_paths(j->folder)->dir, j->req.command, j->req.scene_file,
+    const swim_summary_context x = {swim_folder_paths(j->folder)->dir, j->req.command,
+                                    j->req.scene_name ? j->req.scene_name : j->req.scene_file,
                                     j->recorded, j->nrecorded, j->req.sensitivity != NULL, j->sens_status,
                                     j->sens_t, j->sens_rows, j->sens_t_last};
     swim_run_summary_json(f, j->run, &x);

@@ -25,6 +25,10 @@
 typedef struct {
     const char *cmd;                    /* "run", for messages */
     const char *scene_file;
+    /* The scene's name in the outputs -- summary.json's "scene" and provenance.scene_original,
+     * DIR/scene.toml's header, the default out/NAME -- when it is read from another file (the
+     * scene.toml of a `swim export` tree, runtime/export/). NULL: scene_file. */
+    const char *scene_name;
     const swim_override *sets;          /* applied before the scene is validated (--set) */
     int nsets;
     /* Settings applied to the read scene (the command line's run options, checked there with

@@ -47,7 +47,7 @@
 
 typedef struct {
     char key[128];
-    char spec[512];
+    const char *spec;     /* the SPEC as given (the command line's, any length) */
     swim_override tmpl;   /* table, key, index of KEY */
     double *values;
     long count;

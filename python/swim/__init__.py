@@ -1,0 +1,482 @@
+"""swim from Python: the simulator of an elastic swimmer in a 2D perfect fluid (libswim, by ctypes).
+
+    import swim
+    r = swim.run("models/example3.toml", t_end=5)
+    r["t"], r["y"]                      # trajectory.csv's columns, as numpy arrays
+    r.final_state                       # {"t": 5.0, "x": ..., "y": ..., "theta": ...}
+    r.summary["energy_drift_rel"]       # summary.json, as a dict
+    rows = swim.sweep("models/example3.toml", vary={"model.rho0": [0.5, 1.0, 2.0]}, t_end=5)
+    m = swim.inspect(2, [1, 0, 0.2, -0.05, 0.1, 0.04])["mass_reduced"]
+
+Every run is `swim run`'s run driver in this process: the same rows and the same summary as
+`swim run` with the same overrides, bit for bit. docs/python.md is the reference.
+
+Errors: swim.Error (status, message); swim.SceneError for bad input (file, line, key); a run that
+fails (leaves the admissible set, an integrator gives up, ...) is not an exception: its Result has
+completed False and the summary says why, so a loop over a family goes on past its failed members.
+"""
+import builtins   # zip, which sweep's argument of that name (swim sweep --zip) hides
+import csv
+import ctypes
+import io
+import itertools
+import json
+import math
+import numbers
+import os
+
+import numpy as np
+
+from . import _lib
+
+OK, EFAILED, EINPUT, ENOMEM, EKERNEL = (_lib.SWIM_OK, _lib.SWIM_EFAILED, _lib.SWIM_EINPUT,
+                                        _lib.SWIM_ENOMEM, _lib.SWIM_EKERNEL)
+
+__all__ = ["run", "sweep", "spec_values", "inspect", "Result", "Error", "SceneError", "KernelError",
+           "LibraryNotFound", "__version__"]
+
+
+class Error(Exception):
+    """A call of libswim failed. .status is swim.h's (EFAILED, EINPUT, ENOMEM, EKERNEL), .message
+    its one line of text."""
+
+    def __init__(self, status, message, file=None, line=None, key=None):
+        super().__init__(message)
+        self.status = status
+        self.message = message
+        self.file = file
+        self.line = line
+        self.key = key
+
+
+class SceneError(Error, ValueError):
+    """Bad input (status EINPUT): a scene value, an override, an event, an argument of inspect.
+    .file is the scene's name (None when the input is not a scene's), .line its line (None when
+    not known: an override's value, a missing file), .key the key or the argument ("model.rho0", "shape")."""
+
+
+class KernelError(Error):
+    """No kernel could be had for the scene's structure (generation or compilation failed)."""
+
+
+class LibraryNotFound(Error, ImportError):
+    """libswim.so was not found (raised by `import swim`)."""
+
+
+_L, _why = _lib.load()
+if _L is None:
+    raise LibraryNotFound(EFAILED, _why)
+
+__version__ = _L.swim_version().decode()
+
+
+def _error(e):
+    """The exception for a filled swim_error."""
+    text = lambda b: b.decode("utf-8", "replace")
+    cls = {EINPUT: SceneError, EKERNEL: KernelError}.get(e.status, Error)
+    return cls(e.status, text(e.message), file=text(e.file) or None, line=e.line or None,
+               key=text(e.key) or None)
+
+
+# ---- overrides ------------------------------------------------------------------------------
+
+def _value_text(key, value):
+    """VALUE of "KEY=VALUE" (the --set grammar): a float as repr, the shortest digits that read
+    back to the same double; an int as an int (it stays one); a bool as TOML's; a word as is."""
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, numbers.Integral):
+        return str(int(value))
+    if isinstance(value, numbers.Real):
+        return repr(float(value))
+    if isinstance(value, str):
+        return value
+    raise TypeError("swim: the value of %s must be a number, a bool or a word, not %r" % (key, value))
+
+
+def _overrides(set=None, **run_keys):
+    """["KEY=VALUE", ...] of a dict of overrides and the run.* keyword arguments given (not None)."""
+    out = ["%s=%s" % (k, _value_text(k, v)) for k, v in (set or {}).items()]
+    out += ["run.%s=%s" % (k, _value_text("run." + k, v)) for k, v in run_keys.items() if v is not None]
+    return out
+
+
+def _c_strings(strings):
+    """A char *[] of strings (kept alive by the returned array)."""
+    arr = (ctypes.c_char_p * max(1, len(strings)))()
+    for i, s in enumerate(strings):
+        arr[i] = s.encode()
+    return arr
+
+
+# ---- models ---------------------------------------------------------------------------------
+
+class _Model:
+    """A scene read and validated with its overrides (swim_model); freed by close()."""
+
+    def __init__(self, scene, sets, name=None):
+        self.ptr = None   # for close() when the scene is refused
+        if isinstance(scene, os.PathLike) or "\n" not in scene:
+            self.name = os.fspath(scene)
+            self.text = None
+        else:
+            self.name = name or "(text)"
+            self.text = scene
+        self.sets = list(sets)
+        ptr, err, arr = ctypes.c_void_p(), _lib.swim_error(), _c_strings(self.sets)
+        if self.text is None:
+            rc = _L.swim_model_from_file(self.name.encode(), arr, len(self.sets), ctypes.byref(ptr), ctypes.byref(err))
+        else:
+            rc = _L.swim_model_from_text(self.text.encode(), self.name.encode(), arr, len(self.sets),
+                                         ctypes.byref(ptr), ctypes.byref(err))
+        if rc != OK:
+            raise _error(err)
+        self.ptr = ptr
+        names = ctypes.POINTER(ctypes.c_char_p)()
+        ncol = _L.swim_model_columns(ptr, ctypes.byref(names))
+        self.columns = tuple(names[i].decode() for i in range(ncol))
+
+    def scene_text(self):
+        return _L.swim_model_scene_text(self.ptr).decode()
+
+    def close(self):
+        if self.ptr and _L is not None:   # (at interpreter exit the module's globals may be gone)
+            _L.swim_model_free(self.ptr)
+            self.ptr = None
+
+    __del__ = close
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+# ---- rows -----------------------------------------------------------------------------------
+
+class _Rows:
+    """The rows of a run, copied as they come into a growing float64 array: one memmove per row,
+    no Python float objects. The library's row is t followed by the other columns (its column
+    names begin with "t"), so a row is copied whole."""
+
+    def __init__(self, ncol):
+        self.width = ncol
+        self.n = 0
+        self._grow(256)
+        self.exception = None   # raised in the callback (e.g. KeyboardInterrupt): re-raised after the run
+        self.fn = _lib.ROW_FN(self._row)
+
+    def _grow(self, cap):
+        old = getattr(self, "buf", None)
+        self.buf = np.empty((cap, self.width))
+        if old is not None:
+            self.buf[:self.n] = old[:self.n]
+        self.addr = self.buf.ctypes.data
+        self.cap = cap
+
+    def _row(self, ctx, t, values, ncol):
+        # An exception must not cross into C (ctypes would print it and go on): keep it, stop the run.
+        try:
+            self._store(values, ncol)
+            return 0
+        except BaseException as e:
+            self.exception = e
+            return 1
+
+    def _store(self, values, ncol):
+        if self.n == self.cap:
+            self._grow(2 * self.n)
+        ctypes.memmove(self.addr + 8 * self.n * self.width, values, 8 * ncol)
+        self.n += 1
+
+    def array(self):
+        return self.buf[:self.n].copy()
+
+
+# ---- results --------------------------------------------------------------------------------
+
+def _take_text(ptr):
+    """The malloc'd C string at ptr, freed."""
+    if not ptr:
+        return None
+    try:
+        return ctypes.string_at(ptr).decode("utf-8", "replace")
+    finally:
+        _L.swim_free(ptr)
+
+
+def _parse_events(text):
+    """events.csv's rows (t,column,kind,value) as dicts, t and value as floats."""
+    out = []
+    for row in csv.DictReader(io.StringIO(text or "")):
+        row["t"] = float(row["t"])
+        row["value"] = float(row["value"])
+        out.append(row)
+    return out
+
+
+class Result:
+    """One run.
+
+    r[name]        a column of the rows by trajectory.csv's name ("t", "x", "y", "theta", "am1",
+                   ..., "energy", ...): a 1-D float64 array (a view of r.rows)
+    r.columns      the names, "t" first (trajectory.csv's header, swim_model_columns)
+    r.rows         every row: a 2-D float64 array, one row per output time (empty without rows)
+    r.completed    True when the run reached t_end or a :stop event
+    r.status, r.reason   summary.json's ("completed" / "failed", and why)
+    r.final_state  {"t", "x", "y", "theta"}: the body's position where the run ended (exact doubles)
+    r.state        the state there in trajectory.csv's layout x, y, theta, c, cdot (1-D array)
+    r.summary      summary.json of the run as a dict
+    r.events       the located events (events.csv): [{"t", "column", "kind", "value"}, ...]
+    r.scene_text   the scene as run, overrides written in (swim run's scene.toml)
+    """
+
+    def __init__(self, columns, rows, result, state, summary, events, scene_text):
+        self.columns = tuple(columns)
+        self.rows = rows
+        self._index = {c: i for i, c in enumerate(self.columns)}
+        self.completed = bool(result.completed)
+        self.final_state = {"t": result.t_reached, "x": result.x, "y": result.y, "theta": result.theta}
+        self.state = state
+        self.summary = summary
+        self.status = summary.get("status")
+        self.reason = summary.get("reason")
+        self.events = events
+        self.scene_text = scene_text
+        self.steps = result.steps
+        self.rhs_evaluations = result.rhs_evaluations
+
+    def __getitem__(self, name):
+        try:
+            return self.rows[:, self._index[name]]
+        except KeyError:
+            raise KeyError("no column %r (columns: %s)" % (name, ", ".join(self.columns))) from None
+
+    def __contains__(self, name):
+        return name in self._index
+
+    def keys(self):
+        return self.columns
+
+    def __repr__(self):
+        f = self.final_state
+        return "<swim.Result %s at t = %r: x = %r, y = %r, theta = %r; %d rows>" % (
+            self.status, f["t"], f["x"], f["y"], f["theta"], len(self.rows))
+
+
+def _simulate(model, events=None, rows=True):
+    """Run a model to its t_end (or a :stop event): a Result; raises only for bad input (events)."""
+    events = list(events or [])
+    collect = _Rows(len(model.columns)) if rows else None
+    ev = _c_strings(events)
+    opts = _lib.swim_sim_options()
+    if collect:
+        opts.rows = collect.fn
+    opts.events = ctypes.cast(ev, ctypes.POINTER(ctypes.c_char_p))
+    opts.nevents = len(events)
+    sim, err = ctypes.c_void_p(), _lib.swim_error()
+    if _L.swim_sim_create(model.ptr, ctypes.byref(opts), ctypes.byref(sim), ctypes.byref(err)) != OK:
+        raise _error(err)
+    try:
+        rc = _L.swim_sim_run(sim, ctypes.byref(err))
+        if collect and collect.exception is not None:
+            raise collect.exception
+        if rc not in (OK, EFAILED):   # out of memory: no result worth returning
+            raise _error(err)
+        res = _lib.swim_result()
+        _L.swim_sim_result(sim, ctypes.byref(res))
+        state = np.empty(_L.swim_sim_state(sim, None, 0))   # asked for none, it says how many
+        _L.swim_sim_state(sim, state.ctypes.data_as(_lib._PD), len(state))
+        summary = json.loads(_take_text(_L.swim_sim_summary_json(sim)) or "{}")
+        ev_rows = _parse_events(_take_text(_L.swim_sim_events_csv(sim)))
+    finally:
+        _L.swim_sim_free(sim)
+    data = collect.array() if collect else np.empty((0, len(model.columns)))
+    return Result(model.columns, data, res, state, summary, ev_rows, model.scene_text())
+
+
+def run(scene, set=None, integrator=None, rtol=None, atol=None, t_end=None, output_step=None, events=None,
+        name=None, rows=True):
+    """Run a scene, as `swim run SCENE --set ...` does, and return its Result.
+
+    scene        a scene file's path, or the TOML text itself (text when it holds a newline; its
+                 errors then name it `name`, default "(text)")
+    set          overrides {"model.rho0": 2, "elastic.stiffness[4]": 3, "shape.c0.am1": 0.3, ...}
+                 applied before the scene is validated (the --set grammar; models/README.md keys)
+    integrator, rtol, atol, t_end, output_step
+                 the run.* keys of the same names ("abm", "rk8pd", "cvode-bdf", ...)
+    events       ["COLUMN:KIND[:stop]", ...] as `swim run --event` (KIND zero, min or max;
+                 COLUMN any column but t), besides the scene's [events]
+    rows         False: do not keep the rows (the summary is the same: every row is computed)
+
+    Raises SceneError for bad input and KernelError when no kernel can be had; a run that fails
+    returns its Result with completed False (r.reason says why).
+    """
+    sets = _overrides(set, integrator=integrator, rtol=rtol, atol=atol, t_end=t_end, output_step=output_step)
+    with _Model(scene, sets, name) as model:
+        return _simulate(model, events, rows)
+
+
+# ---- families -------------------------------------------------------------------------------
+
+def spec_values(spec):
+    """The values of a `swim sweep --vary KEY=SPEC` SPEC, computed as swim sweep computes them (the
+    same doubles): "START:STOP:COUNT" (linear, both endpoints exact), "log:START:STOP:COUNT" or
+    "V1,V2,..."."""
+    logarithmic = spec.startswith("log:")
+    body = spec[4:] if logarithmic else spec
+    if ":" not in body:
+        return [float(v) for v in body.split(",")]
+    parts = body.split(":")
+    if len(parts) != 3:
+        raise SceneError(EINPUT, "expected %sSTART:STOP:COUNT, got '%s'" % ("log:" if logarithmic else "", spec),
+                         key="vary")
+    a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
+    if n < 1 or (logarithmic and not (a > 0 and b > 0)):
+        raise SceneError(EINPUT, "bad SPEC '%s' (COUNT >= 1; log: START, STOP > 0)" % spec, key="vary")
+    out = []
+    for i in range(n):
+        f = i / (n - 1) if n > 1 else 0.0
+        out.append(math.exp(math.log(a) + f * (math.log(b) - math.log(a))) if logarithmic else a + f * (b - a))
+    out[0] = a
+    if n > 1:
+        out[-1] = b
+    return out
+
+
+def _members(vary, zip_):
+    """The varied values of each member, in id order: the Cartesian product of vary's lists (the
+    last key varies fastest, as `swim sweep --vary`), or the lists paired with zip_."""
+    keys = list(vary)
+    lists = [spec_values(vary[k]) if isinstance(vary[k], str) else np.asarray(vary[k]).tolist()
+             if isinstance(vary[k], np.ndarray) else list(vary[k]) for k in keys]
+    if zip_:
+        if len({len(v) for v in lists}) > 1:
+            raise SceneError(EINPUT, "zip: the varied keys have different numbers of values (%s)" %
+                             ", ".join("%s: %d" % (k, len(v)) for k, v in zip(keys, lists)), key="vary")
+        combos = zip(*lists)
+    else:
+        combos = itertools.product(*lists)
+    return keys, [dict(zip(keys, c)) for c in combos]
+
+
+def _path(d, *path):
+    for p in path:
+        if not isinstance(d, dict):
+            return None
+        d = d.get(p)
+    return d
+
+
+def _member_row(i, values, r):
+    """members.csv's row of a member (the same names and the same summary paths as swim sweep),
+    with completed besides."""
+    s = r.summary
+    row = {"id": i}
+    row.update(values)
+    row.update({"status": s.get("status"), "completed": r.completed, "reason": s.get("reason"),
+                "t_reached": s.get("t_reached"), "x": _path(s, "final_state", "x"),
+                "y": _path(s, "final_state", "y"), "theta": _path(s, "final_state", "theta"),
+                "energy_drift_rel": s.get("energy_drift_rel"), "energy_balance_abs": s.get("energy_drift_abs"),
+                "jmin": s.get("jmin"), "steps": _path(s, "stats", "steps"),
+                "rhs_evaluations": _path(s, "stats", "rhs_evaluations"),
+                "integrate_seconds": _path(s, "stats", "integrate_seconds"),
+                "wall_seconds": _path(s, "stats", "wall_seconds")})
+    return row
+
+
+def sweep(scene, vary, set=None, zip=False, integrator=None, rtol=None, atol=None, t_end=None,
+          output_step=None, events=None, results=False):
+    """Run a family of a scene in this process, one member after another, as `swim sweep` would.
+
+    vary         {KEY: [values, ...] or "SPEC", ...} (SPEC as swim sweep's: "0.5:2:16",
+                 "log:1e-3:1:4", "1,2,5"; spec_values): the members are the Cartesian product of the lists
+                 (the last key varies fastest; member ids 0, 1, ... in that order), or with
+                 zip=True the lists paired (equal lengths)
+    set, integrator, rtol, atol, t_end, output_step, events
+                 as for run(), the same for every member
+    results      True: each row also holds the member's Result under "result" (its rows kept)
+
+    Returns one dict per member in id order, with members.csv's names: id, the varied keys,
+    status, reason, t_reached, x, y, theta, energy_drift_rel, energy_balance_abs, jmin, steps,
+    rhs_evaluations, integrate_seconds, wall_seconds (read from the member's summary at the paths
+    swim sweep reads), and completed (a bool). Every member is loaded and validated before any
+    runs: bad input raises SceneError naming the member ("member 1 (model.rho0=-1): ..."). A failed
+    member is a row with completed False; the family goes on.
+    """
+    fixed = _overrides(set, integrator=integrator, rtol=rtol, atol=atol, t_end=t_end, output_step=output_step)
+    keys, members = _members(vary, zip)
+    fixed_keys = {s.split("=", 1)[0] for s in fixed}
+    twice = [k for k in keys if k in fixed_keys]
+    if twice:
+        raise SceneError(EINPUT, "%s: both varied and set" % ", ".join(twice), key=twice[0])
+    models = []
+    try:
+        for i, values in enumerate(members):
+            sets = _overrides(values) + fixed
+            try:
+                models.append(_Model(scene, sets))
+            except Error as e:
+                label = " ".join(sets[:len(values)])
+                e.message = "member %d (%s): %s" % (i, label, e.message)
+                e.args = (e.message,)
+                raise
+        rows = []
+        for i, (values, model) in enumerate(builtins.zip(members, models)):
+            r = _simulate(model, events, rows=results)
+            model.close()
+            row = _member_row(i, values, r)
+            if results:
+                row["result"] = r
+            rows.append(row)
+        return rows
+    finally:
+        for m in models:
+            m.close()
+
+
+# ---- inspection -----------------------------------------------------------------------------
+
+def inspect(modes, shape, velocity=None, rho0=1.0, rhof=1.0, full=True):
+    """The model's matrices at one shape, as `swim inspect` prints them.
+
+    modes        N (0 .. 32); the shape has n = 2(N + 1) coordinates a1, b1, am1, bm1, ..., amN, bmN
+    shape        n numbers (inside the admissible set D: min J > 0 on the unit circle, (4.1))
+    velocity     n numbers, or None (then no christoffel_vv)
+    rho0, rhof   densities of the body and of the fluid
+    full         False: skip the whole Christoffel symbol (n^3 numbers)
+
+    Returns a dict of float64 arrays: mass_rigid (3 x 3, Mr), mass_coupling (3 x n, N),
+    mass_shape (n x n, Md), mass_reduced (n x n, K = Md - N^T Mr^-1 N), christoffel_vv (n,
+    Gamma(c)(v, v); with a velocity), christoffel (n x n x n, Gamma^i_jk at [i, j, k]; with full),
+    and jmin (a float). Raises SceneError naming the argument (key "shape", "velocity", "modes",
+    "rho0", "rhof") for bad values, KernelError when no kernel of N modes can be had.
+    """
+    if isinstance(modes, bool) or not isinstance(modes, numbers.Integral):
+        raise SceneError(EINPUT, "modes must be an integer, not %r" % (modes,), key="modes")
+    n = 2 * (int(modes) + 1)
+
+    def vector(name, v):
+        a = np.ascontiguousarray(v, dtype=np.float64).reshape(-1)
+        if a.size != n:
+            raise SceneError(EINPUT, "%s has %d values; %d modes need n = 2(N + 1) = %d" % (name, a.size, modes, n),
+                             key=name)
+        return a
+
+    c = vector("shape", shape) if modes >= 0 else np.zeros(0)
+    v = vector("velocity", velocity) if velocity is not None else None
+    out = {"mass_rigid": np.zeros((3, 3)), "mass_coupling": np.zeros((3, n)), "mass_shape": np.zeros((n, n)),
+           "mass_reduced": np.zeros((n, n))}
+    if v is not None:
+        out["christoffel_vv"] = np.zeros(n)
+    if full:
+        out["christoffel"] = np.zeros((n, n, n))
+    ptr = lambda a: a.ctypes.data_as(_lib._PD) if a is not None else None
+    ins = _lib.swim_inspection(0.0, *(ptr(out.get(k)) for k in ("mass_rigid", "mass_coupling", "mass_shape",
+                                                                  "mass_reduced", "christoffel_vv", "christoffel")))
+    err = _lib.swim_error()
+    if _L.swim_inspect(int(modes), ptr(c), ptr(v), float(rho0), float(rhof), ctypes.byref(ins), ctypes.byref(err)) != OK:
+        raise _error(err)
+    out["jmin"] = ins.jmin
+    return out

@@ -1,0 +1,132 @@
+"""libswim through ctypes: finding the shared library, and swim.h's types and prototypes.
+
+Nothing here is public; swim/__init__.py builds the API on it. The structures mirror
+runtime/lib/swim.h field for field (a change there must be made here too: test_python.py runs
+every function, so a mismatch shows as wrong numbers, not as silence).
+"""
+import ctypes
+import glob
+import os
+
+SWIM_OK, SWIM_EFAILED, SWIM_EINPUT, SWIM_ENOMEM, SWIM_EKERNEL = 0, 1, 2, 3, 4
+
+
+class swim_error(ctypes.Structure):
+    _fields_ = [("status", ctypes.c_int),
+                ("file", ctypes.c_char * 1024),
+                ("line", ctypes.c_int),
+                ("key", ctypes.c_char * 128),
+                ("message", ctypes.c_char * 2048)]
+
+
+ROW_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double,
+                          ctypes.POINTER(ctypes.c_double), ctypes.c_int)
+
+
+class swim_sim_options(ctypes.Structure):
+    _fields_ = [("rows", ROW_FN),
+                ("rows_ctx", ctypes.c_void_p),
+                ("events", ctypes.POINTER(ctypes.c_char_p)),
+                ("nevents", ctypes.c_int),
+                ("stop", ctypes.POINTER(ctypes.c_int))]
+
+
+class swim_result(ctypes.Structure):
+    _fields_ = [("finished", ctypes.c_int),
+                ("completed", ctypes.c_int),
+                ("t_reached", ctypes.c_double),
+                ("rows", ctypes.c_long),
+                ("x", ctypes.c_double),
+                ("y", ctypes.c_double),
+                ("theta", ctypes.c_double),
+                ("energy_initial", ctypes.c_double),
+                ("energy_drift_abs", ctypes.c_double),
+                ("energy_drift_rel", ctypes.c_double),
+                ("jmin", ctypes.c_double),
+                ("steps", ctypes.c_long),
+                ("rhs_evaluations", ctypes.c_long)]
+
+
+_PD = ctypes.POINTER(ctypes.c_double)
+
+
+class swim_inspection(ctypes.Structure):
+    _fields_ = [("jmin", ctypes.c_double),
+                ("mass_rigid", _PD),
+                ("mass_coupling", _PD),
+                ("mass_shape", _PD),
+                ("mass_reduced", _PD),
+                ("christoffel_vv", _PD),
+                ("christoffel", _PD)]
+
+
+def candidates():
+    """Where libswim may be, in the order tried: $SWIM_LIB; the installed layout (this package in
+    PREFIX/lib/python3/dist-packages/swim, the library in PREFIX/lib); the build tree (this package
+    in python/swim of the source tree, `make lib`'s build/lib/libswim.so.VERSION)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    env = os.environ.get("SWIM_LIB")
+    if env:
+        return [env]   # asked for this one: no silent fallback to another build
+    out = []
+    if os.path.basename(os.path.dirname(here)) in ("dist-packages", "site-packages"):
+        # PREFIX/lib/python3/dist-packages/swim -> PREFIX/lib/libswim.so.MAJOR (the SONAME's symlink:
+        # major 0 is the ABI these prototypes were written against)
+        out.append(os.path.normpath(os.path.join(here, "..", "..", "..", "libswim.so.0")))
+    tree = os.path.normpath(os.path.join(here, "..", ".."))
+    version_file = os.path.join(tree, "VERSION")
+    built = os.path.join(tree, "build", "lib")
+    if os.path.isfile(version_file):
+        with open(version_file) as f:
+            out.append(os.path.join(built, "libswim.so." + f.read().strip()))
+    # any other version `make lib` left there, newest first (a VERSION edited since the build)
+    out += sorted(glob.glob(os.path.join(built, "libswim.so.*")), key=os.path.getmtime, reverse=True)
+    return list(dict.fromkeys(out))
+
+
+def _declare(lib):
+    c_int, c_char_p, c_double, c_void_p = ctypes.c_int, ctypes.c_char_p, ctypes.c_double, ctypes.c_void_p
+    err = ctypes.POINTER(swim_error)
+    pp = ctypes.POINTER(c_void_p)
+    sets = ctypes.POINTER(c_char_p)
+    protos = {
+        "swim_version": (c_char_p, []),
+        "swim_model_from_file": (c_int, [c_char_p, sets, c_int, pp, err]),
+        "swim_model_from_text": (c_int, [c_char_p, c_char_p, sets, c_int, pp, err]),
+        "swim_model_columns": (c_int, [c_void_p, ctypes.POINTER(sets)]),
+        "swim_model_scene_text": (c_char_p, [c_void_p]),
+        "swim_model_free": (None, [c_void_p]),
+        "swim_sim_create": (c_int, [c_void_p, ctypes.POINTER(swim_sim_options), pp, err]),
+        "swim_sim_advance": (c_int, [c_void_p, c_double, err]),
+        "swim_sim_run": (c_int, [c_void_p, err]),
+        "swim_sim_result": (c_int, [c_void_p, ctypes.POINTER(swim_result)]),
+        "swim_sim_state": (c_int, [c_void_p, _PD, c_int]),
+        # malloc'd text: kept as a raw pointer so that it can be given back to swim_free
+        "swim_sim_summary_json": (c_void_p, [c_void_p]),
+        "swim_sim_events_csv": (c_void_p, [c_void_p]),
+        "swim_sim_free": (None, [c_void_p]),
+        "swim_inspect": (c_int, [c_int, _PD, _PD, c_double, c_double, ctypes.POINTER(swim_inspection), err]),
+        "swim_free": (None, [c_void_p]),
+    }
+    for name, (restype, argtypes) in protos.items():
+        fn = getattr(lib, name)
+        fn.restype, fn.argtypes = restype, argtypes
+    return lib
+
+
+def load():
+    """The loaded library, or (None, a message saying what was tried and how to build it)."""
+    tried = []
+    for path in candidates():
+        if not os.path.exists(path):
+            tried.append(path + " (absent)")
+            continue
+        try:
+            return _declare(ctypes.CDLL(path)), None
+        except OSError as e:
+            tried.append("%s (%s)" % (path, e))
+        except AttributeError as e:   # a library of another version, without a function of swim.h
+            tried.append("%s (%s)" % (path, e))
+    return None, ("libswim not found; tried: " + "; ".join(tried) +
+                  ". Build it with `make lib` in the source tree, install it with `make install PREFIX=...`, "
+                  "or set SWIM_LIB to the path of libswim.so")

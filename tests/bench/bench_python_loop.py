@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""A family from Python: a loop of swim.run (libswim in this process) against `swim sweep --jobs 1`
+(a forked child per member, each writing its summary.json, members.csv appended) on the same
+members, one core each.
+
+The family: Example 3 with model.rho0 = SPEC (BENCH_PY_SPEC, default "0.5:2:200": 200 members,
+the values swim sweep computes from that SPEC, swim.spec_values), to t = BENCH_PY_T_END (default
+1). Three ways, each BENCH_PY_REPEATS times (default 3), medians reported:
+  python loop    for v in values: swim.run(scene, set={"model.rho0": v}, t_end=T)  (rows kept)
+  swim.sweep     swim.sweep(scene, vary={"model.rho0": SPEC}, t_end=T)  (summaries only)
+  swim sweep     bin/swim sweep scene --out FRESH_DIR --vary model.rho0=SPEC --t-end T --jobs 1 --quiet
+The kernels are cached before timing (one warm-up run). Every member's final y of the loop is
+checked against members.csv's (the same doubles), so the two sides ran the same family.
+Writes build/bench/python_loop.csv and prints a table."""
+import csv
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "python"))
+os.environ.setdefault("SWIM_CACHE", os.path.join(ROOT, "build", "cache"))
+import swim  # noqa: E402
+
+SWIM = os.environ.get("SWIM_BIN") or os.path.join(ROOT, "bin", "swim")
+SCENE = os.path.join(ROOT, "models", "example3.toml")
+SPEC = os.environ.get("BENCH_PY_SPEC", "0.5:2:200")
+T_END = float(os.environ.get("BENCH_PY_T_END", "1"))
+REPEATS = int(os.environ.get("BENCH_PY_REPEATS", "3"))
+KEY = "model.rho0"
+
+
+def python_loop(values):
+    return [swim.run(SCENE, set={KEY: v}, t_end=T_END) for v in values]
+
+
+def python_sweep(values):
+    return swim.sweep(SCENE, vary={KEY: SPEC}, t_end=T_END)
+
+
+def cli_sweep(tmp, k):
+    out = os.path.join(tmp, "sweep%d" % k)   # a fresh folder: an old one would be resumed, not run
+    p = subprocess.run([SWIM, "sweep", SCENE, "--out", out, "--vary", "%s=%s" % (KEY, SPEC), "--t-end", repr(T_END),
+                        "--jobs", "1", "--quiet"], capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError("swim sweep: " + p.stderr[-400:])
+    with open(os.path.join(out, "members.csv")) as f:
+        return list(csv.DictReader(f))
+
+
+def timed(fn, *args):
+    t0 = time.perf_counter()
+    out = fn(*args)
+    return time.perf_counter() - t0, out
+
+
+def main():
+    values = swim.spec_values(SPEC)
+    swim.run(SCENE, t_end=T_END)   # warm-up: kernels into the cache, the library's pages in memory
+    times = {"python loop (swim.run)": [], "swim.sweep (in process)": [], "swim sweep --jobs 1": []}
+    with tempfile.TemporaryDirectory(prefix="swim-bench-py-") as tmp:
+        for k in range(REPEATS):
+            t, loop = timed(python_loop, values)
+            times["python loop (swim.run)"].append(t)
+            t, rows = timed(python_sweep, values)
+            times["swim.sweep (in process)"].append(t)
+            t, table = timed(cli_sweep, tmp, k)
+            times["swim sweep --jobs 1"].append(t)
+    if len(table) != len(values) or [repr(r.final_state["y"]) for r in loop] != [repr(float(m["y"])) for m in table] \
+            or [repr(r["y"]) for r in rows] != [repr(float(m["y"])) for m in table]:
+        print("FAIL: the loop, swim.sweep and swim sweep did not compute the same members")
+        return 1
+    cli = statistics.median(times["swim sweep --jobs 1"])
+    print("Example 3, %d members (%s=%s), t_end = %g, median of %d (swim %s, %s)" % (
+        len(values), KEY, SPEC, T_END, REPEATS, swim.__version__, os.path.basename(swim._L._name)))
+    print("%-26s %10s %12s %10s" % ("way", "seconds", "members/s", "vs sweep"))
+    os.makedirs(os.path.join(ROOT, "build", "bench"), exist_ok=True)
+    with open(os.path.join(ROOT, "build", "bench", "python_loop.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["way", "members", "t_end", "median_seconds", "members_per_second", "ratio_to_swim_sweep"])
+        for way, ts in times.items():
+            med = statistics.median(ts)
+            print("%-26s %10.3f %12.1f %9.2fx" % (way, med, len(values) / med, cli / med))
+            w.writerow([way, len(values), T_END, "%.4f" % med, "%.1f" % (len(values) / med), "%.2f" % (cli / med)])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
