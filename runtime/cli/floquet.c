@@ -13,36 +13,6 @@
 #include "io/message.h"
 #include "kernel/coords.h"
 
-/* COLUMN:KIND with COLUMN a carried coordinate (c) or its velocity (dNAME), KIND max, min or
- * zero: the integrator-state index and kind. 0, or 2 after one line on stderr. */
-static int parse_section(const swim_dynamics *d, const char *spec, swim_floquet_section *sec)
-{
-    const char *colon = strchr(spec, ':');
-    char col[32];
-    if (!colon || (size_t)(colon - spec) >= sizeof col) goto bad;
-    snprintf(col, sizeof col, "%.*s", (int)(colon - spec), spec);
-    const char *kind = colon + 1;
-    if (strcmp(kind, "max") == 0) sec->kind = 'x';
-    else if (strcmp(kind, "min") == 0) sec->kind = 'n';
-    else if (strcmp(kind, "zero") == 0) sec->kind = 'z';
-    else goto bad;
-    const int vel = col[0] == 'd', nf = d->spec->nfree;
-    for (int f = 0; f < nf; f++) {
-        char name[24];
-        swim_coord_name(d->spec->free_index[f], name, sizeof name);
-        if (strcmp(name, col + vel) == 0) {
-            sec->index = 3 + f + (vel ? nf : 0);
-            return 0;
-        }
-    }
-    swim_message(stderr, "swim floquet: --event: '%s' is not a moving coordinate of the scene or its velocity "
-                 "(d + name)", col);
-    return 2;
-bad:
-    swim_message(stderr, "swim floquet: --event: expected COLUMN:KIND (KIND max, min or zero), e.g. am1:max, got '%s'", spec);
-    return 2;
-}
-
 typedef struct {
     const swim_floquet *fl;
     const char *scene, *section;
@@ -109,16 +79,10 @@ int swim_cmd_floquet(int argc, char **argv)
         swim_setup_close(&m);
         return 2;
     }
-    const char *section = swim_args_get(opts, nopts, "event");
-    char dflt[40];
-    if (!section) {   /* the first moving coordinate's maximum */
-        char name[24];
-        swim_coord_name(m.d.spec->free_index[0], name, sizeof name);
-        snprintf(dflt, sizeof dflt, "%s:max", name);
-        section = dflt;
-    }
+    char section[64];
     swim_floquet_section sec;
-    if ((rc = parse_section(&m.d, section, &sec))) {
+    if ((rc = swim_floquet_parse_section(&m.d, "floquet", "event", swim_args_get(opts, nopts, "event"), &sec, section,
+                                         sizeof section))) {
         swim_setup_close(&m);
         return rc;
     }

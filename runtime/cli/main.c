@@ -49,6 +49,11 @@ static const command commands[] = {
      "           [--event COLUMN:KIND (default: first moving coordinate, max)] [--t-max T] [--out DIR]\n"
      "           [--set KEY=VALUE ...] [--generic] [--quiet]",
      "swim floquet models/example3.toml --event am1:max --out out/example3-floquet"},
+    {"periodic", swim_cmd_periodic,
+     "a periodic orbit of the shape dynamics by Newton shooting: DIR/periodic.json (period,\n"
+     "           phase point, displacement per period, Newton history, Floquet multipliers)\n"
+     "           [--guess-event COLUMN:KIND] [--out DIR] [--tol R] [--max-iter K] [--t-max T] [--set KEY=VALUE ...]",
+     "swim periodic models/example1.toml --guess-event am1:max --out out/example1-periodic"},
     {"optimize", swim_cmd_optimize,
      "best values of scene keys within bounds for a quantity of the run (Nelder-Mead, GSL multimin):\n"
      "           DIR/optimize.csv, optimize.json, best.toml, convergence.png\n"

@@ -46,6 +46,44 @@ static void on_event(const swim_ode_event_hit *hit, void *data)
     log->count++;
 }
 
+int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const char *option, const char *spec,
+                               swim_floquet_section *sec, char *text, size_t len)
+{
+    char dflt[40];
+    if (!spec) {   /* the first moving coordinate's maximum */
+        char name[24];
+        swim_coord_name(d->spec->free_index[0], name, sizeof name);
+        snprintf(dflt, sizeof dflt, "%s:max", name);
+        spec = dflt;
+    }
+    snprintf(text, len, "%s", spec);
+    const char *colon = strchr(spec, ':');
+    char col[32];
+    if (!colon || (size_t)(colon - spec) >= sizeof col) goto bad;
+    snprintf(col, sizeof col, "%.*s", (int)(colon - spec), spec);
+    const char *kind = colon + 1;
+    if (strcmp(kind, "max") == 0) sec->kind = 'x';
+    else if (strcmp(kind, "min") == 0) sec->kind = 'n';
+    else if (strcmp(kind, "zero") == 0) sec->kind = 'z';
+    else goto bad;
+    const int vel = col[0] == 'd', nf = d->spec->nfree;
+    for (int f = 0; f < nf; f++) {
+        char name[24];
+        swim_coord_name(d->spec->free_index[f], name, sizeof name);
+        if (strcmp(name, col + vel) == 0) {
+            sec->index = 3 + f + (vel ? nf : 0);
+            return 0;
+        }
+    }
+    swim_message(stderr, "swim %s: --%s: '%s' is not a moving coordinate of the scene or its velocity "
+                 "(d + name)", cmd, option, col);
+    return 2;
+bad:
+    swim_message(stderr, "swim %s: --%s: expected COLUMN:KIND (KIND max, min or zero), e.g. am1:max, got '%s'", cmd,
+                 option, spec);
+    return 2;
+}
+
 int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_section *sec, double t_max,
                         const double *ys0, double *t1, double *period)
 {

@@ -75,6 +75,11 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
 /* The same analysis of the map over [0, period] from the integrator state ys (a point of the
  * orbit, e.g. the phase point of control/periodic.h); t_first is left 0. 0 or 1 (said). */
 int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floquet *out);
+/* COLUMN:KIND (spec; NULL: the first moving coordinate's max) with COLUMN a carried coordinate
+ * or its velocity (d + name), KIND max, min or zero: the integrator-state index and kind, and
+ * the section as text (len bytes). 0, or 2 after one line "swim CMD: --OPTION: ..." on stderr. */
+int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const char *option, const char *spec,
+                               swim_floquet_section *sec, char *text, size_t len);
 /* T and the time t_first of the first of two successive events of the section from state ys0
  * at t = 0, on the scene's integrator with its drift control (messages "swim CMD: ..."). 0 or 1. */
 int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_section *sec, double t_max,

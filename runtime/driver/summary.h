@@ -13,9 +13,7 @@
 #include "driver/run.h"
 #include "scene/scene.h"
 
-#ifndef SWIM_VERSION   /* from VERSION, by the Makefile */
-#define SWIM_VERSION "unknown"
-#endif
+#include "io/version.h"
 
 /* What the caller adds to a run's summary. Every pointer may be NULL. */
 typedef struct {

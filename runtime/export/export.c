@@ -13,6 +13,7 @@
 #include "codegen/codegen.h"
 #include "io/files.h"
 #include "io/message.h"
+#include "io/version.h"
 #include "ode/ode.h"
 #include "scene/resolve.h"
 
@@ -53,7 +54,7 @@ static const char *const extra[] = {"runtime/ode/peers_cvode.c", "runtime/export
 static const char *const header_dirs[] = {"codegen", "control", "driver", "io", "kernel", "model", "ode", "output",
                                           "scene", "shape", "stroke"};
 /* headers of those folders that belong to what the tree leaves out */
-static const char *const skip_headers[] = {"summary_read.h", "stdout_check.h", "floquet.h", "optimize.h", "model_setup.h"};
+static const char *const skip_headers[] = {"summary_read.h", "stdout_check.h", "floquet.h", "optimize.h", "model_setup.h", "periodic.h"};
 
 typedef struct {
     const swim_export_request *req;

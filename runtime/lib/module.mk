@@ -10,4 +10,5 @@ RUNTIME_SRCS += runtime/lib/swim.c
 # The rules are in runtime/lib/rules.mk, read once LIB_OBJS is known.
 # The objects that print the version are rebuilt when VERSION changes.
 $(BUILD)/runtime/lib/swim.o $(BUILD)/pic/runtime/lib/swim.o \
-$(BUILD)/runtime/driver/summary.o $(BUILD)/pic/runtime/driver/summary.o: VERSION
+$(BUILD)/runtime/driver/summary.o $(BUILD)/pic/runtime/driver/summary.o \
+$(BUILD)/runtime/export/export.o $(BUILD)/pic/runtime/export/export.o: VERSION

@@ -22,6 +22,7 @@
 #include "driver/summary.h"
 #include "io/files.h"
 #include "io/message.h"
+#include "io/version.h"
 #include "kernel/swim_kernel.h"
 #include "scene/resolve.h"
 #include "scene/scene.h"

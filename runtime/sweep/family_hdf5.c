@@ -11,9 +11,7 @@
 #include "io/files.h"
 #include "io/message.h"
 
-#ifndef SWIM_VERSION   /* from VERSION, by the Makefile */
-#define SWIM_VERSION "unknown"
-#endif
+#include "io/version.h"
 
 #define MAX_TRAJECTORY_BYTES (4ull << 30)   /* a member's trajectory.csv read whole: 4 GiB at most */
 

@@ -1,0 +1,152 @@
+/* swim periodic: a periodic orbit of the shape dynamics by Newton shooting
+ * (runtime/control/periodic.h), into DIR/periodic.json and a report on stdout. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "control/model_setup.h"
+#include "control/periodic.h"
+#include "io/files.h"
+#include "io/message.h"
+#include "ode/ode.h"
+
+typedef struct {
+    const swim_periodic *p;
+    const swim_dynamics *d;
+    const char *scene, *section;
+} json_job;
+
+static void fill(FILE *f, void *ctx)
+{
+    const json_job *j = ctx;
+    swim_periodic_json(f, j->p, j->d, j->scene, j->section);
+}
+
+static void report(const swim_periodic *p, const char *scene, const char *json)
+{
+    printf("%s: %s periodic orbit after %d Newton iterations (residual %.2g); %s\n", scene,
+           p->converged ? "a" : "NO", p->iterations, p->residual, json);
+    printf("  period T = %.12g (guess %.10g from events), energy %.12g%s\n", p->period, p->period_guess, p->energy,
+           p->conservative ? " (kept: the family is by energy)" : "");
+    printf("  per period: dx = %.10g, dy = %.10g, dtheta = %.10g (body frame at the phase point)\n", p->dx, p->dy,
+           p->dtheta);
+    if (p->have_floquet)
+        printf("  Floquet: %d tangent multipliers, %d at 1, %s; %ld RHS evaluations, %.2f s\n", p->floquet.nt,
+               p->floquet.unit_count, p->floquet.stable ? "linearly stable" : "UNSTABLE", p->rhs_calls, p->seconds);
+}
+
+int swim_cmd_periodic(int argc, char **argv)
+{
+    swim_override sets[SWIM_SETUP_MAX_SETS];
+    int nsets = swim_args_take_sets("periodic", &argc, argv, 2, sets, (int)(sizeof sets / sizeof sets[0]));
+    if (nsets < 0) return 2;
+    swim_opt opts[] = {
+        {"guess-event", 1, NULL, "COLUMN:KIND", "the section whose two successive events give the guess (state and "
+                                                "period) from a plain run: a moving coordinate or its velocity, KIND "
+                                                "max, min or zero (default: the first moving coordinate's max)"},
+        {"out", 1, NULL, "DIR", "the output folder of periodic.json (default: out/NAME-periodic)"},
+        {"tol", 1, NULL, "R", "converged when max |phi_T(z) - z| <= R times the state's scale (default 1e-11)"},
+        {"max-iter", 1, NULL, "K", "at most K Newton iterations, 1..40 (default 20)"},
+        {"t-max", 1, NULL, "T", "how long the guess run looks for two events (default: the scene's run.t_end)"},
+        {"set", 2, NULL, "KEY=VALUE", "a scene value overridden before the scene is validated (as for swim run)"},
+        {"generic", 0, NULL, NULL, "use the generic kernel of N modes, not one specialized to the scene"},
+        {"quiet", 0, NULL, NULL, "no notices on stderr (kernel generation); the report stays on stdout"}};
+    const int nopts = (int)(sizeof opts / sizeof opts[0]);
+    const char *pos[1];
+    int npos = 0;
+    const int prc = swim_args_parse("periodic", argc, argv, 2, opts, nopts, pos, 1, &npos);
+    if (prc) return prc;
+    if (npos != 1) {
+        swim_message(stderr, "swim periodic: expected one scene file, e.g. swim periodic models/example3.toml");
+        return 2;
+    }
+    swim_periodic_options o = {1e-11, 20, 1e-12, 1e-14, 0.0};
+    const char *v;
+    long iters;
+    if ((v = swim_args_get(opts, nopts, "tol"))) {
+        if (swim_args_double("periodic", "tol", v, &o.tol)) return 2;
+        if (!(o.tol > 0 && o.tol < 1)) {
+            swim_message(stderr, "swim periodic: --tol: must be in (0, 1), got '%s'", v);
+            return 2;
+        }
+    }
+    if ((v = swim_args_get(opts, nopts, "max-iter"))) {
+        if (swim_args_int("periodic", "max-iter", v, 1, SWIM_PERIODIC_MAX_ITER, &iters)) return 2;
+        o.max_iter = (int)iters;
+    }
+    if ((v = swim_args_get(opts, nopts, "t-max"))) {
+        if (swim_args_double("periodic", "t-max", v, &o.t_max)) return 2;
+        if (!(o.t_max > 0)) {
+            swim_message(stderr, "swim periodic: --t-max: must be > 0, got '%s'", v);
+            return 2;
+        }
+    }
+    const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
+    static swim_model_setup m;
+    int rc = swim_setup_load(&m, pos[0], sets, nsets);
+    if (rc == 0 && m.s.stroke) {
+        swim_message(stderr, "swim periodic: %s: a prescribed stroke ([stroke]) is periodic by its laws: there is no "
+                     "free shape dynamics to solve for (swim run reports its period and displacement per stroke)", pos[0]);
+        rc = 2;
+    }
+    if (rc == 0 && m.s.forcing) {
+        swim_message(stderr, "swim periodic: %s: [forcing] makes the equations depend on time; swim periodic looks "
+                     "for orbits of autonomous scenes only", pos[0]);
+        rc = 2;
+    }
+    if (rc == 0 && !(swim_ode_capabilities(m.s.integrator) & SWIM_ODE_CAP_EVENTS)) {
+        swim_message(stderr, "swim periodic: %s: run.integrator = \"%s\" cannot locate the guess's events; use one "
+                     "of %s (e.g. --set run.integrator=abm)", pos[0], m.s.integrator,
+                     swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
+        rc = 2;
+    }
+    if (rc == 0) rc = swim_setup_kernels(&m, "periodic", swim_args_get(opts, nopts, "generic") != NULL, quiet);
+    char section[64];
+    swim_floquet_section sec;
+    if (rc == 0)
+        rc = swim_floquet_parse_section(&m.d, "periodic", "guess-event", swim_args_get(opts, nopts, "guess-event"), &sec,
+                                        section, sizeof section);
+    if (rc) {
+        swim_setup_close(&m);
+        return rc;
+    }
+    if (o.t_max <= 0) o.t_max = m.s.t_end;
+    const char *out = swim_args_get(opts, nopts, "out");
+    char *dir;
+    if (out) dir = strdup(out);
+    else {
+        const char *base = strrchr(pos[0], '/');
+        base = base ? base + 1 : pos[0];
+        dir = swim_strprintf("out/%.*s-periodic", (int)strcspn(base, "."), base);
+    }
+    char *json = dir ? swim_path_join(dir, "periodic.json") : NULL;
+    if (!json || swim_mkdirs(dir) != 0) {
+        swim_message(stderr, "swim periodic: --out: cannot create %s", dir ? dir : "(out of memory)");
+        free(dir);
+        free(json);
+        swim_setup_close(&m);
+        return 2;
+    }
+    swim_periodic p;
+    rc = swim_periodic_solve(&m.d, &sec, &o, &p);
+    if (rc == 0) {   /* converged or not, the history is kept */
+        json_job job = {&p, &m.d, pos[0], section};
+        if (swim_replace_file_with(json, fill, &job) != 0) {
+            swim_message(stderr, "swim periodic: cannot write %s", json);
+            rc = 1;
+        }
+        report(&p, pos[0], json);
+        if (!p.converged) {
+            swim_message(stderr, "swim periodic: %s: Newton did not converge: %s (residual %.2g > %.2g after %d "
+                         "iterations; the history is in %s)", pos[0], p.why, p.residual, o.tol, p.iterations, json);
+            rc = 1;
+        }
+    }
+    swim_periodic_free(&p);
+    free(dir);
+    free(json);
+    swim_setup_close(&m);
+    return rc;
+}

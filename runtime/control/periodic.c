@@ -1,0 +1,344 @@
+/* periodic.c -- Newton shooting for a periodic orbit (control/periodic.h has the method). */
+#include "control/periodic.h"
+
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "driver/run.h"
+#include "io/clock.h"
+#include "io/json.h"
+#include "io/message.h"
+#include "kernel/coords.h"
+#include "ode/ode.h"
+
+#define MAX_HALVINGS 8
+
+/* The flow map: the integrator state ys at t = 0 carried to t = T by the scene's integrator and
+ * drift control at rtol/atol (the rigid part and the work start from 0). 0, or 1 (said). */
+static int flow(swim_dynamics *d, const double *ys, double T, const swim_periodic_options *o, double *out,
+                long *rhs_calls, int loud)
+{
+    const swim_scene *s = d->scene;
+    const int N = swim_dynamics_state_dim(d);
+    memcpy(out, ys, sizeof(double) * N);
+    out[0] = out[1] = out[2] = out[N - 1] = 0.0;
+    swim_ode_system sys = {swim_dynamics_rhs, (size_t)N, d, NULL};
+    swim_ode_options opt;
+    swim_run_ode_options(s, &opt);
+    opt.rtol = o->rtol;
+    opt.atol = o->atol;
+    if (s->projection && (swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_PROJECTION)) opt.project = swim_dynamics_project;
+    swim_ode *ode = NULL;
+    int rc = swim_ode_create(s->integrator, &sys, &opt, 0.0, out, &ode);
+    if (rc == SWIM_ODE_OK) rc = swim_ode_advance(ode, T, out);
+    if (ode) {
+        swim_ode_stats st;
+        swim_ode_get_stats(ode, &st);
+        *rhs_calls += st.rhs_evals;
+        swim_ode_free(ode);
+    }
+    if (rc != SWIM_ODE_OK) {
+        if (loud)   /* a trial step of the line search that fails is only a step not taken */
+            swim_message(stderr, "swim periodic: the integration over one period (T = %.10g) failed: %s", T,
+                     swim_ode_strerror(rc));
+        return 1;
+    }
+    return 0;
+}
+
+/* r = phi_T(z) - z on the shape state, and max |r| / scale. */
+static int residual(swim_dynamics *d, const double *ys, double T, const swim_periodic_options *o, double scale,
+                    double *r, double *rel, double *work, long *rhs_calls, int loud)
+{
+    const int n2 = 2 * d->spec->nfree;
+    if (flow(d, ys, T, o, work, rhs_calls, loud)) return 1;
+    double m = 0.0;
+    for (int i = 0; i < n2; i++) {
+        r[i] = work[3 + i] - ys[3 + i];
+        m = fmax(m, fabs(r[i]));
+    }
+    *rel = m / scale;
+    return 0;
+}
+
+static double energy_at(swim_dynamics *d, const double *ys, double *full)
+{
+    swim_diag g;
+    swim_dynamics_unpack(d, ys, full);
+    return swim_dynamics_diagnostics(d, full, &g) == 0 ? g.energy : NAN;
+}
+
+/* No damping on a carried coordinate and no forcing: energy is conserved, orbits come in a family
+ * by energy, and the Newton system gets the energy row. */
+static int conservative(const swim_dynamics *d)
+{
+    const swim_scene *s = d->scene;
+    if (s->forcing) return 0;
+    for (int f = 0; f < d->spec->nfree; f++)
+        if (s->damping[d->spec->free_index[f]] != 0.0) return 0;
+    return 1;
+}
+
+/* The Newton step (u, dT) of the bordered system, least squares. 0, or -1. */
+static int newton_step(const swim_floquet *fl, const double *r, int with_energy, double *u, double *dT)
+{
+    const int n2 = fl->n2, nt = fl->nt, m = n2 + 1 + with_energy, nc = nt + 1, ld = nc;
+    const int rows = m > nc ? m : nc;
+    double *A = calloc((size_t)rows * ld, sizeof(double)), *b = calloc((size_t)rows, sizeof(double));
+    double *sv = malloc(sizeof(double) * (size_t)(m < nc ? m : nc));
+    if (!A || !b || !sv) {
+        free(A); free(b); free(sv);
+        return -1;
+    }
+    for (int i = 0; i < n2; i++) {
+        for (int k = 0; k < nt; k++) {
+            double v = -fl->B[i * nt + k];   /* (M - I) B */
+            for (int j = 0; j < n2; j++) v += fl->M[i * n2 + j] * fl->B[j * nt + k];
+            A[i * ld + k] = v;
+        }
+        A[i * ld + nt] = fl->flow[i];
+        b[i] = -r[i];
+    }
+    for (int k = 0; k < nt; k++)
+        for (int j = 0; j < n2; j++) {
+            A[n2 * ld + k] += fl->flow[j] * fl->B[j * nt + k];            /* phase: f . dz = 0 */
+            if (with_energy) A[(n2 + 1) * ld + k] += fl->grad_energy[j] * fl->B[j * nt + k];   /* dE = 0 */
+        }
+    lapack_int rank;
+    const int rc = LAPACKE_dgelsd(LAPACK_ROW_MAJOR, m, nc, 1, A, ld, b, 1, sv, 1e-13, &rank);
+    if (rc == 0) {
+        memcpy(u, b, sizeof(double) * nt);
+        *dT = b[nt];
+    }
+    free(A); free(b); free(sv);
+    return rc == 0 ? 0 : -1;
+}
+
+/* The guess: the state at the first event of the section and the time to the next. */
+static int guess(swim_dynamics *d, const swim_floquet_section *sec, const swim_periodic_options *o, double *ys,
+                 double *full, swim_periodic *p)
+{
+    const int N = swim_dynamics_state_dim(d);
+    swim_dynamics_initial_state(d, full);
+    swim_dynamics_pack(d, full, ys);
+    if (swim_floquet_period(d, "periodic", sec, o->t_max, ys, &p->t_guess, &p->period_guess)) return 1;
+    double *y1 = malloc(sizeof(double) * N);
+    if (!y1) return 1;
+    /* the state at the event, on the same map as the shooting (the event time is the
+     * interpolant's; the phase condition takes up what its error leaves) */
+    int rc = flow(d, ys, p->t_guess, o, y1, &p->rhs_calls, 1);
+    if (rc == 0) memcpy(ys, y1, sizeof(double) * N);
+    free(y1);
+    return rc;
+}
+
+int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const swim_periodic_options *o,
+                        swim_periodic *p)
+{
+    memset(p, 0, sizeof *p);
+    const double t0 = swim_clock_seconds();
+    if (d->scene->stroke || !d->spec) {
+        swim_message(stderr, "swim periodic: %s: a prescribed stroke has no free shape dynamics", d->scene->path);
+        return 1;
+    }
+    const int N = swim_dynamics_state_dim(d), n2 = 2 * d->spec->nfree;
+    const int max_iter = o->max_iter < SWIM_PERIODIC_MAX_ITER ? o->max_iter : SWIM_PERIODIC_MAX_ITER;
+    p->n2 = n2;
+    p->conservative = conservative(d);
+    double *ys = malloc(sizeof(double) * N), *yt = malloc(sizeof(double) * N), *work = malloc(sizeof(double) * N);
+    double *full = calloc((size_t)d->dim, sizeof(double));
+    double r[SWIM_FLOQUET_MAX], rt[SWIM_FLOQUET_MAX], u[SWIM_FLOQUET_MAX];
+    int rc = 1;
+    if (!ys || !yt || !work || !full) {
+        swim_message(stderr, "swim periodic: out of memory");
+        goto done;
+    }
+    if (guess(d, sec, o, ys, full, p)) goto done;
+    double T = p->period_guess, res;
+    p->scale = d->scene->atol;
+    for (int i = 0; i < n2; i++) p->scale = fmax(p->scale, fabs(ys[3 + i]));
+    if (residual(d, ys, T, o, p->scale, r, &res, work, &p->rhs_calls, 1)) goto done;
+    for (int it = 0;; it++) {
+        swim_periodic_iteration *h = &p->history[it];
+        h->residual = res;
+        h->period = T;
+        h->energy = energy_at(d, ys, full);
+        p->iterations = it;
+        if (res <= o->tol) {
+            /* a rest state closes for every T: that is not the orbit asked for */
+            double rhs_max = 0.0;
+            if (swim_dynamics_rhs(0.0, ys, work, d) == 0)
+                for (int i = 0; i < n2; i++) rhs_max = fmax(rhs_max, fabs(work[3 + i]));
+            if (rhs_max * T <= 1e3 * o->tol * p->scale)
+                p->why = "the iteration went to a rest state (f = 0), which closes for any period: no periodic "
+                         "orbit near the guess";
+            else
+                p->converged = 1;
+            break;
+        }
+        if (it >= max_iter) {
+            p->why = "the residual did not reach the tolerance within the iterations allowed";
+            break;
+        }
+        if (it >= 3 && res > 0.5 * p->history[it - 3].residual) {   /* Newton near a root halves it at least */
+            p->why = "the residual stopped falling (not halved in three iterations): no periodic orbit near the guess";
+            break;
+        }
+        swim_floquet fl;
+        if (swim_floquet_at(d, ys, T, &fl) != 0) goto done;
+        p->rhs_calls += fl.rhs_calls;
+        double dT = 0.0;
+        const int step_rc = newton_step(&fl, r, p->conservative, u, &dT);
+        double dz[SWIM_FLOQUET_MAX];
+        for (int i = 0; i < n2; i++) {
+            dz[i] = 0.0;
+            for (int k = 0; k < fl.nt; k++) dz[i] += fl.B[i * fl.nt + k] * u[k];
+        }
+        swim_floquet_free(&fl);
+        if (step_rc != 0) {
+            p->why = "the Newton system could not be solved (LAPACK dgelsd)";
+            break;
+        }
+        /* the step, halved until the residual falls (or the halvings run out) */
+        double lambda = 1.0, res_t = INFINITY;
+        int accepted = 0;
+        for (int hv = 0; hv <= MAX_HALVINGS && !accepted; hv++, lambda *= 0.5) {
+            memcpy(yt, ys, sizeof(double) * N);
+            for (int i = 0; i < n2; i++) yt[3 + i] += lambda * dz[i];
+            yt[0] = yt[1] = yt[2] = yt[N - 1] = 0.0;
+            swim_dynamics_project(0.0, yt, d);   /* back onto the constraint manifold */
+            const double Tt = T + lambda * dT;
+            if (!(Tt > 0.0)) continue;
+            if (residual(d, yt, Tt, o, p->scale, rt, &res_t, work, &p->rhs_calls, 0) != 0) continue;
+            if (res_t < res) {
+                accepted = 1;
+                h->halvings = hv;
+                h->step = 0.0;
+                for (int i = 0; i < n2; i++) h->step = fmax(h->step, fabs(yt[3 + i] - ys[3 + i]));
+                memcpy(ys, yt, sizeof(double) * N);
+                memcpy(r, rt, sizeof(double) * n2);
+                T = Tt;
+                res = res_t;
+            }
+        }
+        if (!accepted) {
+            p->why = "no step along the Newton direction lowered the residual (at the tolerance of the flow map, "
+                     "or no periodic orbit near the guess)";
+            break;
+        }
+    }
+    if (!p->converged && !p->conservative) {   /* say what the scene makes likely */
+        snprintf(p->why_text, sizeof p->why_text, "%s; the scene has %s, which %s energy, so only a rest state "
+                 "can close", p->why ? p->why : "", d->scene->forcing ? "forcing" : "damping",
+                 d->scene->forcing ? "supplies" : "dissipates");
+        p->why = p->why_text;
+    }
+    p->period = T;
+    p->residual = res;
+    for (int i = 0; i < n2; i++) p->z[i] = ys[3 + i];
+    p->energy = energy_at(d, ys, full);
+    if (flow(d, ys, T, o, work, &p->rhs_calls, 1)) goto done;
+    p->dx = work[0];
+    p->dy = work[1];
+    p->dtheta = work[2];
+    if (p->converged) {
+        if (swim_floquet_at(d, ys, T, &p->floquet) != 0) goto done;
+        p->have_floquet = 1;
+        p->rhs_calls += p->floquet.rhs_calls;
+    }
+    rc = 0;
+done:
+    free(ys); free(yt); free(work); free(full);
+    p->seconds = swim_clock_seconds() - t0;
+    return rc;
+}
+
+void swim_periodic_free(swim_periodic *p)
+{
+    if (p->have_floquet) swim_floquet_free(&p->floquet);
+    p->have_floquet = 0;
+}
+
+void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d, const char *scene,
+                        const char *section)
+{
+    fprintf(f, "{\n  \"scene\": ");
+    swim_json_string(f, scene);
+    fprintf(f, ",\n  \"section\": ");
+    swim_json_string(f, section);
+    fprintf(f, ",\n  \"converged\": %s,\n  \"reason\": ", p->converged ? "true" : "false");
+    if (p->why) swim_json_string(f, p->why);
+    else fprintf(f, "null");
+    fprintf(f, ",\n  \"period\": ");
+    swim_json_number(f, p->period);
+    fprintf(f, ",\n  \"residual\": ");
+    swim_json_number(f, p->residual);
+    fprintf(f, ",\n  \"residual_meaning\": \"max |phi_T(z) - z| / max(max |z|, atol) on the shape state\"");
+    fprintf(f, ",\n  \"state_scale\": ");
+    swim_json_number(f, p->scale);
+    fprintf(f, ",\n  \"displacement_per_period\": {\"dx\": ");
+    swim_json_number(f, p->dx);
+    fprintf(f, ", \"dy\": ");
+    swim_json_number(f, p->dy);
+    fprintf(f, ", \"dtheta\": ");
+    swim_json_number(f, p->dtheta);
+    fprintf(f, ", \"frame\": \"the body's at the phase point (q = 0 there)\"}");
+    fprintf(f, ",\n  \"energy\": ");
+    swim_json_number(f, p->energy);
+    fprintf(f, ",\n  \"energy_fixed\": %s", p->conservative ? "true" : "false");
+    fprintf(f, ",\n  \"phase_point\": {");
+    const int nf = p->n2 / 2;
+    for (int i = 0; i < p->n2; i++) {
+        char name[24];
+        swim_coord_name(d->spec->free_index[i % nf], name, sizeof name);
+        fprintf(f, "%s\"%s%s\": ", i ? ", " : "", i < nf ? "" : "d", name);
+        swim_json_number(f, p->z[i]);
+    }
+    fprintf(f, "},\n  \"guess\": {\"first_event\": ");
+    swim_json_number(f, p->t_guess);
+    fprintf(f, ", \"period\": ");
+    swim_json_number(f, p->period_guess);
+    fprintf(f, "},\n  \"newton\": [");
+    for (int i = 0; i <= p->iterations && i <= SWIM_PERIODIC_MAX_ITER; i++) {
+        const swim_periodic_iteration *h = &p->history[i];
+        fprintf(f, "%s\n    {\"iteration\": %d, \"residual\": ", i ? "," : "", i);
+        swim_json_number(f, h->residual);
+        fprintf(f, ", \"period\": ");
+        swim_json_number(f, h->period);
+        fprintf(f, ", \"energy\": ");
+        swim_json_number(f, h->energy);
+        fprintf(f, ", \"step\": ");
+        swim_json_number(f, h->step);
+        fprintf(f, ", \"halvings\": %d}", h->halvings);
+    }
+    fprintf(f, "\n  ],\n  \"floquet\": ");
+    if (p->have_floquet) {
+        const swim_floquet *fl = &p->floquet;
+        fprintf(f, "{\"base\": \"the phase point\", \"tangent_dimension\": %d, \"multipliers_tangent\": [", fl->nt);
+        for (int i = 0; i < fl->nt; i++) {
+            fprintf(f, "%s{\"re\": ", i ? ", " : "");
+            swim_json_number(f, fl->tre[i]);
+            fprintf(f, ", \"im\": ");
+            swim_json_number(f, fl->tim[i]);
+            fprintf(f, ", \"abs\": ");
+            swim_json_number(f, hypot(fl->tre[i], fl->tim[i]));
+            fprintf(f, "}");
+        }
+        fprintf(f, "], \"checks\": {\"flow_residual\": ");
+        swim_json_number(f, fl->flow_residual);
+        fprintf(f, ", \"energy_residual\": ");
+        swim_json_number(f, fl->energy_residual);
+        fprintf(f, ", \"reciprocal_residual\": ");
+        swim_json_number(f, fl->reciprocal_residual);
+        fprintf(f, ", \"det_tangent\": ");
+        swim_json_number(f, fl->det_tangent);
+        fprintf(f, ", \"multipliers_at_1\": %d}, \"stable\": %s}", fl->unit_count, fl->stable ? "true" : "false");
+    } else {
+        fprintf(f, "null");
+    }
+    fprintf(f, ",\n  \"rhs_evaluations\": %ld,\n  \"seconds\": ", p->rhs_calls);
+    swim_json_number(f, p->seconds);
+    fprintf(f, "\n}\n");
+}

@@ -1,0 +1,81 @@
+/* periodic.h -- a periodic orbit of the shape dynamics by Newton shooting (swim periodic).
+ *
+ * Unknowns: the shape state z = (c_carried, cdot_carried) at a phase point and the period T.
+ * Equations: the orbit closes, phi_T(z) - z = 0, with phi the flow of the scene's equations
+ * (its integrator and drift control, at a tight tolerance); a phase condition that fixes the
+ * point along the orbit, f(z_k) . (z - z_k) = 0 (the correction orthogonal to the flow); and,
+ * for a conservative scene (no damping, no forcing), the energy of the guess kept,
+ * grad E(z_k) . (z - z_k) = 0 -- a conservative system has a family of orbits by energy, so
+ * closing alone does not pick one. The corrections stay on the constraint manifold
+ * {mu^2(c) = mu^2(c0), G1 cdot = 0, G2 cdot = 0}: dz = B u with B an orthonormal basis of its
+ * tangent space (control/floquet.h), and z is put back on the manifold after each step
+ * (model/dynamics.h, swim_dynamics_project). The Newton matrix [(M - I) B, f; f^T B, 0;
+ * grad E^T B, 0] uses the monodromy M of the variational equations (swim_floquet_at); it is
+ * solved in the least-squares sense (LAPACK dgelsd), which also copes with the rank a symmetry
+ * takes away. A step that does not lower the residual is halved (at most 8 times).
+ *
+ * The guess: the state at the first of two successive events of the section (e.g. am1:max) of a
+ * plain run from the scene's initial state, and the time between them.
+ *
+ * Converged when max |phi_T(z) - z| <= tol * max(max |z|, atol). Then the displacement and
+ * rotation per period (Delta x, Delta y, Delta theta: the rigid motion over [0, T] from
+ * q = 0, i.e. in the body frame at the phase point), the energy and the Floquet multipliers at
+ * the phase point (swim_floquet_at, based there) are computed.
+ */
+#ifndef SWIM_CONTROL_PERIODIC_H
+#define SWIM_CONTROL_PERIODIC_H
+
+#include <stdio.h>
+
+#include "control/floquet.h"
+#include "model/dynamics.h"
+
+#define SWIM_PERIODIC_MAX_ITER 40
+
+typedef struct {
+    double tol;                    /* on the residual relative to the state's scale (1e-11) */
+    int max_iter;                  /* Newton iterations (20) */
+    double rtol, atol;             /* of the flow map phi_T (1e-12, 1e-14) */
+    double t_max;                  /* how long the guess run looks for two events */
+} swim_periodic_options;
+
+typedef struct {
+    double residual;               /* max |phi_T(z) - z| / scale before this iteration's step */
+    double period;
+    double step;                   /* max |dz| of the step taken (after halving) */
+    double energy;
+    int halvings;
+} swim_periodic_iteration;
+
+typedef struct {
+    int converged;
+    const char *why;               /* why not (static text or why_text), NULL when converged */
+    char why_text[512];
+    int iterations;
+    swim_periodic_iteration history[SWIM_PERIODIC_MAX_ITER + 1];
+    double t_guess, period_guess;  /* the guess: first event and time between two */
+    double period;
+    double residual;               /* relative, as in the history */
+    double scale;
+    int n2;                        /* shape state dimension */
+    double z[SWIM_FLOQUET_MAX];    /* the shape state at the phase point */
+    double dx, dy, dtheta;         /* rigid motion per period, from q = 0 */
+    double energy;
+    int conservative;              /* the energy row was used */
+    swim_floquet floquet;          /* at the phase point (converged only; free with swim_periodic_free) */
+    int have_floquet;
+    long rhs_calls;
+    double seconds;
+} swim_periodic;
+
+/* The orbit of d's scene from the guess of section sec. 0 (converged or not: see converged and
+ * why), or 1 after one line on stderr (no guess: fewer than two events; an integration or
+ * allocation failure). */
+int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const swim_periodic_options *o,
+                        swim_periodic *out);
+void swim_periodic_free(swim_periodic *p);
+/* DIR/periodic.json: names are the carried coordinates (d's spec). */
+void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d, const char *scene,
+                        const char *section);
+
+#endif

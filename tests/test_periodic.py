@@ -1,0 +1,91 @@
+"""swim periodic: Newton shooting converges on Example 1 and Example 3 to a residual <= 1e-11 of the
+state's scale; its period and displacement per period agree with a long plain run (the time
+between two events of the section at rtol 1e-12, and y at those times: both examples swim along
+y with theta = 0, so the body frame at the phase point is the fixed frame); the Newton history is
+kept and the residual falls; the Floquet part is based at the phase point and its flow direction
+is an eigenvector with multiplier 1. A damped scene (Example 7) has no periodic orbit: exit 1,
+its last line saying Newton did not converge and why (after the scene's own
+notice of its projected initial velocity), the history in periodic.json. Bad input: one
+line, exit 2."""
+
+import json
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import swimtest  # noqa: E402
+from swimtest import TMP, check, swim  # noqa: E402
+
+
+def periodic(scene, name, *args):
+    out = os.path.join(TMP, name)
+    p = swim("periodic", scene, "--out", out, "--quiet", *args)
+    path = os.path.join(out, "periodic.json")
+    data = json.load(open(path)) if os.path.exists(path) else None
+    return p, data
+
+
+def final_y(scene, t_end, name):
+    p, _, s = swimtest.run(scene, name, "--t-end", repr(t_end), "--rtol", "1e-12", "--atol", "1e-14")
+    return s["final_state"]["y"] if s else None
+
+
+def events(scene, name, t_end):
+    p, _, s = swimtest.run(scene, name, "--t-end", repr(t_end), "--rtol", "1e-12", "--atol", "1e-14",
+                           "--event", "am1:max", "--summary-only")
+    path = os.path.join(TMP, name, "events.csv")
+    rows = [ln.split(",") for ln in open(path).read().split("\n")[1:] if ln] if os.path.exists(path) else []
+    return [float(r[0]) for r in rows]
+
+
+def agree_with_long_run(scene, tag, t_end, period_hint):
+    p, d = periodic(scene, tag)
+    check(p.returncode == 0 and d and d["converged"], "%s: converged (%r)" % (tag, p.stderr[-300:]))
+    if not d:
+        return
+    check(d["residual"] <= 1e-11, "%s: residual %.2g <= 1e-11" % (tag, d["residual"]))
+    res = [h["residual"] for h in d["newton"]]
+    check(len(res) >= 2 and res[-1] < res[0], "%s: the residual falls along the history %s" % (tag, res))
+    check(abs(d["period"] - period_hint) < 1e-2, "%s: period %.10g near the paper's %.4g" % (tag, d["period"], period_hint))
+    t = events(scene, tag + "-events", t_end)
+    check(len(t) >= 3, "%s: events of a long run: %s" % (tag, t))
+    if len(t) < 3:
+        return
+    gaps = [b - a for a, b in zip(t, t[1:])]
+    check(all(abs(g - d["period"]) <= 1e-7 * d["period"] for g in gaps),
+          "%s: every gap between events of a long run is the period to 1e-7: %.12g vs %s" % (tag, d["period"], gaps))
+    dy_run = final_y(scene, t[2], tag + "-t2") - final_y(scene, t[1], tag + "-t1")
+    dy = d["displacement_per_period"]["dy"]
+    check(abs(dy - dy_run) <= 1e-7 * max(1.0, abs(dy)), "%s: dy per period %.12g vs the run's %.12g" % (tag, dy, dy_run))
+    fl = d["floquet"]
+    check(fl and fl["base"] == "the phase point" and fl["checks"]["flow_residual"] < 1e-5 and fl["checks"]["multipliers_at_1"] >= 2,
+          "%s: Floquet at the phase point, f an eigenvector for 1 (%r)" % (tag, fl and fl["checks"]))
+
+
+def test_example1():
+    agree_with_long_run("models/example1.toml", "ex1", 30.0, 8.335)
+
+
+def test_example3():
+    agree_with_long_run("models/example3.toml", "ex3", 12.0, 3.699)
+
+
+def test_damped_scene_does_not_converge():
+    p, d = periodic("models/example7.toml", "ex7", "--max-iter", "1")
+    last = p.stderr.strip().splitlines()[-1] if p.stderr.strip() else ""
+    check(p.returncode == 1 and "did not converge" in last and "periodic.json" in last,
+          "damped: exit 1, one line saying why: %d %r" % (p.returncode, p.stderr))
+    check(d is not None and d["converged"] is False and "dissipates" in d["reason"] and len(d["newton"]) >= 1,
+          "damped: periodic.json keeps the history and the reason")
+
+
+def test_bad_input():
+    for args, what in ((["--guess-event", "nosuch:max"], "nosuch"), (["--guess-event", "am1:sideways"], "COLUMN:KIND"),
+                       (["--tol", "2"], "--tol"), (["--max-iter", "0"], "max-iter")):
+        p = swim("periodic", "models/example3.toml", "--out", os.path.join(TMP, "bad"), *args)
+        check(p.returncode == 2 and swimtest.one_line(p) and what in p.stderr, "%s: one line, exit 2: %r" % (args, p.stderr))
+    p = swim("periodic", "models/stroke_loop.toml", "--out", os.path.join(TMP, "bad"))
+    check(p.returncode == 2 and swimtest.one_line(p) and "stroke" in p.stderr, "a stroke is refused: %r" % p.stderr)
+
+
+sys.exit(swimtest.main(globals(), "test_periodic"))
