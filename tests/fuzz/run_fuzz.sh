@@ -25,11 +25,13 @@ mkdir -p "$out/corpus" "$out/artifacts"
 targets=$(ls tests/fuzz/fuzz_*.c | sed -E 's#.*/fuzz_(.*)\.c#\1#')
 
 SAN=(-g -O1 -std=c11 -D_XOPEN_SOURCE=700 -fsanitize=address,undefined -fno-sanitize-recover=undefined
-     -Wno-psabi -Iruntime -I/usr/include/sundials)
+     -Wno-psabi -Iruntime -I/usr/include/sundials -I/usr/include/hdf5/serial)
 # The TOML target needs the TOML reader only; the others link the runtime with the committed
 # kernels (N = 0..7; bin/swim-mpi is built by make mpi).
 "${PYTHON:-/usr/bin/python3}" generator/generate.py --table 0 1 2 3 4 5 6 7 --out "$out/kernel_table.c"
-srcs="$(ls runtime/*/*.c generated/swim_kernel_n[0-7].c | grep -v -e 'runtime/cli/main.c' -e 'runtime/mpi/') $out/kernel_table.c"
+# (runtime/export/'s other .c files are copied into exported trees, not linked into swim)
+srcs="$(ls runtime/*/*.c generated/swim_kernel_n[0-7].c | grep -v -e 'runtime/cli/main.c' -e 'runtime/mpi/' \
+        -e 'runtime/export/simulate.c' -e 'runtime/export/kernels.c' -e 'runtime/export/no_cvode.c') $out/kernel_table.c"
 
 if [ "$secs" = --check ]; then
     n=0
@@ -53,7 +55,8 @@ rm -rf "$out/obj" && mkdir -p "$out/obj"
 export CLANG out
 printf '%s\n' $srcs | xargs -P "$(nproc)" -I{} sh -c \
     'o="$out/obj/$(echo "{}" | tr / _).o"; "$CLANG" '"${SAN[*]}"' -fsanitize=fuzzer-no-link -c "{}" -o "$o"'
-libs=(-ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -ljansson -lquadmath -lm)
+libs=(-ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -ljansson -lquadmath -lm
+      -L/usr/lib/x86_64-linux-gnu/hdf5/serial -lhdf5)
 for t in $targets; do
     if [ "$t" = toml ]; then
         "$CLANG" "${SAN[@]}" -fsanitize=fuzzer tests/fuzz/fuzz_toml.c runtime/scene/toml.c -o "$out/fuzz_toml" -lm
