@@ -20,7 +20,7 @@ CLI = os.path.join(ROOT, "runtime", "cli")
 # the source file that parses each command's options
 SOURCES = {"inspect": ["inspect.c"], "run": ["run.c", "run_settings.c"], "flow": ["flow.c"],
            "sweep": ["sweep_args.c"], "floquet": ["floquet.c"], "optimize": ["optimize.c"],
-           "cache": ["cache.c"], "export": ["export.c"],
+           "cache": ["cache.c"], "export": ["export.c"], "periodic": ["periodic.c"], "continue": ["continue.c"],
            "plot": ["../plot/plot_run.py"], "animate": ["../plot/animate_run.py"]}
 OPTION = re.compile(r"^  --([a-z0-9-]+)(?: (.+?))?( \(repeatable\))?$")
 

@@ -11,6 +11,7 @@ int swim_cmd_animate(int argc, char **argv);
 int swim_cmd_sweep(int argc, char **argv);
 int swim_cmd_floquet(int argc, char **argv);
 int swim_cmd_periodic(int argc, char **argv);
+int swim_cmd_continue(int argc, char **argv);
 int swim_cmd_optimize(int argc, char **argv);
 int swim_cmd_cache(int argc, char **argv);
 int swim_cmd_export(int argc, char **argv);

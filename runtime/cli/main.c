@@ -54,6 +54,10 @@ static const command commands[] = {
      "           phase point, displacement per period, Newton history, Floquet multipliers)\n"
      "           [--guess-event COLUMN:KIND] [--out DIR] [--tol R] [--max-iter K] [--t-max T] [--set KEY=VALUE ...]",
      "swim periodic models/example1.toml --guess-event am1:max --out out/example1-periodic"},
+    {"continue", swim_cmd_continue,
+     "a branch of periodic orbits in the energy or a run-time scene key: DIR/branch.csv, branch.json\n"
+     "           --param KEY=START:STOP [--max-points K] [--guess-event COLUMN:KIND] [--out DIR] [--tol R]",
+     "swim continue models/example1.toml --param energy=0.05:0.3 --max-points 6"},
     {"optimize", swim_cmd_optimize,
      "best values of scene keys within bounds for a quantity of the run (Nelder-Mead, GSL multimin):\n"
      "           DIR/optimize.csv, optimize.json, best.toml, convergence.png\n"

@@ -284,6 +284,69 @@ static int energy_gradient(swim_dynamics *d, const double *ys, double *gE)
     return rc;
 }
 
+const char *const swim_floquet_symmetry_names[SWIM_FLOQUET_NSYM] = {
+    "rotation of the shape in the body frame (c_k -> e^{i psi} c_k)",
+    "rotation of the disk's parametrization (c_k -> e^{i k phi} c_k)",
+    "the parametrization turned against the body, c_1 fixed (c_k -> e^{i (k - 1) phi} c_k)"};
+
+/* The mode number k of coordinate pair p of c = (c_1, c_-1, c_-2, ...): 1, -1, -2, ... */
+static double mode_number(int pair) { return pair == 0 ? 1.0 : -(double)pair; }
+
+/* The generators at the shape state (z = (c, cdot) of the carried coordinates) of the three
+ * rotations, each c_k -> e^{i m_k t} c_k with m_k = 1, k or k - 1: d/dt (a_k, b_k) = m_k (-b_k, a_k).
+ * One is representable when every mode it moves (m_k c_k != 0) is carried whole; on the tangent
+ * space, and how far M is from fixing it. */
+static void symmetries(swim_dynamics *d, const double *ys, swim_floquet *fl)
+{
+    const int nf = d->spec->nfree, n2 = 2 * nf, nt = fl->nt, n = d->scene->n;
+    double *full = malloc(sizeof(double) * d->dim);
+    if (!full) return;
+    swim_dynamics_unpack(d, ys, full);
+    const double *c = full + 3;
+    int carried[2 * SWIM_NMAX];
+    for (int i = 0; i < n; i++) carried[i] = -1;
+    for (int f = 0; f < nf; f++) carried[d->spec->free_index[f]] = f;
+    for (int s = 0; s < SWIM_FLOQUET_NSYM; s++) {
+        double *g = fl->symmetry[s], gt[SWIM_FLOQUET_MAX], u[SWIM_FLOQUET_MAX];
+        int ok = 1;
+        memset(g, 0, sizeof(double) * n2);
+        for (int pair = 0; 2 * pair + 1 < n && ok; pair++) {
+            const double k = mode_number(pair), m = s == 0 ? 1.0 : s == 1 ? k : k - 1.0;
+            const int ia = 2 * pair, ib = ia + 1, fa = carried[ia], fb = carried[ib];
+            if (m == 0.0 || (c[ia] == 0.0 && c[ib] == 0.0 && fa < 0 && fb < 0)) continue;   /* not moved */
+            if (fa < 0 || fb < 0) { ok = 0; break; }
+            g[fa] = -m * ys[3 + fb];
+            g[fb] = m * ys[3 + fa];
+            g[nf + fa] = -m * ys[3 + nf + fb];
+            g[nf + fb] = m * ys[3 + nf + fa];
+        }
+        fl->symmetry_residual[s] = NAN;
+        if (!ok) {
+            memset(g, 0, sizeof(double) * n2);
+            continue;
+        }
+        for (int a = 0; a < nt; a++) {   /* on the tangent space: B B^T g */
+            u[a] = 0.0;
+            for (int i = 0; i < n2; i++) u[a] += fl->B[i * nt + a] * g[i];
+        }
+        double gn = 0.0, rn = 0.0;
+        for (int i = 0; i < n2; i++) {
+            gt[i] = 0.0;
+            for (int a = 0; a < nt; a++) gt[i] += fl->B[i * nt + a] * u[a];
+            gn += gt[i] * gt[i];
+        }
+        if (!(gn > 0)) continue;
+        for (int i = 0; i < n2; i++) {
+            double mg = 0.0;
+            for (int j = 0; j < n2; j++) mg += fl->M[i * n2 + j] * gt[j];
+            rn += (mg - gt[i]) * (mg - gt[i]);
+        }
+        memcpy(g, gt, sizeof(double) * n2);
+        fl->symmetry_residual[s] = sqrt(rn / gn);
+    }
+    free(full);
+}
+
 int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max, swim_floquet *fl)
 {
     memset(fl, 0, sizeof *fl);
@@ -368,6 +431,7 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
     const int rows = constraint_gradients(d, ys, C);
     if (rows < 0 || (fl->nt = tangent_basis(C, rows, n2, fl->B)) < 0) goto oom;
     structure(fl, fl->B, fl->flow, fl->grad_energy);
+    symmetries(d, ys, fl);
     rc = 0;
     goto done;
 oom:

@@ -33,6 +33,7 @@
 #include "model/dynamics.h"
 
 #define SWIM_FLOQUET_MAX (2 * SWIM_NMAX)
+#define SWIM_FLOQUET_NSYM 3                                     /* rotations tried as symmetries */
 #define SWIM_FLOQUET_TOL 1e-3                                   /* on |lambda| (see floquet.c) */
 #define SWIM_FLOQUET_CLOSURE_TOL (SWIM_FLOQUET_TOL * SWIM_FLOQUET_TOL)   /* relative closure */
 
@@ -47,6 +48,12 @@ typedef struct {
     double *B;                     /* n2 x nt: orthonormal basis of the tangent space (owned) */
     double flow[SWIM_FLOQUET_MAX];         /* f(x(0)) on the shape state */
     double grad_energy[SWIM_FLOQUET_MAX];  /* grad E(x(0)) on the shape state */
+    /* Continuous symmetries tried at x(0) (swim_floquet_symmetry_names): the generator g of a
+     * rotation c_k -> e^{i m_k t} c_k of the shape coordinates, on the tangent space; a symmetry
+     * of the scene makes g an eigenvector of M with multiplier 1, ||M g - g|| / ||g|| at the
+     * error of M (NAN when the carried coordinates cannot represent g). */
+    double symmetry[SWIM_FLOQUET_NSYM][SWIM_FLOQUET_MAX];
+    double symmetry_residual[SWIM_FLOQUET_NSYM];
     double re[SWIM_FLOQUET_MAX], im[SWIM_FLOQUET_MAX];       /* multipliers of M */
     double tre[SWIM_FLOQUET_MAX], tim[SWIM_FLOQUET_MAX];     /* of M_t */
     double flow_residual;          /* |M f - f| / |f| */
@@ -60,6 +67,9 @@ typedef struct {
     long rhs_calls;
     double seconds;
 } swim_floquet;
+
+#define SWIM_FLOQUET_SYMMETRY_TOL 1e-6   /* ||M g - g|| / ||g|| of a symmetry, with M to ~1e-8 */
+extern const char *const swim_floquet_symmetry_names[SWIM_FLOQUET_NSYM];
 
 /* Event that defines the period: extremum (kind 'x' max, 'n' min) or rising zero ('z') of the
  * integrator-state component `index` of d's state (c or cdot of a carried coordinate). */

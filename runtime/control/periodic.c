@@ -72,7 +72,7 @@ static double energy_at(swim_dynamics *d, const double *ys, double *full)
 
 /* No damping on a carried coordinate and no forcing: energy is conserved, orbits come in a family
  * by energy, and the Newton system gets the energy row. */
-static int conservative(const swim_dynamics *d)
+int swim_periodic_conservative(const swim_dynamics *d)
 {
     const swim_scene *s = d->scene;
     if (s->forcing) return 0;
@@ -82,9 +82,13 @@ static int conservative(const swim_dynamics *d)
 }
 
 /* The Newton step (u, dT) of the bordered system, least squares. 0, or -1. */
-static int newton_step(const swim_floquet *fl, const double *r, int with_energy, double *u, double *dT)
+static int newton_step(const swim_floquet *fl, const double *r, int with_energy, double energy_gap, double *u,
+                       double *dT)
 {
-    const int n2 = fl->n2, nt = fl->nt, m = n2 + 1 + with_energy, nc = nt + 1, ld = nc;
+    int nsym = 0, sym[SWIM_FLOQUET_NSYM];
+    for (int k = 0; k < SWIM_FLOQUET_NSYM; k++)   /* a symmetry's orbit of orbits: a phase condition for it too */
+        if (fl->symmetry_residual[k] <= SWIM_FLOQUET_SYMMETRY_TOL) sym[nsym++] = k;
+    const int n2 = fl->n2, nt = fl->nt, m = n2 + 1 + with_energy + nsym, nc = nt + 1, ld = nc;
     const int rows = m > nc ? m : nc;
     double *A = calloc((size_t)rows * ld, sizeof(double)), *b = calloc((size_t)rows, sizeof(double));
     double *sv = malloc(sizeof(double) * (size_t)(m < nc ? m : nc));
@@ -101,13 +105,19 @@ static int newton_step(const swim_floquet *fl, const double *r, int with_energy,
         A[i * ld + nt] = fl->flow[i];
         b[i] = -r[i];
     }
+    if (with_energy) b[n2 + 1] = energy_gap;   /* grad E . dz = E_target - E (0: keep it) */
     for (int k = 0; k < nt; k++)
         for (int j = 0; j < n2; j++) {
             A[n2 * ld + k] += fl->flow[j] * fl->B[j * nt + k];            /* phase: f . dz = 0 */
             if (with_energy) A[(n2 + 1) * ld + k] += fl->grad_energy[j] * fl->B[j * nt + k];   /* dE = 0 */
+            for (int q = 0; q < nsym; q++)
+                A[(n2 + 1 + with_energy + q) * ld + k] += fl->symmetry[sym[q]][j] * fl->B[j * nt + k];
         }
+    /* rcond 1e-6: M is accurate to ~1e-8, so the multipliers at 1 of a symmetry or a conserved
+     * quantity the rows above do not fix split by ~1e-4 and leave singular values of that size;
+     * cut, they do not throw the step along a direction the orbit does not determine */
     lapack_int rank;
-    const int rc = LAPACKE_dgelsd(LAPACK_ROW_MAJOR, m, nc, 1, A, ld, b, 1, sv, 1e-13, &rank);
+    const int rc = LAPACKE_dgelsd(LAPACK_ROW_MAJOR, m, nc, 1, A, ld, b, 1, sv, 1e-6, &rank);
     if (rc == 0) {
         memcpy(u, b, sizeof(double) * nt);
         *dT = b[nt];
@@ -138,15 +148,39 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
                         swim_periodic *p)
 {
     memset(p, 0, sizeof *p);
-    const double t0 = swim_clock_seconds();
+    const double t_start = swim_clock_seconds();
     if (d->scene->stroke || !d->spec) {
         swim_message(stderr, "swim periodic: %s: a prescribed stroke has no free shape dynamics", d->scene->path);
         return 1;
     }
+    const int N = swim_dynamics_state_dim(d);
+    double *ys = malloc(sizeof(double) * N), *full = calloc((size_t)d->dim, sizeof(double));
+    int rc = 1;
+    if (!ys || !full) swim_message(stderr, "swim periodic: out of memory");
+    else if (guess(d, sec, o, ys, full, p) == 0) {
+        const double t_guess = p->t_guess, period_guess = p->period_guess;
+        const long calls = p->rhs_calls;
+        rc = swim_periodic_refine(d, ys, period_guess, NAN, o, p);
+        p->t_guess = t_guess;
+        p->rhs_calls += calls;
+        p->seconds = swim_clock_seconds() - t_start;   /* the guess's run included */
+    }
+    free(ys);
+    free(full);
+    return rc;
+}
+
+int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double energy_target,
+                         const swim_periodic_options *o, swim_periodic *p)
+{
+    memset(p, 0, sizeof *p);
+    const double t0 = swim_clock_seconds();
     const int N = swim_dynamics_state_dim(d), n2 = 2 * d->spec->nfree;
     const int max_iter = o->max_iter < SWIM_PERIODIC_MAX_ITER ? o->max_iter : SWIM_PERIODIC_MAX_ITER;
     p->n2 = n2;
-    p->conservative = conservative(d);
+    p->conservative = swim_periodic_conservative(d);
+    p->period_guess = T0;
+    const int targeted = isfinite(energy_target) && p->conservative;
     double *ys = malloc(sizeof(double) * N), *yt = malloc(sizeof(double) * N), *work = malloc(sizeof(double) * N);
     double *full = calloc((size_t)d->dim, sizeof(double));
     double r[SWIM_FLOQUET_MAX], rt[SWIM_FLOQUET_MAX], u[SWIM_FLOQUET_MAX];
@@ -155,18 +189,25 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
         swim_message(stderr, "swim periodic: out of memory");
         goto done;
     }
-    if (guess(d, sec, o, ys, full, p)) goto done;
-    double T = p->period_guess, res;
+    memcpy(ys, ys0, sizeof(double) * N);
+    ys[0] = ys[1] = ys[2] = ys[N - 1] = 0.0;
+    double T = T0, res;
     p->scale = d->scene->atol;
     for (int i = 0; i < n2; i++) p->scale = fmax(p->scale, fabs(ys[3 + i]));
+    /* with a target energy the merit is the larger of the closing residual and the energy's
+     * relative miss, so a step is taken for either */
+    const double escale = targeted ? fmax(fabs(energy_target), 1e-300) : 1.0;
+    double E = energy_at(d, ys, full);
     if (residual(d, ys, T, o, p->scale, r, &res, work, &p->rhs_calls, 1)) goto done;
+    double merit = targeted ? fmax(res, fabs(E - energy_target) / escale) : res;
     for (int it = 0;; it++) {
         swim_periodic_iteration *h = &p->history[it];
         h->residual = res;
+        h->merit = merit;
         h->period = T;
-        h->energy = energy_at(d, ys, full);
+        h->energy = E;
         p->iterations = it;
-        if (res <= o->tol) {
+        if (merit <= o->tol) {
             /* a rest state closes for every T: that is not the orbit asked for */
             double rhs_max = 0.0;
             if (swim_dynamics_rhs(0.0, ys, work, d) == 0)
@@ -182,7 +223,7 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
             p->why = "the residual did not reach the tolerance within the iterations allowed";
             break;
         }
-        if (it >= 3 && res > 0.5 * p->history[it - 3].residual) {   /* Newton near a root halves it at least */
+        if (it >= 3 && merit > 0.5 * p->history[it - 3].merit) {   /* Newton near a root halves it at least */
             p->why = "the residual stopped falling (not halved in three iterations): no periodic orbit near the guess";
             break;
         }
@@ -190,7 +231,7 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
         if (swim_floquet_at(d, ys, T, &fl) != 0) goto done;
         p->rhs_calls += fl.rhs_calls;
         double dT = 0.0;
-        const int step_rc = newton_step(&fl, r, p->conservative, u, &dT);
+        const int step_rc = newton_step(&fl, r, p->conservative, targeted ? energy_target - E : 0.0, u, &dT);
         double dz[SWIM_FLOQUET_MAX];
         for (int i = 0; i < n2; i++) {
             dz[i] = 0.0;
@@ -212,7 +253,9 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
             const double Tt = T + lambda * dT;
             if (!(Tt > 0.0)) continue;
             if (residual(d, yt, Tt, o, p->scale, rt, &res_t, work, &p->rhs_calls, 0) != 0) continue;
-            if (res_t < res) {
+            const double Et = energy_at(d, yt, full);
+            const double merit_t = targeted ? fmax(res_t, fabs(Et - energy_target) / escale) : res_t;
+            if (merit_t < merit) {
                 accepted = 1;
                 h->halvings = hv;
                 h->step = 0.0;
@@ -221,6 +264,8 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
                 memcpy(r, rt, sizeof(double) * n2);
                 T = Tt;
                 res = res_t;
+                E = Et;
+                merit = merit_t;
             }
         }
         if (!accepted) {
@@ -334,7 +379,23 @@ void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d,
         swim_json_number(f, fl->reciprocal_residual);
         fprintf(f, ", \"det_tangent\": ");
         swim_json_number(f, fl->det_tangent);
-        fprintf(f, ", \"multipliers_at_1\": %d}, \"stable\": %s}", fl->unit_count, fl->stable ? "true" : "false");
+        fprintf(f, ", \"multipliers_at_1\": %d}, \"stable\": %s", fl->unit_count, fl->stable ? "true" : "false");
+        /* what accounts for the multipliers at 1: each with the residual of its eigenvector */
+        fprintf(f, ",\n    \"at_1\": [{\"reason\": \"time shift along the orbit (the flow f is an eigenvector)\", "
+                   "\"residual\": ");
+        swim_json_number(f, fl->flow_residual);
+        fprintf(f, "}");
+        if (p->conservative) {
+            fprintf(f, ", {\"reason\": \"energy: the family of orbits by energy (grad E a left eigenvector)\", \"residual\": ");
+            swim_json_number(f, fl->energy_residual);
+            fprintf(f, "}");
+        }
+        for (int k = 0; k < SWIM_FLOQUET_NSYM; k++) {
+            fprintf(f, ", {\"reason\": \"%s\", \"residual\": ", swim_floquet_symmetry_names[k]);
+            swim_json_number(f, fl->symmetry_residual[k]);
+            fprintf(f, ", \"symmetry\": %s}", fl->symmetry_residual[k] <= SWIM_FLOQUET_SYMMETRY_TOL ? "true" : "false");
+        }
+        fprintf(f, "]}");
     } else {
         fprintf(f, "null");
     }

@@ -41,6 +41,8 @@ typedef struct {
 
 typedef struct {
     double residual;               /* max |phi_T(z) - z| / scale before this iteration's step */
+    double merit;                  /* the residual, or with a target energy the larger of it and
+                                    * |E - E_target| / |E_target| */
     double period;
     double step;                   /* max |dz| of the step taken (after halving) */
     double energy;
@@ -73,6 +75,13 @@ typedef struct {
  * allocation failure). */
 int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const swim_periodic_options *o,
                         swim_periodic *out);
+/* No forcing and no damping on a moving coordinate: energy is conserved (1) or not (0). */
+int swim_periodic_conservative(const swim_dynamics *d);
+/* Newton from the integrator state ys0 (its shape part; the rest is set to 0) and period T0:
+ * with energy_target finite (a conservative scene) the orbit of that energy, otherwise the one
+ * through ys0's energy. Same results and status as swim_periodic_solve (t_guess is 0). */
+int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double energy_target,
+                         const swim_periodic_options *o, swim_periodic *out);
 void swim_periodic_free(swim_periodic *p);
 /* DIR/periodic.json: names are the carried coordinates (d's spec). */
 void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d, const char *scene,

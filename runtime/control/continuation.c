@@ -1,0 +1,337 @@
+/* continuation.c -- natural-parameter continuation of periodic orbits (control/continuation.h). */
+#include "control/continuation.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "control/sensitivity.h"
+#include "io/clock.h"
+#include "io/json.h"
+#include "io/message.h"
+
+#define MAX_HALVINGS 4
+
+typedef struct {
+    swim_dynamics *d;
+    int energy;                    /* the parameter is the energy */
+    double *value[2];              /* else: the scene's numbers the key is */
+    int nvalue;
+    double keep_energy;            /* a key of a conservative scene: the energy kept (else NAN) */
+    const swim_periodic_options *po;
+    long rhs_calls;
+} problem;
+
+/* A solved point: its integrator state and period, for the predictor. */
+typedef struct {
+    double param, T;
+    double *ys;
+} anchor;
+
+static void set_param(problem *pb, double v)
+{
+    for (int i = 0; i < pb->nvalue; i++) *pb->value[i] = v;
+}
+
+/* The orbit at parameter v from the guess (ys, T). 0 converged, 1 not converged, -1 failed. */
+static int solve_at(problem *pb, double v, const double *ys, double T, swim_periodic *p)
+{
+    if (!pb->energy) set_param(pb, v);
+    const int rc = swim_periodic_refine(pb->d, ys, T, pb->energy ? v : pb->keep_energy, pb->po, p);
+    pb->rhs_calls += p->rhs_calls;
+    if (rc != 0) return -1;
+    return p->converged ? 0 : 1;
+}
+
+static void record(swim_cont_point *q, double v, const swim_periodic *p)
+{
+    memset(q, 0, sizeof *q);
+    q->param = v;
+    q->converged = p->converged;
+    q->period = p->period;
+    q->dx = p->dx;
+    q->dy = p->dy;
+    q->dtheta = p->dtheta;
+    q->energy = p->energy;
+    q->residual = p->residual;
+    q->iterations = p->iterations;
+    if (!p->have_floquet) return;
+    const swim_floquet *fl = &p->floquet;
+    q->nt = fl->nt;
+    q->stable = fl->stable;
+    for (int i = 0; i < fl->nt; i++) {
+        const double a = hypot(fl->tre[i], fl->tim[i]);
+        q->re[i] = fl->tre[i];
+        q->im[i] = fl->tim[i];
+        q->max_abs = fmax(q->max_abs, a);
+        if (a > 1.0 + fl->tol) {
+            q->outside++;
+            if (fabs(fl->tim[i]) > fl->tol) q->complex_outside = 1;
+            else if (fl->tre[i] < 0) q->negative_real = 1;
+        }
+    }
+}
+
+/* The predictor: the secant through the last two anchors (or the last one alone), at v. */
+static void predict(const anchor *a, const anchor *b, int have_b, double v, int N, double *ys, double *T)
+{
+    const double s = have_b && b->param != a->param ? (v - a->param) / (a->param - b->param) : 0.0;
+    for (int i = 0; i < N; i++) ys[i] = a->ys[i] + (have_b ? s * (a->ys[i] - b->ys[i]) : 0.0);
+    *T = a->T + (have_b ? s * (a->T - b->T) : 0.0);
+}
+
+static void anchor_set(anchor *an, double v, const swim_periodic *p, int N)
+{
+    an->param = v;
+    an->T = p->period;
+    memset(an->ys, 0, sizeof(double) * N);
+    for (int i = 0; i < p->n2; i++) an->ys[3 + i] = p->z[i];
+}
+
+/* One side of the branch: targets[0..n) in order away from the first point. */
+static int walk(problem *pb, const anchor *first, const double *targets, int n, swim_branch *b, char *ended,
+                size_t len)
+{
+    const int N = swim_dynamics_state_dim(pb->d);
+    anchor an[2];
+    double *ys = malloc(sizeof(double) * N);
+    an[0].ys = malloc(sizeof(double) * N);
+    an[1].ys = malloc(sizeof(double) * N);
+    if (!ys || !an[0].ys || !an[1].ys) {
+        free(ys); free(an[0].ys); free(an[1].ys);
+        return -1;
+    }
+    an[0].param = first->param;
+    an[0].T = first->T;
+    memcpy(an[0].ys, first->ys, sizeof(double) * N);
+    int have_prev = 0, rc = 0;
+    for (int k = 0; k < n; k++) {
+        /* from the last anchor to targets[k], in halved steps when a point does not converge */
+        double goal = targets[k];
+        int halvings = 0, reached = 0, attempts = 0;
+        while (!reached) {
+            if (++attempts > 64) {   /* creeping in ever smaller steps is a fold or an edge, not progress */
+                snprintf(ended, len, "the branch stalled before %.10g (at %.10g after 64 solves)", targets[k], an[0].param);
+                goto end;
+            }
+            double T;
+            swim_periodic p;
+            predict(&an[0], &an[1], have_prev, goal, N, ys, &T);
+            const int s = solve_at(pb, goal, ys, T, &p);
+            if (s == 0) {
+                if (goal == targets[k]) record(&b->pt[b->n++], goal, &p);
+                an[1].param = an[0].param;
+                an[1].T = an[0].T;
+                memcpy(an[1].ys, an[0].ys, sizeof(double) * N);
+                anchor_set(&an[0], goal, &p, N);
+                have_prev = 1;
+                reached = goal == targets[k];
+                goal = targets[k];
+                halvings = 0;
+            } else if (halvings < MAX_HALVINGS) {
+                goal = 0.5 * (an[0].param + goal);
+                halvings++;
+            } else {
+                snprintf(ended, len, "no periodic orbit converged near %s = %.10g (from %.10g in %d halved steps): %s",
+                         pb->energy ? "energy" : "the parameter", goal, an[0].param, MAX_HALVINGS,
+                         s < 0 ? "an integration failed" : p.why ? p.why : "Newton did not converge");
+                swim_periodic_free(&p);
+                goto end;
+            }
+            swim_periodic_free(&p);
+        }
+    }
+end:
+    free(ys); free(an[0].ys); free(an[1].ys);
+    return rc;
+}
+
+static int by_param(const void *a, const void *b)
+{
+    const double x = ((const swim_cont_point *)a)->param, y = ((const swim_cont_point *)b)->param;
+    return (x > y) - (x < y);
+}
+
+/* Where the count of multipliers outside the unit circle changes between neighbours. */
+static void classify(swim_branch *b)
+{
+    for (int i = 1; i < b->n && b->nspecial < 64; i++) {
+        const swim_cont_point *p = &b->pt[i - 1], *q = &b->pt[i];
+        if (p->outside == q->outside) continue;
+        const swim_cont_point *out = p->outside > q->outside ? p : q;
+        swim_cont_special *s = &b->special[b->nspecial++];
+        s->lo = p->param;
+        s->hi = q->param;
+        s->kind = out->complex_outside ? "Neimark-Sacker" : out->negative_real ? "period doubling" : "fold or branch point";
+    }
+}
+
+int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_section *sec, const swim_cont_options *o,
+                  swim_branch *b)
+{
+    memset(b, 0, sizeof *b);
+    const double t0 = swim_clock_seconds();
+    problem pb = {d, strcmp(o->key, "energy") == 0, {NULL, NULL}, 0, NAN, &o->periodic, 0};
+    const int conservative = swim_periodic_conservative(d);
+    if (pb.energy && !conservative) {
+        swim_message(stderr, "swim continue: --param energy: %s has damping or forcing, so energy is not conserved and "
+                     "orbits do not come in a family by energy; continue in a scene key instead", scene->path);
+        return 2;
+    }
+    swim_sens S;
+    int have_sens = 0;
+    double saved[2] = {0, 0};
+    if (!pb.energy) {   /* the key's numbers in the scene, as --sensitivity finds them */
+        if (swim_sens_init(&S, d) != 0) {
+            swim_message(stderr, "swim continue: out of memory");
+            return 1;
+        }
+        have_sens = 1;
+        const int krc = swim_sens_add_key(&S, scene, "continue", o->key);
+        if (krc != 0 || S.keys[0].nvalue == 0) {
+            if (krc == 0)
+                swim_message(stderr, "swim continue: --param %s: an initial value, not a parameter of the equations", o->key);
+            swim_sens_free(&S);
+            return 2;
+        }
+        pb.nvalue = S.keys[0].nvalue;
+        for (int i = 0; i < pb.nvalue; i++) {
+            pb.value[i] = S.keys[0].value[i];
+            saved[i] = *pb.value[i];
+        }
+    }
+    int rc = 1;
+    const int N = swim_dynamics_state_dim(d);
+    double *targets = malloc(sizeof(double) * (size_t)o->points);
+    b->pt = calloc((size_t)o->points, sizeof *b->pt);
+    anchor first = {0, 0, malloc(sizeof(double) * N)};
+    swim_periodic p0;
+    int have_p0 = 0;
+    if (!targets || !b->pt || !first.ys) {
+        swim_message(stderr, "swim continue: out of memory");
+        goto done;
+    }
+    /* the first point: the scene's own orbit */
+    if (swim_periodic_solve(d, sec, &o->periodic, &p0) != 0) goto done;
+    have_p0 = 1;
+    pb.rhs_calls += p0.rhs_calls;
+    if (!p0.converged) {
+        swim_message(stderr, "swim continue: %s: no periodic orbit to start from: %s (residual %.2g)", scene->path,
+                     p0.why, p0.residual);
+        goto done;
+    }
+    b->param0 = pb.energy ? p0.energy : saved[0];
+    if (!pb.energy && conservative) pb.keep_energy = p0.energy;
+    anchor_set(&first, b->param0, &p0, N);
+    for (int k = 0; k < o->points; k++)
+        targets[k] = o->points == 1 ? o->start : o->start + (o->stop - o->start) * k / (o->points - 1);
+    /* each side outwards from the first point */
+    double *up = malloc(sizeof(double) * (size_t)o->points), *down = malloc(sizeof(double) * (size_t)o->points);
+    int nup = 0, ndown = 0;
+    if (!up || !down) {
+        free(up); free(down);
+        swim_message(stderr, "swim continue: out of memory");
+        goto done;
+    }
+    for (int k = 0; k < o->points; k++)
+        if (targets[k] >= b->param0) up[nup++] = targets[k];
+    for (int k = o->points - 1; k >= 0; k--)
+        if (targets[k] < b->param0) down[ndown++] = targets[k];
+    /* up[] ascending, down[] descending: both away from param0 when the range is ordered START < STOP */
+    if (o->start > o->stop) {
+        for (int i = 0; i < nup / 2; i++) { double t = up[i]; up[i] = up[nup - 1 - i]; up[nup - 1 - i] = t; }
+        for (int i = 0; i < ndown / 2; i++) { double t = down[i]; down[i] = down[ndown - 1 - i]; down[ndown - 1 - i] = t; }
+    }
+    const int w1 = walk(&pb, &first, up, nup, b, b->ended[0], sizeof b->ended[0]);
+    const int w2 = w1 == 0 ? walk(&pb, &first, down, ndown, b, b->ended[1], sizeof b->ended[1]) : -1;
+    free(up);
+    free(down);
+    if (w1 || w2) {
+        swim_message(stderr, "swim continue: out of memory");
+        goto done;
+    }
+    qsort(b->pt, (size_t)b->n, sizeof *b->pt, by_param);
+    classify(b);
+    rc = 0;
+done:
+    if (have_p0) swim_periodic_free(&p0);
+    for (int i = 0; i < pb.nvalue; i++) *pb.value[i] = saved[i];   /* the scene as it was */
+    if (have_sens) swim_sens_free(&S);
+    free(targets);
+    free(first.ys);
+    b->rhs_calls = pb.rhs_calls;
+    b->seconds = swim_clock_seconds() - t0;
+    return rc;
+}
+
+void swim_branch_free(swim_branch *b)
+{
+    free(b->pt);
+    b->pt = NULL;
+}
+
+void swim_branch_csv(FILE *f, const swim_branch *b, const char *key)
+{
+    /* the parameter's column is named by its key (energy_target when it is the energy, beside the
+     * energy reached) */
+    fprintf(f, "%s,period,dx,dy,dtheta,energy,dy_per_time,max_abs_multiplier,stable,residual,iterations\n",
+            strcmp(key, "energy") == 0 ? "energy_target" : key);
+    for (int i = 0; i < b->n; i++) {
+        const swim_cont_point *q = &b->pt[i];
+        fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s,%.3g,%d\n", q->param, q->period, q->dx, q->dy,
+                q->dtheta, q->energy, q->dy / q->period, q->max_abs, q->stable ? "yes" : "no", q->residual, q->iterations);
+    }
+}
+
+void swim_branch_json(FILE *f, const swim_branch *b, const char *scene, const char *key)
+{
+    fprintf(f, "{\n  \"scene\": ");
+    swim_json_string(f, scene);
+    fprintf(f, ",\n  \"parameter\": ");
+    swim_json_string(f, key);
+    fprintf(f, ",\n  \"method\": \"natural-parameter continuation, secant predictor, Newton shooting corrector\"");
+    fprintf(f, ",\n  \"start_orbit_parameter\": ");
+    swim_json_number(f, b->param0);
+    fprintf(f, ",\n  \"points\": [");
+    for (int i = 0; i < b->n; i++) {
+        const swim_cont_point *q = &b->pt[i];
+        fprintf(f, "%s\n    {\"parameter\": ", i ? "," : "");
+        swim_json_number(f, q->param);
+        fprintf(f, ", \"period\": ");
+        swim_json_number(f, q->period);
+        fprintf(f, ", \"dy\": ");
+        swim_json_number(f, q->dy);
+        fprintf(f, ", \"energy\": ");
+        swim_json_number(f, q->energy);
+        fprintf(f, ", \"residual\": ");
+        swim_json_number(f, q->residual);
+        fprintf(f, ", \"stable\": %s, \"multipliers\": [", q->stable ? "true" : "false");
+        for (int k = 0; k < q->nt; k++) {
+            fprintf(f, "%s[", k ? ", " : "");
+            swim_json_number(f, q->re[k]);
+            fprintf(f, ", ");
+            swim_json_number(f, q->im[k]);
+            fprintf(f, "]");
+        }
+        fprintf(f, "]}");
+    }
+    fprintf(f, "\n  ],\n  \"special_points\": [");
+    for (int i = 0; i < b->nspecial; i++) {
+        fprintf(f, "%s\n    {\"kind\": \"%s\", \"between\": [", i ? "," : "", b->special[i].kind);
+        swim_json_number(f, b->special[i].lo);
+        fprintf(f, ", ");
+        swim_json_number(f, b->special[i].hi);
+        fprintf(f, "], \"refined\": false}");
+    }
+    fprintf(f, "\n  ],\n  \"ended_early\": [");
+    int first = 1;
+    for (int s = 0; s < 2; s++)
+        if (b->ended[s][0]) {
+            fprintf(f, "%s", first ? "" : ", ");
+            swim_json_string(f, b->ended[s]);
+            first = 0;
+        }
+    fprintf(f, "],\n  \"rhs_evaluations\": %ld,\n  \"seconds\": ", b->rhs_calls);
+    swim_json_number(f, b->seconds);
+    fprintf(f, "\n}\n");
+}

@@ -1,0 +1,77 @@
+/* continuation.h -- a branch of periodic orbits in a parameter (swim continue).
+ *
+ * The parameter is the energy of a conservative scene (the family of orbits by energy), or a
+ * scene key the right-hand side reads at run time (elastic.stiffness[4], model.rho0,
+ * parameters.A, ...: the keys of --sensitivity, control/sensitivity.h, whose numbers are set
+ * in place between points). Natural-parameter continuation: the orbit of the scene
+ * (control/periodic.h, swim_periodic_solve) is the first point; the requested values
+ * START .. STOP (count points, both ends included) are visited outwards from it on each side,
+ * each point started from the secant through the two before it (state and period) and solved
+ * by swim_periodic_refine -- with the energy as the target when the parameter is the energy,
+ * and the first point's energy kept when it is a key of a conservative scene. A point that does
+ * not converge is approached again in halved parameter steps (at most 4 halvings); then that
+ * side of the branch ends, saying why. No pseudo-arclength: a fold in the parameter ends the
+ * branch there (reported as such).
+ *
+ * At each point: period, displacement and rotation per period, energy, the largest |multiplier|
+ * on the manifold and the stability (control/floquet.h). Between two points the number of
+ * multipliers outside the unit circle may change: a special point, classified by where the
+ * multipliers leave it (at -1: period doubling; a complex pair: Neimark-Sacker; at +1: fold or
+ * branch point) and located between the two parameters (not refined).
+ */
+#ifndef SWIM_CONTROL_CONTINUATION_H
+#define SWIM_CONTROL_CONTINUATION_H
+
+#include <stdio.h>
+
+#include "control/periodic.h"
+
+#define SWIM_CONT_MAX_POINTS 1000
+
+typedef struct {
+    double param;
+    int converged;
+    double period, dx, dy, dtheta, energy, residual;
+    double max_abs;                /* largest |lambda| on the manifold */
+    int outside;                   /* multipliers with |lambda| > 1 + tol */
+    int negative_real;             /* a real multiplier < -1 + tol (period doubling side) */
+    int complex_outside;           /* a complex multiplier outside */
+    int stable;
+    int iterations;
+    double re[SWIM_FLOQUET_MAX], im[SWIM_FLOQUET_MAX];
+    int nt;
+} swim_cont_point;
+
+typedef struct {
+    double lo, hi;                 /* between these parameters */
+    const char *kind;              /* "period doubling", "Neimark-Sacker", "fold or branch point" */
+} swim_cont_special;
+
+typedef struct {
+    const char *key;               /* "energy" or a run-time scene key */
+    double start, stop;
+    int points;
+    swim_periodic_options periodic;
+} swim_cont_options;
+
+typedef struct {
+    swim_cont_point *pt;           /* sorted by parameter (owned) */
+    int n;
+    swim_cont_special special[64];
+    int nspecial;
+    char ended[2][256];            /* why each side ended early ("" when it reached its end) */
+    double param0;                 /* the scene's own orbit's parameter */
+    long rhs_calls;
+    double seconds;
+} swim_branch;
+
+/* 0 (points computed; some may be missing: see ended), 1 after one line on stderr (no first
+ * orbit, an unknown key, out of memory), 2 bad input (energy of a scene that is not
+ * conservative, a key the right-hand side does not read). */
+int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_section *sec, const swim_cont_options *o,
+                  swim_branch *out);
+void swim_branch_free(swim_branch *b);
+void swim_branch_csv(FILE *f, const swim_branch *b, const char *key);
+void swim_branch_json(FILE *f, const swim_branch *b, const char *scene, const char *key);
+
+#endif
