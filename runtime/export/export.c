@@ -54,7 +54,7 @@ static const char *const extra[] = {"runtime/ode/peers_cvode.c", "runtime/export
 static const char *const header_dirs[] = {"codegen", "control", "driver", "io", "kernel", "model", "ode", "output",
                                           "scene", "shape", "stroke"};
 /* headers of those folders that belong to what the tree leaves out */
-static const char *const skip_headers[] = {"summary_read.h", "stdout_check.h", "floquet.h", "optimize.h", "model_setup.h", "periodic.h"};
+static const char *const skip_headers[] = {"summary_read.h", "stdout_check.h", "floquet.h", "optimize.h", "model_setup.h", "periodic.h", "continuation.h"};
 
 typedef struct {
     const swim_export_request *req;
