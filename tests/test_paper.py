@@ -1,11 +1,15 @@
 #!/usr/bin/env python3
 """The companion page in a real browser: build a reduced page (Examples 1 and 3, t_end = 4,
-2-second animations, and the family of Fig. 4.2 through its make target, 10 Example 1 members)
-with the same builder as `make paper`, check its sections, then load it in
+2-second animations, the prescribed stroke models/stroke_loop.toml, the family of Fig. 4.2
+through its make target, 10 Example 1 members, and a quick work-precision measurement of
+Examples 1 and 3) with the same builder as `make paper`, check its sections, then load it in
 headless Chromium (tools/paper/browser_check.py): no console error, every image and video
-loads with a non-zero size, nothing fetched from the network, a screenshot written
-(build/paper-test/screenshot.png). The checker itself is checked on a broken copy of the page
-(an empty image, a console error, a remote image), where it must report all three."""
+loads with a non-zero size, nothing fetched from the network, the page's promises (every
+figure section a numbers table with a difference column or the no-numbers statement, every
+scene its section, models/hard/ listed), a screenshot written (build/paper-test/screenshot.png).
+The checker itself is checked on broken copies of the page (an empty image, a console error, a
+remote image; a figure section without numbers or statement, a scene section removed), where it
+must report each."""
 import os
 import re
 import shutil
@@ -25,8 +29,9 @@ def test_1_page():
     env = dict(os.environ, SWIM_BIN=swimtest.SWIM)
     p = subprocess.run([os.environ.get("PYTHON", "/usr/bin/python3"),
                         os.path.join(swimtest.ROOT, "tools", "paper", "build_paper.py"),
-                        "--scenes", "example1,example3", "--t-end", "4", "--duration", "2",
-                        "--families", "fig-4-2", "--out", OUT],
+                        "--scenes", "example1,example3,stroke_loop", "--t-end", "4",
+                        "--duration", "2", "--families", "fig-4-2", "--work-precision", "quick",
+                        "--out", OUT],
                        capture_output=True, text=True, env=env)
     check(p.returncode == 0, "build_paper failed: %s" % p.stderr[-800:])
     page = os.path.join(OUT, "index.html")
@@ -36,16 +41,17 @@ def test_1_page():
     # Fig. 4.8 needs the four instants; the reduced run (t_end 4) may miss one, so it is optional
     want = ["4.1", "4.2", "4.3", "4.4", "4.9", "4.10", "4.11", "4.12"]
     check(all(w in ids for w in want), "sections %s, want at least %s" % (ids, want))
-    check(text.count("<video") == 2, "%d videos, want one per scene" % text.count("<video"))
+    check(text.count("<video") == 3, "%d videos, want one per scene" % text.count("<video"))
     check_family_section(text)
     check_instants_from_events(text)
+    check_numbers_and_scenes(text)
     check("Work-precision" in text, "no work-precision section")
     check(not re.search(r'(src|href)="(https?:)?//', text), "the page links to the network")
     shot = os.path.join(OUT, "screenshot.png")
     if os.path.exists(shot):
         os.remove(shot)
     report = browser_check.check_page(page, shot, None, check)
-    check(report is not None and len(report["images"]) >= 9 and len(report["videos"]) == 2,
+    check(report is not None and len(report["images"]) >= 9 and len(report["videos"]) == 3,
           "browser saw %r" % ((report and (len(report["images"]), len(report["videos"]))),))
     check(os.path.exists(shot), "no screenshot")
 
@@ -54,7 +60,7 @@ def check_family_section(text):
     """Fig. 4.2 is the family's section: its figure from the sweep, the sweep's summary (members,
     RHS evaluations, time) matching members.csv, and a caption with the family's numbers."""
     import csv
-    m = re.search(r'<section id="fig4\.2">(.*?)</section>', text, re.S)
+    m = re.search(r'<section id="fig4\.2" class="paperfig">(.*?)</section>', text, re.S)
     check(m is not None, "no section for Fig. 4.2")
     if m is None:
         return
@@ -78,7 +84,7 @@ def check_family_section(text):
     check("y(30) runs from %.4g" % ys[0] in cap and "to %.4g" % ys[-1] in cap,
           "caption lacks the range of y(30) [%g, %g]: %s" % (ys[0], ys[-1], cap[:300]))
     check("0.5093" in cap, "caption lacks the displacement per period: %s" % cap[:400])
-    check('<section id="fig4.1">' in text and "families/fig4_1" not in text,
+    check('<section id="fig4.1" class="paperfig">' in text and "families/fig4_1" not in text,
           "Fig. 4.1 without its family must fall back to the single run")
 
 
@@ -94,16 +100,69 @@ def check_instants_from_events(text):
         rows = [ln.split(",") for ln in fh.read().split()[1:]]
     tk = [float(r[0]) for r in rows if r[1] == "kinetic_rigid" and r[2] == "min"
           and float(r[0]) > 1e-6]
-    cap = re.search(r'<section id="fig4\.4">.*?<figcaption>(.*?)</figcaption>', text, re.S)
+    cap = re.search(r'<section id="fig4\.4" class="paperfig">.*?<figcaption>(.*?)</figcaption>', text, re.S)
     check(tk and cap and ("t† = %.8g" % tk[0]) in cap.group(1) and "events.csv" in cap.group(1),
           "Fig. 4.4's instant is not the first kinetic_rigid min of events.csv (%s): %s"
           % (tk[:1], cap and cap.group(1)[:300]))
     with open(os.path.join(OUT, "runs", "example3", "summary.json")) as fh:
         per = [p for p in json.load(fh).get("periodic", []) if p["column"] == "am1"]
-    cap = re.search(r'<section id="fig4\.9">.*?<figcaption>(.*?)</figcaption>', text, re.S)
+    cap = re.search(r'<section id="fig4\.9" class="paperfig">.*?<figcaption>(.*?)</figcaption>', text, re.S)
     check(per and cap and ("period %.6g" % per[0]["period"]) in cap.group(1)
           and ("Δy = %.6g" % per[0]["displacement_per_period"]["y"]) in cap.group(1),
           "Fig. 4.9's caption lacks summary.json's stroke period: %s" % (cap and cap.group(1)))
+
+
+def check_numbers_and_scenes(text):
+    """Every figure section: the paper's caption quoted, then a numbers table (the paper, ours,
+    difference) or the statement; Fig. 4.2's table carries the family's largest |y(30)|; the
+    scene sections carry summary.json's numbers (the stroke's displacement per stroke); hard/
+    listed; the work-precision figure regenerated now, at the page's width."""
+    import csv
+    import json
+    secs = re.findall(r'<section id="(fig[^"]+)" class="paperfig">(.*?)</section>', text, re.S)
+    check(len(secs) >= 8, "%d figure sections" % len(secs))
+    for sid, body in secs:
+        table = re.search(r'<table class="cmp"><tr><th>quantity</th><th>the paper</th>'
+                          r'<th>ours</th><th>difference</th></tr>(.*?)</table>', body, re.S)
+        stated = "The paper gives no numbers for this figure; compare by eye." in body or \
+            "this shortened run does not reach them" in body
+        check(bool(table) != stated, "%s: table %s, statement %s" % (sid, bool(table), stated))
+        check('<p class="paper"><b>The paper, Fig.' in body, "%s: no paper caption" % sid)
+    no_numbers = [sid for sid, body in secs if "gives no numbers" in body]
+    check("fig4.9" in no_numbers and "fig4.10" in no_numbers,
+          "Figs 4.9, 4.10 (pictures only) lack the statement: %s" % no_numbers)
+    sec42 = dict(secs).get("fig4.2", "")
+    with open(os.path.join(OUT, "families", "fig4_2", "members.csv")) as fh:
+        big = max(abs(float(r["y"])) for r in csv.DictReader(fh))
+    check(("<td>%.4g</td>" % big) in sec42 and "inside" in sec42,
+          "Fig. 4.2's table lacks the largest |y(30)| %.4g" % big)
+    sec44 = dict(secs).get("fig4.4", "")
+    check("<td>rigid kinetic energy at t†</td><td>0 (rigid velocity null)</td>" in sec44,
+          "Fig. 4.4's table lacks the rigid kinetic energy at t†")
+    for name in ("example1", "example3", "stroke_loop"):
+        m = re.search(r'<section id="scene-%s" class="scene">(.*?)</section>' % name, text, re.S)
+        check(m is not None, "no section for scene %s" % name)
+    m = re.search(r'<section id="scene-stroke_loop" class="scene">(.*?)</section>', text, re.S)
+    if m:
+        with open(os.path.join(OUT, "runs", "stroke_loop", "summary.json")) as fh:
+            sk = json.load(fh)["stroke"]
+        check("Not one of the paper" in m.group(1) and "stroke.png" in m.group(1),
+              "stroke_loop's section lacks its note or stroke figure")
+        if sk["strokes"]:
+            check(("%.6g" % sk["strokes"][0]["dy"]) in m.group(1),
+                  "stroke_loop's section lacks summary.json's displacement per stroke")
+    hard = sorted(f[:-5] for f in os.listdir(os.path.join(swimtest.ROOT, "models", "hard"))
+                  if f.endswith(".toml"))
+    check(all('<tr id="scene-hard-%s">' % h in text for h in hard), "models/hard/ not all listed")
+    png = os.path.join(OUT, "work_precision", "work_precision.png")
+    check(os.path.exists(png) and os.path.exists(os.path.join(OUT, "work_precision",
+                                                              "accuracy.csv")),
+          "the work-precision figure was not measured and drawn for the page")
+    if os.path.exists(png):
+        import matplotlib.image
+        w = matplotlib.image.imread(png).shape[1]
+        check(w == 1100, "work-precision figure %d px wide, want the page's 1100" % w)
+        check("quick measurement made for this page" in text, "work-precision source not said")
 
 
 def test_2_checker_catches_faults():
@@ -130,6 +189,30 @@ def test_2_checker_catches_faults():
     check("192.0.2.1" in joined, "remote image not reported: %s" % joined[:500])
     os.remove(bad)
     os.remove(os.path.join(OUT, "empty.png"))
+    # the page's promises: a figure section stripped of its numbers, a scene section removed
+    with open(src) as fh:
+        text = fh.read()
+    text = re.sub(r'(<section id="fig4\.9" class="paperfig">.*?)<p class="nonumbers">.*?</p>',
+                  r"\1", text, count=1, flags=re.S)
+    text = re.sub(r'(<section id="fig4\.4" class="paperfig">.*?)<table class="cmp">.*?</table>',
+                  r"\1", text, count=1, flags=re.S)
+    text = re.sub(r'<section id="scene-stroke_loop" class="scene">.*?</section>', "", text,
+                  count=1, flags=re.S)
+    text = text.replace('<tr id="scene-hard-stiff_n7">', '<tr id="x">')
+    with open(bad, "w") as fh:
+        fh.write(text)
+    fails = []
+    browser_check.check_page(bad, None, None, lambda ok, what: fails.append(what) if not ok else 0)
+    joined = " | ".join(fails)
+    check("Fig. 4.9" in joined and "no-numbers statement" in joined,
+          "a figure section without numbers not reported: %s" % joined[:600])
+    check("Fig. 4.4 —" in joined and "tables []" in joined,
+          "Fig. 4.4 without its table not reported: %s" % joined[:600])
+    check("stroke_loop.toml has no section" in joined, "a missing scene section not reported: %s"
+          % joined[:600])
+    check("hard/stiff_n7.toml is not listed" in joined, "an unlisted hard scene not reported: %s"
+          % joined[:600])
+    os.remove(bad)
 
 
 def test_3_instants_from_events_csv():

@@ -223,16 +223,58 @@ def per_period(tr, beta, dbeta, kind):
     return t1 - t0, y1 - y0, x1 - x0
 
 
+DIMLESS = "dimensionless, paper's scaling"   # the paper's units: the reference body is the unit disc
+LENGTH = "reference-disc radii"
+
+
+def coord_label(name, dot=False):
+    """'am2' -> $a_{-2}$, dot: $\\dot a_{-2}$ (math text)."""
+    letter, idx = name[0], name[1:]
+    if idx.startswith("m"):
+        idx = "-" + idx[1:]
+    return r"$%s_{%s}$" % ((r"\dot " if dot else "") + letter, idx)
+
+
+def key_label(key):
+    """A varied scene key for a label: shape.c0.am1 -> 'initial $a_{-1}$', shape.dc0.bm2 ->
+    'initial $\\dot b_{-2}$'; any other key as swim's --vary spells it."""
+    parts = key.split(".")
+    if len(parts) == 3 and parts[0] == "shape" and parts[1] in ("c0", "dc0") and parts[2][:1] in "ab":
+        return "initial " + coord_label(parts[2], dot=parts[1] == "dc0")
+    return key
+
+
 def label(sweep, row):
-    return ", ".join("%s = %.4g" % (v["key"], float(row[v["key"]])) for v in sweep["vary"])
+    return ", ".join("%s = %.4g" % (key_label(v["key"]), float(row[v["key"]])) for v in sweep["vary"])
 
 
 # --------------------------------------------------------------- figures
 
-def plot_family(d, sweep, members, title):
+def pi_third(k):
+    """Tick label of k pi/3 in math text: 0, $\\pi/3$, $-2\\pi/3$, $\\pi$, ..."""
+    if k == 0:
+        return "0"
+    num, den = (k // 3, "") if k % 3 == 0 else (k, "/3")
+    sign = "-" if num < 0 else ""
+    num = abs(num)
+    return r"$%s%s\pi%s$" % (sign, "" if num == 1 else str(num), den)
+
+
+def finish(fig, path, collect):
+    """Saves fig to path (printing the path), or with collect (a list) appends (name, fig) to it
+    unsaved: how tests/test_figure_text.py gets the Figures `swim plot` would save."""
+    if collect is not None:
+        collect.append((os.path.basename(path)[:-4], fig))
+        return
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    print(path)
+
+
+def plot_family(d, sweep, members, title, collect=None):
     path = os.path.join(d, "family.png")
     kept = [m for m in members if m["traj"] is not None]
-    fig, ax = plt.subplots(figsize=(9.5, 5.5))
+    fig, ax = plt.subplots(figsize=(9.5, 5.5), layout="constrained")
     if kept:
         reduction = all(follows_reduction(m["traj"]) for m in kept)
         cmap = plt.get_cmap("coolwarm")
@@ -246,19 +288,21 @@ def plot_family(d, sweep, members, title):
         lo, hi = min(vals), max(vals)
         for m, val in sorted(zip(kept, vals), key=lambda p: -p[1]):
             tr = m["traj"]
-            lab = ("beta'(0) = %.3g" % val) if reduction else label(sweep, m["row"])
+            lab = (r"$\dot\beta(0)$ = %.3g" % val) if reduction else label(sweep, m["row"])
             if m["row"]["status"] != "completed":
                 lab += " (%s)" % m["row"]["status"]
             col = cmap(0.5 if hi == lo else (val - lo) / (hi - lo))
             ax.plot(tr["t"], tr["y"], color=col, lw=1.4, label=lab)
-        ax.set_xlabel("t")
-        ax.set_ylabel("y (centre of mass)")
+        ax.set_xlabel("time $t$ (%s)" % DIMLESS)
+        ax.set_ylabel("$y$ of the centre of mass (%s)" % LENGTH)
         if len(kept) <= 14:
             ax.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False)
-        else:
-            sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(lo, hi))
-            fig.colorbar(sm, ax=ax, label="beta'(0)" if reduction else sweep["vary"][0]["key"])
-        ax.set_title(title or "%s: y(t) of %d members" % (sweep["scene"], len(kept)))
+        # the colour scale of the members (under the axes, the legend takes the right)
+        sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(lo, hi if hi > lo else lo + 1.0))
+        fig.colorbar(sm, ax=ax, location="bottom", shrink=0.6, aspect=40, pad=0.02,
+                     label=(r"$\dot\beta(0)$ (rad per unit time, paper's scaling)" if reduction
+                            else "%s (%s)" % (key_label(sweep["vary"][0]["key"]), DIMLESS)))
+        ax.set_title(title or "%s: $y(t)$ of %d members" % (sweep["scene"], len(kept)))
         ax.grid(alpha=0.3)
     else:
         key = sweep["vary"][0]["key"]
@@ -269,18 +313,15 @@ def plot_family(d, sweep, members, title):
         bad = [(a, b) for a, b, o in zip(x, y, ok) if not o]
         if bad:
             ax.plot(*zip(*bad), "rx", label="failed")
-        ax.set_xlabel(key)
-        ax.set_ylabel("final y")
+        ax.set_xlabel("%s (%s)" % (key_label(key), DIMLESS))
+        ax.set_ylabel("final $y$ of the centre of mass (%s)" % LENGTH)
         ax.legend()
-        ax.set_title(title or "%s: final y of %d members" % (sweep["scene"], len(members)))
+        ax.set_title(title or "%s: final $y$ of %d members" % (sweep["scene"], len(members)))
         ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
-    print(path)
+    finish(fig, path, collect)
 
 
-def plot_phase(d, sweep, members, swim, title):
+def plot_phase(d, sweep, members, swim, title, collect=None):
     kept = [m for m in members if m["traj"] is not None and m["row"]["status"] == "completed"]
     if not kept or not all(follows_reduction(m["traj"]) for m in kept):
         return False
@@ -356,30 +397,26 @@ def plot_phase(d, sweep, members, swim, title):
                     **styles[kind])
     ax.set_xlim(w, w + 2 * math.pi)
     ax.set_ylim(-dmax, dmax)
-    ax.set_xlabel("beta = atan2(sqrt2 b_-2, a_-1)")
-    ax.set_ylabel("beta'")
+    ax.set_xlabel(r"$\beta = \mathrm{atan2}(\sqrt{2}\,b_{-2},\ a_{-1})$ (rad)")
+    ax.set_ylabel(r"$\dot\beta$ (rad per unit time, paper's scaling)")
     ticks = np.arange(math.ceil(w / (math.pi / 3) - 1e-9), math.floor((w + 2 * math.pi) / (math.pi / 3) + 1e-9) + 1)
     ax.set_xticks(ticks * math.pi / 3)
-    ax.set_xticklabels([("%d pi/3" % t if abs(t) not in (0, 3) else ("0" if t == 0 else ("pi" if t > 0 else "-pi")))
-                        .replace("1 pi/3", "pi/3").replace("-1 pi/3", "-pi/3") for t in ticks.astype(int)])
+    ax.set_xticklabels([pi_third(t) for t in ticks.astype(int)])
     ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
-    ax.set_title(title or "phase portrait of beta, %s (gamma = %.3g)" % (os.path.basename(sweep["scene"]), gamma))
+    ax.set_title(title or r"phase portrait of $\beta$, %s ($\gamma$ = %.3g)" % (os.path.basename(sweep["scene"]), gamma))
     for kind, mk in (("passing", "o"), ("trapped", "s")):
         pts = [(e, r[1]) for k_, e, r, _ in results if k_ == kind and r is not None]
         if pts:
             ax2.plot(*zip(*sorted(pts)), mk, color=styles[kind]["color"], label=kind)
     ax2.axhline(0, color="0.6", lw=0.8)
-    ax2.set_xlabel("energy E = m(beta) beta'^2/2 + V(beta)")
-    ax2.set_ylabel("net displacement per period (y)")
-    ax2.set_title("net displacement per period (x: 0 by symmetry)")
+    ax2.set_xlabel(r"energy $E = m(\beta)\,\dot\beta^2/2 + V(\beta)$ (%s)" % DIMLESS)
+    ax2.set_ylabel("net displacement per period along $y$\n(%s)" % LENGTH)
+    ax2.set_title("net displacement per period (along $x$: 0 by symmetry)")
     ax2.grid(alpha=0.3)
     if any(r is not None for _, _, r, _ in results):
-        ax2.legend(loc="center right")
+        ax2.legend(loc="best")
     fig.tight_layout()
-    path = os.path.join(d, "phase.png")
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
-    print(path)
+    finish(fig, os.path.join(d, "phase.png"), collect)
     with open(os.path.join(d, "periods.csv"), "w") as fh:
         fh.write("id,betadot0,kind,energy,energy_swim,energy_mismatch,period,dy_per_period,dx_per_period\n")
         for mem, (beta, dbeta, g), (kind, e, r, bd0) in zip(kept, curves, results):

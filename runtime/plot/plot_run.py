@@ -11,7 +11,8 @@ or bin/swim of this tree). Writes into DIR, printing each path written:
   trajectory.png  centre-of-mass path y vs x, and y(t)          (paper Figs 4.2, 4.9, 4.17)
   energy.png      energy distribution, absolute and in percent   (Figs 4.4, 4.11, 4.16, 4.20)
   impulse.png     linear impulses of body and fluid and their sum (Fig 4.12)
-  phase.png       phase portraits of the most active free coordinates
+  phase.png       phase portraits of the most active free coordinates, coloured by the pass
+                  around the orbit (first pass widest, so a retraced orbit shows every pass)
   snapshots.png   body density, outline, path and fluid velocity  (Figs 4.3, 4.15, 4.18, 4.22)
   instants.png    the body at the marked instants                  (Fig 4.8)
   phase3d.png     (coordinate, velocity, t) curves                 (Figs 4.10, 4.14, 4.19)
@@ -33,6 +34,15 @@ With neither option the first 12 distinct event times are marked, and stderr
 says how many were left out. instants.png shows at most 16 instants (the first
 ones; stderr says when it leaves some out).
 
+Every axis gives its unit: the paper's scaling is dimensionless, lengths in radii of the
+reference disc (models/README.md). Colour scales have colour bars; energy.png draws only the
+terms the scene has (and says which it leaves out); marks are told apart by line style and named
+in the legend (COLUMN KIND of the event, and the first times).
+
+From Python: build_figure(DIR or open_run(DIR, marks, events), NAME) returns figure NAME as a
+matplotlib Figure without saving it (what `swim plot` saves; tests/test_figure_text.py checks its
+text); it raises Skip when the figure says nothing about the run.
+
 NAME is one of the figure names above (with or without ".png"). A figure whose
 input is missing or unusable is skipped with a message on stderr. The CSV may
 be truncated (failed run) and may contain "nan". Exit status 0 if at least one
@@ -41,6 +51,7 @@ figure was written, 1 otherwise.
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -185,6 +196,42 @@ def coord_label(name, dot=False):
     return r"$%s_{%s}$" % (sym, idx)
 
 
+# Every axis says its unit. The paper's quantities are dimensionless (the reference body is the unit
+# disc, rho0 and rho_f set the density scale: models/README.md, "Conventions").
+DIMLESS = "dimensionless, paper's scaling"
+LENGTH = "reference-disc radii"
+T_LABEL = "time $t$ (%s)" % DIMLESS
+
+
+def with_unit(text, unit=DIMLESS, newline=False):
+    """'energy' -> "energy (dimensionless, paper's scaling)"; newline puts the unit on a line of its own."""
+    return "%s%s(%s)" % (text, "\n" if newline else " ", unit)
+
+
+def coord_axis(name, dot=False, newline=False):
+    """Axis label of a shape coordinate or its velocity, with its unit."""
+    return with_unit(coord_label(name, dot), newline=newline)
+
+
+def pretty_column(name):
+    """A trajectory column for a label: the shape coordinates and their velocities in math text
+    ('am3' -> $a_{-3}$, 'dbm2' -> $\\dot b_{-2}$), x, y, theta likewise; any other column as it is
+    (the names of --events and events.csv)."""
+    if re.fullmatch(r"d?[ab](1|m[0-9]+)", name):
+        return coord_label(name)
+    return {"x": "$x$", "y": "$y$", "theta": r"$\theta$"}.get(name, name)
+
+
+def pretty_text(text):
+    """Raw coordinate names of a scene's title in math text: 'c_-3' -> $c_{-3}$, 'c1' -> $c_1$
+    (titles that already use math text, or contain a literal dollar, are left alone)."""
+    if "$" in text:
+        return text
+    text = re.sub(r"(?<![A-Za-z0-9_])c_?(-?[0-9]+)(?![A-Za-z0-9_])", r"$c_{\1}$", text)
+    return re.sub(r"(?<![A-Za-z0-9_])(d?[ab](?:1|m[0-9]+))(?![A-Za-z0-9_])",
+                  lambda m: coord_label(m.group(1)), text)
+
+
 def swim_binary():
     return os.environ.get("SWIM_BIN") or os.path.join(ROOT, "bin", "swim")
 
@@ -220,12 +267,18 @@ def read_events(path):
     return events
 
 
+def event_label(col, kind):
+    """'kinetic_rigid', 'max' -> 'kinetic_rigid max'; a coordinate column in math text
+    ('am1', 'zero' -> '$a_{-1}$ zero')."""
+    return "%s %s" % (pretty_column(col), kind)
+
+
 def marks_from_events(events, limit=MAX_MARKS):
     """The distinct times of events (events closer than 1e-6 share a mark), the first `limit`
     of them (None: all), as (t, label); and how many distinct times were left out."""
     marks = []
     for t, col, kind, _ in events:
-        label = "%s %s" % (col, kind)
+        label = event_label(col, kind)
         if marks and abs(marks[-1][0] - t) < 1e-6:
             marks[-1] = (marks[-1][0], marks[-1][1] + ", " + label)
         else:
@@ -243,9 +296,34 @@ def select_events(events, spec):
     return [e for e in events if any(e[1] == c and (k == "*" or e[2] == k) for c, k in pairs)]
 
 
-def draw_marks(ax, run, t=None):
-    for tm, _ in run.marks or []:
-        ax.axvline(tm, color="k", ls="--", lw=0.9, alpha=0.8)
+# the energy terms, impulses and phase curves use the tab: colours; the marks keep out of their way
+MARK_STYLES = (("crimson", "-."), ("navy", "--"), ("darkgoldenrod", ":"), ("teal", "-."),
+               ("magenta", "--"), ("0.45", ":"), ("saddlebrown", "-."), ("k", ":"))
+
+
+def mark_groups(run):
+    """The marks grouped by what they mark: [(label, colour, linestyle, times)], in the order of
+    their first time. A label names the event (COLUMN KIND as events.csv has it) or says the
+    time came from --mark, and lists the first times."""
+    groups = {}
+    for tm, lab in run.marks or []:
+        groups.setdefault(lab or "", []).append(tm)
+    out = []
+    for i, (lab, times) in enumerate(groups.items()):
+        colour, ls = MARK_STYLES[i % len(MARK_STYLES)]
+        shown = ", ".join("%.3g" % tm for tm in times[:3]) + (", …" if len(times) > 3 else "")
+        what = ("event: " + lab) if lab else "marked (--mark)"
+        out.append(("%s ($t$ = %s)" % (what, shown), colour, ls, times))
+    return out
+
+
+def draw_marks(ax, run, t=None, legend=True):
+    """Vertical lines at the marked times, one style per kind of mark; with legend, the first line
+    of each kind carries its label (event name and times) for the legend."""
+    for label, colour, ls, times in mark_groups(run):
+        for i, tm in enumerate(times):
+            ax.axvline(tm, color=colour, ls=ls, lw=0.9, alpha=0.85,
+                       label=label if (legend and i == 0) else None)
 
 
 # ---------------------------------------------------------------- context
@@ -342,7 +420,11 @@ class Run:
         return os.path.basename(os.path.normpath(self.dir))
 
     def suptitle(self, fig, what):
-        text = "%s — %s" % (self.name(), what)
+        name = pretty_text(self.name())
+        # one line when it fits the figure's width (about 9 characters per inch at 12 pt)
+        width = fig.get_size_inches()[0]
+        sep = " — " if len(name) + len(what) + 3 <= 8.5 * width else "\n"
+        text = "%s%s%s" % (name, sep, what)
         if self.summary.get("status") == "failed":
             reason = str(self.summary.get("reason", "")).strip()
             if len(reason) > 70:
@@ -376,6 +458,18 @@ def mark_failure(ax, run, t):
 
 # ---------------------------------------------------------------- figures
 
+def legend_below(fig, handles, labels, title=None, ncol_max=4):
+    """One legend for the figure, centred under the panels, and the layout that leaves it room
+    (measured, so long labels or several rows never run into the x-axis labels)."""
+    ncol = min(len(labels), ncol_max) if labels else 1
+    leg = fig.legend(handles, labels, loc="lower center", ncol=ncol, frameon=False,
+                     bbox_to_anchor=(0.5, 0.0), title=title, title_fontsize=8.5)
+    fig.canvas.draw()
+    h = leg.get_window_extent(fig.canvas.get_renderer()).height / fig.bbox.height
+    fig.tight_layout(rect=(0, min(h + 0.01, 0.5), 1, 1))
+    return leg
+
+
 def fig_trajectory(run):
     t, x, y = need(run.cols, "t", "x", "y")
     ok = np.isfinite(x) & np.isfinite(y)
@@ -387,9 +481,9 @@ def fig_trajectory(run):
     i0 = np.flatnonzero(ok)[0]
     i1 = np.flatnonzero(ok)[-1]
     ax1.plot(x[i0], y[i0], "o", color="tab:green", ms=8,
-             label="start (t = %.3g)" % t[i0])
+             label="start ($t$ = %.3g)" % t[i0])
     ax1.plot(x[i1], y[i1], "s", color="tab:red", ms=8,
-             label="end (t = %.3g)" % t[i1])
+             label="end ($t$ = %.3g)" % t[i1])
     ax1.set_aspect("equal", adjustable="datalim")
     # keep a sensible window when the path is (almost) a straight line or a point
     sx, sy = span(x), span(y)
@@ -398,52 +492,70 @@ def fig_trajectory(run):
                  np.nanmean([np.nanmin(x), np.nanmax(x)]) + half)
     ax1.set_ylim(np.nanmean([np.nanmin(y), np.nanmax(y)]) - half,
                  np.nanmean([np.nanmin(y), np.nanmax(y)]) + half)
-    ax1.set_xlabel("x (centre of mass)")
-    ax1.set_ylabel("y (centre of mass)")
+    ax1.set_xlabel(with_unit("$x$ of the centre of mass", LENGTH))
+    ax1.set_ylabel(with_unit("$y$ of the centre of mass", LENGTH))
     ax1.set_title("Path of the centre of mass")
     ax1.grid(alpha=0.3)
     ax1.legend(loc="best")
 
-    ax2.plot(t, y, color="tab:blue", lw=1.5, label="y(t)")
+    ax2.plot(t, y, color="tab:blue", lw=1.5, label="$y(t)$")
     if span(x) > 1e-3 * max(span(y), 1e-300) and span(x) > 1e-12:
-        ax2.plot(t, x, color="tab:orange", lw=1.2, ls="--", label="x(t)")
+        ax2.plot(t, x, color="tab:orange", lw=1.2, ls="--", label="$x(t)$")
         ax2.legend(loc="best")
-        ax2.set_ylabel("y, x (centre of mass)")
+        ax2.set_ylabel(with_unit("$y$, $x$ of the centre of mass", LENGTH))
+        ax2.set_title("Centre of mass against time")
     else:
-        ax2.set_ylabel("y (centre of mass)")
+        ax2.set_ylabel(with_unit("$y$ of the centre of mass", LENGTH))
+        ax2.set_title("$y$-coordinate of the centre of mass against time")
     mark_failure(ax2, run, t)
-    ax2.set_xlabel("time t")
-    ax2.set_title("y-coordinate of the centre of mass vs time")
+    ax2.set_xlabel(T_LABEL)
     ax2.grid(alpha=0.3)
     run.suptitle(fig, "trajectory")
     fig.tight_layout()
-    return save(fig, run, "trajectory")
+    return fig
+
+
+def energy_parts(run):
+    """The energy terms of the scene, [(label, values, colour)], and the labels of those left out
+    because the scene has not that effect (summary.json "effects") or the term is zero throughout.
+    Raises Skip when there is none."""
+    cols = run.cols
+    effects = run.summary.get("effects") if isinstance(run.summary.get("effects"), dict) else {}
+    cand = [("kinetic_fluid", "kinetic, fluid", "tab:blue", True),
+            ("kinetic_shape", "kinetic, body deformations", "tab:orange", True),
+            ("kinetic_rigid", "kinetic, body rigid motion", "tab:green", True)]
+    if "w1" in cols or "w2" in cols:
+        cand += [("w1", "potential, elastic $W_1$", "tab:purple", effects.get("elastic", True)),
+                 ("w2", "potential, barrier $W_2$", "tab:brown", effects.get("barrier", True))]
+    else:
+        cand += [("potential", "potential", "tab:purple",
+                  effects.get("elastic", True) or effects.get("barrier", True))]
+    present = []
+    for name, label, colour, effect in cand:
+        if name in cols:
+            present.append((label, cols[name], colour, effect))
+        elif name.startswith("kinetic") or name == "potential":
+            warn("energy: column %s missing, left out" % name)
+    if not present:
+        raise Skip("no energy columns")
+    scale = absmax(*[v for _, v, _, _ in present])
+    parts, absent = [], []
+    for label, v, colour, effect in present:
+        # a term of an effect the scene lacks, or one that is zero throughout, is not drawn
+        if effect and absmax(v) > 1e-12 * max(scale, 1e-300):
+            parts.append((label, v, colour))
+        else:
+            absent.append(label)
+    if not parts:   # at rest: draw the kinetic terms (zero) rather than nothing
+        parts = [(label, v, colour) for label, v, colour, _ in present if label.startswith("kinetic")]
+        absent = [a for a in absent if not a.startswith("kinetic")]
+    return parts, absent
 
 
 def fig_energy(run):
     cols = run.cols
     (t,) = need(cols, "t")
-    parts = []  # (label, values, colour)
-    for name, label, colour in (
-            ("kinetic_fluid", "kinetic, fluid", "tab:blue"),
-            ("kinetic_shape", "kinetic, body deformations", "tab:orange"),
-            ("kinetic_rigid", "kinetic, body rigid motion", "tab:green")):
-        if name in cols:
-            parts.append((label, cols[name], colour))
-        else:
-            warn("energy: column %s missing, left out" % name)
-    w2 = cols.get("w2")
-    if "w1" in cols and w2 is not None and absmax(w2) > 0:
-        parts.append(("potential, elastic W1", cols["w1"], "tab:purple"))
-        parts.append(("potential, barrier W2", w2, "tab:brown"))
-    elif "potential" in cols:
-        parts.append(("potential (elastic)", cols["potential"], "tab:purple"))
-    elif "w1" in cols:
-        parts.append(("potential, elastic W1", cols["w1"], "tab:purple"))
-    else:
-        warn("energy: no potential column, left out")
-    if not parts:
-        raise Skip("no energy columns")
+    parts, absent = energy_parts(run)
     stack = np.vstack([p[1] for p in parts])
     if not np.isfinite(stack).any():
         raise Skip("energy columns are all NaN")
@@ -467,8 +579,8 @@ def fig_energy(run):
                  label="work of the stroke" if "stroke" in run.summary else "work of forcing + damping")
     mark_failure(ax1, run, t)
     draw_marks(ax1, run)
-    ax1.set_xlabel("time t")
-    ax1.set_ylabel("energy")
+    ax1.set_xlabel(T_LABEL)
+    ax1.set_ylabel(with_unit("energy"))
     ax1.set_title("Distribution of energy (stacked)")
     ax1.grid(alpha=0.3)
     ax1.set_xlim(np.nanmin(t), np.nanmax(t)) if np.nanmax(t) > np.nanmin(t) else None
@@ -493,19 +605,18 @@ def fig_energy(run):
         ax2.text(0.5, 0.5, "total energy is ~0 at all times", ha="center",
                  transform=ax2.transAxes)
     mark_failure(ax2, run, t)
-    draw_marks(ax2, run)
-    ax2.set_xlabel("time t")
+    draw_marks(ax2, run, legend=False)
+    ax2.set_xlabel(T_LABEL)
     ax2.set_ylabel("share of total energy (%)")
     ax2.set_title("Distribution of energy (percent)")
     ax2.grid(alpha=0.3)
     if np.nanmax(t) > np.nanmin(t):
         ax2.set_xlim(np.nanmin(t), np.nanmax(t))
     h, lab = ax1.get_legend_handles_labels()
-    ncol = len(lab) if len(lab) <= 4 else int(math.ceil(len(lab) / 2.0))
-    fig.legend(h, lab, loc="lower center", ncol=ncol, frameon=False)
     run.suptitle(fig, "energy")
-    fig.tight_layout(rect=(0, 0.07 if len(lab) <= 4 else 0.11, 1, 1))
-    return save(fig, run, "energy")
+    legend_below(fig, h, lab, title=("not drawn (absent from the scene or zero throughout): "
+                                     + "; ".join(absent)) if absent else None, ncol_max=3)
+    return fig
 
 
 def fig_impulse(run):
@@ -532,30 +643,68 @@ def fig_impulse(run):
     if not shown:
         raise Skip("impulse columns are all NaN")
     fig, axes = plt.subplots(1, len(shown), figsize=FIGSIZE, squeeze=False)
-    for ax, (c, present) in zip(axes[0], shown):
+    for j, (ax, (c, present)) in enumerate(zip(axes[0], shown)):
         total = np.zeros_like(t)
         for k, lab, col in present:
             v = cols["%s_%s" % (k, c)]
             ax.plot(t, v, color=col, lw=1.5, label=lab)
             total = total + v
-        ax.plot(t, total, color="k", lw=1.2, ls="--", label="sum (should be 0)")
+        ax.plot(t, total, color="k", lw=1.2, ls=(0, (6, 3)), label="sum (should be 0)")
         ax.axhline(0, color="0.5", lw=0.6)
         mark_failure(ax, run, t)
-        draw_marks(ax, run)
-        ax.set_xlabel("time t")
-        ax.set_ylabel("%s-component of linear impulse" % c)
-        ax.set_title("Linear impulse, %s-component" % c)
+        draw_marks(ax, run, legend=j == 0)
+        ax.set_xlabel(T_LABEL)
+        ax.set_ylabel(with_unit("$%s$-component of linear impulse" % c, newline=True))
+        ax.set_title("Linear impulse, $%s$-component" % c)
         ax.grid(alpha=0.3)
-        ax.legend(loc="best")
+    h, lab = axes[0][0].get_legend_handles_labels()
     if len(shown) == 1:
-        ax.text(0.99, 0.01, "x-components negligible, not shown", transform=ax.transAxes,
-                ha="right", va="bottom", fontsize=9, color="0.35")
+        lab = lab + ["($x$-components negligible, not shown)"]
+        h = h + [plt.Line2D([], [], color="none")]
     run.suptitle(fig, "linear impulse")
-    fig.tight_layout()
-    return save(fig, run, "impulse")
+    legend_below(fig, h, lab, ncol_max=3)
+    return fig
+
+
+def orbit_passes(q, dq):
+    """Pass number (0, 1, ...) of every sample of a phase curve: how many whole turns the curve has
+    made around the centre of its bounding box (in coordinates scaled to that box) since the start.
+    A curve that does not turn stays at pass 0."""
+    ok = np.isfinite(q) & np.isfinite(dq)
+    passes = np.zeros(len(q), dtype=int)
+    if ok.sum() < 2:
+        return passes
+    qc = 0.5 * (np.nanmin(q[ok]) + np.nanmax(q[ok]))
+    dc = 0.5 * (np.nanmin(dq[ok]) + np.nanmax(dq[ok]))
+    ang = np.arctan2((dq[ok] - dc) / max(span(dq), 1e-300), (q[ok] - qc) / max(span(q), 1e-300))
+    turned = np.abs(np.unwrap(ang) - np.unwrap(ang)[0])
+    passes[ok] = np.floor(turned / (2 * math.pi) + 1e-9).astype(int)
+    # NaN rows take the pass of the row before
+    idx = np.maximum.accumulate(np.where(ok, np.arange(len(q)), 0))
+    return passes[idx]
+
+
+def retraces(q, dq, passes):
+    """Whether the later passes of a phase curve run (nearly) on top of the first: the median
+    distance of their points to the first pass is below 2% of the curve's extent."""
+    ok = np.isfinite(q) & np.isfinite(dq)
+    sq, sd = max(span(q), 1e-300), max(span(dq), 1e-300)
+    first = ok & (passes == 0)
+    later = ok & (passes > 0)
+    if first.sum() < 3 or not later.any():
+        return False
+    a = np.column_stack([q[first] / sq, dq[first] / sd])
+    b = np.column_stack([q[later] / sq, dq[later] / sd])
+    a = a[:: max(1, len(a) // 2000)]   # at most 2000 x 400 distances, for runs of any length
+    b = b[:: max(1, len(b) // 400)]
+    d = np.sqrt(((b[:, None, :] - a[None, :, :]) ** 2).sum(axis=2)).min(axis=1)
+    return float(np.median(d)) < 0.02
 
 
 def fig_phase(run):
+    """Phase portraits (q, q') of the most active free coordinates. A periodic orbit is traversed
+    again and again: the curve is coloured by its pass (turn around the orbit), the first pass
+    widest and underneath, so every pass shows where it departs from the others."""
     cols = run.cols
     (t,) = need(cols, "t")
     cand = []
@@ -573,37 +722,69 @@ def fig_phase(run):
     # keep the order of the CSV so panels read a1, b1, am1, ... left to right
     order = list(cols.keys())
     names.sort(key=order.index)
-    tmin, tmax = np.nanmin(t), np.nanmax(t)
-    norm = Normalize(tmin, tmax if tmax > tmin else tmin + 1.0)
+    passes = {name: orbit_passes(cols[name], cols["d" + name]) for name in names}
+    npass = max(int(p.max()) + 1 for p in passes.values())
+    cmap = plt.get_cmap("viridis", max(npass, 2)) if npass <= 12 else plt.get_cmap("viridis")
+    bounds = np.arange(-0.5, npass + 0.5, 1.0)
+    from matplotlib.colors import BoundaryNorm
+    # discrete colours for up to 12 passes; beyond, a continuous scale of the pass number
+    norm = BoundaryNorm(bounds, cmap.N) if 1 < npass <= 12 else Normalize(-0.5, npass - 0.5)
     fig, axes = plt.subplots(1, len(names), figsize=FIGSIZE, squeeze=False)
     lc = None
     for ax, name in zip(axes[0], names):
         q, dq = cols[name], cols["d" + name]
+        pas = passes[name]
         pts = np.column_stack([q, dq])
         segs = np.stack([pts[:-1], pts[1:]], axis=1) if len(pts) > 1 else np.zeros((0, 2, 2))
         keep = np.isfinite(segs).all(axis=(1, 2))
-        lc = LineCollection(segs[keep], cmap="viridis", norm=norm, lw=1.4)
-        lc.set_array(0.5 * (t[:-1] + t[1:])[keep] if len(t) > 1 else np.zeros(0))
-        ax.add_collection(lc)
+        seg_pass = pas[:-1] if len(pas) > 1 else np.zeros(0, dtype=int)
+        # widths from the first pass of this panel down to its last: a pass that retraces the
+        # ones before shows as a narrower band inside them
+        n_here = int(pas.max()) + 1 if len(pas) else 1
+        if n_here <= 1:
+            lw_first, lw_last = 1.4, 1.4
+        elif retraces(q, dq, pas):   # a periodic orbit: wide bands, or only the last pass shows
+            lw_first, lw_last = min(1.0 + 1.6 * (n_here - 1), 8.0), 1.0
+        else:                        # the passes differ anyway: colour tells them apart
+            lw_first, lw_last = min(1.0 + 0.4 * (n_here - 1), 3.0), 1.0
+        for k in range(n_here):
+            sel = keep & (seg_pass == k)
+            if not sel.any():
+                continue
+            lw = lw_first + (lw_last - lw_first) * (k / max(n_here - 1, 1))
+            lc = LineCollection(segs[sel], cmap=cmap, norm=norm, lw=lw, zorder=2 + k,
+                                capstyle="round", joinstyle="round")
+            lc.set_array(np.full(int(sel.sum()), float(k)))
+            ax.add_collection(lc)
         ok = np.isfinite(q) & np.isfinite(dq)
         if ok.any():
             i0 = np.flatnonzero(ok)[0]
-            ax.plot(q[i0], dq[i0], "o", color="tab:red", ms=6, label="t = %.3g" % t[i0])
+            ax.plot(q[i0], dq[i0], "o", color="tab:red", ms=6, zorder=npass + 5,
+                    label="start, $t$ = %.3g" % t[i0])
             ax.legend(loc="upper right", fontsize=8)
             pad_q = 0.06 * max(span(q), 1e-9)
             pad_d = 0.06 * max(span(dq), 1e-9)
             ax.set_xlim(np.nanmin(q[ok]) - pad_q, np.nanmax(q[ok]) + pad_q)
             ax.set_ylim(np.nanmin(dq[ok]) - pad_d, np.nanmax(dq[ok]) + pad_d)
-        ax.set_xlabel(coord_label(name))
-        ax.set_ylabel(coord_label(name, dot=True))
-        ax.set_title("%s vs %s" % (coord_label(name, dot=True), coord_label(name)))
+        ax.set_xlabel(coord_axis(name))
+        ax.set_ylabel(coord_axis(name, dot=True))
+        ax.set_title("%s against %s" % (coord_label(name, dot=True), coord_label(name)))
         ax.grid(alpha=0.3)
     run.suptitle(fig, "phase portraits of the free shape coordinates")
-    fig.tight_layout(rect=(0, 0, 0.92, 1))
-    cax = fig.add_axes((0.935, 0.15, 0.015, 0.7))
-    cb = fig.colorbar(lc, cax=cax)
-    cb.set_label("time t")
-    return save(fig, run, "phase")
+    fig.tight_layout(rect=(0, 0, 0.9, 1))
+    cax = fig.add_axes((0.915, 0.15, 0.015, 0.7))
+    sm = plt.cm.ScalarMappable(cmap=cmap, norm=norm)
+    cb = fig.colorbar(sm, cax=cax)
+    if npass <= 12:
+        cb.set_ticks(np.arange(npass))
+        cb.set_ticklabels([str(k + 1) for k in range(npass)])
+    else:
+        from matplotlib.ticker import FuncFormatter, MaxNLocator
+        cb.locator = MaxNLocator(integer=True)
+        cb.formatter = FuncFormatter(lambda v, _: "%d" % (v + 1))
+        cb.update_ticks()
+    cb.set_label("pass around the orbit (count; first pass widest)")
+    return fig
 
 
 def _arr2(v):
@@ -709,6 +890,19 @@ def draw_density(ax, density, norm):
     return None
 
 
+def thin_x_ticks(ax, xlim, wy):
+    """Tall narrow equal-aspect axes (a long straight path): fewer x ticks, or their labels
+    collide; the narrowest keep one, a round number near the middle."""
+    from matplotlib.ticker import FixedLocator, MaxNLocator
+    wx = xlim[1] - xlim[0]
+    if wx < 0.25 * wy:
+        mid = 0.5 * (xlim[0] + xlim[1])
+        step = 10.0 ** math.floor(math.log10(max(0.5 * wx, 1e-300)))
+        ax.xaxis.set_major_locator(FixedLocator([round(mid / step) * step]))
+    elif wx < 0.6 * wy:
+        ax.xaxis.set_major_locator(MaxNLocator(3))
+
+
 def draw_panels(run, snaps, name, title):
     # path of the centre of mass (may be absent)
     path = None
@@ -791,14 +985,18 @@ def draw_panels(run, snaps, name, title):
         ax.set_xlim(xlim)
         ax.set_ylim(ylim)
         ax.set_aspect("equal")
-        ax.set_title("t = %.3g" % s["t"])
-        if s.get("label"):
-            ax.text(0.5, -0.02, s["label"].replace(", ", "\n"), transform=ax.transAxes,
-                    ha="center", va="top", fontsize=7.5, color="0.25")
+        thin_x_ticks(ax, xlim, wy)
+        if "label" in s:
+            # an instant: what marks it (event name, or --mark) under its time, in the title so
+            # that the layout makes room for it
+            what = s["label"].replace(", ", "\n") if s.get("label") else "marked (--mark)"
+            ax.set_title("$t$ = %.4g\n%s" % (s["t"], what), fontsize=9)
+        else:
+            ax.set_title("$t$ = %.3g" % s["t"])
         if k % ncols == 0:
-            ax.set_ylabel("y")
+            ax.set_ylabel(with_unit("$y$", LENGTH))
         if k // ncols == nrows - 1 or k + ncols >= n:
-            ax.set_xlabel("x")
+            ax.set_xlabel(with_unit("$x$", LENGTH))
             ax.tick_params(labelbottom=True)
     run.suptitle(fig, title)
     fig.tight_layout(rect=(0, 0.04 if quiver_done is not None else 0, 0.9, 1))
@@ -810,12 +1008,12 @@ def draw_panels(run, snaps, name, title):
         cb = fig.colorbar(mappable, cax=cax,
                           extend={(0, 0): "neither", (1, 0): "min", (0, 1): "max"}.get(
                               (int(bool(lo)), int(bool(hi))), "both"))
-        cb.set_label(r"density $\rho = \rho_0 / J$")
+        cb.set_label(with_unit(r"density $\rho = \rho_0 / J$"))
     if quiver_done is not None:
         ax0 = axes.ravel()[0]
-        ax0.quiverkey(quiver_done, 0.5, 0.015, vref, "fluid speed %.3g" % vref,
+        ax0.quiverkey(quiver_done, 0.5, 0.015, vref, "fluid speed %.3g (%s)" % (vref, DIMLESS),
                       coordinates="figure", labelpos="E", color="tab:green")
-    return save(fig, run, name)
+    return fig
 
 
 def free_modes(run):
@@ -864,15 +1062,15 @@ def fig_modes(run):
             lab = (r"$|c_{%s}|^2$" % mode_name(k)) if w == 1 else (r"$%d\,|c_{%s}|^2$" % (w, mode_name(k)))
             ax.plot(t, amp[k], color=colours[i % len(colours)], lw=1.3, label=lab)
         mark_failure(ax, run, t)
-        ax.set_xlabel("time t")
-        ax.set_ylabel(r"weighted mode amplitude $(k+1)^2|c_{-k}|^2$")
-        ax.set_title("modes excited at t = 0" if g is low and high else
-                     ("modes not excited at t = 0" if g is high else "mode amplitudes"))
+        ax.set_xlabel(T_LABEL)
+        ax.set_ylabel(with_unit(r"weighted mode amplitude $(k+1)^2|c_{-k}|^2$", newline=True))
+        ax.set_title("modes excited at $t$ = 0" if g is low and high else
+                     ("modes not excited at $t$ = 0" if g is high else "mode amplitudes"))
         ax.grid(alpha=0.3)
         ax.legend(loc="best")
     run.suptitle(fig, "amplitudes of the shape modes")
     fig.tight_layout()
-    return save(fig, run, "modes")
+    return fig
 
 
 def fig_phase3d(run):
@@ -895,21 +1093,34 @@ def fig_phase3d(run):
     order = list(cols.keys())
     names.sort(key=order.index)
     from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the 3d projection)
-    fig = plt.figure(figsize=(12.0, 4.0 if len(names) > 2 else 5.0))
+    from matplotlib.ticker import MaxNLocator
+    # at most two 3-d panels a row: narrower ones crowd their tick and axis labels
+    ncols = min(len(names), 2)
+    nrows = int(math.ceil(len(names) / ncols))
+    height = 5.4 * nrows
+    fig = plt.figure(figsize=(12.0, height))
     for i, name in enumerate(names):
-        ax = fig.add_subplot(1, len(names), i + 1, projection="3d")
+        ax = fig.add_subplot(nrows, ncols, i + 1, projection="3d")
         q, dq = cols[name], cols["d" + name]
         ok = np.isfinite(q) & np.isfinite(dq)
         ax.plot(q[ok], dq[ok], t[ok], color="tab:blue", lw=0.9)
-        ax.set_xlabel(coord_label(name), labelpad=-2)
-        ax.set_ylabel(coord_label(name, dot=True), labelpad=-2)
-        ax.set_zlabel("t", labelpad=-2)
-        ax.tick_params(labelsize=7, pad=0)
-        ax.set_title("(%s, %s, t)" % (coord_label(name), coord_label(name, dot=True)))
+        # labels on two lines (symbol, unit), away from the tick labels
+        ax.set_xlabel(coord_axis(name, newline=True), labelpad=10, fontsize=8.5)
+        ax.set_ylabel(coord_axis(name, dot=True, newline=True), labelpad=10, fontsize=8.5)
+        ax.set_zlabel(with_unit("time $t$", newline=True), labelpad=8, fontsize=8.5)
+        ax.tick_params(labelsize=7, pad=1)
+        for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+            axis.set_major_locator(MaxNLocator(5))
         ax.view_init(elev=22, azim=-58)
+        ax.set_box_aspect(None, zoom=0.88)
+        # the panel's name inside the panel's box, under the figure title
+        ax.text2D(0.5, 0.99, "(%s, %s, $t$)" % (coord_label(name), coord_label(name, dot=True)),
+                  transform=ax.transAxes, ha="center", va="top", fontsize=10)
     run.suptitle(fig, "phase curves in time")
-    fig.subplots_adjust(left=0.0, right=0.98, bottom=0.0, top=0.93, wspace=0.05)
-    return save(fig, run, "phase3d")
+    title_h = 0.75 if fig._suptitle.get_text().count("\n") else 0.55   # inches the title takes
+    fig.subplots_adjust(left=0.01, right=0.97, bottom=0.02, top=1.0 - title_h / height, wspace=0.12,
+                        hspace=0.08)
+    return fig
 
 
 def fig_path(run):
@@ -933,9 +1144,15 @@ def fig_path(run):
     ys = np.concatenate([s["boundary"][1] for s in snaps if s["boundary"] is not None] + [y[ok]])
     wx, wy = span(xs) + 0.4, span(ys) + 0.4
     height = min(max(11.0 * wy / max(wx, 1e-9) + 1.0, 3.5), 9.0)
-    width = 12.0 if height < 9.0 else min(12.0, max(9.0, 8.0 * wx / wy + 1.5))
-    fig, ax = plt.subplots(figsize=(width, height))
-    cmap = plt.get_cmap("plasma")
+    # a tall path: as wide as the picture plus its two colour bars (about 3.5 inches)
+    width = 12.0 if height < 9.0 else min(12.0, max(6.0, 8.0 * wx / wy + 3.5))
+    # constrained layout: it keeps the labels in the figure next to the equal-aspect axes and
+    # makes room for the two colour bars
+    fig, ax = plt.subplots(figsize=(width, height), layout="constrained")
+    from matplotlib.colors import LinearSegmentedColormap
+    base = plt.get_cmap("plasma")
+    cmap = LinearSegmentedColormap.from_list("plasma_dark", base(np.linspace(0.0, 0.85, 256)))
+    tnorm = Normalize(times[0], times[-1] if times[-1] > times[0] else times[0] + 1.0)
     mappable = None
     for i, s in enumerate(snaps):
         # the bodies overlap along the path: density only for the first and the last one
@@ -943,8 +1160,7 @@ def fig_path(run):
             mappable = draw_density(ax, s["density"], norm) or mappable
         if s["boundary"] is not None:
             bx, by = s["boundary"]
-            ax.plot(np.append(bx, bx[:1]), np.append(by, by[:1]),
-                    color=cmap(0.85 * i / max(len(snaps) - 1, 1)), lw=1.3)
+            ax.plot(np.append(bx, bx[:1]), np.append(by, by[:1]), color=cmap(tnorm(s["t"])), lw=1.3)
     ax.plot(x, y, color="k", ls="--", lw=1.0, label="centre of mass")
     for s in snaps:
         px, py = s["pos"]
@@ -952,18 +1168,25 @@ def fig_path(run):
     ax.set_aspect("equal")
     ax.set_xlim(np.nanmin(xs) - 0.2, np.nanmax(xs) + 0.2)
     ax.set_ylim(np.nanmin(ys) - 0.2, np.nanmax(ys) + 0.2)
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    thin_x_ticks(ax, ax.get_xlim(), span(ax.get_ylim()))
+    ax.set_xlabel(with_unit("$x$", LENGTH))
+    ax.set_ylabel(with_unit("$y$", LENGTH))
     ax.grid(alpha=0.25)
-    ax.set_title("%d instants from t = %.3g to %.3g, every %.3g (outline colour: time, dark to "
-                 "light; density at the first and last)"
-                 % (len(snaps), times[0], times[-1], times[1] - times[0]), fontsize=9)
-    run.suptitle(fig, "the body along its path")
-    fig.tight_layout(rect=(0, 0, 0.9, 1))
+    # what the picture shows, under the figure's title (centred on the figure: a tall narrow path
+    # leaves the axes too narrow for a title of their own)
+    run.suptitle(fig, "the body along its path: %d instants from $t$ = %.3g to %.3g, every %.3g\n"
+                 "(outline colour: time; density at the first and last)"
+                 % (len(snaps), times[0], times[-1], times[1] - times[0]))
+    # two colour scales: the time of each outline, the density of the two filled bodies
+    sm = plt.cm.ScalarMappable(cmap=cmap, norm=tnorm)
+    cb_t = fig.colorbar(sm, ax=ax, shrink=0.8, aspect=30, pad=0.02)
+    cb_t.set_ticks(times if len(times) <= 8 else times[::max(1, len(times) // 6)])
+    cb_t.set_ticklabels(["%.3g" % v for v in (times if len(times) <= 8 else times[::max(1, len(times) // 6)])])
+    cb_t.set_label(with_unit("time $t$ of the outline", newline=True))
     if mappable is not None:
-        cax = fig.add_axes((0.915, 0.15, 0.015, 0.7))
-        fig.colorbar(mappable, cax=cax).set_label(r"density $\rho = \rho_0 / J$")
-    return save(fig, run, "path")
+        fig.colorbar(mappable, ax=ax, shrink=0.8, aspect=30, pad=0.02).set_label(
+            with_unit(r"density $\rho = \rho_0 / J$", newline=True))
+    return fig
 
 
 def fig_stroke(run):
@@ -976,19 +1199,19 @@ def fig_stroke(run):
     cols = run.cols
     t, power = need(cols, "t", "power")
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=FIGSIZE)
-    ax1.plot(t, power, color="k", lw=1.2, label="power P = dE/dt")
-    ax1.fill_between(t, 0, np.maximum(power, 0), color="tab:red", alpha=0.3, lw=0, label="P > 0 (spent)")
+    ax1.plot(t, power, color="k", lw=1.2, label="power $P = dE/dt$")
+    ax1.fill_between(t, 0, np.maximum(power, 0), color="tab:red", alpha=0.3, lw=0, label="$P > 0$ (spent)")
     ax1.axhline(0, color="k", lw=0.6)
     if "work_positive" in cols:
         axw = ax1.twinx()
         axw.plot(t, cols["work_positive"], color="tab:red", lw=1.0, ls="--", label="positive work so far")
-        axw.set_ylabel("positive work")
+        axw.set_ylabel(with_unit("positive work so far", newline=True))
         h1, l1 = ax1.get_legend_handles_labels()
         h2, l2 = axw.get_legend_handles_labels()
         ax1.legend(h1 + h2, l1 + l2, loc="upper left", fontsize=8)
     mark_failure(ax1, run, t)
-    ax1.set_xlabel("time t")
-    ax1.set_ylabel("power")
+    ax1.set_xlabel(T_LABEL)
+    ax1.set_ylabel(with_unit("power $P$"))
     ax1.set_title("Power of the stroke")
     ax1.grid(alpha=0.3)
     strokes = [s for s in info.get("strokes") or [] if isinstance(s, dict)]
@@ -997,15 +1220,25 @@ def fig_stroke(run):
         bx = np.array([s["body_dx"] for s in strokes])
         by = np.array([s["body_dy"] for s in strokes])
         wp = np.array([s["work_positive"] for s in strokes])
-        ax2.bar(k - 0.2, bx, width=0.4, color="tab:blue", label="displacement along e*1")
-        ax2.bar(k + 0.2, by, width=0.4, color="tab:green", label="displacement along e*2")
+        # a component that is zero for every stroke (a symmetric stroke) is said, not drawn
+        dscale = absmax(bx, by)
+        comps = [(bx, "tab:blue", r"$e^*_1$"), (by, "tab:green", r"$e^*_2$")]
+        drawn = [c for c in comps if absmax(c[0]) > 1e-9 * max(dscale, 1e-300)] or comps
+        for j, (v, colour, e) in enumerate(drawn):
+            off = 0.0 if len(drawn) == 1 else (-0.2 if j == 0 else 0.2)
+            ax2.bar(k + off, v, width=0.4 if len(drawn) > 1 else 0.5, color=colour,
+                    label="displacement along " + e)
+        for v, colour, e in comps:
+            if all(c[2] != e for c in drawn):
+                ax2.plot([], [], color="none", label="(along %s: 0, not drawn)" % e)
         ax2.axhline(0, color="k", lw=0.6)
         ax2.set_xticks(k if len(k) <= 20 else k[::max(1, len(k) // 10)])
-        ax2.set_xlabel("stroke (period %.6g, %s)" % (info.get("period") or float("nan"), info.get("period_source")))
-        ax2.set_ylabel("displacement per stroke (body frame)")
+        ax2.set_xlabel("stroke number (count; period $T$ = %.6g, %s)"
+                       % (info.get("period") or float("nan"), info.get("period_source")))
+        ax2.set_ylabel(with_unit("displacement per stroke, body frame", LENGTH, newline=True))
         axp = ax2.twinx()
         axp.plot(k, wp, "o-", color="tab:red", label="positive work per stroke")
-        axp.set_ylabel("positive work per stroke")
+        axp.set_ylabel(with_unit("positive work per stroke", newline=True))
         axp.set_ylim(0, 1.2 * max(np.nanmax(wp), 1e-300))
         h1, l1 = ax2.get_legend_handles_labels()
         h2, l2 = axp.get_legend_handles_labels()
@@ -1015,13 +1248,13 @@ def fig_stroke(run):
         x, y = need(cols, "x", "y")
         ax2.plot(x, y, color="tab:blue")
         ax2.set_aspect("equal", adjustable="datalim")
-        ax2.set_xlabel("x")
-        ax2.set_ylabel("y")
+        ax2.set_xlabel(with_unit("$x$", LENGTH))
+        ax2.set_ylabel(with_unit("$y$", LENGTH))
         ax2.set_title("Path of the centre of mass (no period: no strokes to compare)")
     ax2.grid(alpha=0.3)
-    run.suptitle(fig, "prescribed stroke" + (", c1 completed" if info.get("completed_c1") else ""))
+    run.suptitle(fig, "prescribed stroke" + (", $c_1$ completed" if info.get("completed_c1") else ""))
     fig.tight_layout()
-    return save(fig, run, "stroke")
+    return fig
 
 
 DRAW = {"trajectory": fig_trajectory, "energy": fig_energy, "impulse": fig_impulse,
@@ -1104,19 +1337,9 @@ def parse_args(argv):
     return outdir, only, marks, events
 
 
-def main(argv):
-    outdir, only, marks, events = parse_args(argv)
-    if not os.path.isdir(outdir):
-        warn("%s is not a directory" % outdir)
-        return 1
-    wanted = []
-    for name in only or FIGURES:
-        base = name[:-4] if name.endswith(".png") else name
-        if base in DRAW:
-            if base not in wanted:
-                wanted.append(base)
-        else:
-            warn("unknown figure '%s' (known: %s)" % (name, ", ".join(FIGURES)))
+def open_run(outdir, marks=None, events=None):
+    """The Run of DIR with its marks set as `swim plot DIR [--mark ...] [--events ...]` sets them
+    (marks: list of times or None; events: an --events SPEC or None)."""
     run = Run(outdir)
     run.marks = [(tm, None) for tm in sorted(marks or [])]
     if events is not None:
@@ -1132,12 +1355,40 @@ def main(argv):
                  "every one, --events COLUMN:KIND a selection, --mark T,... chosen times"
                  % (len(run.marks), len(run.marks) + left, run.marks[0][0], run.marks[-1][0], left))
     run.marks.sort(key=lambda m: m[0])
+    return run
+
+
+def build_figure(run, name):
+    """Figure NAME (one of FIGURES) of a Run (a directory is opened with open_run), as a matplotlib
+    Figure, not saved; raises Skip when the figure says nothing about the run. The caller closes it."""
+    if not isinstance(run, Run):
+        run = open_run(run)
+    base = name[:-4] if name.endswith(".png") else name
+    if base not in DRAW:
+        raise KeyError("unknown figure '%s' (known: %s)" % (name, ", ".join(FIGURES)))
+    return DRAW[base](run)
+
+
+def main(argv):
+    outdir, only, marks, events = parse_args(argv)
+    if not os.path.isdir(outdir):
+        warn("%s is not a directory" % outdir)
+        return 1
+    wanted = []
+    for name in only or FIGURES:
+        base = name[:-4] if name.endswith(".png") else name
+        if base in DRAW:
+            if base not in wanted:
+                wanted.append(base)
+        else:
+            warn("unknown figure '%s' (known: %s)" % (name, ", ".join(FIGURES)))
+    run = open_run(outdir, marks, events)
     if run.csv_error:
         warn(run.csv_error)
     written = 0
     for name in wanted:
         try:
-            path = DRAW[name](run)
+            path = save(build_figure(run, name), run, name)
             print(path)
             written += 1
         except Skip as e:

@@ -10,7 +10,16 @@ library: no Node, no Python packages). Checks, each printed as a FAIL line when 
   * every <img> decodes with a non-zero natural size; every <video> loads its metadata and has a
     non-zero frame size and duration;
   * no request leaves the machine (only file: and data: URLs);
-  * every relative link and source names a non-empty file.
+  * every relative link and source names a non-empty file;
+  * the companion page keeps its promises (when the page says it is one, <meta name="swim-page">):
+    every paper-figure section (class paperfig) quotes the paper's caption and has either a
+    numbers table (table.cmp: quantity, the paper, ours, difference, every row filled) or the
+    statement "The paper gives no numbers for this figure; compare by eye."; every scene of
+    models/*.toml and models/control/*.toml has its section (id scene-NAME, with the key numbers
+    of its summary.json and a video) -- on a reduced page (--scenes) every scene the page names
+    in <meta name="swim-scenes">, and only scenes of models/; every models/hard/*.toml has its row
+    in the section scenes-hard; the work-precision section shows its figure (a reduced page
+    may leave the section out).
 Then writes a screenshot of the top of the page at a laptop width (1366 px).
 Last line: "browser_check: P passed, F failed"; exit status 1 if any failed, 2 on bad use.
 """
@@ -168,9 +177,85 @@ CHECK_JS = r"""
     images: imgs.map(im => ({src: im.getAttribute('src'), w: im.naturalWidth, h: im.naturalHeight})),
     videos: vids.map(v => ({src: v.getAttribute('src'), w: v.videoWidth, h: v.videoHeight,
                             duration: v.duration, error: v.error ? v.error.code : 0})),
-    height: document.documentElement.scrollHeight, title: document.title});
+    height: document.documentElement.scrollHeight, title: document.title,
+    meta: Object.fromEntries([...document.querySelectorAll('meta[name]')].map(
+      m => [m.getAttribute('name'), m.getAttribute('content')])),
+    sections: [...document.querySelectorAll('section')].map(sec => ({
+      id: sec.id, cls: sec.className,
+      h2: (sec.querySelector('h2') || {}).textContent || '',
+      paper: [...sec.querySelectorAll('.paper')].map(p => p.textContent.trim()),
+      tables: [...sec.querySelectorAll('table.cmp')].map(t => ({
+        head: [...t.querySelectorAll('tr:first-child th')].map(h => h.textContent.trim()),
+        rows: [...t.querySelectorAll('tr')].slice(1).map(
+          tr => [...tr.querySelectorAll('td')].map(td => td.textContent.trim()))})),
+      nonumbers: [...sec.querySelectorAll('.nonumbers')].map(p => p.textContent.trim()),
+      keys: sec.querySelectorAll('table.keys tr').length,
+      videos: sec.querySelectorAll('video').length,
+      images: sec.querySelectorAll('img').length,
+      rows: [...sec.querySelectorAll('tr[id]')].map(tr => tr.id)}))});
 })()
 """
+
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+NO_NUMBERS = "The paper gives no numbers for this figure; compare by eye."
+SHORTENED = "The paper gives numbers for this figure, but this shortened run does not reach them"
+
+
+def models_scenes(models, folder):
+    d = os.path.join(models, folder)
+    if not os.path.isdir(d):
+        return []
+    return sorted((folder + "/" if folder else "") + f[:-5] for f in os.listdir(d)
+                  if f.endswith(".toml"))
+
+
+def check_promises(report, check, models=None):
+    """The companion page's own promises, on what the browser shows (see the module doc)."""
+    meta = report.get("meta", {})
+    kind = meta.get("swim-page")
+    if kind is None:
+        return                      # not a companion page: nothing promised
+    models = models or os.path.join(ROOT, "models")
+    secs = report.get("sections", [])
+    by_id = {s["id"]: s for s in secs}
+    figs = [s for s in secs if "paperfig" in s["cls"].split()]
+    check(len(figs) > 0, "no paper-figure section")
+    for s in figs:
+        what = s["h2"][:40] or s["id"]
+        check(any(p.startswith("The paper, Fig.") and len(p) > 40 for p in s["paper"]),
+              "%s: no quote of the paper's caption" % what)
+        good_tables = [t for t in s["tables"]
+                       if [h.lower() for h in t["head"]] == ["quantity", "the paper", "ours",
+                                                             "difference"]
+                       and t["rows"] and all(len(r) == 4 and all(r) for r in t["rows"])]
+        stated = [n for n in s["nonumbers"] if n.startswith(NO_NUMBERS) or
+                  (kind == "reduced" and n.startswith(SHORTENED))]
+        check(bool(good_tables) != bool(stated),
+              "%s: wants a numbers table with a difference column or the no-numbers statement "
+              "(tables %s, statements %s)" % (what, s["tables"], s["nonumbers"]))
+    on_page = [x for x in (meta.get("swim-scenes") or "").split(",") if x]
+    expected = models_scenes(models, "") + models_scenes(models, "control")
+    want = expected if kind == "full" else on_page
+    check(kind == "full" or all(n in expected for n in on_page),
+          "the page names scenes not in models/: %s" % [n for n in on_page if n not in expected])
+    check(kind != "full" or sorted(on_page) == sorted(expected),
+          "a full page must run every scene of models/ and models/control/: missing %s"
+          % [n for n in expected if n not in on_page])
+    for n in want:
+        s = by_id.get("scene-" + n.replace("/", "-"))
+        check(s is not None, "scene models/%s.toml has no section" % n)
+        if s is not None:
+            check(s["keys"] >= 8 and s["videos"] == 1 and s["images"] >= 1,
+                  "scene %s: section without its key numbers (%d rows), video (%d) or figure (%d)"
+                  % (n, s["keys"], s["videos"], s["images"]))
+    hard = models_scenes(models, "hard")
+    rows = (by_id.get("scenes-hard") or {}).get("rows", [])
+    for n in hard:
+        check("scene-" + n.replace("/", "-") in rows, "models/%s.toml is not listed" % n)
+    wp = by_id.get("work-precision")
+    if kind == "full" or wp is not None:    # a reduced page may leave it out (--work-precision none)
+        check(wp is not None and wp["images"] == 1, "no work-precision figure")
 
 
 def start_chromium(exe, profile):
@@ -240,6 +325,7 @@ def check_page(page, screenshot=None, chromium=None, check=None):
             check(v["w"] > 0 and v["h"] > 0 and (v["duration"] or 0) > 0 and not v["error"],
                   "video %s did not load (%sx%s, duration %s, error %s)" % (
                       v["src"], v["w"], v["h"], v["duration"], v["error"]))
+        check_promises(report, check)
         time.sleep(0.5)   # let late console messages arrive
         dt.call("Runtime.evaluate", expression="1")
         errors = []

@@ -3,10 +3,16 @@
 
 Usage: build_paper.py [--out DIR] [--scenes a,b,...] [--t-end T] [--fps F] [--duration S]
                       [--families all|none|fig-4-1,fig-4-2,...]
+                      [--work-precision auto|quick|none|CSV]
 
-One section per figure of sections 4-5 of Munnier's paper, each with our figure and a caption
-saying what the paper's figure shows and what ours shows, in numbers where there are numbers;
-for each scene its animation, scene file and run summary; and the work-precision figure.
+Part 1, one section per figure of sections 4-5 of Munnier's paper: the paper's caption (quoted
+briefly), our figure and caption, and a table of the numbers the paper states (caption or the
+text next to the figure) beside ours with the difference -- or the statement that the paper
+gives no numbers for the figure. Part 2, one section per scene of models/ and models/control/
+(models/hard/ is listed, not run): what it is, our figures, animation, scene file and the key
+numbers of its summary.json. Part 3, the work-precision figure, made from the current build by
+tools/paper/work_precision.py (--work-precision: auto = make bench-accuracy's table when it is
+newer than the binary, else a quick measurement; quick; none; or a CSV of bench_accuracy.py).
 The page is static and self-contained: every link is relative, nothing is fetched.
 
 --scenes, --t-end, --fps and --duration make a reduced page through the same code (the browser
@@ -65,8 +71,8 @@ FAMILIES = [("4.1", "fig-4-1", "fig4_1", "phase.png", "example1"),
             ("4.6", "fig-4-6", "fig4_6", "phase.png", "example2b"),
             ("4.7", "fig-4-7", "fig4_7", "phase.png", "example2c")]
 
-SCENES = ["example1", "example2a", "example2b", "example2c", "example3", "example4", "example5",
-          "example6", "example7", "selfpropelled"]
+PAPER_SCENES = ["example1", "example2a", "example2b", "example2c", "example3", "example4",
+                "example5", "example6", "example7", "selfpropelled"]
 TITLES = {
     "example1": "Example 1: a swimmer without elasticity",
     "example2a": "Example 2, Fig. 4.5 data", "example2b": "Example 2, Fig. 4.6 data",
@@ -75,6 +81,61 @@ TITLES = {
     "example5": "Example 5: c1 unlocked", "example6": "Example 6: hydrodynamical coupling",
     "example7": "Example 7: a softer body", "selfpropelled": "Section 5.2: a self-propelled ball",
 }
+# The folders of models/ the page runs: the top level (the paper's scenes and the prescribed
+# strokes) and control/ (the scenes of swim optimize). models/hard/ is listed, not run: its
+# scenes are the integrators' stress tests (T = 1000 runs, N = 20 kernels), made by
+# `make bench-hard`, minutes each.
+RUN_FOLDERS = ["", "control"]
+LISTED_FOLDERS = ["hard"]
+
+
+def scenes_in(folder):
+    d = os.path.join(ROOT, "models", folder)
+    if not os.path.isdir(d):
+        return []
+    return sorted((folder + "/" if folder else "") + f[:-5] for f in os.listdir(d)
+                  if f.endswith(".toml"))
+
+
+def discover_scenes():
+    """Every scene the page runs: the paper's in the paper's order, then the other top-level
+    scenes, then those of control/."""
+    found = [n for fo in RUN_FOLDERS for n in scenes_in(fo)]
+    return [n for n in PAPER_SCENES if n in found] + [n for n in found if n not in PAPER_SCENES]
+
+
+SCENES = discover_scenes()
+
+
+def scene_path(name):
+    return os.path.join(ROOT, "models", name + ".toml")
+
+
+def scene_header(name):
+    """(title, the comment block at the top of the scene file, joined into one text)."""
+    title, lines = None, []
+    with open(scene_path(name)) as fh:
+        for ln in fh:
+            st = ln.strip()
+            if st.startswith("title") and title is None:
+                title = st.split("=", 1)[1].strip().strip('"')
+                continue
+            if st.startswith("#"):
+                lines.append(st.lstrip("#").strip())
+                continue
+            if st.startswith("["):
+                break
+            if st == "" and lines:
+                continue
+    return title or name, " ".join(x for x in lines if x)
+
+
+def title_of(name):
+    return TITLES.get(name) or scene_header(name)[0]
+
+
+def section_id(name):
+    return "scene-" + name.replace("/", "-")
 
 
 def log(msg):
@@ -83,7 +144,8 @@ def log(msg):
 
 def parse_args(argv):
     opts = {"out": os.path.join(ROOT, "out", "paper"), "scenes": ",".join(SCENES),
-            "t-end": None, "fps": "15", "duration": None, "families": "all"}
+            "t-end": None, "fps": "15", "duration": None, "families": "all",
+            "work-precision": "auto"}
     i = 0
     while i < len(argv):
         a = argv[i]
@@ -303,33 +365,41 @@ class Family:
         """Local minima of the potential V(beta) = W1(c(beta)) on the curve (4.17), from the scene
         (with the sweep's fixed overrides): where the paper's wells must be. [] without
         elasticity (V constant)."""
-        import tomllib
-        with open(os.path.join(ROOT, self.sweep["scene"]), "rb") as fh:
-            scene = tomllib.load(fh)
-        for kv in self.sweep.get("set", []):
-            k, v = kv.split("=", 1)
-            plot_family.apply_key(scene, k, float(v))
-        el = scene.get("elastic")
         kept = [m for m in self.members if m["traj"] is not None]
-        if not el or not kept:
+        if not kept:
             return []
-        gamma = plot_family.beta_of(kept[0]["traj"])[2]
-        n = 2 * (scene["model"]["modes"] + 1)
-        R = np.array(el["stiffness"], float)
-        cref = np.array(el["reference"], float)
-        grid = np.linspace(-np.pi, np.pi, 3600, endpoint=False)
-        V = np.array([0.5 * (c - cref) @ (R * (c - cref))
-                      for c in (plot_family.curve(gamma, b, n)[0] for b in grid)])
-        if V.max() - V.min() < 1e-12 * max(1.0, abs(V).max()):
-            return []
-        out = []
-        h = grid[1] - grid[0]
-        for i in range(len(V)):
-            a, b, c = V[i - 1], V[i], V[(i + 1) % len(V)]
-            if b < a and b <= c:
-                den = a - 2 * b + c
-                out.append(grid[i] + (0.5 * h * (a - c) / den if den else 0.0))
-        return sorted(out)
+        return wells_of(os.path.join(ROOT, self.sweep["scene"]), self.sweep.get("set", []),
+                        plot_family.beta_of(kept[0]["traj"])[2])
+
+
+def wells_of(path, overrides, gamma):
+    """Local minima of V(beta) = 1/2 (c(beta) - cref)^T R (c(beta) - cref) on the curve (4.17) of
+    radius GAMMA, for the scene file PATH with the KEY=VALUE OVERRIDES; [] when V is constant."""
+    import tomllib
+    with open(path, "rb") as fh:
+        scene = tomllib.load(fh)
+    for kv in overrides:
+        k, v = kv.split("=", 1)
+        plot_family.apply_key(scene, k, float(v))
+    el = scene.get("elastic")
+    if not el:
+        return []
+    n = 2 * (scene["model"]["modes"] + 1)
+    R = np.array(el["stiffness"], float)
+    cref = np.array(el["reference"], float)
+    grid = np.linspace(-np.pi, np.pi, 3600, endpoint=False)
+    V = np.array([0.5 * (c - cref) @ (R * (c - cref))
+                  for c in (plot_family.curve(gamma, b, n)[0] for b in grid)])
+    if V.max() - V.min() < 1e-12 * max(1.0, abs(V).max()):
+        return []
+    out = []
+    h = grid[1] - grid[0]
+    for i in range(len(V)):
+        a, b, c = V[i - 1], V[i], V[(i + 1) % len(V)]
+        if b < a and b <= c:
+            den = a - 2 * b + c
+            out.append(grid[i] + (0.5 * h * (a - c) / den if den else 0.0))
+    return sorted(out)
 
 
 def angle_text(b):
@@ -345,6 +415,8 @@ def angle_text(b):
 # ---------------------------------------------------------------- captions
 
 def fmt(x, digits=3):
+    if x is None:
+        return "—"
     return ("%%.%dg" % digits) % x
 
 
@@ -605,6 +677,289 @@ def cap_fig53(r):
                 fmt(np.abs(e - e[0] - w).max(), 2)))
 
 
+# ------------------------------------------------------- the paper's numbers beside ours
+#
+# Each function returns the rows (quantity, the paper, ours, difference) of a figure's numbers
+# table, from the numbers the paper states in the figure's caption or the text next to it; None
+# when the paper gives only a picture; [] when it gives numbers this (shortened) run cannot meet.
+
+NO_NUMBERS = "The paper gives no numbers for this figure; compare by eye."
+
+# The paper's captions, quoted briefly (with what its text next to the figure adds).
+PAPER_CAPTION = {
+    "4.1": "“Phase portrait of the ODE solved by the function β, introduced in Example 1 … Any "
+           "solution β : R → R/2π is time periodic and ranges from −π to π.”",
+    "4.2": "“… the y-coordinate of the center of mass of the body with respect to the time for "
+           "different initial data. For all of the curves, γ = 0.5 and β0 = 0. The initial "
+           "velocity is, from the bottom to the top, β̇0 = 2, 1.55, 1.1, 0.65, 0.2, −0.2, −0.65, "
+           "−1.1, −1.55, −2.” (printed axes t ∈ [0, 30], y ∈ [−4, 4], ERRATA E1)",
+    "4.3": "“Screenshots of the swimmer (as described in Example 1) over a stroke. Here γ = 0.5 "
+           "and the initial data are β0 = 0 and β̇0 = −1.” Frames (a)–(j) at t = 0, 0.9, …, 8.1; "
+           "frame (i), t = 7.2, is the reference shape of Fig. 4.7, β = π/3.",
+    "4.4": "“Distribution of energy … (Example 1) … the overall energy is constant … The dashed "
+           "line corresponds to a time at which the rigid velocity of the swimmer is null.”",
+    "4.5": "“… γ = 0.5 and κj = 0.5 … the center of the well of potential is centered at the "
+           "point β = 0, β̇ = 0.”",
+    "4.6": "“One can observe two wells of potential … κ3 = κ4 = 0.2 and κ5 = κ6 = 2 … So the "
+           "wells are centered at the points (0, 0) and (π, 0).”",
+    "4.7": "“… reference configuration, that pictured on Subfigure 4.3(i) … corresponds to β = "
+           "π/3 and … the well of potential is precisely centered at the point (π/3, 0). All the "
+           "trapped solutions result in flapping motion.”",
+    "4.8": "“Screenshots of the swimmer of Example 3 at the times t = 3.17, 3.95, 6.07 and 9.50 "
+           "corresponding to instants which are relevant to the energy and linear impulse "
+           "distribution.”",
+    "4.9": "“y-coordinate of the center of mass of the swimmer (Example 3) with respect to time. "
+           "In this case, the strokes causing the displacement are time periodic.”",
+    "4.10": "“Phase portraits of the components a−1 := ℜ(c−1) and b−2 := ℑ(c−2) for the swimmer "
+            "of Example 3 (t ∈ [0, 30]). Both components are time periodic.”",
+    "4.11": "“Distribution of energy (in percents) with respect to the time for the swimmer of "
+            "Example 3 … The vertical dashed straight lines highlight 4 instants of interest … "
+            "detailed on Fig. 4.8.” The text: “The total energy of the system is conserved.”",
+    "4.12": "“… the x-component of the linear impulse of the fluid is equal to zero for all "
+            "times. The y-linear impulse of the fluid-swimmer system can be decomposed into the "
+            "sum of the linear impulse of the fluid … and the impulse of the body.”",
+    "4.13": "“Screenshots of the motion of the swimmer (Example 4) over the time interval "
+            "[0, 60]. The dashed black line shows the trajectory of the center of mass.”",
+    "4.14": "“Phase portraits of the variables a−1, b−1, a−2 and b−2 for the swimmer of "
+            "Example 4 (t ∈ [0, 60]). None of them seem to be time periodic.”",
+    "4.15": "“Screenshots of the motion of the body described in Example 5 over the time "
+            "interval [0, 8] … The shape changes are not time periodic.”",
+    "4.16": "“Each peak corresponds to a stroke … the peaks are different … Compared to Example "
+            "3, the percentage of the body’s kinetic energy (relating to the rigid displacement) "
+            "is smaller.”",
+    "4.17": "“y-coordinate of the center of mass of the body (Example 5) with respect to time.”",
+    "4.18": "“Screenshots of the motion of the swimmer of Example 6 over the time interval "
+            "[0, 6]. The strokes are clearly not periodic.”",
+    "4.19": "“Phase portrait of the component c−3 (t ∈ [0, 15]) … Although not excited at the "
+            "initial time, this mode gets excited because of the hydrodynamical coupling.”",
+    "4.20": "“Time evolution of the distribution of energy (in percentage) for the swimmer of "
+            "Example 6. The strokes … correspond to the peaks. They are clearly not time "
+            "periodic.” The text: “the distribution of energy during a little more than 2 "
+            "strokes.”",
+    "4.21": "“y-coordinates of the center of mass of the body (Example 6) with respect to the "
+            "time.”",
+    "4.22": "“Screenshots of the motion of the swimmer (Example 7) at the times t = 0, 2.5, 5, 7.5 "
+            "and 10.” The text: “only three strokes are possible before the total amount of "
+            "energy becomes insufficient for the body to swim.”",
+    "4.23": "“y-coordinate of the center of mass of the swimmer (Example 7) with respect to the "
+            "time.” (The text: three strokes, see Fig. 4.22.)",
+    "4.24–4.25": "“|c1(t)|², 4|c−1(t)|² and 9|c−2(t)|²” (Fig. 4.24) and “16|c−3(t)|², … "
+                 "64|c−7(t)|² … These modes are not excited at the time t = 0. They get excited "
+                 "through W2 and the influence of the fluid which couples all of the modes.” "
+                 "(Fig. 4.25)",
+    "5.1": "“Screenshots of the motion of the body over the time interval [0, 25] "
+           "(self-propelled swimmer).”",
+    "5.2": "“y-coordinate of the center of mass of the self-propelled swimmer with respect to the "
+           "time.”",
+    "5.3": "“Due to the action of the internal forces, the overall energy of the fluid-body "
+           "system is not constant any more. The system is at rest at the time t = 0.” §5: “the "
+           "energy of the overall system is equal to 0” at rest; (5.3): dE/dt = (F, ċ).",
+}
+
+
+def d(x, digits=3):
+    """A signed difference."""
+    return (("%+." + str(digits) + "g") % x).replace("-", "−")
+
+
+def ours_period(r):
+    p = strokes(r)
+    return p["period"] if p else None
+
+
+def beta_run(r):
+    """beta(t) of a run of the form (4.17), unwrapped."""
+    return plot_family.beta_of(r.rows)[0]
+
+
+def num_fig41_family(f):
+    kinds, _, _ = family_numbers(f)
+    n = len(f.rows)
+    w = f.wells()
+    return [("wells of the potential", "none (no elasticity)", "%d" % len(w),
+             "same" if not w else "%+d" % len(w)),
+            ("solutions that turn β through (−π, π)", "every one", "%d of %d members"
+             % (kinds["passing"], n), "same" if kinds["passing"] == n else
+             "%d do not" % (n - kinds["passing"]))]
+
+
+def num_fig41_run(r):
+    b = beta_run(r)
+    turns = abs(b[-1] - b[0]) / (2 * np.pi)
+    return [("solutions that turn β through (−π, π)", "every one",
+             "the scene's one: %.2f turns over [0, %s]" % (turns, fmt(r.col("t")[-1])),
+             "same" if turns >= 1 else "not a whole turn in this run")]
+
+
+def num_fig42_family(f):
+    pairs = sorted((float(r["y"]), b) for r, b in zip(f.rows, f.betadots()) if r["y"])
+    if not pairs:
+        return []
+    T = max(float(r["t_reached"]) for r in f.rows)
+    big = max(abs(y) for y, _ in pairs)
+    order = [b for _, b in pairs]
+    same = all(order[i] >= order[i + 1] for i in range(len(order) - 1))
+    return [("largest |y(%s)| of the ten curves" % fmt(T), "< 4 (inside the printed y-axis "
+             "[−4, 4])", fmt(big, 4), "inside, %s below 4" % fmt(4 - big, 3) if big < 4 else
+             "outside by %s" % fmt(big - 4, 3)),
+            ("β̇₀ of the curves from bottom to top", "2, 1.55, …, −2",
+             ("%s, …, %s" % (fmt(order[0], 3), fmt(order[-1], 3))).replace("-", "−"),
+             "same order" if same else
+             "different order")]
+
+
+def num_fig42_run(r):
+    y = r.col("y")
+    big = float(np.abs(y).max())
+    return [("largest |y| over [0, %s] (β̇₀ = −1)" % fmt(r.col("t")[-1]),
+             "< 4 (inside the printed y-axis [−4, 4])", fmt(big, 4),
+             "inside" if big < 4 else "outside by %s" % fmt(big - 4, 3))]
+
+
+def num_fig43(r):
+    rows = []
+    p = ours_period(r)
+    if p is not None:
+        rows.append(("stroke period (frames t = 0 … 8.1, 0.9 apart, span one stroke)",
+                     "8.1 … 9.0 (implied)", fmt(p, 6),
+                     "inside" if 8.1 <= p <= 9.0 else "outside by %s"
+                     % fmt(min(abs(p - 8.1), abs(p - 9.0)), 3)))
+    t = r.col("t")
+    if t[-1] >= 7.2:
+        b = beta_run(r)
+        b72 = float(np.interp(7.2, t, b))
+        want = np.pi / 3
+        gap = float(np.angle(np.exp(1j * (b72 - want))))
+        rows.append(("β at t = 7.2 (frame (i)), mod 2π", "π/3 = 1.0472", "%.4f" % (b72 % (2 * np.pi)),
+                     d(gap, 3)))
+        # the instant nearest 7.2 at which beta = pi/3 (mod 2 pi)
+        hits = []
+        for k in range(int(np.floor(b.min() / (2 * np.pi))) - 1,
+                       int(np.ceil(b.max() / (2 * np.pi))) + 1):
+            v = want + 2 * np.pi * k
+            s = b - v
+            for i in np.nonzero(s[:-1] * s[1:] < 0)[0]:
+                hits.append(t[i] + (t[i + 1] - t[i]) * s[i] / (s[i] - s[i + 1]))
+        if hits:
+            th = min(hits, key=lambda x: abs(x - 7.2))
+            rows.append(("time at which the shape is frame (i)'s (β ≡ π/3)", "7.2",
+                         "%.4f" % th, d(th - 7.2, 3)))
+    return rows
+
+
+def num_fig44(r):
+    z = rigid_rest(r)
+    rows = []
+    if z and z[0][1] == z[0][1]:
+        rows.append(("t†, the dashed line", "not given (drawn only)", fmt(z[0][0], 8), "—"))
+        rows.append(("rigid kinetic energy at t†", "0 (rigid velocity null)", fmt(z[0][1], 2),
+                     d(z[0][1], 2)))
+    drift = r.summary.get("energy_drift_rel", float("nan"))
+    rows.append(("total energy, relative change over the run", "0 (constant)", fmt(drift, 2),
+                 d(drift, 2)))
+    return rows
+
+
+WELLS_WANT = {"4.5": [("0", 0.0)], "4.6": [("0", 0.0), ("π", np.pi)],
+              "4.7": [("π/3 = 1.0472", np.pi / 3)]}
+
+
+def wells_rows(which, wells):
+    rows = []
+    wrapped = [np.pi - (np.pi - b) % (2 * np.pi) for b in wells]
+    for label, want in WELLS_WANT[which]:
+        if not wrapped:
+            rows.append(("well at β (β̇ = 0)", label, "none found", "missing"))
+            continue
+        got = min(wrapped, key=lambda a: abs(np.angle(np.exp(1j * (a - want)))))
+        gap = float(np.angle(np.exp(1j * (got - want))))
+        rows.append(("well at β (β̇ = 0)", label, "%.6f" % got,
+                     "|Δ| ≤ 1e-16" if abs(gap) < 1e-16 else d(gap, 2)))
+    extra = len(wrapped) - len(WELLS_WANT[which])
+    if extra > 0:
+        rows.append(("other wells", "none", "%d" % extra, "%+d" % extra))
+    return rows
+
+
+def num_wells_family(f, which):
+    rows = wells_rows(which, f.wells())
+    _, dy, _ = family_numbers(f)
+    if dy["trapped"]:
+        m = float(np.abs(dy["trapped"]).max())
+        rows.append(("trapped members: net |Δy| per period (%d members)" % len(dy["trapped"]),
+                     "0 (flapping, no locomotion)", fmt(m, 2), d(m, 2)))
+    return rows
+
+
+def num_wells_run(r, which):
+    """Without the family: the wells from the scene itself, gamma from the run's first row."""
+    g = plot_family.beta_of(r.rows)[2]
+    return wells_rows(which, wells_of(scene_path(r.name), [], g))
+
+
+def num_instants(r):
+    rows = []
+    for (paper, col, kind), ours in zip(FIG48, r.marks or []):
+        rows.append(("%s %s" % (col.replace("_", " "), kind), "%.2f" % paper, "%.4f" % ours,
+                     d(ours - paper, 2)))
+    return rows
+
+
+def num_fig411(r):
+    rows = num_instants(r)
+    drift = r.summary.get("energy_drift_rel", float("nan"))
+    rows.append(("total energy, relative change over the run", "0 (conserved)", fmt(drift, 2),
+                 d(drift, 2)))
+    return rows
+
+
+def num_fig412(r):
+    cols = ["impulse_body_x", "impulse_fluid_rigid_x", "impulse_fluid_shape_x"]
+    mx = max(float(np.abs(r.col(c)).max()) for c in cols)
+    tot = float(np.abs(r.col("impulse_body_y") + r.col("impulse_fluid_rigid_y")
+                       + r.col("impulse_fluid_shape_y")).max())
+    return [("x-impulses (body, fluid), largest |·| over the run", "0 for all times",
+             fmt(mx, 2), d(mx, 2)),
+            ("body + fluid y-impulse, largest |·|", "0 (zero total impulse, (3.20))",
+             fmt(tot, 2), d(tot, 2))] + num_instants(r)
+
+
+def num_fig420(r):
+    p = strokes(r)
+    if not p:
+        return []
+    T = float(r.col("t")[-1])
+    return [("strokes shown", "a little more than 2 (the plotted interval is not given)",
+             "a₋₁ period %s (spread %s): 2 strokes take %s; [0, %s] holds %.2f"
+             % (fmt(p["period"], 4), fmt(p["spread"], 2), fmt(2 * p["period"], 3), fmt(T),
+                T / p["period"]),
+             "not computable without the paper's interval")]
+
+
+def num_ex7_strokes(r):
+    p = strokes(r)
+    if not p:
+        return []
+    t, e = r.col("t"), r.col("energy")
+    T = float(t[-1])
+    n = T / p["period"]
+    return [("strokes before the body stops swimming", "3",
+             "%.2f a₋₁ periods in [0, %s] (period %s); still swimming at t = %s: Δy = %s over "
+             "the last period, %s %% of E₀ left" % (n, fmt(T), fmt(p["period"], 4), fmt(T),
+                                                     fmt(p["dy"], 3), fmt(100 * e[-1] / e[0], 2)),
+             "%s, and ours has not stopped at t = %s" % (d(n - 3, 2), fmt(T)))]
+
+
+def num_fig53(r):
+    e, w = r.col("energy"), r.col("work")
+    bal = float(np.abs(e - e[0] - w).max())
+    return [("E(0), the system at rest", "0", fmt(e[0], 4),
+             "%s (the barrier energy W₂ of the disc, W₂(0) = %s, which the paper does not count)"
+             % (d(e[0], 3), fmt(r.col("w2")[0], 4))),
+            ("E(t) − E(0) − work of F and damping, largest |·| ((5.3))", "0", fmt(bal, 2),
+             d(bal, 2))]
+
+
 # ------------------------------------------------------- family captions
 
 def family_numbers(f):
@@ -767,11 +1122,15 @@ figcaption{font-size:.95rem;line-height:1.45;margin-top:.4rem}
 video{width:100%;max-width:960px;background:#000;display:block}
 table{border-collapse:collapse;font-size:.9rem;margin:.4rem 0}td,th{border:1px solid #ccc;padding:.2rem .5rem;text-align:right}
 th{background:#eee}td:first-child,th:first-child{text-align:left}
+table.cmp td,table.cmp th{text-align:left;vertical-align:top}table.cmp td:nth-child(4){font-weight:600}
 pre{background:#fff;border:1px solid #ddd;padding:.5rem;overflow:auto;font-size:.8rem;max-height:22rem}
 pre.cmd{white-space:pre-wrap;word-break:break-all}
 nav{font-size:.9rem;line-height:1.7;columns:3}nav a{display:block}
 .run{background:#f0f4f8;border:1px solid #cdd;padding:.6rem 1rem;margin:1rem 0}
+.paper{background:#fff8e6;border-left:4px solid #e0b040;padding:.4rem .8rem;font-size:.95rem;line-height:1.45}
+.nonumbers{font-style:italic}
 .note{color:#555;font-size:.9rem}
+.grid2{display:grid;grid-template-columns:1fr 1fr;gap:.6rem}
 """
 
 
@@ -779,22 +1138,70 @@ def esc(s):
     return html.escape(str(s))
 
 
-def summary_table(r):
+def numbers_block(rows):
+    """The numbers table (the paper beside ours, with the difference), or the statement that the
+    paper gives only a picture (None), or that this run does not reach the paper's numbers ([])."""
+    if rows is None:
+        return '<p class="nonumbers">%s</p>' % NO_NUMBERS
+    if not rows:
+        return ('<p class="nonumbers">The paper gives numbers for this figure, but this shortened '
+                'run does not reach them; compare by eye.</p>')
+    return ('<table class="cmp"><tr><th>quantity</th><th>the paper</th><th>ours</th>'
+            '<th>difference</th></tr>%s</table>' % "".join(
+                "<tr>%s</tr>" % "".join("<td>%s</td>" % esc(c) for c in row) for row in rows))
+
+
+def key_numbers(r):
+    """The run's key numbers, from its summary.json."""
     s = r.summary
     st = s.get("stats", {})
+    nan = float("nan")
+    fs = s.get("final_state", {}) or {}
     rows = [("status", "%s (%s)" % (s.get("status"), s.get("reason"))),
-            ("t_end", fmt(s.get("t_reached", float("nan")), 4)),
-            ("integrator, rtol", "%s, %s" % (s.get("integrator"), s.get("rtol"))),
+            ("t reached", fmt(s.get("t_reached", nan), 6)),
+            ("integrator, rtol, atol", "%s, %s, %s" % (s.get("integrator"), s.get("rtol"),
+                                                      s.get("atol"))),
             ("steps", st.get("steps")), ("RHS evaluations", st.get("rhs_evaluations")),
             ("rejected steps", st.get("rejected_steps")),
-            ("time (s)", "%.3f (integration %.3f)" % (st.get("wall_seconds", float("nan")),
-                                                     st.get("integrate_seconds", float("nan")))),
-            ("energy drift (abs, rel)", "%s, %s" % (fmt(s.get("energy_drift_abs", float("nan")), 2),
-                                                   fmt(s.get("energy_drift_rel", float("nan")), 2))),
-            ("min J", fmt(s.get("jmin", float("nan")), 4)),
-            ("events", "%d (events.csv)" % len(r.events) if r.events_source else "none asked")]
-    return ("<table>" + "".join("<tr><th>%s</th><td>%s</td></tr>" % (esc(k), esc(v))
-                                for k, v in rows) + "</table>")
+            ("time (s)", "%.3f (integration %.3f)" % (st.get("wall_seconds", nan),
+                                                     st.get("integrate_seconds", nan))),
+            ("final position x, y, θ", "%s, %s, %s" % (fmt(fs.get("x", nan), 6),
+                                                       fmt(fs.get("y", nan), 6),
+                                                       fmt(fs.get("theta", nan), 4))),
+            ("energy E(0)", fmt(s.get("energy_initial", nan), 6)),
+            ("energy drift (abs, rel)", "%s, %s" % (fmt(s.get("energy_drift_abs", nan), 2),
+                                                   fmt(s.get("energy_drift_rel", nan), 2)))]
+    if s.get("forcing_work") is not None:
+        rows.append(("work of forcing and damping", fmt(s["forcing_work"], 6)))
+    rows.append(("min J (at t)", "%s (t = %s)" % (fmt(s.get("jmin", nan), 4),
+                                                  fmt(s.get("jmin_t", nan), 4))))
+    for p in s.get("periodic", []) or []:
+        if (p.get("column"), p.get("kind")) == STROKE:
+            rows.append(("strokes (maxima of a₋₁)", "%d periods, period %s (spacings %s … %s), "
+                         "Δy per period %s" % (p["periods"], fmt(p["period"], 6),
+                                               fmt(p["period_min"], 6), fmt(p["period_max"], 6),
+                                               fmt(p["displacement_per_period"]["y"], 6))))
+    sk = s.get("stroke")
+    if sk:
+        st_ = sk.get("strokes", [])
+        rows.append(("prescribed stroke", "period %s (%s), %d stroke%s, c₁ %s" % (
+            fmt(sk.get("period", nan), 6), sk.get("period_source"), len(st_),
+            "" if len(st_) == 1 else "s",
+            "completed from (2.5), (2.14)" if sk.get("completed_c1") else "prescribed")))
+        if st_:
+            rows.append(("displacement per stroke (Δx, Δy, Δθ)", "; ".join(
+                "%s, %s, %s" % (fmt(x["dx"], 6), fmt(x["dy"], 6), fmt(x["dtheta"], 4))
+                for x in st_)))
+            rows.append(("work per stroke (positive part)", "; ".join(
+                "%s (%s)" % (fmt(x["work"], 3), fmt(x["work_positive"], 4)) for x in st_)))
+    imp = (s.get("impacts") or {})
+    if imp.get("enabled"):
+        rows.append(("impacts", imp.get("count")))
+    if s.get("stiff_switch"):
+        rows.append(("stiff switch", s["stiff_switch"]))
+    rows.append(("events", "%d (events.csv)" % len(r.events) if r.events_source else "none asked"))
+    return ('<table class="keys">' + "".join("<tr><th>%s</th><td>%s</td></tr>" % (esc(k), esc(v))
+                                             for k, v in rows) + "</table>")
 
 
 def run_block(r):
@@ -806,20 +1213,117 @@ def run_block(r):
         r.rel, r.animation, ' poster="%s/%s"' % (r.rel, poster) if has_poster else "")
              if r.animation else '<p class="note">animation failed (see the build log)</p>')
     return ('<div class="run" id="run-%s"><h3>Run: %s (<a href="%s/scene.toml">scene file</a>, '
-            '<a href="%s/summary.json">summary.json</a>, <a href="%s/trajectory.csv">trajectory.csv</a>)</h3>%s%s'
+            '<a href="%s/summary.json">summary.json</a>, <a href="%s/trajectory.csv">trajectory.csv</a>)</h3>%s'
+            '<h3>Key numbers (summary.json)</h3>%s'
             '<details><summary>scene file</summary><pre>%s</pre></details></div>' % (
-                r.name, esc(TITLES[r.name]), r.rel, r.rel, r.rel, video, summary_table(r),
-                esc(scene)))
+                r.name.replace("/", "-"), esc(title_of(r.name)), r.rel, r.rel, r.rel, video,
+                key_numbers(r), esc(scene)))
+
+
+# the figures a scene's own section shows: for the paper's scenes the overview (their other
+# figures are in the figure sections), for the others what `swim plot` draws of them
+SCENE_FIGS_PAPER = ["snapshots.png"]
+SCENE_FIGS_OTHER = ["trajectory.png", "stroke.png", "energy.png", "snapshots.png"]
+
+
+def scene_section(r, figs_of_scene):
+    title, about = scene_header(r.name)
+    out = ['<section id="%s" class="scene"><h2>Scene models/%s.toml — %s</h2>' % (
+        section_id(r.name), esc(r.name), esc(title_of(r.name)))]
+    out.append('<p><b>What it is:</b> %s%s</p>' % (
+        esc(title) + ". " if title_of(r.name) != title else "", esc(about)))
+    if figs_of_scene:
+        out.append('<p>The paper\'s figures from this scene: %s.</p>' % ", ".join(
+            '<a href="#fig%s">Fig. %s</a>' % (f.replace("–", "-"), f) for f in figs_of_scene))
+    else:
+        out.append('<p class="note">Not one of the paper\'s figures: no paper numbers to compare; '
+                   'its own numbers below.</p>')
+    want = SCENE_FIGS_PAPER if figs_of_scene else SCENE_FIGS_OTHER
+    imgs = [i for i in want if i in getattr(r, "figures", []) or
+            os.path.exists(os.path.join(r.dir, i))]
+    for i in imgs:
+        out.append('<figure><img src="%s/%s" alt="%s: %s" loading="lazy"></figure>' % (
+            r.rel, i, esc(r.name), i))
+    out.append(run_block(r))
+    out.append('</section>')
+    return "\n".join(out)
+
+
+def hard_section():
+    rows = []
+    for name in scenes_in("hard"):
+        title, _ = scene_header(name)
+        rows.append('<tr id="%s"><td>models/%s.toml</td><td>%s</td></tr>' % (
+            section_id(name), esc(name), esc(title)))
+    if not rows:
+        return ""
+    return ('<section id="scenes-hard"><h2>Scenes of models/hard/ — listed, not run</h2>'
+            '<p>The page runs every scene of models/ and models/control/. The %d scenes of '
+            'models/hard/ are the integrators\' stress tests, not the paper\'s: runs to T = 1000, '
+            'N = 20 kernels, barrier bounces, stiff modes, minutes each. <code>make bench-hard</code> '
+            'runs them at their own settings and at rtol 1e-10 (build/bench/hard/table.md, see '
+            'docs/accuracy.md).</p><table><tr><th>scene</th><th>what it stresses</th></tr>%s'
+            '</table></section>' % (len(rows), "".join(rows)))
+
+
+def work_precision_section(out, opts, runs):
+    """The work-precision figure from the current build (tools/paper/work_precision.py), or None."""
+    if opts["work-precision"] == "none":
+        return None, {}
+    import work_precision
+    scenes = [n for n in opts["scenes"] if n in PAPER_SCENES] or PAPER_SCENES
+    wdir = os.path.join(out, "work_precision")
+    try:
+        info = work_precision.make(wdir, scenes, SWIM, PYTHON, opts["work-precision"])
+    except Exception as e:  # noqa: BLE001 - the page is still made, and says why
+        log("work-precision failed: %s" % e)
+        return ('<section id="work-precision"><h2>Work-precision per scene</h2><p class="note">'
+                'Not made: %s</p></section>' % esc(str(e)[-400:])), {}
+    table = None
+    if info.get("table"):
+        table = os.path.join(wdir, "table.md")
+        if os.path.abspath(info["table"]) != os.path.abspath(table):
+            shutil.copy(info["table"], table)
+    if info["source"] == "quick":
+        how = ("a quick measurement made for this page, with the swim the page is built with "
+               "(tests/bench/bench_accuracy.py --quick on the %d paper scene%s on the page: rtol "
+               "1e-4, 1e-7, 1e-10 per integrator, atol = rtol·1e-2, one repetition, errors against "
+               "the abm reference at rtol 1e-13; %.0f s). One repetition on a shared machine: read CPU "
+               "differences below ~30 %% as ties (the RHS evaluations, in accuracy.csv, are exact). "
+               "<code>make bench-accuracy</code> (~9 "
+               "min, rtol 1e-3 … 1e-13, 5 repetitions) makes the full table; when its "
+               "build/bench/accuracy/accuracy.csv is newer than the binary, the page draws that "
+               "instead." % (len(scenes), "" if len(scenes) == 1 else "s",
+                             info["measure_seconds"]))
+    else:
+        how = ("the latest table of <code>make bench-accuracy</code> (%s), newer than the "
+               "binary." % esc(os.path.relpath(info["csv"], ROOT)))
+    sec = ('<section id="work-precision"><h2>Work-precision per scene</h2><figure>'
+           '<img src="work_precision/work_precision.png" alt="work-precision diagrams" '
+           'loading="lazy"><figcaption>Max error over the output grid (T = min(t_end, 10), '
+           'T/100 apart) against CPU time inside the integrator, per integrator and tolerance; '
+           'dotted: the reference\'s own uncertainty (abm against rk8pd at 1e-13). From %s '
+           'Drawn %d panels, three a row, for this page\'s width.%s</figcaption></figure>'
+           '</section>' % (how, info["panels"],
+                           ' Table: <a href="work_precision/table.md">table.md</a>, '
+                           '<a href="work_precision/accuracy.csv">accuracy.csv</a>.'
+                           if table and os.path.exists(os.path.join(wdir, "accuracy.csv"))
+                           else ""))
+    if info["source"] != "quick":
+        shutil.copy(info["csv"], os.path.join(wdir, "accuracy.csv"))
+    return sec, info
 
 
 def main(argv):
     opts = parse_args(argv)
     out = opts["out"]
     clock = time.time()
+    phase = {}
     os.makedirs(os.path.join(out, "runs"), exist_ok=True)
     with_events = run_help_lists_event()
     log("swim run %s --event; building %s" % ("takes" if with_events else "does not take", out))
     runs = {}
+    t0 = time.time()
     for name in opts["scenes"]:
         r = SceneRun(name, out, opts, with_events)
         r.simulate()
@@ -834,7 +1338,9 @@ def main(argv):
         runs[name] = r
         log("%s: run %.1f s, plots %.1f s, animation %.1f s" % (
             name, r.timings["run"], r.timings["plot"], r.timings.get("animate", 0)))
+    phase["scenes (runs, figures, animations)"] = time.time() - t0
 
+    t0 = time.time()
     fams = {}
     for fig, target, dirname, image, scene in FAMILIES:
         if target in opts["families"]:
@@ -842,20 +1348,24 @@ def main(argv):
             if f.make():
                 fams[fig] = f
                 log("%s: %d members, make %s %.1f s" % (dirname, len(f.rows), target, f.seconds))
+    phase["families"] = time.time() - t0
+    t0 = time.time()
 
-    # (id, title, scene, [images relative to out], caption, family or None, show the run)
+    # each: dict(fig, title, scene, imgs, caption, fam, numbers)
     sections = []
 
-    def add(fig, title, scene, images, caption):
+    def add(fig, title, scene, images, caption, numbers=None):
         if scene in runs:
             r = runs[scene]
             imgs = ["%s/%s" % (r.rel, i) for i in images
                     if i and os.path.exists(os.path.join(r.dir, i))]
-            sections.append((fig, title, scene, imgs, caption(r), None, True))
+            sections.append(dict(fig=fig, title=title, scene=scene, imgs=imgs,
+                                 caption=caption(r), fam=None,
+                                 numbers=numbers(r) if numbers else None))
 
-    def add_family(fig, title, run_images, caption):
+    def add_family(fig, title, run_images, caption, numbers):
         """Fig. FIG from its family when the sweep was made, with the scene run's RUN_IMAGES
-        (and its run block) after it; otherwise False."""
+        after it; otherwise False."""
         f = fams.get(fig)
         if f is None:
             return False
@@ -864,32 +1374,36 @@ def main(argv):
         if r is not None:
             imgs += ["%s/%s" % (r.rel, i) for i in run_images
                      if os.path.exists(os.path.join(r.dir, i))]
-        sections.append((fig, title, f.scene, imgs, caption(f, r), f,
-                         r is not None and bool(run_images)))
+        sections.append(dict(fig=fig, title=title, scene=f.scene, imgs=imgs,
+                             caption=caption(f, r), fam=f, numbers=numbers(f)))
         return True
 
     if not add_family("4.1", "Phase portrait of β (Example 1, a family)", [],
-                      lambda f, r: cap_family41(f)):
-        add("4.1", "Phase portrait of β (Example 1)", "example1", ["phase.png"], cap_fig41)
+                      lambda f, r: cap_family41(f), num_fig41_family):
+        add("4.1", "Phase portrait of β (Example 1)", "example1", ["phase.png"], cap_fig41,
+            num_fig41_run)
     if not add_family("4.2", "y(t) for ten initial velocities (Example 1, a family)", [],
-                      cap_family42):
+                      cap_family42, num_fig42_family):
         add("4.2", "y(t) of the centre of mass (Example 1)", "example1", ["trajectory.png"],
-            cap_fig42)
+            cap_fig42, num_fig42_run)
     if "example1" in runs:
         runs["example1"].fig43 = runs["example1"].panels(
             "fig4_3", [0.9 * k for k in range(10)], "one stroke (Fig. 4.3 times)")
-    add("4.3", "Screenshots over a stroke (Example 1)", "example1", ["fig4_3.png"], cap_fig43)
-    add("4.4", "Distribution of energy (Example 1)", "example1", ["energy.png"], cap_fig44)
+    add("4.3", "Screenshots over a stroke (Example 1)", "example1", ["fig4_3.png"], cap_fig43,
+        num_fig43)
+    add("4.4", "Distribution of energy (Example 1)", "example1", ["energy.png"], cap_fig44,
+        num_fig44)
     for fig, scene, title in (("4.5", "example2a", "Phase portrait, one well (Example 2)"),
                               ("4.6", "example2b", "Phase portrait, two wells (Example 2)"),
                               ("4.7", "example2c", "Phase portrait, well at π/3 (Example 2)")):
         if not add_family(fig, title + ", a family", ["trajectory.png"],
-                          lambda f, r, fig=fig: cap_family_wells(f, fig, r)):
+                          lambda f, r, fig=fig: cap_family_wells(f, fig, r),
+                          lambda f, fig=fig: num_wells_family(f, fig)):
             add(fig, title, scene, ["phase.png", "trajectory.png"],
-                lambda r, fig=fig: cap_fig45(r, fig))
+                lambda r, fig=fig: cap_fig45(r, fig), lambda r, fig=fig: num_wells_run(r, fig))
     if "example3" in runs and runs["example3"].marks:
         add("4.8", "Four instants of Example 3", "example3", ["instants.png"],
-            lambda r: cap_fig48(r, r.marks))
+            lambda r: cap_fig48(r, r.marks), num_instants)
     add("4.9", "y(t) (Example 3)", "example3", ["trajectory.png"],
         lambda r: cap_traj(r, "The paper: periodic strokes, a net displacement along y."))
     add("4.10", "Phase curves (Re c, Re ċ, t) (Example 3)", "example3", ["phase3d.png"],
@@ -898,8 +1412,10 @@ def main(argv):
     add("4.11", "Distribution of energy in percent (Example 3)", "example3", ["energy.png"],
         lambda r: cap_energy(r, "The paper stacks fluid, deformation, rigid-motion kinetic and "
                                 "potential energy in percent, with the four instants of Fig. 4.8 "
-                                "dashed."))
-    add("4.12", "Linear impulses (Example 3)", "example3", ["impulse.png"], cap_impulse)
+                                "dashed."),
+        lambda r: num_fig411(r) if r.marks else [])
+    add("4.12", "Linear impulses (Example 3)", "example3", ["impulse.png"], cap_impulse,
+        num_fig412)
     add("4.13", "The body along a curved path (Example 4)", "example4", ["path.png"], cap_fig413)
     add("4.14", "Phase curves (Example 4)", "example4", ["phase3d.png"],
         lambda r: cap_phase3d(r, "The paper: none of a₋₁, b₋₁, a₋₂, b₋₂ is periodic.",
@@ -922,15 +1438,16 @@ def main(argv):
     add("4.19", "Phase curve of c₋₃ (Example 6)", "example6", ["phase3d.png"], cap_fig419)
     add("4.20", "Distribution of energy in percent (Example 6)", "example6", ["energy.png"],
         lambda r: cap_energy(r, "The paper: a little more than two strokes, the peaks (strokes) "
-                                "not periodic."))
+                                "not periodic."), num_fig420)
     add("4.21", "y(t) (Example 6)", "example6", ["trajectory.png"],
         lambda r: cap_traj(r, "The paper: locomotion along y."))
     if "example7" in runs:
         runs["example7"].panels("fig4_22", [0, 2.5, 5, 7.5, 10], "Fig. 4.22 times")
-    add("4.22", "Screenshots (Example 7)", "example7", ["fig4_22.png"], cap_fig422)
+    add("4.22", "Screenshots (Example 7)", "example7", ["fig4_22.png"], cap_fig422,
+        num_ex7_strokes)
     add("4.23", "y(t) (Example 7)", "example7", ["trajectory.png"],
         lambda r: cap_traj(r, "The paper: about three strokes, then the damped body stops "
-                              "swimming."))
+                              "swimming."), num_ex7_strokes)
     add("4.24–4.25", "Mode amplitudes (Example 7)", "example7", ["modes.png"], cap_modes)
     if "selfpropelled" in runs:
         runs["selfpropelled"].panels("fig5_1", [25.0 * k / 15 for k in range(16)],
@@ -939,21 +1456,32 @@ def main(argv):
     add("5.2", "y(t) (self-propelled)", "selfpropelled", ["trajectory.png"],
         lambda r: cap_traj(r, "The paper: the ball starts at rest and swims along y."))
     add("5.3", "Distribution of energy (self-propelled)", "selfpropelled", ["energy.png"],
-        cap_fig53)
+        cap_fig53, num_fig53)
+    phase["figure sections (screenshot panels, numbers)"] = time.time() - t0
 
-    wp_src = os.path.join(ROOT, "docs", "figures", "scenes_work_precision_cpu.png")
-    wp = None
-    if os.path.exists(wp_src):
-        shutil.copy(wp_src, os.path.join(out, "work_precision.png"))
-        wp = "work_precision.png"
+    t0 = time.time()
+    wp_sec, wp_info = work_precision_section(out, opts, runs)
+    phase["work-precision"] = time.time() - t0
 
+    figs_of = {}
+    for s in sections:
+        figs_of.setdefault(s["scene"], []).append(s["fig"])
+    reduced = sorted(opts["scenes"]) != sorted(SCENES)
+    n_tables = sum(1 for s in sections if s["numbers"])
     body = ['<h1>Passive and self-propelled locomotion of an elastic swimmer — the figures '
             'reproduced by swim</h1>',
-            '<p>Each section below is one figure of sections 4–5 of Munnier\'s paper: our figure, '
-            'what the paper\'s figure shows and what ours shows. The first section of each scene '
-            'carries its run: the animation (body coloured by density ρ₀/J, fluid velocity, path '
-            'of the centre of mass, energy with a time cursor), the scene file and the run '
-            'summary. %sMarked instants come from %s.</p>' % (
+            '<p>Part 1: each section is one figure of sections 4–5 of Munnier\'s paper: the '
+            'paper\'s caption (quoted briefly), our figure and what it shows, then the numbers '
+            'the paper states in the caption or the text next to the figure beside ours, with '
+            'the difference — or, where the paper gives only a picture, a plain statement that '
+            'it gives no numbers (%d of %d figure sections have a numbers table). '
+            'Part 2: every scene of models/ and models/control/ (%d runs%s): what it is, our '
+            'figures, the animation (body coloured by density ρ₀/J, fluid velocity, path of the '
+            'centre of mass, energy with a time cursor), the scene file and the key numbers of '
+            'its summary.json; the scenes of models/hard/ are listed, not run. Part 3: the '
+            'work-precision figure, made from this build. %sMarked instants come from %s.</p>' % (
+                n_tables, len(sections), len(runs),
+                ", a reduced page: %s" % ", ".join(opts["scenes"]) if reduced else "",
                 ("Figs %s are families of runs, each one <code>swim sweep</code> (the make "
                  "target named in its section) drawn by <code>swim plot</code>; their sections "
                  "carry the sweep's definition and summary. " % ", ".join(sorted(fams)))
@@ -961,53 +1489,60 @@ def main(argv):
                 "the runs' events.csv (swim run --event)" if with_events else
                 "the output rows (this swim run has no --event; extremes by parabolic "
                 "interpolation between rows)"),
-            '<nav>' + "".join('<a href="#fig%s">Fig. %s — %s</a>' % (
-                f.replace("–", "-"), f, esc(t)) for f, t, *_ in sections) +
-            ('<a href="#work-precision">Work-precision per scene</a>' if wp else "") + '</nav>']
-    shown = set()
-    for fig, title, scene, imgs, caption, fam, show_run in sections:
-        body.append('<section id="fig%s"><h2>Fig. %s — %s</h2>' % (fig.replace("–", "-"), fig,
-                                                                   esc(title)))
+            '<h3>The paper\'s figures</h3><nav>' + "".join('<a href="#fig%s">Fig. %s — %s</a>' % (
+                s["fig"].replace("–", "-"), s["fig"], esc(s["title"])) for s in sections) +
+            '</nav><h3>The scenes</h3><nav>' + "".join(
+                '<a href="#%s">models/%s.toml</a>' % (section_id(n), esc(n)) for n in runs) +
+            ('<a href="#scenes-hard">models/hard/ (listed)</a>' if scenes_in("hard") else "") +
+            ('<a href="#work-precision">Work-precision per scene</a>' if wp_sec else "") + '</nav>']
+    for s in sections:
+        fig, fam, imgs = s["fig"], s["fam"], s["imgs"]
+        body.append('<section id="fig%s" class="paperfig"><h2>Fig. %s — %s</h2>' % (
+            fig.replace("–", "-"), fig, esc(s["title"])))
+        body.append('<p class="paper"><b>The paper, Fig. %s:</b> %s</p>' % (
+            fig, esc(PAPER_CAPTION.get(fig, ""))))
         # a family: its figure, the caption and the sweep, then the scene's own run
         first = imgs[:1] if fam is not None else imgs
         for i in first:
             body.append('<figure><img src="%s" alt="Fig. %s, ours: %s" loading="lazy">'
                         '</figure>' % (i, fig, esc(os.path.basename(i))))
-        body.append('<figcaption>%s</figcaption>' % esc(caption))
+        body.append('<figcaption><b>Ours:</b> %s</figcaption>' % esc(s["caption"]))
         if fam is not None:
             body.append(sweep_block(fam))
             for i in imgs[1:]:
                 body.append('<figure><img src="%s" alt="the scene\'s own run: %s" '
                             'loading="lazy"></figure>' % (i, esc(os.path.basename(i))))
-        if not show_run:
-            pass
-        elif scene in shown:
-            body.append('<p class="note">Run: <a href="#run-%s">%s</a> (animation, scene, '
-                        'summary above).</p>' % (scene, esc(TITLES[scene])))
-        else:
-            body.append(run_block(runs[scene]))
-            shown.add(scene)
+        body.append('<h3>Numbers: the paper and ours</h3>' + numbers_block(s["numbers"]))
+        if s["scene"] in runs:
+            body.append('<p class="note">Run: <a href="#%s">models/%s.toml</a> (animation, '
+                        'scene file, key numbers).</p>' % (section_id(s["scene"]),
+                                                           esc(s["scene"])))
         body.append('</section>')
-    if wp:
-        body.append('<section id="work-precision"><h2>Work-precision per scene</h2><figure>'
-                    '<img src="%s" alt="work-precision diagrams" loading="lazy"></figure>'
-                    '<figcaption>CPU time against the error reached over T = min(t_end, 10) for '
-                    'each integrator and tolerance (make bench-accuracy; '
-                    'docs/figures/scenes_work_precision_cpu.png).</figcaption></section>' % wp)
+    body.append('<h2 id="scenes">The scenes of models/</h2>')
+    for name, r in runs.items():
+        body.append(scene_section(r, figs_of.get(name, [])))
+    body.append(hard_section())
+    if wp_sec:
+        body.append(wp_sec)
     total = time.time() - clock
-    body.append('<p class="note">Built by tools/paper/build_paper.py in %.0f s (%s).</p>'
-                % (total, ", ".join(["%s %.0f s" % (n, sum(r.timings.values()))
-                                     for n, r in runs.items()] +
-                                    ["make %s %.0f s" % (f.target, f.seconds)
-                                     for f in fams.values()])))
+    body.append('<p class="note">Built by tools/paper/build_paper.py in %.0f s (%s; per scene: '
+                '%s).</p>' % (total, ", ".join("%s %.0f s" % kv for kv in phase.items()),
+                              ", ".join(["%s %.0f s" % (n, sum(r.timings.values()))
+                                         for n, r in runs.items()] +
+                                        ["make %s %.0f s" % (f.target, f.seconds)
+                                         for f in fams.values()])))
     page = ('<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">'
             '<meta name="viewport" content="width=device-width, initial-scale=1">'
+            '<meta name="swim-page" content="%s">'
+            '<meta name="swim-scenes" content="%s">'
             '<title>swim — the paper\'s figures reproduced</title><style>%s</style></head>'
-            '<body><main>%s</main></body></html>\n' % (CSS, "\n".join(body)))
+            '<body><main>%s</main></body></html>\n' % (
+                "reduced" if reduced else "full", ",".join(runs), CSS, "\n".join(body)))
     with open(os.path.join(out, "index.html"), "w") as fh:
         fh.write(page)
-    log("wrote %s (%d sections) in %.1f s" % (os.path.join(out, "index.html"), len(sections),
-                                               total))
+    log("wrote %s (%d figure sections, %d scene sections) in %.1f s (%s)" % (
+        os.path.join(out, "index.html"), len(sections), len(runs), total,
+        ", ".join("%s %.1f s" % kv for kv in phase.items())))
     print(os.path.join(out, "index.html"))
     return 0
 
