@@ -562,9 +562,11 @@ def main(argv=None):
     os.makedirs(outdir, exist_ok=True)
     ref_root = os.path.join(base, "ref")
     tmp = tempfile.mkdtemp(prefix="swim-accuracy-")
-    # Bench one binary throughout: a private copy (its kernel cache and generator paths are
-    # compiled in, so the copy behaves as bin/swim). References are checked against bin/swim's
+    # Bench one binary throughout: a private copy. It finds the generator and the kernel headers
+    # from its own location, which is no longer the tree's, so they are named (SWIM_SHARE); the
+    # kernel cache is SWIM_CACHE's as for bin/swim. References are checked against bin/swim's
     # time stamp as it was when the copy was made.
+    os.environ.setdefault("SWIM_SHARE", ROOT)
     global SWIM, SWIM_STAMP
     SWIM = os.path.join(tmp, "swim")
     for attempt in range(10):              # bin/swim may be mid-rebuild: wait for a working copy
