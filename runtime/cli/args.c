@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/files.h"
 #include "io/message.h"
 
 /* Words of text wrapped at `width` columns, each line indented by `indent`. */
@@ -211,4 +212,12 @@ int swim_args_take_sets(const char *cmd, int *argc, char **argv, int first, swim
         }
     }
     return n;
+}
+
+char *swim_args_out_dir(const char *given, const char *scene, const char *suffix)
+{
+    if (given) return strdup(given);
+    const char *base = strrchr(scene, '/');
+    base = base ? base + 1 : scene;
+    return swim_strprintf("out/%.*s-%s", (int)strcspn(base, "."), base, suffix);
 }

@@ -43,6 +43,10 @@ int swim_args_take_sets(const char *cmd, int *argc, char **argv, int first, swim
 /* The options block of --help: one entry per option, its help wrapped under it. */
 void swim_args_help(FILE *f, const swim_opt *opts, int nopts);
 
+/* The output folder: --out's value, else out/NAME-SUFFIX with NAME the scene file's name without
+ * its extension (malloc'd; NULL when out of memory). */
+char *swim_args_out_dir(const char *given, const char *scene, const char *suffix);
+
 const char *swim_args_get(const swim_opt *opts, int nopts, const char *name);
 
 /* Strict number parsing: the whole string, finite. 0 or 2 (message printed, naming opt). */

@@ -111,13 +111,7 @@ int swim_cmd_continue(int argc, char **argv)
     }
     o.periodic.t_max = m.s.t_end;
     const char *out = swim_args_get(opts, nopts, "out");
-    char *dir;
-    if (out) dir = strdup(out);
-    else {
-        const char *base = strrchr(pos[0], '/');
-        base = base ? base + 1 : pos[0];
-        dir = swim_strprintf("out/%.*s-continue", (int)strcspn(base, "."), base);
-    }
+    char *dir = swim_args_out_dir(out, pos[0], "continue");
     char *csv = dir ? swim_path_join(dir, "branch.csv") : NULL, *json = dir ? swim_path_join(dir, "branch.json") : NULL;
     if (!csv || !json || swim_mkdirs(dir) != 0) {
         swim_message(stderr, "swim continue: --out: cannot create %s", dir ? dir : "(out of memory)");

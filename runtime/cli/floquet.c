@@ -87,13 +87,7 @@ int swim_cmd_floquet(int argc, char **argv)
         return rc;
     }
     const char *out = swim_args_get(opts, nopts, "out");
-    char *dir = NULL;
-    if (out) dir = strdup(out);
-    else {
-        const char *base = strrchr(pos[0], '/');
-        base = base ? base + 1 : pos[0];
-        dir = swim_strprintf("out/%.*s-floquet", (int)(strcspn(base, ".")), base);
-    }
+    char *dir = swim_args_out_dir(out, pos[0], "floquet");
     char *json = dir ? swim_path_join(dir, "floquet.json") : NULL;
     if (!json || swim_mkdirs(dir) != 0) {
         swim_message(stderr, "swim floquet: --out: cannot create %s", dir ? dir : "(out of memory)");

@@ -251,13 +251,7 @@ int swim_cmd_optimize(int argc, char **argv)
         }
     }
     const char *out = swim_args_get(opts, nopts, "out");
-    char *dir = NULL;
-    if (out) dir = strdup(out);
-    else {
-        const char *base = strrchr(pos[0], '/');
-        base = base ? base + 1 : pos[0];
-        dir = swim_strprintf("out/%.*s-optimize", (int)strcspn(base, "."), base);
-    }
+    char *dir = swim_args_out_dir(out, pos[0], "optimize");
     char *csv = dir ? swim_path_join(dir, "optimize.csv") : NULL, *best = dir ? swim_path_join(dir, "best.toml") : NULL;
     char *json = dir ? swim_path_join(dir, "optimize.json") : NULL;
     if (!csv || !best || !json || swim_mkdirs(dir) != 0 || !(p.log_csv = fopen(csv, "w"))) {

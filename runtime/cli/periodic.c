@@ -114,13 +114,7 @@ int swim_cmd_periodic(int argc, char **argv)
     }
     if (o.t_max <= 0) o.t_max = m.s.t_end;
     const char *out = swim_args_get(opts, nopts, "out");
-    char *dir;
-    if (out) dir = strdup(out);
-    else {
-        const char *base = strrchr(pos[0], '/');
-        base = base ? base + 1 : pos[0];
-        dir = swim_strprintf("out/%.*s-periodic", (int)strcspn(base, "."), base);
-    }
+    char *dir = swim_args_out_dir(out, pos[0], "periodic");
     char *json = dir ? swim_path_join(dir, "periodic.json") : NULL;
     if (!json || swim_mkdirs(dir) != 0) {
         swim_message(stderr, "swim periodic: --out: cannot create %s", dir ? dir : "(out of memory)");

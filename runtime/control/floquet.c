@@ -465,6 +465,23 @@ static void multipliers_json(FILE *f, const double *re, const double *im, int n)
     fprintf(f, "\n  ]");
 }
 
+void swim_floquet_checks_json(FILE *f, const swim_floquet *fl)
+{
+    fprintf(f, "{\"flow_residual\": ");
+    swim_json_number(f, fl->flow_residual);
+    fprintf(f, ", \"energy_residual\": ");
+    swim_json_number(f, fl->energy_residual);
+    fprintf(f, ", \"reciprocal_residual\": ");
+    swim_json_number(f, fl->reciprocal_residual);
+    fprintf(f, ", \"det_tangent\": ");
+    swim_json_number(f, fl->det_tangent);
+    fprintf(f, ", \"max_abs_deviation\": ");
+    swim_json_number(f, fl->max_abs_dev);
+    fprintf(f, ", \"multipliers_at_1\": %d, \"tolerance\": ", fl->unit_count);
+    swim_json_number(f, fl->tol);
+    fprintf(f, "}");
+}
+
 void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const char *section)
 {
     fprintf(f, "{\n  \"scene\": ");
@@ -486,19 +503,9 @@ void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const
     multipliers_json(f, fl->tre, fl->tim, fl->nt);
     fprintf(f, ",\n  \"multipliers_full\": ");
     multipliers_json(f, fl->re, fl->im, fl->n2);
-    fprintf(f, ",\n  \"checks\": {\"flow_residual\": ");
-    swim_json_number(f, fl->flow_residual);
-    fprintf(f, ", \"energy_residual\": ");
-    swim_json_number(f, fl->energy_residual);
-    fprintf(f, ", \"reciprocal_residual\": ");
-    swim_json_number(f, fl->reciprocal_residual);
-    fprintf(f, ", \"det_tangent\": ");
-    swim_json_number(f, fl->det_tangent);
-    fprintf(f, ", \"max_abs_deviation\": ");
-    swim_json_number(f, fl->max_abs_dev);
-    fprintf(f, ", \"multipliers_at_1\": %d, \"tolerance\": ", fl->unit_count);
-    swim_json_number(f, fl->tol);
-    fprintf(f, "},\n  \"stable\": %s,\n  \"monodromy\": ", !fl->periodic ? "null" : fl->stable ? "true" : "false");
+    fprintf(f, ",\n  \"checks\": ");
+    swim_floquet_checks_json(f, fl);
+    fprintf(f, ",\n  \"stable\": %s,\n  \"monodromy\": ", !fl->periodic ? "null" : fl->stable ? "true" : "false");
     swim_json_matrix(f, fl->M, fl->n2, fl->n2, 2);
     fprintf(f, ",\n  \"rhs_evaluations\": %ld,\n  \"seconds\": ", fl->rhs_calls);
     swim_json_number(f, fl->seconds);

@@ -98,5 +98,7 @@ void swim_floquet_free(swim_floquet *f);
 /* floquet.json and the table printed by swim floquet. */
 void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const char *section);
 void swim_floquet_table(FILE *f, const swim_floquet *fl);
+/* The "checks" object of floquet.json (flow, energy, reciprocal residuals, det M_t, ...). */
+void swim_floquet_checks_json(FILE *f, const swim_floquet *fl);
 
 #endif

@@ -371,15 +371,9 @@ void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d,
             swim_json_number(f, hypot(fl->tre[i], fl->tim[i]));
             fprintf(f, "}");
         }
-        fprintf(f, "], \"checks\": {\"flow_residual\": ");
-        swim_json_number(f, fl->flow_residual);
-        fprintf(f, ", \"energy_residual\": ");
-        swim_json_number(f, fl->energy_residual);
-        fprintf(f, ", \"reciprocal_residual\": ");
-        swim_json_number(f, fl->reciprocal_residual);
-        fprintf(f, ", \"det_tangent\": ");
-        swim_json_number(f, fl->det_tangent);
-        fprintf(f, ", \"multipliers_at_1\": %d}, \"stable\": %s", fl->unit_count, fl->stable ? "true" : "false");
+        fprintf(f, "], \"checks\": ");
+        swim_floquet_checks_json(f, fl);
+        fprintf(f, ", \"stable\": %s", fl->stable ? "true" : "false");
         /* what accounts for the multipliers at 1: each with the residual of its eigenvector */
         fprintf(f, ",\n    \"at_1\": [{\"reason\": \"time shift along the orbit (the flow f is an eigenvector)\", "
                    "\"residual\": ");
