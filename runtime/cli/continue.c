@@ -92,23 +92,12 @@ int swim_cmd_continue(int argc, char **argv)
         }
     }
     static swim_model_setup m;
-    int rc = swim_setup_load(&m, pos[0], sets, nsets);
-    if (rc == 0 && (m.s.stroke || m.s.forcing)) {
-        swim_message(stderr, "swim continue: %s: %s", pos[0], m.s.stroke ? "a prescribed stroke has no free shape "
-                     "dynamics" : "[forcing] makes the equations depend on time; only autonomous scenes have these orbits");
-        rc = 2;
-    }
-    if (rc == 0) rc = swim_setup_kernels(&m, "continue", swim_args_get(opts, nopts, "generic") != NULL,
-                                         swim_args_get(opts, nopts, "quiet") != NULL);
     char section[64];
     swim_floquet_section sec;
-    if (rc == 0)
-        rc = swim_floquet_parse_section(&m.d, "continue", "guess-event", swim_args_get(opts, nopts, "guess-event"), &sec,
-                                        section, sizeof section);
-    if (rc) {
-        swim_setup_close(&m);
-        return rc;
-    }
+    int rc = swim_periodic_setup(&m, "continue", pos[0], sets, nsets, swim_args_get(opts, nopts, "generic") != NULL,
+                                 swim_args_get(opts, nopts, "quiet") != NULL, swim_args_get(opts, nopts, "guess-event"),
+                                 &sec, section, sizeof section);
+    if (rc) return rc;
     o.periodic.t_max = m.s.t_end;
     const char *out = swim_args_get(opts, nopts, "out");
     char *dir = swim_args_out_dir(out, pos[0], "continue");

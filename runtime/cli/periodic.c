@@ -10,7 +10,6 @@
 #include "control/periodic.h"
 #include "io/files.h"
 #include "io/message.h"
-#include "ode/ode.h"
 
 typedef struct {
     const swim_periodic *p;
@@ -85,33 +84,11 @@ int swim_cmd_periodic(int argc, char **argv)
     }
     const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     static swim_model_setup m;
-    int rc = swim_setup_load(&m, pos[0], sets, nsets);
-    if (rc == 0 && m.s.stroke) {
-        swim_message(stderr, "swim periodic: %s: a prescribed stroke ([stroke]) is periodic by its laws: there is no "
-                     "free shape dynamics to solve for (swim run reports its period and displacement per stroke)", pos[0]);
-        rc = 2;
-    }
-    if (rc == 0 && m.s.forcing) {
-        swim_message(stderr, "swim periodic: %s: [forcing] makes the equations depend on time; swim periodic looks "
-                     "for orbits of autonomous scenes only", pos[0]);
-        rc = 2;
-    }
-    if (rc == 0 && !(swim_ode_capabilities(m.s.integrator) & SWIM_ODE_CAP_EVENTS)) {
-        swim_message(stderr, "swim periodic: %s: run.integrator = \"%s\" cannot locate the guess's events; use one "
-                     "of %s (e.g. --set run.integrator=abm)", pos[0], m.s.integrator,
-                     swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
-        rc = 2;
-    }
-    if (rc == 0) rc = swim_setup_kernels(&m, "periodic", swim_args_get(opts, nopts, "generic") != NULL, quiet);
     char section[64];
     swim_floquet_section sec;
-    if (rc == 0)
-        rc = swim_floquet_parse_section(&m.d, "periodic", "guess-event", swim_args_get(opts, nopts, "guess-event"), &sec,
-                                        section, sizeof section);
-    if (rc) {
-        swim_setup_close(&m);
-        return rc;
-    }
+    int rc = swim_periodic_setup(&m, "periodic", pos[0], sets, nsets, swim_args_get(opts, nopts, "generic") != NULL,
+                                 quiet, swim_args_get(opts, nopts, "guess-event"), &sec, section, sizeof section);
+    if (rc) return rc;
     if (o.t_max <= 0) o.t_max = m.s.t_end;
     const char *out = swim_args_get(opts, nopts, "out");
     char *dir = swim_args_out_dir(out, pos[0], "periodic");

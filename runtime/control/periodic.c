@@ -300,6 +300,32 @@ done:
     return rc;
 }
 
+int swim_periodic_setup(swim_model_setup *m, const char *cmd, const char *path, const swim_override *sets, int nsets,
+                        int generic, int quiet, const char *guess, swim_floquet_section *sec, char *text, size_t len)
+{
+    int rc = swim_setup_load(m, path, sets, nsets);
+    if (rc == 0 && m->s.stroke) {
+        swim_message(stderr, "swim %s: %s: a prescribed stroke ([stroke]) is periodic by its laws: there is no free "
+                     "shape dynamics to solve for (swim run reports its period and displacement per stroke)", cmd, path);
+        rc = 2;
+    }
+    if (rc == 0 && m->s.forcing) {
+        swim_message(stderr, "swim %s: %s: [forcing] makes the equations depend on time; periodic orbits are looked "
+                     "for in autonomous scenes only", cmd, path);
+        rc = 2;
+    }
+    if (rc == 0 && !(swim_ode_capabilities(m->s.integrator) & SWIM_ODE_CAP_EVENTS)) {
+        swim_message(stderr, "swim %s: %s: run.integrator = \"%s\" cannot locate the guess's events; use one "
+                     "of %s (e.g. --set run.integrator=abm)", cmd, path, m->s.integrator,
+                     swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
+        rc = 2;
+    }
+    if (rc == 0) rc = swim_setup_kernels(m, cmd, generic, quiet);
+    if (rc == 0) rc = swim_floquet_parse_section(&m->d, cmd, "guess-event", guess, sec, text, len);
+    if (rc) swim_setup_close(m);
+    return rc;
+}
+
 void swim_periodic_free(swim_periodic *p)
 {
     if (p->have_floquet) swim_floquet_free(&p->floquet);

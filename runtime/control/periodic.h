@@ -28,6 +28,7 @@
 #include <stdio.h>
 
 #include "control/floquet.h"
+#include "control/model_setup.h"
 #include "model/dynamics.h"
 
 #define SWIM_PERIODIC_MAX_ITER 40
@@ -75,6 +76,13 @@ typedef struct {
  * allocation failure). */
 int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const swim_periodic_options *o,
                         swim_periodic *out);
+/* A scene made ready for orbits (swim periodic, swim continue): read with its overrides, refused
+ * in one line when it has no free autonomous shape dynamics (a [stroke], a [forcing] law) or an
+ * integrator that cannot locate the guess's events, its kernels, and the guess's section
+ * (guess: COLUMN:KIND or NULL, as swim_floquet_parse_section; its text into text). 0, or 1 / 2
+ * after one line "swim CMD: ..." on stderr, with m closed. */
+int swim_periodic_setup(swim_model_setup *m, const char *cmd, const char *path, const swim_override *sets, int nsets,
+                        int generic, int quiet, const char *guess, swim_floquet_section *sec, char *text, size_t len);
 /* No forcing and no damping on a moving coordinate: energy is conserved (1) or not (0). */
 int swim_periodic_conservative(const swim_dynamics *d);
 /* Newton from the integrator state ys0 (its shape part; the rest is set to 0) and period T0:
