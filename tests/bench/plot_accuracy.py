@@ -45,6 +45,43 @@ def read(csv_path):
     return scenes
 
 
+def draw_scene(ax, name, sc, xi, used):
+    """One scene's panel: error against column xi (2 CPU ms, 3 RHS evaluations) of every curve,
+    abm at ode113's defaults, the reference's uncertainty; the (method, kernel) drawn go to used."""
+    for (m, k), pts in sc["curves"].items():
+        pts = sorted(pts, key=lambda p: -p[0])
+        generic = k == "generic"
+        ax.loglog([p[xi] for p in pts], [p[1] for p in pts], color=COLORS.get(m, "k"),
+                  marker=MARKERS.get(m, "x"), ms=4.5 if not generic else 6, lw=1.9 if m == "abm" else 1.3,
+                  ls="--" if generic else "-", mfc="none" if generic else COLORS.get(m, "k"),
+                  zorder=3 if m == "abm" else 2)
+        used.add((m, k))
+    if sc["ode113"]:
+        p = sc["ode113"]
+        ax.loglog([p[xi]], [p[1]], marker="*", ms=13, color="tab:red", mec="k", ls="none", zorder=4)
+        used.add(("ode113", ""))
+    if sc["ref"] > 0:
+        ax.axhline(sc["ref"], color="0.4", ls=":", lw=1.2, zorder=1)
+    ax.set_title("%s (T = %g)" % (name, sc["T"]))
+    ax.grid(True, which="major", alpha=0.35)
+
+
+def legend_handles(used):
+    """The legend of the panels drawn, in the order of COLORS."""
+    handles = []
+    for m, col in COLORS.items():
+        for k in ("specialized", "generic"):
+            if (m, k) in used:
+                g = k == "generic"
+                handles.append(Line2D([], [], color=col, marker=MARKERS[m], ls="--" if g else "-",
+                                      mfc="none" if g else col, label=m + (" (generic kernel)" if g else "")))
+    if ("ode113", "") in used:
+        handles.append(Line2D([], [], color="tab:red", marker="*", ms=13, mec="k", ls="none",
+                              label="abm at ode113 defaults (rtol 1e-3, atol 1e-6)"))
+    handles.append(Line2D([], [], color="0.4", ls=":", label="reference uncertainty (abm vs rk8pd at 1e-13)"))
+    return handles
+
+
 def plot(csv_path, outdir):
     scenes = read(csv_path)
     plt.rcParams.update({"font.size": 10, "axes.titlesize": 11, "axes.labelsize": 10,
@@ -61,22 +98,7 @@ def plot(csv_path, outdir):
         for i, name in enumerate(names):
             ax = axes[i // ncol][i % ncol]
             sc = scenes[name]
-            for (m, k), pts in sc["curves"].items():
-                pts = sorted(pts, key=lambda p: -p[0])
-                generic = k == "generic"
-                ax.loglog([p[xi] for p in pts], [p[1] for p in pts], color=COLORS.get(m, "k"),
-                          marker=MARKERS.get(m, "x"), ms=4.5 if not generic else 6, lw=1.9 if m == "abm" else 1.3,
-                          ls="--" if generic else "-", mfc="none" if generic else COLORS.get(m, "k"),
-                          zorder=3 if m == "abm" else 2)
-                used.add((m, k))
-            if sc["ode113"]:
-                p = sc["ode113"]
-                ax.loglog([p[xi]], [p[1]], marker="*", ms=13, color="tab:red", mec="k", ls="none", zorder=4)
-                used.add(("ode113", ""))
-            if sc["ref"] > 0:
-                ax.axhline(sc["ref"], color="0.4", ls=":", lw=1.2, zorder=1)
-            ax.set_title("%s (T = %g)" % (name, sc["T"]))
-            ax.grid(True, which="major", alpha=0.35)
+            draw_scene(ax, name, sc, xi, used)
             ax.set_ylim(top=max(ax.get_ylim()[1], 1.5))
             if i // ncol == nrow - 1 or i + ncol >= len(names):
                 ax.set_xlabel(xlabel)
@@ -84,17 +106,7 @@ def plot(csv_path, outdir):
                 ax.set_ylabel("max error over grid")
         for j in range(len(names), nrow * ncol):
             axes[j // ncol][j % ncol].axis("off")
-        handles = []
-        for m, col in COLORS.items():
-            for k in ("specialized", "generic"):
-                if (m, k) in used:
-                    g = k == "generic"
-                    handles.append(Line2D([], [], color=col, marker=MARKERS[m], ls="--" if g else "-",
-                                          mfc="none" if g else col, label=m + (" (generic kernel)" if g else "")))
-        if ("ode113", "") in used:
-            handles.append(Line2D([], [], color="tab:red", marker="*", ms=13, mec="k", ls="none",
-                                  label="abm at ode113 defaults (rtol 1e-3, atol 1e-6)"))
-        handles.append(Line2D([], [], color="0.4", ls=":", label="reference uncertainty (abm vs rk8pd at 1e-13)"))
+        handles = legend_handles(used)
         width = 3.9 * ncol
         legcol = max(1, min(len(handles), int(width // 3.9)))
         legrows = int(math.ceil(len(handles) / legcol))

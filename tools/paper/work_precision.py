@@ -69,7 +69,6 @@ def plot(csv_path, png, subtitle):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
     scenes = pa.read(csv_path)
     names = [n for n in scenes if scenes[n]["curves"]]
     if not names:
@@ -87,42 +86,14 @@ def plot(csv_path, png, subtitle):
     for i, name in enumerate(names):
         ax = axes[i // ncol][i % ncol]
         sc = scenes[name]
-        for (m, k), pts in sc["curves"].items():
-            pts = sorted(pts, key=lambda p: -p[0])
-            g = k == "generic"
-            col = pa.COLORS.get(m, "k")
-            ax.loglog([p[2] for p in pts], [p[1] for p in pts], color=col,
-                      marker=pa.MARKERS.get(m, "x"), ms=5, lw=2.0 if m == "abm" else 1.3,
-                      ls="--" if g else "-", mfc="none" if g else col,
-                      zorder=3 if m == "abm" else 2)
-            used.add((m, k))
-        if sc["ode113"]:
-            p = sc["ode113"]
-            ax.loglog([p[2]], [p[1]], marker="*", ms=13, color="tab:red", mec="k", ls="none",
-                      zorder=4)
-            used.add(("ode113", ""))
-        if sc["ref"] > 0:
-            ax.axhline(sc["ref"], color="0.4", ls=":", lw=1.2, zorder=1)
-        ax.set_title("%s (T = %g)" % (name, sc["T"]))
-        ax.grid(True, which="major", alpha=0.35)
+        pa.draw_scene(ax, name, sc, 2, used)
         if i % ncol == 0:
             ax.set_ylabel("max error")
         if i + ncol >= len(names):
             ax.set_xlabel("CPU ms (integrator)")
     for j in range(len(names), nrow * ncol):
         axes[j // ncol][j % ncol].axis("off")
-    handles = []
-    for m, col in pa.COLORS.items():
-        for k in ("specialized", "generic"):
-            if (m, k) in used:
-                g = k == "generic"
-                handles.append(Line2D([], [], color=col, marker=pa.MARKERS[m],
-                                      ls="--" if g else "-", mfc="none" if g else col,
-                                      label=m + (" (generic kernel)" if g else "")))
-    if ("ode113", "") in used:
-        handles.append(Line2D([], [], color="tab:red", marker="*", ms=12, mec="k", ls="none",
-                              label="abm at ode113 defaults"))
-    handles.append(Line2D([], [], color="0.4", ls=":", label="reference uncertainty"))
+    handles = pa.legend_handles(used)
     fig.legend(handles=handles, loc="lower center", ncol=4, frameon=False)
     fig.suptitle("Work-precision per paper scene: max error over the output grid against CPU "
                  "time\n" + subtitle, fontsize=12)
