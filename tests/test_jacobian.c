@@ -14,6 +14,10 @@
  *     (deletion: one at 0, folded, one at a value), --generic (locks by multipliers); effects
  *     all on, all off, and each alone; the barrier with alpha = 1/2, 1, 3/2 at a moderate and at
  *     a small min J (the graded quadrature).
+ *     With J, the kernel's exact partials with respect to every run-time parameter it reads
+ *     (jacobian_params: the densities, stiffness, reference, damping, forcing direction, a
+ *     law's [parameters], the barrier's scale eps d/d eps) against the same extrapolated
+ *     central differences in that parameter, to the same bound.
  *  3. cvode-bdf and msbdf: the final state of a short stiff run with the exact Jacobian agrees
  *     with the run by difference quotients to a few tolerances, and the exact one is called.
  * Kernels come from the cache ($SWIM_CACHE; `make test` keeps it in build/cache). */
@@ -33,6 +37,7 @@
 #define NMAX (2 * (SWIM_KERNEL_MAX_MODES + 1))
 #define DMAX (4 + 2 * NMAX)
 #define TOL 1e-7
+#define PSTEP 1e-2   /* relative step of the parameter quotients (the barrier quadrature's tolerance is noise below it) */
 
 static double urand(void) { return 2.0 * rand() / (double)RAND_MAX - 1.0; }
 
@@ -151,6 +156,103 @@ static double compare_at(swim_dynamics *d, double t, const double *ys, int sdim,
     return worst;
 }
 
+/* The exact partials d rhs / d p at ys against extrapolated central differences in p (the
+ * value changed where the right-hand side reads it, then restored bit for bit); returns the
+ * worst relative column error, its quotient's error in *qerr, and how many parameters *count. */
+static double compare_params(swim_dynamics *d, swim_scene *s, double t, const double *ys, int sdim,
+                             double *qerr, int *count, int *status)
+{
+    swim_param par[4 + 4 * NMAX + 8];
+    double *val[4 + 4 * NMAX + 8][2];
+    int np = 0;
+    par[np] = (swim_param){SWIM_PARAM_RHO0, 0};
+    val[np][0] = &s->rho0, val[np++][1] = &d->spec_params.rho0;
+    par[np] = (swim_param){SWIM_PARAM_RHOF, 0};
+    val[np][0] = &s->rhof, val[np++][1] = &d->spec_params.rhof;
+    for (int i = 0; i < s->n; i++) {
+        double *arrays[4] = {&s->stiffness[i], &s->reference[i], &s->damping[i], &s->direction[i]};
+        for (int a = 0; a < 4; a++) {
+            par[np] = (swim_param){SWIM_PARAM_STIFFNESS + a, i};
+            val[np][0] = arrays[a], val[np++][1] = NULL;
+        }
+    }
+    for (int k = 0; k < s->nparams; k++) {
+        par[np] = (swim_param){SWIM_PARAM_LAW, k};
+        val[np][0] = &s->param_values[k], val[np++][1] = NULL;
+    }
+    par[np] = (swim_param){SWIM_PARAM_BARRIER_SCALE, 0};
+    val[np][0] = &s->epsilon, val[np++][1] = NULL;
+    static double dp[(4 + 4 * NMAX + 8) * DMAX];
+    *status = swim_dynamics_jacobian_params(d, t, ys, NULL, np, par, dp);
+    *count = np;
+    if (*status != 0) return INFINITY;
+    static double Qall[(4 + 4 * NMAX + 8) * DMAX], Q1all[(4 + 4 * NMAX + 8) * DMAX];
+    double f0[DMAX], fp[DMAX], fm[DMAX], gmax = 0.0, fmax_rhs = 0.0;
+    *status = swim_dynamics_rhs(t, ys, f0, d);
+    if (*status != 0) return INFINITY;
+    for (int i = 0; i < sdim; i++) fmax_rhs = fmax(fmax_rhs, fabs(f0[i]));
+    for (int k = 0; k < np; k++) {
+        const double base = *val[k][0], h = PSTEP * fmax(1.0, fabs(base));
+        const double scale = par[k].kind == SWIM_PARAM_BARRIER_SCALE ? base : 1.0;
+        double D[3][DMAX];
+        for (int lev = 0; lev < 3; lev++) {
+            const double hh = h / (1 << lev);
+            for (int side = 0; side < 2; side++) {
+                for (int j = 0; j < 2; j++)
+                    if (val[k][j]) *val[k][j] = base + (side ? -hh : hh);
+                int rc = swim_dynamics_rhs(t, ys, side ? fm : fp, d);
+                if (rc != 0) *status = rc;
+            }
+            for (int j = 0; j < 2; j++)
+                if (val[k][j]) *val[k][j] = base;
+            if (*status != 0) return INFINITY;
+            for (int i = 0; i < sdim; i++) D[lev][i] = scale * (fp[i] - fm[i]) / (2 * hh);
+        }
+        for (int i = 0; i < sdim; i++) {
+            const double ra = (4 * D[1][i] - D[0][i]) / 3, rb = (4 * D[2][i] - D[1][i]) / 3;
+            Qall[(size_t)k * sdim + i] = (16 * rb - ra) / 15;
+            Q1all[(size_t)k * sdim + i] = rb;
+            gmax = fmax(gmax, fabs(Qall[(size_t)k * sdim + i]));
+        }
+    }
+    /* columns relative to their largest entry, but not below what rounding leaves of the
+     * quotient over TOL (a parameter the right-hand side barely reads has a column of that
+     * noise; near the boundary the barrier's forces, ~1e9 at min J 2e-4 with alpha 3/2, leave
+     * more), nor below 1e-8 of the largest partial of all. The rounding r of one evaluation is
+     * measured: r = max |rhs(p + delta) - rhs(p) - delta dp| for a change delta far below h, where
+     * the linear term is known; the quotient's is ~ r / h. */
+    double worst = 0.0, qworst = 0.0;
+    for (int k = 0; k < np; k++) {
+        double cmax = 0.0, e = 0.0, qe = 0.0;
+        for (int i = 0; i < sdim; i++) {
+            const double Q = Qall[(size_t)k * sdim + i];
+            cmax = fmax(cmax, fabs(Q));
+            e = fmax(e, fabs(dp[(size_t)k * sdim + i] - Q));
+            qe = fmax(qe, fabs(Q1all[(size_t)k * sdim + i] - Q));
+        }
+        const double base = *val[k][0], delta = 1e-9 * fmax(1.0, fabs(base));
+        const double scale = par[k].kind == SWIM_PARAM_BARRIER_SCALE ? base : 1.0;
+        for (int j = 0; j < 2; j++)
+            if (val[k][j]) *val[k][j] = base + delta;
+        *status = swim_dynamics_rhs(t, ys, fm, d);
+        for (int j = 0; j < 2; j++)
+            if (val[k][j]) *val[k][j] = base;
+        if (*status != 0) return INFINITY;
+        double r = 10 * 2.2e-16 * fmax(fmax_rhs, 1.0);
+        for (int i = 0; i < sdim; i++)
+            r = fmax(r, fabs(fm[i] - f0[i] - delta * dp[(size_t)k * sdim + i] / scale));
+        const double noise = 10 * scale * r / (PSTEP * fmax(1.0, fabs(base)));
+        const double sc = fmax(fmax(cmax, 1e-8 * gmax), noise / TOL);
+        if (e / sc > TOL && getenv("SWIM_TEST_JACOBIAN_VERBOSE"))
+            printf("    parameter kind %d index %d: relative %.2e (max %.2e, quotient's error %.1e) %s\n",
+                   par[k].kind, par[k].index, e / sc, cmax, qe / sc, s->path);
+        worst = fmax(worst, e / sc);
+        qworst = fmax(qworst, qe / sc);
+    }
+    *qerr = qworst;
+    return worst;
+}
+
 static void fill_scene(swim_scene *s, int N, const kind *kd)
 {
     memset(s, 0, sizeof *s);
@@ -176,8 +278,15 @@ static void fill_scene(swim_scene *s, int N, const kind *kd)
     s->barrier = kd->barrier;
     s->epsilon = 0.03;
     s->alpha = 0.5;
-    if (kd->forcing && !(s->forcing_text = swim_strprintf("%s", "0.3*sin(2*t)^2 + exp(-t)*cos(3*t)")))
+    if (kd->forcing && !(s->forcing_text = swim_strprintf("%s", "A*sin(w*t)^2 + exp(-t)*cos(3*t)")))
         abort();
+    if (kd->forcing) {   /* [parameters] the law reads at run time */
+        s->nparams = 2;
+        snprintf(s->param_names[0], sizeof s->param_names[0], "A");
+        snprintf(s->param_names[1], sizeof s->param_names[1], "w");
+        s->param_values[0] = 0.3;
+        s->param_values[1] = 2.0;
+    }
     for (int i = 0; i < n; i++) {
         s->stiffness[i] = i % 3 ? 0.5 + fabs(urand()) : 0.0;
         s->reference[i] = 0.1 * urand();
@@ -229,7 +338,7 @@ static void compare(int N, const kind *kd, int trials)
     static const double alphas[3] = {0.5, 1.0, 1.5};
     const int near = kd->barrier && N >= 2 && s.free_mask[2] && s.free_mask[4];
     const double targets[3] = {2e-2, 2e-3, 2e-4};   /* min J near the boundary, per alpha */
-    double worst = 0.0, qworst = 0.0;
+    double worst = 0.0, qworst = 0.0, pworst = 0.0, pqworst = 0.0;
     for (int trial = 0; trial < trials + (near ? 3 : 0); trial++) {
         double y[DMAX], ys[DMAX];
         memset(y, 0, sizeof y);
@@ -266,12 +375,24 @@ static void compare(int N, const kind *kd, int trials)
                    swim_shape_jmin(N, y + 3), s.alpha, e, qerr);
         worst = fmax(worst, e);
         qworst = fmax(qworst, qerr);
+        int count;
+        e = compare_params(&d, &s, t, ys, sdim, &qerr, &count, &status);
+        CHECK(status == 0, "N=%d %s trial %d: parameter partials: status %d", N, kd->name, trial, status);
+        if (status != 0) continue;
+        if (e > TOL && getenv("SWIM_TEST_JACOBIAN_VERBOSE"))
+            printf("    trial %d (%s): parameters relative %.2e, min J %.2e\n", trial,
+                   trial < trials ? "interior" : "near the boundary", e, swim_shape_jmin(N, y + 3));
+        pworst = fmax(pworst, e);
+        pqworst = fmax(pqworst, qerr);
     }
+    CHECK(pworst <= TOL, "N=%d %s: exact parameter partials vs differences, relative %.3g", N, kd->name, pworst);
+    CHECK(pqworst <= 0.1 * TOL, "N=%d %s: the parameter quotients' own error %.3g is not small enough to judge",
+          N, kd->name, pqworst);
     CHECK(worst <= TOL, "N=%d %s: exact Jacobian vs differences, relative %.3g", N, kd->name, worst);
     CHECK(qworst <= 0.1 * TOL, "N=%d %s: the difference quotient's own error %.3g is not small enough to judge",
           N, kd->name, qworst);
-    printf("  N = %2d  %-34s state %3d  max relative difference %.2e (quotient's error %.1e)\n", N,
-           kd->name, sdim, worst, qworst);
+    printf("  N = %2d  %-34s state %3d  max relative difference %.2e (quotient's error %.1e), "
+           "parameters %.2e (%.1e)\n", N, kd->name, sdim, worst, qworst, pworst, pqworst);
     swim_dynamics_free(&d);
     swim_compiled_close(&sc);
     swim_scene_free(&s);

@@ -242,6 +242,85 @@ def _scene_forces_jac(e, m, structure):
     return "\n".join(_unused(lines, ("t", "x", "v", "p")) + lines)
 
 
+# Run-time parameters a scene kernel can differentiate with respect to: the kinds of
+# kernel/swim_kernel.h (swim_param), by the p->... array the force expressions read.
+PARAM_KINDS = {"stiffness": "SWIM_PARAM_STIFFNESS", "reference": "SWIM_PARAM_REFERENCE",
+               "damping": "SWIM_PARAM_DAMPING", "direction": "SWIM_PARAM_DIRECTION"}
+
+
+def _without_derivatives(expr):
+    """A law's parameter derivative with the derivatives of step() dropped: step is piecewise
+    constant, so its derivative is 0 wherever it is defined (the switching times themselves
+    are a set of measure zero the integrator steps over)."""
+    return expr.replace(lambda a: isinstance(a, sp.Derivative), lambda a: sp.Integer(0))
+
+
+def _scene_forces_dp(e, m, structure):
+    """The cases of scene_forces_dp: d f / d p and d power / d p (at fixed x, v and
+    <Gamma, v, v>) for every run-time parameter p the force expressions read, non-zeros only;
+    a forcing law's [parameters] through the chain rule on its value (SymPy differentiates the
+    law's own expression)."""
+    f, power, names, law = _scene_force_exprs(e, m, structure)
+    by_name = {c: s for s, c in names.items()}
+    cases = []   # (kind, index, lines)
+
+    def case(kind, index, assignments, prelude=()):
+        lines = emit_assignments(assignments, KernelPrinter(names))
+        cases.append((kind, index, list(prelude) + lines))
+
+    for arr, kind in PARAM_KINDS.items():
+        for i in range(m.nfull):
+            sym = by_name.get("p->%s[%d]" % (arr, i))
+            if sym is None:
+                continue
+            out = [("dF[%d]" % k, sp.diff(fk, sym)) for k, fk in enumerate(f)]
+            out = [(lhs, d) for lhs, d in out if d != 0]
+            dp = sp.diff(power, sym)
+            if dp != 0:
+                out.append(("*dpow", dp))
+            if out:
+                needs_law = any(by_name.get(LAW_VALUE) in d.free_symbols for _, d in out)
+                case(kind, i, out, [_law_line(law)] if needs_law and law is not None else ())
+    if law is not None:
+        ft = by_name[LAW_VALUE]
+        t = sp.Symbol("t", real=True)
+        theta = {name: sp.Symbol("law_param_%d" % k, real=True) for k, name in enumerate(law.params)}
+        for k, name in enumerate(law.params):
+            names[theta[name]] = "p->law_params[%d]" % k
+        expr = law.sympy(t, theta)
+        for k, name in enumerate(law.params):
+            dlaw = _without_derivatives(sp.diff(expr, theta[name]))
+            dsym = sp.Symbol("dlaw", real=True)
+            names[dsym] = "dlaw"
+            out = [("dF[%d]" % j, sp.diff(fj, ft) * dsym) for j, fj in enumerate(f)]
+            out = [(lhs, d) for lhs, d in out if d != 0]
+            dp = sp.diff(power, ft) * dsym
+            if dp != 0:
+                out.append(("*dpow", dp))
+            if out and dlaw != 0:
+                pre = ["    const double dlaw = %s;" % KernelPrinter(names).doprint(dlaw)]
+                case("SWIM_PARAM_LAW", k, out, pre)
+    body = ["    switch (kind) {"]
+    for kind in list(PARAM_KINDS.values()) + ["SWIM_PARAM_LAW"]:
+        mine = [(i, lines) for kd, i, lines in cases if kd == kind]
+        if not mine:
+            continue
+        body.append("    case %s:" % kind)
+        body.append("        switch (index) {")
+        for i, lines in mine:
+            body.append("        case %d: {" % i)
+            body.extend("        " + l for l in lines)
+            body.append("            return 1;")
+            body.append("        }")
+        body.append("        }")
+        body.append("        return 0;")
+    body.append("    default:")
+    body.append("        return 0;")
+    body.append("    }")
+    text = "\n".join(body)
+    return "\n".join(_unused([text], ("t", "x", "v", "p", "dF", "dpow", "index"))) + "\n" + text
+
+
 def _mentions(code, name):
     import re
     return re.search(r"(?<![A-Za-z0-9_>])%s(?![A-Za-z0-9_])" % re.escape(name), code) is not None
@@ -346,7 +425,8 @@ def scene_kernel_source(structure, command):
                free_index=", ".join(str(i) for i in m.free),
                force_body=force_body, constraint_body=_scene_constraints(e, m),
                force_jac_body=_scene_forces_jac(e, m, structure),
-               constraint_jac_body=_scene_constraints_jac(e, m))
+               constraint_jac_body=_scene_constraints_jac(e, m),
+               force_dp_body=_scene_forces_dp(e, m, structure))
     d.update(_scene_jacobian_subs(e, m))
     text = (KERNEL_HEAD.substitute(d) + _symbolic(m, SYMBOLIC_CORE.substitute(d))
             + INCLUDE_ASSEMBLY)

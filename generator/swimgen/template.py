@@ -174,6 +174,16 @@ static void scene_forces_jac(double t, const double *x, const double *v, const s
 $force_jac_body
 }
 
+/* Partials of scene_forces with respect to the run-time parameter (kind, index) of
+ * kernel/swim_kernel.h (swim_param), at fixed x, v and <Gamma, v, v>: dF[k] = d f_k / d p and
+ * *dpow = d power / d p. Only non-zeros are written: the caller clears. 1 when the forces read
+ * the parameter, 0 when they do not (all partials 0). */
+static int scene_forces_dp(double t, const double *x, const double *v, const swim_scene_params *p,
+                           int kind, int index, double *dF, double *dpow)
+{
+$force_dp_body
+}
+
 /* Partials of scene_constraints: Gx[j][k][s] = d G[j][k] / d x_s, cv[s] = d curv / d v_s (curv
  * does not depend on x). Only non-zeros are written: the caller clears. */
 static void scene_constraints_jac(const double *x, const double *v, double Gx[2][NX][NX], double *cv)

@@ -433,6 +433,41 @@ static void jacobian_tables(jac_work *j, const double *x, const double *v, doubl
     }
 }
 
+/* What a change dP of P = -Mr^-1 Nc at fixed S adds to dg (dE = [dP; 0], dX = (dq, 0),
+ * dq = dP v): dE^T (D_v M) X + T(dX), with T(Y) = E^T (D_v M) Y - grad(X^T M Y)|_{X,Y} (see
+ * tangent_x). Collected as the caller does: u what f E^T maps, z what f U^T W maps (before the
+ * weights), q the rest. */
+static void tangent_rigid(const jac_work *j, const double dP[3][NX], const double *dq, double f,
+                          double b, double *u, double *z, double *q)
+{
+    const work_t *w = &j->w;
+    const christoffel_t *c = &j->c;
+    for (int qq = 0; qq < NP; qq++)
+        u[qq] += j->DtWSR[qq][0] * dq[0] + j->DtWSR[qq][1] * dq[1] + j->DtWSR[qq][2] * dq[2];
+    for (int row = 0; row < NR; row++)
+        z[row] += c->D[row][0] * dq[0] + c->D[row][1] * dq[1] + c->D[row][2] * dq[2];
+    const double X2 = c->X[2];
+    for (int i = 0; i < NX; i++)
+        /* dE^T (D_v M) X: c3 plus the body term b dIv X2 on the third component; then T(dX) */
+        q[i] += dP[0][i] * j->c3[0] + dP[1][i] * j->c3[1] + dP[2][i] * (j->c3[2] + b * c->dIv * X2)
+              + b * c->dIv * dq[2] * w->P[2][i]
+              - f * (j->Cws[i][0] * dq[0] + j->Cws[i][1] * dq[1] + j->Cws[i][2] * dq[2]
+                     + j->BXWSR[i][0] * dq[0] + j->BXWSR[i][1] * dq[1] + j->BXWSR[i][2] * dq[2])
+              - b * w->gI[i] * X2 * dq[2];
+}
+
+/* q += f E^T u + f U^T W z: the two maps tangent_x and tangent_rigid collect for. */
+static void tangent_collect(const jac_work *j, const double *u, const double *z, double f, double *q)
+{
+    const work_t *w = &j->w;
+    add_Et(w, u, f, q);
+    for (int i = 0; i < NX; i++) {
+        double t = 0.0;
+        for (int row = 0; row < NR; row++) t += w->U[row][i] * weight[row] * z[row];
+        q[i] += f * t;
+    }
+}
+
 /* The right side (h, s) of the tangent saddle system for a change dx = e_r of the shape:
  * h = df_s - dg - dK acc + dG^T lambda, s = -dG acc (curv does not depend on x), and
  * dq = dP v, the change of the rigid velocity q* = P v (3.21). With dE = [dP; 0] and dD = D_{e_r} D_v S:
@@ -480,35 +515,23 @@ static void tangent_x(const jac_work *j, int r, const double *sX, const double *
         sXa[row] += d * j->Xa[col];
     }
     u[2] += j->A2ws[r];                            /* dD^T W S X */
-    for (int qq = 0; qq < NP; qq++) {              /* D^T W dS X and D^T W S dX */
+    for (int qq = 0; qq < NP; qq++) {              /* D^T W dS X */
         double t = 0.0;
         for (int row = 0; row < NR; row++) t += c->D[row][qq] * weight[row] * sX[row];
-        u[qq] += t + j->DtWSR[qq][0] * dq[0] + j->DtWSR[qq][1] * dq[1] + j->DtWSR[qq][2] * dq[2];
+        u[qq] += t;
     }
-    for (int row = 0; row < NR; row++)             /* dS Xa, dD X, D dX */
-        z[row] = weight[row] * (sXa[row] + j->A2[row][r] * c->X[2] + c->D[row][0] * dq[0]
-                                + c->D[row][1] * dq[1] + c->D[row][2] * dq[2]);
+    for (int row = 0; row < NR; row++)             /* dS Xa, dD X */
+        z[row] = sXa[row] + j->A2[row][r] * c->X[2];
     const double X2 = c->X[2];
     for (int i = 0; i < NX; i++) {
         double t = 0.0;
         for (int row = 0; row < NR; row++) t += j->BX[i][row] * weight[row] * sX[row];
-        /* dE^T (D_v M) X: c3 plus the body term b dIv X2 on the third component */
-        double dEt = dP[0][i] * j->c3[0] + dP[1][i] * j->c3[1] + dP[2][i] * (j->c3[2] + b * c->dIv * X2);
-        q[i] = dEt
-             + b * w->gI[r] * j->Xa[2] * w->P[2][i]                         /* body part of dK acc */
+        q[i] = b * w->gI[r] * j->Xa[2] * w->P[2][i]                         /* body part of dK acc */
              + b * j->HIv[r] * X2 * w->P[2][i]                              /* body part of dD_v M */
-             - f * (t + j->H2[i][r]) - 0.5 * b * X2 * X2 * j->HI[i][r]      /* -(1/2) D grad(X^T M X) */
-             + b * c->dIv * dq[2] * w->P[2][i]                              /* T(dX), body */
-             - f * (j->Cws[i][0] * dq[0] + j->Cws[i][1] * dq[1] + j->Cws[i][2] * dq[2]
-                    + j->BXWSR[i][0] * dq[0] + j->BXWSR[i][1] * dq[1] + j->BXWSR[i][2] * dq[2])
-             - b * w->gI[i] * X2 * dq[2];
+             - f * (t + j->H2[i][r]) - 0.5 * b * X2 * X2 * j->HI[i][r];     /* -(1/2) D grad(X^T M X) */
     }
-    add_Et(w, u, f, q);
-    for (int i = 0; i < NX; i++) {
-        double t = 0.0;
-        for (int row = 0; row < NR; row++) t += w->U[row][i] * z[row];
-        q[i] += f * t;
-    }
+    tangent_rigid(j, (const double (*)[NX])dP, dq, f, b, u, z, q);   /* dE^T (D_v M) X, T(dX) */
+    tangent_collect(j, u, z, f, q);
     for (int i = 0; i < NX; i++) h[i] = j->Fx[i][r] - j->HW[NX * i + r] - q[i];
     for (int m = 0; m < SWIM_SCENE_MAX_ROWS; m++) s[m] = 0.0;
     for (int m = 0; m < j->sd.m; m++) {
@@ -534,16 +557,11 @@ static void tangent_v(const jac_work *j, int r, const double *sX, double f, doub
     double u[NP], z[NR], q[NX];
     for (int i = 0; i < NP; i++) u[i] = 0.0;
     for (int k = dS_start[r]; k < dS_start[r + 1]; k++) u[dS_col[k]] += j->val[k] * c->ws[dS_row[k]];
-    for (int row = 0; row < NR; row++) z[row] = weight[row] * (j->DE[row][r] + sX[row]);
+    for (int row = 0; row < NR; row++) z[row] = j->DE[row][r] + sX[row];
     for (int i = 0; i < NX; i++)
         q[i] = f * (j->EtDtWU[i][r] - j->CwsE[i][r] - j->BXWU[i][r])
              + b * (c->dIv * Pr * w->P[2][i] - w->gI[i] * X2 * Pr + w->gI[r] * X2 * w->P[2][i]);
-    add_Et(w, u, f, q);
-    for (int i = 0; i < NX; i++) {
-        double t = 0.0;
-        for (int row = 0; row < NR; row++) t += w->U[row][i] * z[row];
-        q[i] += f * t;
-    }
+    tangent_collect(j, u, z, f, q);
     for (int i = 0; i < NX; i++) h[i] = j->Fv[i][r] - q[i];
     for (int m = 0; m < SWIM_SCENE_MAX_ROWS; m++) s[m] = 0.0;
     for (int m = 0; m < j->sd.m; m++)
@@ -575,7 +593,102 @@ static void chol_solve_columns(const double *L, double B[NX][2 * NX])
     }
 }
 
-static int scene_jacobian(double t, const double *y, double *J, const swim_scene_params *p)
+/* h -> K^-1 (h + G^T dl) with G da = 0: the tangent of the accelerations for a change of the
+ * right side h alone (K and G fixed). */
+static void tangent_solve(const jac_work *j, const double *h, double *da)
+{
+    double zero[SWIM_SCENE_MAX_ROWS] = {0.0}, dl[SWIM_SCENE_MAX_ROWS];
+    chol_solve(j->L, NX, h, da);
+    saddle_correct(&j->sd, zero, da, dl);
+}
+
+/* d rhs / d b, b = pi rho0, at the state j was set up for. The body's mass matrix
+ * M_b = diag(1, 1, I, 1/(|k|+1)) enters Mr and Md only (assembly.h), so dNc = 0,
+ * dP = -Mr^-1 diag(1, 1, I) P, dK acc = E^T M_b E acc (the dE terms cancel: M E = [0; K]) and
+ * dg = E^T (D_v M_b) X - (1/2) grad(X^T M_b X) + [what dP brings: tangent_rigid]. */
+static void partial_body(const jac_work *j, const double *v, double f, double b, double ct,
+                         double st, double *out)
+{
+    enum { DIM = 4 + 2 * NX };
+    const work_t *w = &j->w;
+    const christoffel_t *c = &j->c;
+    double dP[3][NX], dq[3];
+    for (int k = 0; k < NX; k++) {
+        const double rhs[3] = {w->P[0][k], w->P[1][k], w->Ic * w->P[2][k]};
+        double z[3];
+        mr_solve(j->Ml, rhs, z);
+        for (int p = 0; p < 3; p++) dP[p][k] = -z[p];
+    }
+    for (int p = 0; p < 3; p++) {
+        double t = 0.0;
+        for (int k = 0; k < NX; k++) t += dP[p][k] * v[k];
+        dq[p] = t;
+    }
+    double u[NP], z[NR], q[NX], h[NX], da[NX];
+    for (int i = 0; i < NP; i++) u[i] = 0.0;
+    for (int i = 0; i < NR; i++) z[i] = 0.0;
+    for (int i = 0; i < NX; i++) q[i] = 0.0;
+    tangent_rigid(j, (const double (*)[NX])dP, dq, f, b, u, z, q);
+    tangent_collect(j, u, z, f, q);
+    const double X2 = c->X[2];
+    for (int i = 0; i < NX; i++) {
+        q[i] += c->dIv * X2 * w->P[2][i] - 0.5 * w->gI[i] * X2 * X2
+              + w->P[0][i] * j->Xa[0] + w->P[1][i] * j->Xa[1] + w->Ic * w->P[2][i] * j->Xa[2]
+              + body_shape[i] * j->acc[i];
+        h[i] = -q[i];   /* the forces do not depend on rho0 */
+    }
+    tangent_solve(j, h, da);
+    memset(out, 0, sizeof(double) * DIM);
+    out[0] = ct * dq[0] - st * dq[1];   /* R(theta) dP v (3.21) */
+    out[1] = st * dq[0] + ct * dq[1];
+    out[2] = dq[2];
+    for (int i = 0; i < NX; i++) out[3 + NX + i] = da[i];
+}
+
+/* d rhs / d param at the state j was set up for (out: DIM entries). The densities: rho0 from
+ * partial_body; rhof from homogeneity -- scaling both densities by s scales K and <Gamma, v, v>
+ * by s and keeps P, so f d/df + b d/db of the accelerations is -K^-1 F (F the forces without
+ * inertia, on the constraints) and 0 elsewhere. The forces' parameters: K^-1 dF on the
+ * constraints, and d power. */
+static int partial_param(const jac_work *j, double t, const double *x, const double *v, double f,
+                         double b, double ct, double st, const swim_scene_params *p,
+                         swim_param param, double *out)
+{
+    enum { DIM = 4 + 2 * NX };
+    double dF[NX], da[NX], dpow = 0.0;
+    memset(out, 0, sizeof(double) * DIM);
+    for (int i = 0; i < NX; i++) dF[i] = 0.0;
+    switch (param.kind) {
+    case SWIM_PARAM_RHO0:
+        partial_body(j, v, f, b, ct, st, out);
+        for (int i = 0; i < DIM; i++) out[i] *= KPI;
+        return 0;
+    case SWIM_PARAM_RHOF:
+        if (!(f > 0.0)) return SWIM_RHS_ENAN;
+        partial_body(j, v, f, b, ct, st, out);
+        for (int i = 0; i < NX; i++) dF[i] = j->fs[i] + j->g[i];
+        tangent_solve(j, dF, da);
+        for (int i = 0; i < DIM; i++) out[i] = -b * out[i] / f;
+        for (int i = 0; i < NX; i++) out[3 + NX + i] -= da[i] / f;
+        for (int i = 0; i < DIM; i++) out[i] *= KPI;
+        return 0;
+    case SWIM_PARAM_BARRIER_SCALE:
+#ifdef SWIM_SCENE_BARRIER
+        for (int i = 0; i < NX; i++) dF[i] = -j->gW[i];   /* eps d/d eps of -grad W2 */
+#endif
+        break;
+    default:
+        if (!scene_forces_dp(t, x, v, p, param.kind, param.index, dF, &dpow)) return 0;
+        break;
+    }
+    tangent_solve(j, dF, da);
+    for (int i = 0; i < NX; i++) out[3 + NX + i] = da[i];
+    out[3 + 2 * NX] = dpow;
+    return 0;
+}
+
+static int scene_jacobian_params(double t, const double *y, double *J, int np, const swim_param *param,
+                                 double *dp, const swim_scene_params *p)
 {
     enum { DIM = 4 + 2 * NX };
     double x[NFULL];
@@ -586,7 +699,13 @@ static int scene_jacobian(double t, const double *y, double *J, const swim_scene
         if (!isfinite(y[i])) return SWIM_RHS_ENAN;
     const double f = p->rhof * KPI, b = p->rho0 * KPI;
     jac_work *j = malloc(sizeof *j);
-    if (!j) return -1;
+    double *Jown = J ? NULL : malloc(sizeof(double) * DIM * DIM);
+    if (!j || (!J && !Jown)) {
+        free(j);
+        free(Jown);
+        return -1;
+    }
+    if (!J) J = Jown;
     int rc = SWIM_RHS_OK;
     double power = 0.0;
     if (setup(x, p->rho0, p->rhof, &j->w) != 0) { rc = SWIM_RHS_EMASS; goto done; }
@@ -651,9 +770,21 @@ static int scene_jacobian(double t, const double *y, double *J, const swim_scene
     }
     for (int i = 0; i < DIM * DIM; i++)
         if (!isfinite(J[i])) { rc = SWIM_RHS_ENAN; break; }
+    for (int k = 0; k < np && rc == SWIM_RHS_OK; k++) {
+        double *out = dp + (size_t)k * DIM;
+        rc = partial_param(j, t, x, v, f, b, ct, st, p, param[k], out);
+        for (int i = 0; i < DIM && rc == SWIM_RHS_OK; i++)
+            if (!isfinite(out[i])) rc = SWIM_RHS_ENAN;
+    }
 done:
     free(j);
+    free(Jown);
     return rc;
+}
+
+static int scene_jacobian(double t, const double *y, double *J, const swim_scene_params *p)
+{
+    return scene_jacobian_params(t, y, J, 0, NULL, NULL, p);
 }
 
 const swim_scene_kernel swim_scene_kernel_entry = {
@@ -665,6 +796,7 @@ const swim_scene_kernel swim_scene_kernel_entry = {
     .structure = SWIM_SCENE_STRUCTURE,
     .rhs = scene_rhs,
     .jacobian = scene_jacobian,
+    .jacobian_params = scene_jacobian_params,
 };
 
 #endif

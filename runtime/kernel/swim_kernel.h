@@ -16,7 +16,7 @@
 #ifndef SWIM_KERNEL_H
 #define SWIM_KERNEL_H
 
-#define SWIM_KERNEL_ABI 7
+#define SWIM_KERNEL_ABI 8
 #define SWIM_KERNEL_MAX_MODES 32   /* largest N the runtime accepts (arrays are sized by it) */
 
 typedef struct swim_kernel {
@@ -75,6 +75,19 @@ typedef struct swim_scene_params {
     double *kinetic;
 } swim_scene_params;
 
+/* A run-time parameter of a scene kernel's right-hand side, for its partial derivatives: the
+ * vector entries of swim_scene_params (index = full coordinate index), a forcing law's
+ * [parameters] (index into law_params), the densities, and the barrier's scale eps (the partial
+ * is eps d/d eps: W2 is linear in eps, shape/barrier.h; the kernel does not see eps itself). */
+enum {
+    SWIM_PARAM_STIFFNESS = 1, SWIM_PARAM_REFERENCE, SWIM_PARAM_DAMPING, SWIM_PARAM_DIRECTION,
+    SWIM_PARAM_LAW, SWIM_PARAM_RHO0, SWIM_PARAM_RHOF, SWIM_PARAM_BARRIER_SCALE
+};
+typedef struct {
+    int kind;    /* SWIM_PARAM_... */
+    int index;
+} swim_param;
+
 /* A kernel specialized to one scene structure: it carries only the free coordinates (or all of
  * them, locks then held by multipliers of (4.12)).
  * State y = (r_1, r_2, theta, c_free, cdot_free, work), as in runtime/model/dynamics.h. */
@@ -88,6 +101,12 @@ typedef struct swim_scene_kernel {
      * dim = 4 + 2 nfree, the state layout of rhs; fills J completely. Same return values as rhs
      * (positive: (t, y) outside the domain), and negative when out of memory. */
     int (*jacobian)(double t, const double *y, double *J, const swim_scene_params *p);
+    /* The same Jacobian (J may be NULL) and, exactly, the partials of rhs with respect to np
+     * run-time parameters: dp[k * dim + i] = d rhs_i / d param[k] at fixed (t, y) -- the
+     * inhomogeneous terms of the variational equations s' = J s + d rhs / d p. A parameter the
+     * right-hand side does not read gets zeros. Same return values as jacobian. */
+    int (*jacobian_params)(double t, const double *y, double *J, int np, const swim_param *param,
+                           double *dp, const swim_scene_params *p);
 } swim_scene_kernel;
 
 /* Exported names: "swim_kernel_n<N>" (a swim_kernel) and "swim_scene_kernel_entry". */

@@ -362,12 +362,17 @@ double swim_dynamics_balance(double t, const double *u, double *noise, void *par
 
 int swim_dynamics_jacobian(double t, const double *y, double *J, void *params)
 {
-    swim_dynamics *d = params;
+    return swim_dynamics_jacobian_params(params, t, y, J, 0, NULL, NULL);
+}
+
+int swim_dynamics_jacobian_params(swim_dynamics *d, double t, const double *y, double *J, int np,
+                                  const swim_param *param, double *dp)
+{
     double t0 = swim_clock_seconds();
     int rc;
     if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;
-    else if (!d->spec->jacobian) rc = -SWIM_DYN_ENAN;   /* a kernel without one: run.c does not ask */
-    else rc = d->spec->jacobian(d->t_origin + t, split_state(d, y), J, &d->spec_params);
+    else if (!d->spec->jacobian_params) rc = -SWIM_DYN_ENAN;   /* a kernel without one: run.c does not ask */
+    else rc = d->spec->jacobian_params(d->t_origin + t, split_state(d, y), J, np, param, dp, &d->spec_params);
     d->lo_valid = 0;
     if (rc < 0 && rc != -SWIM_DYN_EINTERRUPT) rc = -SWIM_DYN_ENAN;
     d->jac_seconds += swim_clock_seconds() - t0;

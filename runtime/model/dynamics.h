@@ -147,6 +147,11 @@ int swim_dynamics_rhs(double t, const double *y, double *dydt, void *params);
 void swim_dynamics_track_balance(swim_dynamics *d, int on);
 double swim_dynamics_balance(double t, const double *u, double *noise, void *params);
 int swim_dynamics_jacobian(double t, const double *y, double *J, void *params);
+/* The same Jacobian (J may be NULL) and the exact partials of the right-hand side with respect
+ * to np run-time parameters (kernel/swim_kernel.h, swim_param): dp[k * dim + i], dim the state
+ * dimension. Same return values as swim_dynamics_jacobian. */
+int swim_dynamics_jacobian_params(swim_dynamics *d, double t, const double *y, double *J, int np,
+                                  const swim_param *param, double *dp);
 
 typedef struct {
     double kinetic_fluid, kinetic_shape, kinetic_rigid, w1, w2, energy, work;
