@@ -60,7 +60,9 @@ static int adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *
     run_cmd *c = ctx;
     /* the variational equations are those of the free shape dynamics; a prescribed stroke has
      * none (its shape is a given function of time) */
-    const char *sens = c->sensitivity ? "sensitivity" : swim_args_get(c->opts, c->nopts, "sensitivity-steps") ? "sensitivity-steps" : NULL;
+    const char *sens = c->sensitivity ? "sensitivity"
+                     : swim_args_get(c->opts, c->nopts, "sensitivity-steps") ? "sensitivity-steps"
+                     : swim_args_get(c->opts, c->nopts, "sensitivity-method") ? "sensitivity-method" : NULL;
     if (s->stroke_count > 0 && sens) {
         swim_message(stderr, "swim run: --%s: not available on a prescribed stroke ([stroke] in %s): "
                      "sensitivities are computed for free shape dynamics only", sens, c->job.scene_file);
@@ -98,8 +100,13 @@ static int read_options(int argc, char **argv, run_cmd *c)
         {"trace-steps", 1, NULL, "FILE", "write every step attempt to FILE as CSV (t, h, order, accepted, error estimates, energy, work); abm only"},
         {"snapshots", 0, NULL, NULL, "also DIR/snapshots.json: the body's boundary and density at the output rows"},
         {"summary-only", 0, NULL, NULL, "write summary.json (and events) but no trajectory.csv"},
-        {"sensitivity", 2, NULL, "KEY[,KEY...]", "also DIR/sensitivity.csv: d(x, y, theta, E, work)/d(KEY) by the "
-                                                 "variational equations, for run-time keys (docs/control.md)"},
+        {"sensitivity", 2, NULL, "KEY[,KEY...]", "also DIR/sensitivity.csv: d(x, y, theta, E, work and the full state)/d(KEY) "
+                                                 "by the exact variational equations, for run-time keys (docs/control.md)"},
+        {"sensitivity-initial", 0, NULL, NULL, "with or without --sensitivity: also the derivatives with respect to the "
+                                               "initial shape and velocity of every free coordinate (c0.NAME, dc0.NAME)"},
+        {"sensitivity-method", 1, NULL, "exact|differences", "with --sensitivity: the kernel's exact Jacobian and parameter "
+                                                             "partials (exact, default), or central differences of the right-hand "
+                                                             "side along each sensitivity (differences: the older method, for comparison)"},
         {"sensitivity-steps", 1, NULL, "all|state", "with --sensitivity: the sensitivities in the error test (all, "
                                                     "default) or riding on the state's steps (state)"}};
     c->nopts = (int)(sizeof opts / sizeof opts[0]);
@@ -125,6 +132,11 @@ static int read_options(int argc, char **argv, run_cmd *c)
         swim_message(stderr, "swim run: --sensitivity-steps: expected all or state, got '%s'", v);
         return 2;
     }
+    const char *m = swim_args_get(c->opts, c->nopts, "sensitivity-method");
+    if (m && strcmp(m, "exact") != 0 && strcmp(m, "differences") != 0) {
+        swim_message(stderr, "swim run: --sensitivity-method: expected exact or differences, got '%s'", m);
+        return 2;
+    }
     j->cmd = "run";
     j->scene_file = pos[0];
     j->sets = c->sets;
@@ -137,8 +149,17 @@ static int read_options(int argc, char **argv, run_cmd *c)
     j->summary_only = swim_args_get(c->opts, c->nopts, "summary-only") != NULL;
     j->snapshots = swim_args_get(c->opts, c->nopts, "snapshots") != NULL;
     j->events = c->events;
+    if (swim_args_get(c->opts, c->nopts, "sensitivity-initial")) {   /* the key list's word `initial` */
+        char *joined = c->sensitivity ? swim_strprintf("%s,initial", c->sensitivity) : strdup("initial");
+        free(c->sensitivity);
+        if (!(c->sensitivity = joined)) {
+            swim_message(stderr, "swim run: out of memory");
+            return 1;
+        }
+    }
     j->sensitivity = c->sensitivity;
     j->sens_state_steps = v && strcmp(v, "state") == 0;
+    j->sens_differences = m && strcmp(m, "differences") == 0;
     j->command = c->command;
     return 0;
 }

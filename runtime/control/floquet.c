@@ -399,8 +399,10 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
     swim_ode_system sys = {swim_sens_rhs, (size_t)dimY, &S, NULL};
     swim_ode_options o;
     swim_run_ode_options(d->scene, &o);
-    o.rtol = fmax(d->scene->rtol, 1e-10);   /* as swim_sens_write_run: the differences' noise */
-    o.atol = fmax(d->scene->atol, 1e-12);
+    if (!swim_sens_exact(&S)) {   /* as swim_sens_write_run: the differences' noise */
+        o.rtol = fmax(d->scene->rtol, 1e-10);
+        o.atol = fmax(d->scene->atol, 1e-12);
+    }
     swim_ode *ode = NULL;
     int orc = swim_ode_create(d->scene->integrator, &sys, &o, 0.0, Y, &ode);
     if (orc == SWIM_ODE_OK) orc = swim_ode_advance(ode, period, Y);

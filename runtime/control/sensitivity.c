@@ -20,8 +20,8 @@
  * that direction) and by ~2e-7 at 1e-7 (rounding); 2e-6 keeps both near 1e-8. */
 #define SENS_STEP 2e-6
 /* ... which leaves ~1e-10 relative noise in s': an error test tighter than that fights the noise
- * (Example 3 at rtol 1e-12: 7x the evaluations and a result wrong by 1e-2 relative), so the
- * augmented system is integrated at no tighter than these. */
+ * (Example 3 at rtol 1e-12: 7x the evaluations and a result wrong by 1e-2 relative), so an
+ * augmented system with a difference key is integrated at no tighter than these. */
 #define SENS_RTOL_MIN 1e-10
 #define SENS_ATOL_MIN 1e-12
 
@@ -36,7 +36,8 @@ int swim_sens_init(swim_sens *S, swim_dynamics *d)
     S->ym = malloc(b);
     S->fp = malloc(b);
     S->fm = malloc(b);
-    if (!S->yp || !S->ym || !S->fp || !S->fm) {
+    S->J = malloc(sizeof(double) * (size_t)S->dim * (size_t)S->dim);
+    if (!S->yp || !S->ym || !S->fp || !S->fm || !S->J) {
         swim_sens_free(S);
         return -1;
     }
@@ -46,8 +47,9 @@ int swim_sens_init(swim_sens *S, swim_dynamics *d)
 void swim_sens_free(swim_sens *S)
 {
     for (int k = 0; k < S->nkeys; k++) free(S->keys[k].s0);
-    free(S->yp); free(S->ym); free(S->fp); free(S->fm);
-    S->yp = S->ym = S->fp = S->fm = NULL;
+    free(S->yp); free(S->ym); free(S->fp); free(S->fm); free(S->J); free(S->dp); free(S->plist);
+    S->yp = S->ym = S->fp = S->fm = S->J = S->dp = NULL;
+    S->plist = NULL;
     S->nkeys = 0;
 }
 
@@ -57,7 +59,14 @@ static swim_sens_key *new_key(swim_sens *S, const char *name)
     swim_sens_key *k = &S->keys[S->nkeys];
     memset(k, 0, sizeof *k);
     snprintf(k->name, sizeof k->name, "%s", name);
-    k->s0 = calloc((size_t)S->dim, sizeof(double));
+    k->exact = 1;   /* an initial value until the caller says which parameter it is */
+    k->param_scale = 1.0;
+    const size_t nk = (size_t)S->nkeys + 1;
+    swim_param *pl = realloc(S->plist, nk * sizeof *pl);
+    if (pl) S->plist = pl;
+    double *dp = pl ? realloc(S->dp, nk * (size_t)S->dim * sizeof *dp) : NULL;
+    if (dp) S->dp = dp;
+    k->s0 = dp ? calloc((size_t)S->dim, sizeof(double)) : NULL;
     if (!k->s0) return NULL;
     S->nkeys++;
     return k;
@@ -154,6 +163,8 @@ int swim_sens_add_key(swim_sens *S, swim_scene *s, const char *cmd, const char *
     const long i = o.index;
     const int coord = i >= 0 && i < s->n, fr = coord && s->free_mask[i];
     double *v0 = NULL, *v1 = NULL;
+    swim_param par = {0, 0};     /* the kernel's parameter; kind 0: differentiated by differences */
+    double par_scale = 1.0;
     const char *absent = NULL;   /* why the kernel has no such term */
     if (o.index >= s->n) {
         char n[16];
@@ -174,29 +185,40 @@ int swim_sens_add_key(swim_sens *S, swim_scene *s, const char *cmd, const char *
         if (s->rhof_neutral) return key_error(cmd, key, "%s", "rhof = \"neutral\" follows rho0: give rhof a number");
         v0 = &s->rho0;
         v1 = &d->spec_params.rho0;
+        par = (swim_param){SWIM_PARAM_RHO0, 0};
     } else if (strcmp(o.table, "model") == 0 && o.index < 0 && strcmp(o.key, "rhof") == 0) {
         v0 = &s->rhof;
         v1 = &d->spec_params.rhof;
+        par = (swim_param){SWIM_PARAM_RHOF, 0};
     } else if (strcmp(o.table, "elastic") == 0 && coord && strcmp(o.key, "stiffness") == 0) {
         v0 = &s->stiffness[i];
+        par = (swim_param){SWIM_PARAM_STIFFNESS, (int)i};
         if (!generic && fr && !(s->elastic && s->stiffness[i] != 0)) absent = "its stiffness is 0, so the kernel has no elastic term there";
     } else if (strcmp(o.table, "elastic") == 0 && coord && strcmp(o.key, "reference") == 0) {
         v0 = &s->reference[i];   /* read only where the stiffness is nonzero; elsewhere dW1/dref = 0 */
+        par = (swim_param){SWIM_PARAM_REFERENCE, (int)i};
     } else if (strcmp(o.table, "damping") == 0 && coord && strcmp(o.key, "diagonal") == 0) {
         v0 = &s->damping[i];
+        par = (swim_param){SWIM_PARAM_DAMPING, (int)i};
         if (!generic && fr && !(s->damped && s->damping[i] != 0)) absent = "its damping is 0, so the kernel has no damping term there";
     } else if (strcmp(o.table, "forcing") == 0 && coord && strcmp(o.key, "direction") == 0) {
         v0 = &s->direction[i];
+        par = (swim_param){SWIM_PARAM_DIRECTION, (int)i};
         if (!s->forced) absent = "the scene has no forcing law";
         else if (!generic && fr && s->direction[i] == 0) absent = "its direction is 0, so the kernel has no force there";
     } else if (strcmp(o.table, "barrier") == 0 && o.index < 0 && strcmp(o.key, "epsilon") == 0) {
         v0 = &s->epsilon;
         if (!s->barrier) absent = "epsilon is 0, so the kernel has no barrier";
+        par = (swim_param){SWIM_PARAM_BARRIER_SCALE, 0};   /* eps d/d eps: W2 is linear in eps */
+        par_scale = s->epsilon != 0 ? 1.0 / s->epsilon : 0.0;
     } else if (strcmp(o.table, "barrier") == 0 && o.index < 0 && strcmp(o.key, "alpha") == 0) {
         v0 = &s->alpha;
     } else if (strcmp(o.table, "parameters") == 0 && o.index < 0) {
         for (int j = 0; j < s->nparams; j++)
-            if (strcmp(s->param_names[j], o.key) == 0) v0 = &s->param_values[j];
+            if (strcmp(s->param_names[j], o.key) == 0) {
+                v0 = &s->param_values[j];
+                par = (swim_param){SWIM_PARAM_LAW, j};   /* the forcing law reads law_params[j] */
+            }
         if (!v0) return key_error(cmd, key, "the scene's [parameters] has no '%s'", o.key);
     } else {
         char list[600];
@@ -212,7 +234,38 @@ int swim_sens_add_key(swim_sens *S, swim_scene *s, const char *cmd, const char *
     k->value[0] = v0;
     k->value[1] = v1;
     k->nvalue = v1 ? 2 : 1;
+    k->exact = par.kind != 0 && d->spec->jacobian_params != NULL;
+    k->param = par;
+    k->param_scale = par_scale;
     return 0;
+}
+
+int swim_sens_add_initial(swim_sens *S, swim_scene *scene, const char *cmd)
+{
+    for (int vel = 0; vel < 2; vel++)
+        for (int f = 0; f < S->d->spec->nfree; f++) {
+            char name[24], key[40];
+            swim_coord_name(S->d->spec->free_index[f], name, sizeof name);
+            snprintf(key, sizeof key, "%s.%s", vel ? "dc0" : "c0", name);
+            int given = 0;
+            for (int k = 0; k < S->nkeys; k++) given |= strcmp(S->keys[k].name, key) == 0;
+            if (given) continue;   /* --sensitivity named it already */
+            const int rc = swim_sens_add_key(S, scene, cmd, key);
+            if (rc != 0) return rc;
+        }
+    return 0;
+}
+
+void swim_sens_use_differences(swim_sens *S)
+{
+    for (int k = 0; k < S->nkeys; k++) S->keys[k].exact = 0;
+}
+
+int swim_sens_exact(const swim_sens *S)
+{
+    for (int k = 0; k < S->nkeys; k++)
+        if (!S->keys[k].exact) return 0;
+    return 1;
 }
 
 int swim_sens_add_list(swim_sens *S, swim_scene *scene, const char *cmd, const char *list)
@@ -223,7 +276,8 @@ int swim_sens_add_list(swim_sens *S, swim_scene *scene, const char *cmd, const c
     for (char *tok = strtok_r(copy, ",", &save); tok && rc == 0; tok = strtok_r(NULL, ",", &save)) {
         for (int k = 0; k < S->nkeys; k++)
             if (strcmp(S->keys[k].name, tok) == 0) rc = key_error(cmd, tok, "%s", "given twice");
-        if (rc == 0) rc = swim_sens_add_key(S, scene, cmd, tok);
+        if (rc == 0) rc = strcmp(tok, "initial") == 0 ? swim_sens_add_initial(S, scene, cmd)
+                                                      : swim_sens_add_key(S, scene, cmd, tok);
         any = 1;
     }
     if (rc == 0 && !any) rc = key_error(cmd, list, "%s", "expected KEY[,KEY...]");
@@ -260,37 +314,72 @@ static void set_key(const swim_sens_key *key, const double *base, double delta)
     for (int j = 0; j < key->nvalue; j++) *key->value[j] = base[j] + delta;
 }
 
+/* The exact keys' columns: s' = J s + d f/d p, one Jacobian for all of them. */
+static int exact_columns(swim_sens *S, double t, const double *Y, double *dY)
+{
+    const int n = S->dim;
+    int np = 0, any = 0;
+    for (int k = 0; k < S->nkeys; k++) {
+        any |= S->keys[k].exact;
+        if (S->keys[k].exact && S->keys[k].param.kind != 0) S->plist[np++] = S->keys[k].param;
+    }
+    if (!any) return 0;
+    const int rc = swim_dynamics_jacobian_params(S->d, t, Y, S->J, np, S->plist, S->dp);
+    S->jac_calls++;
+    if (rc != 0) return rc;
+    for (int k = 0, p = 0; k < S->nkeys; k++) {
+        const swim_sens_key *key = &S->keys[k];
+        if (!key->exact) continue;
+        const double *s = Y + (size_t)(k + 1) * n;
+        double *ds = dY + (size_t)(k + 1) * n;
+        const double *dp = key->param.kind != 0 ? S->dp + (size_t)(p++) * n : NULL;
+        for (int i = 0; i < n; i++) {
+            const double *Ji = S->J + (size_t)i * n;
+            double acc = dp ? key->param_scale * dp[i] : 0.0;
+            for (int j = 0; j < n; j++) acc += Ji[j] * s[j];
+            ds[i] = acc;
+        }
+    }
+    return 0;
+}
+
+/* A difference key's column: the central difference of f along (s, 1) in (y, p). */
+static int difference_column(swim_sens *S, int k, double t, const double *Y, double *dY)
+{
+    const int n = S->dim;
+    const swim_sens_key *key = &S->keys[k];
+    const double *s = Y + (size_t)(k + 1) * n;
+    double *ds = dY + (size_t)(k + 1) * n;
+    const double h = diff_step(key, Y, s, n);
+    if (h == 0.0) {
+        memset(ds, 0, sizeof(double) * n);
+        return 0;
+    }
+    double base[2] = {0, 0};
+    for (int j = 0; j < key->nvalue; j++) base[j] = *key->value[j];
+    for (int i = 0; i < n; i++) {
+        S->yp[i] = Y[i] + h * s[i];
+        S->ym[i] = Y[i] - h * s[i];
+    }
+    set_key(key, base, h);
+    int rc = swim_dynamics_rhs(t, S->yp, S->fp, S->d);
+    set_key(key, base, -h);
+    if (rc == 0) rc = swim_dynamics_rhs(t, S->ym, S->fm, S->d);
+    for (int j = 0; j < key->nvalue; j++) *key->value[j] = base[j];   /* bit for bit */
+    S->rhs_calls += 2;
+    if (rc != 0) return rc;
+    for (int i = 0; i < n; i++) ds[i] = (S->fp[i] - S->fm[i]) / (2 * h);
+    return 0;
+}
+
 int swim_sens_rhs(double t, const double *Y, double *dY, void *params)
 {
     swim_sens *S = params;
-    const int n = S->dim;
     int rc = swim_dynamics_rhs(t, Y, dY, S->d);
-    if (rc != 0) return rc;
-    for (int k = 0; k < S->nkeys; k++) {
-        const swim_sens_key *key = &S->keys[k];
-        const double *s = Y + (size_t)(k + 1) * n;
-        double *ds = dY + (size_t)(k + 1) * n;
-        const double h = diff_step(key, Y, s, n);
-        if (h == 0.0) {
-            memset(ds, 0, sizeof(double) * n);
-            continue;
-        }
-        double base[2] = {0, 0};
-        for (int j = 0; j < key->nvalue; j++) base[j] = *key->value[j];
-        for (int i = 0; i < n; i++) {
-            S->yp[i] = Y[i] + h * s[i];
-            S->ym[i] = Y[i] - h * s[i];
-        }
-        set_key(key, base, h);
-        rc = swim_dynamics_rhs(t, S->yp, S->fp, S->d);
-        set_key(key, base, -h);
-        if (rc == 0) rc = swim_dynamics_rhs(t, S->ym, S->fm, S->d);
-        for (int j = 0; j < key->nvalue; j++) *key->value[j] = base[j];   /* bit for bit */
-        S->rhs_calls += 2;
-        if (rc != 0) return rc;
-        for (int i = 0; i < n; i++) ds[i] = (S->fp[i] - S->fm[i]) / (2 * h);
-    }
-    return 0;
+    if (rc == 0) rc = exact_columns(S, t, Y, dY);
+    for (int k = 0; k < S->nkeys && rc == 0; k++)
+        if (!S->keys[k].exact) rc = difference_column(S, k, t, Y, dY);
+    return rc;
 }
 
 double swim_sens_energy(swim_sens *S, const double *Y, int k)
@@ -325,7 +414,8 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
 {
     static const char *const what[] = {"dx", "dy", "dtheta", "denergy", "dwork"};
     const swim_scene *s = S->d->scene;
-    const int n = S->dim, ncol = 1 + 5 * S->nkeys, N = swim_sens_dimension(S);
+    const int n = S->dim, nf = (n - 4) / 2, nhead = 1 + 5 * S->nkeys;
+    const int ncol = nhead + 2 * nf * S->nkeys, N = swim_sens_dimension(S);
     const double t0 = swim_clock_seconds();
     char **names = calloc((size_t)ncol, sizeof *names);
     double *Y = malloc(sizeof(double) * N), *row = malloc(sizeof(double) * ncol);
@@ -338,6 +428,12 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
     for (int k = 0; k < S->nkeys; k++)
         for (int w = 0; w < 5; w++)
             names[1 + 5 * k + w] = swim_strprintf("%s/d%s", what[w], S->keys[k].name);
+    for (int k = 0; k < S->nkeys; k++)   /* the full state: carried coordinates, then velocities */
+        for (int c = 0; c < 2 * nf; c++) {
+            char name[24];
+            swim_coord_name(S->d->spec->free_index[c % nf], name, sizeof name);
+            names[nhead + 2 * nf * k + c] = swim_strprintf("d%s%s/d%s", c < nf ? "" : "d", name, S->keys[k].name);
+        }
     for (int c = 0; c < ncol; c++)
         if (!names[c]) goto oom;
     if (swim_csv_open(&csv, csv_path, (const char *const *)names, ncol) != 0) {
@@ -349,9 +445,11 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
     swim_sens_initial(S, ys, Y);
     swim_ode_system sys = {swim_sens_rhs, (size_t)N, S, NULL};
     swim_ode_options o;
-    swim_run_ode_options(s, &o);   /* the run's settings; the tolerances floored for the differences' noise */
-    o.rtol = fmax(s->rtol, SENS_RTOL_MIN);
-    o.atol = fmax(s->atol, SENS_ATOL_MIN);
+    swim_run_ode_options(s, &o);   /* the run's settings; with a difference key the tolerances floored for its noise */
+    if (!swim_sens_exact(S)) {
+        o.rtol = fmax(s->rtol, SENS_RTOL_MIN);
+        o.atol = fmax(s->atol, SENS_ATOL_MIN);
+    }
     if (!S->error_control) {   /* the sensitivities ride on the state's steps */
         if (!(atolv = malloc(sizeof(double) * N))) goto oom;
         for (int i = 0; i < N; i++) atolv[i] = i < n ? o.atol : 1e300;
@@ -376,6 +474,7 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
             row[3 + 5 * j] = sj[2];
             row[4 + 5 * j] = swim_sens_energy(S, Y, j);
             row[5 + 5 * j] = sj[n - 1];
+            for (int c = 0; c < 2 * nf; c++) row[nhead + 2 * nf * j + c] = sj[3 + c];
         }
         if (swim_csv_row(&csv, row) != 0) {
             swim_message(stderr, "swim: %s: write failed at t = %.6g: %s", csv_path, t, strerror(errno));

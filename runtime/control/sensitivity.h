@@ -7,13 +7,18 @@
  *     s' = (df/dy) s + df/dp,      s(0) = dy0/dp.
  * The augmented state (y, s_1, ..., s_K) is integrated by any integrator of ode/ode.h, whose
  * error control covers the sensitivities too (as CVODES with errconS) unless error_control is 0.
- * The augmented system is integrated at rtol >= 1e-10: the differences below carry ~1e-10
- * relative noise, and a tighter error test fights it. The directional
- * derivative (df/dy) s + df/dp is the central difference of the generated right-hand side along
- * (s, 1) in (y, p), with a step scaled to the state and the key (error O(h^2) ~ 1e-10 relative):
- * 2 evaluations of f per key, no Jacobian matrix. dy0/dp of an initial value is the unit vector
- * projected onto the constraints G1, G2 and the locks at c0 (ERRATA D5): the derivative of the
- * run that a scene with [run] project_initial = true makes from perturbed initial data.
+ * Exact keys (every key but the two below): df/dy is the scene kernel's exact Jacobian and
+ * df/dp its exact parameter partials (kernel/swim_kernel.h, jacobian_params: SymPy's
+ * derivatives of the forces and of a forcing law, the densities through the mass matrices):
+ * one Jacobian per evaluation of the augmented system, then a product per key.
+ * Difference keys -- barrier.alpha, and the value of a locked coordinate, which the kernel
+ * reads as data, not as a coordinate -- take (df/dy) s + df/dp as the central difference of
+ * the right-hand side along (s, 1) in (y, p), a step scaled to the state and the key (error
+ * ~1e-10 relative, 2 evaluations of f per key); with any of them the augmented system is
+ * integrated at rtol >= 1e-10, since a tighter error test fights that noise.
+ * dy0/dp of an initial value is the unit vector projected onto the constraints G1, G2 and the
+ * locks at c0 (ERRATA D5): the derivative of the run that a scene with [run] project_initial =
+ * true makes from perturbed initial data.
  *
  * Ownership: a swim_sens borrows the dynamics (and, through the keys, writes to the scene's
  * numbers while it differentiates; each is restored bit for bit before the call returns).
@@ -25,7 +30,7 @@
 
 #include "model/dynamics.h"
 
-#define SWIM_SENS_MAX_KEYS 32
+#define SWIM_SENS_MAX_KEYS 160   /* --sensitivity-initial adds 2 per free coordinate */
 
 /* One column of the variational equations. */
 typedef struct {
@@ -33,6 +38,9 @@ typedef struct {
     double *value[2];       /* the run-time numbers the key is (nvalue of them; 0 for initial values) */
     int nvalue;
     double *s0;             /* dy0/dp on the integrator state (owned, state_dim entries) */
+    int exact;              /* 1: J s + the kernel's exact partial; 0: a difference quotient */
+    swim_param param;       /* exact keys: the kernel's parameter (kind 0: an initial value) */
+    double param_scale;     /* d/dp = param_scale * the kernel's partial (1/eps for eps d/d eps) */
 } swim_sens_key;
 
 typedef struct {
@@ -41,7 +49,9 @@ typedef struct {
     int nkeys;
     swim_sens_key keys[SWIM_SENS_MAX_KEYS];
     double *yp, *ym, *fp, *fm;   /* workspace (owned) */
-    long rhs_calls;
+    double *J, *dp;              /* the exact Jacobian, the exact keys' partials (owned) */
+    swim_param *plist;           /* the parameters of the exact keys, in key order (owned) */
+    long rhs_calls, jac_calls;
     /* 1 (default): the error test covers the sensitivities too (as CVODES with errconS), which
      * may need several times the state's steps; 0: it covers the state only, and the
      * sensitivities take the state's steps (swim run --sensitivity-steps state) */
@@ -61,7 +71,16 @@ int swim_sens_add_key(swim_sens *S, swim_scene *scene, const char *cmd, const ch
 /* Adds a column with the initial sensitivity e_i of integrator-state component i (Floquet:
  * monodromy columns). */
 int swim_sens_add_state(swim_sens *S, int i, const char *name);
-/* Adds every key of a comma-separated list; 0 or 2 as swim_sens_add_key. */
+/* Adds c0.NAME and dc0.NAME for every free coordinate: the derivatives with respect to the
+ * initial shape and velocity on the constraint manifold (swim run --sensitivity-initial).
+ * 0, or 2 after one line on stderr (too many keys). */
+int swim_sens_add_initial(swim_sens *S, swim_scene *scene, const char *cmd);
+/* Every key by difference quotients, as before the exact partials (for comparisons). */
+void swim_sens_use_differences(swim_sens *S);
+/* 1 when every key is exact (no difference quotient anywhere). */
+int swim_sens_exact(const swim_sens *S);
+/* Adds every key of a comma-separated list (the word `initial` for swim_sens_add_initial);
+ * 0 or 2 as swim_sens_add_key. */
 int swim_sens_add_list(swim_sens *S, swim_scene *scene, const char *cmd, const char *list);
 
 /* Augmented state: dimension (1 + nkeys) * dim; Y = (y, s_1, ..., s_K). */
@@ -77,7 +96,10 @@ double swim_sens_energy(swim_sens *S, const double *Y, int k);
 /* Integrates the augmented system with `integrator` (rtol, atol of the scene) from 0 to t_end
  * (where the trajectory ended: the scene's t_end or an earlier stop) and writes
  * one row per output time (k * output_step up to t_end, and t_end) to csv_path: t, then for each key
- * dx/dKEY, dy/dKEY, dtheta/dKEY, denergy/dKEY, dwork/dKEY. Rows already written stay on failure.
+ * dx/dKEY, dy/dKEY, dtheta/dKEY, denergy/dKEY, dwork/dKEY; then, for each key, the full state's
+ * sensitivities dNAME/dKEY, NAME each carried coordinate's and velocity's column of
+ * trajectory.csv (am1, ..., dam1, ...). denergy is the central difference of the energy function along
+ * the sensitivity (a diagnostic, not the right-hand side). Rows already written stay on failure.
  * interrupt: as swim_dynamics.interrupt. 0, or 1 after one line on stderr saying where and why
  * it stopped. *seconds gets the wall time of the integration and the rows. */
 int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double t_end,

@@ -58,7 +58,9 @@ void swim_run_summary_json(FILE *f, const swim_run *c, const swim_summary_contex
                 x->sens_status ? x->sens_status : "skipped", x->sens_t, x->sens_rows);
         if (x->sens_rows > 0) swim_json_number(f, x->sens_t_last);
         else fprintf(f, "null");
-        fprintf(f, ", \"file\": \"sensitivity.csv\"},\n");
+        fprintf(f, ", \"method\": \"%s\", \"jacobians\": %ld, \"rhs_evaluations\": %ld, \"seconds\": %.6g, "
+                "\"file\": \"sensitivity.csv\"},\n", x->sens_method ? x->sens_method : "exact", x->sens_jacobians,
+                x->sens_rhs, x->sens_seconds);
     }
     fprintf(f, "  \"initial_velocity_projected\": %s,\n  \"projection_change\": %.3g,\n",
             s->projection_change > 0 ? "true" : "false", s->projection_change);

@@ -28,6 +28,9 @@ typedef struct {
     double sens_t;                   /* where they were meant to end */
     long sens_rows;                  /* rows of sensitivity.csv, the last at sens_t_last */
     double sens_t_last;
+    const char *sens_method;         /* exact, or differences (some key had no exact partial) */
+    long sens_jacobians, sens_rhs;   /* exact Jacobians and right-hand sides the augmented system took */
+    double sens_seconds;             /* wall time of the sensitivity pass */
 } swim_summary_context;
 
 /* The summary of a finished run (swim_run_integrate) as JSON text on f. */

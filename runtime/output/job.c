@@ -25,8 +25,10 @@ struct swim_job {
     swim_compiled kn, spz;       /* the kernel of N modes; the scene's right-hand side or stroke laws */
     swim_folder *folder;
     swim_run *run;
-    const char *sens_status;
+    const char *sens_status, *sens_method;
     double sens_t, sens_t_last;
+    long sens_jacobians, sens_rhs;
+    double sens_seconds;
     long sens_rows;
     int summary_failed;
 };
@@ -246,10 +248,15 @@ static void run_sensitivity(swim_job *j)
     double sec = 0.0;
     long evals = 0;
     S.error_control = !j->req.sens_state_steps;
+    if (rc == 0 && j->req.sens_differences) swim_sens_use_differences(&S);
     if (rc == 0) {
         rc = swim_sens_write_run(&S, j->s.integrator, path, j->sens_t, &sec, &evals) ? 1 : 0;
         j->sens_rows = S.rows;
         j->sens_t_last = S.t_last;
+        j->sens_method = swim_sens_exact(&S) ? "exact" : "differences";
+        j->sens_jacobians = S.jac_calls;
+        j->sens_rhs = evals + S.rhs_calls;
+        j->sens_seconds = sec;
     }
     const int sig = j->req.stop ? *j->req.stop : 0;
     if (rc == 0) {
@@ -275,7 +282,8 @@ static void fill_summary(FILE *f, void *ctx)
     const swim_summary_context x = {swim_folder_paths(j->folder)->dir, j->req.command,
                                     j->req.scene_name ? j->req.scene_name : j->req.scene_file,
                                     j->recorded, j->nrecorded, j->req.sensitivity != NULL, j->sens_status,
-                                    j->sens_t, j->sens_rows, j->sens_t_last};
+                                    j->sens_t, j->sens_rows, j->sens_t_last, j->sens_method,
+                                    j->sens_jacobians, j->sens_rhs, j->sens_seconds};
     swim_run_summary_json(f, j->run, &x);
 }
 

@@ -45,6 +45,7 @@ typedef struct {
     int nevents;
     const char *sensitivity;            /* KEY[,KEY...]: DIR/sensitivity.csv (dynamic scenes) */
     int sens_state_steps;               /* the sensitivities without an error test of their own */
+    int sens_differences;               /* every key by difference quotients (for comparison) */
     const char *command;                /* the command line, for the summary (may be NULL) */
     volatile sig_atomic_t *stop;        /* a stop request (signal), or NULL */
     void (*notice)(void *ctx, const char *line);           /* lines for the user (driver/run.h) */
