@@ -51,6 +51,11 @@ def structure(d, what):
     check(abs(c["det_tangent"] - 1) < 1e-6, "%s: det M_t = 1 (%.12g)" % (what, c["det_tangent"]))
     check(np.sum(np.abs(lam - 1) < 1e-3) >= 2, "%s: at least two multipliers at 1 (flow, energy)" % what)
     check(np.max(np.abs(np.abs(lam) - 1)) < 1e-6 and d["stable"], "%s: all |lambda| = 1: stable" % what)
+    check(d["base"].startswith("t = 0"), "%s: floquet.json states its base point (%r)" % (what, d["base"]))
+    comp = np.array([m["re"] + 1j * m["im"] for m in c["multipliers_complement"]])
+    check(c["exact_ones"] >= 2 and len(comp) == d["tangent_dimension"] - c["exact_ones"]
+          and np.max(np.abs(np.abs(comp) - 1)) < 1e-9,
+          "%s: time shift and energy taken out, the complement on the unit circle to 1e-9 (%s)" % (what, np.abs(comp)))
     nontrivial = lam[np.abs(lam - 1) > 1e-3]
     check(len(nontrivial) == 2 and abs(nontrivial[0] - np.conj(nontrivial[1])) < 1e-9,
           "%s: one complex-conjugate pair off 1 (%s)" % (what, nontrivial))

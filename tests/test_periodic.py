@@ -62,12 +62,51 @@ def agree_with_long_run(scene, tag, t_end, period_hint):
           "%s: Floquet at the phase point, f an eigenvector for 1 (%r)" % (tag, fl and fl["checks"]))
 
 
+def multipliers_at_1(tag, exact_ones, reasons):
+    """Each named multiplier at 1 checked against the monodromy periodic.json writes: the flow and
+    a symmetry's generator are eigenvectors (M v = v), grad E a left eigenvector on the tangent
+    space, to rounding; the complement's multipliers are M_t's others (computed here by numpy),
+    on the unit circle; nothing at 1 is left unnamed."""
+    import numpy as np
+    d = json.load(open(os.path.join(TMP, tag, "periodic.json")))
+    fl = d["floquet"]
+    M, B = np.array(fl["monodromy"]), np.array(fl["tangent_basis"])
+    named = []
+    for a in fl["at_1"]:
+        if "vector" in a and (a.get("symmetry", True)):
+            v = np.array(a["vector"])
+            r = np.linalg.norm(M @ v - v) / np.linalg.norm(v)
+            check(r <= 1e-9, "%s: %s: M v = v to %.2g" % (tag, a["reason"][:40], r))
+            named.append(a["reason"])
+        elif "left_vector" in a:
+            g = np.array(a["left_vector"])
+            r = np.linalg.norm((g @ M - g) @ B) / np.linalg.norm(g @ B)
+            check(r <= 1e-9, "%s: grad E M = grad E on the tangent space to %.2g" % (tag, r))
+            named.append(a["reason"])
+        elif "multiplier" in a:
+            check(a["residual"] <= 1e-9, "%s: %s: the multiplier is 1 to %.2g" % (tag, a["reason"][:40], a["residual"]))
+            named.append(a["reason"])
+    check(all(any(r in n for n in named) for r in reasons), "%s: the multipliers at 1 are named %s" % (tag, named))
+    ch = fl["checks"]
+    check(ch["exact_ones"] == exact_ones and ch["complement_dimension"] == fl["tangent_dimension"] - exact_ones,
+          "%s: %d multipliers taken out as exact, the rest on the complement (%s)" % (tag, exact_ones, ch))
+    comp = [complex(m["re"], m["im"]) for m in ch["multipliers_complement"]]
+    check(all(abs(abs(z) - 1) <= 1e-9 for z in comp), "%s: the complement's multipliers on the unit circle to 1e-9 %s"
+          % (tag, [abs(z) for z in comp]))
+    full = np.linalg.eigvals(B.T @ M @ B)
+    check(all(min(abs(full - z)) <= 1e-6 for z in comp), "%s: the complement's multipliers are M_t's (%s vs %s)"
+          % (tag, comp, full))
+    check(fl["unidentified_at_1"] == 0, "%s: no multiplier at 1 left unnamed" % tag)
+
+
 def test_example1():
     agree_with_long_run("models/example1.toml", "ex1", 30.0, 8.335)
+    multipliers_at_1("ex1", 3, ["time shift", "energy", "turned against the body"])
 
 
 def test_example3():
     agree_with_long_run("models/example3.toml", "ex3", 12.0, 3.699)
+    multipliers_at_1("ex3", 2, ["time shift", "energy", "reversibility"])
 
 
 def test_damped_scene_does_not_converge():

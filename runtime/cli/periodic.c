@@ -32,8 +32,10 @@ static void report(const swim_periodic *p, const char *scene, const char *json)
     printf("  per period: dx = %.10g, dy = %.10g, dtheta = %.10g (body frame at the phase point)\n", p->dx, p->dy,
            p->dtheta);
     if (p->have_floquet)
-        printf("  Floquet: %d tangent multipliers, %d at 1, %s; %ld RHS evaluations, %.2f s\n", p->floquet.nt,
-               p->floquet.unit_count, p->floquet.stable ? "linearly stable" : "UNSTABLE", p->rhs_calls, p->seconds);
+        printf("  Floquet: %d tangent multipliers: %d exactly 1 (time shift, energy, symmetries), %d on the complement "
+               "(max ||lambda| - 1| %.2g%s), %s; %ld RHS evaluations, %.2f s\n", p->floquet.nt, p->floquet.exact_ones,
+               p->floquet.nc, p->floquet.comp_max_abs_dev, p->floquet.forced_one >= 0 ? ", one at 1 by reversibility" : "",
+               p->floquet.stable ? "linearly stable" : "UNSTABLE", p->rhs_calls, p->seconds);
 }
 
 int swim_cmd_periodic(int argc, char **argv)

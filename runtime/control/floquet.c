@@ -211,6 +211,20 @@ static double determinant(const double *M, int n)
     return det;
 }
 
+/* max over lambda of min_j |lambda_j - 1/lambda|: how far the spectrum is from closed under
+ * inversion (0 for reciprocal pairs). */
+static double reciprocal_residual(const double *re, const double *im, int n)
+{
+    double r = 0.0;
+    for (int a = 0; a < n; a++) {
+        const double complex inv = 1.0 / (re[a] + I * im[a]);
+        double best = INFINITY;
+        for (int b = 0; b < n; b++) best = fmin(best, cabs(re[b] + I * im[b] - inv));
+        r = fmax(r, best);
+    }
+    return n > 0 ? r : 0.0;
+}
+
 /* The checks of the structure, on M, the tangent basis B, f(x0) and grad E(x0). */
 static void structure(swim_floquet *fl, const double *B, const double *f, const double *gE)
 {
@@ -244,19 +258,15 @@ static void structure(swim_floquet *fl, const double *B, const double *f, const 
         en += b * b;
     }
     fl->energy_residual = sqrt(er / fmax(en, 1e-300));
-    fl->reciprocal_residual = 0.0;
+    fl->reciprocal_residual = reciprocal_residual(fl->tre, fl->tim, nt);
     fl->max_abs_dev = 0.0;
     fl->unit_count = 0;
     for (int a = 0; a < nt; a++) {
-        const double complex lam = fl->tre[a] + I * fl->tim[a], inv = 1.0 / lam;
-        double best = INFINITY;
-        for (int b = 0; b < nt; b++) best = fmin(best, cabs(fl->tre[b] + I * fl->tim[b] - inv));
-        fl->reciprocal_residual = fmax(fl->reciprocal_residual, best);
+        const double complex lam = fl->tre[a] + I * fl->tim[a];
         fl->max_abs_dev = fmax(fl->max_abs_dev, fabs(cabs(lam) - 1.0));
         fl->unit_count += cabs(lam - 1.0) < FLOQUET_TOL;
     }
     fl->tol = FLOQUET_TOL;
-    fl->stable = fl->periodic && fl->max_abs_dev <= FLOQUET_TOL;
     free(Mt);
 }
 
@@ -347,6 +357,76 @@ static void symmetries(swim_dynamics *d, const double *ys, swim_floquet *fl)
     free(full);
 }
 
+/* The multipliers on the complement of those known to be 1 (floquet.h: M_c = Q^T M_t Q). */
+static void complement(swim_floquet *fl)
+{
+    const int n2 = fl->n2, nt = fl->nt;
+    double rows[(2 + SWIM_FLOQUET_NSYM) * SWIM_FLOQUET_MAX];
+    int nr = 0;
+    fl->energy_conserved = fl->energy_residual <= SWIM_FLOQUET_SYMMETRY_TOL;
+    const double *known[2 + SWIM_FLOQUET_NSYM];
+    known[nr++] = fl->flow;
+    if (fl->energy_conserved) known[nr++] = fl->grad_energy;
+    for (int s = 0; s < SWIM_FLOQUET_NSYM; s++)
+        if (fl->symmetry_residual[s] <= SWIM_FLOQUET_SYMMETRY_TOL) known[nr++] = fl->symmetry[s];
+    for (int r = 0; r < nr; r++)   /* each on the tangent space: B^T v */
+        for (int a = 0; a < nt; a++) {
+            double t = 0.0;
+            for (int i = 0; i < n2; i++) t += fl->B[i * nt + a] * known[r][i];
+            rows[r * nt + a] = t;
+        }
+    double *Q = malloc(sizeof(double) * (size_t)nt * (size_t)nt);
+    double *Mt = malloc(sizeof(double) * (size_t)nt * (size_t)nt * 3);
+    fl->forced_one = -1;
+    fl->nc = 0;
+    if (!Q || !Mt) goto done;
+    const int nc = tangent_basis(rows, nr, nt, Q);   /* orthogonal to grad E and to W */
+    if (nc < 0) goto done;
+    fl->exact_ones = nt - nc;
+    fl->nc = nc;
+    double *MtQ = Mt + nt * nt, *Mc = MtQ + nt * nt;
+    for (int a = 0; a < nt; a++)   /* M_t = B^T M B */
+        for (int b = 0; b < nt; b++) {
+            double t = 0.0;
+            for (int i = 0; i < n2; i++) {
+                double mb = 0.0;
+                for (int j = 0; j < n2; j++) mb += fl->M[i * n2 + j] * fl->B[j * nt + b];
+                t += fl->B[i * nt + a] * mb;
+            }
+            Mt[a * nt + b] = t;
+        }
+    for (int a = 0; a < nt; a++)
+        for (int k = 0; k < nc; k++) {
+            double t = 0.0;
+            for (int b = 0; b < nt; b++) t += Mt[a * nt + b] * Q[b * nc + k];
+            MtQ[a * nc + k] = t;
+        }
+    for (int k = 0; k < nc; k++)
+        for (int l = 0; l < nc; l++) {
+            double t = 0.0;
+            for (int a = 0; a < nt; a++) t += Q[a * nc + k] * MtQ[a * nc + l];
+            Mc[k * nc + l] = t;
+        }
+    if (nc > 0 && eigenvalues(Mc, nc, fl->cre, fl->cim) != 0) {
+        fl->nc = 0;
+        goto done;
+    }
+    fl->comp_reciprocal = reciprocal_residual(fl->cre, fl->cim, nc);
+    fl->comp_max_abs_dev = 0.0;
+    for (int k = 0; k < nc; k++) fl->comp_max_abs_dev = fmax(fl->comp_max_abs_dev, fabs(hypot(fl->cre[k], fl->cim[k]) - 1.0));
+    if (nc % 2 == 1 && fl->comp_reciprocal <= FLOQUET_TOL) {
+        double best = INFINITY;
+        for (int k = 0; k < nc; k++)
+            if (fl->cim[k] == 0.0 && fabs(fl->cre[k] - 1.0) < best) {
+                best = fabs(fl->cre[k] - 1.0);
+                fl->forced_one = k;
+            }
+    }
+done:
+    free(Q);
+    free(Mt);
+}
+
 int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max, swim_floquet *fl)
 {
     memset(fl, 0, sizeof *fl);
@@ -434,6 +514,8 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
     if (rows < 0 || (fl->nt = tangent_basis(C, rows, n2, fl->B)) < 0) goto oom;
     structure(fl, fl->B, fl->flow, fl->grad_energy);
     symmetries(d, ys, fl);
+    complement(fl);
+    fl->stable = fl->periodic && fl->nc == fl->nt - fl->exact_ones && fl->comp_max_abs_dev <= FLOQUET_TOL;
     rc = 0;
     goto done;
 oom:
@@ -481,6 +563,13 @@ void swim_floquet_checks_json(FILE *f, const swim_floquet *fl)
     swim_json_number(f, fl->max_abs_dev);
     fprintf(f, ", \"multipliers_at_1\": %d, \"tolerance\": ", fl->unit_count);
     swim_json_number(f, fl->tol);
+    fprintf(f, ", \"exact_ones\": %d, \"complement_dimension\": %d, \"complement_reciprocal_residual\": ",
+            fl->exact_ones, fl->nc);
+    swim_json_number(f, fl->comp_reciprocal);
+    fprintf(f, ", \"complement_max_abs_deviation\": ");
+    swim_json_number(f, fl->comp_max_abs_dev);
+    fprintf(f, ", \"multipliers_complement\": ");
+    multipliers_json(f, fl->cre, fl->cim, fl->nc);
     fprintf(f, "}");
 }
 
@@ -494,6 +583,10 @@ void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const
     swim_json_number(f, fl->period);
     fprintf(f, ",\n  \"first_event\": ");
     swim_json_number(f, fl->t_first);
+    /* the monodromy is the map over [0, T] from the scene's initial state, not from the first
+     * event: a Floquet matrix based elsewhere on the orbit is similar, same multipliers */
+    fprintf(f, ",\n  \"base\": \"t = 0 (the scene's initial state; the period is the time between the events at "
+               "first_event and first_event + period)\"");
     fprintf(f, ",\n  \"closure\": ");
     swim_json_number(f, fl->closure);
     fprintf(f, ",\n  \"closure_relative\": ");
@@ -531,6 +624,9 @@ void swim_floquet_table(FILE *f, const swim_floquet *fl)
         fprintf(f, "NO PERIODIC ORBIT: the orbit does not close after T (relative closure %.2g > %.0e); "
                 "the multipliers above are not Floquet multipliers\n", fl->closure_rel, SWIM_FLOQUET_CLOSURE_TOL);
     else
-        fprintf(f, "%s: max ||lambda| - 1| = %.3g (tolerance %.0e)\n", fl->stable ? "linearly stable (all |lambda| = 1)" : "UNSTABLE",
-                fl->max_abs_dev, fl->tol);
+        fprintf(f, "%s: %d multipliers exactly 1 (time shift%s, symmetries) taken out; on the %d-dimensional "
+                "complement max ||lambda| - 1| = %.3g (tolerance %.0e)%s\n",
+                fl->stable ? "linearly stable (all |lambda| = 1)" : "UNSTABLE", fl->exact_ones,
+                fl->energy_conserved ? ", energy" : "", fl->nc, fl->comp_max_abs_dev, fl->tol,
+                fl->forced_one >= 0 ? "; one of them at 1 by reversibility (reciprocal pairs, odd dimension)" : "");
 }

@@ -62,7 +62,24 @@ typedef struct {
     double det_tangent;            /* det M_t */
     double max_abs_dev;            /* max | |lambda| - 1 | over the tangent multipliers */
     int unit_count;                /* tangent multipliers within tol of 1 */
-    int stable;                    /* periodic and every tangent |lambda| = 1 to tol */
+    /* The multipliers known to be exactly 1 -- the time shift (f), the energy of a scene that
+     * conserves it (grad E a left eigenvector: energy_residual <= SWIM_FLOQUET_SYMMETRY_TOL) and
+     * each symmetry found -- taken out, the rest computed on the complement: M_t acts on
+     * V = {grad E . u = 0} (or the whole tangent space) and leaves W = span(f, g_s) fixed, so it
+     * induces a map on V / W, represented on Q, an orthonormal basis of V orthogonal to W:
+     * M_c = Q^T M_t Q. Its eigenvalues are the other multipliers, free of the Jordan block at 1
+     * that the time shift and the energy form (which an error eps of M splits by sqrt(eps)). */
+    int energy_conserved;
+    int exact_ones;                /* 1 (time) + energy_conserved + symmetries found */
+    int nc;                        /* dimension of the complement, nt - exact_ones */
+    double cre[SWIM_FLOQUET_MAX], cim[SWIM_FLOQUET_MAX];    /* multipliers of M_c */
+    double comp_reciprocal;        /* reciprocal residual on the complement */
+    double comp_max_abs_dev;       /* max | |lambda| - 1 | on the complement */
+    /* On an odd-dimensional complement whose multipliers come in reciprocal pairs (a reversible
+     * system's symmetric orbit: R M R = M^-1) one multiplier is its own inverse, +-1; the index
+     * of that real multiplier (the one nearest 1) when the pairs hold to tol, else -1. */
+    int forced_one;
+    int stable;                    /* periodic and every complement |lambda| = 1 to tol */
     double tol;                    /* the tolerance of the checks */
     long rhs_calls;
     double seconds;

@@ -401,21 +401,48 @@ void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d,
         swim_floquet_checks_json(f, fl);
         fprintf(f, ", \"stable\": %s", fl->stable ? "true" : "false");
         /* what accounts for the multipliers at 1: each with the residual of its eigenvector */
+        /* M on the shape state and the tangent basis, so that every claim below can be checked */
+        fprintf(f, ",\n    \"monodromy\": ");
+        swim_json_matrix(f, fl->M, fl->n2, fl->n2, 4);
+        fprintf(f, ",\n    \"tangent_basis\": ");
+        swim_json_matrix(f, fl->B, fl->n2, fl->nt, 4);
         fprintf(f, ",\n    \"at_1\": [{\"reason\": \"time shift along the orbit (the flow f is an eigenvector)\", "
                    "\"residual\": ");
         swim_json_number(f, fl->flow_residual);
+        fprintf(f, ", \"vector\": ");
+        swim_json_vector(f, fl->flow, fl->n2);
         fprintf(f, "}");
         if (p->conservative) {
             fprintf(f, ", {\"reason\": \"energy: the family of orbits by energy (grad E a left eigenvector)\", \"residual\": ");
             swim_json_number(f, fl->energy_residual);
+            fprintf(f, ", \"left_vector\": ");
+            swim_json_vector(f, fl->grad_energy, fl->n2);
             fprintf(f, "}");
         }
         for (int k = 0; k < SWIM_FLOQUET_NSYM; k++) {
             fprintf(f, ", {\"reason\": \"%s\", \"residual\": ", swim_floquet_symmetry_names[k]);
             swim_json_number(f, fl->symmetry_residual[k]);
-            fprintf(f, ", \"symmetry\": %s}", fl->symmetry_residual[k] <= SWIM_FLOQUET_SYMMETRY_TOL ? "true" : "false");
+            fprintf(f, ", \"symmetry\": %s", fl->symmetry_residual[k] <= SWIM_FLOQUET_SYMMETRY_TOL ? "true" : "false");
+            if (isfinite(fl->symmetry_residual[k])) {
+                fprintf(f, ", \"vector\": ");
+                swim_json_vector(f, fl->symmetry[k], fl->n2);
+            }
+            fprintf(f, "}");
         }
-        fprintf(f, "]}");
+        if (fl->forced_one >= 0) {   /* computed on the complement, not taken out: its value is the check */
+            const double mu = fl->cre[fl->forced_one];
+            fprintf(f, ", {\"reason\": \"reversibility: the complement's multipliers come in reciprocal pairs "
+                       "(lambda, 1/lambda) and its dimension %d is odd, so one is its own inverse\", \"multiplier\": ",
+                    fl->nc);
+            swim_json_number(f, mu);
+            fprintf(f, ", \"residual\": ");
+            swim_json_number(f, fabs(mu - 1.0));
+            fprintf(f, "}");
+        }
+        int unnamed = 0;   /* multipliers at 1 on the complement that nothing above accounts for */
+        for (int k = 0; k < fl->nc; k++)
+            unnamed += k != fl->forced_one && hypot(fl->cre[k] - 1.0, fl->cim[k]) < fl->tol;
+        fprintf(f, "], \"unidentified_at_1\": %d}", unnamed);
     } else {
         fprintf(f, "null");
     }
