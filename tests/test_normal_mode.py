@@ -98,5 +98,33 @@ def test_rotations_round_the_ellipse():
           % [(r["energy"], r["period"]) for r in lib])
 
 
+def test_special_point_refined():
+    """The librations lose stability near E = 0.1895: a real pair leaves the unit circle at +1
+    (a branch point of the symmetric orbits). Between the points 0.15, 0.2, 0.25 of a coarse
+    branch it is bracketed, then bisected to 2^-24 of the bracket."""
+    out = os.path.join(TMP, "special")
+    rows = branch(out, "0.15:0.25", 3)
+    d = json.load(open(os.path.join(out, "branch.json")))
+    sp = d["special_points"]
+    check(len(sp) == 1 and sp[0]["kind"] == "fold or branch point" and sp[0]["refined"],
+          "one special point, refined: %s" % [(s["kind"], s["between"]) for s in sp])
+    if len(sp) != 1:
+        return
+    lo, hi = sp[0]["between"]
+    check(0.15 < lo < hi < 0.25 and hi - lo <= 0.05 / 2 ** 23, "bracket [%.12g, %.12g] narrowed by 2^-24" % (lo, hi))
+    lam = [complex(*m) for m in sp[0]["at"]["multipliers"]]
+    real_out = [z for z in lam if z.imag == 0 and 1 < abs(z) < 1 + 1e-3]
+    check(len(real_out) == 1, "at the bracket's outer end a real multiplier has just left the circle at +1 (%s)" % lam)
+    check([r["stable"] for r in rows] == ["yes", "no", "no"], "stable below it, not above (%s)"
+          % [r["stable"] for r in rows])
+    p = subprocess.run([SWIM, "plot", out], capture_output=True, text=True, cwd=ROOT)
+    figs = [os.path.join(out, f) for f in ("bifurcation.png", "multipliers.png")]
+    check(p.returncode == 0 and all(os.path.getsize(f) > 10000 for f in figs if os.path.exists(f))
+          and all(os.path.exists(f) for f in figs), "swim plot of a branch: the bifurcation diagram and the "
+          "multipliers (%s)" % p.stderr.strip()[-200:])
+    p = subprocess.run([SWIM, "plot", out, "--mark", "1"], capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 2 and "branch" in p.stderr, "swim plot of a branch takes no options (exit 2, said)")
+
+
 if __name__ == "__main__":
     sys.exit(main(globals(), "test_normal_mode"))

@@ -119,8 +119,8 @@ int swim_cmd_continue(int argc, char **argv)
         printf("%s: %d of %d points of the branch in %s = %.6g .. %.6g (the scene's orbit at %.10g); %s, %s\n", pos[0],
                b.n, o.points, key, o.start, o.stop, b.param0, csv, json);
         for (int i = 0; i < b.nspecial; i++)
-            printf("  %s between %s = %.10g and %.10g (not refined)\n", b.special[i].kind, key, b.special[i].lo,
-                   b.special[i].hi);
+            printf("  %s between %s = %.10g and %.10g (%s)\n", b.special[i].kind, key, b.special[i].lo,
+                   b.special[i].hi, b.special[i].refined ? "refined by bisection" : b.special[i].why);
         printf("  %ld RHS evaluations, %.2f s\n", b.rhs_calls, b.seconds);
         for (int s = 0; s < 2; s++)
             if (b.ended[s][0]) {

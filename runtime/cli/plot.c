@@ -1,5 +1,6 @@
-/* swim plot DIR: the figures of a run (runtime/plot/plot_run.py, matplotlib), or of a sweep when
- * DIR holds sweep.json (runtime/plot/plot_family.py, which calls this program's `inspect`). */
+/* swim plot DIR: the figures of a run (runtime/plot/plot_run.py, matplotlib), of a sweep when
+ * DIR holds sweep.json (runtime/plot/plot_family.py, which calls this program's `inspect`), or of
+ * a branch of periodic orbits when it holds branch.json (runtime/plot/plot_branch.py). */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,7 +27,8 @@ int swim_cmd_plot(int argc, char **argv)
     for (int i = 2; i < argc; i++)
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             swim_args_help(stdout, plot_options, (int)(sizeof plot_options / sizeof plot_options[0]));
-            printf("a sweep folder (DIR/sweep.json) gets the family's figures, which take no options\n");
+            printf("a sweep folder (DIR/sweep.json) gets the family's figures, a swim continue folder "
+                   "(DIR/branch.json) the bifurcation diagram and the multipliers; neither takes options\n");
             return SWIM_ARGS_HELP;
         }
     if (argc < 3 || strncmp(argv[2], "--", 2) == 0) {
@@ -39,15 +41,21 @@ int swim_cmd_plot(int argc, char **argv)
     }
     const char *share = swim_share_dir(), *python = swim_python();
     if (!share) return 1;
-    /* a sweep folder (sweep.json) gets the family figures, a run folder the run's */
-    char *probe = swim_path_join(argv[2], "sweep.json");
-    if (!probe) {
+    /* a sweep folder (sweep.json) gets the family figures, a branch folder (branch.json) the
+     * bifurcation diagram, a run folder the run's */
+    char *probe = swim_path_join(argv[2], "sweep.json"), *bprobe = swim_path_join(argv[2], "branch.json");
+    if (!probe || !bprobe) {
+        free(probe);
+        free(bprobe);
         swim_message(stderr, "swim plot: out of memory");
         return 1;
     }
-    const int sweep = access(probe, R_OK) == 0;
+    const int branch = access(bprobe, R_OK) == 0;
+    const int sweep = !branch && access(probe, R_OK) == 0;
     free(probe);
-    char *script = swim_strprintf("%s/runtime/plot/%s", share, sweep ? "plot_family.py" : "plot_run.py");
+    free(bprobe);
+    char *script = swim_strprintf("%s/runtime/plot/%s", share,
+                                  branch ? "plot_branch.py" : sweep ? "plot_family.py" : "plot_run.py");
     if (!script) {
         swim_message(stderr, "swim plot: out of memory");
         return 1;
@@ -58,8 +66,9 @@ int swim_cmd_plot(int argc, char **argv)
         if (self) setenv("SWIM_BIN", self, 1);
         free(self);
     }
-    if (sweep && argc > 3) {
-        swim_message(stderr, "swim plot: %s is a sweep; its figures take no options (got '%s')", argv[2], argv[3]);
+    if ((sweep || branch) && argc > 3) {
+        swim_message(stderr, "swim plot: %s is a %s; its figures take no options (got '%s')", argv[2],
+                     branch ? "branch of periodic orbits" : "sweep", argv[3]);
         free(script);
         return 2;
     }

@@ -55,21 +55,23 @@ static void record(swim_cont_point *q, double v, const swim_periodic *p)
     q->energy = p->energy;
     q->residual = p->residual;
     q->iterations = p->iterations;
+    q->n2 = p->n2;
+    memcpy(q->z, p->z, sizeof(double) * (size_t)p->n2);
     if (!p->have_floquet) return;
     const swim_floquet *fl = &p->floquet;
-    q->nt = fl->nt;
-    q->stable = fl->stable;
-    for (int i = 0; i < fl->nt; i++) {
-        const double a = hypot(fl->tre[i], fl->tim[i]);
-        q->re[i] = fl->tre[i];
-        q->im[i] = fl->tim[i];
+    q->nt = fl->nc;   /* the complement's multipliers: the exact 1s taken out (floquet.h) */
+    for (int i = 0; i < fl->nc; i++) {
+        const double a = hypot(fl->cre[i], fl->cim[i]);
+        q->re[i] = fl->cre[i];
+        q->im[i] = fl->cim[i];
         q->max_abs = fmax(q->max_abs, a);
-        if (a > 1.0 + fl->tol) {
+        if (a > 1.0 + SWIM_CONT_OUTSIDE_TOL) {
             q->outside++;
-            if (fabs(fl->tim[i]) > fl->tol) q->complex_outside = 1;
-            else if (fl->tre[i] < 0) q->negative_real = 1;
+            if (fabs(fl->cim[i]) > SWIM_CONT_OUTSIDE_TOL) q->complex_outside = 1;
+            else if (fl->cre[i] < 0) q->negative_real = 1;
         }
     }
+    q->stable = p->converged && fl->nc == fl->nt - fl->exact_ones && q->outside == 0;
 }
 
 /* The predictor: the secant through the last two anchors (or the last one alone), at v. */
@@ -152,18 +154,53 @@ static int by_param(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Where the count of multipliers outside the unit circle changes between neighbours. */
-static void classify(swim_branch *b)
+/* Bisection of the bracket [p, q] of a special point: the orbit at the midpoint from the state
+ * and period interpolated between the bracket's ends, kept as the end whose count of multipliers
+ * outside the circle it shares. The bracket's final ends go to s. 0, or -1 out of memory. */
+static int bisect(problem *pb, swim_cont_point p, swim_cont_point q, swim_cont_special *s)
+{
+    const int N = swim_dynamics_state_dim(pb->d);
+    double *ys = calloc((size_t)N, sizeof(double));
+    if (!ys) return -1;
+    s->why[0] = '\0';
+    for (s->bisections = 0; s->bisections < SWIM_CONT_BISECTIONS; s->bisections++) {
+        const double v = 0.5 * (p.param + q.param);
+        for (int i = 0; i < p.n2; i++) ys[3 + i] = 0.5 * (p.z[i] + q.z[i]);
+        swim_periodic o;
+        const int rc = solve_at(pb, v, ys, 0.5 * (p.period + q.period), &o);
+        if (rc != 0) {
+            snprintf(s->why, sizeof s->why, "the orbit at %.10g did not converge: %s", v,
+                     rc < 0 ? "an integration failed" : o.why ? o.why : "Newton did not converge");
+            swim_periodic_free(&o);
+            break;
+        }
+        swim_cont_point m;
+        record(&m, v, &o);
+        swim_periodic_free(&o);
+        if (m.outside == p.outside) p = m;
+        else q = m;
+    }
+    s->refined = s->bisections == SWIM_CONT_BISECTIONS;
+    s->lo = fmin(p.param, q.param);
+    s->hi = fmax(p.param, q.param);
+    const swim_cont_point *out = p.outside > q.outside ? &p : &q;
+    s->at = *out;
+    s->kind = out->complex_outside ? "Neimark-Sacker" : out->negative_real ? "period doubling" : "fold or branch point";
+    free(ys);
+    return 0;
+}
+
+/* Where the count of multipliers outside the unit circle changes between neighbours, refined. */
+static int classify(problem *pb, swim_branch *b)
 {
     for (int i = 1; i < b->n && b->nspecial < 64; i++) {
         const swim_cont_point *p = &b->pt[i - 1], *q = &b->pt[i];
         if (p->outside == q->outside) continue;
-        const swim_cont_point *out = p->outside > q->outside ? p : q;
-        swim_cont_special *s = &b->special[b->nspecial++];
-        s->lo = p->param;
-        s->hi = q->param;
-        s->kind = out->complex_outside ? "Neimark-Sacker" : out->negative_real ? "period doubling" : "fold or branch point";
+        if (bisect(pb, *p, *q, &b->special[b->nspecial++]) != 0) return -1;
     }
+    if (!pb->energy)   /* bisect set the key's numbers: back to the branch's own */
+        set_param(pb, b->param0);
+    return 0;
 }
 
 int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_section *sec, const swim_cont_options *o,
@@ -251,7 +288,10 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
         goto done;
     }
     qsort(b->pt, (size_t)b->n, sizeof *b->pt, by_param);
-    classify(b);
+    if (classify(&pb, b) != 0) {
+        swim_message(stderr, "swim continue: out of memory");
+        goto done;
+    }
     rc = 0;
 done:
     if (have_p0) swim_periodic_free(&p0);
@@ -274,12 +314,15 @@ void swim_branch_csv(FILE *f, const swim_branch *b, const char *key)
 {
     /* the parameter's column is named by its key (energy_target when it is the energy, beside the
      * energy reached) */
-    fprintf(f, "%s,period,dx,dy,dtheta,energy,dy_per_time,max_abs_multiplier,stable,residual,iterations\n",
+    /* displacement = |(dx, dy)|: dx and dy are in the body frame at the phase point, which may
+     * slide along the orbit from point to point; their length does not */
+    fprintf(f, "%s,period,dx,dy,dtheta,energy,dy_per_time,max_abs_multiplier,stable,residual,iterations,displacement\n",
             strcmp(key, "energy") == 0 ? "energy_target" : key);
     for (int i = 0; i < b->n; i++) {
         const swim_cont_point *q = &b->pt[i];
-        fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s,%.3g,%d\n", q->param, q->period, q->dx, q->dy,
-                q->dtheta, q->energy, q->dy / q->period, q->max_abs, q->stable ? "yes" : "no", q->residual, q->iterations);
+        fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s,%.3g,%d,%.17g\n", q->param, q->period, q->dx, q->dy,
+                q->dtheta, q->energy, q->dy / q->period, q->max_abs, q->stable ? "yes" : "no", q->residual, q->iterations,
+                hypot(q->dx, q->dy));
     }
 }
 
@@ -321,7 +364,26 @@ void swim_branch_json(FILE *f, const swim_branch *b, const char *scene, const ch
         swim_json_number(f, b->special[i].lo);
         fprintf(f, ", ");
         swim_json_number(f, b->special[i].hi);
-        fprintf(f, "], \"refined\": false}");
+        fprintf(f, "], \"refined\": %s, \"bisections\": %d", b->special[i].refined ? "true" : "false",
+                b->special[i].bisections);
+        if (b->special[i].why[0]) {
+            fprintf(f, ", \"why_not_refined\": ");
+            swim_json_string(f, b->special[i].why);
+        }
+        const swim_cont_point *q = &b->special[i].at;
+        fprintf(f, ", \"at\": {\"parameter\": ");
+        swim_json_number(f, q->param);
+        fprintf(f, ", \"period\": ");
+        swim_json_number(f, q->period);
+        fprintf(f, ", \"multipliers\": [");
+        for (int k = 0; k < q->nt; k++) {
+            fprintf(f, "%s[", k ? ", " : "");
+            swim_json_number(f, q->re[k]);
+            fprintf(f, ", ");
+            swim_json_number(f, q->im[k]);
+            fprintf(f, "]");
+        }
+        fprintf(f, "]}}");
     }
     fprintf(f, "\n  ],\n  \"ended_early\": [");
     int first = 1;

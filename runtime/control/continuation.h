@@ -14,10 +14,12 @@
  * branch there (reported as such).
  *
  * At each point: period, displacement and rotation per period, energy, the largest |multiplier|
- * on the manifold and the stability (control/floquet.h). Between two points the number of
+ * on the complement of the exact 1s and the stability (control/floquet.h, SWIM_CONT_OUTSIDE_TOL). Between two points the number of
  * multipliers outside the unit circle may change: a special point, classified by where the
  * multipliers leave it (at -1: period doubling; a complex pair: Neimark-Sacker; at +1: fold or
- * branch point) and located between the two parameters (not refined).
+ * branch point) and then refined by bisection: the orbit at the midpoint (Newton from the
+ * interpolated state and period), kept on the side with the same count, until the bracket is
+ * SWIM_CONT_BISECTIONS halvings narrower (or a midpoint does not converge: then said).
  */
 #ifndef SWIM_CONTROL_CONTINUATION_H
 #define SWIM_CONTROL_CONTINUATION_H
@@ -27,6 +29,11 @@
 #include "control/periodic.h"
 
 #define SWIM_CONT_MAX_POINTS 1000
+#define SWIM_CONT_BISECTIONS 24        /* bracket of a special point: 2^-24 of its first width */
+/* A multiplier is outside the unit circle when |lambda| > 1 + this: the complement's multipliers
+ * (floquet.h: no Jordan block at 1) of the shooting's monodromy (rtol 1e-12) are good to ~1e-10,
+ * so a point is stable when none is outside, and a special point is where one leaves. */
+#define SWIM_CONT_OUTSIDE_TOL 1e-6
 
 typedef struct {
     double param;
@@ -40,11 +47,17 @@ typedef struct {
     int iterations;
     double re[SWIM_FLOQUET_MAX], im[SWIM_FLOQUET_MAX];
     int nt;
+    double z[SWIM_FLOQUET_MAX];    /* the shape state at the phase point (n2 entries) */
+    int n2;
 } swim_cont_point;
 
 typedef struct {
     double lo, hi;                 /* between these parameters */
     const char *kind;              /* "period doubling", "Neimark-Sacker", "fold or branch point" */
+    int bisections;                /* halvings of the bracket done */
+    int refined;                   /* all SWIM_CONT_BISECTIONS done */
+    char why[160];                 /* why refining stopped early ("" otherwise) */
+    swim_cont_point at;            /* the orbit at the bracket's end outside the circle */
 } swim_cont_special;
 
 typedef struct {
