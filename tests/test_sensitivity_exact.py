@@ -170,5 +170,35 @@ def test_initial_columns():
           "the initial column of c0.am2 is the unit vector (%r)" % first["dam2/dc0.am2"])
 
 
+def test_after_origin_shifts():
+    """A run that approaches the barrier shifts the integrator's origin and clock (driver/run.c);
+    the sensitivity pass after it starts from t = 0 in absolute state and time. Section 5.2 at
+    A = 2.25, w = 0.55 (two shifts by T = 30): x stays 0 by symmetry, so dx/dA must too, and dy/dA
+    agrees with central differences of whole runs. (Before the fix the pass integrated from the
+    last origin at the shifted time: dx/dA = -2642, dy/dA = 11468.)"""
+    scene = os.path.join(ROOT, "models", "control", "selfpropelled_params.toml")
+    sets = ["--set", "parameters.A=2.25", "--set", "parameters.w=0.55"]
+    out = os.path.join(TMP, "shifted")
+    p = subprocess.run([SWIM, "run", scene, "--out", out, "--quiet", "--summary-only", "--sensitivity", "parameters.A"]
+                       + sets, capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 0, "the run with sensitivities completes (%s)" % p.stderr.strip()[-200:])
+    if p.returncode != 0:
+        return
+    summary = json.load(open(os.path.join(out, "summary.json")))
+    check(summary["origin_shift"]["restarts"] >= 1, "the run shifted its origin (%s)" % summary["origin_shift"])
+    with open(os.path.join(out, "sensitivity.csv")) as fh:
+        last = list(csv.DictReader(fh))[-1]
+    ys = []
+    for a in (2.2499, 2.2501):
+        o = os.path.join(TMP, "shifted_%r" % a)
+        subprocess.run([SWIM, "run", scene, "--out", o, "--quiet", "--summary-only", "--set", "parameters.A=%r" % a,
+                        "--set", "parameters.w=0.55"], capture_output=True, text=True, cwd=ROOT)
+        ys.append(json.load(open(os.path.join(o, "summary.json")))["final_state"]["y"])
+    fd = (ys[1] - ys[0]) / 2e-4
+    dxa, dya = float(last["dx/dparameters.A"]), float(last["dy/dparameters.A"])
+    check(abs(dxa) < 1e-6, "dx/dA = %.3g: zero, as x is" % dxa)
+    check(abs(dya - fd) <= 1e-2 * abs(fd), "dy/dA = %.6g against whole runs' %.6g" % (dya, fd))
+
+
 if __name__ == "__main__":
     sys.exit(main(globals(), "test_sensitivity_exact"))

@@ -409,6 +409,74 @@ double swim_sens_energy(swim_sens *S, const double *Y, int k)
 }
 
 
+/* The augmented system at t = 0 from the scene's initial state, on `integrator` with the run's
+ * settings (a difference key floors the tolerances for its noise; error_control 0 leaves the
+ * sensitivities out of the error test). Y gets the initial augmented state; *atolv is owned by
+ * the caller (NULL when not needed). A swim_ode status, or -1 out of memory. */
+static int open_augmented(swim_sens *S, const char *integrator, double *Y, double **atolv, swim_ode **ode)
+{
+    const swim_scene *s = S->d->scene;
+    const int n = S->dim, N = swim_sens_dimension(S);
+    double *y0 = calloc((size_t)S->d->dim, sizeof(double)), *ys = malloc(sizeof(double) * n);
+    *atolv = NULL;
+    *ode = NULL;
+    if (!y0 || !ys) {
+        free(y0);
+        free(ys);
+        return -1;
+    }
+    /* from t = 0 in absolute state and time: a run on the same dynamics may have left an origin
+     * and a clock shift behind (driver/run.c, near the barrier), which would displace the state
+     * and the forcing law's time */
+    if ((S->d->origin || S->d->t_origin != 0.0) && swim_dynamics_set_origin(S->d, NULL) != 0) {
+        free(y0);
+        free(ys);
+        return -1;
+    }
+    S->d->t_origin = 0.0;
+    swim_dynamics_initial_state(S->d, y0);
+    swim_dynamics_pack(S->d, y0, ys);
+    swim_sens_initial(S, ys, Y);
+    free(y0);
+    free(ys);
+    swim_ode_system sys = {swim_sens_rhs, (size_t)N, S, NULL};
+    swim_ode_options o;
+    swim_run_ode_options(s, &o);
+    if (!swim_sens_exact(S)) {
+        o.rtol = fmax(s->rtol, SENS_RTOL_MIN);
+        o.atol = fmax(s->atol, SENS_ATOL_MIN);
+    }
+    if (!S->error_control) {   /* the sensitivities ride on the state's steps */
+        if (!(*atolv = malloc(sizeof(double) * N))) return -1;
+        for (int i = 0; i < N; i++) (*atolv)[i] = i < n ? o.atol : 1e300;
+        o.atol_vec = *atolv;
+    }
+    return swim_ode_create(integrator, &sys, &o, 0.0, Y, ode);
+}
+
+int swim_sens_final(swim_sens *S, const char *integrator, double t_end, double *Y, long *rhs_calls)
+{
+    double *atolv = NULL;
+    swim_ode *ode = NULL;
+    int orc = open_augmented(S, integrator, Y, &atolv, &ode);
+    if (orc == SWIM_ODE_OK && t_end > 0) orc = swim_ode_advance(ode, t_end, Y);
+    if (ode) {
+        swim_ode_stats st;
+        swim_ode_get_stats(ode, &st);
+        if (rhs_calls) *rhs_calls = st.rhs_evals;
+        if (orc != SWIM_ODE_OK) {
+            const int rs = swim_ode_rhs_status(ode);
+            swim_message(stderr, "swim: sensitivities stopped before t = %.6g: %s%s%s", t_end, swim_ode_strerror(orc),
+                         rs ? ": " : "", rs ? swim_dynamics_strerror(rs) : "");
+        }
+        swim_ode_free(ode);
+    } else if (orc != SWIM_ODE_OK) {
+        swim_message(stderr, "swim: %s", orc < 0 ? "out of memory computing sensitivities" : swim_ode_strerror(orc));
+    }
+    free(atolv);
+    return orc == SWIM_ODE_OK ? 0 : 1;
+}
+
 int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double t_end,
                         double *seconds, long *rhs_calls)
 {
@@ -418,12 +486,11 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
     const int ncol = nhead + 2 * nf * S->nkeys, N = swim_sens_dimension(S);
     const double t0 = swim_clock_seconds();
     char **names = calloc((size_t)ncol, sizeof *names);
-    double *Y = malloc(sizeof(double) * N), *row = malloc(sizeof(double) * ncol);
-    double *y0 = calloc((size_t)S->d->dim, sizeof(double)), *ys = malloc(sizeof(double) * n), *atolv = NULL;
+    double *Y = malloc(sizeof(double) * N), *row = malloc(sizeof(double) * ncol), *atolv = NULL;
     int rc = 1;
     swim_csv csv = {0};
     swim_ode *ode = NULL;
-    if (!names || !Y || !row || !y0 || !ys) goto oom;
+    if (!names || !Y || !row) goto oom;
     names[0] = strdup("t");
     for (int k = 0; k < S->nkeys; k++)
         for (int w = 0; w < 5; w++)
@@ -440,22 +507,8 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
         swim_message(stderr, "swim: %s: cannot write: %s", csv_path, strerror(errno));
         goto done;
     }
-    swim_dynamics_initial_state(S->d, y0);
-    swim_dynamics_pack(S->d, y0, ys);
-    swim_sens_initial(S, ys, Y);
-    swim_ode_system sys = {swim_sens_rhs, (size_t)N, S, NULL};
-    swim_ode_options o;
-    swim_run_ode_options(s, &o);   /* the run's settings; with a difference key the tolerances floored for its noise */
-    if (!swim_sens_exact(S)) {
-        o.rtol = fmax(s->rtol, SENS_RTOL_MIN);
-        o.atol = fmax(s->atol, SENS_ATOL_MIN);
-    }
-    if (!S->error_control) {   /* the sensitivities ride on the state's steps */
-        if (!(atolv = malloc(sizeof(double) * N))) goto oom;
-        for (int i = 0; i < N; i++) atolv[i] = i < n ? o.atol : 1e300;
-        o.atol_vec = atolv;
-    }
-    int orc = swim_ode_create(integrator, &sys, &o, 0.0, Y, &ode);
+    int orc = open_augmented(S, integrator, Y, &atolv, &ode);
+    if (orc < 0) goto oom;
     const long rows = (long)floor(t_end / s->output_step + 1e-9);
     double t = 0.0;
     S->rows = 0;
@@ -506,7 +559,7 @@ done:
     }
     if (names)
         for (int c = 0; c < ncol; c++) free(names[c]);
-    free(names); free(Y); free(row); free(y0); free(ys); free(atolv);
+    free(names); free(Y); free(row); free(atolv);
     if (seconds) *seconds = swim_clock_seconds() - t0;
     return rc;
 }

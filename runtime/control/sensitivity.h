@@ -104,5 +104,8 @@ double swim_sens_energy(swim_sens *S, const double *Y, int k);
  * it stopped. *seconds gets the wall time of the integration and the rows. */
 int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double t_end,
                         double *seconds, long *rhs_calls);
+/* The same integration without rows: Y (swim_sens_dimension entries) gets the augmented state at
+ * t_end. 0, or 1 after one line on stderr. */
+int swim_sens_final(swim_sens *S, const char *integrator, double t_end, double *Y, long *rhs_calls);
 
 #endif
