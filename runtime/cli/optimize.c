@@ -131,9 +131,44 @@ static void fill_json(FILE *f, void *ctx)
     swim_json_number(f, p->best.forcing_work);
     fprintf(f, ", \"energy\": ");
     swim_json_number(f, p->best.energy);
-    fprintf(f, "},\n  \"iterations\": %d,\n  \"evaluations\": %ld,\n  \"failed_evaluations\": %ld,\n"
-            "  \"converged\": %s,\n  \"interrupted\": %s,\n  \"best_scene\": ", p->iterations, p->evaluations,
-            p->failed, p->converged ? "true" : "false", p->interrupted ? "true" : "false");
+    fprintf(f, "},\n  \"method\": \"%s\",\n  \"tolerance\": ", p->method == SWIM_OPT_BFGS ? "bfgs" : "nelder-mead");
+    swim_json_number(f, p->tol);
+    fprintf(f, ",\n  \"tight_check\": {\"rtol_factor\": 0.01, \"status\": \"%s\", \"value\": ",
+            p->tight_status == 0 ? "completed" : "failed");
+    swim_json_number(f, p->tight_status == 0 ? p->tight_q : NAN);
+    fprintf(f, ", \"change\": ");
+    swim_json_number(f, p->tight_status == 0 ? p->tight_change : NAN);
+    fprintf(f, ", \"value_tolerance\": ");
+    swim_json_number(f, p->value_tol);
+    fprintf(f, ", \"holds\": %s},\n  \"search_converged\": %s,\n  \"best_start\": %d,\n  \"starts\": [",
+            p->tight_status == 0 && fabs(p->tight_change) <= p->value_tol ? "true" : "false",
+            p->search_converged ? "true" : "false", p->best_start + 1);
+    for (int s = 0; s < p->nstarts; s++) {
+        const swim_opt_start *st = &p->start[s];
+        fprintf(f, "%s\n    {\"start\": {", s ? "," : "");
+        for (int i = 0; i < p->nkeys; i++) {
+            fprintf(f, "%s", i ? ", " : "");
+            swim_json_string(f, p->keys[i].text);
+            fprintf(f, ": ");
+            swim_json_number(f, st->start[i]);
+        }
+        fprintf(f, "}, \"best\": {");
+        for (int i = 0; i < p->nkeys; i++) {
+            fprintf(f, "%s", i ? ", " : "");
+            swim_json_string(f, p->keys[i].text);
+            fprintf(f, ": ");
+            swim_json_number(f, st->ok ? st->best_value[i] : NAN);
+        }
+        fprintf(f, "}, \"value\": ");
+        swim_json_number(f, st->ok ? st->best_q : NAN);
+        fprintf(f, ", \"iterations\": %d, \"evaluations\": %ld, \"converged\": %s}", st->iterations,
+                st->evaluations, st->converged ? "true" : "false");
+    }
+    fprintf(f, "\n  ],\n  \"iterations\": %d,\n  \"evaluations\": %ld,\n  \"gradient_evaluations\": %ld,\n"
+            "  \"failed_evaluations\": %ld,\n  \"seconds\": ", p->iterations, p->evaluations, p->gradients, p->failed);
+    swim_json_number(f, p->seconds);
+    fprintf(f, ",\n  \"converged\": %s,\n  \"interrupted\": %s,\n  \"best_scene\": ",
+            p->converged ? "true" : "false", p->interrupted ? "true" : "false");
     swim_json_string(f, j->best_path);
     fprintf(f, "\n}\n");
 }
@@ -178,8 +213,14 @@ int swim_cmd_optimize(int argc, char **argv)
                                           "forcing_work, displacement_per_work or energy"},
         {"minimize", 1, NULL, "QUANTITY", "the quantity to make smallest (one of --maximize and --minimize)"},
         {"out", 1, NULL, "DIR", "the output folder (default: out/NAME-optimize)"},
-        {"max-iter", 1, NULL, "K", "at most K Nelder-Mead iterations, 1..100000 (default 60)"},
-        {"tol", 1, NULL, "S", "converged when the simplex is smaller than S in the transformed variables (default 1e-3)"},
+        {"method", 1, NULL, "nelder-mead|bfgs", "Nelder-Mead without gradients (default), or BFGS with the gradient "
+                                                "from the exact sensitivities (x, y, theta, displacement, work, energy)"},
+        {"starts", 1, NULL, "K", "K local searches, 1..64: from the middle of the box, then from space-filling "
+                                 "(Halton) points; the best of all is kept (default 1)"},
+        {"max-iter", 1, NULL, "K", "at most K iterations per start, 1..100000 (default 60)"},
+        {"tol", 1, NULL, "S", "a search stops when the simplex is smaller than S in the transformed variables "
+                              "(Nelder-Mead) or its gradient there is (BFGS); the best value must also hold to "
+                              "S max(1, |value|) at 100x tighter rtol and atol (default 1e-3)"},
         {"set", 2, NULL, "KEY=VALUE", "a scene value overridden before the scene is validated (as for swim run)"},
         {"quiet", 0, NULL, NULL, "no iteration lines on stderr; the result line stays on stdout"}};
     const int nopts = (int)(sizeof opts / sizeof opts[0]);
@@ -205,16 +246,34 @@ int swim_cmd_optimize(int argc, char **argv)
         return 2;
     }
     const char *qname = qmax ? qmax : qmin;
+    const char *v;
+    long iters;
     if ((p.quantity = swim_quantity_index(qname)) < 0) {
         swim_message(stderr, "swim optimize: --%s: unknown quantity '%s' (%s)", qmax ? "maximize" : "minimize",
                      qname, swim_quantity_list());
         return 2;
     }
     p.maximize = qmax != NULL;
+    p.method = SWIM_OPT_NELDER_MEAD;
+    p.starts = 1;
+    if ((v = swim_args_get(opts, nopts, "method"))) {
+        if (strcmp(v, "bfgs") == 0) p.method = SWIM_OPT_BFGS;
+        else if (strcmp(v, "nelder-mead") != 0) {
+            swim_message(stderr, "swim optimize: --method: expected nelder-mead or bfgs, got '%s'", v);
+            return 2;
+        }
+    }
+    if (p.method == SWIM_OPT_BFGS && !swim_opt_has_gradient(p.quantity)) {
+        swim_message(stderr, "swim optimize: --method bfgs: %s has no gradient from the sensitivities (W_F is not "
+                     "a state of the equations); use --method nelder-mead", qname);
+        return 2;
+    }
+    if ((v = swim_args_get(opts, nopts, "starts"))) {
+        if (swim_args_int("optimize", "starts", v, 1, SWIM_OPT_MAX_STARTS, &iters)) return 2;
+        p.starts = (int)iters;
+    }
     p.max_iter = 60;
     p.tol = 1e-3;
-    const char *v;
-    long iters;
     if ((v = swim_args_get(opts, nopts, "max-iter"))) {
         if (swim_args_int("optimize", "max-iter", v, 1, 100000, &iters)) return 2;
         p.max_iter = (int)iters;
@@ -243,7 +302,14 @@ int swim_cmd_optimize(int argc, char **argv)
         swim_scene s;
         if (swim_scene_load_with(pos[0], ov, k, &s) != 0) return 2;
         const int forced = s.forced || s.stroke;   /* a stroke's work is the body's positive work */
+        const int stroke = s.stroke || s.stroke_count > 0;
         swim_scene_free(&s);
+        if (p.method == SWIM_OPT_BFGS && stroke) {
+            swim_message(stderr, "swim optimize: --method bfgs: %s is a prescribed stroke, which has no "
+                         "sensitivities; use --method nelder-mead", pos[0]);
+            return 2;
+        }
+        if (p.method == SWIM_OPT_BFGS && swim_opt_check_gradient(&p, ov, k) != 0) return 2;
         if ((p.quantity == SWIM_Q_DISPLACEMENT_PER_WORK || p.quantity == SWIM_Q_FORCING_WORK) && !forced) {
             swim_message(stderr, "swim optimize: %s: %s needs a [forcing] law (the work of F(t)) or a [stroke] "
                          "(the positive work of the body)", pos[0], qname);
@@ -280,10 +346,21 @@ int swim_cmd_optimize(int argc, char **argv)
         }
         json_job job = {&p, best};
         if (swim_replace_file_with(json, fill_json, &job) != 0) rc = 1;
-        swim_message(stdout, "%s: %s %s = %.10g after %d iterations, %ld runs (%ld failed)%s", pos[0],
-                     p.maximize ? "largest" : "smallest", qname, p.best_q, p.iterations, p.evaluations, p.failed,
+        const int holds = p.tight_status == 0 && fabs(p.tight_change) <= p.value_tol;
+        swim_message(stdout, "%s: %s %s = %.10g after %d iterations, %ld runs (%ld failed; %s, %d start%s, best from "
+                     "start %d), %.1f s%s", pos[0], p.maximize ? "largest" : "smallest", qname, p.best_q, p.iterations,
+                     p.evaluations, p.failed, p.method == SWIM_OPT_BFGS ? "BFGS" : "Nelder-Mead", p.nstarts,
+                     p.nstarts == 1 ? "" : "s", p.best_start + 1, p.seconds,
                      p.interrupted ? " -- INTERRUPTED: the best so far, not converged"
-                     : p.converged ? "" : " -- NOT converged (raise --max-iter)");
+                     : !p.search_converged ? " -- NOT converged (raise --max-iter)"
+                     : !holds ? " -- NOT converged: the value does not hold at tighter tolerances" : "");
+        if (!p.interrupted) {
+            if (p.tight_status == 0)
+                swim_message(stdout, "  at rtol/100, atol/100: %s = %.10g (change %.3g; tolerance %.3g: %s)", qname,
+                             p.tight_q, p.tight_change, p.value_tol, holds ? "holds" : "does NOT hold");
+            else
+                swim_message(stdout, "  at rtol/100, atol/100 the best point's run failed: its value is not confirmed");
+        }
         for (int i = 0; i < p.nkeys; i++)
             swim_message(stdout, "  %s = %.10g  (range %g .. %g)", p.keys[i].text, p.best_value[i], p.lo[i], p.hi[i]);
         swim_message(stdout, "  best scene %s; log %s", best, csv);

@@ -2,13 +2,16 @@
 
 #include <errno.h>
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_blas.h>
 #include <gsl/gsl_multimin.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "control/sensitivity.h"
 #include "driver/run.h"
+#include "io/clock.h"
 #include "io/files.h"
 #include "io/message.h"
 #include "ode/ode.h"
@@ -40,10 +43,81 @@ const char *swim_quantity_list(void)
 
 /* ---- one evaluation -------------------------------------------------------------------------- */
 
+int swim_opt_has_gradient(int quantity)
+{
+    return !(quantity == SWIM_Q_FORCING_WORK || quantity == SWIM_Q_DISPLACEMENT_PER_WORK);   /* W_F: no state */
+}
+
+/* The gradient of the quantity in the keys' values from the exact sensitivities of the final
+ * state (a second, augmented integration on the run's dynamics, as swim run --sensitivity). */
+static void gradient(const swim_opt_problem *p, swim_scene *s, swim_run *run, swim_eval_result *r)
+{
+    swim_sens S;
+    if (swim_sens_init(&S, swim_run_dynamics(run)) != 0) return;
+    /* the sensitivities ride on the state's steps (swim run --sensitivity-steps state): ~1e-5
+     * relative, plenty for a search direction, at a fraction of the error-controlled cost */
+    S.error_control = 0;
+    double *Y = NULL;
+    for (int i = 0; i < p->nkeys; i++)
+        if (swim_sens_add_key(&S, s, "optimize", p->keys[i].text) != 0) goto done;
+    const int n = S.dim;
+    if (!(Y = malloc(sizeof(double) * (size_t)swim_sens_dimension(&S)))) goto done;
+    if (swim_sens_final(&S, s->integrator, s->t_end, Y, NULL) != 0) goto done;
+    const double disp = hypot(Y[0], Y[1]);
+    for (int i = 0; i < p->nkeys; i++) {
+        const double *si = Y + (size_t)(i + 1) * n;
+        double g = NAN;
+        switch (p->quantity) {
+        case SWIM_Q_X: g = si[0]; break;
+        case SWIM_Q_Y: g = si[1]; break;
+        case SWIM_Q_THETA: g = si[2]; break;
+        case SWIM_Q_DISPLACEMENT: g = disp > 0 ? (Y[0] * si[0] + Y[1] * si[1]) / disp : 0.0; break;
+        case SWIM_Q_WORK: g = si[n - 1]; break;
+        case SWIM_Q_ENERGY: g = swim_sens_energy(&S, Y, i); break;
+        }
+        if (!isfinite(g)) goto done;
+        r->grad[i] = g;
+    }
+    r->have_grad = 1;
+done:
+    free(Y);
+    swim_sens_free(&S);
+}
+
+int swim_opt_check_gradient(const swim_opt_problem *p, const swim_override *ov, int nov)
+{
+    swim_scene s;
+    swim_compiled kn, sys;
+    memset(&kn, 0, sizeof kn);
+    memset(&sys, 0, sizeof sys);
+    if (swim_scene_load_with(p->scene_path, ov, nov, &s) != 0) return 2;
+    int rc = swim_codegen_for_scene("optimize", &s, 0, 0, &kn, &sys) ? 2 : 0;
+    swim_dynamics d;
+    swim_sens S;
+    if (rc == 0 && swim_dynamics_init(&d, &s, kn.kernel) == 0) {
+        swim_dynamics_use_scene_kernel(&d, sys.scene, 0);
+        if (swim_sens_init(&S, &d) == 0) {
+            for (int i = 0; i < p->nkeys && rc == 0; i++) rc = swim_sens_add_key(&S, &s, "optimize", p->keys[i].text);
+            swim_sens_free(&S);
+        } else {
+            rc = 2;
+        }
+        swim_dynamics_free(&d);
+    } else {
+        rc = 2;
+    }
+    swim_compiled_close(&sys);
+    swim_compiled_close(&kn);
+    swim_scene_free(&s);
+    return rc ? 2 : 0;
+}
+
 /* One run of the scene with the overrides ov, by the run driver (driver/run.h) exactly as swim run
  * makes it (same settings, restarts near the barrier, energy control, rows), so that `swim run` of
- * best.toml gives the value reported to the last bit; no rows are kept. Fills r. */
-static void integrate(const swim_opt_problem *p, const swim_override *ov, int nov, swim_eval_result *r)
+ * best.toml gives the value reported to the last bit; no rows are kept. Fills r, with the
+ * gradient when want_grad. */
+static void integrate(const swim_opt_problem *p, const swim_override *ov, int nov, int want_grad,
+                      swim_eval_result *r)
 {
     swim_scene s;
     swim_compiled kn, sys;
@@ -83,6 +157,13 @@ static void integrate(const swim_opt_problem *p, const swim_override *ov, int no
     r->work = res->is_stroke ? res->forcing_work : res->work;
     r->forcing_work = res->forcing_work;
     r->status = 0;
+    if (want_grad) {
+        gradient(p, &s, run, r);
+        if (!r->have_grad) {   /* no gradient: the search cannot use this point */
+            r->status = 1;
+            snprintf(r->reason, sizeof r->reason, "the sensitivities failed");
+        }
+    }
 done:
     swim_run_free(run);
     swim_compiled_close(&sys);
@@ -102,11 +183,21 @@ static int all_overrides(const swim_opt_problem *p, const double *v, swim_overri
     return k;
 }
 
-int swim_opt_evaluate(swim_opt_problem *p, const double *v, swim_eval_result *r)
+/* One run with values v and extra overrides (the tight check's tolerances), which replace any
+ * --set of the same value. */
+static int evaluate_with(swim_opt_problem *p, const double *v, const swim_override *extra, int nextra, int want_grad,
+                         swim_eval_result *r)
 {
     memset(r, 0, sizeof *r);
-    swim_override ov[SWIM_OPT_MAX_SETS + SWIM_OPT_MAX_KEYS];
-    const int nov = all_overrides(p, v, ov);
+    swim_override all[SWIM_OPT_MAX_SETS + SWIM_OPT_MAX_KEYS], ov[SWIM_OPT_MAX_SETS + SWIM_OPT_MAX_KEYS + 2];
+    const int nall = all_overrides(p, v, all);
+    int nov = 0;
+    for (int i = 0; i < nall; i++) {
+        int replaced = 0;
+        for (int j = 0; j < nextra; j++) replaced |= swim_override_same_target(&all[i], &extra[j]);
+        if (!replaced) ov[nov++] = all[i];
+    }
+    for (int i = 0; i < nextra; i++) ov[nov++] = extra[i];
     /* a refused value (outside D, a bound of the run settings) is one line on stderr from the
      * scene reader: keep it off the terminal, the log row says "refused" */
     fflush(stderr);
@@ -115,7 +206,7 @@ int swim_opt_evaluate(swim_opt_problem *p, const double *v, swim_eval_result *r)
         close(fd);
         fd = -1;
     }
-    integrate(p, ov, nov, r);
+    integrate(p, ov, nov, want_grad, r);
     fflush(stderr);
     if (fd >= 0) {
         dup2(fd, fileno(stderr));
@@ -123,8 +214,14 @@ int swim_opt_evaluate(swim_opt_problem *p, const double *v, swim_eval_result *r)
         clearerr(stderr);
     }
     p->evaluations++;
+    p->gradients += r->have_grad;
     if (r->status) p->failed++;
     return r->status;
+}
+
+int swim_opt_evaluate(swim_opt_problem *p, const double *v, swim_eval_result *r)
+{
+    return evaluate_with(p, v, NULL, 0, 0, r);
 }
 
 double swim_opt_quantity(const swim_opt_problem *p, const swim_eval_result *r)
@@ -150,83 +247,267 @@ static double value_of(const swim_opt_problem *p, int i, double u)
     return p->lo[i] + (p->hi[i] - p->lo[i]) * 0.5 * (1.0 + sin(u));
 }
 
-static double objective(const gsl_vector *u, void *params)
+/* d value / d u */
+static double value_slope(const swim_opt_problem *p, int i, double u)
 {
-    swim_opt_problem *p = params;
+    return (p->hi[i] - p->lo[i]) * 0.5 * cos(u);
+}
+
+/* What the minimizer sees at u: F = -q (maximize) or q, and dF/du when grad is not NULL. A new
+ * best (of the start and of all) is kept. 0, or 1 for a failed or refused run (F = penalty). */
+static int evaluate_u(swim_opt_problem *p, const gsl_vector *u, double *F, gsl_vector *grad)
+{
     double v[SWIM_OPT_MAX_KEYS];
     for (int i = 0; i < p->nkeys; i++) v[i] = value_of(p, i, gsl_vector_get(u, i));
+    *F = FAILED_PENALTY;
+    if (grad) gsl_vector_set_zero(grad);
+    if (p->interrupt && *p->interrupt) return 1;   /* no more runs */
     swim_eval_result r;
-    if (p->interrupt && *p->interrupt) return FAILED_PENALTY;   /* no more runs */
-    if (swim_opt_evaluate(p, v, &r) != 0) return FAILED_PENALTY;
+    if (evaluate_with(p, v, NULL, 0, grad != NULL, &r) != 0) return 1;
     const double q = swim_opt_quantity(p, &r);
-    if (!isfinite(q)) return FAILED_PENALTY;
-    if (p->evaluations == 1 || p->best.status != 0 || (p->maximize ? q > p->best_q : q < p->best_q)) {
+    if (!isfinite(q)) return 1;
+    const double sign = p->maximize ? -1.0 : 1.0;
+    *F = sign * q;
+    if (grad)
+        for (int i = 0; i < p->nkeys; i++)
+            gsl_vector_set(grad, i, sign * r.grad[i] * value_slope(p, i, gsl_vector_get(u, i)));
+    swim_opt_start *st = &p->start[p->nstarts - 1];
+    if (!st->ok || (p->maximize ? q > st->best_q : q < st->best_q)) {
+        st->ok = 1;
+        st->best_q = q;
+        memcpy(st->best_value, v, sizeof(double) * p->nkeys);
+    }
+    if (p->best.status != 0 || (p->maximize ? q > p->best_q : q < p->best_q)) {
         p->best_q = q;
         p->best = r;
+        p->best_start = p->nstarts - 1;
         memcpy(p->best_value, v, sizeof(double) * p->nkeys);
     }
-    return p->maximize ? -q : q;
+    return 0;
+}
+
+static double objective(const gsl_vector *u, void *params)
+{
+    double F;
+    evaluate_u(params, u, &F, NULL);
+    return F;
+}
+
+/* BFGS asks for F and its gradient, often at the same u twice in a row: one run per point. */
+typedef struct {
+    swim_opt_problem *p;
+    gsl_vector *u, *g;
+    double F;
+    int valid;
+} fdf_cache;
+
+static void fdf_at(const gsl_vector *u, fdf_cache *c)
+{
+    if (c->valid && gsl_vector_equal(u, c->u)) return;
+    gsl_vector_memcpy(c->u, u);
+    evaluate_u(c->p, u, &c->F, c->g);
+    c->valid = 1;
+}
+
+static double fdf_f(const gsl_vector *u, void *params)
+{
+    fdf_at(u, params);
+    return ((fdf_cache *)params)->F;
+}
+
+static void fdf_df(const gsl_vector *u, void *params, gsl_vector *g)
+{
+    fdf_at(u, params);
+    gsl_vector_memcpy(g, ((fdf_cache *)params)->g);
+}
+
+static void fdf_fdf(const gsl_vector *u, void *params, double *f, gsl_vector *g)
+{
+    fdf_at(u, params);
+    *f = ((fdf_cache *)params)->F;
+    gsl_vector_memcpy(g, ((fdf_cache *)params)->g);
 }
 
 static void log_iteration(swim_opt_problem *p, int iter, double size)
 {
+    const swim_opt_start *st = &p->start[p->nstarts - 1];
     if (p->log_csv) {
         fprintf(p->log_csv, "%d,%ld", iter, p->evaluations);
-        for (int i = 0; i < p->nkeys; i++) fprintf(p->log_csv, ",%.17g", p->best_value[i]);
-        fprintf(p->log_csv, ",%.17g,%.17g\n", p->best_q, size);
+        for (int i = 0; i < p->nkeys; i++) fprintf(p->log_csv, ",%.17g", st->best_value[i]);
+        fprintf(p->log_csv, ",%.17g,%.17g,%d\n", st->best_q, size, p->nstarts);
         fflush(p->log_csv);
     }
     if (!p->quiet) {
-        fprintf(stderr, "swim optimize: iteration %3d, %4ld runs:", iter, p->evaluations);
-        for (int i = 0; i < p->nkeys; i++) fprintf(stderr, " %s=%.8g", p->keys[i].text, p->best_value[i]);
-        fprintf(stderr, "  %s = %.10g  (simplex size %.2g)\n", quantity_names[p->quantity], p->best_q, size);
+        fprintf(stderr, "swim optimize: start %d, iteration %3d, %4ld runs:", p->nstarts, iter, p->evaluations);
+        for (int i = 0; i < p->nkeys; i++) fprintf(stderr, " %s=%.8g", p->keys[i].text, st->best_value[i]);
+        fprintf(stderr, "  %s = %.10g  (%s %.2g)\n", quantity_names[p->quantity], st->best_q,
+                p->method == SWIM_OPT_BFGS ? "|gradient|" : "simplex size", size);
     }
+}
+
+/* Whether the search must stop now (SIGINT or SIGTERM): said in p. */
+static int interrupted(swim_opt_problem *p)
+{
+    if (p->interrupt && *p->interrupt) p->interrupted = 1;
+    return p->interrupted;
+}
+
+/* One Nelder-Mead search from u0: a first simplex across ~ half of each range, divided by
+ * K^(1/n) with K starts, so that each start explores its own part of the box. 0, or -1. */
+static int search_nelder_mead(swim_opt_problem *p, const gsl_vector *u0, swim_opt_start *st)
+{
+    const int n = p->nkeys;
+    gsl_multimin_function fn = {objective, (size_t)n, p};
+    gsl_vector *step = gsl_vector_alloc(n);
+    gsl_multimin_fminimizer *mm = gsl_multimin_fminimizer_alloc(gsl_multimin_fminimizer_nmsimplex2, n);
+    if (!step || !mm) {
+        gsl_vector_free(step);
+        gsl_multimin_fminimizer_free(mm);
+        return -1;
+    }
+    gsl_vector_set_all(step, 0.6 / pow(p->starts > 1 ? p->starts : 1, 1.0 / n));
+    int status = gsl_multimin_fminimizer_set(mm, &fn, u0, step);
+    double size = gsl_multimin_fminimizer_size(mm);
+    log_iteration(p, 0, size);
+    for (int iter = 1; status == GSL_SUCCESS && iter <= p->max_iter && !interrupted(p); iter++) {
+        status = gsl_multimin_fminimizer_iterate(mm);
+        if (interrupted(p) || status != GSL_SUCCESS) break;   /* an interrupted iteration's runs were cut short */
+        size = gsl_multimin_fminimizer_size(mm);
+        st->iterations = iter;
+        log_iteration(p, iter, size);
+        if (gsl_multimin_test_size(size, p->tol) == GSL_SUCCESS) {
+            st->converged = 1;
+            break;
+        }
+    }
+    gsl_multimin_fminimizer_free(mm);
+    gsl_vector_free(step);
+    return 0;
+}
+
+/* One BFGS search from u0 (first step 0.1 in u, line-search tolerance 0.1). 0, or -1. */
+static int search_bfgs(swim_opt_problem *p, const gsl_vector *u0, swim_opt_start *st)
+{
+    const int n = p->nkeys;
+    fdf_cache c = {p, gsl_vector_alloc(n), gsl_vector_alloc(n), 0.0, 0};
+    gsl_multimin_function_fdf fn = {fdf_f, fdf_df, fdf_fdf, (size_t)n, &c};
+    gsl_multimin_fdfminimizer *mm = gsl_multimin_fdfminimizer_alloc(gsl_multimin_fdfminimizer_vector_bfgs2, n);
+    if (!c.u || !c.g || !mm) {
+        gsl_vector_free(c.u);
+        gsl_vector_free(c.g);
+        gsl_multimin_fdfminimizer_free(mm);
+        return -1;
+    }
+    int status = gsl_multimin_fdfminimizer_set(mm, &fn, u0, 0.1, 0.1);
+    log_iteration(p, 0, gsl_blas_dnrm2(gsl_multimin_fdfminimizer_gradient(mm)));
+    for (int iter = 1; status == GSL_SUCCESS && iter <= p->max_iter && !interrupted(p); iter++) {
+        if (gsl_multimin_test_gradient(gsl_multimin_fdfminimizer_gradient(mm), p->tol) == GSL_SUCCESS) {
+            st->converged = 1;
+            break;
+        }
+        status = gsl_multimin_fdfminimizer_iterate(mm);
+        if (interrupted(p)) break;
+        const gsl_vector *g = gsl_multimin_fdfminimizer_gradient(mm);
+        st->iterations = iter;
+        log_iteration(p, iter, gsl_blas_dnrm2(g));
+        /* no lower point along the line (GSL_ENOPROG) is the optimum to the runs' resolution
+         * when the gradient is nearly small enough, else a stall */
+        if (status == GSL_ENOPROG) st->converged = gsl_multimin_test_gradient(g, 10 * p->tol) == GSL_SUCCESS;
+        else if (status == GSL_SUCCESS) st->converged = gsl_multimin_test_gradient(g, p->tol) == GSL_SUCCESS;
+        if (st->converged) break;
+    }
+    gsl_multimin_fdfminimizer_free(mm);
+    gsl_vector_free(c.u);
+    gsl_vector_free(c.g);
+    return 0;
+}
+
+/* The radical inverse of k in base b: a coordinate of the Halton sequence. */
+static double halton(int k, int b)
+{
+    double f = 1.0, r = 0.0;
+    for (; k > 0; k /= b) {
+        f /= b;
+        r += f * (k % b);
+    }
+    return r;
+}
+
+/* Start k in u: the middle of the box for k = 0, else the k-th Halton point (bases 2, 3, 5, ...),
+ * kept off the bounds (u = +-pi/2 is a stationary point of the map from u to the value). */
+static void start_point(const swim_opt_problem *p, int k, gsl_vector *u)
+{
+    static const int primes[SWIM_OPT_MAX_KEYS] = {2, 3, 5, 7, 11, 13, 17, 19};
+    for (int i = 0; i < p->nkeys; i++) {
+        const double h = k == 0 ? 0.5 : 0.02 + 0.96 * halton(k + 1, primes[i]);   /* index 1 is the middle */
+        gsl_vector_set(u, i, asin(2.0 * h - 1.0));
+    }
+}
+
+/* The best point again at 100x tighter tolerances (rtol not below the scene reader's floor). */
+static void tight_check(swim_opt_problem *p)
+{
+    swim_override ov[SWIM_OPT_MAX_SETS + SWIM_OPT_MAX_KEYS];
+    const int nov = all_overrides(p, p->best_value, ov);
+    swim_scene s;
+    p->tight_status = 1;
+    if (swim_scene_load_with(p->scene_path, ov, nov, &s) != 0) return;
+    const double rtol = fmax(s.rtol / 100.0, SWIM_RTOL_MIN), atol = s.atol / 100.0;
+    swim_scene_free(&s);
+    swim_override extra[2];
+    char err[200];
+    if (swim_override_key("run.rtol", &extra[0], err, sizeof err) != 0
+        || swim_override_key("run.atol", &extra[1], err, sizeof err) != 0) return;
+    extra[0].value = rtol;
+    extra[1].value = atol;
+    swim_eval_result r;
+    if (evaluate_with(p, p->best_value, extra, 2, 0, &r) != 0) return;
+    p->tight_q = swim_opt_quantity(p, &r);
+    p->tight_status = isfinite(p->tight_q) ? 0 : 1;
+    p->tight_change = p->tight_q - p->best_q;
 }
 
 int swim_opt_run(swim_opt_problem *p)
 {
     const int n = p->nkeys;
+    const double t0 = swim_clock_seconds();
     gsl_set_error_handler_off();
     if (p->log_csv) {
         fprintf(p->log_csv, "iteration,evaluations");
         for (int i = 0; i < n; i++) fprintf(p->log_csv, ",%s", p->keys[i].text);
-        fprintf(p->log_csv, ",%s,size\n", quantity_names[p->quantity]);
+        fprintf(p->log_csv, ",%s,size,start\n", quantity_names[p->quantity]);
     }
-    gsl_multimin_function fn = {objective, (size_t)n, p};
-    gsl_vector *u = gsl_vector_alloc(n), *step = gsl_vector_alloc(n);
-    gsl_multimin_fminimizer *mm = gsl_multimin_fminimizer_alloc(gsl_multimin_fminimizer_nmsimplex2, n);
-    if (!u || !step || !mm) {
+    gsl_vector *u = gsl_vector_alloc(n);
+    if (!u) {
         swim_message(stderr, "swim optimize: out of memory");
         return 1;
     }
-    gsl_vector_set_all(u, 0.0);      /* the middle of every range */
-    gsl_vector_set_all(step, 0.6);   /* a first simplex across ~ half of each range */
     p->best.status = 1;
-    int status = gsl_multimin_fminimizer_set(mm, &fn, u, step);
-    double size = gsl_multimin_fminimizer_size(mm);
-    log_iteration(p, 0, size);
-    for (int iter = 1; status == GSL_SUCCESS && iter <= p->max_iter; iter++) {
-        if (p->interrupt && *p->interrupt) {
-            p->interrupted = 1;
-            break;
-        }
-        status = gsl_multimin_fminimizer_iterate(mm);
-        if (p->interrupt && *p->interrupt) {   /* this iteration's runs were cut short */
-            p->interrupted = 1;
-            break;
-        }
-        if (status != GSL_SUCCESS) break;
-        size = gsl_multimin_fminimizer_size(mm);
-        p->iterations = iter;
-        log_iteration(p, iter, size);
-        if (gsl_multimin_test_size(size, p->tol) == GSL_SUCCESS) {
-            p->converged = 1;
+    const int starts = p->starts > 0 ? p->starts : 1;
+    for (int k = 0; k < starts && k < SWIM_OPT_MAX_STARTS && !interrupted(p); k++) {
+        swim_opt_start *st = &p->start[p->nstarts++];
+        memset(st, 0, sizeof *st);
+        start_point(p, k, u);
+        for (int i = 0; i < n; i++) st->start[i] = value_of(p, i, gsl_vector_get(u, i));
+        const long before = p->evaluations;
+        const int rc = p->method == SWIM_OPT_BFGS ? search_bfgs(p, u, st) : search_nelder_mead(p, u, st);
+        st->evaluations = p->evaluations - before;
+        if (rc != 0) {
+            swim_message(stderr, "swim optimize: out of memory");
             break;
         }
     }
-    gsl_multimin_fminimizer_free(mm);
     gsl_vector_free(u);
-    gsl_vector_free(step);
+    if (p->best.status == 0) {
+        const swim_opt_start *b = &p->start[p->best_start];
+        p->iterations = b->iterations;
+        p->search_converged = b->converged;
+        p->value_tol = p->tol * fmax(1.0, fabs(p->best_q));
+        if (!p->interrupted) tight_check(p);
+        p->converged = p->search_converged && !p->interrupted && p->tight_status == 0
+                       && fabs(p->tight_change) <= p->value_tol;
+    }
+    p->seconds = swim_clock_seconds() - t0;
     return p->best.status == 0 ? 0 : 1;
 }
 

@@ -15,11 +15,19 @@
  * positive work int max(P, 0) dt the body spends (stroke/stroke.h), so displacement_per_work is
  * the distance swum per unit of energy spent.
  *
- * The search is GSL's Nelder-Mead simplex (gsl_multimin_fminimizer_nmsimplex2) in unbounded
- * variables u, with the key's value lo + (hi - lo) (1 + sin u) / 2: every evaluated value lies in
- * [lo, hi] and the bounds are reachable (sin u = +-1). No gradient is used: a quantity such as
- * displacement_per_work has no sensitivity of its own (W_F is not a state of the kernel), and
- * a failed run (a shape leaving D) has none either.
+ * The search runs in unbounded variables u, with the key's value lo + (hi - lo) (1 + sin u) / 2:
+ * every evaluated value lies in [lo, hi] and the bounds are reachable (sin u = +-1). Methods:
+ *   Nelder-Mead (gsl_multimin_fminimizer_nmsimplex2): no gradient; for any quantity, also one
+ *     that is not smooth or has no sensitivity (displacement_per_work: W_F is not a kernel
+ *     state); converged when the simplex is smaller than tol in u;
+ *   BFGS (gsl_multimin_fdfminimizer_vector_bfgs2): the gradient from the exact sensitivities of
+ *     the final state (control/sensitivity.h: one augmented integration per evaluation) for x,
+ *     y, theta, displacement, work and energy of free dynamics; converged when |grad_u| < tol.
+ * Both are local. With starts K > 1 the search is repeated from K space-filling points of the box
+ * (the middle first, then a Halton sequence) and the best of all is kept. Then the best point is
+ * evaluated again at 100x tighter rtol and atol: the value there and its change are reported, and
+ * an optimum whose value moves by more than the value tolerance tol max(1, |q|) is not called
+ * converged (its value is an artefact of the integration's error, or not yet resolved by it).
  */
 #ifndef SWIM_CONTROL_OPTIMIZE_H
 #define SWIM_CONTROL_OPTIMIZE_H
@@ -30,6 +38,9 @@
 
 #define SWIM_OPT_MAX_KEYS 8
 #define SWIM_OPT_MAX_SETS 64   /* --set overrides */
+#define SWIM_OPT_MAX_STARTS 64
+
+enum { SWIM_OPT_NELDER_MEAD, SWIM_OPT_BFGS };
 
 enum { SWIM_Q_X, SWIM_Q_Y, SWIM_Q_THETA, SWIM_Q_DISPLACEMENT, SWIM_Q_WORK, SWIM_Q_FORCING_WORK,
        SWIM_Q_DISPLACEMENT_PER_WORK, SWIM_Q_ENERGY, SWIM_Q_COUNT };
@@ -44,7 +55,17 @@ typedef struct {
     double x, y, theta, work, forcing_work, energy;
     int status;          /* 0 completed; 1 the run failed; 2 the values were refused */
     char reason[160];
+    int have_grad;       /* BFGS: the gradient of the quantity in the keys' values */
+    double grad[SWIM_OPT_MAX_KEYS];
 } swim_eval_result;
+
+/* One local search (one start). */
+typedef struct {
+    double start[SWIM_OPT_MAX_KEYS];
+    double best_value[SWIM_OPT_MAX_KEYS], best_q;
+    int iterations, converged, ok;
+    long evaluations;
+} swim_opt_start;
 
 typedef struct {
     const char *scene_path;
@@ -54,8 +75,11 @@ typedef struct {
     swim_override keys[SWIM_OPT_MAX_KEYS];   /* the varied keys (values filled per evaluation) */
     double lo[SWIM_OPT_MAX_KEYS], hi[SWIM_OPT_MAX_KEYS];
     int quantity, maximize;
-    int max_iter;
-    double tol;                  /* simplex size in u at which the search stops */
+    int method;                  /* SWIM_OPT_NELDER_MEAD or SWIM_OPT_BFGS */
+    int starts;                  /* local searches from space-filling points (1: the middle) */
+    int max_iter;                /* per start */
+    double tol;                  /* simplex size (Nelder-Mead) or |grad_u| (BFGS) at which a search
+                                    stops; also the relative value tolerance of the tight check */
     FILE *log_csv;               /* per-iteration rows (may be NULL) */
     int quiet;                   /* no progress on stderr */
     volatile int *interrupt;     /* set asynchronously (SIGINT): the current run stops, the search
@@ -63,14 +87,27 @@ typedef struct {
     /* results */
     double best_value[SWIM_OPT_MAX_KEYS], best_q;
     swim_eval_result best;
-    long evaluations, failed;
+    long evaluations, failed, gradients;
     int iterations, converged, interrupted;
+    swim_opt_start start[SWIM_OPT_MAX_STARTS];
+    int nstarts, best_start;
+    int search_converged;        /* the best start's search met its tolerance */
+    /* the best point again at rtol / 100, atol / 100 */
+    int tight_status;            /* 0 ran; else the run failed */
+    double tight_q, tight_change, value_tol;
+    double seconds;
 } swim_opt_problem;
 
 /* One run with values v[0..nkeys): 0, or the status (1 failed, 2 refused) with the reason. */
 int swim_opt_evaluate(swim_opt_problem *p, const double *v, swim_eval_result *r);
 double swim_opt_quantity(const swim_opt_problem *p, const swim_eval_result *r);
-/* The search; 0, or 1 when no evaluation succeeded. */
+/* 1 when `quantity` has a gradient from the sensitivities (BFGS), else 0. */
+int swim_opt_has_gradient(int quantity);
+/* Whether every varied key has a sensitivity at the scene with overrides ov (the scene's
+ * kernel): 0, or 2 after one line "swim optimize: --sensitivity: KEY: reason" on stderr. */
+int swim_opt_check_gradient(const swim_opt_problem *p, const swim_override *ov, int nov);
+/* The search (every start, then the tight check); 0, or 1 when no evaluation succeeded.
+ * converged = the best start's search met tol and its value held at the tight tolerances. */
 int swim_opt_run(swim_opt_problem *p);
 /* The scene file with the --set overrides and the best values written in: 0, or -1 (errno). */
 int swim_opt_write_scene(const swim_opt_problem *p, const char *path);
