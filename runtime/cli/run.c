@@ -107,6 +107,9 @@ static int read_options(int argc, char **argv, run_cmd *c)
         {"sensitivity-method", 1, NULL, "exact|differences", "with --sensitivity: the kernel's exact Jacobian and parameter "
                                                              "partials (exact, default), or central differences of the right-hand "
                                                              "side along each sensitivity (differences: the older method, for comparison)"},
+        {"lyapunov", 0, NULL, NULL, "also DIR/lyapunov.csv: the largest Lyapunov exponent by the exact variational "
+                                    "equations and, in summary.json, the predictability horizon at the run's rtol"},
+        {"lyapunov-interval", 1, NULL, "T", "with --lyapunov: renormalize the tangent vector every T (> 0, default 1)"},
         {"sensitivity-steps", 1, NULL, "all|state", "with --sensitivity: the sensitivities in the error test (all, "
                                                     "default) or riding on the state's steps (state)"}};
     c->nopts = (int)(sizeof opts / sizeof opts[0]);
@@ -160,6 +163,19 @@ static int read_options(int argc, char **argv, run_cmd *c)
     j->sensitivity = c->sensitivity;
     j->sens_state_steps = v && strcmp(v, "state") == 0;
     j->sens_differences = m && strcmp(m, "differences") == 0;
+    const char *li = swim_args_get(c->opts, c->nopts, "lyapunov-interval");
+    if (li && !swim_args_get(c->opts, c->nopts, "lyapunov")) {
+        swim_message(stderr, "swim run: --lyapunov-interval: only with --lyapunov");
+        return 2;
+    }
+    if (swim_args_get(c->opts, c->nopts, "lyapunov")) {
+        j->lyapunov = 1.0;
+        if (li && (swim_args_double("run", "lyapunov-interval", li, &j->lyapunov) || !(j->lyapunov > 0))) {
+            if (j->lyapunov <= 0 || !isfinite(j->lyapunov))
+                swim_message(stderr, "swim run: --lyapunov-interval: must be a number > 0, got '%s'", li);
+            return 2;
+        }
+    }
     j->command = c->command;
     return 0;
 }
@@ -176,6 +192,14 @@ static void on_progress(void *ctx, double t, double t_end)
         fprintf(stderr, "\rswim run: t = %.4g / %.4g (%.0f%%)   ", t, t_end, 100.0 * t / t_end);
         c->last_progress = now;
     }
+}
+
+static void on_lyapunov(void *ctx, const char *path, double exponent, double horizon, double rtol, double seconds)
+{
+    const run_cmd *c = ctx;
+    if (!c->job.quiet)
+        swim_message(stdout, "  largest Lyapunov exponent %.4g (%s); predictability horizon at rtol %.0e: t = %.4g; "
+                     "%.2f s", exponent, path, rtol, horizon, seconds);
 }
 
 static void on_sensitivities(void *ctx, int nkeys, const char *path, double t, double seconds, long evals)
@@ -258,6 +282,7 @@ int swim_cmd_run(int argc, char **argv)
         c->job.notice = on_notice;
         c->job.progress = on_progress;
         c->job.sens_done = on_sensitivities;
+        c->job.lyapunov_done = on_lyapunov;
         c->job.ctx = c;
         rc = swim_job_open(&c->job, &job);
     }

@@ -409,13 +409,33 @@ double swim_sens_energy(swim_sens *S, const double *Y, int k)
 }
 
 
+/* The run's integrator settings for the augmented system: a difference key floors the
+ * tolerances for its noise; error_control 0 leaves the sensitivities out of the error test
+ * (*atolv then owned by the caller, else NULL). 0, or -1 out of memory. */
+static int augmented_options(const swim_sens *S, swim_ode_options *o, double **atolv)
+{
+    const swim_scene *s = S->d->scene;
+    const int n = S->dim, N = swim_sens_dimension(S);
+    *atolv = NULL;
+    swim_run_ode_options(s, o);
+    if (!swim_sens_exact(S)) {
+        o->rtol = fmax(s->rtol, SENS_RTOL_MIN);
+        o->atol = fmax(s->atol, SENS_ATOL_MIN);
+    }
+    if (!S->error_control) {   /* the sensitivities ride on the state's steps */
+        if (!(*atolv = malloc(sizeof(double) * N))) return -1;
+        for (int i = 0; i < N; i++) (*atolv)[i] = i < n ? o->atol : 1e300;
+        o->atol_vec = *atolv;
+    }
+    return 0;
+}
+
 /* The augmented system at t = 0 from the scene's initial state, on `integrator` with the run's
  * settings (a difference key floors the tolerances for its noise; error_control 0 leaves the
  * sensitivities out of the error test). Y gets the initial augmented state; *atolv is owned by
  * the caller (NULL when not needed). A swim_ode status, or -1 out of memory. */
 static int open_augmented(swim_sens *S, const char *integrator, double *Y, double **atolv, swim_ode **ode)
 {
-    const swim_scene *s = S->d->scene;
     const int n = S->dim, N = swim_sens_dimension(S);
     double *y0 = calloc((size_t)S->d->dim, sizeof(double)), *ys = malloc(sizeof(double) * n);
     *atolv = NULL;
@@ -441,17 +461,27 @@ static int open_augmented(swim_sens *S, const char *integrator, double *Y, doubl
     free(ys);
     swim_ode_system sys = {swim_sens_rhs, (size_t)N, S, NULL};
     swim_ode_options o;
-    swim_run_ode_options(s, &o);
-    if (!swim_sens_exact(S)) {
-        o.rtol = fmax(s->rtol, SENS_RTOL_MIN);
-        o.atol = fmax(s->atol, SENS_ATOL_MIN);
-    }
-    if (!S->error_control) {   /* the sensitivities ride on the state's steps */
-        if (!(*atolv = malloc(sizeof(double) * N))) return -1;
-        for (int i = 0; i < N; i++) (*atolv)[i] = i < n ? o.atol : 1e300;
-        o.atol_vec = *atolv;
-    }
+    if (augmented_options(S, &o, atolv) != 0) return -1;
     return swim_ode_create(integrator, &sys, &o, 0.0, Y, ode);
+}
+
+int swim_sens_advance(swim_sens *S, const char *integrator, double t0, double *Y, double t1, long *rhs_calls)
+{
+    double *atolv = NULL;
+    swim_ode_system sys = {swim_sens_rhs, (size_t)swim_sens_dimension(S), S, NULL};
+    swim_ode_options o;
+    if (augmented_options(S, &o, &atolv) != 0) return -1;
+    swim_ode *ode = NULL;
+    int orc = swim_ode_create(integrator, &sys, &o, t0, Y, &ode);
+    if (orc == SWIM_ODE_OK && t1 > t0) orc = swim_ode_advance(ode, t1, Y);
+    if (ode) {
+        swim_ode_stats st;
+        swim_ode_get_stats(ode, &st);
+        if (rhs_calls) *rhs_calls += st.rhs_evals;
+        swim_ode_free(ode);
+    }
+    free(atolv);
+    return orc;
 }
 
 int swim_sens_final(swim_sens *S, const char *integrator, double t_end, double *Y, long *rhs_calls)

@@ -107,5 +107,9 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
 /* The same integration without rows: Y (swim_sens_dimension entries) gets the augmented state at
  * t_end. 0, or 1 after one line on stderr. */
 int swim_sens_final(swim_sens *S, const char *integrator, double t_end, double *Y, long *rhs_calls);
+/* The augmented system from (t0, Y) to t1 on `integrator` with the run's settings (a fresh
+ * integrator: the caller may have changed Y between calls, e.g. renormalized its columns);
+ * Y is updated, *rhs_calls increased. A swim_ode status (SWIM_ODE_OK), or -1 out of memory. */
+int swim_sens_advance(swim_sens *S, const char *integrator, double t0, double *Y, double t1, long *rhs_calls);
 
 #endif

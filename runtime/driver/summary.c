@@ -62,6 +62,7 @@ void swim_run_summary_json(FILE *f, const swim_run *c, const swim_summary_contex
                 "\"file\": \"sensitivity.csv\"},\n", x->sens_method ? x->sens_method : "exact", x->sens_jacobians,
                 x->sens_rhs, x->sens_seconds);
     }
+    if (x->more) x->more(f, x->more_ctx);
     fprintf(f, "  \"initial_velocity_projected\": %s,\n  \"projection_change\": %.3g,\n",
             s->projection_change > 0 ? "true" : "false", s->projection_change);
     fprintf(f, "  \"final_state\": {\"t\": %.17g, \"x\": %.17g, \"y\": %.17g, \"theta\": %.17g, \"c\": ", r->t_reached, y[0], y[1], y[2]);

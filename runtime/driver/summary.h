@@ -31,6 +31,10 @@ typedef struct {
     const char *sens_method;         /* exact, or differences (some key had no exact partial) */
     long sens_jacobians, sens_rhs;   /* exact Jacobians and right-hand sides the augmented system took */
     double sens_seconds;             /* wall time of the sensitivity pass */
+    /* more entries of the caller's (one or more lines "  \"key\": value,\n"), after the
+     * sensitivities; may be NULL */
+    void (*more)(FILE *f, const void *ctx);
+    const void *more_ctx;
 } swim_summary_context;
 
 /* The summary of a finished run (swim_run_integrate) as JSON text on f. */

@@ -317,7 +317,7 @@ char *swim_sim_summary_json(const swim_sim *s)
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);
     if (!f) return NULL;
-    const swim_summary_context x = {NULL, NULL, s->m->name, s->m->sets, s->m->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0};
+    const swim_summary_context x = {NULL, NULL, s->m->name, s->m->sets, s->m->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0, NULL, NULL};
     swim_run_summary_json(f, s->run, &x);
     if (fclose(f) != 0) {
         free(buf);

@@ -1,16 +1,19 @@
 #include "output/job.h"
 
 #include <errno.h>
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "codegen/codegen.h"
+#include "control/lyapunov.h"
 #include "control/sensitivity.h"
 #include "driver/events.h"
 #include "driver/summary.h"
 #include "io/files.h"
+#include "io/json.h"
 #include "io/message.h"
 #include "scene/resolve.h"
 
@@ -30,6 +33,8 @@ struct swim_job {
     long sens_jacobians, sens_rhs;
     double sens_seconds;
     long sens_rows;
+    swim_lyapunov lyap;
+    const char *lyap_status;     /* written, failed, skipped (NULL: not asked for) */
     int summary_failed;
 };
 
@@ -39,11 +44,12 @@ struct swim_job {
 static int refuse_for_stroke(const swim_job *j)
 {
     const swim_run_job *r = &j->req;
-    if (r->sensitivity) {
+    if (r->sensitivity || r->lyapunov > 0) {
         /* the variational equations are those of the free shape dynamics; a prescribed stroke has
          * none (its shape is a given function of time) */
-        swim_message(stderr, "swim %s: --sensitivity: not available on a prescribed stroke ([stroke] in %s): "
-                     "sensitivities are computed for free shape dynamics only", r->cmd, r->scene_file);
+        swim_message(stderr, "swim %s: --%s: not available on a prescribed stroke ([stroke] in %s): "
+                     "the variational equations are those of free shape dynamics only", r->cmd,
+                     r->sensitivity ? "sensitivity" : "lyapunov", r->scene_file);
         return 2;
     }
     const char *opt = r->generic ? "generic" : r->trace ? "trace-steps" : NULL;
@@ -276,6 +282,72 @@ static void run_sensitivity(swim_job *j)
     free(path);
 }
 
+/* DIR/lyapunov.csv after the trajectory (and the sensitivities): the largest Lyapunov exponent
+ * over [0, t_reached] and the predictability horizon at the run's rtol (control/lyapunov.h). A
+ * pass that fails is said in the summary; it does not fail the run. */
+static void run_lyapunov(swim_job *j)
+{
+    const swim_run_result *r = swim_run_get_result(j->run);
+    if (r->status != 0 || r->impacts || !(r->t_reached > 0)) {
+        j->lyap_status = "skipped";
+        swim_message(stderr, "swim %s: no lyapunov.csv: %s", j->req.cmd, r->status != 0 ? "the run did not complete"
+                     : r->impacts ? "the run took impacts, across which the variational equations do not hold"
+                                  : "the run has no time span");
+        return;
+    }
+    char *path = swim_strprintf("%s/lyapunov.csv", swim_folder_paths(j->folder)->dir);
+    const int rc = path ? swim_lyapunov_compute(swim_run_dynamics(j->run), j->s.integrator, r->t_reached,
+                                                j->req.lyapunov, &j->lyap) : -1;
+    if (rc != 0) {
+        j->lyap_status = "failed";
+        snprintf(j->lyap.reason, sizeof j->lyap.reason, "out of memory");
+    } else if (swim_lyapunov_csv(&j->lyap, path) != 0) {
+        j->lyap_status = "failed";
+        snprintf(j->lyap.reason, sizeof j->lyap.reason, "cannot write lyapunov.csv: %s", strerror(errno));
+    } else {
+        j->lyap_status = j->lyap.status == 0 ? "written" : "failed";
+        if (j->lyap.status == 0 && j->req.lyapunov_done)
+            j->req.lyapunov_done(j->req.ctx, path, j->lyap.exponent, j->lyap.horizon, j->lyap.rtol, j->lyap.seconds);
+    }
+    if (j->lyap.status != 0 || rc != 0) swim_message(stderr, "swim %s: lyapunov.csv: %s", j->req.cmd, j->lyap.reason);
+    free(path);
+}
+
+/* The "lyapunov" entry of summary.json (after the run's own fields). */
+static void lyapunov_json(FILE *f, const void *ctx)
+{
+    const swim_job *j = ctx;
+    if (!j->lyap_status) return;
+    const swim_lyapunov *l = &j->lyap;
+    fprintf(f, "  \"lyapunov\": {\"status\": \"%s\", \"exponent\": ", j->lyap_status);
+    swim_json_number(f, l->n > 0 ? l->exponent : NAN);
+    fprintf(f, ", \"exponent_second_half\": ");
+    swim_json_number(f, l->n > 0 ? l->exponent_half : NAN);
+    fprintf(f, ", \"interval\": ");
+    swim_json_number(f, l->interval);
+    fprintf(f, ", \"t_end\": ");
+    swim_json_number(f, l->t_end);
+    fprintf(f, ", \"rtol\": ");
+    swim_json_number(f, l->rtol);
+    fprintf(f, ", \"separation\": ");
+    swim_json_number(f, SWIM_LYAPUNOV_SEPARATION);
+    fprintf(f, ", \"horizon\": ");
+    swim_json_number(f, l->n > 0 && isfinite(l->horizon) ? l->horizon : NAN);
+    fprintf(f, ", \"horizon_from_exponent\": ");
+    swim_json_number(f, l->n > 0 && isfinite(l->horizon_mean) ? l->horizon_mean : NAN);
+    fprintf(f, ", \"horizon_note\": \"a run at this rtol follows the exact trajectory to a relative separation of "
+               "%g until the growth of a perturbation (the sum of log_growth) reaches ln(separation / rtol); beyond "
+               "it only quantities that do not depend on the particular trajectory (energy balance, time averages, "
+               "statistics over a family) are results; null: not within the run\"", SWIM_LYAPUNOV_SEPARATION);
+    if (l->reason[0]) {
+        fprintf(f, ", \"reason\": ");
+        swim_json_string(f, l->reason);
+    }
+    fprintf(f, ", \"rhs_evaluations\": %ld, \"seconds\": ", l->rhs_calls);
+    swim_json_number(f, l->seconds);
+    fprintf(f, ", \"file\": \"lyapunov.csv\"},\n");
+}
+
 static void fill_summary(FILE *f, void *ctx)
 {
     const swim_job *j = ctx;
@@ -283,7 +355,7 @@ static void fill_summary(FILE *f, void *ctx)
                                     j->req.scene_name ? j->req.scene_name : j->req.scene_file,
                                     j->recorded, j->nrecorded, j->req.sensitivity != NULL, j->sens_status,
                                     j->sens_t, j->sens_rows, j->sens_t_last, j->sens_method,
-                                    j->sens_jacobians, j->sens_rhs, j->sens_seconds};
+                                    j->sens_jacobians, j->sens_rhs, j->sens_seconds, lyapunov_json, j};
     swim_run_summary_json(f, j->run, &x);
 }
 
@@ -292,6 +364,7 @@ int swim_job_run(swim_job *j)
     swim_run_integrate(j->run);
     if (swim_folder_finish(j->folder, j->events) != 0) swim_run_fail(j->run, swim_folder_error(j->folder));
     if (j->req.sensitivity) run_sensitivity(j);
+    if (j->req.lyapunov > 0) run_lyapunov(j);
     const swim_run_result *r = swim_run_get_result(j->run);
     if (swim_folder_write_summary(j->folder, fill_summary, j) != 0) {
         swim_message(stderr, "swim %s: cannot write %s: %s (the run %s: %s)", j->req.cmd,
@@ -325,6 +398,7 @@ void swim_job_free(swim_job *j)
     swim_compiled_close(&j->spz);   /* after everything that may still point into the kernels */
     swim_compiled_close(&j->kn);
     free(j->resolved);
+    swim_lyapunov_free(&j->lyap);
     swim_scene_free(&j->s);
     free(j);
 }

@@ -46,11 +46,13 @@ typedef struct {
     const char *sensitivity;            /* KEY[,KEY...]: DIR/sensitivity.csv (dynamic scenes) */
     int sens_state_steps;               /* the sensitivities without an error test of their own */
     int sens_differences;               /* every key by difference quotients (for comparison) */
+    double lyapunov;                    /* > 0: DIR/lyapunov.csv, renormalized at this interval */
     const char *command;                /* the command line, for the summary (may be NULL) */
     volatile sig_atomic_t *stop;        /* a stop request (signal), or NULL */
     void (*notice)(void *ctx, const char *line);           /* lines for the user (driver/run.h) */
     void (*progress)(void *ctx, double t, double t_end);
     void (*sens_done)(void *ctx, int nkeys, const char *path, double t, double seconds, long evals);
+    void (*lyapunov_done)(void *ctx, const char *path, double exponent, double horizon, double rtol, double seconds);
     void *ctx;
 } swim_run_job;
 

@@ -1,0 +1,60 @@
+/* lyapunov.h -- the largest Lyapunov exponent of a run and its predictability horizon.
+ *
+ * One tangent vector w of the shape state is carried along the trajectory by the exact
+ * variational equations (control/sensitivity.h: w' = J w with the kernel's exact Jacobian),
+ * from a fixed pseudo-random start. Every `interval` of time the integration stops, the growth
+ * r_k = |w| over the shape state (c, cdot of the carried coordinates; x, y, theta and the work
+ * are not part of the dynamics' own state) is taken and w is scaled back to 1 (Benettin's
+ * method); the exponent is lambda = (1/T) sum_k ln r_k. Almost every start has a component along
+ * the fastest-growing direction, so lambda is the largest exponent once T is long against
+ * 1/(lambda_1 - lambda_2).
+ *
+ * Predictability horizon at the run's tolerance: an integration with relative error ~ rtol
+ * diverges from the exact trajectory by rtol times the growth of a perturbation, so it stays
+ * within a relative separation delta (SWIM_LYAPUNOV_SEPARATION) of it until the cumulative
+ * growth sum ln r_k reaches ln(delta / rtol): that time (interpolated within its segment) is the
+ * horizon. The growth is far from uniform before the motion gets chaotic, so the horizon is taken
+ * from the growth itself, not from ln(delta / rtol) / lambda (also reported). Beyond it the
+ * trajectory is one of the many the tolerance allows, and only what does not depend on the
+ * particular one (the energy balance, time averages, statistics over a family) is a result.
+ * INFINITY when the growth never gets there.
+ *
+ * The pass is an integration of its own from t = 0 on the run's dynamics, at the run's settings
+ * (the tangent vector outside the error test: it rides on the state's steps), without the
+ * driver's origin shifts near the barrier; runs that took impacts are not
+ * differentiable there and are refused by the caller (as for sensitivities).
+ */
+#ifndef SWIM_CONTROL_LYAPUNOV_H
+#define SWIM_CONTROL_LYAPUNOV_H
+
+#include <stdio.h>
+
+#include "model/dynamics.h"
+
+#define SWIM_LYAPUNOV_SEPARATION 1e-2
+
+typedef struct {
+    double interval;       /* renormalization interval */
+    double t_end;          /* where the pass ended (t_end, or where it failed) */
+    int n;                 /* segments done */
+    double *t, *log_growth;   /* per segment: its end and ln r_k (owned, n entries) */
+    double exponent;       /* (1/t_end) sum ln r_k */
+    double exponent_half;  /* the same over the second half of the segments (a convergence check) */
+    double rtol;           /* the run's relative tolerance */
+    double horizon;        /* where sum ln r_k reaches ln(SWIM_LYAPUNOV_SEPARATION / rtol), or INFINITY */
+    double horizon_mean;   /* ln(SWIM_LYAPUNOV_SEPARATION / rtol) / exponent, or INFINITY */
+    long rhs_calls;
+    double seconds;
+    int status;            /* 0 completed; 1 the integration failed (then t_end says where) */
+    char reason[160];
+} swim_lyapunov;
+
+/* The pass from t = 0 to t_end (> 0) on `integrator` with renormalization every `interval`
+ * (> 0). 0 (status 0, or 1 with the reason and the segments up to there), or -1 out of memory. */
+int swim_lyapunov_compute(swim_dynamics *d, const char *integrator, double t_end, double interval,
+                          swim_lyapunov *out);
+void swim_lyapunov_free(swim_lyapunov *l);
+/* DIR/lyapunov.csv: t, ln growth of the segment, running exponent. 0, or -1 (errno). */
+int swim_lyapunov_csv(const swim_lyapunov *l, const char *path);
+
+#endif

@@ -1,0 +1,107 @@
+#!/usr/bin/env python3
+"""swim run --lyapunov: the largest Lyapunov exponent and the predictability horizon.
+
+1. A chaotic hard scene (models/hard/soft_n10_a1.toml, T = 20) at rtol 1e-8 and 1e-10: the
+   trajectories part (their shape states differ by 1e-2 of the state's scale) at some time
+   t_p, after which each is one of the trajectories its tolerance allows; the exponents of the
+   two runs agree to 10 %, and the horizon at rtol 1e-8 is where the runs part: it is a
+   conservative estimate (abm's actual error is below rtol), so horizon <= t_p <= 2 horizon.
+2. Example 3 (an elliptic periodic orbit): no exponential growth (ln |w| grows by less than 2
+   over t = 15..30) and no horizon within the run (null).
+3. Bad input: --lyapunov-interval without --lyapunov, a non-positive interval, a prescribed
+   stroke: one line, exit 2, nothing written.
+Prints "test_lyapunov: P passed, F failed".
+"""
+
+import csv
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+from swimtest import ROOT, SWIM, TMP, check, main
+
+SOFT = os.path.join("models", "hard", "soft_n10_a1.toml")
+
+
+def run(scene, name, *args):
+    out = os.path.join(TMP, name)
+    p = subprocess.run([SWIM, "run", scene, "--out", out, "--quiet", *args], capture_output=True, text=True, cwd=ROOT)
+    path = os.path.join(out, "summary.json")
+    return p, out, (json.load(open(path)) if os.path.exists(path) else None)
+
+
+def shape_state(out):
+    with open(os.path.join(out, "trajectory.csv")) as fh:
+        rows = list(csv.reader(fh))
+    head = rows[0]
+    n = (head.index("kinetic_fluid") - 4) // 2
+    data = np.array([[float(x) for x in r] for r in rows[1:]])
+    return data[:, 0], data[:, 4:4 + 2 * n]
+
+
+def test_chaotic_scene():
+    res = {}
+    for rtol in ("1e-8", "1e-10"):
+        p, out, s = run(SOFT, "soft_" + rtol, "--rtol", rtol, "--t-end", "20", "--lyapunov")
+        check(p.returncode == 0 and s and s["lyapunov"]["status"] == "written",
+              "rtol %s: the run and its Lyapunov pass complete (%s)" % (rtol, p.stderr.strip()[-200:]))
+        if not s:
+            return
+        res[rtol] = (s["lyapunov"], out)
+    l8, l10 = res["1e-8"][0], res["1e-10"][0]
+    check(l8["exponent"] > 1 and l10["exponent"] > 1, "a positive exponent: chaos (%.4g, %.4g)"
+          % (l8["exponent"], l10["exponent"]))
+    rel = abs(l8["exponent"] - l10["exponent"]) / (0.5 * (l8["exponent"] + l10["exponent"]))
+    check(rel <= 0.10, "the exponents at rtol 1e-8 and 1e-10 agree to 10 %% (%.4g, %.4g: %.1f %%)"
+          % (l8["exponent"], l10["exponent"], 100 * rel))
+    with open(os.path.join(res["1e-8"][1], "lyapunov.csv")) as fh:
+        rows = list(csv.DictReader(fh))
+    check(len(rows) == 20 and abs(float(rows[-1]["exponent"]) - l8["exponent"]) < 1e-12,
+          "lyapunov.csv: one row per interval, the last running exponent is the summary's")
+    t, a = shape_state(res["1e-8"][1])
+    _, b = shape_state(res["1e-10"][1])
+    m = min(len(a), len(b))
+    sep = np.max(np.abs(a[:m] - b[:m]), axis=1) / np.max(np.abs(b[:m]))
+    parted = t[:m][sep > 1e-2]
+    check(len(parted) > 0, "the two runs part within T = 20")
+    if len(parted):
+        tp, h = parted[0], l8["horizon"]
+        check(h is not None and h <= tp <= 2 * h, "the horizon at rtol 1e-8, %.3g, is where the runs part (t = %.3g) "
+              "or before it, and not less than half of it" % (h or float("nan"), tp))
+
+
+def test_elliptic_orbit():
+    p, out, s = run(os.path.join("models", "example3.toml"), "ex3", "--lyapunov", "--summary-only")
+    check(s is not None and s["lyapunov"]["status"] == "written", "Example 3 with --lyapunov (%s)" % p.stderr[-200:])
+    if s:
+        ly = s["lyapunov"]
+        with open(os.path.join(out, "lyapunov.csv")) as fh:
+            rows = list(csv.DictReader(fh))
+        late = sum(float(r["log_growth"]) for r in rows if float(r["t"]) > 15)
+        # linear growth (the time shift and energy's Jordan block): ln |w| grows like ln t, so
+        # over [15, 30] by about ln 2, where exponential growth at the soft scene's rate would
+        # add ~70
+        check(late < 2.0 and ly["horizon"] is None,
+              "Example 3: ln growth %.3g over t = 15..30 (no exponential growth; exponent %.3g over T = 30 is "
+              "ln t / t), no horizon within the run (%r)" % (late, ly["exponent"], ly["horizon"]))
+
+
+def test_bad_input():
+    cases = [(SOFT, ["--lyapunov-interval", "0.5"], "only with --lyapunov"),
+             (SOFT, ["--lyapunov", "--lyapunov-interval", "0"], "lyapunov-interval"),
+             (os.path.join("models", "stroke_loop.toml"), ["--lyapunov"], "prescribed stroke")]
+    for i, (scene, args, want) in enumerate(cases):
+        out = os.path.join(TMP, "bad%d" % i)
+        p = subprocess.run([SWIM, "run", scene, "--out", out, "--quiet", *args], capture_output=True, text=True,
+                           cwd=ROOT)
+        lines = [l for l in p.stderr.splitlines() if l.strip() and not l.startswith("swim: ")]
+        check(p.returncode == 2 and len(lines) == 1 and want in lines[0], "%s: exit 2, one line with '%s' (%d %r)"
+              % (" ".join(args), want, p.returncode, p.stderr))
+        check(not os.path.exists(out), "%s: nothing written" % " ".join(args))
+
+
+if __name__ == "__main__":
+    sys.exit(main(globals(), "test_lyapunov"))
