@@ -59,6 +59,19 @@ def one_line(p):
     return len(p.stderr.strip().splitlines()) == 1
 
 
+def check_refusals(command, cases):
+    """Each (scene, args, want) of `swim COMMAND scene --out DIR --quiet args` is refused: exit 2,
+    one line on stderr containing `want` (kernel notices "swim: ..." aside), nothing written."""
+    for i, (scene_path, args, want) in enumerate(cases):
+        out = os.path.join(TMP, "refused_%s_%d" % (command, i))
+        p = subprocess.run([SWIM, command, scene_path, "--out", out, "--quiet", *args], capture_output=True,
+                           text=True, cwd=ROOT)
+        lines = [l for l in p.stderr.splitlines() if l.strip() and not l.startswith("swim: ")]
+        check(p.returncode == 2 and len(lines) == 1 and want in lines[0], "%s: exit 2, one line with '%s' (%d %r)"
+              % (" ".join(args), want, p.returncode, p.stderr))
+        check(not os.path.exists(out), "%s: nothing written" % " ".join(args))
+
+
 def main(namespace, name):
     for fname, fn in sorted(namespace.items()):
         if fname.startswith("test_") and callable(fn):

@@ -21,7 +21,7 @@ import sys
 
 import numpy as np
 
-from swimtest import ROOT, SWIM, TMP, check, main
+from swimtest import ROOT, SWIM, TMP, check, check_refusals, main
 
 SOFT = os.path.join("models", "hard", "soft_n10_a1.toml")
 
@@ -93,15 +93,7 @@ def test_bad_input():
     cases = [(SOFT, ["--lyapunov-interval", "0.5"], "only with --lyapunov"),
              (SOFT, ["--lyapunov", "--lyapunov-interval", "0"], "lyapunov-interval"),
              (os.path.join("models", "stroke_loop.toml"), ["--lyapunov"], "prescribed stroke")]
-    for i, (scene, args, want) in enumerate(cases):
-        out = os.path.join(TMP, "bad%d" % i)
-        p = subprocess.run([SWIM, "run", scene, "--out", out, "--quiet", *args], capture_output=True, text=True,
-                           cwd=ROOT)
-        lines = [l for l in p.stderr.splitlines() if l.strip() and not l.startswith("swim: ")]
-        check(p.returncode == 2 and len(lines) == 1 and want in lines[0], "%s: exit 2, one line with '%s' (%d %r)"
-              % (" ".join(args), want, p.returncode, p.stderr))
-        check(not os.path.exists(out), "%s: nothing written" % " ".join(args))
-
+    check_refusals("run", cases)
 
 if __name__ == "__main__":
     sys.exit(main(globals(), "test_lyapunov"))

@@ -19,7 +19,7 @@ import os
 import subprocess
 import sys
 
-from swimtest import ROOT, SWIM, TMP, check, main
+from swimtest import ROOT, SWIM, TMP, check, check_refusals, main
 
 EX3 = os.path.join("models", "example3.toml")
 S52 = os.path.join("models", "control", "selfpropelled_params.toml")
@@ -98,15 +98,7 @@ def test_bad_arguments():
               ["--vary", "parameters.phi=-0.5:1.2", "--minimize", "y", "--method", "bfgs"], "prescribed stroke"),
              (EX3, ["--vary", "elastic.reference.am1=0:1", "--minimize", "energy", "--method", "newton"], "--method"),
              (EX3, ["--vary", "elastic.reference.am1=0:1", "--minimize", "energy", "--starts", "0"], "--starts")]
-    for i, (scene, args, want) in enumerate(cases):
-        out = os.path.join(TMP, "bad%d" % i)
-        p = subprocess.run([SWIM, "optimize", scene, "--out", out, "--quiet", *args], capture_output=True, text=True,
-                           cwd=ROOT)
-        lines = [l for l in p.stderr.splitlines() if l.strip() and not l.startswith("swim: ")]
-        check(p.returncode == 2 and len(lines) == 1 and want in lines[0], "%s: exit 2, one line with '%s' (%d %r)"
-              % (" ".join(args), want, p.returncode, p.stderr))
-        check(not os.path.exists(out), "%s: nothing written" % " ".join(args))
-
+    check_refusals("optimize", cases)
 
 if __name__ == "__main__":
     sys.exit(main(globals(), "test_optimize_bfgs"))

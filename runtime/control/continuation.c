@@ -326,6 +326,18 @@ void swim_branch_csv(FILE *f, const swim_branch *b, const char *key)
     }
 }
 
+/* A point's multipliers as [[re, im], ...] (the caller writes the brackets around). */
+static void multipliers_json(FILE *f, const swim_cont_point *q)
+{
+    for (int k = 0; k < q->nt; k++) {
+        fprintf(f, "%s[", k ? ", " : "");
+        swim_json_number(f, q->re[k]);
+        fprintf(f, ", ");
+        swim_json_number(f, q->im[k]);
+        fprintf(f, "]");
+    }
+}
+
 void swim_branch_json(FILE *f, const swim_branch *b, const char *scene, const char *key)
 {
     fprintf(f, "{\n  \"scene\": ");
@@ -349,13 +361,7 @@ void swim_branch_json(FILE *f, const swim_branch *b, const char *scene, const ch
         fprintf(f, ", \"residual\": ");
         swim_json_number(f, q->residual);
         fprintf(f, ", \"stable\": %s, \"multipliers\": [", q->stable ? "true" : "false");
-        for (int k = 0; k < q->nt; k++) {
-            fprintf(f, "%s[", k ? ", " : "");
-            swim_json_number(f, q->re[k]);
-            fprintf(f, ", ");
-            swim_json_number(f, q->im[k]);
-            fprintf(f, "]");
-        }
+        multipliers_json(f, q);
         fprintf(f, "]}");
     }
     fprintf(f, "\n  ],\n  \"special_points\": [");
@@ -376,13 +382,7 @@ void swim_branch_json(FILE *f, const swim_branch *b, const char *scene, const ch
         fprintf(f, ", \"period\": ");
         swim_json_number(f, q->period);
         fprintf(f, ", \"multipliers\": [");
-        for (int k = 0; k < q->nt; k++) {
-            fprintf(f, "%s[", k ? ", " : "");
-            swim_json_number(f, q->re[k]);
-            fprintf(f, ", ");
-            swim_json_number(f, q->im[k]);
-            fprintf(f, "]");
-        }
+        multipliers_json(f, q);
         fprintf(f, "]}}");
     }
     fprintf(f, "\n  ],\n  \"ended_early\": [");

@@ -37,7 +37,7 @@
 
 /* The runtime's C a run needs (output/job.h down), besides every header of these folders. */
 static const char *const sources[] = {
-    "runtime/codegen/structure.c", "runtime/control/sensitivity.c",
+    "runtime/codegen/structure.c", "runtime/control/sensitivity.c", "runtime/control/lyapunov.c",
     "runtime/driver/events.c", "runtime/driver/watch.c", "runtime/driver/run.c", "runtime/driver/stroke_run.c",
     "runtime/driver/summary.c",
     "runtime/io/json.c", "runtime/io/csv.c", "runtime/io/files.c", "runtime/io/message.c", "runtime/io/clock.c",

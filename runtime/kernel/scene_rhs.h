@@ -433,6 +433,16 @@ static void jacobian_tables(jac_work *j, const double *x, const double *v, doubl
     }
 }
 
+/* dq = dP v: the change of the rigid velocity q* = P v (3.21) for a change dP of P. */
+static void rigid_velocity_change(const double dP[3][NX], const double *v, double *dq)
+{
+    for (int p = 0; p < 3; p++) {
+        double t = 0.0;
+        for (int k = 0; k < NX; k++) t += dP[p][k] * v[k];
+        dq[p] = t;
+    }
+}
+
 /* What a change dP of P = -Mr^-1 Nc at fixed S adds to dg (dE = [dP; 0], dX = (dq, 0),
  * dq = dP v): dE^T (D_v M) X + T(dX), with T(Y) = E^T (D_v M) Y - grad(X^T M Y)|_{X,Y} (see
  * tangent_x). Collected as the caller does: u what f E^T maps, z what f U^T W maps (before the
@@ -498,11 +508,7 @@ static void tangent_x(const jac_work *j, int r, const double *sX, const double *
         mr_solve(j->Ml, rhs, z);
         for (int p = 0; p < 3; p++) dP[p][k] = -z[p];
     }
-    for (int p = 0; p < 3; p++) {
-        double t = 0.0;
-        for (int k = 0; k < NX; k++) t += dP[p][k] * v[k];
-        dq[p] = t;
-    }
+    rigid_velocity_change((const double (*)[NX])dP, v, dq);
     /* u collects what E^T maps, z what U^T W maps, q the rest: dg + dK acc = f E^T u + f U^T W z + q */
     double u[NP], z[NR], q[NX];
     for (int i = 0; i < NP; i++) u[i] = 0.0;
@@ -619,11 +625,7 @@ static void partial_body(const jac_work *j, const double *v, double f, double b,
         mr_solve(j->Ml, rhs, z);
         for (int p = 0; p < 3; p++) dP[p][k] = -z[p];
     }
-    for (int p = 0; p < 3; p++) {
-        double t = 0.0;
-        for (int k = 0; k < NX; k++) t += dP[p][k] * v[k];
-        dq[p] = t;
-    }
+    rigid_velocity_change((const double (*)[NX])dP, v, dq);
     double u[NP], z[NR], q[NX], h[NX], da[NX];
     for (int i = 0; i < NP; i++) u[i] = 0.0;
     for (int i = 0; i < NR; i++) z[i] = 0.0;
