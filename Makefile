@@ -75,7 +75,7 @@ help:
 	@echo "make bench-accuracy  work-precision diagrams and table for every paper scene (~9 min)"
 	@echo "make bench-sweep     sweep throughput: --jobs 1/2, MPI 2/4 ranks, rank 0's cost (~3 min)"
 	@echo "make paper-families  Figs 4.1, 4.2, 4.5, 4.6, 4.7 (sweeps + swim plot) into out/families/"
-	@echo "make bench-optimize  Nelder-Mead vs BFGS, multi-start and the tolerance check on Section 5.2 (~10 min)"
+	@echo "make bench-optimize  Nelder-Mead vs BFGS, multi-start and the tolerance check on Section 5.2 (~30 min)"
 	@echo "make bench-drift     energy drift of the T = 1000 runs vs tolerance and step look-ahead (~30 s)"
 	@echo "make bench-hard      every hard scene at its own settings and at rtol 1e-10 (~30 min)"
 	@echo "make bench-soft      perturbed families of the soft hard scenes: completion, energy, time (~20 min)"

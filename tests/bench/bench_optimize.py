@@ -2,7 +2,7 @@
 """Nelder-Mead against BFGS (exact gradients) on the Section 5.2 problems, with multi-start and
 the tolerance check.
 
-Usage (from the repository root; `make bench-optimize`, ~10 min on 2 cores):
+Usage (from the repository root; `make bench-optimize`, ~30 min on 2 cores: problem 3's Nelder-Mead alone ~26 min):
     /usr/bin/python3 tests/bench/bench_optimize.py [--out DIR] [--quick]
 
 Problems (models/control/selfpropelled_params.toml, T = 30, rtol 1e-8):
