@@ -229,8 +229,11 @@ static double reciprocal_residual(const double *re, const double *im, int n)
 static void structure(swim_floquet *fl, const double *B, const double *f, const double *gE)
 {
     const int n2 = fl->n2, nt = fl->nt;
-    double *Mt = calloc((size_t)(nt * nt + n2 * nt), sizeof(double)), *MB = Mt + nt * nt;
-    if (!Mt) return;
+    double *MB = calloc((size_t)(n2 * nt), sizeof(double)), *Mt = fl->Mt = calloc((size_t)(nt * nt), sizeof(double));
+    if (!MB || !Mt) {
+        free(MB);
+        return;
+    }
     for (int i = 0; i < n2; i++)
         for (int k = 0; k < nt; k++)
             for (int j = 0; j < n2; j++) MB[i * nt + k] += fl->M[i * n2 + j] * B[j * nt + k];
@@ -267,7 +270,7 @@ static void structure(swim_floquet *fl, const double *B, const double *f, const 
         fl->unit_count += cabs(lam - 1.0) < FLOQUET_TOL;
     }
     fl->tol = FLOQUET_TOL;
-    free(Mt);
+    free(MB);
 }
 
 /* grad E on the carried shape state, by central differences of the diagnostics. */
@@ -376,25 +379,16 @@ static void complement(swim_floquet *fl)
             rows[r * nt + a] = t;
         }
     double *Q = malloc(sizeof(double) * (size_t)nt * (size_t)nt);
-    double *Mt = malloc(sizeof(double) * (size_t)nt * (size_t)nt * 3);
+    double *MtQ = malloc(sizeof(double) * (size_t)nt * (size_t)nt * 2);
+    const double *Mt = fl->Mt;   /* structure()'s */
     fl->forced_one = -1;
     fl->nc = 0;
-    if (!Q || !Mt) goto done;
+    if (!Q || !MtQ || !Mt) goto done;
     const int nc = tangent_basis(rows, nr, nt, Q);   /* orthogonal to grad E and to W */
     if (nc < 0) goto done;
     fl->exact_ones = nt - nc;
     fl->nc = nc;
-    double *MtQ = Mt + nt * nt, *Mc = MtQ + nt * nt;
-    for (int a = 0; a < nt; a++)   /* M_t = B^T M B */
-        for (int b = 0; b < nt; b++) {
-            double t = 0.0;
-            for (int i = 0; i < n2; i++) {
-                double mb = 0.0;
-                for (int j = 0; j < n2; j++) mb += fl->M[i * n2 + j] * fl->B[j * nt + b];
-                t += fl->B[i * nt + a] * mb;
-            }
-            Mt[a * nt + b] = t;
-        }
+    double *Mc = MtQ + nt * nt;
     for (int a = 0; a < nt; a++)
         for (int k = 0; k < nc; k++) {
             double t = 0.0;
@@ -424,7 +418,7 @@ static void complement(swim_floquet *fl)
     }
 done:
     free(Q);
-    free(Mt);
+    free(MtQ);
 }
 
 int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max, swim_floquet *fl)
@@ -531,7 +525,8 @@ void swim_floquet_free(swim_floquet *fl)
 {
     free(fl->M);
     free(fl->B);
-    fl->M = fl->B = NULL;
+    free(fl->Mt);
+    fl->M = fl->B = fl->Mt = NULL;
 }
 
 static void multipliers_json(FILE *f, const double *re, const double *im, int n)

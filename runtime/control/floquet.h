@@ -46,6 +46,7 @@ typedef struct {
     int nt;                        /* dimension of the tangent space */
     double *M;                     /* n2 x n2, row-major (owned) */
     double *B;                     /* n2 x nt: orthonormal basis of the tangent space (owned) */
+    double *Mt;                    /* nt x nt: M on the tangent space, M_t = B^T M B (owned) */
     double flow[SWIM_FLOQUET_MAX];         /* f(x(0)) on the shape state */
     double grad_energy[SWIM_FLOQUET_MAX];  /* grad E(x(0)) on the shape state */
     /* Continuous symmetries tried at x(0) (swim_floquet_symmetry_names): the generator g of a
