@@ -7,6 +7,7 @@ every function, so a mismatch shows as wrong numbers, not as silence).
 import ctypes
 import glob
 import os
+import shutil
 
 SWIM_OK, SWIM_EFAILED, SWIM_EINPUT, SWIM_ENOMEM, SWIM_EKERNEL = 0, 1, 2, 3, 4
 
@@ -60,27 +61,45 @@ class swim_inspection(ctypes.Structure):
                 ("christoffel", _PD)]
 
 
+def _tree_libraries(tree):
+    """`make lib`'s libraries in the source tree TREE: build/lib/libswim.so.VERSION first, then any
+    other version left there, newest first (a VERSION edited since the build)."""
+    out = []
+    built = os.path.join(tree, "build", "lib")
+    version_file = os.path.join(tree, "VERSION")
+    if os.path.isfile(version_file):
+        with open(version_file) as f:
+            out.append(os.path.join(built, "libswim.so." + f.read().strip()))
+    out += sorted(glob.glob(os.path.join(built, "libswim.so.*")), key=os.path.getmtime, reverse=True)
+    return out
+
+
 def candidates():
     """Where libswim may be, in the order tried: $SWIM_LIB; the installed layout (this package in
     PREFIX/lib/python3/dist-packages/swim, the library in PREFIX/lib); the build tree (this package
-    in python/swim of the source tree, `make lib`'s build/lib/libswim.so.VERSION)."""
+    in python/swim of the source tree); for a package installed by pip, the checkout it was built
+    from (recorded in swim/_checkout.py), then the PREFIX of a `swim` on PATH and /usr/local, where
+    `make install` puts libswim by default. The SONAME's symlink libswim.so.0: major 0 is the ABI
+    these prototypes were written against."""
     here = os.path.dirname(os.path.abspath(__file__))
     env = os.environ.get("SWIM_LIB")
     if env:
         return [env]   # asked for this one: no silent fallback to another build
     out = []
     if os.path.basename(os.path.dirname(here)) in ("dist-packages", "site-packages"):
-        # PREFIX/lib/python3/dist-packages/swim -> PREFIX/lib/libswim.so.MAJOR (the SONAME's symlink:
-        # major 0 is the ABI these prototypes were written against)
+        # PREFIX/lib/python3/dist-packages/swim -> PREFIX/lib/libswim.so.0
         out.append(os.path.normpath(os.path.join(here, "..", "..", "..", "libswim.so.0")))
-    tree = os.path.normpath(os.path.join(here, "..", ".."))
-    version_file = os.path.join(tree, "VERSION")
-    built = os.path.join(tree, "build", "lib")
-    if os.path.isfile(version_file):
-        with open(version_file) as f:
-            out.append(os.path.join(built, "libswim.so." + f.read().strip()))
-    # any other version `make lib` left there, newest first (a VERSION edited since the build)
-    out += sorted(glob.glob(os.path.join(built, "libswim.so.*")), key=os.path.getmtime, reverse=True)
+    out += _tree_libraries(os.path.normpath(os.path.join(here, "..", "..")))
+    try:
+        from . import _checkout   # written by python/setup.py into a pip-built package only
+        out += _tree_libraries(_checkout.TREE)
+    except ImportError:
+        pass
+    program = shutil.which("swim")
+    if program:
+        prefix = os.path.dirname(os.path.dirname(os.path.realpath(program)))
+        out.append(os.path.join(prefix, "lib", "libswim.so.0"))
+    out.append("/usr/local/lib/libswim.so.0")
     return list(dict.fromkeys(out))
 
 
@@ -128,5 +147,5 @@ def load():
         except AttributeError as e:   # a library of another version, without a function of swim.h
             tried.append("%s (%s)" % (path, e))
     return None, ("libswim not found; tried: " + "; ".join(tried) +
-                  ". Build it with `make lib` in the source tree, install it with `make install PREFIX=...`, "
-                  "or set SWIM_LIB to the path of libswim.so")
+                  ". Build it with `make lib` in the source tree, install it with `make install PREFIX=...` "
+                  "(then put PREFIX/bin on PATH), or set SWIM_LIB to the path of libswim.so")
