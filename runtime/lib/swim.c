@@ -24,11 +24,13 @@
 #include "io/message.h"
 #include "io/version.h"
 #include "kernel/swim_kernel.h"
+#include "scene/keys.h"
 #include "scene/resolve.h"
 #include "scene/scene.h"
 #include "shape/shape.h"
 
 #define MAX_SETS 64
+_Static_assert(SWIM_LIB_MAX_EVENTS == SWIM_RUN_MAX_EVENTS, "the library's event bound is the driver's");
 
 struct swim_model {
     char *text, *name, *resolved;
@@ -51,6 +53,7 @@ struct swim_sim {
     swim_run *run;
     swim_sim_options o;
     int caller_stopped;
+    double t_asked;              /* the latest time swim_sim_advance was asked for */
 };
 
 /* ---- errors --------------------------------------------------------------------------------- */
@@ -119,6 +122,49 @@ const char *swim_version(void) { return SWIM_VERSION; }
 
 void swim_free(void *p) { free(p); }
 
+/* ---- arguments: checked at the top of every function, before anything is touched ---------- */
+
+/* SWIM_EINPUT naming the argument `key` (err cleared first; NULL err: the status alone). */
+static int bad_arg(swim_error *err, const char *key, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static int bad_arg(swim_error *err, const char *key, const char *fmt, ...)
+{
+    if (!err) return SWIM_EINPUT;
+    memset(err, 0, sizeof *err);
+    err->status = SWIM_EINPUT;
+    snprintf(err->key, sizeof err->key, "%s", key);
+    char text[sizeof err->message - 160];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    snprintf(err->message, sizeof err->message, "%s: %s", key, text);
+    return SWIM_EINPUT;
+}
+
+/* value against the bounds of function's argument arg (scene/keys.h, the library's rows). */
+static int bounded(swim_error *err, const char *function, const char *arg, double value)
+{
+    const swim_scene_key *k = swim_library_arg(function, arg);
+    if (!k || (isfinite(value) && value >= k->lo && value < k->hi)) return SWIM_OK;
+    if (k->kind == SWIM_KEY_INTEGER && value < k->hi + 1 && value >= k->lo) return SWIM_OK;   /* [lo, hi] */
+    return bad_arg(err, arg, "must be %s, got %g", k->expect, value);
+}
+
+/* The lists of strings a function takes: list[0 .. n) with no NULL entry. */
+static int string_list(swim_error *err, const char *function, const char *name, const char *count,
+                       const char *const *list, int n)
+{
+    if (bounded(err, function, count, n)) return SWIM_EINPUT;
+    if (n > 0 && !list) return bad_arg(err, name, "is NULL while %s = %d", count, n);
+    for (int i = 0; i < n; i++)
+        if (!list[i]) {
+            char which[64];
+            snprintf(which, sizeof which, "%s[%d]", name, i);
+            return bad_arg(err, which, "is NULL");
+        }
+    return SWIM_OK;
+}
+
 /* ---- models --------------------------------------------------------------------------------- */
 
 static int model_open(swim_model *m, const char *const *sets, int nsets)
@@ -175,6 +221,10 @@ static int model_new(char *text, size_t len, const char *name, const char *const
 
 int swim_model_from_file(const char *path, const char *const *sets, int nsets, swim_model **out, swim_error *err)
 {
+    if (!out) return bad_arg(err, "out", "is NULL");
+    *out = NULL;
+    if (!path) return bad_arg(err, "path", "is NULL");
+    if (string_list(err, "swim_model_from_file", "sets", "nsets", sets, nsets)) return SWIM_EINPUT;
     capture c;
     begin(&c, err);
     size_t len = 0;
@@ -195,19 +245,24 @@ int swim_model_from_file(const char *path, const char *const *sets, int nsets, s
 int swim_model_from_text(const char *toml, const char *name, const char *const *sets, int nsets, swim_model **out,
                          swim_error *err)
 {
-    const size_t len = toml ? strlen(toml) : 0;
+    if (!out) return bad_arg(err, "out", "is NULL");
+    *out = NULL;
+    if (!toml) return bad_arg(err, "toml", "is NULL");
+    if (string_list(err, "swim_model_from_file", "sets", "nsets", sets, nsets)) return SWIM_EINPUT;
+    const size_t len = strlen(toml);
     char *text = malloc(len + 1);
-    if (text) memcpy(text, toml ? toml : "", len + 1);
+    if (text) memcpy(text, toml, len + 1);
     return model_new(text, len, name ? name : "(text)", sets, nsets, out, err);
 }
 
 int swim_model_columns(const swim_model *m, const char *const **names)
 {
+    if (!m || !names) return -SWIM_EINPUT;
     *names = m->names;
     return m->ncol;
 }
 
-const char *swim_model_scene_text(const swim_model *m) { return m->resolved ? m->resolved : m->text; }
+const char *swim_model_scene_text(const swim_model *m) { return !m ? NULL : m->resolved ? m->resolved : m->text; }
 
 void swim_model_free(swim_model *m)
 {
@@ -244,8 +299,9 @@ static int sim_open(swim_sim *s)
         swim_message(stderr, "%s", why);
         return rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
     }
+    /* the caller's stop flag is a flag, not a signal number (any nonzero value stops the run) */
     const swim_run_request req = {&s->s, &m->kn, &m->sys, 0, s->events, (volatile sig_atomic_t *)s->o.stop,
-                                  {sink_row, NULL, NULL, NULL, s}};
+                                  {sink_row, NULL, NULL, NULL, s}, 1};
     why[0] = '\0';
     rc = swim_run_open(&req, &s->run, why, sizeof why);
     if (rc && why[0]) swim_message(stderr, "%s", why);
@@ -254,6 +310,10 @@ static int sim_open(swim_sim *s)
 
 int swim_sim_create(const swim_model *m, const swim_sim_options *o, swim_sim **out, swim_error *err)
 {
+    if (!out) return bad_arg(err, "out", "is NULL");
+    *out = NULL;
+    if (!m) return bad_arg(err, "model", "is NULL");
+    if (o && string_list(err, "swim_sim_create", "events", "nevents", o->events, o->nevents)) return SWIM_EINPUT;
     capture c;
     begin(&c, err);
     *out = NULL;
@@ -270,19 +330,34 @@ int swim_sim_create(const swim_model *m, const swim_sim_options *o, swim_sim **o
     return end(&c, SWIM_OK, "");
 }
 
-int swim_sim_advance(swim_sim *s, double t, swim_error *err)
+static int sim_advance(swim_sim *s, double t, swim_error *err)
 {
     capture c;
     begin(&c, err);
+    if (t > s->t_asked) s->t_asked = t;
     const int status = swim_run_advance(s->run, t);
     const swim_run_result *r = swim_run_get_result(s->run);
     return end(&c, status ? SWIM_EFAILED : SWIM_OK, r->reason ? r->reason : "out of memory");
 }
 
-int swim_sim_run(swim_sim *s, swim_error *err) { return swim_sim_advance(s, __builtin_inf(), err); }
+int swim_sim_advance(swim_sim *s, double t, swim_error *err)
+{
+    if (!s) return bad_arg(err, "sim", "is NULL");
+    if (bounded(err, "swim_sim_advance", "t", t)) return SWIM_EINPUT;
+    if (t < s->t_asked)
+        return bad_arg(err, "t", "%.17g is before %.17g, the time an earlier call advanced to", t, s->t_asked);
+    return sim_advance(s, t, err);
+}
+
+int swim_sim_run(swim_sim *s, swim_error *err)
+{
+    if (!s) return bad_arg(err, "sim", "is NULL");
+    return sim_advance(s, INFINITY, err);
+}
 
 int swim_sim_result(const swim_sim *s, swim_result *out)
 {
+    if (!s || !out) return SWIM_EINPUT;
     const swim_run_result *r = swim_run_get_result(s->run);
     memset(out, 0, sizeof *out);
     out->finished = r->finished;
@@ -305,6 +380,7 @@ int swim_sim_result(const swim_sim *s, swim_result *out)
 
 int swim_sim_state(const swim_sim *s, double *y, int len)
 {
+    if (!s || len < 0 || (!y && len > 0)) return -SWIM_EINPUT;
     const swim_run_result *r = swim_run_get_result(s->run);
     const int n = 3 + 2 * s->s.n;
     for (int i = 0; i < n && i < len && r->final_state; i++) y[i] = r->final_state[i];
@@ -313,6 +389,7 @@ int swim_sim_state(const swim_sim *s, double *y, int len)
 
 char *swim_sim_summary_json(const swim_sim *s)
 {
+    if (!s) return NULL;
     char *buf = NULL;
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);
@@ -328,6 +405,7 @@ char *swim_sim_summary_json(const swim_sim *s)
 
 char *swim_sim_events_csv(const swim_sim *s)
 {
+    if (!s) return NULL;
     char *buf = NULL;
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);
@@ -374,10 +452,14 @@ int swim_inspect(int modes, const double *shape, const double *velocity, double 
                  swim_inspection *out, swim_error *err)
 {
     if (err) memset(err, 0, sizeof *err);
-    if (modes < 0 || modes > SWIM_KERNEL_MAX_MODES)
-        return refuse(err, SWIM_EINPUT, "modes", "%d is not a mode count in 0..%d", modes, SWIM_KERNEL_MAX_MODES);
-    if (!(rho0 > 0.0)) return refuse(err, SWIM_EINPUT, "rho0", "density must be > 0 (got %g)", rho0);
-    if (!(rhof > 0.0)) return refuse(err, SWIM_EINPUT, "rhof", "density must be > 0 (got %g)", rhof);
+    if (!out) return bad_arg(err, "out", "is NULL");
+    if (bounded(err, "swim_inspect", "modes", modes) || bounded(err, "swim_inspect", "rho0", rho0) ||
+        bounded(err, "swim_inspect", "rhof", rhof))
+        return SWIM_EINPUT;
+    const size_t nc = 2 * ((size_t)modes + 1);
+    if (!shape) return bad_arg(err, "shape", "is NULL");
+    if (!all_finite(shape, nc)) return bad_arg(err, "shape", "has a value that is not a finite number");
+    if (velocity && !all_finite(velocity, nc)) return bad_arg(err, "velocity", "has a value that is not a finite number");
     out->jmin = swim_shape_jmin(modes, shape);
     if (!(out->jmin > 0.0))
         return refuse(err, SWIM_EINPUT, "shape", "the shape is outside the admissible set D "
