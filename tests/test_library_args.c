@@ -7,6 +7,8 @@
  *   - the stop flag is a flag: stop = 1 stops the run "by the caller", never "by SIGHUP";
  *   - a kernel that cannot be generated comes back as SWIM_EKERNEL with the cause in the error
  *     and nothing on stdout or stderr;
+ *   - a process out of file descriptors gets an error, and its cache entries are not taken for
+ *     damaged and rebuilt;
  *   - two threads needing the same new kernel build it one after the other (the cache entry's
  *     lock), and the program's own signal handlers are never replaced, during or after. */
 #define _GNU_SOURCE
@@ -17,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -157,6 +160,62 @@ static void test_inspect_arguments(void)
     CHECK(swim_inspect(N, c, NULL, 1, 1, &in, &e) == SWIM_OK && in.jmin > 0, "good arguments still work: %s", e.message);
 }
 
+/* The kernel cache folder of the scene kernel a run of SCENE uses (its summary's kernel.cache). */
+static int kernel_dir(char *dir, size_t len)
+{
+    swim_model *m;
+    swim_sim *s;
+    swim_error e;
+    const char *sets[] = {"run.t_end=0.1"};
+    if (swim_model_from_file(SCENE, sets, 1, &m, &e) || swim_sim_create(m, NULL, &s, &e)) return -1;
+    swim_sim_run(s, &e);
+    char *json = swim_sim_summary_json(s), *at = json ? strstr(json, "\"cache\": \"") : NULL;
+    int rc = -1;
+    if (at) {
+        at += 10;
+        const size_t n = strcspn(at, "\"");
+        if (n > 0 && n < len) {
+            snprintf(dir, len, "%.*s", (int)n, at);
+            rc = 0;
+        }
+    }
+    swim_free(json);
+    swim_sim_free(s);
+    swim_model_free(m);
+    return rc;
+}
+
+static void test_out_of_descriptors(void)
+{
+    char dir[4096], so[4200];
+    if (kernel_dir(dir, sizeof dir) != 0) {
+        CHECK(0, "the scene kernel's cache folder");
+        return;
+    }
+    snprintf(so, sizeof so, "%s/kernel.so", dir);
+    struct stat before, after;
+    stat(so, &before);
+    struct rlimit old, low;
+    getrlimit(RLIMIT_NOFILE, &old);
+    low = old;
+    low.rlim_cur = 64;
+    setrlimit(RLIMIT_NOFILE, &low);
+    int fds[64], nfd = 0;
+    while (nfd < 64 && (fds[nfd] = dup(0)) >= 0) nfd++;   /* every descriptor taken ... */
+    if (nfd > 0) close(fds[--nfd]);                         /* ... but one: the scene file is read */
+    swim_model *m = NULL;
+    swim_error e;
+    const int rc = swim_model_from_file(SCENE, NULL, 0, &m, &e);
+    while (nfd > 0) close(fds[--nfd]);
+    setrlimit(RLIMIT_NOFILE, &old);
+    CHECK(rc != SWIM_OK && m == NULL && strstr(e.message, "cannot be opened now"),
+          "out of descriptors: an error, not a rebuild: %d '%s'", rc, e.message);
+    stat(so, &after);
+    CHECK(before.st_ino == after.st_ino && before.st_mtime == after.st_mtime, "the cache entry was left as it was");
+    CHECK(swim_model_from_file(SCENE, NULL, 0, &m, &e) == SWIM_OK, "with descriptors again, the model loads: %s", e.message);
+    swim_model_free(m);
+}
+
 /* ---- kernel builds: failures, two threads, signal handlers ---------------------------------- */
 
 static char tmpdir[] = "/tmp/swim-libargs-XXXXXX";
@@ -287,6 +346,7 @@ int main(void)
     test_model_arguments();
     test_sim_arguments();
     test_inspect_arguments();
+    test_out_of_descriptors();
     test_kernel_builds();   /* last: it points SWIM_PYTHON and SWIM_CACHE elsewhere */
     return check_report("test_library_args");
 }

@@ -220,8 +220,13 @@ static int trusted_root(const char *croot, char *why, size_t len)
     return rc;
 }
 
+/* The process (or the system) is out of descriptors or memory: a file that cannot be opened
+ * now says nothing about the entry, which must not be taken for damaged and rebuilt. */
+static int out_of_resources(int e) { return e == EMFILE || e == ENFILE || e == ENOMEM; }
+
 /* Opens dir/name for reading only if it is a regular file (no symbolic link) that private_stat
- * accepts; its fstat in *st. The descriptor, or -1 (why; *absent set when it does not exist). */
+ * accepts; its fstat in *st. The descriptor, or -1 (why; *absent 1 when it does not exist, -1
+ * when it could not be opened for want of descriptors or memory). */
 static int open_trusted(const char *dir, const char *name, struct stat *st, int *absent, char *why, size_t len)
 {
     char path[SWIM_CODEGEN_PATH + 32];
@@ -229,7 +234,7 @@ static int open_trusted(const char *dir, const char *name, struct stat *st, int 
     *absent = 0;
     int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
     if (fd < 0) {
-        *absent = errno == ENOENT;
+        *absent = errno == ENOENT ? 1 : out_of_resources(errno) ? -1 : 0;
         snprintf(why, len, "%s %s", name, errno == ENOENT ? "is missing" : errno == ELOOP ? "is a symbolic link" : strerror(errno));
         return -1;
     }
@@ -446,7 +451,8 @@ static int entry_folder(const struct stat *st, char *why, size_t len)
 
 /* Checks the manifest of the entry in `dir` for `key` and kernel.c against it; both must be
  * files only this user or root can have written (open_trusted). 0 when sound (*so filled),
- * 1 when there is no entry yet, -1 when damaged or not trusted (why in `why`). */
+ * 1 when there is no entry yet, -1 when damaged or not trusted (why in `why`), -2 when it
+ * cannot be checked now for want of descriptors or memory (why). */
 static int check_entry(const char *dir, const char *key, so_promise *so, char *why, size_t len)
 {
     struct stat st;
@@ -458,6 +464,7 @@ static int check_entry(const char *dir, const char *key, so_promise *so, char *w
     }
     if (entry_folder(&st, why, len) != 0) return -1;
     int fd = open_trusted(dir, "manifest", &st, &absent, why, len);
+    if (fd < 0 && absent < 0) return -2;
     if (fd < 0) {
         char path[SWIM_CODEGEN_PATH + 32];
         snprintf(path, sizeof path, "%s/kernel.so", dir);
@@ -494,7 +501,7 @@ static int check_entry(const char *dir, const char *key, so_promise *so, char *w
         return -1;
     }
     fd = open_trusted(dir, "kernel.c", &st, &absent, why, len);
-    if (fd < 0) return -1;
+    if (fd < 0) return absent < 0 ? -2 : -1;
     uint64_t h;
     long long size;
     int bad = hash_fd(fd, &h, &size, -1) != 0;
@@ -514,14 +521,15 @@ static int check_entry(const char *dir, const char *key, so_promise *so, char *w
  * dlopen maps. So the code that runs is exactly the code that was checked (no file swapped in
  * between), and a cache file truncated or overwritten later, while the run still uses it,
  * cannot take pages away from under the run (SIGBUS). 0; -1 when damaged or not trusted (why);
- * -2 when it does not load as the entry asked for (why). */
+ * -2 when it does not load as the entry asked for (why); -3 when it cannot be loaded now for want
+ * of descriptors or memory (why). */
 static int load_entry(const char *dir, const entry_spec *e, const so_promise *so, swim_compiled *out,
                       char *why, size_t len)
 {
     struct stat st;
     int absent;
     int fd = open_trusted(dir, "kernel.so", &st, &absent, why, len);
-    if (fd < 0) return -1;
+    if (fd < 0) return absent < 0 ? -3 : -1;
     int copy = memfd_create("swim-kernel", MFD_CLOEXEC);
     uint64_t h;
     long long size;
@@ -552,9 +560,10 @@ static int load_entry(const char *dir, const entry_spec *e, const so_promise *so
     if (out->handle) out->loaded_fd1 = keep + 1;
     else close(keep);
     if (!out->handle) {
+        const int saved = errno;
         const char *err = dlerror();
         snprintf(why, len, "%s", err ? err : "dlopen failed");
-        return -2;
+        return out_of_resources(saved) || strstr(why, strerror(EMFILE)) || strstr(why, strerror(ENFILE)) ? -3 : -2;
     }
     if (e->stroke) {
         out->stroke = dlsym(out->handle, "swim_stroke_kernel_entry");
@@ -705,7 +714,13 @@ static int obtain_in(const char *croot, const char *root, const entry_spec *e, s
     char why[SWIM_CODEGEN_PATH + 256];
     so_promise so;
     /* a sound entry is used without writing anything (read-only caches work) */
-    if (check_entry(out->dir, e->key, &so, why, sizeof why) == 0 && load_entry(out->dir, e, &so, out, why, sizeof why) == 0) {
+    int first = check_entry(out->dir, e->key, &so, why, sizeof why);
+    if (first == 0) first = load_entry(out->dir, e, &so, out, why, sizeof why) == -3 ? -2 : 0;
+    if (first == -2) {   /* out of descriptors or memory: the entry is not to blame */
+        swim_message(stderr, "swim: the %s in the kernel cache cannot be opened now: %s", e->what, why);
+        return -1;
+    }
+    if (first == 0 && out->handle) {
         snprintf(out->source, sizeof out->source, "%s/kernel.c", out->dir);
         out->from_cache = 1;
         mark_used(out->dir);
@@ -719,13 +734,22 @@ static int obtain_in(const char *croot, const char *root, const entry_spec *e, s
     char lock[SWIM_CODEGEN_PATH + 16];
     snprintf(lock, sizeof lock, "%s/lock", out->dir);
     int fd = open(lock, O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0600);
+    if (fd < 0 && out_of_resources(errno)) {
+        swim_message(stderr, "swim: the %s in the kernel cache cannot be opened now: lock: %s", e->what, strerror(errno));
+        return -1;
+    }
     if (fd < 0) return -2;
     while (flock(fd, LOCK_EX) != 0)
         if (errno != EINTR) { close(fd); return -2; }
     /* another process may have built it while we waited */
     int state = check_entry(out->dir, e->key, &so, why, sizeof why);
+    const int loaded = state == 0 ? load_entry(out->dir, e, &so, out, why, sizeof why) : -1;
+    if (state == -2 || loaded == -3) {
+        close(fd);
+        swim_message(stderr, "swim: the %s in the kernel cache cannot be opened now: %s", e->what, why);
+        return -1;
+    }
     if (state == 0) {
-        int loaded = load_entry(out->dir, e, &so, out, why, sizeof why);
         if (loaded == 0) {
             close(fd);
             snprintf(out->source, sizeof out->source, "%s/kernel.c", out->dir);
