@@ -54,6 +54,7 @@ struct swim_sim {
     swim_sim_options o;
     int caller_stopped;
     double t_asked;              /* the latest time swim_sim_advance was asked for */
+    int bad_events;              /* sim_open refused an event */
 };
 
 /* ---- errors --------------------------------------------------------------------------------- */
@@ -76,14 +77,13 @@ static void on_line(void *ctx, const char *line)
         if (colon && colon - p < 16) p = colon + 2;
     }
     snprintf(e->message, sizeof e->message, "%s", p);
-    /* FILE: --set KEY=VALUE: KEY: ... (an override's value) */
+    /* FILE: --set KEY=VALUE: ... (an override refused): the key is the override's */
     const char *ov = strstr(p, ": --set ");
     if (ov) {
         snprintf(e->file, sizeof e->file, "%.*s", (int)(ov - p), p);
-        const char *k = strstr(ov + 8, ": ");
-        const char *kc = k ? strstr(k + 2, ": ") : NULL;
-        if (kc && (size_t)(kc - k - 2) < sizeof e->key && !memchr(k + 2, ' ', (size_t)(kc - k - 2)))
-            snprintf(e->key, sizeof e->key, "%.*s", (int)(kc - k - 2), k + 2);
+        const char *k = ov + 8, *eq = strchr(k, '=');
+        if (eq && (size_t)(eq - k) < sizeof e->key && !memchr(k, ' ', (size_t)(eq - k)))
+            snprintf(e->key, sizeof e->key, "%.*s", (int)(eq - k), k);
         return;
     }
     /* FILE:LINE: KEY: ... */
@@ -167,7 +167,15 @@ static int string_list(swim_error *err, const char *function, const char *name, 
 
 /* ---- models --------------------------------------------------------------------------------- */
 
-static int model_open(swim_model *m, const char *const *sets, int nsets)
+/* The key of override `set` ("KEY=VALUE") into key (what precedes '='). */
+static void override_key(const char *set, char *key, size_t len)
+{
+    const size_t n = strcspn(set, "=");
+    snprintf(key, len, "%.*s", (int)(n < len ? n : len - 1), set);
+}
+
+/* bad_key: the key of an override that does not parse (the line names only the value). */
+static int model_open(swim_model *m, const char *const *sets, int nsets, char *bad_key, size_t keylen)
 {
     if (nsets > MAX_SETS) {
         swim_message(stderr, "swim: %s: more than %d overrides", m->name, MAX_SETS);
@@ -176,6 +184,7 @@ static int model_open(swim_model *m, const char *const *sets, int nsets)
     for (int i = 0; i < nsets; i++) {
         char why[256];
         if (swim_override_parse(sets[i], &m->sets[i], why, sizeof why) != 0) {
+            override_key(sets[i], bad_key, keylen);
             swim_message(stderr, "swim: %s: --set: %s", m->name, why);
             return SWIM_EINPUT;
         }
@@ -210,10 +219,16 @@ static int model_new(char *text, size_t len, const char *name, const char *const
     }
     m->text = text;
     m->len = len;
-    const int rc = model_open(m, sets, nsets);
+    char bad_key[sizeof err->key] = "";
+    const int rc = model_open(m, sets, nsets, bad_key, sizeof bad_key);
     if (rc) {
+        end(&c, rc, "the scene could not be read");
+        if (err && bad_key[0] && !err->key[0]) {   /* an override's value: the key it was for */
+            snprintf(err->key, sizeof err->key, "%s", bad_key);
+            snprintf(err->file, sizeof err->file, "%s", m->name);
+        }
         swim_model_free(m);
-        return end(&c, rc, "the scene could not be read");
+        return rc;
     }
     *out = m;
     return end(&c, SWIM_OK, "");
@@ -297,6 +312,7 @@ static int sim_open(swim_sim *s)
     int rc = swim_run_events_parse(&s->s, s->o.events, s->o.nevents, m->names, m->ncol, &s->events, why, sizeof why);
     if (rc) {
         swim_message(stderr, "%s", why);
+        s->bad_events = rc == 2;
         return rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
     }
     /* the caller's stop flag is a flag, not a signal number (any nonzero value stops the run) */
@@ -323,8 +339,13 @@ int swim_sim_create(const swim_model *m, const swim_sim_options *o, swim_sim **o
     if (o) s->o = *o;
     const int rc = sim_open(s);
     if (rc) {
+        end(&c, rc, "the simulation could not be set up");
+        if (err && s->bad_events && !err->key[0]) {   /* an event of the options or of the scene */
+            snprintf(err->key, sizeof err->key, "events");
+            snprintf(err->file, sizeof err->file, "%s", m->name);
+        }
         swim_sim_free(s);
-        return end(&c, rc, "the simulation could not be set up");
+        return rc;
     }
     *out = s;
     return end(&c, SWIM_OK, "");
