@@ -124,7 +124,8 @@ void swim_free(void *p) { free(p); }
 
 /* ---- arguments: checked at the top of every function, before anything is touched ---------- */
 
-/* SWIM_EINPUT naming the argument `key` (err cleared first; NULL err: the status alone). */
+/* SWIM_EINPUT naming the argument `key` (err cleared first; NULL err: the status alone); the
+ * message is a sentence of its own, as the error's other messages. */
 static int bad_arg(swim_error *err, const char *key, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static int bad_arg(swim_error *err, const char *key, const char *fmt, ...)
 {
@@ -132,12 +133,10 @@ static int bad_arg(swim_error *err, const char *key, const char *fmt, ...)
     memset(err, 0, sizeof *err);
     err->status = SWIM_EINPUT;
     snprintf(err->key, sizeof err->key, "%s", key);
-    char text[sizeof err->message - 160];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(text, sizeof text, fmt, ap);
+    vsnprintf(err->message, sizeof err->message, fmt, ap);
     va_end(ap);
-    snprintf(err->message, sizeof err->message, "%s: %s", key, text);
     return SWIM_EINPUT;
 }
 
@@ -147,7 +146,7 @@ static int bounded(swim_error *err, const char *function, const char *arg, doubl
     const swim_scene_key *k = swim_library_arg(function, arg);
     if (!k || (isfinite(value) && value >= k->lo && value < k->hi)) return SWIM_OK;
     if (k->kind == SWIM_KEY_INTEGER && value < k->hi + 1 && value >= k->lo) return SWIM_OK;   /* [lo, hi] */
-    return bad_arg(err, arg, "must be %s, got %g", k->expect, value);
+    return bad_arg(err, arg, "%s must be %s (got %g)", k->doc, k->expect, value);
 }
 
 /* The lists of strings a function takes: list[0 .. n) with no NULL entry. */
@@ -155,12 +154,12 @@ static int string_list(swim_error *err, const char *function, const char *name, 
                        const char *const *list, int n)
 {
     if (bounded(err, function, count, n)) return SWIM_EINPUT;
-    if (n > 0 && !list) return bad_arg(err, name, "is NULL while %s = %d", count, n);
+    if (n > 0 && !list) return bad_arg(err, name, "%s is NULL while %s = %d", name, count, n);
     for (int i = 0; i < n; i++)
         if (!list[i]) {
             char which[64];
             snprintf(which, sizeof which, "%s[%d]", name, i);
-            return bad_arg(err, which, "is NULL");
+            return bad_arg(err, which, "%s is NULL", which);
         }
     return SWIM_OK;
 }
@@ -236,9 +235,9 @@ static int model_new(char *text, size_t len, const char *name, const char *const
 
 int swim_model_from_file(const char *path, const char *const *sets, int nsets, swim_model **out, swim_error *err)
 {
-    if (!out) return bad_arg(err, "out", "is NULL");
+    if (!out) return bad_arg(err, "out", "out is NULL");
     *out = NULL;
-    if (!path) return bad_arg(err, "path", "is NULL");
+    if (!path) return bad_arg(err, "path", "path is NULL");
     if (string_list(err, "swim_model_from_file", "sets", "nsets", sets, nsets)) return SWIM_EINPUT;
     capture c;
     begin(&c, err);
@@ -260,9 +259,9 @@ int swim_model_from_file(const char *path, const char *const *sets, int nsets, s
 int swim_model_from_text(const char *toml, const char *name, const char *const *sets, int nsets, swim_model **out,
                          swim_error *err)
 {
-    if (!out) return bad_arg(err, "out", "is NULL");
+    if (!out) return bad_arg(err, "out", "out is NULL");
     *out = NULL;
-    if (!toml) return bad_arg(err, "toml", "is NULL");
+    if (!toml) return bad_arg(err, "toml", "toml is NULL");
     if (string_list(err, "swim_model_from_file", "sets", "nsets", sets, nsets)) return SWIM_EINPUT;
     const size_t len = strlen(toml);
     char *text = malloc(len + 1);
@@ -326,9 +325,9 @@ static int sim_open(swim_sim *s)
 
 int swim_sim_create(const swim_model *m, const swim_sim_options *o, swim_sim **out, swim_error *err)
 {
-    if (!out) return bad_arg(err, "out", "is NULL");
+    if (!out) return bad_arg(err, "out", "out is NULL");
     *out = NULL;
-    if (!m) return bad_arg(err, "model", "is NULL");
+    if (!m) return bad_arg(err, "model", "model is NULL");
     if (o && string_list(err, "swim_sim_create", "events", "nevents", o->events, o->nevents)) return SWIM_EINPUT;
     capture c;
     begin(&c, err);
@@ -363,16 +362,17 @@ static int sim_advance(swim_sim *s, double t, swim_error *err)
 
 int swim_sim_advance(swim_sim *s, double t, swim_error *err)
 {
-    if (!s) return bad_arg(err, "sim", "is NULL");
+    if (!s) return bad_arg(err, "sim", "sim is NULL");
     if (bounded(err, "swim_sim_advance", "t", t)) return SWIM_EINPUT;
     if (t < s->t_asked)
-        return bad_arg(err, "t", "%.17g is before %.17g, the time an earlier call advanced to", t, s->t_asked);
+        return bad_arg(err, "t", "the time to advance to, %.17g, is before %.17g, the time an earlier call advanced to",
+                       t, s->t_asked);
     return sim_advance(s, t, err);
 }
 
 int swim_sim_run(swim_sim *s, swim_error *err)
 {
-    if (!s) return bad_arg(err, "sim", "is NULL");
+    if (!s) return bad_arg(err, "sim", "sim is NULL");
     return sim_advance(s, INFINITY, err);
 }
 
@@ -473,14 +473,15 @@ int swim_inspect(int modes, const double *shape, const double *velocity, double 
                  swim_inspection *out, swim_error *err)
 {
     if (err) memset(err, 0, sizeof *err);
-    if (!out) return bad_arg(err, "out", "is NULL");
+    if (!out) return bad_arg(err, "out", "out is NULL");
     if (bounded(err, "swim_inspect", "modes", modes) || bounded(err, "swim_inspect", "rho0", rho0) ||
         bounded(err, "swim_inspect", "rhof", rhof))
         return SWIM_EINPUT;
     const size_t nc = 2 * ((size_t)modes + 1);
-    if (!shape) return bad_arg(err, "shape", "is NULL");
-    if (!all_finite(shape, nc)) return bad_arg(err, "shape", "has a value that is not a finite number");
-    if (velocity && !all_finite(velocity, nc)) return bad_arg(err, "velocity", "has a value that is not a finite number");
+    if (!shape) return bad_arg(err, "shape", "shape is NULL");
+    if (!all_finite(shape, nc)) return bad_arg(err, "shape", "the shape has a value that is not a finite number");
+    if (velocity && !all_finite(velocity, nc))
+        return bad_arg(err, "velocity", "the velocity has a value that is not a finite number");
     out->jmin = swim_shape_jmin(modes, shape);
     if (!(out->jmin > 0.0))
         return refuse(err, SWIM_EINPUT, "shape", "the shape is outside the admissible set D "

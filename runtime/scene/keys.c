@@ -109,11 +109,11 @@ const char *const *swim_scene_tables(void) { return tables; }
  * not finite) is SWIM_EINPUT naming the argument. */
 static const swim_scene_key library_args[] = {
     {"swim_inspect", "modes", SWIM_KEY_INTEGER, NONE, 0, SWIM_KERNEL_MAX_MODES, 0, {NULL},
-     "an integer 0.." SWIM_STR(SWIM_KERNEL_MAX_MODES), NULL, 0, "the mode count N"},
+     "an integer 0.." SWIM_STR(SWIM_KERNEL_MAX_MODES), NULL, 0, "the mode count"},
     {"swim_inspect", "rho0", SWIM_KEY_NUMBER, NONE, DBL_MIN, SWIM_MAGNITUDE_MAX, 0, {NULL}, "> 0 and < 1e150", NULL, 0,
-     "body density"},
+     "the body's density"},
     {"swim_inspect", "rhof", SWIM_KEY_NUMBER, NONE, DBL_MIN, SWIM_MAGNITUDE_MAX, 0, {NULL}, "> 0 and < 1e150", NULL, 0,
-     "fluid density"},
+     "the fluid's density"},
     {"swim_sim_advance", "t", SWIM_KEY_NUMBER, NONE, 0, INFINITY, 0, {NULL},
      "a finite time >= 0, not before the time of an earlier call", NULL, 0, "the time to advance to"},
     {"swim_model_from_file", "nsets", SWIM_KEY_INTEGER, NONE, 0, 64, 0, {NULL}, "an integer 0..64", NULL, 0,
