@@ -140,6 +140,24 @@ static void test_sim_arguments(void)
     swim_free(json);
     swim_sim_free(s);
     swim_model_free(m);
+
+    /* a prescribed stroke not run yet says so too */
+    const char *short_run[] = {"run.t_end=0.2"};
+    if (swim_model_from_file("models/stroke_loop.toml", short_run, 1, &m, &e) != SWIM_OK) {
+        CHECK(0, "the stroke scene loads: %s", e.message);
+        return;
+    }
+    CHECK(swim_sim_create(m, NULL, &s, &e) == SWIM_OK, "a stroke simulation: %s", e.message);
+    json = swim_sim_summary_json(s);
+    CHECK(json && strstr(json, "\"status\": \"not started\"") && !strstr(json, "completed"),
+          "the summary of a stroke not run: %s", json ? json : "(none)");
+    swim_free(json);
+    CHECK(swim_sim_run(s, &e) == SWIM_OK, "the stroke runs: %s", e.message);
+    json = swim_sim_summary_json(s);
+    CHECK(json && strstr(json, "\"status\": \"completed\""), "and then says completed");
+    swim_free(json);
+    swim_sim_free(s);
+    swim_model_free(m);
 }
 
 static void test_inspect_arguments(void)
