@@ -124,21 +124,23 @@ void swim_free(void *p) { free(p); }
 
 /* ---- arguments: checked at the top of every function, before anything is touched ---------- */
 
-/* SWIM_EINPUT naming the argument `key` (err cleared first; NULL err: the status alone); the
- * message is a sentence of its own, as the error's other messages. */
-static int bad_arg(swim_error *err, const char *key, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static int bad_arg(swim_error *err, const char *key, const char *fmt, ...)
+/* status with err->key naming what was refused (err cleared first; NULL err: the status alone);
+ * the message is a sentence of its own, as the error's other messages. */
+static int refuse(swim_error *err, int status, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static int refuse(swim_error *err, int status, const char *key, const char *fmt, ...)
 {
-    if (!err) return SWIM_EINPUT;
+    if (!err) return status;
     memset(err, 0, sizeof *err);
-    err->status = SWIM_EINPUT;
+    err->status = status;
     snprintf(err->key, sizeof err->key, "%s", key);
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(err->message, sizeof err->message, fmt, ap);
     va_end(ap);
-    return SWIM_EINPUT;
+    return status;
 }
+#define bad_arg(err, key, ...) refuse((err), SWIM_EINPUT, (key), __VA_ARGS__)
 
 /* value against the bounds of function's argument arg (scene/keys.h, the library's rows). */
 static int bounded(swim_error *err, const char *function, const char *arg, double value)
@@ -449,18 +451,6 @@ void swim_sim_free(swim_sim *s)
 }
 
 /* ---- inspection ----------------------------------------------------------------------------- */
-
-static int refuse(swim_error *err, int status, const char *key, const char *fmt, ...)
-{
-    if (!err) return status;
-    err->status = status;
-    snprintf(err->key, sizeof err->key, "%s", key);
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err->message, sizeof err->message, fmt, ap);
-    va_end(ap);
-    return status;
-}
 
 static int all_finite(const double *a, size_t count)
 {
