@@ -320,8 +320,10 @@ def start_generation(name, sig):
     cache = os.path.join(TMP, "gen-" + name)
     shutil.rmtree(cache, ignore_errors=True)
     shape = ",".join(["1"] + ["0"] * 23)
+    # SIGINT at its default action, as in a terminal (a shell's background job inherits it ignored)
     proc = subprocess.Popen([SWIM, "inspect", "--modes", "11", "--shape", shape], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, cwd=ROOT, env=env_with(SWIM_CACHE=cache))
+                            stderr=subprocess.PIPE, text=True, cwd=ROOT, env=env_with(SWIM_CACHE=cache),
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     gen = None
     deadline = time.time() + 20
     while gen is None and time.time() < deadline and proc.poll() is None:

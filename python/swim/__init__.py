@@ -15,7 +15,6 @@ Errors: swim.Error (status, message); swim.SceneError for bad input (file, line,
 fails (leaves the admissible set, an integrator gives up, ...) is not an exception: its Result has
 completed False and the summary says why, so a loop over a family goes on past its failed members.
 """
-import builtins   # zip, which sweep's argument of that name (swim sweep --zip) hides
 import csv
 import ctypes
 import io
@@ -80,32 +79,56 @@ def _error(e):
 
 # ---- overrides ------------------------------------------------------------------------------
 
+def _c_text(text, key, file=None):
+    """text as the bytes of a C string. A NUL inside would end the string there, silently (the
+    scene "s.toml\\0junk" would be read as s.toml), so it is refused naming the key."""
+    if "\0" in text:
+        raise SceneError(EINPUT, "%s: the text holds a NUL character (at offset %d), which cannot be passed on"
+                         % (key, text.index("\0")), file=file, key=key)
+    return text.encode()
+
+
 def _value_text(key, value):
     """VALUE of "KEY=VALUE" (the --set grammar): a float as repr, the shortest digits that read
-    back to the same double; an int as an int (it stays one); a bool as TOML's; a word as is."""
+    back to the same double; an int as an int (it stays one); a bool as TOML's; a word as is.
+    NaN and the infinities are no value of any key: refused here, naming the key."""
     if isinstance(value, (bool, np.bool_)):
         return "true" if value else "false"
     if isinstance(value, numbers.Integral):
         return str(int(value))
     if isinstance(value, numbers.Real):
+        if not math.isfinite(float(value)):
+            raise SceneError(EINPUT, "%s: %r is not a finite number" % (key, float(value)), key=key)
         return repr(float(value))
     if isinstance(value, str):
         return value
     raise TypeError("swim: the value of %s must be a number, a bool or a word, not %r" % (key, value))
 
 
-def _overrides(set=None, **run_keys):
-    """["KEY=VALUE", ...] of a dict of overrides and the run.* keyword arguments given (not None)."""
-    out = ["%s=%s" % (k, _value_text(k, v)) for k, v in (set or {}).items()]
-    out += ["run.%s=%s" % (k, _value_text("run." + k, v)) for k, v in run_keys.items() if v is not None]
+def _overrides(scene, set=None, **run_keys):
+    """["KEY=VALUE", ...] of a dict of overrides and the run.* keyword arguments given (not None);
+    a value refused here is a SceneError naming the key and the scene."""
+    try:
+        out = ["%s=%s" % (k, _value_text(k, v)) for k, v in (set or {}).items()]
+        out += ["run.%s=%s" % (k, _value_text("run." + k, v)) for k, v in run_keys.items() if v is not None]
+    except SceneError as e:
+        e.file = _scene_name(scene)
+        raise
     return out
 
 
-def _c_strings(strings):
-    """A char *[] of strings (kept alive by the returned array)."""
+def _scene_name(scene, name=None):
+    """The name errors give a scene: its path, or `name` (default "(text)") for TOML text."""
+    if isinstance(scene, os.PathLike) or "\n" not in scene:
+        return os.fspath(scene)
+    return name or "(text)"
+
+
+def _c_strings(strings, key, file=None):
+    """A char *[] of strings (kept alive by the returned array); key(s) names a string in errors."""
     arr = (ctypes.c_char_p * max(1, len(strings)))()
     for i, s in enumerate(strings):
-        arr[i] = s.encode()
+        arr[i] = _c_text(s, key(s) if callable(key) else key, file)
     return arr
 
 
@@ -116,19 +139,17 @@ class _Model:
 
     def __init__(self, scene, sets, name=None):
         self.ptr = None   # for close() when the scene is refused
-        if isinstance(scene, os.PathLike) or "\n" not in scene:
-            self.name = os.fspath(scene)
-            self.text = None
-        else:
-            self.name = name or "(text)"
-            self.text = scene
+        self.name = _scene_name(scene, name)
+        self.text = None if isinstance(scene, os.PathLike) or "\n" not in scene else scene
         self.sets = list(sets)
-        ptr, err, arr = ctypes.c_void_p(), _lib.swim_error(), _c_strings(self.sets)
+        ptr, err = ctypes.c_void_p(), _lib.swim_error()
+        arr = _c_strings(self.sets, lambda kv: kv.split("=", 1)[0], self.name)
         if self.text is None:
-            rc = _L.swim_model_from_file(self.name.encode(), arr, len(self.sets), ctypes.byref(ptr), ctypes.byref(err))
-        else:
-            rc = _L.swim_model_from_text(self.text.encode(), self.name.encode(), arr, len(self.sets),
+            rc = _L.swim_model_from_file(_c_text(self.name, "scene", self.name), arr, len(self.sets),
                                          ctypes.byref(ptr), ctypes.byref(err))
+        else:
+            rc = _L.swim_model_from_text(_c_text(self.text, "scene", self.name), _c_text(self.name, "name"), arr,
+                                         len(self.sets), ctypes.byref(ptr), ctypes.byref(err))
         if rc != OK:
             raise _error(err)
         self.ptr = ptr
@@ -269,7 +290,7 @@ def _simulate(model, events=None, rows=True):
     """Run a model to its t_end (or a :stop event): a Result; raises only for bad input (events)."""
     events = list(events or [])
     collect = _Rows(len(model.columns)) if rows else None
-    ev = _c_strings(events)
+    ev = _c_strings(events, "events", model.name)
     opts = _lib.swim_sim_options()
     if collect:
         opts.rows = collect.fn
@@ -313,7 +334,8 @@ def run(scene, set=None, integrator=None, rtol=None, atol=None, t_end=None, outp
     Raises SceneError for bad input and KernelError when no kernel can be had; a run that fails
     returns its Result with completed False (r.reason says why).
     """
-    sets = _overrides(set, integrator=integrator, rtol=rtol, atol=atol, t_end=t_end, output_step=output_step)
+    sets = _overrides(_scene_name(scene, name), set, integrator=integrator, rtol=rtol, atol=atol, t_end=t_end,
+                      output_step=output_step)
     with _Model(scene, sets, name) as model:
         return _simulate(model, events, rows)
 
@@ -332,9 +354,15 @@ def spec_values(spec):
     if len(parts) != 3:
         raise SceneError(EINPUT, "expected %sSTART:STOP:COUNT, got '%s'" % ("log:" if logarithmic else "", spec),
                          key="vary")
-    a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
-    if n < 1 or (logarithmic and not (a > 0 and b > 0)):
-        raise SceneError(EINPUT, "bad SPEC '%s' (COUNT >= 1; log: START, STOP > 0)" % spec, key="vary")
+    try:
+        a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise SceneError(EINPUT, "bad SPEC '%s' (START:STOP:COUNT: two numbers and an integer)" % spec,
+                         key="vary") from None
+    if not (1 <= n <= MAX_MEMBERS) or not (math.isfinite(a) and math.isfinite(b)) or \
+            (logarithmic and not (a > 0 and b > 0)):
+        raise SceneError(EINPUT, "bad SPEC '%s' (finite START, STOP; COUNT 1..%d; log: START, STOP > 0)"
+                         % (spec, MAX_MEMBERS), key="vary")
     out = []
     for i in range(n):
         f = i / (n - 1) if n > 1 else 0.0
@@ -345,20 +373,43 @@ def spec_values(spec):
     return out
 
 
+# The most members a family may have, as `swim sweep` (SWEEP_MAX_MEMBERS, runtime/sweep/sweep.h).
+MAX_MEMBERS = 1000000
+
+
 def _members(vary, zip_):
-    """The varied values of each member, in id order: the Cartesian product of vary's lists (the
-    last key varies fastest, as `swim sweep --vary`), or the lists paired with zip_."""
+    """The varied keys, the member count, and a function giving a fresh iterator over the varied
+    values of each member in id order: the Cartesian product of vary's lists (the last key varies
+    fastest, as `swim sweep --vary`), or the lists paired with zip_. The count is bounded by
+    MAX_MEMBERS before any member is made."""
     keys = list(vary)
-    lists = [spec_values(vary[k]) if isinstance(vary[k], str) else np.asarray(vary[k]).tolist()
-             if isinstance(vary[k], np.ndarray) else list(vary[k]) for k in keys]
+    lists = []
+    for k in keys:
+        v = vary[k]
+        if isinstance(v, str):
+            lists.append(spec_values(v))
+            continue
+        try:
+            n = len(v)
+        except TypeError:
+            raise SceneError(EINPUT, "%s: the values must be a list or a SPEC string, not %r" % (k, v), key=k) from None
+        if n > MAX_MEMBERS:
+            raise SceneError(EINPUT, "%s: %d values, more than the %d members a family may have" % (k, n, MAX_MEMBERS),
+                             key=k)
+        lists.append(np.asarray(v).tolist() if isinstance(v, np.ndarray) else list(v))
     if zip_:
         if len({len(v) for v in lists}) > 1:
             raise SceneError(EINPUT, "zip: the varied keys have different numbers of values (%s)" %
                              ", ".join("%s: %d" % (k, len(v)) for k, v in zip(keys, lists)), key="vary")
-        combos = zip(*lists)
+        count = len(lists[0]) if lists else 0
     else:
-        combos = itertools.product(*lists)
-    return keys, [dict(zip(keys, c)) for c in combos]
+        count = 1
+        for k, v in zip(keys, lists):
+            count *= len(v)
+            if count > MAX_MEMBERS:
+                raise SceneError(EINPUT, "the grid has more than %d members" % MAX_MEMBERS, key=k)
+    combos = (lambda: zip(*lists)) if zip_ else (lambda: itertools.product(*lists))
+    return keys, count, lambda: (dict(zip(keys, c)) for c in combos())
 
 
 def _path(d, *path):
@@ -403,37 +454,38 @@ def sweep(scene, vary, set=None, zip=False, integrator=None, rtol=None, atol=Non
     rhs_evaluations, integrate_seconds, wall_seconds (read from the member's summary at the paths
     swim sweep reads), and completed (a bool). Every member is loaded and validated before any
     runs: bad input raises SceneError naming the member ("member 1 (model.rho0=-1): ..."). A failed
-    member is a row with completed False; the family goes on.
+    member is a row with completed False; the family goes on. The member count is bounded first
+    (MAX_MEMBERS, as swim sweep's), and one member's model is open at a time (a model holds its
+    kernels' file descriptors: a model kept per member would run out of them).
     """
-    fixed = _overrides(set, integrator=integrator, rtol=rtol, atol=atol, t_end=t_end, output_step=output_step)
-    keys, members = _members(vary, zip)
+    fixed = _overrides(scene, set, integrator=integrator, rtol=rtol, atol=atol, t_end=t_end, output_step=output_step)
+    keys, _count, members = _members(vary, zip)   # bounded, never listed
     fixed_keys = {s.split("=", 1)[0] for s in fixed}
     twice = [k for k in keys if k in fixed_keys]
     if twice:
         raise SceneError(EINPUT, "%s: both varied and set" % ", ".join(twice), key=twice[0])
-    models = []
-    try:
-        for i, values in enumerate(members):
-            sets = _overrides(values) + fixed
-            try:
-                models.append(_Model(scene, sets))
-            except Error as e:
-                label = " ".join(sets[:len(values)])
-                e.message = "member %d (%s): %s" % (i, label, e.message)
-                e.args = (e.message,)
-                raise
-        rows = []
-        for i, (values, model) in enumerate(builtins.zip(members, models)):
-            r = _simulate(model, events, rows=results)
-            model.close()
-            row = _member_row(i, values, r)
-            if results:
-                row["result"] = r
-            rows.append(row)
-        return rows
-    finally:
-        for m in models:
-            m.close()
+
+    def model(i, values):
+        sets = _overrides(scene, values) + fixed
+        try:
+            return _Model(scene, sets)
+        except Error as e:
+            label = " ".join(sets[:len(values)])
+            e.message = "member %d (%s): %s" % (i, label, e.message)
+            e.args = (e.message,)
+            raise
+
+    for i, values in enumerate(members()):   # every member validated before any runs
+        model(i, values).close()
+    rows = []
+    for i, values in enumerate(members()):
+        with model(i, values) as m:
+            r = _simulate(m, events, rows=results)
+        row = _member_row(i, values, r)
+        if results:
+            row["result"] = r
+        rows.append(row)
+    return rows
 
 
 # ---- inspection -----------------------------------------------------------------------------

@@ -112,15 +112,16 @@ int swim_cmd_cache(int argc, char **argv)
         printf("%d entries, %.1f MB in %s\n", count, total / 1048576.0, root);
         swim_cache_entries_free(list, count);
     } else {
-        int removed, busy;
+        int removed, busy, foreign;
         long long freed;
-        if (swim_cache_clean(root, days, &removed, &busy, &freed) != 0) {
+        if (swim_cache_clean(root, days, &removed, &busy, &foreign, &freed) != 0) {
             swim_message(stderr, "swim cache: cannot clean %s: %s", root, strerror(errno));
             free(root);
             return 1;
         }
         printf("removed %d entries (%.1f MB) from %s", removed, freed / 1048576.0, root);
         if (busy) printf("; %d in use by a build, kept", busy);
+        if (foreign) printf("; %d not entry folders (symbolic links or files), left alone", foreign);
         printf("\n");
     }
     free(root);

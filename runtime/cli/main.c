@@ -4,6 +4,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/run_signals.h"
 #include "io/message.h"
 #include "io/stdout_check.h"
 #include "kernel/swim_kernel.h"
@@ -95,6 +96,7 @@ static void usage(FILE *f)
 
 int main(int argc, char **argv)
 {
+    swim_kernel_hooks_install();   /* the program owns its signals and what a kernel build prints */
     if (argc < 2) {
         usage(stderr);
         return 2;

@@ -20,5 +20,12 @@ void swim_run_signals_install(swim_run_signals *s);
 /* Put the previous actions back. */
 void swim_run_signals_restore(const swim_run_signals *s);
 
+/* The program's side of kernel builds (codegen/codegen.h's hooks), for the calling thread: their
+ * progress and notices on stderr; while a generator or compiler runs, SIGINT, SIGTERM and SIGHUP
+ * (those not ignored) are passed on to it, and once the build has removed its temporary files
+ * the signal is raised again under the program's own actions, so it does what it would have
+ * done (ends the process, or is recorded by a run's handler). */
+void swim_kernel_hooks_install(void);
+
 
 #endif

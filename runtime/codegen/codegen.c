@@ -220,8 +220,13 @@ static int trusted_root(const char *croot, char *why, size_t len)
     return rc;
 }
 
+/* The process (or the system) is out of descriptors or memory: a file that cannot be opened
+ * now says nothing about the entry, which must not be taken for damaged and rebuilt. */
+static int out_of_resources(int e) { return e == EMFILE || e == ENFILE || e == ENOMEM; }
+
 /* Opens dir/name for reading only if it is a regular file (no symbolic link) that private_stat
- * accepts; its fstat in *st. The descriptor, or -1 (why; *absent set when it does not exist). */
+ * accepts; its fstat in *st. The descriptor, or -1 (why; *absent 1 when it does not exist, -1
+ * when it could not be opened for want of descriptors or memory). */
 static int open_trusted(const char *dir, const char *name, struct stat *st, int *absent, char *why, size_t len)
 {
     char path[SWIM_CODEGEN_PATH + 32];
@@ -229,7 +234,7 @@ static int open_trusted(const char *dir, const char *name, struct stat *st, int 
     *absent = 0;
     int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
     if (fd < 0) {
-        *absent = errno == ENOENT;
+        *absent = errno == ENOENT ? 1 : out_of_resources(errno) ? -1 : 0;
         snprintf(why, len, "%s %s", name, errno == ENOENT ? "is missing" : errno == ELOOP ? "is a symbolic link" : strerror(errno));
         return -1;
     }
@@ -265,27 +270,44 @@ static int make_private_dirs(const char *path)
     return rc;
 }
 
-/* Removes what `dir` holds whose name contains `part` (everything when part is NULL), folders
- * with their contents. */
-static void remove_entries(const char *dir, const char *part)
+/* Removes what the folder open at dfd holds whose name contains `part` (everything when part
+ * is NULL), sub-folders with their contents. Every step is relative to an open folder and
+ * none follows a symbolic link: a link is removed itself, never what it points to, so a link
+ * planted in the cache cannot turn a clean into the removal of a folder outside it. */
+static void remove_entries_at(int dfd, const char *part)
 {
-    DIR *d = opendir(dir);
-    if (!d) return;
+    const int iter = dup(dfd);
+    DIR *d = iter >= 0 ? fdopendir(iter) : NULL;
+    if (!d) {
+        if (iter >= 0) close(iter);
+        return;
+    }
     struct dirent *e;
     while ((e = readdir(d))) {
         if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
         if (part && !strstr(e->d_name, part)) continue;
-        char path[SWIM_CODEGEN_PATH + 300];
-        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
         struct stat st;
-        if (lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
-            remove_entries(path, NULL);
-            rmdir(path);
+        if (fstatat(dfd, e->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISDIR(st.st_mode)) {
+            const int sub = openat(dfd, e->d_name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+            if (sub >= 0) {
+                remove_entries_at(sub, NULL);
+                close(sub);
+            }
+            unlinkat(dfd, e->d_name, AT_REMOVEDIR);
         } else {
-            unlink(path);
+            unlinkat(dfd, e->d_name, 0);
         }
     }
     closedir(d);
+}
+
+/* The same for the folder at `dir`, which must be a folder itself, not a link to one. */
+static void remove_entries(const char *dir, const char *part)
+{
+    const int fd = open(dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) return;
+    remove_entries_at(fd, part);
+    close(fd);
 }
 
 /* Removes a private folder of this run with what it holds. */
@@ -298,31 +320,44 @@ static void remove_private(const char *dir)
 /* ---- processes ------------------------------------------------------------------------- */
 
 
-/* A signal that asked this process to stop while a generator or compiler ran (0: none). Set
- * only by the handler below, which run_command installs for the child's lifetime. */
-static volatile sig_atomic_t child_stop;
-static void on_stop_signal(int sig) { child_stop = sig; }
-static const int stop_signals[3] = {SIGINT, SIGTERM, SIGHUP};
+/* The calling thread's hooks (swim_codegen_set_hooks); all NULL: a build is silent and runs
+ * its children to their end. The library installs no signal handler: a program that wants its
+ * stop signals to reach a generator says so through these hooks. */
+static _Thread_local swim_codegen_hooks hooks;
+
+void swim_codegen_set_hooks(const swim_codegen_hooks *h)
+{
+    if (h) hooks = *h;
+    else memset(&hooks, 0, sizeof hooks);
+}
+
+/* A line of progress or a notice, to the program's note hook (nothing without one). */
+static void say(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static void say(const char *fmt, ...)
+{
+    if (!hooks.note) return;
+    va_list ap;
+    va_start(ap, fmt);
+    char *line = swim_vstrprintf(fmt, ap);
+    va_end(ap);
+    if (line) hooks.note(hooks.ctx, line);
+    free(line);
+}
 
 /* Run argv (found through PATH, no shell); stdout and stderr go to `log`. Exit status or -1.
- * SIGINT, SIGTERM and SIGHUP that reach swim meanwhile are passed on to the child and waited
- * for, and *stopped is set to the signal: the caller removes its temporary files and then
- * calls resend_stop, so that the signal acts as it would have (the process ends, or a run's
- * own handler records it). The child also ends with swim if swim is killed (PR_SET_PDEATHSIG):
- * no generator runs on, writing into the cache, after the process that wanted it is gone. */
+ * While the child runs the program's stop flag (hooks.stop) is polled: once set, the child is
+ * sent SIGTERM and waited for, and *stopped gets the flag's value, so that the caller removes
+ * its temporary files and reports the build interrupted. The child also ends with its parent
+ * (PR_SET_PDEATHSIG): no generator runs on, writing into the cache, after the process that
+ * wanted it is gone. */
 static int run_command(char *const argv[], const char *log, int *stopped)
 {
-    struct sigaction sa, old[3];
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_stop_signal;
-    child_stop = 0;
-    for (int i = 0; i < 3; i++) sigaction(stop_signals[i], &sa, &old[i]);
     const pid_t parent = getpid();
+    *stopped = 0;
     pid_t pid = fork();
     if (pid == 0) {
-        for (int i = 0; i < 3; i++) sigaction(stop_signals[i], &old[i], NULL);
         prctl(PR_SET_PDEATHSIG, SIGTERM);
-        if (getppid() != parent) _exit(127);   /* swim ended before the line above */
+        if (getppid() != parent) _exit(127);   /* the parent ended before the line above */
         int fd = open(log, O_WRONLY | O_CREAT | O_APPEND, 0600);
         if (fd >= 0) {
             dup2(fd, 1);
@@ -330,32 +365,34 @@ static int run_command(char *const argv[], const char *log, int *stopped)
             close(fd);
         }
         execvp(argv[0], argv);
-        fprintf(stderr, "cannot run %s: %s\n", argv[0], strerror(errno));
+        dprintf(2, "cannot run %s: %s\n", argv[0], strerror(errno));
         _exit(127);
     }
     int st = 0, rc = -1;
     if (pid > 0) {
+        if (hooks.child) hooks.child(hooks.ctx, (long)pid);
         int forwarded = 0;
         for (;;) {
-            if (child_stop && !forwarded) {
-                kill(pid, child_stop);
+            const sig_atomic_t stop = hooks.stop ? *hooks.stop : 0;
+            if (stop && !forwarded) {
+                *stopped = (int)stop;
+                kill(pid, SIGTERM);
                 forwarded = 1;
             }
-            if (waitpid(pid, &st, 0) >= 0) break;
-            if (errno != EINTR) { st = -1; break; }
+            const pid_t got = waitpid(pid, &st, forwarded ? 0 : WNOHANG);
+            if (got == pid) break;
+            if (got < 0 && errno != EINTR) { st = -1; break; }
+            if (got == 0) {
+                const struct timespec poll = {0, 10 * 1000 * 1000};   /* 10 ms: a stop is seen at once */
+                nanosleep(&poll, NULL);
+            }
         }
+        if (hooks.child) hooks.child(hooks.ctx, 0);
+        if (!*stopped && hooks.stop && *hooks.stop) *stopped = (int)*hooks.stop;
         rc = st != -1 && WIFEXITED(st) ? WEXITSTATUS(st) : -1;
     }
-    for (int i = 0; i < 3; i++) sigaction(stop_signals[i], &old[i], NULL);
-    *stopped = child_stop;
     if (*stopped) rc = -1;
     return rc;
-}
-
-/* After run_command was stopped by a signal and the caller cleaned up: raise it again. */
-static void resend_stop(int sig)
-{
-    if (sig) raise(sig);
 }
 
 /* ---- one cache entry ------------------------------------------------------------------- */
@@ -397,14 +434,37 @@ typedef struct {
     uint64_t hash;
 } so_promise;
 
+/* What lstat says of an entry's own name: a folder (never a symbolic link to one) that this
+ * user or root owns and nobody else may write. 0, or -1 (why). */
+static int entry_folder(const struct stat *st, char *why, size_t len)
+{
+    if (S_ISLNK(st->st_mode)) {
+        snprintf(why, len, "a symbolic link, not an entry folder");
+        return -1;
+    }
+    if (!S_ISDIR(st->st_mode)) {
+        snprintf(why, len, "not a folder");
+        return -1;
+    }
+    return private_stat(st, "the entry folder", why, len);
+}
+
 /* Checks the manifest of the entry in `dir` for `key` and kernel.c against it; both must be
  * files only this user or root can have written (open_trusted). 0 when sound (*so filled),
- * 1 when there is no entry yet, -1 when damaged or not trusted (why in `why`). */
+ * 1 when there is no entry yet, -1 when damaged or not trusted (why in `why`), -2 when it
+ * cannot be checked now for want of descriptors or memory (why). */
 static int check_entry(const char *dir, const char *key, so_promise *so, char *why, size_t len)
 {
     struct stat st;
     int absent;
+    if (lstat(dir, &st) != 0) {
+        if (errno == ENOENT) return 1;
+        snprintf(why, len, "%s cannot be read: %s", dir, strerror(errno));
+        return -1;
+    }
+    if (entry_folder(&st, why, len) != 0) return -1;
     int fd = open_trusted(dir, "manifest", &st, &absent, why, len);
+    if (fd < 0 && absent < 0) return -2;
     if (fd < 0) {
         char path[SWIM_CODEGEN_PATH + 32];
         snprintf(path, sizeof path, "%s/kernel.so", dir);
@@ -441,7 +501,7 @@ static int check_entry(const char *dir, const char *key, so_promise *so, char *w
         return -1;
     }
     fd = open_trusted(dir, "kernel.c", &st, &absent, why, len);
-    if (fd < 0) return -1;
+    if (fd < 0) return absent < 0 ? -2 : -1;
     uint64_t h;
     long long size;
     int bad = hash_fd(fd, &h, &size, -1) != 0;
@@ -461,14 +521,15 @@ static int check_entry(const char *dir, const char *key, so_promise *so, char *w
  * dlopen maps. So the code that runs is exactly the code that was checked (no file swapped in
  * between), and a cache file truncated or overwritten later, while the run still uses it,
  * cannot take pages away from under the run (SIGBUS). 0; -1 when damaged or not trusted (why);
- * -2 when it does not load as the entry asked for (why). */
+ * -2 when it does not load as the entry asked for (why); -3 when it cannot be loaded now for want
+ * of descriptors or memory (why). */
 static int load_entry(const char *dir, const entry_spec *e, const so_promise *so, swim_compiled *out,
                       char *why, size_t len)
 {
     struct stat st;
     int absent;
     int fd = open_trusted(dir, "kernel.so", &st, &absent, why, len);
-    if (fd < 0) return -1;
+    if (fd < 0) return absent < 0 ? -3 : -1;
     int copy = memfd_create("swim-kernel", MFD_CLOEXEC);
     uint64_t h;
     long long size;
@@ -499,9 +560,10 @@ static int load_entry(const char *dir, const entry_spec *e, const so_promise *so
     if (out->handle) out->loaded_fd1 = keep + 1;
     else close(keep);
     if (!out->handle) {
+        const int saved = errno;
         const char *err = dlerror();
         snprintf(why, len, "%s", err ? err : "dlopen failed");
-        return -2;
+        return out_of_resources(saved) || strstr(why, strerror(EMFILE)) || strstr(why, strerror(ENFILE)) ? -3 : -2;
     }
     if (e->stroke) {
         out->stroke = dlsym(out->handle, "swim_stroke_kernel_entry");
@@ -591,7 +653,7 @@ static int build_entry(const char *root, const char *dir, const entry_spec *e, s
         return -4;
     }
     if (rc != 0 || chmod(tmp, 0644) != 0 || rename(tmp, out->source) != 0) {
-        if (!*stopped) fprintf(stderr, "swim: generating the %s failed (see %s)\n", e->what, log);
+        if (!*stopped) swim_message(stderr, "swim: generating the %s failed (see %s)", e->what, log);
         unlink(tmp);
         if (!e->json) remove_private(path);
         return *stopped ? -3 : -1;
@@ -612,7 +674,7 @@ static int build_entry(const char *root, const char *dir, const entry_spec *e, s
     snprintf(so, sizeof so, "%s/kernel.so", dir);
     /* installed by rename only: a process that has the old file open keeps it whole */
     if (run_command(argv, log, stopped) != 0 || chmod(tmp, 0755) != 0 || rename(tmp, so) != 0) {
-        if (!*stopped) fprintf(stderr, "swim: compiling the %s failed (see %s)\n", e->what, log);
+        if (!*stopped) swim_message(stderr, "swim: compiling the %s failed (see %s)", e->what, log);
         unlink(tmp);
         return *stopped ? -3 : -1;
     }
@@ -652,11 +714,17 @@ static int obtain_in(const char *croot, const char *root, const entry_spec *e, s
     char why[SWIM_CODEGEN_PATH + 256];
     so_promise so;
     /* a sound entry is used without writing anything (read-only caches work) */
-    if (check_entry(out->dir, e->key, &so, why, sizeof why) == 0 && load_entry(out->dir, e, &so, out, why, sizeof why) == 0) {
+    int first = check_entry(out->dir, e->key, &so, why, sizeof why);
+    if (first == 0) first = load_entry(out->dir, e, &so, out, why, sizeof why) == -3 ? -2 : 0;
+    if (first == -2) {   /* out of descriptors or memory: the entry is not to blame */
+        swim_message(stderr, "swim: the %s in the kernel cache cannot be opened now: %s", e->what, why);
+        return -1;
+    }
+    if (first == 0 && out->handle) {
         snprintf(out->source, sizeof out->source, "%s/kernel.c", out->dir);
         out->from_cache = 1;
         mark_used(out->dir);
-        if (verbose > 1) fprintf(stderr, "swim: %s from cache %s\n", e->what, out->dir);
+        if (verbose > 1) say("swim: %s from cache %s", e->what, out->dir);
         return 0;
     }
     if (make_private_dirs(out->dir) != 0) return -2;
@@ -666,37 +734,46 @@ static int obtain_in(const char *croot, const char *root, const entry_spec *e, s
     char lock[SWIM_CODEGEN_PATH + 16];
     snprintf(lock, sizeof lock, "%s/lock", out->dir);
     int fd = open(lock, O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0600);
+    if (fd < 0 && out_of_resources(errno)) {
+        swim_message(stderr, "swim: the %s in the kernel cache cannot be opened now: lock: %s", e->what, strerror(errno));
+        return -1;
+    }
     if (fd < 0) return -2;
     while (flock(fd, LOCK_EX) != 0)
         if (errno != EINTR) { close(fd); return -2; }
     /* another process may have built it while we waited */
     int state = check_entry(out->dir, e->key, &so, why, sizeof why);
+    const int loaded = state == 0 ? load_entry(out->dir, e, &so, out, why, sizeof why) : -1;
+    if (state == -2 || loaded == -3) {
+        close(fd);
+        swim_message(stderr, "swim: the %s in the kernel cache cannot be opened now: %s", e->what, why);
+        return -1;
+    }
     if (state == 0) {
-        int loaded = load_entry(out->dir, e, &so, out, why, sizeof why);
         if (loaded == 0) {
             close(fd);
             snprintf(out->source, sizeof out->source, "%s/kernel.c", out->dir);
             out->from_cache = 1;
-            if (verbose > 1) fprintf(stderr, "swim: %s from cache %s (built by another process)\n", e->what, out->dir);
+            if (verbose > 1) say("swim: %s from cache %s (built by another process)", e->what, out->dir);
             return 0;
         }
         if (loaded == -2)
-            fprintf(stderr, "swim: kernel cache entry %s does not load as a %s (%s); rebuilding it\n", out->dir, e->what, why);
+            say("swim: kernel cache entry %s does not load as a %s (%s); rebuilding it", out->dir, e->what, why);
         else
             state = -1;
     }
     if (state < 0)
-        fprintf(stderr, "swim: kernel cache entry %s is damaged (%s); rebuilding it\n", out->dir, why);
-    if (verbose) fprintf(stderr, "swim: generating %s ...\n", e->what);
+        say("swim: kernel cache entry %s is damaged (%s); rebuilding it", out->dir, why);
+    if (verbose) say("swim: generating %s ...", e->what);
     int rc = build_entry(root, out->dir, e, out, stopped);
     if (rc == 0 && check_entry(out->dir, e->key, &so, why, sizeof why) != 0) rc = -2;
     if (rc == 0 && load_entry(out->dir, e, &so, out, why, sizeof why) != 0) {
-        fprintf(stderr, "swim: cannot load the %s %s/kernel.so: %s\n", e->what, out->dir, why);
+        swim_message(stderr, "swim: cannot load the %s %s/kernel.so: %s", e->what, out->dir, why);
         rc = -1;
     }
     close(fd);
     if (rc == 0 && verbose)
-        fprintf(stderr, "swim: %s generated in %.2f s, compiled in %.2f s (%s)\n", e->what,
+        say("swim: %s generated in %.2f s, compiled in %.2f s (%s)", e->what,
                 out->generate_seconds, out->compile_seconds, out->dir);
     return rc;
 }
@@ -709,12 +786,12 @@ static int obtain_private(const char *root, const entry_spec *e, swim_compiled *
     char priv[SWIM_CODEGEN_PATH];
     snprintf(priv, sizeof priv, "%s/swim-cache-XXXXXX", tmpdir && *tmpdir == '/' ? tmpdir : "/tmp");
     if (!mkdtemp(priv)) {
-        fprintf(stderr, "swim: no private folder for the %s could be made in %s: %s\n", e->what,
+        swim_message(stderr, "swim: no private folder for the %s could be made in %s: %s", e->what,
                 tmpdir && *tmpdir == '/' ? tmpdir : "/tmp", strerror(errno));
         return -1;
     }
     int rc = obtain_in(priv, root, e, out, verbose, stopped);
-    if (rc == -2) fprintf(stderr, "swim: cannot write the private kernel folder %s either\n", priv);
+    if (rc == -2) swim_message(stderr, "swim: cannot write the private kernel folder %s either", priv);
     if (rc != -1) remove_private(priv);
     out->dir[0] = '\0';      /* gone with the run */
     out->from_cache = 0;
@@ -728,21 +805,21 @@ static int obtain(const entry_spec *e, swim_compiled *out, int verbose)
     char croot[SWIM_CODEGEN_PATH], why[SWIM_CODEGEN_PATH + 256];
     int stopped = 0, rc = -2;
     if (cache_root(croot, sizeof croot) != 0) {
-        fprintf(stderr, "swim: no kernel cache folder (HOME is not set and user %ld has no home folder); "
-                        "kernels are built in a private folder for this run\n", (long)geteuid());
+        say("swim: no kernel cache folder (HOME is not set and user %ld has no home folder); "
+                        "kernels are built in a private folder for this run", (long)geteuid());
     } else if (make_private_dirs(croot) == 0 && trusted_root(croot, why, sizeof why) != 0) {
-        fprintf(stderr, "swim: the kernel cache %s is not used, since %s; kernels are built in a private "
-                        "folder for this run (set SWIM_CACHE to a folder only you can write)\n", croot, why);
+        say("swim: the kernel cache %s is not used, since %s; kernels are built in a private "
+                        "folder for this run (set SWIM_CACHE to a folder only you can write)", croot, why);
     } else {
         rc = obtain_in(croot, root, e, out, verbose, &stopped);
         if (rc == -2)
-            fprintf(stderr, "swim: kernel cache %s cannot be written; the %s is built in a private folder for this run\n",
+            say("swim: kernel cache %s cannot be written; the %s is built in a private folder for this run",
                     croot, e->what);
     }
     if (rc == -2) rc = obtain_private(root, e, out, verbose, &stopped);
     if (rc == -3) {
-        resend_stop(stopped);    /* ends the process unless the signal is handled or ignored */
-        fprintf(stderr, "swim: generating the %s was interrupted\n", e->what);
+        if (hooks.stopped) hooks.stopped(hooks.ctx, stopped);   /* the program's policy: it may end here */
+        swim_message(stderr, "swim: generating the %s was interrupted", e->what);
     }
     return rc == 0 ? 0 : rc == -4 ? -2 : -1;
 }
@@ -835,7 +912,7 @@ int swim_codegen_kernel(int modes, swim_compiled *out, int verbose)
 {
     memset(out, 0, sizeof *out);
     if (modes < 0 || modes > SWIM_KERNEL_MAX_MODES) {
-        fprintf(stderr, "swim: N = %d is out of range 0..%d\n", modes, SWIM_KERNEL_MAX_MODES);
+        swim_message(stderr, "swim: N = %d is out of range 0..%d", modes, SWIM_KERNEL_MAX_MODES);
         return -1;
     }
     if ((out->kernel = swim_kernel_find(modes))) return 0;   /* linked in */
@@ -871,7 +948,7 @@ int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int
     char *json = key ? swim_codegen_structure_text(s, generic, key) : NULL;
     if (!json) {
         free(key);
-        fprintf(stderr, "swim: %s: out of memory describing the scene structure\n", s->path);
+        swim_message(stderr, "swim: %s: out of memory describing the scene structure", s->path);
         return -1;
     }
     int nfree = 0;
@@ -973,10 +1050,16 @@ int swim_cache_entries(const char *root, swim_cache_entry **list, int *count)
         snprintf(e->name, sizeof e->name, "%s", de->d_name);
         char dir[SWIM_CODEGEN_PATH + 32], path[SWIM_CODEGEN_PATH + 64];
         snprintf(dir, sizeof dir, "%s/%s", root, de->d_name);
+        struct stat st;
+        if (lstat(dir, &st) != 0 || entry_folder(&st, e->why, sizeof e->why) != 0) {
+            e->state = -1;     /* named like an entry but not one: never looked into */
+            e->foreign = 1;
+            if (!e->why[0]) snprintf(e->why, sizeof e->why, "cannot be read: %s", strerror(errno));
+            continue;
+        }
         double newest = 0;
         e->bytes = entry_bytes(dir, &newest);
         snprintf(path, sizeof path, "%s/manifest", dir);
-        struct stat st;
         const int has_manifest = lstat(path, &st) == 0;
         e->age_days = ((has_manifest ? (double)st.st_mtime : newest) > 0
                        ? now_s - (has_manifest ? (double)st.st_mtime : newest) : 0) / 86400.0;
@@ -1021,35 +1104,55 @@ void swim_cache_entries_free(swim_cache_entry *list, int count)
     free(list);
 }
 
-int swim_cache_clean(const char *root, double older_days, int *removed, int *busy, long long *freed)
+int swim_cache_clean(const char *root, double older_days, int *removed, int *busy, int *foreign, long long *freed)
 {
-    *removed = *busy = 0;
+    *removed = *busy = *foreign = 0;
     *freed = 0;
     swim_cache_entry *list;
     int count;
     if (swim_cache_entries(root, &list, &count) != 0) return -1;
+    const int rootfd = open(root, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (rootfd < 0) {
+        const int saved = errno;
+        swim_cache_entries_free(list, count);
+        errno = saved;
+        return errno == ENOENT ? 0 : -1;
+    }
     for (int i = 0; i < count; i++) {
+        if (list[i].foreign) {
+            (*foreign)++;
+            continue;
+        }
         if (older_days >= 0 && list[i].age_days < older_days) continue;
-        char dir[SWIM_CODEGEN_PATH + 32], lock[SWIM_CODEGEN_PATH + 64];
-        snprintf(dir, sizeof dir, "%s/%s", root, list[i].name);
-        snprintf(lock, sizeof lock, "%s/lock", dir);
+        /* the entry as a folder, opened without following a link, and checked again once open:
+         * what is removed is what was checked, whatever is renamed meanwhile */
+        const int dfd = openat(rootfd, list[i].name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+        struct stat st;
+        char why[256];
+        if (dfd < 0 || fstat(dfd, &st) != 0 || entry_folder(&st, why, sizeof why) != 0) {
+            if (dfd >= 0) close(dfd);
+            (*foreign)++;
+            continue;
+        }
         /* a build holds the entry's lock: leave it alone */
-        int fd = open(lock, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+        const int fd = openat(dfd, "lock", O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
         if (fd >= 0 && flock(fd, LOCK_EX | LOCK_NB) != 0) {
             close(fd);
+            close(dfd);
             (*busy)++;
             continue;
         }
-        remove_private(dir);
+        remove_entries_at(dfd, NULL);
         if (fd >= 0) close(fd);
-        struct stat st;
-        if (lstat(dir, &st) == 0) {
+        close(dfd);
+        if (unlinkat(rootfd, list[i].name, AT_REMOVEDIR) != 0 && errno != ENOENT) {
             (*busy)++;
             continue;
         }
         (*removed)++;
         *freed += list[i].bytes;
     }
+    close(rootfd);
     swim_cache_entries_free(list, count);
     return 0;
 }
@@ -1070,7 +1173,7 @@ int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose)
     free(suffix);
     if (!json) {
         free(key);
-        fprintf(stderr, "swim: %s: out of memory describing the stroke\n", s->path);
+        swim_message(stderr, "swim: %s: out of memory describing the stroke", s->path);
         return -1;
     }
     char what[128];

@@ -18,7 +18,7 @@
  * flags, and a hash of every file under the generator folder and of the hand-written C the
  * kernels include (runtime/kernel/). Files are written under temporary names and installed by
  * rename only; the manifest, written last, holds the key and the size and hash of kernel.c and
- * kernel.so, so a truncated or empty file is rebuilt (one line on stderr) rather than loaded.
+ * kernel.so, so a truncated or empty file is rebuilt (a notice) rather than loaded.
  * Trust (docs/trust.md): a cache root is used only when it and its entry folders belong to this
  * user (or root) and nobody else may write them, and the folders above it are this user's or
  * root's and writable by others only with the sticky bit; manifest, kernel.c and kernel.so must
@@ -27,9 +27,15 @@
  * the code that runs is the code that was checked, and a cache file changed later cannot touch
  * a running process. Concurrent first uses wait on a lock file in the entry; a cache that cannot
  * be written or is not trusted is replaced for this run by a private folder (mode 0700 under
- * $TMPDIR or /tmp, one line on stderr) that is removed once the kernel is loaded. A signal that
- * stops swim while a generator or compiler runs is passed on to it; its temporary files are
- * removed before the signal takes effect, and the child ends with swim even on SIGKILL.
+ * $TMPDIR or /tmp, with a notice) that is removed once the kernel is loaded. The child (generator
+ * or compiler) ends with its parent even on SIGKILL.
+ *
+ * Messages and signals belong to the program, not to this code (swim_codegen_hooks): a failure
+ * is one error line (swim_message on stderr, which libswim redirects into its swim_error);
+ * progress ("generating ...") and notices of damage and fallbacks go to the note hook the
+ * calling thread installed, nowhere without one. No signal handler is ever installed here: a
+ * build stops when the program's stop flag is set (its child sent SIGTERM, its temporary files
+ * removed, then the stopped hook called), and the program decides what its signals do.
  *
  * The generator and the headers are found relative to the executable (/proc/self/exe): in the
  * source tree (bin/swim -> generator/, runtime/kernel/) or an installation (PREFIX/bin/swim ->
@@ -37,6 +43,8 @@
  */
 #ifndef SWIM_CODEGEN_H
 #define SWIM_CODEGEN_H
+
+#include <signal.h>
 
 #include "kernel/stroke_kernel.h"
 #include "kernel/swim_kernel.h"
@@ -57,6 +65,20 @@ typedef struct {
     int refused_index;                    /* swim_codegen_stroke -2: the coordinate of the law refused */
     char refused[512];                    /* ... and why (the generator's words) */
 } swim_compiled;
+
+/* What a program lets kernel builds of the calling thread do for it (swim_codegen_set_hooks).
+ * Every member may be NULL. bin/swim prints the notes on stderr and, while a child runs, passes
+ * SIGINT, SIGTERM and SIGHUP on to it (runtime/cli/run_signals.h); libswim installs none. */
+typedef struct {
+    void (*note)(void *ctx, const char *line);   /* progress and notices, one line without '\n' */
+    void (*child)(void *ctx, long pid);          /* a generator or compiler started (pid > 0), ended (0) */
+    void (*stopped)(void *ctx, int stop);        /* a build stopped by *stop has removed its files */
+    volatile sig_atomic_t *stop;                 /* polled while a child runs: nonzero stops the build */
+    void *ctx;
+} swim_codegen_hooks;
+
+/* Installs a copy of h for the calling thread (NULL: none, the default). */
+void swim_codegen_set_hooks(const swim_codegen_hooks *h);
 
 /* verbose: 0 quiet (damage and fallback notices only), 1 also progress of a generation,
  * 2 also where a cached kernel came from. */
@@ -99,6 +121,8 @@ typedef struct {
     long long bytes;      /* size of its files */
     double age_days;      /* since its last use (loads refresh the manifest's time) */
     int state;            /* 0 sound; -1 damaged or not trusted (why); 1 no manifest yet (why) */
+    int foreign;          /* named like an entry but not an entry folder of this user (a symbolic
+                           * link, a file, another user's folder): listed, never looked into */
     char why[256];
 } swim_cache_entry;
 
@@ -108,7 +132,9 @@ int swim_cache_entries(const char *root, swim_cache_entry **list, int *count);
 void swim_cache_entries_free(swim_cache_entry *list, int count);
 
 /* Removes the entries unused for at least older_days (every entry when older_days < 0),
- * except those whose lock a build holds. 0 with the counts, or -1 with errno set. */
-int swim_cache_clean(const char *root, double older_days, int *removed, int *busy, long long *freed);
+ * except those whose lock a build holds (*busy) and what only looks like an entry (*foreign:
+ * a symbolic link or anything but a folder of this user, left alone: nothing is followed).
+ * 0 with the counts, or -1 with errno set. */
+int swim_cache_clean(const char *root, double older_days, int *removed, int *busy, int *foreign, long long *freed);
 
 #endif

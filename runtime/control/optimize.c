@@ -136,7 +136,7 @@ static void integrate(const swim_opt_problem *p, const swim_override *ov, int no
         snprintf(r->reason, sizeof r->reason, rc == 2 ? "values refused by the scene checks" : "no kernel");
         goto done;
     }
-    const swim_run_request req = {&s, &kn, &sys, 0, NULL, (volatile sig_atomic_t *)p->interrupt, {NULL, NULL, NULL, NULL, NULL}};
+    const swim_run_request req = {&s, &kn, &sys, 0, NULL, (volatile sig_atomic_t *)p->interrupt, {NULL, NULL, NULL, NULL, NULL}, 0};
     char err[512] = "";
     rc = swim_run_open(&req, &run, err, sizeof err);
     if (rc) {

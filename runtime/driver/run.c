@@ -531,7 +531,8 @@ static void end_run(swim_run *c, int failed, const char *fmt, ...)
 static void stop_by_signal(swim_run *c, double t)
 {
     int sig = *c->req.stop;
-    if (sig == SIGINT) stop(c, "interrupted (SIGINT) at t = %.6g", t);
+    if (c->req.stop_by_caller) stop(c, "stopped by the caller at t = %.6g", t);
+    else if (sig == SIGINT) stop(c, "interrupted (SIGINT) at t = %.6g", t);
     else stop(c, "terminated by %s at t = %.6g", sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal", t);
 }
 

@@ -69,6 +69,8 @@ typedef struct {
     swim_run_events *events;        /* borrowed, may be NULL (swim_run_events_parse) */
     volatile sig_atomic_t *stop;    /* set by a signal handler to stop the run (NULL: never) */
     swim_run_sink sink;
+    int stop_by_caller;             /* *stop is a caller's flag (libswim), any nonzero value, not a
+                                       signal number: the run ends "stopped by the caller" */
 } swim_run_request;
 
 /* What a prescribed stroke adds (scene with a [stroke] table). */

@@ -246,7 +246,7 @@ static void stop_on_integrator(swim_stroke_run *c, int rc)
     const double t = c->ode ? swim_ode_time(c->ode) : 0.0;
     if (stop_requested(c)) {
         int sig = *c->req.stop;
-        end_run(c, 1, "%s at t = %.6g", sig == SIGINT ? "interrupted (SIGINT)" : sig == SIGTERM ? "terminated by SIGTERM"
+        end_run(c, 1, "%s at t = %.6g", c->req.stop_by_caller ? "stopped by the caller" : sig == SIGINT ? "interrupted (SIGINT)" : sig == SIGTERM ? "terminated by SIGTERM"
                 : "terminated by SIGHUP", c->t_reached);
     } else if (rc == SWIM_ODE_ERHS) {
         end_run(c, 1, "%s near t = %.6g", swim_stroke_strerror(swim_ode_rhs_status(c->ode)), c->st.last_rhs_t);

@@ -10,6 +10,12 @@
 
 void swim_run_summary_json(FILE *f, const swim_run *c, const swim_summary_context *x)
 {
+    if (c->stroke && !c->res.is_stroke) {   /* a stroke not run yet (libswim) */
+        fprintf(f, "{\n  \"scene\": ");
+        swim_json_string(f, c->req.scene->path);
+        fprintf(f, ",\n  \"status\": \"not started\",\n  \"reason\": \"not run yet\",\n  \"rows\": 0\n}\n");
+        return;
+    }
     if (c->stroke) {
         swim_stroke_summary_json(f, c->stroke, x);
         return;
@@ -50,8 +56,18 @@ void swim_run_summary_json(FILE *f, const swim_run *c, const swim_summary_contex
     fprintf(f, "  \"projection\": {\"enabled\": %s, \"steps\": %ld, \"max_change\": %.3g},\n",
             s->projection && (swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_PROJECTION) ? "true" : "false",
             d->projections, d->max_projection);
-    fprintf(f, "  \"status\": \"%s\",\n  \"reason\": ", r->status ? "failed" : "completed");
-    swim_json_string(f, r->reason ? r->reason : "out of memory");
+    /* a run advanced part of the way (libswim) has neither completed nor failed yet */
+    const int ended = c->res.finished || r->status;
+    fprintf(f, "  \"status\": \"%s\",\n  \"reason\": ",
+            r->status ? "failed" : ended ? "completed" : r->rows > 0 ? "in progress" : "not started");
+    if (ended) {
+        swim_json_string(f, r->reason ? r->reason : "out of memory");
+    } else {
+        char so_far[96];
+        if (r->rows > 0) snprintf(so_far, sizeof so_far, "advanced to t = %.6g, not yet to t_end", r->t_reached);
+        else snprintf(so_far, sizeof so_far, "not run yet");
+        swim_json_string(f, so_far);
+    }
     fprintf(f, ",\n  \"t_end\": %.17g,\n  \"t_reached\": %.17g,\n  \"rows\": %ld,\n", s->t_end, r->t_reached, r->rows);
     if (x->sensitivity) {
         fprintf(f, "  \"sensitivity\": {\"status\": \"%s\", \"t_end\": %.17g, \"rows\": %ld, \"t_reached\": ",

@@ -24,11 +24,13 @@
 #include "io/message.h"
 #include "io/version.h"
 #include "kernel/swim_kernel.h"
+#include "scene/keys.h"
 #include "scene/resolve.h"
 #include "scene/scene.h"
 #include "shape/shape.h"
 
 #define MAX_SETS 64
+_Static_assert(SWIM_LIB_MAX_EVENTS == SWIM_RUN_MAX_EVENTS, "the library's event bound is the driver's");
 
 struct swim_model {
     char *text, *name, *resolved;
@@ -51,6 +53,8 @@ struct swim_sim {
     swim_run *run;
     swim_sim_options o;
     int caller_stopped;
+    double t_asked;              /* the latest time swim_sim_advance was asked for */
+    int bad_events;              /* sim_open refused an event */
 };
 
 /* ---- errors --------------------------------------------------------------------------------- */
@@ -73,14 +77,13 @@ static void on_line(void *ctx, const char *line)
         if (colon && colon - p < 16) p = colon + 2;
     }
     snprintf(e->message, sizeof e->message, "%s", p);
-    /* FILE: --set KEY=VALUE: KEY: ... (an override's value) */
+    /* FILE: --set KEY=VALUE: ... (an override refused): the key is the override's */
     const char *ov = strstr(p, ": --set ");
     if (ov) {
         snprintf(e->file, sizeof e->file, "%.*s", (int)(ov - p), p);
-        const char *k = strstr(ov + 8, ": ");
-        const char *kc = k ? strstr(k + 2, ": ") : NULL;
-        if (kc && (size_t)(kc - k - 2) < sizeof e->key && !memchr(k + 2, ' ', (size_t)(kc - k - 2)))
-            snprintf(e->key, sizeof e->key, "%.*s", (int)(kc - k - 2), k + 2);
+        const char *k = ov + 8, *eq = strchr(k, '=');
+        if (eq && (size_t)(eq - k) < sizeof e->key && !memchr(k, ' ', (size_t)(eq - k)))
+            snprintf(e->key, sizeof e->key, "%.*s", (int)(eq - k), k);
         return;
     }
     /* FILE:LINE: KEY: ... */
@@ -119,9 +122,61 @@ const char *swim_version(void) { return SWIM_VERSION; }
 
 void swim_free(void *p) { free(p); }
 
+/* ---- arguments: checked at the top of every function, before anything is touched ---------- */
+
+/* status with err->key naming what was refused (err cleared first; NULL err: the status alone);
+ * the message is a sentence of its own, as the error's other messages. */
+static int refuse(swim_error *err, int status, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static int refuse(swim_error *err, int status, const char *key, const char *fmt, ...)
+{
+    if (!err) return status;
+    memset(err, 0, sizeof *err);
+    err->status = status;
+    snprintf(err->key, sizeof err->key, "%s", key);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err->message, sizeof err->message, fmt, ap);
+    va_end(ap);
+    return status;
+}
+#define bad_arg(err, key, ...) refuse((err), SWIM_EINPUT, (key), __VA_ARGS__)
+
+/* value against the bounds of function's argument arg (scene/keys.h, the library's rows). */
+static int bounded(swim_error *err, const char *function, const char *arg, double value)
+{
+    const swim_scene_key *k = swim_library_arg(function, arg);
+    if (!k || (isfinite(value) && value >= k->lo && value < k->hi)) return SWIM_OK;
+    if (k->kind == SWIM_KEY_INTEGER && value < k->hi + 1 && value >= k->lo) return SWIM_OK;   /* [lo, hi] */
+    return bad_arg(err, arg, "%s must be %s (got %g)", k->doc, k->expect, value);
+}
+
+/* The lists of strings a function takes: list[0 .. n) with no NULL entry. */
+static int string_list(swim_error *err, const char *function, const char *name, const char *count,
+                       const char *const *list, int n)
+{
+    if (bounded(err, function, count, n)) return SWIM_EINPUT;
+    if (n > 0 && !list) return bad_arg(err, name, "%s is NULL while %s = %d", name, count, n);
+    for (int i = 0; i < n; i++)
+        if (!list[i]) {
+            char which[64];
+            snprintf(which, sizeof which, "%s[%d]", name, i);
+            return bad_arg(err, which, "%s is NULL", which);
+        }
+    return SWIM_OK;
+}
+
 /* ---- models --------------------------------------------------------------------------------- */
 
-static int model_open(swim_model *m, const char *const *sets, int nsets)
+/* The key of override `set` ("KEY=VALUE") into key (what precedes '='). */
+static void override_key(const char *set, char *key, size_t len)
+{
+    const size_t n = strcspn(set, "=");
+    snprintf(key, len, "%.*s", (int)(n < len ? n : len - 1), set);
+}
+
+/* bad_key: the key of an override that does not parse (the line names only the value). */
+static int model_open(swim_model *m, const char *const *sets, int nsets, char *bad_key, size_t keylen)
 {
     if (nsets > MAX_SETS) {
         swim_message(stderr, "swim: %s: more than %d overrides", m->name, MAX_SETS);
@@ -130,6 +185,7 @@ static int model_open(swim_model *m, const char *const *sets, int nsets)
     for (int i = 0; i < nsets; i++) {
         char why[256];
         if (swim_override_parse(sets[i], &m->sets[i], why, sizeof why) != 0) {
+            override_key(sets[i], bad_key, keylen);
             swim_message(stderr, "swim: %s: --set: %s", m->name, why);
             return SWIM_EINPUT;
         }
@@ -164,10 +220,16 @@ static int model_new(char *text, size_t len, const char *name, const char *const
     }
     m->text = text;
     m->len = len;
-    const int rc = model_open(m, sets, nsets);
+    char bad_key[sizeof err->key] = "";
+    const int rc = model_open(m, sets, nsets, bad_key, sizeof bad_key);
     if (rc) {
+        end(&c, rc, "the scene could not be read");
+        if (err && bad_key[0] && !err->key[0]) {   /* an override's value: the key it was for */
+            snprintf(err->key, sizeof err->key, "%s", bad_key);
+            snprintf(err->file, sizeof err->file, "%s", m->name);
+        }
         swim_model_free(m);
-        return end(&c, rc, "the scene could not be read");
+        return rc;
     }
     *out = m;
     return end(&c, SWIM_OK, "");
@@ -175,6 +237,10 @@ static int model_new(char *text, size_t len, const char *name, const char *const
 
 int swim_model_from_file(const char *path, const char *const *sets, int nsets, swim_model **out, swim_error *err)
 {
+    if (!out) return bad_arg(err, "out", "out is NULL");
+    *out = NULL;
+    if (!path) return bad_arg(err, "path", "path is NULL");
+    if (string_list(err, "swim_model_from_file", "sets", "nsets", sets, nsets)) return SWIM_EINPUT;
     capture c;
     begin(&c, err);
     size_t len = 0;
@@ -195,19 +261,24 @@ int swim_model_from_file(const char *path, const char *const *sets, int nsets, s
 int swim_model_from_text(const char *toml, const char *name, const char *const *sets, int nsets, swim_model **out,
                          swim_error *err)
 {
-    const size_t len = toml ? strlen(toml) : 0;
+    if (!out) return bad_arg(err, "out", "out is NULL");
+    *out = NULL;
+    if (!toml) return bad_arg(err, "toml", "toml is NULL");
+    if (string_list(err, "swim_model_from_file", "sets", "nsets", sets, nsets)) return SWIM_EINPUT;
+    const size_t len = strlen(toml);
     char *text = malloc(len + 1);
-    if (text) memcpy(text, toml ? toml : "", len + 1);
+    if (text) memcpy(text, toml, len + 1);
     return model_new(text, len, name ? name : "(text)", sets, nsets, out, err);
 }
 
 int swim_model_columns(const swim_model *m, const char *const **names)
 {
+    if (!m || !names) return -SWIM_EINPUT;
     *names = m->names;
     return m->ncol;
 }
 
-const char *swim_model_scene_text(const swim_model *m) { return m->resolved ? m->resolved : m->text; }
+const char *swim_model_scene_text(const swim_model *m) { return !m ? NULL : m->resolved ? m->resolved : m->text; }
 
 void swim_model_free(swim_model *m)
 {
@@ -242,10 +313,12 @@ static int sim_open(swim_sim *s)
     int rc = swim_run_events_parse(&s->s, s->o.events, s->o.nevents, m->names, m->ncol, &s->events, why, sizeof why);
     if (rc) {
         swim_message(stderr, "%s", why);
+        s->bad_events = rc == 2;
         return rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
     }
+    /* the caller's stop flag is a flag, not a signal number (any nonzero value stops the run) */
     const swim_run_request req = {&s->s, &m->kn, &m->sys, 0, s->events, (volatile sig_atomic_t *)s->o.stop,
-                                  {sink_row, NULL, NULL, NULL, s}};
+                                  {sink_row, NULL, NULL, NULL, s}, 1};
     why[0] = '\0';
     rc = swim_run_open(&req, &s->run, why, sizeof why);
     if (rc && why[0]) swim_message(stderr, "%s", why);
@@ -254,6 +327,10 @@ static int sim_open(swim_sim *s)
 
 int swim_sim_create(const swim_model *m, const swim_sim_options *o, swim_sim **out, swim_error *err)
 {
+    if (!out) return bad_arg(err, "out", "out is NULL");
+    *out = NULL;
+    if (!m) return bad_arg(err, "model", "model is NULL");
+    if (o && string_list(err, "swim_sim_create", "events", "nevents", o->events, o->nevents)) return SWIM_EINPUT;
     capture c;
     begin(&c, err);
     *out = NULL;
@@ -263,26 +340,47 @@ int swim_sim_create(const swim_model *m, const swim_sim_options *o, swim_sim **o
     if (o) s->o = *o;
     const int rc = sim_open(s);
     if (rc) {
+        end(&c, rc, "the simulation could not be set up");
+        if (err && s->bad_events && !err->key[0]) {   /* an event of the options or of the scene */
+            snprintf(err->key, sizeof err->key, "events");
+            snprintf(err->file, sizeof err->file, "%s", m->name);
+        }
         swim_sim_free(s);
-        return end(&c, rc, "the simulation could not be set up");
+        return rc;
     }
     *out = s;
     return end(&c, SWIM_OK, "");
 }
 
-int swim_sim_advance(swim_sim *s, double t, swim_error *err)
+static int sim_advance(swim_sim *s, double t, swim_error *err)
 {
     capture c;
     begin(&c, err);
+    if (t > s->t_asked) s->t_asked = t;
     const int status = swim_run_advance(s->run, t);
     const swim_run_result *r = swim_run_get_result(s->run);
     return end(&c, status ? SWIM_EFAILED : SWIM_OK, r->reason ? r->reason : "out of memory");
 }
 
-int swim_sim_run(swim_sim *s, swim_error *err) { return swim_sim_advance(s, __builtin_inf(), err); }
+int swim_sim_advance(swim_sim *s, double t, swim_error *err)
+{
+    if (!s) return bad_arg(err, "sim", "sim is NULL");
+    if (bounded(err, "swim_sim_advance", "t", t)) return SWIM_EINPUT;
+    if (t < s->t_asked)
+        return bad_arg(err, "t", "the time to advance to, %.17g, is before %.17g, the time an earlier call advanced to",
+                       t, s->t_asked);
+    return sim_advance(s, t, err);
+}
+
+int swim_sim_run(swim_sim *s, swim_error *err)
+{
+    if (!s) return bad_arg(err, "sim", "sim is NULL");
+    return sim_advance(s, INFINITY, err);
+}
 
 int swim_sim_result(const swim_sim *s, swim_result *out)
 {
+    if (!s || !out) return SWIM_EINPUT;
     const swim_run_result *r = swim_run_get_result(s->run);
     memset(out, 0, sizeof *out);
     out->finished = r->finished;
@@ -305,6 +403,7 @@ int swim_sim_result(const swim_sim *s, swim_result *out)
 
 int swim_sim_state(const swim_sim *s, double *y, int len)
 {
+    if (!s || len < 0 || (!y && len > 0)) return -SWIM_EINPUT;
     const swim_run_result *r = swim_run_get_result(s->run);
     const int n = 3 + 2 * s->s.n;
     for (int i = 0; i < n && i < len && r->final_state; i++) y[i] = r->final_state[i];
@@ -313,6 +412,7 @@ int swim_sim_state(const swim_sim *s, double *y, int len)
 
 char *swim_sim_summary_json(const swim_sim *s)
 {
+    if (!s) return NULL;
     char *buf = NULL;
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);
@@ -328,6 +428,7 @@ char *swim_sim_summary_json(const swim_sim *s)
 
 char *swim_sim_events_csv(const swim_sim *s)
 {
+    if (!s) return NULL;
     char *buf = NULL;
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);
@@ -351,18 +452,6 @@ void swim_sim_free(swim_sim *s)
 
 /* ---- inspection ----------------------------------------------------------------------------- */
 
-static int refuse(swim_error *err, int status, const char *key, const char *fmt, ...)
-{
-    if (!err) return status;
-    err->status = status;
-    snprintf(err->key, sizeof err->key, "%s", key);
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err->message, sizeof err->message, fmt, ap);
-    va_end(ap);
-    return status;
-}
-
 static int all_finite(const double *a, size_t count)
 {
     for (size_t i = 0; a && i < count; i++)
@@ -374,10 +463,15 @@ int swim_inspect(int modes, const double *shape, const double *velocity, double 
                  swim_inspection *out, swim_error *err)
 {
     if (err) memset(err, 0, sizeof *err);
-    if (modes < 0 || modes > SWIM_KERNEL_MAX_MODES)
-        return refuse(err, SWIM_EINPUT, "modes", "%d is not a mode count in 0..%d", modes, SWIM_KERNEL_MAX_MODES);
-    if (!(rho0 > 0.0)) return refuse(err, SWIM_EINPUT, "rho0", "density must be > 0 (got %g)", rho0);
-    if (!(rhof > 0.0)) return refuse(err, SWIM_EINPUT, "rhof", "density must be > 0 (got %g)", rhof);
+    if (!out) return bad_arg(err, "out", "out is NULL");
+    if (bounded(err, "swim_inspect", "modes", modes) || bounded(err, "swim_inspect", "rho0", rho0) ||
+        bounded(err, "swim_inspect", "rhof", rhof))
+        return SWIM_EINPUT;
+    const size_t nc = 2 * ((size_t)modes + 1);
+    if (!shape) return bad_arg(err, "shape", "shape is NULL");
+    if (!all_finite(shape, nc)) return bad_arg(err, "shape", "the shape has a value that is not a finite number");
+    if (velocity && !all_finite(velocity, nc))
+        return bad_arg(err, "velocity", "the velocity has a value that is not a finite number");
     out->jmin = swim_shape_jmin(modes, shape);
     if (!(out->jmin > 0.0))
         return refuse(err, SWIM_EINPUT, "shape", "the shape is outside the admissible set D "

@@ -9,8 +9,17 @@
  * through functions of one pattern (swim_model_*, swim_sim_*); every function that can fail
  * returns a status (SWIM_OK = 0) and, given a swim_error, fills it (file, line and key of a bad
  * scene value, and one line of text). The library never exits and never prints; it keeps no
- * global state, so two simulations may run on two threads at once. Kernels are generated and
- * cached on first use of a structure as for `swim run` (the kernel cache, docs/kernels-and-cache.md).
+ * global state and installs no signal handler, so two simulations may run on two threads at
+ * once. Kernels are generated and cached on first use of a structure as for `swim run` (the
+ * kernel cache, docs/kernels-and-cache.md); two threads that need the same new kernel build it
+ * once (one builds, the other waits on the cache entry's lock), and a kernel that cannot be had
+ * is SWIM_EKERNEL with the cause in the error, nothing on stdout or stderr.
+ *
+ * Arguments are checked before anything is done (docs/trust.md): a NULL where an object, an
+ * out-pointer or an array is needed, a NULL entry of a list, a count outside its bounds or a
+ * number outside its bounds (the library's rows of scene/keys.c) is SWIM_EINPUT with err->key
+ * naming the argument ("out", "model", "sim", "sets[1]", "nevents", "t", ...). The functions
+ * without an error argument say so by their value (below).
  *
  *   swim_model *m;  swim_sim *s;  swim_error e;  swim_result r;
  *   if (swim_model_from_file("models/example3.toml", NULL, 0, &m, &e)) { puts(e.message); ... }
@@ -67,9 +76,11 @@ SWIM_API int swim_model_from_file(const char *path, const char *const *sets, int
                                   swim_error *err);
 SWIM_API int swim_model_from_text(const char *toml, const char *name, const char *const *sets, int nsets,
                                   swim_model **out, swim_error *err);
-/* The columns of the rows (trajectory.csv's names), *names valid while the model lives. */
+/* The columns of the rows (trajectory.csv's names), *names valid while the model lives; their
+ * count, or -SWIM_EINPUT when m or names is NULL. */
 SWIM_API int swim_model_columns(const swim_model *m, const char *const **names);
-/* The scene as it will run (the overrides written into its text), a string owned by the model. */
+/* The scene as it will run (the overrides written into its text), a string owned by the model
+ * (NULL for a NULL model). */
 SWIM_API const char *swim_model_scene_text(const swim_model *m);
 SWIM_API void swim_model_free(swim_model *m);
 
@@ -87,13 +98,18 @@ typedef struct {
     void *rows_ctx;
     const char *const *events;        /* "COLUMN:KIND[:stop]" as `swim run --event`, besides the scene's */
     int nevents;
-    volatile int *stop;               /* set (to nonzero) from anywhere to stop the run; may be NULL */
+    volatile int *stop;               /* a flag, not a signal number: set to any nonzero value (from
+                                         another thread or a signal handler) to stop the run at its
+                                         next step; it then fails with "stopped by the caller at
+                                         t = T", keeping the rows so far. NULL: never stopped. */
 } swim_sim_options;
 
 SWIM_API int swim_sim_create(const swim_model *m, const swim_sim_options *o, swim_sim **out, swim_error *err);
 /* Rows up to time t, going on from where the last call stopped; the same rows, bit for bit, as
  * one swim_sim_run. SWIM_OK while the run goes on or when it completed; SWIM_EFAILED with the
- * reason when it failed or stopped early. A prescribed stroke runs to its end at the first call. */
+ * reason when it failed or stopped early. A prescribed stroke runs to its end at the first call.
+ * t must be a finite number >= 0 and not before the t of an earlier call (NaN, an infinity or a
+ * step back is SWIM_EINPUT, key "t", nothing run); beyond t_end the run stops at t_end. */
 SWIM_API int swim_sim_advance(swim_sim *s, double t, swim_error *err);
 /* To t_end (or a :stop event). */
 SWIM_API int swim_sim_run(swim_sim *s, swim_error *err);
@@ -108,13 +124,18 @@ typedef struct {
     long steps, rhs_evaluations;
 } swim_result;
 
+/* SWIM_OK, or SWIM_EINPUT when s or r is NULL. */
 SWIM_API int swim_sim_result(const swim_sim *s, swim_result *r);
 /* The state at t_reached in the layout of trajectory.csv's columns 1 .. 3 + 2n (x, y, theta,
- * c, cdot): at most len doubles into y; how many there are. */
+ * c, cdot): at most len doubles into y; how many there are (-SWIM_EINPUT for a NULL s, len < 0,
+ * or y NULL with len > 0). */
 SWIM_API int swim_sim_state(const swim_sim *s, double *y, int len);
-/* summary.json of the run (after it finished) as text, malloc'd: free it with swim_free. */
+/* summary.json of the run as text, malloc'd: free it with swim_free (NULL for a NULL s). Its
+ * "status" is "completed" or "failed" once the run ended, "in progress" after a swim_sim_advance
+ * that stopped before t_end, "not started" before any. */
 SWIM_API char *swim_sim_summary_json(const swim_sim *s);
-/* events.csv of the run as text (header only without events), malloc'd; swim_free. */
+/* events.csv of the run as text (header only without events), malloc'd; swim_free (NULL for a
+ * NULL s). */
 SWIM_API char *swim_sim_events_csv(const swim_sim *s);
 SWIM_API void swim_sim_free(swim_sim *s);
 
@@ -133,9 +154,10 @@ typedef struct {
 } swim_inspection;
 
 /* The matrices of `modes` modes at `shape` (n doubles), velocity v (n doubles, or NULL), with
- * densities rho0 (body) and rhof (fluid). SWIM_EINPUT (err->key names the argument: "modes",
- * "shape", "velocity", "rho0", "rhof") for a shape outside D, a density <= 0 or values whose
- * matrices overflow; SWIM_EKERNEL when no kernel of that size can be had. */
+ * densities rho0 (body) and rhof (fluid). SWIM_EINPUT (err->key names the argument: "out",
+ * "modes", "shape", "velocity", "rho0", "rhof") for a NULL out or shape, a value that is not
+ * finite, a shape outside D, a density outside (0, 1e150) or values whose matrices overflow;
+ * SWIM_EKERNEL when no kernel of that size can be had. */
 SWIM_API int swim_inspect(int modes, const double *shape, const double *velocity, double rho0, double rhof,
                           swim_inspection *out, swim_error *err);
 

@@ -23,6 +23,7 @@
 
 #include "io/clock.h"
 #include "io/message.h"
+#include "cli/run_signals.h"
 #include "cli/sweep_args.h"
 #include "sweep/family_hdf5.h"
 #include "sweep/sweep.h"
@@ -153,6 +154,7 @@ static void work(sweep_plan *p)
 int main(int argc, char **argv)
 {
     MPI_Init(&argc, &argv);
+    swim_kernel_hooks_install();   /* the program owns its signals and what a kernel build prints */
     int rank, ranks;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);

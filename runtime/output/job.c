@@ -186,7 +186,7 @@ static int open_run(swim_job *j)
     if (!j->req.quiet && j->spz.from_cache && !j->stroke)
         swim_message(stderr, "swim: scene kernel from cache %s", j->spz.dir);
     const swim_run_request rr = {&j->s, &j->kn, &j->spz, j->req.generic, j->events, j->req.stop,
-                                 {sink_row, j->req.trace ? sink_step : NULL, sink_notice, sink_progress, j}};
+                                 {sink_row, j->req.trace ? sink_step : NULL, sink_notice, sink_progress, j}, 0};
     char err[1024] = "";
     int rc = swim_run_open(&rr, &j->run, err, sizeof err);
     if (rc) {

@@ -1,5 +1,6 @@
 #include "scene/keys.h"
 
+#include <float.h>
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
@@ -102,3 +103,29 @@ int swim_scene_table_keys(const char *table, const char **names, int cap)
 }
 
 const char *const *swim_scene_tables(void) { return tables; }
+
+/* ---- the library's own numeric arguments (lib/swim.h), besides the scene keys above ----------
+ * Checked by libswim at the top of the function named in `table`; a value outside [lo, hi) (or
+ * not finite) is SWIM_EINPUT naming the argument. */
+static const swim_scene_key library_args[] = {
+    {"swim_inspect", "modes", SWIM_KEY_INTEGER, NONE, 0, SWIM_KERNEL_MAX_MODES, 0, {NULL},
+     "an integer 0.." SWIM_STR(SWIM_KERNEL_MAX_MODES), NULL, 0, "the mode count"},
+    {"swim_inspect", "rho0", SWIM_KEY_NUMBER, NONE, DBL_MIN, SWIM_MAGNITUDE_MAX, 0, {NULL}, "> 0 and < 1e150", NULL, 0,
+     "the body's density"},
+    {"swim_inspect", "rhof", SWIM_KEY_NUMBER, NONE, DBL_MIN, SWIM_MAGNITUDE_MAX, 0, {NULL}, "> 0 and < 1e150", NULL, 0,
+     "the fluid's density"},
+    {"swim_sim_advance", "t", SWIM_KEY_NUMBER, NONE, 0, INFINITY, 0, {NULL},
+     "a finite time >= 0, not before the time of an earlier call", NULL, 0, "the time to advance to"},
+    {"swim_model_from_file", "nsets", SWIM_KEY_INTEGER, NONE, 0, 64, 0, {NULL}, "an integer 0..64", NULL, 0,
+     "the number of overrides"},
+    {"swim_sim_create", "nevents", SWIM_KEY_INTEGER, NONE, 0, SWIM_LIB_MAX_EVENTS, 0, {NULL},
+     "an integer 0.." SWIM_STR(SWIM_LIB_MAX_EVENTS), NULL, 0, "the number of events"},
+};
+
+const swim_scene_key *swim_library_arg(const char *function, const char *arg)
+{
+    for (size_t i = 0; i < sizeof library_args / sizeof library_args[0]; i++)
+        if (strcmp(library_args[i].table, function) == 0 && strcmp(library_args[i].key, arg) == 0)
+            return &library_args[i];
+    return NULL;
+}

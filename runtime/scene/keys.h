@@ -63,4 +63,11 @@ int swim_scene_table_keys(const char *table, const char **names, int cap);
 /* The tables a scene file may have, NULL-terminated. */
 const char *const *swim_scene_tables(void);
 
+/* The bounds of a numeric argument of the library (lib/swim.h): the row whose table is the
+ * function's name and whose key is the argument's, or NULL. */
+#define SWIM_LIB_MAX_EVENTS 32
+#define SWIM_STR_(x) #x
+#define SWIM_STR(x) SWIM_STR_(x)
+const swim_scene_key *swim_library_arg(const char *function, const char *arg);
+
 #endif
