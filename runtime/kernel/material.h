@@ -1,0 +1,139 @@
+/* material.h -- W(c) = int_D U(I1, J) dz by a product rule over the unit disk, with its
+ * gradient, Hessian and parameter partials (ERRATA B5), for an energy law that is not a
+ * polynomial in I1 and J (generator/swimgen/material.py; a polynomial law is in closed form).
+ *
+ * Included by a generated scene kernel, which defines before it:
+ *   MATERIAL_NR, material_r[], material_w[]   Gauss-Legendre nodes and weights of
+ *                            int_0^1 g(r) r dr;
+ *   MATERIAL_NT, material_c[], material_s[]   cos and sin of the trapezoid nodes 2 pi l / NT;
+ *   material_density(I1, J, p, u)   u = U, U_I, U_J, U_II, U_IJ, U_JJ at one point;
+ *   material_density_dp(I1, J, p, k, u)   d/d law_params[k] of U, U_I, U_J (1), or 0.
+ * and it defines material_energy and material_energy_dp, as the closed form does.
+ *
+ * At z = r e^{i theta}: A = |c_1|^2, h = sum_m m c_-m conj(z)^(m-1), H = |h|^2, and
+ * I1 = 2 (A + H), J = A - H (2.4). With U as a function of (A, H):
+ *   U_A = 2 U_I + U_J,  U_H = 2 U_I - U_J,
+ *   U_AA = 4 U_II + 4 U_IJ + U_JJ,  U_AH = 4 U_II - U_JJ,  U_HH = 4 U_II - 4 U_IJ + U_JJ,
+ * grad U = U_A grad A + U_H grad H and
+ * hess U = U_AA gA gA^T + U_AH (gA gH^T + gH gA^T) + U_HH gH gH^T + U_A hess A + U_H hess H,
+ * where h is linear in c: d h / d a_-m = m conj(z)^(m-1) = e_m, d h / d b_-m = i e_m, so
+ * d H / d x_s = 2 Re(conj(h) dh_s) and d^2 H / d x_s d x_t = 2 Re(conj(dh_s) dh_t).
+ */
+#ifndef SWIM_KERNEL_MATERIAL_H
+#define SWIM_KERNEL_MATERIAL_H
+
+#define MATERIAL_MODES (NFULL / 2 - 1)
+
+/* d h / d x_i at the node (e: e_m, m = 1..N) as (re, im); 0 for a_1, b_1. */
+static inline void material_dh(int i, const double *er, const double *ei, double *re, double *im)
+{
+    if (i < 2) {
+        *re = *im = 0.0;
+        return;
+    }
+    const int m = i / 2;
+    if (i % 2 == 0) {
+        *re = er[m];
+        *im = ei[m];
+    } else {   /* i e_m */
+        *re = -ei[m];
+        *im = er[m];
+    }
+}
+
+/* The point values at node (r, l): A, H, gradients on the carried coordinates (gA, gH) and,
+ * for the Hessian, the e_m. */
+static void material_node(const double *x, double r, int l, double *A, double *H, double *gA,
+                          double *gH, double *er, double *ei)
+{
+    /* conj(z)^(m-1) = r^(m-1) e^{-i (m-1) theta} */
+    double pr = 1.0, pi_ = 0.0, hr = 0.0, hi = 0.0;
+    const double zr = r * material_c[l], zi = -r * material_s[l];
+    for (int m = 1; m <= MATERIAL_MODES; m++) {
+        er[m] = m * pr;
+        ei[m] = m * pi_;
+        const double a = x[2 * m], b = x[2 * m + 1];
+        hr += a * er[m] - b * ei[m];
+        hi += a * ei[m] + b * er[m];
+        const double t = pr * zr - pi_ * zi;
+        pi_ = pr * zi + pi_ * zr;
+        pr = t;
+    }
+    *A = x[0] * x[0] + x[1] * x[1];
+    *H = hr * hr + hi * hi;
+    for (int f = 0; f < NX; f++) {
+        const int i = free_index[f];
+        gA[f] = i == 0 ? 2.0 * x[0] : i == 1 ? 2.0 * x[1] : 0.0;
+        double dr, di;
+        material_dh(i, er, ei, &dr, &di);
+        gH[f] = 2.0 * (hr * dr + hi * di);   /* 2 Re(conj(h) dh) */
+    }
+}
+
+static int material_energy(const double *x, const swim_scene_params *p, double *W, double *grad,
+                           double *hess)
+{
+    double gA[NX], gH[NX], er[MATERIAL_MODES + 1], ei[MATERIAL_MODES + 1], u[6];
+    double sum = 0.0;
+    const double dt = 2.0 * 3.14159265358979323846 / MATERIAL_NT;
+    for (int f = 0; f < NX; f++) grad[f] = 0.0;
+    if (hess) memset(hess, 0, sizeof(double) * NX * NX);
+    for (int q = 0; q < MATERIAL_NR; q++) {
+        const double w = material_w[q] * dt;
+        for (int l = 0; l < MATERIAL_NT; l++) {
+            double A, H;
+            material_node(x, material_r[q], l, &A, &H, gA, gH, er, ei);
+            const double I1 = 2.0 * (A + H), J = A - H;
+            if (!(J > 0.0)) return 1;   /* the law is defined for J > 0 only: outside D */
+            material_density(I1, J, p, u);
+            const double UA = 2.0 * u[1] + u[2], UH = 2.0 * u[1] - u[2];
+            sum += w * u[0];
+            for (int f = 0; f < NX; f++) grad[f] += w * (UA * gA[f] + UH * gH[f]);
+            if (!hess) continue;
+            const double UAA = 4.0 * u[3] + 4.0 * u[4] + u[5], UAH = 4.0 * u[3] - u[5];
+            const double UHH = 4.0 * u[3] - 4.0 * u[4] + u[5];
+            for (int f = 0; f < NX; f++) {
+                const int i = free_index[f];
+                double dfr, dfi;
+                material_dh(i, er, ei, &dfr, &dfi);
+                for (int g = 0; g <= f; g++) {
+                    const int j = free_index[g];
+                    double dgr, dgi;
+                    material_dh(j, er, ei, &dgr, &dgi);
+                    double v = UAA * gA[f] * gA[g] + UAH * (gA[f] * gH[g] + gH[f] * gA[g])
+                             + UHH * gH[f] * gH[g] + UH * 2.0 * (dfr * dgr + dfi * dgi);
+                    if (i == j && i < 2) v += 2.0 * UA;
+                    hess[NX * f + g] += w * v;
+                }
+            }
+        }
+    }
+    if (hess)
+        for (int f = 0; f < NX; f++)
+            for (int g = 0; g < f; g++) hess[NX * g + f] = hess[NX * f + g];
+    *W = sum;
+    if (!isfinite(sum)) return 1;
+    for (int f = 0; f < NX; f++)
+        if (!isfinite(grad[f])) return 1;
+    return 0;
+}
+
+static int material_energy_dp(const double *x, const swim_scene_params *p, int k, double *dgrad)
+{
+    double gA[NX], gH[NX], er[MATERIAL_MODES + 1], ei[MATERIAL_MODES + 1], u[3];
+    const double dt = 2.0 * 3.14159265358979323846 / MATERIAL_NT;
+    int any = 0;
+    for (int f = 0; f < NX; f++) dgrad[f] = 0.0;
+    for (int q = 0; q < MATERIAL_NR; q++)
+        for (int l = 0; l < MATERIAL_NT; l++) {
+            double A, H;
+            material_node(x, material_r[q], l, &A, &H, gA, gH, er, ei);
+            if (!material_density_dp(2.0 * (A + H), A - H, p, k, u)) return 0;
+            any = 1;
+            const double w = material_w[q] * dt, UA = 2.0 * u[1] + u[2], UH = 2.0 * u[1] - u[2];
+            for (int f = 0; f < NX; f++) dgrad[f] += w * (UA * gA[f] + UH * gH[f]);
+        }
+    return any;
+}
+
+#endif
