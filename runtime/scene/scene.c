@@ -561,8 +561,10 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (el) {
         c->table = "elastic";
         if (check_table_keys(c, el, "elastic")) return 2;
-        if (get_vector(c, el, "stiffness", s->n, 1, s->stiffness, NULL)) return 2;
-        if (get_vector(c, el, "reference", s->n, 1, s->reference, NULL)) return 2;
+        /* with an energy law, W1 is optional (stiffness and reference then default to 0) */
+        const int need_w1 = toml_get(el, "energy") == NULL;
+        if (get_vector(c, el, "stiffness", s->n, need_w1, s->stiffness, NULL)) return 2;
+        if (get_vector(c, el, "reference", s->n, need_w1, s->reference, NULL)) return 2;
         for (int i = 0; i < s->n; i++) {
             if (s->stiffness[i] < 0) ERR(c, toml_get_key_line(el, "stiffness"), "stiffness", "item %d is %g; R must be >= 0", i + 1, s->stiffness[i]);
             if (s->stiffness[i] > 0) s->elastic = 1;
