@@ -24,7 +24,6 @@ Both give the kernel the same functions (kernel/material.h lists them). A law is
 
 import math
 
-import numpy as np
 import sympy as sp
 
 from .cprint import KernelPrinter, emit_assignments
@@ -167,10 +166,34 @@ def quadrature_nodes(modes):
     = 2 N + 16."""
     nr = 2 * modes + 16
     nt = 8 * modes + 32
-    xg, wg = np.polynomial.legendre.leggauss(nr)
-    r = 0.5 * (xg + 1.0)
-    w = 0.5 * wg * r
-    return [float(v) for v in r], [float(v) for v in w], nt
+    xg, wg = _gauss_legendre(nr)
+    r = [0.5 * (x + 1.0) for x in xg]
+    w = [0.5 * wk * rk for wk, rk in zip(wg, r)]
+    return r, w, nt
+
+
+def _gauss_legendre(n):
+    """Nodes and weights of n-point Gauss-Legendre on [-1, 1]: Newton on P_n from the
+    Chebyshev-like guesses, in Python floats (deterministic, no numpy needed)."""
+    xs, ws = [], []
+    for i in range(1, n + 1):
+        x = math.cos(math.pi * (i - 0.25) / (n + 0.5))
+        for _ in range(100):
+            p0, p1 = 1.0, x
+            for k in range(2, n + 1):
+                p0, p1 = p1, ((2 * k - 1) * x * p1 - (k - 1) * p0) / k
+            dp = n * (x * p1 - p0) / (x * x - 1.0)
+            dx = p1 / dp
+            x -= dx
+            if abs(dx) < 1e-16:
+                break
+        p0, p1 = 1.0, x
+        for k in range(2, n + 1):
+            p0, p1 = p1, ((2 * k - 1) * x * p1 - (k - 1) * p0) / k
+        dp = n * (x * p1 - p0) / (x * x - 1.0)
+        xs.append(x)
+        ws.append(2.0 / ((1.0 - x * x) * dp * dp))
+    return xs[::-1], ws[::-1]
 
 
 def _quadrature_source(e, m, U, I1, J, theta, pnames):

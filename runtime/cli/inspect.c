@@ -15,7 +15,7 @@
  * scene with every coordinate free and that law (kernel/swim_kernel.h, material), so the numbers
  * are the ones a run uses. 0, 2 after one line for bad input, 1 otherwise. */
 static int inspect_energy(long N, const double *x, double rho0, double rhof, const char *law,
-                          const char *const *params, int nparams, double *W, double *grad)
+                          const char *const *params, int nparams, double *W, double *grad, double *hess)
 {
     const int n = 2 * ((int)N + 1);
     if (strpbrk(law, "\"\\\n")) {
@@ -65,7 +65,7 @@ static int inspect_energy(long N, const double *x, double rho0, double rhof, con
         p.rhof = rhof;
         p.x_locked = s.c0;
         p.law_params = s.param_values;
-        if (sys.scene->material(x, &p, W, grad) != 0)
+        if (sys.scene->material(x, &p, W, grad, hess) != 0)
             swim_message(stderr, "swim inspect: --energy: \"%s\" is not finite at this shape", law);
         else
             rc = 0;
@@ -138,15 +138,17 @@ int swim_cmd_inspect(int argc, char **argv)
         return rc == SWIM_EINPUT ? 2 : 1;
     }
     const char *law = swim_args_get(opts, nopts, "energy");
-    double Wl = 0.0, gl[2 * (SWIM_KERNEL_MAX_MODES + 1)];
+    double Wl = 0.0, gl[2 * (SWIM_KERNEL_MAX_MODES + 1)], *hl = NULL;
     if (!law && nparams > 0) {
         swim_message(stderr, "swim inspect: --param: only with --energy");
         free(buf);
         return 2;
     }
     if (law) {
-        const int erc = inspect_energy(N, x, rho0, rhof, law, params, nparams, &Wl, gl);
+        hl = malloc(sizeof(double) * (size_t)(n * n));
+        const int erc = hl ? inspect_energy(N, x, rho0, rhof, law, params, nparams, &Wl, gl, hl) : 1;
         if (erc) {
+            free(hl);
             free(buf);
             return erc;
         }
@@ -184,8 +186,11 @@ int swim_cmd_inspect(int argc, char **argv)
         swim_json_number(stdout, Wl);
         printf(",\n  \"grad_W_law\": ");
         swim_json_vector(stdout, gl, n);
+        printf(",\n  \"hess_W_law\": ");
+        swim_json_matrix(stdout, hl, n, n, 4);
     }
     printf("\n}\n");
+    free(hl);
     free(buf);
     return 0;
 }

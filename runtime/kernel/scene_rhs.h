@@ -824,11 +824,11 @@ static int scene_jacobian(double t, const double *y, double *J, const swim_scene
 }
 
 #ifdef SWIM_SCENE_MATERIAL
-/* The energy law's W and gradient at the full shape x (kernel/swim_kernel.h, material). */
-static int scene_material(const double *x, const swim_scene_params *p, double *W, double *grad)
+/* The energy law's W, gradient and Hessian at the full shape x (kernel/swim_kernel.h, material). */
+static int scene_material(const double *x, const swim_scene_params *p, double *W, double *grad, double *hess)
 {
     double g[NX];
-    return material_energy(x, p, W, grad ? grad : g, NULL);
+    return material_energy(x, p, W, grad ? grad : g, hess);
 }
 #endif
 

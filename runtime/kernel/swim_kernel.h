@@ -108,9 +108,10 @@ typedef struct swim_scene_kernel {
     int (*jacobian_params)(double t, const double *y, double *J, int np, const swim_param *param,
                            double *dp, const swim_scene_params *p);
     /* NULL, or (a scene with [elastic] energy) the energy law's W = int_D U(I1, J) dz at the full
-     * shape x and its gradient on the carried coordinates (grad may be NULL); 0, or nonzero
-     * where it is not finite (ERRATA B5, generator/swimgen/material.py). */
-    int (*material)(const double *x, const swim_scene_params *p, double *W, double *grad);
+     * shape x, its gradient and Hessian (nfree x nfree, row-major) on the carried coordinates
+     * (grad, hess may be NULL); 0, or nonzero where it is not finite (ERRATA B5,
+     * generator/swimgen/material.py). */
+    int (*material)(const double *x, const swim_scene_params *p, double *W, double *grad, double *hess);
 } swim_scene_kernel;
 
 /* Exported names: "swim_kernel_n<N>" (a swim_kernel) and "swim_scene_kernel_entry". */

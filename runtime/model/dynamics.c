@@ -295,7 +295,7 @@ double swim_dynamics_w_law(const swim_dynamics *d, const double *c)
 {
     if (!d->scene->energy || !d->spec || !d->spec->material) return 0.0;
     double W;
-    return d->spec->material(c, &d->spec_params, &W, NULL) == 0 ? W : NAN;
+    return d->spec->material(c, &d->spec_params, &W, NULL, NULL) == 0 ? W : NAN;
 }
 
 /* W1 (section 4.1.1): (1/2) sum R_i (c_i - c_ref,i)^2. */
