@@ -98,7 +98,7 @@ int swim_material_check(swim_scene *s, const double *c, char *why, size_t n)
             swim_material_invariants(s->n, c, r, theta, &I1, &J);
             set_vars(s, I1, J);
             if (!swim_expr_defined(s->energy, 0.0, part, sizeof part)) {
-                snprintf(why, n, "not finite at c0: at z = %g e^{i %g} (I1 = %.6g, J = %.6g) %s", r, theta, I1, J,
+                snprintf(why, n, "not finite at c0: at z = %g e^{i %g} (I1 = %.6g, J = %.6g): %s", r, theta, I1, J,
                          part);
                 return -1;
             }
