@@ -68,7 +68,7 @@ def independent_W(c, mu=MU, lam=LAM):
 
 def test_neo_hookean_closed_form():
     rng = np.random.default_rng(34)
-    for modes in (1, 3, 6):
+    for modes in (1, 4):
         for _ in range(3):
             c = random_shape(rng, modes)
             out = inspect(c, "a*I1", "a=0.7")
@@ -84,7 +84,7 @@ def test_neo_hookean_closed_form():
 
 def test_log_law_against_independent_quadrature():
     rng = np.random.default_rng(7)
-    for modes in (2, 4):
+    for modes in (3,):
         c = random_shape(rng, modes, 0.1)
         out = inspect(c, CNH, "mu=%r" % MU, "lam=%r" % LAM)
         if out is None:

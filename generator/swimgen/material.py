@@ -162,8 +162,8 @@ def _closed_source(e, m, W, theta, pnames):
 
 def quadrature_nodes(modes):
     """Radial Gauss-Legendre nodes and weights for int_0^1 g(r) r dr, and the number of theta
-    nodes: NT = 8 N + 32 (a polynomial law's integrand has degree 2 (N-1) deg U in theta), NR
-    = 2 N + 16."""
+    nodes, for h of degree modes - 1: NT = 8 modes + 32 (a polynomial law's integrand has degree
+    2 (modes - 1) deg U in theta), NR = 2 modes + 16 (docs/materials.md measures the error)."""
     nr = 2 * modes + 16
     nt = 8 * modes + 32
     xg, wg = _gauss_legendre(nr)
@@ -204,8 +204,11 @@ def _quadrature_source(e, m, U, I1, J, theta, pnames):
     parts = [U, sp.diff(U, I1), sp.diff(U, J), sp.diff(U, I1, 2), sp.diff(U, I1, J),
              sp.diff(U, J, 2)]
     lines = emit_assignments([("u[%d]" % i, d) for i, d in enumerate(parts)], pr)
-    r, w, nt = quadrature_nodes(m.N)
-    out = ["#define SWIM_MATERIAL_QUADRATURE",
+    # the highest mode that can be nonzero: coordinates locked at 0 are folded away, so h has
+    # degree top - 1 in conj(z) and the integrand's angular frequencies grow with top, not N
+    top = max([m.mode_of(i) * -1 for i in range(2, m.nfull) if i not in m.zero] or [0])
+    r, w, nt = quadrature_nodes(top)
+    out = ["#define SWIM_MATERIAL_QUADRATURE", "#define MATERIAL_TOP %d" % top,
            "#define MATERIAL_NR %d" % len(r), "#define MATERIAL_NT %d" % nt,
            "static const double material_r[MATERIAL_NR] = {%s};" % ", ".join(repr(v) for v in r),
            "static const double material_w[MATERIAL_NR] = {%s};" % ", ".join(repr(v) for v in w),

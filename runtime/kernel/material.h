@@ -6,6 +6,7 @@
  *   MATERIAL_NR, material_r[], material_w[]   Gauss-Legendre nodes and weights of
  *                            int_0^1 g(r) r dr;
  *   MATERIAL_NT, material_c[], material_s[]   cos and sin of the trapezoid nodes 2 pi l / NT;
+ *   MATERIAL_TOP             the highest mode not locked at 0 (h has degree TOP - 1);
  *   material_density(I1, J, p, u)   u = U, U_I, U_J, U_II, U_IJ, U_JJ at one point;
  *   material_density_dp(I1, J, p, k, u)   d/d law_params[k] of U, U_I, U_J (1), or 0.
  * and it defines material_energy and material_energy_dp, as the closed form does.
@@ -49,7 +50,8 @@ static void material_node(const double *x, double r, int l, double *A, double *H
     /* conj(z)^(m-1) = r^(m-1) e^{-i (m-1) theta} */
     double pr = 1.0, pi_ = 0.0, hr = 0.0, hi = 0.0;
     const double zr = r * material_c[l], zi = -r * material_s[l];
-    for (int m = 1; m <= MATERIAL_MODES; m++) {
+    for (int m = MATERIAL_TOP + 1; m <= MATERIAL_MODES; m++) er[m] = ei[m] = 0.0;
+    for (int m = 1; m <= MATERIAL_TOP; m++) {   /* modes above MATERIAL_TOP are locked at 0 */
         er[m] = m * pr;
         ei[m] = m * pi_;
         const double a = x[2 * m], b = x[2 * m + 1];
