@@ -101,6 +101,29 @@ def test_log_law_against_independent_quadrature():
                   "N = %d: dW/dx%d %r, differences %r" % (modes, i, out["grad_W_law"][i], d))
 
 
+def test_graded_rule_near_the_boundary():
+    """c = (1, 0, 0, 0, b, 0): J = 1 - 4 b^2 r^2 depends on r alone, so W = 2 pi int_0^1 U r dr and
+    dW/db = 2 pi int_0^1 (2 U_I - U_J) 8 b r^2 r dr, here by Gauss-Legendre panels geometric
+    towards r = 1; the kernel grades its rule below min J = 0.15."""
+    x, w = np.polynomial.legendre.leggauss(30)
+    edges = [0.0] + [1 - 0.5 ** j for j in range(1, 45)] + [1.0]
+    r = np.concatenate([0.5 * (b - a) * x + 0.5 * (a + b) for a, b in zip(edges[:-1], edges[1:])])
+    wr = np.concatenate([0.5 * (b - a) * w for a, b in zip(edges[:-1], edges[1:])]) * r
+    for jmin in (0.1, 1e-3, 1e-5):
+        b = math.sqrt((1 - jmin) / 4)
+        J, I1 = 1 - 4 * b * b * r * r, 2 * (1 + 4 * b * b * r * r)
+        U = MU / 2 * (I1 - 2) - MU * np.log(J) + LAM / 2 * np.log(J) ** 2
+        UI, UJ = MU / 2, -MU / J + LAM * np.log(J) / J
+        W = 2 * np.pi * np.sum(wr * U)
+        dWdb = 2 * np.pi * np.sum(wr * (2 * UI - UJ) * 8 * b * r * r)
+        out = inspect([1.0, 0.0, 0.0, 0.0, 0.0, b], CNH, "mu=%r" % MU, "lam=%r" % LAM)
+        if out is None:
+            return
+        check(abs(out["W_law"] - W) <= 1e-12 * abs(W), "min J %g: W %r, reference %r" % (jmin, out["W_law"], W))
+        check(abs(out["grad_W_law"][5] - dWdb) <= 1e-10 * abs(dWdb),
+              "min J %g: dW/db %r, reference %r" % (jmin, out["grad_W_law"][5], dWdb))
+
+
 def test_hessian_against_gradient_differences():
     rng = np.random.default_rng(11)
     c = random_shape(rng, 3, 0.1)

@@ -30,6 +30,7 @@ from .cprint import KernelPrinter, emit_assignments
 from .law import LawError, parameter_symbols, parse
 
 INVARIANTS = ("I1", "J", "I1bar")
+GRADED_POINTS = 10   # Gauss-Legendre points per panel of the graded rule (kernel/material.h)
 
 
 class MaterialError(LawError):
@@ -208,10 +209,14 @@ def _quadrature_source(e, m, U, I1, J, theta, pnames):
     # degree top - 1 in conj(z) and the integrand's angular frequencies grow with top, not N
     top = max([m.mode_of(i) * -1 for i in range(2, m.nfull) if i not in m.zero] or [0])
     r, w, nt = quadrature_nodes(top)
+    gx, gw = _gauss_legendre(GRADED_POINTS)
     out = ["#define SWIM_MATERIAL_QUADRATURE", "#define MATERIAL_TOP %d" % top,
            "#define MATERIAL_NR %d" % len(r), "#define MATERIAL_NT %d" % nt,
            "static const double material_r[MATERIAL_NR] = {%s};" % ", ".join(repr(v) for v in r),
            "static const double material_w[MATERIAL_NR] = {%s};" % ", ".join(repr(v) for v in w),
+           "#define MATERIAL_GK %d" % GRADED_POINTS,
+           "static const double material_gx[MATERIAL_GK] = {%s};" % ", ".join(repr(v) for v in gx),
+           "static const double material_gw[MATERIAL_GK] = {%s};" % ", ".join(repr(v) for v in gw),
            "static const double material_c[MATERIAL_NT] = {%s};" % ", ".join(
                repr(math.cos(2 * math.pi * l / nt)) for l in range(nt)),
            "static const double material_s[MATERIAL_NT] = {%s};" % ", ".join(

@@ -156,11 +156,11 @@ int swim_dynamics_jacobian_params(swim_dynamics *d, double t, const double *y, d
 
 typedef struct {
     double kinetic_fluid, kinetic_shape, kinetic_rigid, w1, w2, energy, work;
-    double w_law;               /* the energy law's W = int_D U dz ([elastic] energy), else 0 */
     double impulse_body[3], impulse_fluid_rigid[3], impulse_fluid_shape[3];  /* fixed frame, (3.19) */
     double res_volume, res_volume_rate, res_angular, res_locks;
     double jmin;
     double rigid_velocity[3];   /* q* in the body frame */
+    double w_law;               /* the energy law's W = int_D U dz ([elastic] energy), else 0 */
 } swim_diag;
 
 /* The energy law's W at the full shape c: 0 without one, NAN where it is not finite. */
