@@ -15,7 +15,8 @@ Two ways, chosen by the law:
   in the shape coordinates, which SymPy differentiates.
 * Any other law: a product rule over the disk, Gauss-Legendre in r (weight r dr, NR nodes) and
   the trapezoid rule in theta (NT nodes, exact for trigonometric polynomials of degree < NT),
-  in kernel/material.h; the generator supplies U and its first and second partials in I1, J
+  in kernel/material.h, graded towards the angle of min J and r = 1 when min J is small; the
+  generator supplies U and its first and second partials in I1, J
   (and their partials in each parameter) at one point.
 
 Both give the kernel the same functions (kernel/material.h lists them). A law is refused
