@@ -16,6 +16,7 @@ import csv
 import json
 import math
 import os
+import subprocess
 import sys
 
 import numpy as np
@@ -201,6 +202,22 @@ def test_sensitivity_against_two_runs():
         d = (ends[0][col] - ends[1][col]) / (2 * h)
         exact = float(sens["d%s/dparameters.mu" % col])
         check(abs(exact - d) <= 1e-5 * max(abs(d), 1e-3), "d%s/dmu exact %r, runs %r" % (col, exact, d))
+
+
+def test_printer_denominators():
+    """The laws' second partials have powers in denominators (mu/J^2): C must read a/(J*J), not
+    a/J*J = (a/J)*J (the printer writes small powers as products)."""
+    code = ("import sys; sys.path.insert(0, %r)\n"
+            "import sympy as sp\n"
+            "from swimgen.cprint import KernelPrinter\n"
+            "a, J, t = sp.symbols('a J t')\n"
+            "pr = KernelPrinter({})\n"
+            "print(pr.doprint(a / J**2)); print(pr.doprint(sp.diff(1 / (2 + t), t)))\n"
+            % os.path.join(ROOT, "generator"))
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    lines = p.stdout.splitlines()
+    check(p.returncode == 0 and lines[:1] == ["a/(J*J)"], "a/J^2 printed %r" % p.stdout)
+    check(len(lines) == 2 and "/((t + 2)*(t + 2))" in lines[1], "d/dt 1/(2+t) printed %r" % p.stdout)
 
 
 def test_bad_laws_refused():
