@@ -68,6 +68,10 @@ int swim_material_compile(swim_scene *s, char *why, size_t n)
     char err[160];
     s->energy = swim_expr_compile_params(s->energy_text, names, 3 + s->nparams, s->energy_vars, err, sizeof err);
     if (!s->energy) {
+        /* the grammar's hint names t, which an energy law may not use: name what it may */
+        char *hint = strstr(err, " (use t, pi, e");
+        if (hint) snprintf(hint, sizeof err - (size_t)(hint - err), " (use I1, J, I1bar, pi, e%s a function such as log)",
+                           s->nparams ? ", a name of [parameters]," : ",");
         snprintf(why, n, "%s", err);
         return -1;
     }
