@@ -61,6 +61,21 @@ class KernelPrinter(C99CodePrinter):
         text = repr(v)
         return "(%s)" % text if text.startswith("-") else text
 
+    def _print_Mul(self, expr):
+        """SymPy prints a/J**2 as a / <J**2>; with _print_Pow's products that would read a/J*J,
+        which C takes as (a/J)*J: such a denominator is printed in parentheses."""
+        num, den = [], []
+        for f in sp.Mul.make_args(expr):
+            if f.is_Pow and f.exp.is_Integer and f.exp < 0:
+                den.append(sp.Pow(f.base, -f.exp))
+            else:
+                num.append(f)
+        if not any(d.is_Pow and 2 <= int(d.exp) <= 4 for d in den):
+            return super()._print_Mul(expr)
+        numerator = sp.Mul(*num)
+        text = self.parenthesize(numerator, precedence(expr))
+        return "%s/(%s)" % (text, self._print(sp.Mul(*den)))
+
     def _print_Pow(self, expr):
         if expr.exp.is_Integer and 2 <= int(expr.exp) <= 4:
             base = self.parenthesize(expr.base, precedence(expr))

@@ -15,6 +15,7 @@ import sympy as sp
 
 from .cprint import KernelPrinter, emit_assignments
 from .law import parameter_symbols, parse
+from .material import material_source
 from .model import SwimmerModel
 from .template import (INCLUDE_ASSEMBLY, INCLUDE_LAW_FUNCTIONS, INCLUDE_SCENE_RHS,
                        KERNEL_HEAD, QUICK_OPTIMIZATION_BEGIN, QUICK_OPTIMIZATION_END, SCENE_JACOBIAN_PIECES,
@@ -428,11 +429,19 @@ def scene_kernel_source(structure, command):
                constraint_jac_body=_scene_constraints_jac(e, m),
                force_dp_body=_scene_forces_dp(e, m, structure))
     d.update(_scene_jacobian_subs(e, m))
+    # [elastic] energy: W = int_D U(I1, J) dz (swimgen/material.py), after free_index
+    energy = structure.get("energy")
+    material = ""
+    if energy:
+        material, how = material_source(e, m, energy)
+        material = ("/* ---- the energy law \"%s\" (%s) ---- */\n"
+                    % (c_comment(energy["law"]), how)) + material + "\n"
+        d["options"] += options("SWIM_SCENE_MATERIAL")
     text = (KERNEL_HEAD.substitute(d) + _symbolic(m, SYMBOLIC_CORE.substitute(d))
             + INCLUDE_ASSEMBLY)
     if law is not None:
         text += INCLUDE_LAW_FUNCTIONS
-    return (text + "\n" + SCENE_PIECES.substitute(d)
+    return (text + "\n" + SCENE_PIECES.substitute(d) + (_symbolic(m, material) if material else "")
             + _symbolic(m, SCENE_JACOBIAN_PIECES.substitute(d)) + INCLUDE_SCENE_RHS)
 
 

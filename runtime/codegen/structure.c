@@ -66,6 +66,16 @@ char *swim_codegen_structure_text(const swim_scene *s, int generic, const char *
     } else {
         fprintf(f, "null");
     }
+    if (s->energy_text) {   /* [elastic] energy: the law, and the names it may read (values run-time) */
+        fprintf(f, ", \"energy\": {\"law\": ");
+        swim_json_string(f, s->energy_text);
+        fprintf(f, ", \"parameters\": [");
+        for (int i = 0; i < s->nparams; i++) {
+            if (i) fprintf(f, ", ");
+            swim_json_string(f, s->param_names[i]);
+        }
+        fprintf(f, "]}");
+    }
     fprintf(f, "}\n");
     fclose(f);
     return text;

@@ -217,7 +217,7 @@ int swim_sens_add_key(swim_sens *S, swim_scene *s, const char *cmd, const char *
         for (int j = 0; j < s->nparams; j++)
             if (strcmp(s->param_names[j], o.key) == 0) {
                 v0 = &s->param_values[j];
-                par = (swim_param){SWIM_PARAM_LAW, j};   /* the forcing law reads law_params[j] */
+                par = (swim_param){SWIM_PARAM_LAW, j};   /* the forcing and energy laws read law_params[j] */
             }
         if (!v0) return key_error(cmd, key, "the scene's [parameters] has no '%s'", o.key);
     } else {

@@ -355,6 +355,7 @@ int swim_run_columns(const swim_scene *s, const char **names, char storage[][24]
         "res_volume", "res_volume_rate", "res_angular", "res_locks", "jmin", "work", "w1", "w2"};
     int c = swim_run_state_columns(s->n, names, storage);
     for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) names[c++] = tail[i];
+    if (s->energy) names[c++] = "W_law";   /* only with a law: other scenes' columns are unchanged */
     return c;
 }
 
@@ -457,12 +458,13 @@ static int row_values(const swim_scene *s, double t, const double *y, const swim
     v[c++] = t;
     for (int i = 0; i < 3 + 2 * s->n; i++) v[c++] = y[i];
     const double tail[] = {
-        g->kinetic_fluid, g->kinetic_shape, g->kinetic_rigid, g->w1 + g->w2, g->energy,
+        g->kinetic_fluid, g->kinetic_shape, g->kinetic_rigid, g->w1 + g->w2 + g->w_law, g->energy,
         g->impulse_body[0], g->impulse_body[1], g->impulse_body[2],
         g->impulse_fluid_rigid[0], g->impulse_fluid_rigid[1], g->impulse_fluid_rigid[2],
         g->impulse_fluid_shape[0], g->impulse_fluid_shape[1], g->impulse_fluid_shape[2],
         g->res_volume, g->res_volume_rate, g->res_angular, g->res_locks, g->jmin, g->work, g->w1, g->w2};
     for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) v[c++] = tail[i];
+    if (s->energy) v[c++] = g->w_law;
     return c;
 }
 

@@ -45,9 +45,14 @@ void swim_run_summary_json(FILE *f, const swim_run *c, const swim_summary_contex
             fprintf(f, "%s\"%s\"", first ? "" : ", ", name);
             first = 0;
         }
-    fprintf(f, "],\n  \"effects\": {\"elastic\": %s, \"barrier\": %s, \"damping\": %s, \"forcing\": %s},\n",
+    fprintf(f, "],\n  \"effects\": {\"elastic\": %s, \"barrier\": %s, \"damping\": %s, \"forcing\": %s",
             s->elastic ? "true" : "false", s->barrier ? "true" : "false", s->damped ? "true" : "false",
             s->forced ? "true" : "false");
+    if (s->energy_text) {   /* only with a law: other summaries are unchanged */
+        fprintf(f, ", \"energy_law\": ");
+        swim_json_string(f, s->energy_text);
+    }
+    fprintf(f, "},\n");
     fprintf(f, "  \"kernel\": {\"kind\": \"%s\", \"state_dimension\": %d, \"cache\": ",
             d->generic ? "generic" : "specialized", swim_dynamics_state_dim(d));
     swim_json_string(f, sp->dir);

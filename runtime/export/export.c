@@ -45,7 +45,7 @@ static const char *const sources[] = {
     "runtime/ode/ode.c", "runtime/ode/events.c", "runtime/ode/abm.c", "runtime/ode/peers_gsl.c",
     "runtime/output/folder.c", "runtime/output/job.c",
     "runtime/scene/toml.c", "runtime/scene/scene.c", "runtime/scene/keys.c", "runtime/scene/expr.c",
-    "runtime/scene/resolve.c",
+    "runtime/scene/resolve.c", "runtime/scene/material.c",
     "runtime/shape/shape.c", "runtime/shape/constraints.c", "runtime/shape/barrier.c",
     "runtime/stroke/stroke.c",
     "runtime/export/kernels.c",

@@ -19,7 +19,10 @@
  *   NIH, ih_r, ih_s, ih_val  the Hessian of the inertia sum (constant);
  *   scene_forces_jac, scene_constraints_jac   the partials of scene_forces (at fixed g) and of
  *                            scene_constraints in x and v;
- *   the Hessian of W2 comes from p->barrier_hessian.
+ *   the Hessian of W2 comes from p->barrier_hessian;
+ *   SWIM_SCENE_MATERIAL      (optional) an energy law W = int_D U(I1, J) dz ([elastic] energy,
+ *                            ERRATA B5): material_energy(x, p, &W, grad, hess) and
+ *                            material_energy_dp(x, p, k, dgrad) (generator/swimgen/material.py).
  */
 #ifndef SWIM_KERNEL_SCENE_RHS_H
 #define SWIM_KERNEL_SCENE_RHS_H
@@ -268,6 +271,13 @@ static int scene_rhs(double t, const double *y, double *dy, const swim_scene_par
         double gW[NX];
         if (p->barrier(x, gW, p->barrier_ctx) != 0) return SWIM_RHS_EBARRIER;
         for (int i = 0; i < NX; i++) f[i] -= gW[i];
+    }
+#endif
+#ifdef SWIM_SCENE_MATERIAL
+    {   /* the energy law's W (ERRATA B5): -grad W joins the forces, like W1's */
+        double Wm, gm[NX];
+        if (material_energy(x, p, &Wm, gm, NULL) != 0) return SWIM_RHS_ENAN;
+        for (int i = 0; i < NX; i++) f[i] -= gm[i];
     }
 #endif
     /* (4.10)-(4.12): K c'' = f + G^T lambda, G c'' = -(DG[v]).v */
@@ -679,9 +689,20 @@ static int partial_param(const jac_work *j, double t, const double *x, const dou
         for (int i = 0; i < NX; i++) dF[i] = -j->gW[i];   /* eps d/d eps of -grad W2 */
 #endif
         break;
-    default:
-        if (!scene_forces_dp(t, x, v, p, param.kind, param.index, dF, &dpow)) return 0;
+    default: {
+        int reads = scene_forces_dp(t, x, v, p, param.kind, param.index, dF, &dpow);
+#ifdef SWIM_SCENE_MATERIAL
+        if (param.kind == SWIM_PARAM_LAW) {   /* the energy law's parameters: -d grad W / d p */
+            double dg[NX];
+            if (material_energy_dp(x, p, param.index, dg)) {
+                for (int i = 0; i < NX; i++) dF[i] -= dg[i];
+                reads = 1;
+            }
+        }
+#endif
+        if (!reads) return 0;
         break;
+    }
     }
     tangent_solve(j, dF, da);
     for (int i = 0; i < NX; i++) out[3 + NX + i] = da[i];
@@ -719,6 +740,19 @@ static int scene_jacobian_params(double t, const double *y, double *J, int np, c
     if (!p->barrier_hessian) { rc = -1; goto done; }
     if (p->barrier_hessian(x, j->gW, j->HW, p->barrier_ctx) != 0) { rc = SWIM_RHS_EBARRIER; goto done; }
     for (int i = 0; i < NX; i++) j->fs[i] -= j->gW[i];
+#endif
+#ifdef SWIM_SCENE_MATERIAL
+    {   /* the energy law: its gradient into the forces, its Hessian next to W2's */
+        double Wm, gm[NX], *Hm = malloc(sizeof(double) * NX * NX);
+        if (!Hm) { rc = -1; goto done; }
+        const int bad = material_energy(x, p, &Wm, gm, Hm);
+        for (int i = 0; i < NX; i++) {
+            j->fs[i] -= gm[i];
+            for (int k = 0; k < NX; k++) j->HW[NX * i + k] += Hm[NX * i + k];
+        }
+        free(Hm);
+        if (bad) { rc = SWIM_RHS_ENAN; goto done; }
+    }
 #endif
     if (chol_factor(j->L, NX) != 0) { rc = SWIM_RHS_EMASS; goto done; }
     if ((rc = saddle_setup(j->L, x, v, p, &j->sd)) != 0) goto done;
@@ -789,6 +823,15 @@ static int scene_jacobian(double t, const double *y, double *J, const swim_scene
     return scene_jacobian_params(t, y, J, 0, NULL, NULL, p);
 }
 
+#ifdef SWIM_SCENE_MATERIAL
+/* The energy law's W, gradient and Hessian at the full shape x (kernel/swim_kernel.h, material). */
+static int scene_material(const double *x, const swim_scene_params *p, double *W, double *grad, double *hess)
+{
+    double g[NX];
+    return material_energy(x, p, W, grad ? grad : g, hess);
+}
+#endif
+
 const swim_scene_kernel swim_scene_kernel_entry = {
     .abi = SWIM_KERNEL_ABI,
     .modes = NFULL / 2 - 1,
@@ -799,6 +842,9 @@ const swim_scene_kernel swim_scene_kernel_entry = {
     .rhs = scene_rhs,
     .jacobian = scene_jacobian,
     .jacobian_params = scene_jacobian_params,
+#ifdef SWIM_SCENE_MATERIAL
+    .material = scene_material,
+#endif
 };
 
 #endif

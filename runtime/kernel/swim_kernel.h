@@ -16,7 +16,7 @@
 #ifndef SWIM_KERNEL_H
 #define SWIM_KERNEL_H
 
-#define SWIM_KERNEL_ABI 8
+#define SWIM_KERNEL_ABI 9
 #define SWIM_KERNEL_MAX_MODES 32   /* largest N the runtime accepts (arrays are sized by it) */
 
 typedef struct swim_kernel {
@@ -107,6 +107,11 @@ typedef struct swim_scene_kernel {
      * right-hand side does not read gets zeros. Same return values as jacobian. */
     int (*jacobian_params)(double t, const double *y, double *J, int np, const swim_param *param,
                            double *dp, const swim_scene_params *p);
+    /* NULL, or (a scene with [elastic] energy) the energy law's W = int_D U(I1, J) dz at the full
+     * shape x, its gradient and Hessian (nfree x nfree, row-major) on the carried coordinates
+     * (grad, hess may be NULL); 0, or nonzero where it is not finite (ERRATA B5,
+     * generator/swimgen/material.py). */
+    int (*material)(const double *x, const swim_scene_params *p, double *W, double *grad, double *hess);
 } swim_scene_kernel;
 
 /* Exported names: "swim_kernel_n<N>" (a swim_kernel) and "swim_scene_kernel_entry". */

@@ -291,6 +291,13 @@ double swim_dynamics_w2(swim_dynamics *d, const double *c)
     return swim_barrier_w2(d->diag_barrier, c, s->epsilon, s->alpha, &W, NULL, NULL) == 0 ? W : INFINITY;
 }
 
+double swim_dynamics_w_law(const swim_dynamics *d, const double *c)
+{
+    if (!d->scene->energy || !d->spec || !d->spec->material) return 0.0;
+    double W;
+    return d->spec->material(c, &d->spec_params, &W, NULL, NULL) == 0 ? W : NAN;
+}
+
 /* W1 (section 4.1.1): (1/2) sum R_i (c_i - c_ref,i)^2. */
 static double elastic_energy(const swim_scene *s, const double *c)
 {
@@ -340,7 +347,7 @@ double swim_dynamics_balance(double t, const double *u, double *noise, void *par
             g = gbuf;
         }
     }
-    const double W1 = elastic_energy(s, c), work = full[3 + 2 * n];
+    const double W1 = elastic_energy(s, c) + swim_dynamics_w_law(d, c), work = full[3 + 2 * n];
     if (noise) {
         /* What rounding leaves of B: the sums (~dim u of each term), the barrier rule (chosen by
          * error, ~1e-14 of W2 between two rules), and W2 through the rounding of the carried state
@@ -432,6 +439,10 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     o->jmin = swim_shape_jmin(s->modes, c);
     free(Nc);
     free(Md);
+    if (s->energy) {   /* the energy law's W, last: the rest of this function compiles as without it */
+        o->w_law = swim_dynamics_w_law(d, c);
+        o->energy += o->w_law;
+    }
     return 0;
 }
 

@@ -15,7 +15,8 @@
  *   K c'' + <Gamma(c), c', c'> + grad W = sum_j lambda_j G_j - D c' + F(t)      (4.10), (4.15), (5.2)
  *   with lambda from the symmetric system (4.12) (ERRATA C2, C3), and
  *   q' = R(theta) q*,  q* = -Mr^-1 N c'                                         (3.20)-(3.21)
- *   W = W1 + W2, W1 = 1/2 (c - cref)^T R (c - cref) (ERRATA E2), W2 of section 4.1.1.
+ *   W = W1 + W2 (+ W_law), W1 = 1/2 (c - cref)^T R (c - cref) (ERRATA E2), W2 of section 4.1.1,
+ *   W_law = int_D U(I1, J) dz of an [elastic] energy law (ERRATA B5, the scene kernel's).
  * Units: lengths in units of the reference radius, densities rho0, rhof as given; time as in
  * the paper's scenes.
  */
@@ -159,7 +160,11 @@ typedef struct {
     double res_volume, res_volume_rate, res_angular, res_locks;
     double jmin;
     double rigid_velocity[3];   /* q* in the body frame */
+    double w_law;               /* the energy law's W = int_D U dz ([elastic] energy), else 0 */
 } swim_diag;
+
+/* The energy law's W at the full shape c: 0 without one, NAN where it is not finite. */
+double swim_dynamics_w_law(const swim_dynamics *d, const double *c);
 
 /* W2 at the full shape c (0 without a barrier; INFINITY outside D). The right-hand side computes
  * W2 with its gradient: when its last barrier evaluation was at this very shape (ABM's final

@@ -527,6 +527,8 @@ def energy_parts(run):
     if "w1" in cols or "w2" in cols:
         cand += [("w1", "potential, elastic $W_1$", "tab:purple", effects.get("elastic", True)),
                  ("w2", "potential, barrier $W_2$", "tab:brown", effects.get("barrier", True))]
+        if "W_law" in cols:   # [elastic] energy: the law's W = int_D U dz (docs/materials.md)
+            cand.append(("W_law", "potential, law $W_{law}$", "tab:pink", True))
     else:
         cand += [("potential", "potential", "tab:purple",
                   effects.get("elastic", True) or effects.get("barrier", True))]

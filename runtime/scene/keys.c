@@ -34,6 +34,8 @@ static const swim_scene_key keys[] = {
      "diagonal of the rigidity R (its zeros are the kernel's structure)"},
     {"elastic", "reference", SWIM_KEY_VECTOR, F(reference), 0, 0, 0, {NULL}, NULL, NULL, RT,
      "c_ref of W1 = 1/2 (c - c_ref)^T R (c - c_ref) (ERRATA E2)"},
+    {"elastic", "energy", SWIM_KEY_TEXT, NONE, 0, 0, 0, {NULL}, NULL, NULL, STRUCT,
+     "U(I1, J) of the energy law W = int_D U dz (I1, J, I1bar and [parameters]; ERRATA B5)"},
     {"barrier", "epsilon", SWIM_KEY_NUMBER, F(epsilon), 0, 0, 0, {NULL}, NULL, NULL, RT | STRUCT,
      "epsilon of W2 (4.1.1); 0 switches the barrier off"},
     {"barrier", "alpha", SWIM_KEY_NUMBER, F(alpha), 0, 0, 0, {NULL}, NULL, NULL, RT, "alpha of W2 (4.1.1)"},

@@ -5,3 +5,5 @@ RUNTIME_SRCS += runtime/scene/toml.c
 RUNTIME_SRCS += runtime/scene/scene.c runtime/scene/keys.c runtime/scene/expr.c
 # The scene as run: overrides written into the scene file's text (swim_scene_resolve).
 RUNTIME_SRCS += runtime/scene/resolve.c
+# Energy laws U(I1, J) of [elastic] energy: reading and checking them (swim_material_*).
+RUNTIME_SRCS += runtime/scene/material.c

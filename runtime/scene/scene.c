@@ -15,6 +15,7 @@
 #include "shape/shape.h"
 #include "ode/ode.h"
 #include "scene/keys.h"
+#include "scene/material.h"
 #include "scene/toml.h"
 
 typedef struct {
@@ -560,11 +561,23 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     if (el) {
         c->table = "elastic";
         if (check_table_keys(c, el, "elastic")) return 2;
-        if (get_vector(c, el, "stiffness", s->n, 1, s->stiffness, NULL)) return 2;
-        if (get_vector(c, el, "reference", s->n, 1, s->reference, NULL)) return 2;
+        /* with an energy law, W1 is optional (stiffness and reference then default to 0) */
+        const int need_w1 = toml_get(el, "energy") == NULL;
+        if (get_vector(c, el, "stiffness", s->n, need_w1, s->stiffness, NULL)) return 2;
+        if (get_vector(c, el, "reference", s->n, need_w1, s->reference, NULL)) return 2;
         for (int i = 0; i < s->n; i++) {
             if (s->stiffness[i] < 0) ERR(c, toml_get_key_line(el, "stiffness"), "stiffness", "item %d is %g; R must be >= 0", i + 1, s->stiffness[i]);
             if (s->stiffness[i] > 0) s->elastic = 1;
+        }
+        const toml_value *en = toml_get(el, "energy");
+        if (en) {
+            const int line = toml_get_key_line(el, "energy");
+            char why[256];
+            if (!toml_string(en)) ERR(c, line, "energy", "expected a string law in I1, J, I1bar, e.g. \"0.5*(I1 - 2)\"");
+            s->energy_line = line;
+            if (!(s->energy_text = strdup(toml_string(en)))) ERR(c, line, "energy", "out of memory");
+            if (swim_material_compile(s, why, sizeof why) != 0 || swim_material_check(s, s->c0, why, sizeof why) != 0)
+                ERR(c, line, "energy", "\"%s\": %s", s->energy_text, why);
         }
     }
     const toml_value *ba = get_table(c, root, "barrier", 0, &rc);
@@ -898,6 +911,10 @@ void swim_scene_free(swim_scene *s)
     s->override_text = NULL;
     s->nover = 0;
     swim_expr_free(s->forcing);
+    swim_expr_free(s->energy);
+    free(s->energy_text);
+    s->energy = NULL;
+    s->energy_text = NULL;
     free(s->path);
     free(s->title);
     free(s->forcing_text);

@@ -49,6 +49,13 @@ typedef struct {
     int free_mask[SWIM_NMAX];         /* 1 = free, 0 = locked (section 4.2.2) */
     int elastic;                      /* W1 = 1/2 (c - cref)^T R (c - cref) (ERRATA E2) */
     double stiffness[SWIM_NMAX], reference[SWIM_NMAX];
+    /* [elastic] energy: U(I1, J) of W = int_D U dz (ERRATA B5), in the law grammar with I1, J,
+     * I1bar and [parameters] (scene/material.h); NULL when absent. energy_vars holds the values
+     * the interpreted law reads: I1, J, I1bar, then the parameters (a copy of param_values). */
+    char *energy_text;
+    swim_expr *energy;
+    int energy_line;
+    double energy_vars[3 + SWIM_PARAMS_MAX];
     int barrier;                      /* W2 with epsilon, alpha (section 4.1.1) */
     double epsilon, alpha;
     int damped;                       /* -D cdot with D diagonal (4.15) */
