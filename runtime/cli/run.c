@@ -179,7 +179,15 @@ static int read_options(int argc, char **argv, run_cmd *c)
 
 /* ---- what the user sees while it runs ----------------------------------------------------- */
 
-static void on_notice(void *ctx, const char *line) { swim_message(stderr, "%s", line); }
+static void on_notice(void *ctx, const char *line)
+{
+    run_cmd *c = ctx;
+    if (c->last_progress > c->t_start) {   /* after a progress line (\r, no newline): a line of its own */
+        fputc('\n', stderr);
+        c->last_progress = c->t_start;
+    }
+    swim_message(stderr, "%s", line);
+}
 
 static void on_progress(void *ctx, double t, double t_end)
 {

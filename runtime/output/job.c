@@ -240,6 +240,16 @@ static const char *stopped_by(int sig)
            : sig == SIGHUP ? "terminated by SIGHUP" : "terminated by a signal";
 }
 
+/* The line that says a pass after the trajectory begins (not with --quiet): it may take as long
+ * as the run, and a user (or a test) sees where the time goes. */
+static void pass_notice(const swim_job *j, const char *what, double step, double t_end)
+{
+    if (j->req.quiet || !j->req.notice) return;
+    char line[320];
+    snprintf(line, sizeof line, "swim %s: %s %g up to t = %g", j->req.cmd, what, step, t_end);
+    j->req.notice(j->req.ctx, line);
+}
+
 /* DIR/sensitivity.csv after the trajectory, before the summary: a second integration, of the state
  * with its variational equations, by the same integrator at the same tolerances, up to where the
  * trajectory ended (t_end or a stopping event). Skipped when the trajectory failed or was
@@ -271,6 +281,8 @@ static void run_sensitivity(swim_job *j)
     S.error_control = !j->req.sens_state_steps;
     if (rc == 0 && j->req.sens_differences) swim_sens_use_differences(&S);
     if (rc == 0) {
+        pass_notice(j, "the sensitivities (sensitivity.csv): the state and its variational equations again, rows "
+                    "every", j->s.output_step, j->sens_t);
         rc = swim_sens_write_run(&S, j->s.integrator, path, j->sens_t, &sec, &evals) ? 1 : 0;
         j->sens_rows = S.rows;
         j->sens_t_last = S.t_last;
@@ -320,6 +332,8 @@ static void run_lyapunov(swim_job *j)
         return;
     }
     char *path = swim_strprintf("%s/lyapunov.csv", swim_folder_paths(j->folder)->dir);
+    pass_notice(j, "the Lyapunov pass (lyapunov.csv): the variational equations again from t = 0, renormalized every",
+                j->req.lyapunov, r->t_reached);
     const int rc = path ? swim_lyapunov_compute(swim_run_dynamics(j->run), j->s.integrator, r->t_reached,
                                                 j->req.lyapunov, &j->lyap) : -1;
     if (rc != 0) {
