@@ -16,7 +16,9 @@
 6. swim sweep --format hdf5 when family.h5 cannot be written (a file-size limit: the disk is
    full for it): one line with the reason, exit 1, no crash at exit, no family.h5. Stopped with
    --format hdf5 and resumed without it: family.h5 lists every member of members.csv.
-7. swim cache list > /dev/full: one line with the true reason.
+7. swim export with no usable kernel cache writes nothing of the tree; a tree left partial (a
+   file-size limit) does not block the retry. swim cache list > /dev/full: one line with the true
+   reason.
 Prints "test_trust_cli: P passed, F failed".
 """
 
@@ -84,7 +86,7 @@ def test_bounds():
             "--tol: must be in (0, 1)", out)
     refused(["sweep", EX3, "--out", out, "--vary", "model.rho0=1,2", "--jobs", "0"], "out of range 1..4096", out)
     refused(["sweep", EX3, "--out", out, "--vary", "model.rho0=1,2", "--progress", "1e300"], "--progress", out)
-    refused(["inspect", "--modes", "1", "--shape", "0,0,0,0", "--rhof", "0"], "--rhof: must be > 0")
+    refused(["inspect", "--modes", "1", "--shape", "0,0,0,0", "--rhof", "0"], "--rhof: density must be > 0")
     refused(["cache", "clean", "--older-than", "1e300"], "--older-than: must be")
 
 
@@ -241,6 +243,31 @@ def test_family_h5_after_resume_without_format():
         got = len(f["members"]["id"])
     check(before < 3 and got == n == 3, "family.h5 rewritten with every member (%d before, %d now, %d rows)"
           % (before, got, n))
+
+
+def test_export_checks_cache_first_and_retries():
+    bad = os.path.join(TMP, "open_cache")
+    os.makedirs(bad)
+    os.chmod(bad, 0o777)   # writable by every user: not used as a cache (a private folder instead)
+    out = os.path.join(TMP, "export_tree")
+    p = swim("export", EX3, "--out", out, "--quiet", env=dict(os.environ, SWIM_CACHE=bad))
+    check(p.returncode == 1 and "the cache is not usable" in p.stderr, "export with no usable cache: exit 1, said (%r)"
+          % p.stderr[-300:])
+    check(not os.path.exists(out) or os.listdir(out) == [], "nothing of the tree written: %r"
+          % (os.listdir(out) if os.path.exists(out) else None))
+    # a tree left partial (a file-size limit: the disk full for it) does not block the retry
+    def small_files():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (16 * 1024, 16 * 1024))
+    p = subprocess.run([SWIM, "export", EX3, "--out", out, "--quiet"], capture_output=True, text=True, cwd=ROOT,
+                       preexec_fn=small_files)
+    check(p.returncode != 0 and "File too large" in p.stderr, "export over the limit fails with the reason (%r)"
+          % p.stderr[-300:])
+    p = swim("export", EX3, "--out", out, "--quiet")
+    check(p.returncode == 0 and os.path.isfile(os.path.join(out, "simulate.c")),
+          "the retry replaces the partial tree (%r)" % p.stderr[-300:])
+    with open(os.path.join(out, ".swim-export")) as fh:
+        check(fh.read() == "swim export\n", "the finished tree's marker says complete")
 
 
 def test_cache_to_full_stdout():

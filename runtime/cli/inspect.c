@@ -27,9 +27,8 @@ int swim_cmd_inspect(int argc, char **argv)
         swim_message(stderr, "swim inspect: --modes and --shape are required");
         return 2;
     }
-    double modes;
-    if (swim_args_bounded("inspect", opts, nopts, "modes", &modes)) return 2;
-    const long N = (long)modes;
+    long N;
+    if (swim_args_int("inspect", "modes", ms, 0, SWIM_KERNEL_MAX_MODES, &N)) return 2;
     const int n = 2 * ((int)N + 1);
     double x[2 * (SWIM_KERNEL_MAX_MODES + 1)], v[2 * (SWIM_KERNEL_MAX_MODES + 1)];
     int count;
@@ -48,9 +47,9 @@ int swim_cmd_inspect(int argc, char **argv)
         }
     }
     double rho0 = 1.0, rhof = 1.0;
-    if (swim_args_bounded("inspect", opts, nopts, "rho0", &rho0) ||
-        swim_args_bounded("inspect", opts, nopts, "rhof", &rhof))
-        return 2;
+    const char *r0 = swim_args_get(opts, nopts, "rho0"), *rf = swim_args_get(opts, nopts, "rhof");
+    if (r0 && swim_args_double("inspect", "rho0", r0, &rho0)) return 2;
+    if (rf && swim_args_double("inspect", "rhof", rf, &rhof)) return 2;
     const int full = swim_args_get(opts, nopts, "full") != NULL;
     double *buf = calloc((size_t)(9 + 3 * n + 2 * n * n + n + (full ? n * n * n : 0)), sizeof(double));
     if (!buf) {

@@ -83,7 +83,8 @@ static const char *const tables[] = {"title", "model", "shape", "elastic", "barr
  * (cli/args.h, swim_args_bounded), so no option is parsed without its bounds. A bound that
  * depends on the scene (a count of rows over t_end) is checked where the scene is known; the row
  * says it in `expect`. The hard limits below are also those of the code that runs:
- * SWIM_PERIODIC_MAX_ITER 40, SWIM_CONT_MAX_POINTS 1000, SWIM_OPT_MAX_STARTS 64 (a test compares). */
+ * SWIM_PERIODIC_MAX_ITER 40, SWIM_CONT_MAX_POINTS 1000, SWIM_OPT_MAX_STARTS 64 (a test compares).
+ * swim inspect's numbers are the library's arguments (swim_inspect), bounded by its own rows. */
 static const swim_scene_key command_options[] = {
     {"run", "lyapunov-interval", SWIM_KEY_NUMBER, NONE, DBL_MIN, INFINITY, 1, {NULL},
      "a number > 0 giving at most 10^6 renormalizations over t_end", NULL, 0, "renormalization interval"},
@@ -110,12 +111,6 @@ static const swim_scene_key command_options[] = {
     {"cache", "older-than", SWIM_KEY_NUMBER, NONE, 0, 1e6, 0, {NULL}, "an age >= 0 and below 10^6 days", NULL, 0,
      "the age of the entries removed"},
     {"flow", "frames", SWIM_KEY_INTEGER, NONE, 1, 100000, 10, {NULL}, "an integer 1..100000", NULL, 0, "frames"},
-    {"inspect", "modes", SWIM_KEY_INTEGER, NONE, 0, SWIM_KERNEL_MAX_MODES, 0, {NULL}, "an integer 0..32", NULL, 0,
-     "the mode count N"},
-    {"inspect", "rho0", SWIM_KEY_NUMBER, NONE, DBL_MIN, 1e150, 1, {NULL}, "> 0 and below 1e150", NULL, 0,
-     "body density"},
-    {"inspect", "rhof", SWIM_KEY_NUMBER, NONE, DBL_MIN, 1e150, 1, {NULL}, "> 0 and below 1e150", NULL, 0,
-     "fluid density"},
 };
 
 const swim_scene_key *swim_command_option(const char *command, const char *option)
