@@ -196,7 +196,7 @@ def test_optimize_keeps_results_on_sighup():
 def test_sweep_stops_on_sighup():
     out = os.path.join(TMP, "sweep_hup")
     rows = os.path.join(out, "members.csv")
-    proc = subprocess.Popen([SWIM, "sweep", EX3, "--out", out, "--vary", "run.t_end=0.5,2000", "--jobs", "1",
+    proc = subprocess.Popen([SWIM, "sweep", EX3, "--out", out, "--vary", "run.t_end=0.5,400000", "--jobs", "1",
                              "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
     ok = wait_for(lambda: os.path.exists(rows) and sum(1 for _ in open(rows)) >= 2, proc)
     proc.send_signal(signal.SIGHUP)
@@ -226,7 +226,7 @@ def test_family_h5_cannot_be_written():
 def test_family_h5_after_resume_without_format():
     out = os.path.join(TMP, "h5_resume")
     rows = os.path.join(out, "members.csv")
-    args = ["sweep", EX3, "--out", out, "--vary", "run.t_end=0.5,0.6,300", "--jobs", "1", "--quiet"]
+    args = ["sweep", EX3, "--out", out, "--vary", "run.t_end=0.5,0.6,5000", "--jobs", "1", "--quiet"]
     proc = subprocess.Popen([SWIM, *args, "--format", "hdf5"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True, cwd=ROOT)
     ok = wait_for(lambda: os.path.exists(rows) and sum(1 for _ in open(rows)) >= 2, proc)
