@@ -95,6 +95,7 @@ def test_ranges_validated_as_a_scene():
     refused(["continue", EX1, "--out", out, "--param", "model.rhof=0:2"], "--param model.rhof=0:2", out)
     p = refused(["continue", EX3, "--out", out, "--param", "elastic.stiffness.am1=1:-1"], "R must be >= 0", out)
     check("--set" not in p.stderr, "the message names --param, not --set: %r" % p.stderr)
+    refused(["continue", EX1, "--out", out, "--param", "energy=0.1:inf"], "finite numbers", out)
     refused(["optimize", SELF, "--out", out, "--vary", "model.rho0=-1:2", "--maximize", "x"],
             "--vary model.rho0=-1:2", out)
 

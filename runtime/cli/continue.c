@@ -1,6 +1,7 @@
 /* swim continue: a branch of periodic orbits in the energy or a run-time scene key
  * (runtime/control/continuation.h), into DIR/branch.csv and DIR/branch.json. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,11 +42,11 @@ static int parse_param(const char *v, swim_cont_options *o, char *key, size_t le
     if (end == eq + 1 || *end != ':') goto bad;
     const char *s2 = end + 1;
     o->stop = strtod(s2, &end);
-    if (end == s2 || *end || !(o->start == o->start) || !(o->stop == o->stop) || o->start == o->stop) goto bad;
+    if (end == s2 || *end || !isfinite(o->start) || !isfinite(o->stop) || o->start == o->stop) goto bad;
     return 0;
 bad:
-    swim_message(stderr, "swim continue: --param: expected KEY=START:STOP with START != STOP (KEY energy or a run-time "
-                 "scene key), e.g. energy=0.1:0.3, got '%s'", v ? v : "");
+    swim_message(stderr, "swim continue: --param: expected KEY=START:STOP with START != STOP, finite numbers (KEY "
+                 "energy or a run-time scene key), e.g. energy=0.1:0.3, got '%s'", v ? v : "");
     return 2;
 }
 
