@@ -70,6 +70,7 @@ int swim_cmd_sweep(int argc, char **argv)
             ids[slot] = m;
             running_pids[slot] = pid;
             running++;
+            if (stop_signal > 0) kill(pid, SIGTERM);   /* the signal came while it was being started */
         }
         if (running == 0) break;
         int status;
