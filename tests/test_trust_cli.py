@@ -188,8 +188,8 @@ def test_optimize_keeps_results_on_sighup():
     proc.send_signal(signal.SIGHUP)
     so, se = proc.communicate(timeout=600)
     check(ok, "the search logged runs before the signal (%r)" % se)
-    check(proc.returncode == 1 and "INTERRUPTED" in so, "SIGHUP: the best so far reported, exit 1 (%d, %r, %r)"
-          % (proc.returncode, so[-300:], se[-300:]))
+    check(proc.returncode == 1 and "INTERRUPTED (SIGHUP)" in so,
+          "SIGHUP: named, the best so far reported, exit 1 (%d, %r, %r)" % (proc.returncode, so[-300:], se[-300:]))
     check(os.path.isfile(os.path.join(out, "best.toml")) and os.path.isfile(os.path.join(out, "optimize.json")),
           "best.toml and optimize.json kept on SIGHUP")
 

@@ -318,7 +318,8 @@ int swim_cmd_optimize(int argc, char **argv)
     char *csv = dir ? swim_path_join(dir, "optimize.csv") : NULL, *best = dir ? swim_path_join(dir, "best.toml") : NULL;
     char *json = dir ? swim_path_join(dir, "optimize.json") : NULL;
     if (!csv || !best || !json || swim_mkdirs(dir) != 0 || !(p.log_csv = fopen(csv, "w"))) {
-        swim_message(stderr, "swim optimize: --out: cannot write into %s", dir ? dir : "(out of memory)");
+        swim_message(stderr, "swim optimize: --out: cannot write into %s: %s", dir ? dir : "(out of memory)",
+                     strerror(errno));
         free(dir); free(csv); free(best); free(json);
         return 2;
     }
@@ -334,18 +335,24 @@ int swim_cmd_optimize(int argc, char **argv)
     if (rc != 0) {
         swim_message(stderr, "swim optimize: no run succeeded (%ld evaluations): nothing to report", p.evaluations);
     } else {
-        if (swim_opt_write_scene(&p, best) != 0) {
+        const int best_written = swim_opt_write_scene(&p, best) == 0;
+        if (!best_written) {
             swim_message(stderr, "swim optimize: cannot write %s: %s", best, strerror(errno));
             rc = 1;
         }
         json_job job = {&p, best};
-        if (swim_replace_file_with(json, fill_json, &job) != 0) rc = 1;
+        if (swim_replace_file_with(json, fill_json, &job) != 0) {
+            swim_message(stderr, "swim optimize: cannot write %s: %s", json, strerror(errno));
+            rc = 1;
+        }
         const int holds = p.tight_status == 0 && fabs(p.tight_change) <= p.value_tol;
         swim_message(stdout, "%s: %s %s = %.10g after %d iterations, %ld runs (%ld failed; %s, %d start%s, best from "
                      "start %d), %.1f s%s", pos[0], p.maximize ? "largest" : "smallest", qname, p.best_q, p.iterations,
                      p.evaluations, p.failed, p.method == SWIM_OPT_BFGS ? "BFGS" : "Nelder-Mead", p.nstarts,
                      p.nstarts == 1 ? "" : "s", p.best_start + 1, p.seconds,
-                     p.interrupted ? " -- INTERRUPTED: the best so far, not converged"
+                     p.interrupted ? (swim_run_stop == SIGHUP ? " -- INTERRUPTED (SIGHUP): the best so far, not converged"
+                                      : swim_run_stop == SIGTERM ? " -- INTERRUPTED (SIGTERM): the best so far, not converged"
+                                                                 : " -- INTERRUPTED: the best so far, not converged")
                      : !p.search_converged ? " -- NOT converged (raise --max-iter)"
                      : !holds ? " -- NOT converged: the value does not hold at tighter tolerances" : "");
         if (!p.interrupted) {
@@ -357,7 +364,7 @@ int swim_cmd_optimize(int argc, char **argv)
         }
         for (int i = 0; i < p.nkeys; i++)
             swim_message(stdout, "  %s = %.10g  (range %g .. %g)", p.keys[i].text, p.best_value[i], p.lo[i], p.hi[i]);
-        swim_message(stdout, "  best scene %s; log %s", best, csv);
+        swim_message(stdout, "  best scene %s; log %s", best_written ? best : "NOT written", csv);
         plot(dir);   /* a missing figure is said, the results stand */
         if (rc == 0 && !p.converged) rc = 1;   /* written, but not the optimum asked for */
     }
