@@ -168,9 +168,22 @@ SHARE_FILES := $(shell find generator runtime/kernel -type f -not -path '*/__pyc
                $(wildcard runtime/plot/*.py)
 # The destination reaches the shell through the environment, always inside double quotes: a
 # PREFIX with spaces (or quotes, $, *) is one word, never split into stray relative folders.
+# Every install rule runs after install-begin (a snapshot of what the destination holds) and
+# ends with $(INSTALL_RECORD): what it created goes into DEST/share/swim/install-manifest, which
+# `make uninstall` follows (tools/install_manifest.sh). A line added to an install rule before
+# $(INSTALL_RECORD) is covered as it is. The snapshot is named by this make's process id, so two
+# installs at once keep theirs apart.
+INSTALL_SNAPSHOT = $(BUILD)/install-snapshot.$(shell echo $$PPID)
+INSTALL_RECORD = bash tools/install_manifest.sh record "$(INSTALL_SNAPSHOT)"
+.PHONY: install-begin
+install-begin: export SWIM_INSTALL_DEST := $(DESTDIR)$(PREFIX)
+install-begin:
+	@case "$$SWIM_INSTALL_DEST" in /*) ;; *) echo "make install: PREFIX='$$SWIM_INSTALL_DEST' is not an absolute path" >&2; exit 2 ;; esac
+	@mkdir -p $(BUILD) && bash tools/install_manifest.sh begin "$(INSTALL_SNAPSHOT)"
+
 install: export SWIM_INSTALL_DEST := $(DESTDIR)$(PREFIX)
 install: export SWIM_INSTALL_BIN := $(BIN)
-install: $(BIN)/swim
+install: $(BIN)/swim | install-begin
 	@case "$$SWIM_INSTALL_DEST" in /*) ;; *) echo "make install: PREFIX='$$SWIM_INSTALL_DEST' is not an absolute path" >&2; exit 2 ;; esac
 	install -d "$$SWIM_INSTALL_DEST/bin"
 	install -m 755 "$$SWIM_INSTALL_BIN/swim" "$$SWIM_INSTALL_DEST/bin/swim"
@@ -178,6 +191,7 @@ install: $(BIN)/swim
 	for f in $(SHARE_FILES); do install -D -m 644 "$$f" "$$SWIM_INSTALL_DEST/share/swim/$$f" || exit 1; done
 	install -D -m 644 $(BUILD)/man/swim.1 "$$SWIM_INSTALL_DEST/share/man/man1/swim.1"
 	install -D -m 644 $(BUILD)/swim.bash "$$SWIM_INSTALL_DEST/share/bash-completion/completions/swim"
+	@$(INSTALL_RECORD) && rm -f "$(INSTALL_SNAPSHOT)"
 
 # swim(1) and the bash completion, made from the program's own --help (runtime/cli/help_pages.py).
 $(BUILD)/man/swim.1: $(BIN)/swim runtime/cli/help_pages.py
@@ -187,7 +201,8 @@ $(BUILD)/swim.bash: $(BUILD)/man/swim.1
 install: $(BUILD)/man/swim.1
 
 # Exactly what install put there (the library's and the Python package's files by their own
-# rules), then the folders it made that are left empty.
+# rules), then every file of the manifest and the folders install made (those that were there
+# before it stay, even empty).
 uninstall: export SWIM_INSTALL_DEST := $(DESTDIR)$(PREFIX)
 uninstall: uninstall-bin
 .PHONY: uninstall-bin
@@ -197,10 +212,8 @@ uninstall-bin: uninstall-lib uninstall-python
 	rm -f "$$SWIM_INSTALL_DEST/bin/swim" "$$SWIM_INSTALL_DEST/bin/swim-mpi" "$$SWIM_INSTALL_DEST/share/man/man1/swim.1" \
 	  "$$SWIM_INSTALL_DEST/share/bash-completion/completions/swim"
 	for f in $(SHARE_FILES); do rm -f "$$SWIM_INSTALL_DEST/share/swim/$$f"; done
-	if [ -d "$$SWIM_INSTALL_DEST/share/swim" ]; then find "$$SWIM_INSTALL_DEST/share/swim" -name __pycache__ -type d -prune -exec rm -rf {} +; \
-	  find "$$SWIM_INSTALL_DEST/share/swim" -depth -type d -empty -delete; fi
-	cd "$$SWIM_INSTALL_DEST" && for d in bin share/man/man1 share/man share/bash-completion/completions share/bash-completion share lib/pkgconfig lib include; do \
-	  rmdir "$$d" 2>/dev/null; done; true
+	if [ -d "$$SWIM_INSTALL_DEST/share/swim" ]; then find "$$SWIM_INSTALL_DEST/share/swim" -name __pycache__ -type d -prune -exec rm -rf {} +; fi
+	bash tools/install_manifest.sh uninstall
 
 # The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer (own build folder;
 # specialized kernels are compiled with the same flags into their own cache entries).

@@ -4,7 +4,9 @@
  *     bounds is refused naming the key;
  *   - the kernel's structure key (codegen.h) changes with the keys marked STRUCTURE (a zero put
  *     into a vector, epsilon 0) and not with the values marked RUNTIME alone: those the kernel
- *     reads at run time, so sweeps, sensitivities and optimize never regenerate it. */
+ *     reads at run time, so sweeps, sensitivities and optimize never regenerate it;
+ *   - the commands' numeric options (their own block): each row bounded and worded, and the hard
+ *     limits of the code that runs them are the rows' limits. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,6 +14,9 @@
 
 #include "check.h"
 #include "codegen/codegen.h"
+#include "control/continuation.h"
+#include "control/optimize.h"
+#include "control/periodic.h"
 #include "io/files.h"
 #include "kernel/coords.h"
 #include "scene/keys.h"
@@ -145,8 +150,31 @@ static void test_structure_key(void)
     free(text);
 }
 
+static void test_command_options(void)
+{
+    int n;
+    const swim_scene_key *rows = swim_command_options(&n);
+    CHECK(n >= 12, "the commands' options have rows (%d)", n);
+    for (int i = 0; i < n; i++) {
+        const swim_scene_key *k = &rows[i];
+        CHECK(k->kind == SWIM_KEY_INTEGER || k->kind == SWIM_KEY_NUMBER, "%s --%s: a number", k->table, k->key);
+        CHECK(k->lo < k->hi && k->expect && k->expect[0], "%s --%s: bounds lo < hi and their words", k->table, k->key);
+        CHECK(swim_command_option(k->table, k->key) == k, "%s --%s: found by name, once", k->table, k->key);
+        CHECK(!isfinite(k->hi) || k->dflt == 0 || (k->dflt >= k->lo && k->dflt <= k->hi), "%s --%s: default %g in bounds",
+              k->table, k->key, k->dflt);
+    }
+    CHECK(swim_command_option("periodic", "max-iter")->hi == SWIM_PERIODIC_MAX_ITER, "periodic --max-iter: the solver's limit");
+    CHECK(swim_command_option("continue", "max-points")->hi == SWIM_CONT_MAX_POINTS, "continue --max-points: the branch's limit");
+    CHECK(swim_command_option("optimize", "starts")->hi == SWIM_OPT_MAX_STARTS, "optimize --starts: the search's limit");
+    CHECK(swim_command_option("run", "lyapunov-interval")->lo > 0, "--lyapunov-interval: 0 refused");
+    CHECK(swim_command_option("periodic", "t-max")->hi <= 1e6 && swim_command_option("floquet", "t-max")->hi <= 1e6,
+          "--t-max bounded");
+    CHECK(swim_command_option("run", "no-such-option") == NULL, "an option without a row: NULL");
+}
+
 int main(void)
 {
+    test_command_options();
     test_documented();
     test_plain_defaults();
     test_structure_key();

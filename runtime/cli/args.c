@@ -5,9 +5,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "io/files.h"
 #include "io/message.h"
+#include "scene/keys.h"
 
 /* Words of text wrapped at `width` columns, each line indented by `indent`. */
 static void wrapped(FILE *f, const char *text, int indent, int width)
@@ -177,6 +180,39 @@ int swim_args_int(const char *cmd, const char *opt, const char *s, long lo, long
     return 0;
 }
 
+int swim_args_bounded(const char *cmd, const swim_opt *opts, int nopts, const char *opt, double *out)
+{
+    const char *v = swim_args_get(opts, nopts, opt);
+    if (!v) return 0;
+    const swim_scene_key *k = swim_command_option(cmd, opt);
+    if (!k) {
+        swim_message(stderr, "swim %s: --%s: no bounds for this option (scene/keys.c): a bug, please report it", cmd, opt);
+        return 2;
+    }
+    if (k->kind == SWIM_KEY_INTEGER) {
+        long n;
+        if (swim_args_int(cmd, opt, v, (long)k->lo, (long)k->hi, &n)) return 2;
+        *out = (double)n;
+        return 0;
+    }
+    double x;
+    if (swim_args_double(cmd, opt, v, &x)) return 2;
+    if (!(x >= k->lo && x < k->hi)) {
+        swim_message(stderr, "swim %s: --%s: must be %s, got '%s'", cmd, opt, k->expect, v);
+        return 2;
+    }
+    *out = x;
+    return 0;
+}
+
+int swim_args_steps_bounded(const char *cmd, const char *opt, double value, double output_step)
+{
+    if (value / output_step <= SWIM_ROWS_MAX) return 0;
+    swim_message(stderr, "swim %s: --%s: %g is %.3g output steps of run.output_step = %g, more than %.0e; give at "
+                 "most %g", cmd, opt, value, value / output_step, output_step, SWIM_ROWS_MAX, SWIM_ROWS_MAX * output_step);
+    return 2;
+}
+
 int swim_args_list(const char *cmd, const char *opt, const char *s, double *out, int cap, int *count)
 {
     int k = 0;
@@ -220,4 +256,59 @@ char *swim_args_out_dir(const char *given, const char *scene, const char *suffix
     const char *base = strrchr(scene, '/');
     base = base ? base + 1 : scene;
     return swim_strprintf("out/%.*s-%s", (int)strcspn(base, "."), base, suffix);
+}
+
+int swim_args_out_ready(const char *cmd, const char *dir, const char *const *names, int n)
+{
+    /* the folder, or the nearest of its parents that exists: there a file must be possible */
+    char *at = dir ? strdup(dir) : NULL;
+    struct stat st;
+    int rc = 0;
+    if (!at) {
+        swim_message(stderr, "swim %s: out of memory", cmd);
+        return 2;
+    }
+    while (stat(at, &st) != 0) {
+        char *slash = strrchr(at, '/');
+        if (errno != ENOENT || !slash || slash == at) {
+            if (errno == ENOENT && !slash) snprintf(at, strlen(at) + 1, ".");
+            else if (errno == ENOENT) at[1] = '\0';   /* "/x": the root */
+            else {
+                swim_message(stderr, "swim %s: --out: %s: %s", cmd, at, strerror(errno));
+                free(at);
+                return 2;
+            }
+            continue;
+        }
+        *slash = '\0';
+    }
+    const int exists = strcmp(at, dir) == 0;
+    if (!S_ISDIR(st.st_mode)) {
+        swim_message(stderr, "swim %s: --out: %s: %s is not a folder", cmd, dir, at);
+        free(at);
+        return 2;
+    }
+    /* permissions alone do not say it (root, a read-only mount): a file is made and removed */
+    char *probe = swim_strprintf("%s/.swim-probe-XXXXXX", at);
+    int fd = probe ? mkstemp(probe) : -1;
+    if (fd < 0) {
+        swim_message(stderr, "swim %s: --out: cannot write into %s: %s", cmd, at, probe ? strerror(errno) : "out of memory");
+        rc = 2;
+    } else {
+        close(fd);
+        unlink(probe);
+    }
+    free(probe);
+    free(at);
+    for (int i = 0; i < n && rc == 0 && exists; i++) {
+        char *path = swim_path_join(dir, names[i]);
+        const int folder = path && stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+        if (!path || folder) {
+            swim_message(stderr, "swim %s: --out: %s%s", cmd, path ? path : "out of memory",
+                         folder ? " is a folder, where the command writes a file" : "");
+            rc = 2;
+        }
+        free(path);
+    }
+    return rc;
 }

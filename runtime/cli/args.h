@@ -47,11 +47,26 @@ void swim_args_help(FILE *f, const swim_opt *opts, int nopts);
  * its extension (malloc'd; NULL when out of memory). */
 char *swim_args_out_dir(const char *given, const char *scene, const char *suffix);
 
+/* The output folder of a command checked before any work, nothing made: the folder, or the
+ * nearest of its parents that exists (where mkdir -p would start), is a folder in which a file
+ * can be created (tried, then removed), and none of names[0..n) in it is a folder. 0, or 2
+ * after one line "swim CMD: --out: ...: reason". */
+int swim_args_out_ready(const char *cmd, const char *dir, const char *const *names, int n);
+
 const char *swim_args_get(const swim_opt *opts, int nopts, const char *name);
 
 /* Strict number parsing: the whole string, finite. 0 or 2 (message printed, naming opt). */
 int swim_args_double(const char *cmd, const char *opt, const char *s, double *out);
 int swim_args_int(const char *cmd, const char *opt, const char *s, long lo, long hi, long *out);
+/* The numeric option --opt of swim cmd, if given: parsed and checked against its row of the
+ * commands' option table (scene/keys.h, swim_command_option): an integer in [lo, hi], or a finite
+ * number in [lo, hi). 0 (*out set, or left alone when the option is absent), or 2 after one line
+ * "swim CMD: --OPT: ..." naming the bound. An option without a row is a programming error: 2,
+ * said as such. */
+int swim_args_bounded(const char *cmd, const swim_opt *opts, int nopts, const char *opt, double *out);
+/* A time option (--t-max) against the scene's output step: at most SWIM_ROWS_MAX steps, as
+ * swim run's t_end. 0, or 2 after one line. */
+int swim_args_steps_bounded(const char *cmd, const char *opt, double value, double output_step);
 /* Comma-separated finite numbers; *count gets how many were read (at most cap). 0 or 2. */
 int swim_args_list(const char *cmd, const char *opt, const char *s, double *out, int cap, int *count);
 

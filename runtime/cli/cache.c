@@ -10,6 +10,8 @@
 #include "cli/commands.h"
 #include "codegen/codegen.h"
 #include "io/message.h"
+#include "io/stdout_check.h"
+#include "scene/keys.h"
 
 /* --older-than D: a number of days, or with a unit s, m, h, d (30d, 12h). 0 or 2. */
 static int parse_age(const char *s, double *days)
@@ -26,8 +28,13 @@ static int parse_age(const char *s, double *days)
         case 'd': end++; break;
         }
     }
-    if (end == s || *end || errno || !isfinite(v) || v < 0) {
+    if (end == s || *end || errno || !isfinite(v)) {
         swim_message(stderr, "swim cache: --older-than: '%s' is not an age (days, or a number with s, m, h or d)", s);
+        return 2;
+    }
+    const swim_scene_key *k = swim_command_option("cache", "older-than");
+    if (!(v * unit >= k->lo && v * unit < k->hi)) {
+        swim_message(stderr, "swim cache: --older-than: must be %s, got '%s'", k->expect, s);
         return 2;
     }
     *days = v * unit;
@@ -47,14 +54,9 @@ static void key_summary(const char *key, char *buf, size_t len)
     snprintf(buf, len, "%.*s%s", (int)n, key, (end ? (size_t)(end - key) : strlen(key)) > n ? "..." : "");
 }
 
-static int finish(void)
-{
-    if (fflush(stdout) != 0 || ferror(stdout)) {
-        swim_message(stderr, "swim cache: cannot write to stdout: %s", strerror(errno));
-        return 1;
-    }
-    return 0;
-}
+/* The report's flush: one line naming the true reason, and main's check after it stays silent
+ * (io/stdout_check.h prints once per process). */
+static int finish(void) { return swim_stdout_check("cache") != 0; }
 
 int swim_cmd_cache(int argc, char **argv)
 {

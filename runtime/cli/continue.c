@@ -1,5 +1,7 @@
 /* swim continue: a branch of periodic orbits in the energy or a run-time scene key
  * (runtime/control/continuation.h), into DIR/branch.csv and DIR/branch.json. */
+#include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -40,12 +42,38 @@ static int parse_param(const char *v, swim_cont_options *o, char *key, size_t le
     if (end == eq + 1 || *end != ':') goto bad;
     const char *s2 = end + 1;
     o->stop = strtod(s2, &end);
-    if (end == s2 || *end || !(o->start == o->start) || !(o->stop == o->stop) || o->start == o->stop) goto bad;
+    if (end == s2 || *end || !isfinite(o->start) || !isfinite(o->stop) || o->start == o->stop) goto bad;
     return 0;
 bad:
-    swim_message(stderr, "swim continue: --param: expected KEY=START:STOP with START != STOP (KEY energy or a run-time "
-                 "scene key), e.g. energy=0.1:0.3, got '%s'", v ? v : "");
+    swim_message(stderr, "swim continue: --param: expected KEY=START:STOP with START != STOP, finite numbers (KEY "
+                 "energy or a run-time scene key), e.g. energy=0.1:0.3, got '%s'", v ? v : "");
     return 2;
+}
+
+/* A branch in a scene key runs through every value from START to STOP: both ends are read into
+ * the scene as an override would be (the values swim run --set refuses, such as rhof = 0 or a
+ * negative stiffness, refused here before any work; the scene's bounds are intervals, so the
+ * values between the ends pass too). 0 or 2 (said, naming --param). */
+static int check_ends(const char *scene, const swim_override *sets, int nsets, const swim_cont_options *o,
+                      const char *given)
+{
+    if (strcmp(o->key, "energy") == 0) return 0;
+    swim_override ov[SWIM_SETUP_MAX_SETS + 1];
+    memcpy(ov, sets, sizeof(swim_override) * (size_t)nsets);
+    const double ends[2] = {o->start, o->stop};
+    for (int e = 0; e < 2; e++) {
+        char text[200], err[256];
+        snprintf(text, sizeof text, "%s=%.17g", o->key, ends[e]);
+        if (swim_override_parse(text, &ov[nsets], err, sizeof err) != 0) {
+            swim_message(stderr, "swim continue: --param %s: %s", given, err);
+            return 2;
+        }
+        snprintf(ov[nsets].text, sizeof ov[nsets].text, "--param %s (at %s = %.10g)", given, o->key, ends[e]);
+        swim_scene s;
+        if (swim_scene_load_with(scene, ov, nsets + 1, &s) != 0) return 2;
+        swim_scene_free(&s);
+    }
+    return 0;
 }
 
 int swim_cmd_continue(int argc, char **argv)
@@ -75,49 +103,49 @@ int swim_cmd_continue(int argc, char **argv)
                      "--param energy=0.1:0.3");
         return 2;
     }
-    swim_cont_options o = {NULL, 0, 0, 11, {1e-11, 20, 1e-12, 1e-14, 0.0}};
+    swim_cont_options o = {NULL, 0, 0, 11, {1e-11, 20, 1e-12, 1e-14, 0.0, "continue", "run.t_end (--set run.t_end=T)"}};
     char key[128];
     if (parse_param(swim_args_get(opts, nopts, "param"), &o, key, sizeof key)) return 2;
-    const char *v;
-    long k;
-    if ((v = swim_args_get(opts, nopts, "max-points"))) {
-        if (swim_args_int("continue", "max-points", v, 2, SWIM_CONT_MAX_POINTS, &k)) return 2;
-        o.points = (int)k;
+    double points = o.points;
+    if (swim_args_bounded("continue", opts, nopts, "max-points", &points) ||
+        swim_args_bounded("continue", opts, nopts, "tol", &o.periodic.tol))
+        return 2;
+    o.points = (int)points;
+    if (check_ends(pos[0], sets, nsets, &o, swim_args_get(opts, nopts, "param"))) return 2;
+    /* the output folder before any work: a branch may take minutes */
+    char *dir = swim_args_out_dir(swim_args_get(opts, nopts, "out"), pos[0], "continue");
+    static const char *const outputs[] = {"branch.csv", "branch.json"};
+    if (swim_args_out_ready("continue", dir, outputs, 2)) {
+        free(dir);
+        return 2;
     }
-    if ((v = swim_args_get(opts, nopts, "tol"))) {
-        if (swim_args_double("continue", "tol", v, &o.periodic.tol)) return 2;
-        if (!(o.periodic.tol > 0 && o.periodic.tol < 1)) {
-            swim_message(stderr, "swim continue: --tol: must be in (0, 1), got '%s'", v);
-            return 2;
-        }
-    }
+    char *csv = swim_path_join(dir, "branch.csv"), *json = swim_path_join(dir, "branch.json");
     static swim_model_setup m;
     char section[64];
     swim_floquet_section sec;
-    int rc = swim_periodic_setup(&m, "continue", pos[0], sets, nsets, swim_args_get(opts, nopts, "generic") != NULL,
-                                 swim_args_get(opts, nopts, "quiet") != NULL, swim_args_get(opts, nopts, "guess-event"),
-                                 &sec, section, sizeof section);
-    if (rc) return rc;
-    o.periodic.t_max = m.s.t_end;
-    const char *out = swim_args_get(opts, nopts, "out");
-    char *dir = swim_args_out_dir(out, pos[0], "continue");
-    char *csv = dir ? swim_path_join(dir, "branch.csv") : NULL, *json = dir ? swim_path_join(dir, "branch.json") : NULL;
-    if (!csv || !json || swim_mkdirs(dir) != 0) {
-        swim_message(stderr, "swim continue: --out: cannot create %s", dir ? dir : "(out of memory)");
+    int rc = csv && json ? swim_periodic_setup(&m, "continue", pos[0], sets, nsets,
+                                               swim_args_get(opts, nopts, "generic") != NULL,
+                                               swim_args_get(opts, nopts, "quiet") != NULL,
+                                               swim_args_get(opts, nopts, "guess-event"), &sec, section, sizeof section)
+                         : (swim_message(stderr, "swim continue: out of memory"), 1);
+    if (rc) {
         free(dir); free(csv); free(json);
-        swim_setup_close(&m);
-        return 2;
+        return rc;
     }
+    o.periodic.t_max = m.s.t_end;
     swim_branch b;
     rc = swim_continue(&m.d, &m.s, &sec, &o, &b);
     if (rc == 0) {
         out_job job = {&b, pos[0], key};
-        if (swim_replace_file_with(csv, fill_csv, &job) != 0 || swim_replace_file_with(json, fill_json, &job) != 0) {
-            swim_message(stderr, "swim continue: cannot write %s", dir);
+        const char *failed = swim_mkdirs(dir) != 0 ? dir : swim_replace_file_with(csv, fill_csv, &job) != 0 ? csv
+                             : swim_replace_file_with(json, fill_json, &job) != 0 ? json : NULL;
+        if (failed) {
+            swim_message(stderr, "swim continue: cannot write %s: %s", failed, strerror(errno));
             rc = 1;
         }
-        printf("%s: %d of %d points of the branch in %s = %.6g .. %.6g (the scene's orbit at %.10g); %s, %s\n", pos[0],
-               b.n, o.points, key, o.start, o.stop, b.param0, csv, json);
+        printf("%s: %d of %d points of the branch in %s = %.6g .. %.6g (the scene's orbit at %.10g); %s%s%s\n", pos[0],
+               b.n, o.points, key, o.start, o.stop, b.param0, failed ? "branch.csv and branch.json NOT written"
+               : csv, failed ? "" : ", ", failed ? "" : json);
         for (int i = 0; i < b.nspecial; i++)
             printf("  %s between %s = %.10g and %.10g (%s)\n", b.special[i].kind, key, b.special[i].lo,
                    b.special[i].hi, b.special[i].refined ? "refined by bisection" : b.special[i].why);

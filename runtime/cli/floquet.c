@@ -49,14 +49,7 @@ int swim_cmd_floquet(int argc, char **argv)
     }
     const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     double t_max = 0.0;
-    const char *v = swim_args_get(opts, nopts, "t-max");
-    if (v) {   /* not a number, or not > 0: one line each, never both */
-        if (swim_args_double("floquet", "t-max", v, &t_max)) return 2;
-        if (!(t_max > 0)) {
-            swim_message(stderr, "swim floquet: --t-max: must be > 0, got '%s'", v);
-            return 2;
-        }
-    }
+    if (swim_args_bounded("floquet", opts, nopts, "t-max", &t_max)) return 2;
     static swim_model_setup m;
     int rc = swim_setup_load(&m, pos[0], sets, nsets);
     if (rc == 0 && m.s.stroke) {
@@ -66,6 +59,7 @@ int swim_cmd_floquet(int argc, char **argv)
                      "Floquet multipliers; swim run reports its period and displacement per stroke", pos[0]);
         rc = 2;
     }
+    if (rc == 0 && t_max > 0) rc = swim_args_steps_bounded("floquet", "t-max", t_max, m.s.output_step);
     if (rc == 0) rc = swim_setup_kernels(&m, "floquet", swim_args_get(opts, nopts, "generic") != NULL, quiet);
     if (rc) {
         swim_setup_close(&m);

@@ -207,7 +207,9 @@ int swim_cmd_flow(int argc, char **argv)
             return 2;
         }
     } else if ((v = swim_args_get(opts, nopts, "frames"))) {
-        if (swim_args_int("flow", "frames", v, 1, MAX_TIMES, &frames)) return 2;
+        double f;
+        if (swim_args_bounded("flow", opts, nopts, "frames", &f)) return 2;
+        frames = (long)f;
     }
     char path[4200], out[4200];
     const char *given = swim_args_get(opts, nopts, "out");

@@ -12,6 +12,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/run_signals.h"
 #include "control/model_setup.h"
 #include "control/optimize.h"
 #include "io/files.h"
@@ -19,8 +20,6 @@
 #include "io/message.h"
 #include "scene/keys.h"
 
-static volatile int stop_signal;   /* set by SIGINT/SIGTERM; the search ends with what it has */
-static void on_stop(int sig) { stop_signal = sig; }
 
 /* KEY=LO:HI into p->keys[i], lo, hi. A key is compared with the others and with the --set
  * overrides by the value it sets, whatever its spelling (shape.c0.am1 is shape.c0[2]): a value
@@ -247,7 +246,6 @@ int swim_cmd_optimize(int argc, char **argv)
     }
     const char *qname = qmax ? qmax : qmin;
     const char *v;
-    long iters;
     if ((p.quantity = swim_quantity_index(qname)) < 0) {
         swim_message(stderr, "swim optimize: --%s: unknown quantity '%s' (%s)", qmax ? "maximize" : "minimize",
                      qname, swim_quantity_list());
@@ -268,23 +266,14 @@ int swim_cmd_optimize(int argc, char **argv)
                      "a state of the equations); use --method nelder-mead", qname);
         return 2;
     }
-    if ((v = swim_args_get(opts, nopts, "starts"))) {
-        if (swim_args_int("optimize", "starts", v, 1, SWIM_OPT_MAX_STARTS, &iters)) return 2;
-        p.starts = (int)iters;
-    }
-    p.max_iter = 60;
+    double starts = p.starts, max_iter = 60;
     p.tol = 1e-3;
-    if ((v = swim_args_get(opts, nopts, "max-iter"))) {
-        if (swim_args_int("optimize", "max-iter", v, 1, 100000, &iters)) return 2;
-        p.max_iter = (int)iters;
-    }
-    if ((v = swim_args_get(opts, nopts, "tol"))) {
-        if (swim_args_double("optimize", "tol", v, &p.tol)) return 2;
-        if (!(p.tol > 0)) {
-            swim_message(stderr, "swim optimize: --tol: must be > 0, got '%s'", v);
-            return 2;
-        }
-    }
+    if (swim_args_bounded("optimize", opts, nopts, "starts", &starts) ||
+        swim_args_bounded("optimize", opts, nopts, "max-iter", &max_iter) ||
+        swim_args_bounded("optimize", opts, nopts, "tol", &p.tol))
+        return 2;
+    p.starts = (int)starts;
+    p.max_iter = (int)max_iter;
     p.quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     p.scene_path = pos[0];
     p.sets = sets;
@@ -295,12 +284,20 @@ int swim_cmd_optimize(int argc, char **argv)
         swim_override ov[SWIM_OPT_MAX_SETS + SWIM_OPT_MAX_KEYS];
         int k = 0;
         for (int i = 0; i < nsets; i++) ov[k++] = sets[i];
-        for (int i = 0; i < p.nkeys; i++) {
-            ov[k] = p.keys[i];
-            ov[k++].value = 0.5 * (p.lo[i] + p.hi[i]);
-        }
+        for (int i = 0; i < p.nkeys; i++) ov[k++] = p.keys[i];
+        /* every key at LO, then at HI, then in the middle (kept): a bound the scene refuses is
+         * refused now, named by its --vary, not met by a run halfway through the search */
         swim_scene s;
-        if (swim_scene_load_with(pos[0], ov, k, &s) != 0) return 2;
+        for (int at = 0; at < 3; at++) {
+            for (int i = 0; i < p.nkeys; i++) {
+                swim_override *o = &ov[nsets + i];
+                o->value = at == 0 ? p.lo[i] : at == 1 ? p.hi[i] : 0.5 * (p.lo[i] + p.hi[i]);
+                snprintf(o->text, sizeof o->text, "--vary %s=%.10g:%.10g (at %s = %.10g)", p.keys[i].text, p.lo[i],
+                         p.hi[i], p.keys[i].text, o->value);
+            }
+            if (swim_scene_load_with(pos[0], ov, k, &s) != 0) return 2;
+            if (at < 2) swim_scene_free(&s);
+        }
         const int forced = s.forced || s.stroke;   /* a stroke's work is the body's positive work */
         const int stroke = s.stroke || s.stroke_count > 0;
         swim_scene_free(&s);
@@ -321,37 +318,41 @@ int swim_cmd_optimize(int argc, char **argv)
     char *csv = dir ? swim_path_join(dir, "optimize.csv") : NULL, *best = dir ? swim_path_join(dir, "best.toml") : NULL;
     char *json = dir ? swim_path_join(dir, "optimize.json") : NULL;
     if (!csv || !best || !json || swim_mkdirs(dir) != 0 || !(p.log_csv = fopen(csv, "w"))) {
-        swim_message(stderr, "swim optimize: --out: cannot write into %s", dir ? dir : "(out of memory)");
+        swim_message(stderr, "swim optimize: --out: cannot write into %s: %s", dir ? dir : "(out of memory)",
+                     strerror(errno));
         free(dir); free(csv); free(best); free(json);
         return 2;
     }
-    struct sigaction sa, old_int, old_term;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_stop;
-    stop_signal = 0;
-    p.interrupt = &stop_signal;
-    sigaction(SIGINT, &sa, &old_int);
-    sigaction(SIGTERM, &sa, &old_term);
+    /* SIGINT, SIGTERM and SIGHUP alike end the search with what it has (run_signals.h) */
+    swim_run_signals sig;
+    swim_run_stop = 0;
+    p.interrupt = (volatile int *)&swim_run_stop;
+    swim_run_signals_install(&sig);
     int rc = swim_opt_run(&p);
-    sigaction(SIGINT, &old_int, NULL);
-    sigaction(SIGTERM, &old_term, NULL);
+    swim_run_signals_restore(&sig);
     if (fclose(p.log_csv) != 0) rc = 1;
     p.log_csv = NULL;
     if (rc != 0) {
         swim_message(stderr, "swim optimize: no run succeeded (%ld evaluations): nothing to report", p.evaluations);
     } else {
-        if (swim_opt_write_scene(&p, best) != 0) {
+        const int best_written = swim_opt_write_scene(&p, best) == 0;
+        if (!best_written) {
             swim_message(stderr, "swim optimize: cannot write %s: %s", best, strerror(errno));
             rc = 1;
         }
         json_job job = {&p, best};
-        if (swim_replace_file_with(json, fill_json, &job) != 0) rc = 1;
+        if (swim_replace_file_with(json, fill_json, &job) != 0) {
+            swim_message(stderr, "swim optimize: cannot write %s: %s", json, strerror(errno));
+            rc = 1;
+        }
         const int holds = p.tight_status == 0 && fabs(p.tight_change) <= p.value_tol;
         swim_message(stdout, "%s: %s %s = %.10g after %d iterations, %ld runs (%ld failed; %s, %d start%s, best from "
                      "start %d), %.1f s%s", pos[0], p.maximize ? "largest" : "smallest", qname, p.best_q, p.iterations,
                      p.evaluations, p.failed, p.method == SWIM_OPT_BFGS ? "BFGS" : "Nelder-Mead", p.nstarts,
                      p.nstarts == 1 ? "" : "s", p.best_start + 1, p.seconds,
-                     p.interrupted ? " -- INTERRUPTED: the best so far, not converged"
+                     p.interrupted ? (swim_run_stop == SIGHUP ? " -- INTERRUPTED (SIGHUP): the best so far, not converged"
+                                      : swim_run_stop == SIGTERM ? " -- INTERRUPTED (SIGTERM): the best so far, not converged"
+                                                                 : " -- INTERRUPTED: the best so far, not converged")
                      : !p.search_converged ? " -- NOT converged (raise --max-iter)"
                      : !holds ? " -- NOT converged: the value does not hold at tighter tolerances" : "");
         if (!p.interrupted) {
@@ -363,7 +364,7 @@ int swim_cmd_optimize(int argc, char **argv)
         }
         for (int i = 0; i < p.nkeys; i++)
             swim_message(stdout, "  %s = %.10g  (range %g .. %g)", p.keys[i].text, p.best_value[i], p.lo[i], p.hi[i]);
-        swim_message(stdout, "  best scene %s; log %s", best, csv);
+        swim_message(stdout, "  best scene %s; log %s", best_written ? best : "NOT written", csv);
         plot(dir);   /* a missing figure is said, the results stand */
         if (rc == 0 && !p.converged) rc = 1;   /* written, but not the optimum asked for */
     }

@@ -1,5 +1,6 @@
 /* swim periodic: a periodic orbit of the shape dynamics by Newton shooting
  * (runtime/control/periodic.h), into DIR/periodic.json and a report on stdout. */
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -63,57 +64,55 @@ int swim_cmd_periodic(int argc, char **argv)
         swim_message(stderr, "swim periodic: expected one scene file, e.g. swim periodic models/example3.toml");
         return 2;
     }
-    swim_periodic_options o = {1e-11, 20, 1e-12, 1e-14, 0.0};
-    const char *v;
-    long iters;
-    if ((v = swim_args_get(opts, nopts, "tol"))) {
-        if (swim_args_double("periodic", "tol", v, &o.tol)) return 2;
-        if (!(o.tol > 0 && o.tol < 1)) {
-            swim_message(stderr, "swim periodic: --tol: must be in (0, 1), got '%s'", v);
-            return 2;
-        }
-    }
-    if ((v = swim_args_get(opts, nopts, "max-iter"))) {
-        if (swim_args_int("periodic", "max-iter", v, 1, SWIM_PERIODIC_MAX_ITER, &iters)) return 2;
-        o.max_iter = (int)iters;
-    }
-    if ((v = swim_args_get(opts, nopts, "t-max"))) {
-        if (swim_args_double("periodic", "t-max", v, &o.t_max)) return 2;
-        if (!(o.t_max > 0)) {
-            swim_message(stderr, "swim periodic: --t-max: must be > 0, got '%s'", v);
-            return 2;
-        }
-    }
+    swim_periodic_options o = {1e-11, 20, 1e-12, 1e-14, 0.0, "periodic", "--t-max"};
+    double iters = o.max_iter;
+    if (swim_args_bounded("periodic", opts, nopts, "tol", &o.tol) ||
+        swim_args_bounded("periodic", opts, nopts, "max-iter", &iters) ||
+        swim_args_bounded("periodic", opts, nopts, "t-max", &o.t_max))
+        return 2;
+    o.max_iter = (int)iters;
     const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
+    /* the output folder before any work: the Newton iteration may take minutes */
+    char *dir = swim_args_out_dir(swim_args_get(opts, nopts, "out"), pos[0], "periodic");
+    static const char *const outputs[] = {"periodic.json"};
+    if (swim_args_out_ready("periodic", dir, outputs, 1)) {
+        free(dir);
+        return 2;
+    }
+    char *json = swim_path_join(dir, "periodic.json");
     static swim_model_setup m;
     char section[64];
     swim_floquet_section sec;
-    int rc = swim_periodic_setup(&m, "periodic", pos[0], sets, nsets, swim_args_get(opts, nopts, "generic") != NULL,
-                                 quiet, swim_args_get(opts, nopts, "guess-event"), &sec, section, sizeof section);
-    if (rc) return rc;
+    int rc = json ? swim_periodic_setup(&m, "periodic", pos[0], sets, nsets, swim_args_get(opts, nopts, "generic") != NULL,
+                                        quiet, swim_args_get(opts, nopts, "guess-event"), &sec, section, sizeof section)
+                  : (swim_message(stderr, "swim periodic: out of memory"), 1);
+    if (rc) {
+        free(dir);
+        free(json);
+        return rc;
+    }
     if (o.t_max <= 0) o.t_max = m.s.t_end;
-    const char *out = swim_args_get(opts, nopts, "out");
-    char *dir = swim_args_out_dir(out, pos[0], "periodic");
-    char *json = dir ? swim_path_join(dir, "periodic.json") : NULL;
-    if (!json || swim_mkdirs(dir) != 0) {
-        swim_message(stderr, "swim periodic: --out: cannot create %s", dir ? dir : "(out of memory)");
+    else if (swim_args_steps_bounded("periodic", "t-max", o.t_max, m.s.output_step)) rc = 2;
+    if (rc) {
         free(dir);
         free(json);
         swim_setup_close(&m);
-        return 2;
+        return rc;
     }
     swim_periodic p;
     rc = swim_periodic_solve(&m.d, &sec, &o, &p);
     if (rc == 0) {   /* converged or not, the history is kept */
         json_job job = {&p, &m.d, pos[0], section};
-        if (swim_replace_file_with(json, fill, &job) != 0) {
-            swim_message(stderr, "swim periodic: cannot write %s", json);
+        const int written = swim_mkdirs(dir) == 0 && swim_replace_file_with(json, fill, &job) == 0;
+        if (!written) {
+            swim_message(stderr, "swim periodic: cannot write %s: %s", json, strerror(errno));
             rc = 1;
         }
-        report(&p, pos[0], json);
+        report(&p, pos[0], written ? json : "periodic.json NOT written");
         if (!p.converged) {
             swim_message(stderr, "swim periodic: %s: Newton did not converge: %s (residual %.2g > %.2g after %d "
-                         "iterations; the history is in %s)", pos[0], p.why, p.residual, o.tol, p.iterations, json);
+                         "iterations; the history is in %s)", pos[0], p.why, p.residual, o.tol, p.iterations,
+                         rc ? "nothing: it could not be written" : json);
             rc = 1;
         }
     }

@@ -170,11 +170,8 @@ static int read_options(int argc, char **argv, run_cmd *c)
     }
     if (swim_args_get(c->opts, c->nopts, "lyapunov")) {
         j->lyapunov = 1.0;
-        if (li && (swim_args_double("run", "lyapunov-interval", li, &j->lyapunov) || !(j->lyapunov > 0))) {
-            if (j->lyapunov <= 0 || !isfinite(j->lyapunov))
-                swim_message(stderr, "swim run: --lyapunov-interval: must be a number > 0, got '%s'", li);
-            return 2;
-        }
+        /* the row count over t_end is checked once the scene is read (output/job.c) */
+        if (swim_args_bounded("run", c->opts, c->nopts, "lyapunov-interval", &j->lyapunov)) return 2;
     }
     j->command = c->command;
     return 0;
@@ -182,7 +179,15 @@ static int read_options(int argc, char **argv, run_cmd *c)
 
 /* ---- what the user sees while it runs ----------------------------------------------------- */
 
-static void on_notice(void *ctx, const char *line) { swim_message(stderr, "%s", line); }
+static void on_notice(void *ctx, const char *line)
+{
+    run_cmd *c = ctx;
+    if (c->last_progress > c->t_start) {   /* after a progress line (\r, no newline): a line of its own */
+        fputc('\n', stderr);
+        c->last_progress = c->t_start;
+    }
+    swim_message(stderr, "%s", line);
+}
 
 static void on_progress(void *ctx, double t, double t_end)
 {

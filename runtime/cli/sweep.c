@@ -20,7 +20,7 @@ static volatile sig_atomic_t stop_signal;
 static pid_t *running_pids;   /* slots; 0 = free */
 static long slots;
 
-/* SIGINT/SIGTERM: stop launching and end the running members now (kill is async-signal-safe);
+/* SIGINT/SIGTERM/SIGHUP: stop launching and end the running members now (kill is async-signal-safe);
  * they are unfinished and rerun when the same command resumes the sweep. */
 static void on_stop(int sig)
 {
@@ -42,11 +42,12 @@ int swim_cmd_sweep(int argc, char **argv)
     running_pids = calloc((size_t)slots, sizeof *running_pids);
     long *ids = calloc((size_t)slots, sizeof *ids);
     if (!running_pids || !ids) { swim_message(stderr, "swim sweep: out of memory"); return 1; }
-    struct sigaction sa, old_int, old_term;
+    struct sigaction sa, old_int, old_term, old_hup;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_stop;   /* no SA_RESTART: waitpid returns EINTR */
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
+    sigaction(SIGHUP, &sa, &old_hup);   /* a closed terminal: the finished rows are kept, as for ^C */
 
     const double t0 = swim_clock_seconds();
     long next = 0, running = 0, ran = 0, failed = 0, interrupted = 0;
@@ -69,6 +70,7 @@ int swim_cmd_sweep(int argc, char **argv)
             ids[slot] = m;
             running_pids[slot] = pid;
             running++;
+            if (stop_signal > 0) kill(pid, SIGTERM);   /* the signal came while it was being started */
         }
         if (running == 0) break;
         int status;
@@ -100,17 +102,20 @@ int swim_cmd_sweep(int argc, char **argv)
     if (progress.drawn) fputc('\n', stderr);
     sigaction(SIGINT, &old_int, NULL);
     sigaction(SIGTERM, &old_term, NULL);
+    sigaction(SIGHUP, &old_hup, NULL);
     if (fclose(rows) != 0 && !stop_signal) {
         swim_message(stderr, "swim sweep: cannot write %s/members.csv: %s", p.dir, strerror(errno));
         stop_signal = -1;
     }
     const double seconds = swim_clock_seconds() - t0;
     if (sweep_sort_rows(&p) != 0) stop_signal = -1;   /* rows in member order, as a reader expects */
-    if (p.format_hdf5 && sweep_write_family_hdf5(&p) != 0) stop_signal = -1;
+    const int with_family = sweep_family_hdf5_due(&p);
+    if (with_family && sweep_write_family_hdf5(&p) != 0) stop_signal = -1;
     const long finished = p.already + ran, all_failed = p.already_failed + failed;
     if (stop_signal) {
         swim_message(stderr, "swim sweep: %s: stopped%s after %ld of %ld members (%ld failed); run the same command "
-                     "again to resume", p.dir, stop_signal == SIGINT ? " by SIGINT" : stop_signal == SIGTERM ? " by SIGTERM" : "",
+                     "again to resume", p.dir, stop_signal == SIGINT ? " by SIGINT" : stop_signal == SIGTERM ? " by SIGTERM"
+                     : stop_signal == SIGHUP ? " by SIGHUP" : "",
                      finished, p.members, all_failed);
         rc = 1;
     } else {
@@ -118,7 +123,7 @@ int swim_cmd_sweep(int argc, char **argv)
                p.dir, p.members, finished - all_failed, all_failed, ran, seconds, seconds > 0 ? ran / seconds : 0.0,
                p.jobs, p.already ? "; the others were finished before" : "");
         printf("  rows in %s/members.csv%s, definition in %s/sweep.json\n", p.dir,
-               p.format_hdf5 ? " and the family in family.h5" : "", p.dir);
+               with_family ? " and the family in family.h5" : "", p.dir);
         rc = all_failed || finished < p.members ? 1 : 0;
     }
     if (interrupted && !stop_signal)

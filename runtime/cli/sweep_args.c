@@ -170,7 +170,9 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
     }
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     p->jobs = cores > 0 ? cores : 1;
-    if ((v = swim_args_get(opts, nopts, "jobs")) && swim_args_int(cmd, "jobs", v, 1, 4096, &p->jobs)) return 2;
+    double jobs = (double)p->jobs;
+    if (swim_args_bounded(cmd, opts, nopts, "jobs", &jobs)) return 2;
+    p->jobs = (long)jobs;
     if ((v = swim_args_get(opts, nopts, "keep"))) {
         if (strcmp(v, "trajectories") == 0) p->keep_trajectories = 1;
         else if (strcmp(v, "summaries") != 0) {
@@ -212,13 +214,7 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
         }
     }
     p->progress_every = 10.0;
-    if ((v = swim_args_get(opts, nopts, "progress"))) {
-        if (swim_args_double(cmd, "progress", v, &p->progress_every)) return 2;
-        if (!(p->progress_every >= 0.0) || p->progress_every > 1e6) {
-            swim_message(stderr, "swim %s: --progress: expected seconds between progress lines, 0 to 1e6, got '%s'", cmd, v);
-            return 2;
-        }
-    }
+    if (swim_args_bounded(cmd, opts, nopts, "progress", &p->progress_every)) return 2;
     ssize_t len = readlink("/proc/self/exe", p->exe, sizeof p->exe - 1);
     if (len <= 0) {
         swim_message(stderr, "swim %s: cannot find the program itself (/proc/self/exe)", cmd);

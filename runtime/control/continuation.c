@@ -224,7 +224,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
             return 1;
         }
         have_sens = 1;
-        const int krc = swim_sens_add_key(&S, scene, "continue", o->key);
+        const int krc = swim_sens_add_key(&S, scene, "continue: --param", o->key);
         if (krc != 0 || S.keys[0].nvalue == 0) {
             if (krc == 0)
                 swim_message(stderr, "swim continue: --param %s: an initial value, not a parameter of the equations", o->key);

@@ -85,7 +85,8 @@ bad:
 }
 
 int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_section *sec, double t_max,
-                        const double *ys0, double *t1, double *period)
+                        const char *t_max_from, const char *section_option, const double *ys0, double *t1,
+                        double *period)
 {
     const swim_scene *s = d->scene;
     const int n = swim_dynamics_state_dim(d);
@@ -113,7 +114,7 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
         swim_message(stderr, "swim %s: the run for the period failed: %s", cmd, swim_ode_strerror(rc));
     else if (log.count < 2)
         swim_message(stderr, "swim %s: fewer than two events of the section before t = %g: no period "
-                     "(raise --t-max or choose another event)", cmd, t_max);
+                     "(raise %s or choose another section with %s)", cmd, t_max, t_max_from, section_option);
     swim_ode_free(ode);
     free(y);
     if (rc != SWIM_ODE_OK || log.count < 2) return 1;
@@ -438,7 +439,7 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
         swim_dynamics_initial_state(d, full);
         swim_dynamics_pack(d, full, ys);
         double t_first, period;
-        if (swim_floquet_period(d, "floquet", sec, t_max, ys, &t_first, &period) == 0) {
+        if (swim_floquet_period(d, "floquet", sec, t_max, "--t-max", "--event", ys, &t_first, &period) == 0) {
             rc = swim_floquet_at(d, ys, period, fl);   /* the monodromy based at t = 0 */
             fl->t_first = t_first;
         }

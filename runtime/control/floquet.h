@@ -109,9 +109,12 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
 int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const char *option, const char *spec,
                                swim_floquet_section *sec, char *text, size_t len);
 /* T and the time t_first of the first of two successive events of the section from state ys0
- * at t = 0, on the scene's integrator with its drift control (messages "swim CMD: ..."). 0 or 1. */
+ * at t = 0, on the scene's integrator with its drift control (messages "swim CMD: ..."; with
+ * fewer than two events before t_max the remedy names what sets t_max and the section, e.g.
+ * "--t-max" and "--event"). 0 or 1. */
 int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_section *sec, double t_max,
-                        const double *ys0, double *t_first, double *period);
+                        const char *t_max_from, const char *section_option, const double *ys0, double *t_first,
+                        double *period);
 void swim_floquet_free(swim_floquet *f);
 /* floquet.json and the table printed by swim floquet. */
 void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const char *section);

@@ -32,6 +32,9 @@
 #include "model/dynamics.h"
 
 #define SWIM_LYAPUNOV_SEPARATION 1e-2
+/* At most this many renormalizations (rows of lyapunov.csv, two doubles each in memory): an
+ * interval below t_end / 10^6 is refused before the run rather than asking for 10^9 rows. */
+#define SWIM_LYAPUNOV_MAX_SEGMENTS 1000000
 
 typedef struct {
     double interval;       /* renormalization interval */

@@ -59,7 +59,7 @@ static void gradient(const swim_opt_problem *p, swim_scene *s, swim_run *run, sw
     S.error_control = 0;
     double *Y = NULL;
     for (int i = 0; i < p->nkeys; i++)
-        if (swim_sens_add_key(&S, s, "optimize", p->keys[i].text) != 0) goto done;
+        if (swim_sens_add_key(&S, s, "optimize: --vary", p->keys[i].text) != 0) goto done;
     const int n = S.dim;
     if (!(Y = malloc(sizeof(double) * (size_t)swim_sens_dimension(&S)))) goto done;
     if (swim_sens_final(&S, s->integrator, s->t_end, Y, NULL) != 0) goto done;
@@ -97,7 +97,7 @@ int swim_opt_check_gradient(const swim_opt_problem *p, const swim_override *ov, 
     if (rc == 0 && swim_dynamics_init(&d, &s, kn.kernel) == 0) {
         swim_dynamics_use_scene_kernel(&d, sys.scene, 0);
         if (swim_sens_init(&S, &d) == 0) {
-            for (int i = 0; i < p->nkeys && rc == 0; i++) rc = swim_sens_add_key(&S, &s, "optimize", p->keys[i].text);
+            for (int i = 0; i < p->nkeys && rc == 0; i++) rc = swim_sens_add_key(&S, &s, "optimize: --vary", p->keys[i].text);
             swim_sens_free(&S);
         } else {
             rc = 2;

@@ -13,6 +13,9 @@
 #include "kernel/coords.h"
 #include "ode/ode.h"
 
+/* The command whose messages these are (periodic.h). */
+#define CMD(o) ((o)->cmd ? (o)->cmd : "periodic")
+
 #define MAX_HALVINGS 8
 
 /* The flow map: the integrator state ys at t = 0 carried to t = T by the scene's integrator and
@@ -41,7 +44,7 @@ static int flow(swim_dynamics *d, const double *ys, double T, const swim_periodi
     }
     if (rc != SWIM_ODE_OK) {
         if (loud)   /* a trial step of the line search that fails is only a step not taken */
-            swim_message(stderr, "swim periodic: the integration over one period (T = %.10g) failed: %s", T,
+            swim_message(stderr, "swim %s: the integration over one period (T = %.10g) failed: %s", CMD(o), T,
                      swim_ode_strerror(rc));
         return 1;
     }
@@ -133,7 +136,8 @@ static int guess(swim_dynamics *d, const swim_floquet_section *sec, const swim_p
     const int N = swim_dynamics_state_dim(d);
     swim_dynamics_initial_state(d, full);
     swim_dynamics_pack(d, full, ys);
-    if (swim_floquet_period(d, "periodic", sec, o->t_max, ys, &p->t_guess, &p->period_guess)) return 1;
+    if (swim_floquet_period(d, CMD(o), sec, o->t_max, o->t_max_from ? o->t_max_from : "--t-max", "--guess-event", ys,
+                            &p->t_guess, &p->period_guess)) return 1;
     double *y1 = malloc(sizeof(double) * N);
     if (!y1) return 1;
     /* the state at the event, on the same map as the shooting (the event time is the
@@ -150,13 +154,13 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
     memset(p, 0, sizeof *p);
     const double t_start = swim_clock_seconds();
     if (d->scene->stroke || !d->spec) {
-        swim_message(stderr, "swim periodic: %s: a prescribed stroke has no free shape dynamics", d->scene->path);
+        swim_message(stderr, "swim %s: %s: a prescribed stroke has no free shape dynamics", CMD(o), d->scene->path);
         return 1;
     }
     const int N = swim_dynamics_state_dim(d);
     double *ys = malloc(sizeof(double) * N), *full = calloc((size_t)d->dim, sizeof(double));
     int rc = 1;
-    if (!ys || !full) swim_message(stderr, "swim periodic: out of memory");
+    if (!ys || !full) swim_message(stderr, "swim %s: out of memory", CMD(o));
     else if (guess(d, sec, o, ys, full, p) == 0) {
         const double t_guess = p->t_guess, period_guess = p->period_guess;
         const long calls = p->rhs_calls;
@@ -186,7 +190,7 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
     double r[SWIM_FLOQUET_MAX], rt[SWIM_FLOQUET_MAX], u[SWIM_FLOQUET_MAX];
     int rc = 1;
     if (!ys || !yt || !work || !full) {
-        swim_message(stderr, "swim periodic: out of memory");
+        swim_message(stderr, "swim %s: out of memory", CMD(o));
         goto done;
     }
     memcpy(ys, ys0, sizeof(double) * N);

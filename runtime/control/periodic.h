@@ -38,6 +38,9 @@ typedef struct {
     int max_iter;                  /* Newton iterations (20) */
     double rtol, atol;             /* of the flow map phi_T (1e-12, 1e-14) */
     double t_max;                  /* how long the guess run looks for two events */
+    const char *cmd;               /* messages "swim CMD: ..." (NULL: periodic) */
+    const char *t_max_from;        /* what the user sets t_max with, for the remedy when the guess
+                                    * finds no period (NULL: --t-max) */
 } swim_periodic_options;
 
 typedef struct {

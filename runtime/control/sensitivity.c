@@ -124,7 +124,8 @@ static void initial_column(const swim_sens *S, int i, int velocity, double *s0)
 static int key_error(const char *cmd, const char *key, const char *fmt, const char *detail)
 {
     char *msg = swim_strprintf(fmt, detail);
-    swim_message(stderr, "swim %s: --sensitivity: %s: %s", cmd, key, msg ? msg : fmt);
+    /* the option that gave the key: --sensitivity, unless cmd names another (sensitivity.h) */
+    swim_message(stderr, "swim %s%s: %s: %s", cmd, strchr(cmd, ':') ? "" : ": --sensitivity", key, msg ? msg : fmt);
     free(msg);
     return 2;
 }

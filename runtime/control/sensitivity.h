@@ -66,7 +66,9 @@ void swim_sens_free(swim_sens *S);
 
 /* Adds the key `key` (the grammar of swim run --set, plus c0.NAME / dc0.NAME), resolved on the
  * scene of S->d (mutable: scene). 0, or 2 after one line "swim CMD: --sensitivity: KEY: reason"
- * on stderr (unknown key, a term the kernel does not have, a locked velocity, ...). */
+ * on stderr (unknown key, a term the kernel does not have, a locked velocity, ...). A key that
+ * another option gave names that option: cmd "COMMAND: --OPTION" (e.g. "continue: --param"),
+ * and the line is "swim COMMAND: --OPTION: KEY: reason". */
 int swim_sens_add_key(swim_sens *S, swim_scene *scene, const char *cmd, const char *key);
 /* Adds a column with the initial sensitivity e_i of integrator-state component i (Floquet:
  * monodromy columns). */

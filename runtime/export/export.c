@@ -343,8 +343,13 @@ static int scene_text(const ctx *c, char **text)
 
 static int write_tree(const ctx *c, const swim_scene *s, const swim_compiled *kn, const swim_compiled *sys)
 {
-    char *text = NULL;
-    int rc = scene_text(c, &text);
+    /* the marker first: a tree left partial by a failure (a full disk) is an earlier export to
+     * the retry, which replaces it, not a foreign folder it refuses; "incomplete" until the end */
+    char *text = NULL, *marker = swim_path_join(c->req->out, MARKER);
+    static const char incomplete[] = "swim export (incomplete: export again)\n";
+    int rc = !marker || swim_replace_file(marker, incomplete, sizeof incomplete - 1) != 0 ? fail_write(c, MARKER) : 0;
+    free(marker);
+    if (!rc) rc = scene_text(c, &text);
     if (!rc) rc = write_text(c, "scene.toml", text);
     free(text);
     for (size_t i = 0; !rc && i < sizeof sources / sizeof sources[0]; i++) rc = copy_share(c, sources[i], NULL);
@@ -352,11 +357,6 @@ static int write_tree(const ctx *c, const swim_scene *s, const swim_compiled *kn
     if (!rc) rc = headers(c);
     if (!rc) rc = copy_share(c, "runtime/export/simulate.c", "simulate.c");
     if (!rc) rc = kernel_n_source(c, kn, s->modes);
-    if (!rc && !sys->dir[0]) {
-        swim_message(stderr, "swim %s: %s: the scene kernel was built in a private folder, now removed (the cache is not "
-                     "usable): set SWIM_CACHE to a folder of your own", c->req->cmd, s->path);
-        rc = 1;
-    }
     if (!rc) rc = copy_to(c, sys->source, "kernels/system.c");
     char *t[3] = {info_text(s, sys, s->stroke_count > 0), makefile_text(s, kn, c->res->cvode), readme_text(s, c->res->cvode)};
     static const char *const names[3] = {"export_info.h", "Makefile", "README"};
@@ -398,6 +398,13 @@ int swim_export(const swim_export_request *req, swim_export_result *res)
     if (!rc) rc = check_out(&c);
     swim_compiled kn = {0}, sys = {0};
     if (!rc) rc = swim_codegen_for_scene(req->cmd, &s, 0, req->verbose, &kn, &sys);
+    /* the tree copies the scene kernel's source from its cache entry: checked before any of it
+     * is written */
+    if (!rc && !sys.dir[0]) {
+        swim_message(stderr, "swim %s: %s: the scene kernel was built in a private folder, now removed (the cache is not "
+                     "usable): set SWIM_CACHE to a folder of your own", req->cmd, s.path);
+        rc = 1;
+    }
     if (!rc) rc = write_tree(&c, &s, &kn, &sys);
     swim_compiled_close(&sys);
     swim_compiled_close(&kn);

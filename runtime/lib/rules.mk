@@ -31,7 +31,7 @@ install: install-lib
 install-lib: export SWIM_INSTALL_DEST := $(DESTDIR)$(PREFIX)
 install-lib: export SWIM_INSTALL_PREFIX := $(PREFIX)
 install-lib: export SWIM_LIBS_PRIVATE := $(LDLIBS)
-install-lib: lib
+install-lib: lib | install-begin
 	@case "$$SWIM_INSTALL_DEST" in /*) ;; *) echo "make install: PREFIX='$$SWIM_INSTALL_DEST' is not an absolute path" >&2; exit 2 ;; esac
 	install -D -m 755 $(LIB_SO) "$$SWIM_INSTALL_DEST/lib/libswim.so.$(SWIM_VERSION)"
 	ln -sf libswim.so.$(SWIM_VERSION) "$$SWIM_INSTALL_DEST/lib/libswim.so.$(SWIM_MAJOR)"
@@ -43,11 +43,13 @@ install-lib: lib
 	  'Name: swim' 'Description: an elastic swimmer in a 2D perfect fluid (Munnier), as a C library' \
 	  'Version: $(SWIM_VERSION)' 'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -Wl,-rpath,$${libdir} -lswim'; \
 	  printf 'Libs.private: %s\n' "$$SWIM_LIBS_PRIVATE"; } > "$$SWIM_INSTALL_DEST/lib/pkgconfig/swim.pc"
+	@$(INSTALL_RECORD)
 
 uninstall: uninstall-lib
 uninstall-lib: export SWIM_INSTALL_DEST := $(DESTDIR)$(PREFIX)
 uninstall-lib:
-	cd "$$SWIM_INSTALL_DEST" 2>/dev/null && rm -f $(LIB_INSTALLED) && rmdir -p lib/pkgconfig include 2>/dev/null; true
+	cd "$$SWIM_INSTALL_DEST" 2>/dev/null && rm -f $(LIB_INSTALLED); true
+	bash tools/install_manifest.sh prune
 
 # The C API's tests (tests/test_library*.c: two threads running two models, two threads building
 # one kernel while a third watches the signal handlers) built with ThreadSanitizer in their own

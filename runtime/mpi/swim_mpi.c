@@ -118,7 +118,7 @@ static int deal(sweep_plan *p, int ranks)
     }
     double seconds = swim_clock_seconds() - t0;
     if (sweep_sort_rows(p) != 0) stop = 1;   /* rows in member order, as a reader expects */
-    if (p->format_hdf5 && sweep_write_family_hdf5(p) != 0) stop = 1;
+    if (sweep_family_hdf5_due(p) && sweep_write_family_hdf5(p) != 0) stop = 1;
     const long finished = p->already + ran, all_failed = p->already_failed + failed;
     if (stop) {
         swim_message(stderr, "swim-mpi: %s: stopped after %ld of %ld members (%ld failed); run the same command "

@@ -81,6 +81,13 @@ static int read_scene(swim_job *j)
     swim_override adjusted[SWIM_JOB_MAX_SETS];
     if (r->adjust && r->adjust(s, adjusted, &nadj, r->adjust_ctx) != 0) return 2;
     if (j->stroke && refuse_for_stroke(j)) return 2;
+    if (r->lyapunov > 0 && !(s->t_end / r->lyapunov <= SWIM_LYAPUNOV_MAX_SEGMENTS)) {
+        swim_message(stderr, "swim %s: --lyapunov-interval: %g gives %.3g renormalizations over t_end = %g, more "
+                     "than %d (the rows of lyapunov.csv); give an interval >= %.3g", r->cmd, r->lyapunov,
+                     s->t_end / r->lyapunov, s->t_end, SWIM_LYAPUNOV_MAX_SEGMENTS,
+                     s->t_end / SWIM_LYAPUNOV_MAX_SEGMENTS);
+        return 2;
+    }
     if (r->trace && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
         swim_message(stderr, "swim %s: --trace-steps: integrator '%s' does not report its steps", r->cmd, s->integrator);
         return 2;
@@ -225,6 +232,24 @@ int swim_job_open(const swim_run_job *req, swim_job **out)
 
 /* ---- the run ------------------------------------------------------------------------------- */
 
+/* How a stop request is named in a run's reason: the words the driver uses for a run stopped
+ * while it integrates (driver/run.c), so that the summary reads as a stopped run's. */
+static const char *stopped_by(int sig)
+{
+    return sig == SIGINT ? "interrupted (SIGINT)" : sig == SIGTERM ? "terminated by SIGTERM"
+           : sig == SIGHUP ? "terminated by SIGHUP" : "terminated by a signal";
+}
+
+/* The line that says a pass after the trajectory begins (not with --quiet): it may take as long
+ * as the run, and a user (or a test) sees where the time goes. */
+static void pass_notice(const swim_job *j, const char *what, double step, double t_end)
+{
+    if (j->req.quiet || !j->req.notice) return;
+    char line[320];
+    snprintf(line, sizeof line, "swim %s: %s %g up to t = %g", j->req.cmd, what, step, t_end);
+    j->req.notice(j->req.ctx, line);
+}
+
 /* DIR/sensitivity.csv after the trajectory, before the summary: a second integration, of the state
  * with its variational equations, by the same integrator at the same tolerances, up to where the
  * trajectory ended (t_end or a stopping event). Skipped when the trajectory failed or was
@@ -256,6 +281,8 @@ static void run_sensitivity(swim_job *j)
     S.error_control = !j->req.sens_state_steps;
     if (rc == 0 && j->req.sens_differences) swim_sens_use_differences(&S);
     if (rc == 0) {
+        pass_notice(j, "the sensitivities (sensitivity.csv): the state and its variational equations again, rows "
+                    "every", j->s.output_step, j->sens_t);
         rc = swim_sens_write_run(&S, j->s.integrator, path, j->sens_t, &sec, &evals) ? 1 : 0;
         j->sens_rows = S.rows;
         j->sens_t_last = S.t_last;
@@ -265,14 +292,14 @@ static void run_sensitivity(swim_job *j)
         j->sens_seconds = sec;
     }
     const int sig = j->req.stop ? *j->req.stop : 0;
-    if (rc == 0) {
+    if (sig) {   /* stopped, even if the pass got to its end: the run is not "completed" */
+        j->sens_status = "interrupted";
+        snprintf(why, sizeof why, "%s during the sensitivities: sensitivity.csv holds the rows up to t = %.6g",
+                 stopped_by(sig), j->sens_rows > 0 ? j->sens_t_last : 0.0);
+        swim_run_fail(j->run, why);
+    } else if (rc == 0) {
         j->sens_status = "written";
         if (j->req.sens_done) j->req.sens_done(j->req.ctx, S.nkeys, path, j->sens_t, sec, evals);
-    } else if (sig) {
-        j->sens_status = "interrupted";
-        snprintf(why, sizeof why, "interrupted (%s) during the sensitivities: sensitivity.csv is partial",
-                 sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal");
-        swim_run_fail(j->run, why);
     } else {
         j->sens_status = "failed";
         snprintf(why, sizeof why, "sensitivity.csv is incomplete: the sensitivities stopped before t = %.6g", j->sens_t);
@@ -284,10 +311,19 @@ static void run_sensitivity(swim_job *j)
 
 /* DIR/lyapunov.csv after the trajectory (and the sensitivities): the largest Lyapunov exponent
  * over [0, t_reached] and the predictability horizon at the run's rtol (control/lyapunov.h). A
- * pass that fails is said in the summary; it does not fail the run. */
+ * pass that fails is said in the summary; it does not fail the run. A stop request (signal)
+ * during the pass does: the segments done are written, and the run's reason names the signal. */
 static void run_lyapunov(swim_job *j)
 {
     const swim_run_result *r = swim_run_get_result(j->run);
+    const int sig0 = j->req.stop ? *j->req.stop : 0;
+    if (sig0 && r->status == 0) {   /* asked to stop before the pass began */
+        j->lyap_status = "interrupted";
+        char why[160];
+        snprintf(why, sizeof why, "%s before the Lyapunov pass: no lyapunov.csv", stopped_by(sig0));
+        swim_run_fail(j->run, why);
+        return;
+    }
     if (r->status != 0 || r->impacts || !(r->t_reached > 0)) {
         j->lyap_status = "skipped";
         swim_message(stderr, "swim %s: no lyapunov.csv: %s", j->req.cmd, r->status != 0 ? "the run did not complete"
@@ -296,6 +332,8 @@ static void run_lyapunov(swim_job *j)
         return;
     }
     char *path = swim_strprintf("%s/lyapunov.csv", swim_folder_paths(j->folder)->dir);
+    pass_notice(j, "the Lyapunov pass (lyapunov.csv): the variational equations again from t = 0, renormalized every",
+                j->req.lyapunov, r->t_reached);
     const int rc = path ? swim_lyapunov_compute(swim_run_dynamics(j->run), j->s.integrator, r->t_reached,
                                                 j->req.lyapunov, &j->lyap) : -1;
     if (rc != 0) {
@@ -306,10 +344,20 @@ static void run_lyapunov(swim_job *j)
         snprintf(j->lyap.reason, sizeof j->lyap.reason, "cannot write lyapunov.csv: %s", strerror(errno));
     } else {
         j->lyap_status = j->lyap.status == 0 ? "written" : "failed";
-        if (j->lyap.status == 0 && j->req.lyapunov_done)
+        if (j->lyap.status == 0 && !(j->req.stop && *j->req.stop) && j->req.lyapunov_done)
             j->req.lyapunov_done(j->req.ctx, path, j->lyap.exponent, j->lyap.horizon, j->lyap.rtol, j->lyap.seconds);
     }
-    if (j->lyap.status != 0 || rc != 0) swim_message(stderr, "swim %s: lyapunov.csv: %s", j->req.cmd, j->lyap.reason);
+    const int sig = j->req.stop ? *j->req.stop : 0;
+    if (sig && rc == 0) {
+        char why[256];
+        snprintf(why, sizeof why, "%s during the Lyapunov pass: lyapunov.csv holds its %d renormalizations up to "
+                 "t = %.6g", stopped_by(sig), j->lyap.n, j->lyap.t_end);
+        j->lyap_status = "interrupted";
+        snprintf(j->lyap.reason, sizeof j->lyap.reason, "%s", stopped_by(sig));
+        swim_run_fail(j->run, why);
+    } else if (j->lyap.status != 0 || rc != 0) {
+        swim_message(stderr, "swim %s: lyapunov.csv: %s", j->req.cmd, j->lyap.reason);
+    }
     free(path);
 }
 

@@ -78,6 +78,57 @@ static const swim_scene_key keys[] = {
 static const char *const tables[] = {"title", "model", "shape", "elastic", "barrier", "damping", "forcing", "run",
                                      "events", "stroke", "parameters", NULL};
 
+/* ---- the numeric options of the commands, besides the run settings above ------------------
+ * One row per option: `table` is the command, `key` the option (without "--"); an INTEGER in
+ * [lo, hi], a NUMBER finite in [lo, hi) (lo = DBL_MIN: "> 0"); `expect` says it in words for the
+ * message, dflt is the default. The commands read their options through this table
+ * (cli/args.h, swim_args_bounded), so no option is parsed without its bounds. A bound that
+ * depends on the scene (a count of rows over t_end) is checked where the scene is known; the row
+ * says it in `expect`. The hard limits below are also those of the code that runs:
+ * SWIM_PERIODIC_MAX_ITER 40, SWIM_CONT_MAX_POINTS 1000, SWIM_OPT_MAX_STARTS 64 (a test compares).
+ * swim inspect's numbers are the library's arguments (swim_inspect), bounded by its own rows. */
+static const swim_scene_key command_options[] = {
+    {"run", "lyapunov-interval", SWIM_KEY_NUMBER, NONE, DBL_MIN, INFINITY, 1, {NULL},
+     "a number > 0 giving at most 10^6 renormalizations over t_end", NULL, 0, "renormalization interval"},
+    {"periodic", "tol", SWIM_KEY_NUMBER, NONE, DBL_MIN, 1, 1e-11, {NULL}, "in (0, 1)", NULL, 0, "Newton tolerance"},
+    {"periodic", "max-iter", SWIM_KEY_INTEGER, NONE, 1, 40, 20, {NULL}, "an integer 1..40", NULL, 0, "Newton iterations"},
+    {"periodic", "t-max", SWIM_KEY_NUMBER, NONE, DBL_MIN, 1e6, 0, {NULL},
+     "> 0 and below 1e6, with at most 10^7 output steps (run.output_step) of the guess run", NULL, 0,
+     "how long the guess run looks for two events"},
+    {"continue", "max-points", SWIM_KEY_INTEGER, NONE, 2, 1000, 11, {NULL}, "an integer 2..1000", NULL, 0,
+     "points of the branch"},
+    {"continue", "tol", SWIM_KEY_NUMBER, NONE, DBL_MIN, 1, 1e-11, {NULL}, "in (0, 1)", NULL, 0, "Newton tolerance"},
+    {"floquet", "t-max", SWIM_KEY_NUMBER, NONE, DBL_MIN, 1e6, 0, {NULL},
+     "> 0 and below 1e6, with at most 10^7 output steps (run.output_step) of the run for the period", NULL, 0,
+     "how long to look for two events"},
+    {"optimize", "starts", SWIM_KEY_INTEGER, NONE, 1, 64, 1, {NULL}, "an integer 1..64", NULL, 0, "local searches"},
+    {"optimize", "max-iter", SWIM_KEY_INTEGER, NONE, 1, 100000, 60, {NULL}, "an integer 1..100000", NULL, 0,
+     "iterations per start"},
+    {"optimize", "tol", SWIM_KEY_NUMBER, NONE, DBL_MIN, 1, 1e-3, {NULL}, "in (0, 1)", NULL, 0,
+     "the search's stopping size"},
+    {"sweep", "jobs", SWIM_KEY_INTEGER, NONE, 1, 4096, 0, {NULL}, "an integer 1..4096", NULL, 0,
+     "members run at once"},
+    {"sweep", "progress", SWIM_KEY_NUMBER, NONE, 0, 1e6, 10, {NULL}, "seconds between progress lines, 0 to 1e6",
+     NULL, 0, "progress interval"},
+    {"cache", "older-than", SWIM_KEY_NUMBER, NONE, 0, 1e6, 0, {NULL}, "an age >= 0 and below 10^6 days", NULL, 0,
+     "the age of the entries removed"},
+    {"flow", "frames", SWIM_KEY_INTEGER, NONE, 1, 100000, 10, {NULL}, "an integer 1..100000", NULL, 0, "frames"},
+};
+
+const swim_scene_key *swim_command_option(const char *command, const char *option)
+{
+    for (size_t i = 0; i < sizeof command_options / sizeof command_options[0]; i++)
+        if (strcmp(command_options[i].table, command) == 0 && strcmp(command_options[i].key, option) == 0)
+            return &command_options[i];
+    return NULL;
+}
+
+const swim_scene_key *swim_command_options(int *count)
+{
+    *count = (int)(sizeof command_options / sizeof command_options[0]);
+    return command_options;
+}
+
 const swim_scene_key *swim_scene_keys(int *count)
 {
     *count = (int)(sizeof keys / sizeof keys[0]);

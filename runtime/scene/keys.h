@@ -58,6 +58,11 @@ typedef struct {
 const swim_scene_key *swim_scene_keys(int *count);
 /* The row of table.key, or NULL. */
 const swim_scene_key *swim_scene_key_find(const char *table, const char *key);
+/* The numeric options of the commands (their own block of rows: table = the command, key = the
+ * option without "--", with bounds, default and `expect`): the row of `swim COMMAND --OPTION`, or
+ * NULL; and all of them (*count). */
+const swim_scene_key *swim_command_option(const char *command, const char *option);
+const swim_scene_key *swim_command_options(int *count);
 /* The keys of one table into names[] (at most cap, NULL-terminated): their count. */
 int swim_scene_table_keys(const char *table, const char **names, int cap);
 /* The tables a scene file may have, NULL-terminated. */

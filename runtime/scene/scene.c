@@ -24,10 +24,15 @@ typedef struct {
     const swim_scene *s; /* its overrides name the values they set (swim_scene_where) */
 } ctx;
 
+/* How an override is named in messages: "--set KEY=VALUE", or its text as it is when that names
+ * the option it came from ("--param KEY=START:STOP ...", scene.h). */
+static const char *set_option(const char *text) { return text[0] == '-' ? "" : "--set "; }
+
 const char *swim_scene_where(const swim_scene *s, int line, char *buf, size_t n)
 {
     if (line > 0) snprintf(buf, n, "%s:%d", s->path, line);
-    else if (line < 0 && -line <= s->nover) snprintf(buf, n, "%s: --set %s", s->path, s->override_text[-line - 1]);
+    else if (line < 0 && -line <= s->nover) snprintf(buf, n, "%s: %s%s", s->path, set_option(s->override_text[-line - 1]),
+                                                       s->override_text[-line - 1]);
     else snprintf(buf, n, "%s", s->path);
     return buf;
 }
@@ -673,8 +678,9 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
     if (j >= 0) {
         char target[100];
         swim_override_target(&ov[j], target, sizeof target);
-        swim_message(stderr, "swim: %s: --set %s: sets %s, which --set %s already sets to another value "
-                     "(give each value once)", path, ov[j].text, target, ov[earlier].text);
+        swim_message(stderr, "swim: %s: %s%s: sets %s, which %s%s already sets to another value "
+                     "(give each value once)", path, set_option(ov[j].text), ov[j].text, target,
+                     set_option(ov[earlier].text), ov[earlier].text);
         toml_free(root);
         swim_scene_free(s);
         return 2;
@@ -703,7 +709,7 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
         else
             bad = toml_set_string(root, ov[i].table, ov[i].key, ov[i].word, err, sizeof err);
         if (bad) {
-            swim_message(stderr, "swim: %s: --set %s: %s", path, ov[i].text, err);
+            swim_message(stderr, "swim: %s: %s%s: %s", path, set_option(ov[i].text), ov[i].text, err);
             toml_free(root);
             swim_scene_free(s);
             return 2;

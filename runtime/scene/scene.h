@@ -175,7 +175,8 @@ typedef struct {
     char table[32], key[32];
     long index;          /* -1: the value itself */
     double value;
-    char text[160];      /* KEY=VALUE as given, for messages */
+    char text[160];      /* KEY=VALUE as given, for messages ("--set KEY=VALUE"); a text that
+                            starts with "--" names the option it came from itself */
     char word[32];       /* a VALUE that is a word rather than a number (run.jacobian=differences):
                             set as a string; "" for a number */
 } swim_override;

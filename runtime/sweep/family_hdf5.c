@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "io/files.h"
 #include "io/message.h"
@@ -291,12 +292,24 @@ static int write_file(const sweep_plan *p, const char *path, const table *t, cha
         rc = -1;
     }
     if (rc == 0 && p->keep_trajectories) rc = trajectories_write(p, t, file, why, len);
-    if (H5Fclose(file) < 0 && rc == 0) {
-        snprintf(why, len, "cannot finish the file");
+    /* every object of the file is closed by now (the pieces above close theirs on every path),
+     * so the close only flushes; when that fails (a full disk) HDF5 keeps the file half-closed,
+     * and no further call may touch it: a second close, or the library's exit handler
+     * (H5dont_atexit below), crashes on it. The temporary file is removed by the caller. */
+    errno = 0;
+    if (H5Fclose(file) < 0) {
+        if (rc == 0) snprintf(why, len, "cannot finish the file (%s)", errno ? strerror(errno) : "a write failed");
         rc = -1;
     }
     free(definition);
     return rc;
+}
+
+int sweep_family_hdf5_due(const sweep_plan *p)
+{
+    char path[SWIM_SWEEP_PATH + 64];
+    snprintf(path, sizeof path, "%s/family.h5", p->dir);
+    return p->format_hdf5 || access(path, F_OK) == 0;
 }
 
 int sweep_write_family_hdf5(const sweep_plan *p)
@@ -304,6 +317,8 @@ int sweep_write_family_hdf5(const sweep_plan *p)
     char path[SWIM_SWEEP_PATH + 64], tmp[SWIM_SWEEP_PATH + 64], why[SWIM_SWEEP_PATH + 256] = "";
     snprintf(path, sizeof path, "%s/family.h5", p->dir);
     snprintf(tmp, sizeof tmp, "%s/family.h5.tmp", p->dir);
+    /* no clean-up at exit: a file whose close failed cannot be closed again (write_file) */
+    H5dont_atexit();
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);   /* its own error stack print: the one line below says it */
     table t;
     int rc = table_read(p, &t);
@@ -316,6 +331,9 @@ int sweep_write_family_hdf5(const sweep_plan *p)
     }
     if (rc == 0) return 0;
     remove(tmp);
-    swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, path, why);
+    /* an earlier family.h5 would say fewer members than members.csv now has: it goes too */
+    const int stale = remove(path) == 0;
+    swim_message(stderr, "swim %s: cannot write %s: %s%s", p->cmd, path, why,
+                 stale ? " (the earlier family.h5 is removed: it would not match members.csv)" : "");
     return 1;
 }

@@ -14,13 +14,18 @@
  *                      (rows x columns), its attribute "columns" the CSV header's names
  *
  * The folder stays the sweep's state (resume reads the summaries); family.h5 is rewritten from it
- * at every end, under a temporary name then renamed, so a reader never sees half a file.
+ * at every end, under a temporary name then renamed, so a reader never sees half a file -- also
+ * at the end of a resume without --format hdf5 (swim sweep), so it never lists fewer members than
+ * members.csv. When it cannot be written (a full disk), no family.h5 is left at all.
  */
 #ifndef SWIM_FAMILY_HDF5_H
 #define SWIM_FAMILY_HDF5_H
 
 #include "sweep/sweep.h"
 
+/* 1 when the sweep's end writes family.h5: --format hdf5, or a family.h5 already in DIR (made by
+ * an earlier run of the sweep with --format hdf5, which this run resumes). */
+int sweep_family_hdf5_due(const sweep_plan *p);
 /* 0, or 1 after one line naming the file and the reason on stderr. */
 int sweep_write_family_hdf5(const sweep_plan *p);
 

@@ -749,17 +749,32 @@ pid_t sweep_spawn(const sweep_plan *p, long m)
     snprintf(path, sizeof path, "%s/log.txt", dir);
     const pid_t parent = getpid();
     fflush(NULL);
+    /* The stop signals wait across the fork: a child that took one with the sweep's handler
+     * (inherited until it sets its own) would lose it and run on. The child gets them once its
+     * handlers are the defaults; the parent once the fork is done. */
+    sigset_t stops, old;
+    sigemptyset(&stops);
+    sigaddset(&stops, SIGINT);
+    sigaddset(&stops, SIGTERM);
+    sigaddset(&stops, SIGHUP);
+    sigprocmask(SIG_BLOCK, &stops, &old);
     pid_t pid = fork();
-    if (pid != 0) return pid;
+    if (pid != 0) {
+        const int saved = errno;
+        sigprocmask(SIG_SETMASK, &old, NULL);
+        errno = saved;
+        return pid;
+    }
     /* child */
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (getppid() != parent) _exit(127);
     if (p->lock_fd >= 0) close(p->lock_fd);   /* DIR's lock is the sweep's: a member dying late must not hold it */
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
+    signal(SIGHUP, SIG_DFL);
     sigset_t none;
     sigemptyset(&none);
     sigprocmask(SIG_SETMASK, &none, NULL);
-    signal(SIGINT, SIG_DFL);
-    signal(SIGTERM, SIG_DFL);
     int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd >= 0) { dup2(fd, 1); dup2(fd, 2); close(fd); }
     if (p->in_process) {
