@@ -256,6 +256,9 @@ static void neutral(const swim_scene *s, swim_scene *out)
     memset(out->stroke_law, 0, sizeof out->stroke_law);
     memset(out->stroke_expr, 0, sizeof out->stroke_expr);
     memset(out->stroke_line, 0, sizeof out->stroke_line);
+    out->energy_text = NULL;   /* an energy law is compared by its text (same_scene) */
+    out->energy = NULL;
+    out->energy_line = 0;
 }
 
 static int same_str(const char *a, const char *b) { return (!a && !b) || (a && b && !strcmp(a, b)); }
@@ -287,6 +290,8 @@ static int same_scene(const swim_scene *a, const swim_scene *b, char *why, size_
     if (!same_str(a->path, b->path)) return snprintf(why, len, "path"), 0;
     if (!same_str(a->forcing_text, b->forcing_text) || !same_law(a->forcing, b->forcing))
         return snprintf(why, len, "forcing law"), 0;
+    if (!same_str(a->energy_text, b->energy_text) || !a->energy != !b->energy)
+        return snprintf(why, len, "energy law"), 0;
     for (int k = 0; k < a->stroke_count; k++)
         if (!same_str(a->stroke_law[k], b->stroke_law[k]) || !same_law(a->stroke_expr[k], b->stroke_expr[k]))
             return snprintf(why, len, "stroke law %d", k), 0;

@@ -86,7 +86,7 @@ def test_bounds():
             "--tol: must be in (0, 1)", out)
     refused(["sweep", EX3, "--out", out, "--vary", "model.rho0=1,2", "--jobs", "0"], "out of range 1..4096", out)
     refused(["sweep", EX3, "--out", out, "--vary", "model.rho0=1,2", "--progress", "1e300"], "--progress", out)
-    refused(["inspect", "--modes", "1", "--shape", "0,0,0,0", "--rhof", "0"], "--rhof: density must be > 0")
+    refused(["inspect", "--modes", "1", "--shape", "0,0,0,0", "--rhof", "0"], "--rhof: the fluid's density must be > 0")
     refused(["cache", "clean", "--older-than", "1e300"], "--older-than: must be")
 
 
