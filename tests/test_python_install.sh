@@ -8,6 +8,7 @@
 # leaves no folder of its own behind (and none that was there before install).
 set -u
 cd "$(dirname "$0")/.."
+. tests/python_final_state.sh
 pass=0; fail=0
 ok() { pass=$((pass+1)); }
 bad() { echo "FAIL: $*"; fail=$((fail+1)); }
@@ -23,16 +24,8 @@ if make --no-print-directory -s install PREFIX="$prefix" >"$top/install.log" 2>&
     bad "make install failed: $(tail -3 "$top/install.log")"; fi
 for f in __init__.py _lib.py; do [ -f "$pkg/swim/$f" ] && ok || bad "not installed: $pkg/swim/$f"; done
 
-"$SWIM" run models/example3.toml --out "$top/ref" --t-end 5 --quiet >/dev/null 2>&1
-want=$(/usr/bin/python3 -c "import json,sys; f=json.load(open(sys.argv[1]))['final_state']; print(' '.join(repr(float(f[k])) for k in ('t','x','y','theta')))" "$top/ref/summary.json")
-# shellcheck disable=SC2016
-code='import sys, swim
-r = swim.run(sys.argv[1], t_end=5)
-print(swim.__file__)
-print(swim._L._name)
-print(swim.__version__)
-print(" ".join(repr(r.final_state[k]) for k in ("t", "x", "y", "theta")))'
-out=$(cd "$top/elsewhere" && env -u SWIM_LIB -u SWIM_SHARE -u PYTHONDONTWRITEBYTECODE PYTHONPATH="$pkg" /usr/bin/python3 -c "$code" \
+want=$(python_reference "$top")
+out=$(cd "$top/elsewhere" && env -u SWIM_LIB -u SWIM_SHARE -u PYTHONDONTWRITEBYTECODE PYTHONPATH="$pkg" /usr/bin/python3 -c "$PYTHON_RUN" \
       "$OLDPWD/models/example3.toml" 2>"$top/py.err")
 [ "$(sed -n 1p <<<"$out")" = "$pkg/swim/__init__.py" ] && ok || bad "swim imported from '$(sed -n 1p <<<"$out")' ($(cat "$top/py.err"))"
 [ "$(sed -n 2p <<<"$out")" = "$prefix/lib/libswim.so.0" ] && ok || bad "libswim loaded from '$(sed -n 2p <<<"$out")'"

@@ -9,6 +9,7 @@
 # folder is left as it was (pip builds in a copy, so no build/ or egg-info appears in python/).
 set -u
 cd "$(dirname "$0")/.."
+. tests/python_final_state.sh
 pass=0; fail=0
 ok() { pass=$((pass+1)); }
 bad() { echo "FAIL: $*"; fail=$((fail+1)); }
@@ -30,15 +31,8 @@ py="$top/venv/bin/python3"
 if (cd "$src/python" && env -u PIP_INDEX_URL "$py" -m pip install --no-index --no-build-isolation . ) >"$top/pip.log" 2>&1; then ok; else
     bad "pip install failed: $(tail -5 "$top/pip.log")"; fi
 
-"$SWIM" run models/example3.toml --out "$top/ref" --t-end 5 --quiet >/dev/null 2>&1
-want=$(/usr/bin/python3 -c "import json,sys; f=json.load(open(sys.argv[1]))['final_state']; print(' '.join(repr(float(f[k])) for k in ('t','x','y','theta')))" "$top/ref/summary.json")
-code='import sys, swim
-r = swim.run(sys.argv[1], t_end=5)
-print(swim.__file__)
-print(swim._L._name)
-print(swim.__version__)
-print(" ".join(repr(r.final_state[k]) for k in ("t", "x", "y", "theta")))'
-out=$(cd "$top/elsewhere" && env -u SWIM_LIB -u SWIM_SHARE -u PYTHONPATH "$py" -c "$code" "$OLDPWD/models/example3.toml" 2>"$top/py.err")
+want=$(python_reference "$top")
+out=$(cd "$top/elsewhere" && env -u SWIM_LIB -u SWIM_SHARE -u PYTHONPATH "$py" -c "$PYTHON_RUN" "$OLDPWD/models/example3.toml" 2>"$top/py.err")
 site=$("$py" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 [ "$(sed -n 1p <<<"$out")" = "$site/swim/__init__.py" ] && ok || bad "swim imported from '$(sed -n 1p <<<"$out")', want $site ($(cat "$top/py.err"))"
 [ "$(sed -n 2p <<<"$out")" = "$src/build/lib/libswim.so.$(cat VERSION)" ] && ok || bad "libswim loaded from '$(sed -n 2p <<<"$out")'"
