@@ -455,10 +455,7 @@ static void real_field(const swim_summary_real *r, char *out, size_t len)
 {
     out[0] = '\0';
     if (!r->set) return;
-    for (int prec = 1; prec <= 17; prec++) {
-        snprintf(out, len, "%.*g", prec, r->value);
-        if (strtod(out, NULL) == r->value) return;
-    }
+    swim_number_text(out, len, r->value);
 }
 
 static void count_field(const swim_summary_count *c, char *out, size_t len)
@@ -494,7 +491,11 @@ static void format_row(const sweep_plan *p, long m, const swim_summary *s, char 
     char reason[404];
     reason_field(s->reason, reason, sizeof reason);
     int k = snprintf(row, len, "%ld", m);
-    for (int v = 0; v < p->nvary && (size_t)k < len; v++) k += snprintf(row + k, len - (size_t)k, ",%.17g", sweep_value(p, m, v));
+    char num[32];
+    for (int v = 0; v < p->nvary && (size_t)k < len; v++) {
+        swim_number_text(num, sizeof num, sweep_value(p, m, v));
+        k += snprintf(row + k, len - (size_t)k, ",%s", num);
+    }
     if ((size_t)k < len) k += snprintf(row + k, len - (size_t)k, ",%s,\"%s\"", s->status, reason);
     char tok[64];
     for (size_t i = 0; i < sizeof columns / sizeof columns[0] && (size_t)k < len; i++) {
