@@ -118,7 +118,14 @@ void sweep_free(sweep_plan *p)
     p->finished = NULL;
     free(p->scene_text);
     p->scene_text = NULL;
-    if (p->lock_fd >= 0) close(p->lock_fd);   /* releases DIR's lock */
+    if (p->lock_fd >= 0) {
+        /* the lock file goes while it is held: a sweep that opened it meanwhile finds, once it has
+         * the lock, that its file is no longer DIR's (lock_dir checks) and opens the path again */
+        char path[SWIM_SWEEP_PATH + 64];
+        snprintf(path, sizeof path, "%s/sweep.lock", p->dir);
+        unlink(path);
+        close(p->lock_fd);   /* releases DIR's lock */
+    }
     p->lock_fd = -1;
 }
 
@@ -270,10 +277,19 @@ static int lock_dir(sweep_plan *p)
 {
     char path[SWIM_SWEEP_PATH + 64], holder[128] = "";
     snprintf(path, sizeof path, "%s/sweep.lock", p->dir);
-    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd < 0) {
-        swim_message(stderr, "swim %s: cannot open %s: %s", p->cmd, path, strerror(errno));
-        return 1;
+    int fd = -1;
+    for (int attempt = 0;; attempt++) {
+        fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+        if (fd < 0) {
+            swim_message(stderr, "swim %s: cannot open %s: %s", p->cmd, path, strerror(errno));
+            return 1;
+        }
+        if (flock(fd, LOCK_EX | LOCK_NB) != 0) break;
+        /* held: still DIR's lock file, or one a finished sweep removed before it let go? */
+        struct stat a, b;
+        if (attempt >= 8 || (fstat(fd, &a) == 0 && stat(path, &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino))
+            break;
+        close(fd);
     }
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
         const int busy = errno == EWOULDBLOCK;
