@@ -166,6 +166,10 @@ test: $(BIN)/swim lib $(BUILD)/man/swim.1 $(TEST_BINS) $(if $(ASAN_TEST_BINS),as
 # bin/swim finds PREFIX/share/swim from its own location, so the tree can be moved as a whole.
 SHARE_FILES := $(shell find generator runtime/kernel -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null) \
                $(wildcard runtime/plot/*.py)
+# The example scenes (PREFIX/share/swim/models) and the documentation (PREFIX/share/doc/swim:
+# README.md and docs/, the links between them kept): the man page names both.
+MODEL_FILES := $(shell find models -type f -not -path '*/__pycache__/*' 2>/dev/null)
+DOC_FILES := README.md $(shell find docs -type f 2>/dev/null)
 # The destination reaches the shell through the environment, always inside double quotes: a
 # PREFIX with spaces (or quotes, $, *) is one word, never split into stray relative folders.
 # Every install rule runs after install-begin (a snapshot of what the destination holds) and
@@ -189,6 +193,8 @@ install: $(BIN)/swim | install-begin
 	install -m 755 "$$SWIM_INSTALL_BIN/swim" "$$SWIM_INSTALL_DEST/bin/swim"
 	if [ -x "$$SWIM_INSTALL_BIN/swim-mpi" ]; then install -m 755 "$$SWIM_INSTALL_BIN/swim-mpi" "$$SWIM_INSTALL_DEST/bin/swim-mpi"; fi
 	for f in $(SHARE_FILES); do install -D -m 644 "$$f" "$$SWIM_INSTALL_DEST/share/swim/$$f" || exit 1; done
+	for f in $(MODEL_FILES); do install -D -m 644 "$$f" "$$SWIM_INSTALL_DEST/share/swim/$$f" || exit 1; done
+	for f in $(DOC_FILES); do install -D -m 644 "$$f" "$$SWIM_INSTALL_DEST/share/doc/swim/$$f" || exit 1; done
 	install -D -m 644 $(BUILD)/man/swim.1 "$$SWIM_INSTALL_DEST/share/man/man1/swim.1"
 	install -D -m 644 $(BUILD)/swim.bash "$$SWIM_INSTALL_DEST/share/bash-completion/completions/swim"
 	@$(INSTALL_RECORD) && rm -f "$(INSTALL_SNAPSHOT)"
@@ -211,7 +217,8 @@ uninstall-bin: uninstall-lib uninstall-python
 	@case "$$SWIM_INSTALL_DEST" in /*) ;; *) echo "make uninstall: PREFIX='$$SWIM_INSTALL_DEST' is not an absolute path" >&2; exit 2 ;; esac
 	rm -f "$$SWIM_INSTALL_DEST/bin/swim" "$$SWIM_INSTALL_DEST/bin/swim-mpi" "$$SWIM_INSTALL_DEST/share/man/man1/swim.1" \
 	  "$$SWIM_INSTALL_DEST/share/bash-completion/completions/swim"
-	for f in $(SHARE_FILES); do rm -f "$$SWIM_INSTALL_DEST/share/swim/$$f"; done
+	for f in $(SHARE_FILES) $(MODEL_FILES); do rm -f "$$SWIM_INSTALL_DEST/share/swim/$$f"; done
+	for f in $(DOC_FILES); do rm -f "$$SWIM_INSTALL_DEST/share/doc/swim/$$f"; done
 	if [ -d "$$SWIM_INSTALL_DEST/share/swim" ]; then find "$$SWIM_INSTALL_DEST/share/swim" -name __pycache__ -type d -prune -exec rm -rf {} +; fi
 	bash tools/install_manifest.sh uninstall
 

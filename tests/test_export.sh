@@ -5,6 +5,7 @@
 # byte for byte, events.csv when there is one, summary.json key for key but provenance.command,
 # provenance.scene_original and the timings. Also: the tree reads its scene.toml at run time
 # (events added), --set as swim run's, a --set that changes the kernel's structure refused,
+# --event and --output-step as swim run's, an option given twice and a full stdout refused,
 # bad options (exit 2, one line), a non-empty folder refused. Last line "test_export: P passed, F failed".
 set -u
 cd "$(dirname "$0")/.."
@@ -105,8 +106,26 @@ if [ -x "$ev/simulate" ]; then
         >"$W/rho.run.log" 2>&1 && ok || bad "--set: swim run failed: $(cat "$W/rho.run.log")"
     compare "--set model.rho0=2 --rtol 1e-9" "$W/sim/rho" "$W/run/rho"
 
-    # bad input: one line, exit 2, naming the option
-    for args in "--t-end abc" "--bogus 1" "--set model.rho0" "--rtol 1e-30"; do
+    # --event and --output-step as swim run's (its parsing and semantics: events.csv, the rows, a stop)
+    evo="--t-end 4 --output-step 0.25 --event am1:max --event y:zero:stop"
+    # shellcheck disable=SC2086
+    ( cd "$W/sim" && "$W/trees/example3/simulate" --out evo $evo --quiet ) >"$W/evo.sim.log" 2>&1 \
+        && ok || bad "--event/--output-step: simulate failed: $(cat "$W/evo.sim.log")"
+    # shellcheck disable=SC2086
+    ( cd "$W/run" && "$SWIM" run models/example3.toml --out evo $evo --quiet ) >"$W/evo.run.log" 2>&1 \
+        && ok || bad "--event/--output-step: swim run failed: $(cat "$W/evo.run.log")"
+    check "--event: no events.csv" test -s "$W/sim/evo/events.csv"
+    compare "--event am1:max --event y:zero:stop --output-step 0.25" "$W/sim/evo" "$W/run/evo"
+
+    # a report lost to a full stdout is a failure: non-zero exit, one line on stderr
+    "$W/trees/example3/simulate" --out "$W/sim/full" --t-end 0.5 >/dev/full 2>"$W/devfull.err"
+    rc=$?
+    [ $rc -ne 0 ] && [ "$(wc -l <"$W/devfull.err")" -eq 1 ] && grep -q stdout "$W/devfull.err" && ok \
+        || bad "simulate >/dev/full: exit $rc, stderr: $(cat "$W/devfull.err")"
+
+    # bad input: one line, exit 2, naming the option (an option given twice included)
+    for args in "--t-end abc" "--bogus 1" "--set model.rho0" "--rtol 1e-30" "--t-end 1 --t-end 2" \
+                "--output-step -1" "--event nosuch:max" "--quiet --quiet"; do
         # shellcheck disable=SC2086
         "$W/trees/example3/simulate" --out "$W/sim/bad" $args >"$W/bad.out" 2>"$W/bad.err"
         rc=$?

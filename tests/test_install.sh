@@ -28,6 +28,16 @@ rc=$?
 rm -rf "rel prefix" rel
 [ -x "$prefix/bin/swim" ] && [ -f "$prefix/share/swim/generator/generate.py" ] \
     && [ -f "$prefix/share/swim/runtime/kernel/assembly.h" ] && ok || bad "installed tree incomplete"
+# the example scenes and the documentation, and the man page naming where they are
+n_models=$(find models -type f | wc -l); n_docs=$(( $(find docs -type f | wc -l) + 1 ))
+[ "$(find "$prefix/share/swim/models" -type f 2>/dev/null | wc -l)" -eq "$n_models" ] \
+    && cmp -s models/README.md "$prefix/share/swim/models/README.md" && ok \
+    || bad "make install: PREFIX/share/swim/models does not hold the $n_models files of models/"
+[ "$(find "$prefix/share/doc/swim" -type f 2>/dev/null | wc -l)" -eq "$n_docs" ] && [ -f "$prefix/share/doc/swim/README.md" ] \
+    && cmp -s docs/run-driver.md "$prefix/share/doc/swim/docs/run-driver.md" && ok \
+    || bad "make install: PREFIX/share/doc/swim does not hold README.md and the $((n_docs - 1)) files of docs/"
+grep -q 'PREFIX/share/swim/models' "$prefix/share/man/man1/swim.1" && grep -q 'PREFIX/share/doc/swim' "$prefix/share/man/man1/swim.1" \
+    && ok || bad "the man page does not name PREFIX/share/swim/models and PREFIX/share/doc/swim"
 cp models/example3.toml "$work/scene.toml"
 # from another directory, the source tree out of sight (moved copy of the install as well)
 mv "$prefix" "$prefix-moved" && prefix="$prefix-moved"
@@ -38,5 +48,9 @@ ls "$work"/cache/*/kernel.so >/dev/null 2>&1 && ok || bad "installed run: no ker
 # the same scene with the build tree's swim gives the same trajectory
 SWIM_CACHE="$work/cache2" "${SWIM_BIN:-bin/swim}" run "$work/scene.toml" --out "$work/run2" --t-end 2 --quiet >/dev/null 2>&1
 cmp -s "$work/run/trajectory.csv" "$work/run2/trajectory.csv" && ok || bad "installed and build-tree runs differ"
+# make uninstall removes the scenes and the documentation with the rest
+make --no-print-directory -s uninstall PREFIX="$prefix" >"$work/uninstall.log" 2>&1 \
+    && [ ! -e "$prefix/share/swim/models" ] && [ ! -e "$prefix/share/doc/swim" ] && ok \
+    || bad "make uninstall left $(ls -d "$prefix/share/swim/models" "$prefix/share/doc/swim" 2>/dev/null) ($(tail -2 "$work/uninstall.log"))"
 echo "test_install: $pass passed, $fail failed"
 [ $fail -eq 0 ]

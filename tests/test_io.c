@@ -2,6 +2,7 @@
  * JSON strings (always UTF-8), the atomic file replacement, canonical paths, and the CSV writer's whole-row guarantee on a
  * file that cannot grow (RLIMIT_FSIZE). */
 #include <errno.h>
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -89,6 +90,41 @@ static void test_json_string(void)
     fclose(m);
     CHECK(buf && strcmp(buf, "\"a\\\"b\\\\c\\nd\\u001b\\ufffd\xc3\xa9\"") == 0, "json string: %s", buf);
     free(buf);
+}
+
+/* The one number format of CSV and JSON: the shortest text that reads back to the same double. */
+static void test_number_text(void)
+{
+    static const struct { double v; const char *text; } cases[] = {
+        {30, "30"}, {0.05, "0.05"}, {0.1 + 0.2, "0.30000000000000004"}, {-1.5e-300, "-1.5e-300"},
+        {1e21, "1e+21"}, {0, "0"}, {2.0 / 3.0, "0.6666666666666666"}};
+    char buf[32];
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        swim_number_text(buf, sizeof buf, cases[i].v);
+        CHECK(strcmp(buf, cases[i].text) == 0, "number text %zu: '%s', want '%s'", i, buf, cases[i].text);
+    }
+    /* random bit patterns: each reads back exactly, and one digit fewer would not */
+    unsigned long long x = 88172645463325252ULL;
+    int bad = 0, longer = 0;
+    for (int i = 0; i < 100000; i++) {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        double v;
+        memcpy(&v, &x, sizeof v);
+        if (!isfinite(v)) continue;
+        swim_number_text(buf, sizeof buf, v);
+        if (strtod(buf, NULL) != v) bad++;
+        const char *e = strchr(buf, 'e');
+        int digits = 0;   /* significant: from the first nonzero one */
+        for (const char *c = buf; *c && c != e; c++) digits += (digits || (*c >= '1' && *c <= '9')) && *c >= '0' && *c <= '9';
+        char shorter[400];
+        if (digits > 15) {
+            snprintf(shorter, sizeof shorter, "%.*g", digits - 1, v);
+            if (strtod(shorter, NULL) == v) longer++;
+        }
+    }
+    CHECK(bad == 0 && longer == 0, "number text of random doubles: %d do not read back, %d not shortest", bad, longer);
 }
 
 static char *slurp(const char *path)
@@ -187,6 +223,7 @@ int main(void)
     test_quote();
     test_message();
     test_json_string();
+    test_number_text();
     test_replace_and_paths(dir);
     test_csv_limit(dir);
     char cmd[64];

@@ -7,7 +7,8 @@
    two runs agree to 10 %, and the horizon at rtol 1e-8 is where the runs part: it is a
    conservative estimate (abm's actual error is below rtol), so horizon <= t_p <= 2 horizon.
 2. Example 3 (an elliptic periodic orbit): no exponential growth (ln |w| grows by less than 2
-   over t = 15..30) and no horizon within the run (null).
+   over t = 15..30) and no horizon within the run (null); the verdict "regular" (|w| grows like a
+   power of t), the chaotic scene's "converged", three intervals of it "not_converged".
 3. Bad input: --lyapunov-interval without --lyapunov, a non-positive interval, a prescribed
    stroke: one line, exit 2, nothing written.
 Prints "test_lyapunov: P passed, F failed".
@@ -26,9 +27,9 @@ from swimtest import ROOT, SWIM, TMP, check, check_refusals, main
 SOFT = os.path.join("models", "hard", "soft_n10_a1.toml")
 
 
-def run(scene, name, *args):
+def run(scene, name, *args, quiet=True):
     out = os.path.join(TMP, name)
-    p = subprocess.run([SWIM, "run", scene, "--out", out, "--quiet", *args], capture_output=True, text=True, cwd=ROOT)
+    p = subprocess.run([SWIM, "run", scene, "--out", out] + (["--quiet"] if quiet else []) + list(args), capture_output=True, text=True, cwd=ROOT)
     path = os.path.join(out, "summary.json")
     return p, out, (json.load(open(path)) if os.path.exists(path) else None)
 
@@ -52,6 +53,11 @@ def test_chaotic_scene():
             return
         res[rtol] = (s["lyapunov"], out)
     l8, l10 = res["1e-8"][0], res["1e-10"][0]
+    for rtol, l in res.items():
+        a1, a2 = l[0]["rate_first_half"], l[0]["rate_second_half"]
+        check(l[0]["verdict"] == "converged" and abs(a1 - a2) <= l[0]["agreement_tolerance"] * max(abs(a1), abs(a2)),
+              "rtol %s: verdict converged, the halves' rates %.4g and %.4g agree within the stated tolerance"
+              % (rtol, a1, a2))
     check(l8["exponent"] > 1 and l10["exponent"] > 1, "a positive exponent: chaos (%.4g, %.4g)"
           % (l8["exponent"], l10["exponent"]))
     rel = abs(l8["exponent"] - l10["exponent"]) / (0.5 * (l8["exponent"] + l10["exponent"]))
@@ -74,7 +80,7 @@ def test_chaotic_scene():
 
 
 def test_elliptic_orbit():
-    p, out, s = run(os.path.join("models", "example3.toml"), "ex3", "--lyapunov", "--summary-only")
+    p, out, s = run(os.path.join("models", "example3.toml"), "ex3", "--lyapunov", "--summary-only", quiet=False)
     check(s is not None and s["lyapunov"]["status"] == "written", "Example 3 with --lyapunov (%s)" % p.stderr[-200:])
     if s:
         ly = s["lyapunov"]
@@ -87,6 +93,20 @@ def test_elliptic_orbit():
         check(late < 2.0 and ly["horizon"] is None,
               "Example 3: ln growth %.3g over t = 15..30 (no exponential growth; exponent %.3g over T = 30 is "
               "ln t / t), no horizon within the run (%r)" % (late, ly["exponent"], ly["horizon"]))
+        # the verdict: a power of t, not an exponential; the horizon from that power law lies beyond the run
+        check(ly["verdict"] == "regular" and 0 < ly["growth_power"] <= 3 and ly["horizon_from_power"] > 30
+              and ly["t_end_needed"] is None and "regular motion" in p.stdout,
+              "Example 3: verdict regular (|w| ~ t^%.3g), horizon from the power law %r beyond T = 30; said: %s"
+              % (ly["growth_power"], ly["horizon_from_power"], p.stdout.strip()[-160:]))
+
+
+def test_not_converged():
+    # three intervals of the chaotic scene: too few to judge, the halves' rates differ
+    p, out, s = run(SOFT, "soft_short", "--t-end", "3", "--lyapunov", "--summary-only", quiet=False)
+    ly = s["lyapunov"] if s else {}
+    check(ly.get("verdict") == "not_converged" and (ly.get("t_end_needed") or 0) >= 6
+          and "not converged" in p.stdout and "--t-end" in p.stdout,
+          "T = 3: verdict not_converged, run to t_end %r (said: %s)" % (ly.get("t_end_needed"), p.stdout.strip()[-160:]))
 
 
 def test_bad_input():

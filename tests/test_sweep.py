@@ -100,6 +100,7 @@ def test_zip_and_keep():
     tr = os.path.join(out, "members", "00001", "trajectory.csv")
     check(os.path.exists(tr) and sum(1 for _ in open(tr)) == 14,
           "--keep trajectories writes each member's rows (13 rows + header)")
+    check(not os.path.exists(os.path.join(out, "sweep.lock")), "no sweep.lock left in a finished sweep")
 
 
 def test_bad_input():
@@ -254,6 +255,7 @@ def test_resume_after_kill9_and_jobs():
     check(p.returncode == 0 and sorted(ids) == list(range(24)),
           "resume after kill -9 (%d rows then): 24 rows, none lost or duplicated" % before)
     check(0 < before < 24, "the kill came mid-sweep (%d of 24 rows)" % before)
+    check(not os.path.exists(os.path.join(out, "sweep.lock")), "no sweep.lock left after the resumed sweep ended")
     p1, out1 = sweep("jobs1", *args, jobs=1)
     check(p1.returncode == 0 and same_numbers(by_id(out1), by_id(out)),
           "--jobs 1 and the interrupted --jobs 2 sweep give the same numbers in every column but timings")

@@ -39,11 +39,18 @@ def test_family_file():
             check(f.attrs["swim_version"] == fh.read().strip(), "swim's version")
         g = f["members"]
         order = [c for c in g.attrs["columns"]]
+        check(all(isinstance(c, str) for c in order) and all(isinstance(f.attrs[k], str) for k in
+              ("definition", "scene", "swim_version")), "the text attributes come back from h5py as str")
         check(order == list(rows[0].keys()), "the columns in members.csv's order: %s" % order)
         check(list(g["id"][:]) == [int(r["id"]) for r in rows] == [0, 1, 2, 3], "ids in order")
         for name in order:
             col = g[name]
             if name in ("status", "reason"):
+                # UTF-8 variable-length strings: h5py reads a string dataset as bytes whatever its
+                # encoding (its documented rule), .asstr() as str; attributes come back as str
+                info = h5py.check_string_dtype(col.dtype)
+                check(info is not None and info.encoding == "utf-8" and info.length is None,
+                      "%s: variable-length UTF-8 strings (%r)" % (name, info))
                 got = [s for s in col.asstr()[:]]
                 want = [r[name] for r in rows]
                 check(got == want, "%s as in members.csv" % name)

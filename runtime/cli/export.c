@@ -43,7 +43,7 @@ int swim_cmd_export(int argc, char **argv)
         swim_message(stdout, "%s: exported into %s: %d files, %.0f kB, in %.2f s (kernel of N = %d from %s, %s%s)", pos[0],
                      out, res.files, res.bytes / 1024.0, swim_clock_seconds() - t0, res.modes, res.kernel_source,
                      res.stroke ? "stroke laws" : "scene kernel", res.cvode ? "; links SUNDIALS" : "");
-        swim_message(stdout, "  build: make -C %s; run: %s/simulate --out OUT [--t-end T] [--rtol R] [--atol A] [--set KEY=VALUE]",
+        swim_message(stdout, "  build: make -C %s; run: %s/simulate --out OUT [--t-end T] [--output-step H] [--rtol R] [--atol A] [--event COL:KIND] [--set KEY=VALUE]",
                      out, out);
     }
     return 0;

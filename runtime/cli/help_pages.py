@@ -59,7 +59,8 @@ def man_page(swim, version, cmds):
            ".SH DESCRIPTION",
            roff("swim simulates the hyperelastic swimmer of Munnier's paper: a SymPy generator derives the "
                 "mass matrices and the Christoffel symbol of N modes and emits C kernels; a C runtime "
-                "integrates the equations of motion. A scene is a TOML file (models/README.md lists its keys)."),
+                "integrates the equations of motion. A scene is a TOML file (models/README.md lists its keys; "
+                "installed: PREFIX/share/swim/models/README.md)."),
            ".SH COMMANDS"]
     for name, summary in cmds:
         head, options = parse_command(helptext(swim, name, "--help"))
@@ -71,9 +72,14 @@ def man_page(swim, version, cmds):
             ".TP", ".B SWIM_CACHE", roff("the kernel cache (default ~/.cache/swim; `swim cache path` prints it)"),
             ".TP", ".B SWIM_SHARE", roff("the generator and kernel headers (default: ../share/swim beside the program)"),
             ".TP", ".B SWIM_PYTHON", roff("the Python with SymPy that generates kernels (default python3)"),
+            ".SH FILES",
+            ".TP", ".I PREFIX/share/swim/models/", roff("the example scenes (models/README.md lists a scene's keys); "
+                                                      "PREFIX is the folder above the installed bin/swim"),
+            ".TP", ".I PREFIX/share/doc/swim/", roff("the documentation: README.md and docs/ (run-driver.md, "
+                                                   "library.md, families.md, ...)"),
             ".SH EXIT STATUS", roff("0 success; 1 a run or an output that failed (said on stderr); "
                                     "2 bad input (one line naming the file, key or option)."),
-            ".SH SEE ALSO", roff("The docs/ folder of the source tree: run-driver.md (the commands and their "
+            ".SH SEE ALSO", roff("The docs/ folder (installed: PREFIX/share/doc/swim/docs/): run-driver.md (the commands and their "
                                  "outputs), library.md (libswim), families.md, integrators-and-events.md.")]
     return "\n".join(out) + "\n"
 

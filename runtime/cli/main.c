@@ -73,7 +73,8 @@ static const command commands[] = {
     {"export", swim_cmd_export,
      "a self-contained C source tree for one scene: `make -C DIR` builds DIR/simulate (C, GSL, LAPACK;\n"
      "           no Python), which writes what swim run writes, digit for digit\n"
-     "           --out DIR [--set KEY=VALUE ...] [--quiet]; DIR/simulate [--out OUT] [--t-end T] [--rtol R] [--atol A] [--set ...]",
+     "           --out DIR [--set KEY=VALUE ...] [--quiet]; DIR/simulate [--out OUT] [--t-end T] [--output-step H]\n"
+     "           [--rtol R] [--atol A] [--event COL:KIND ...] [--set ...]",
      "swim export models/example3.toml --out out/example3-src && make -C out/example3-src"},
     {"plot", swim_cmd_plot, "PNG figures of a run directory, or of a sweep directory (matplotlib)\n"
      "           [--mark T1,T2,...] [--events all|COLUMN:KIND,...] [--only NAME ...]\n"

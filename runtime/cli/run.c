@@ -19,6 +19,7 @@
 #include "io/clock.h"
 #include "io/message.h"
 #include "io/stdout_check.h"
+#include "control/lyapunov.h"
 #include "output/job.h"
 
 typedef struct {
@@ -199,12 +200,24 @@ static void on_progress(void *ctx, double t, double t_end)
     }
 }
 
-static void on_lyapunov(void *ctx, const char *path, double exponent, double horizon, double rtol, double seconds)
+static void on_lyapunov(void *ctx, const char *path, const swim_lyapunov *l)
 {
     const run_cmd *c = ctx;
-    if (!c->job.quiet)
-        swim_message(stdout, "  largest Lyapunov exponent %.4g (%s); predictability horizon at rtol %.0e: t = %.4g; "
-                     "%.2f s", exponent, path, rtol, horizon, seconds);
+    if (c->job.quiet) return;
+    if (l->verdict == SWIM_LYAP_CONVERGED)
+        swim_message(stdout, "  largest Lyapunov exponent %.4g, converged (rates over the halves %.4g and %.4g agree "
+                     "within %g%%) (%s); predictability horizon at rtol %.0e: t = %.4g; %.2f s", l->exponent,
+                     l->rate_first, l->rate_second, 100 * SWIM_LYAPUNOV_AGREE, path, l->rtol, l->horizon, l->seconds);
+    else if (l->verdict == SWIM_LYAP_REGULAR)
+        swim_message(stdout, "  Lyapunov: regular motion, no exponential growth: the tangent vector grows like t^%.2g "
+                     "(linear growth and its powers), the exponent tends to 0 (%.4g over t = %.4g, %.4g over the "
+                     "second half) (%s); predictability horizon at rtol %.0e from that growth: t = %.3g; %.2f s",
+                     l->power, l->exponent, l->t_end, l->rate_second, path, l->rtol,
+                     isfinite(l->horizon) ? l->horizon : l->horizon_power, l->seconds);
+    else
+        swim_message(stdout, "  Lyapunov exponent not converged: %.4g over t = %.4g, rates over the halves %.4g and "
+                     "%.4g (%s); run to --t-end %.3g or more; %.2f s", l->exponent, l->t_end, l->rate_first,
+                     l->rate_second, path, l->t_end_needed, l->seconds);
 }
 
 static void on_sensitivities(void *ctx, int nkeys, const char *path, double t, double seconds, long evals)

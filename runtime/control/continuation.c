@@ -320,9 +320,16 @@ void swim_branch_csv(FILE *f, const swim_branch *b, const char *key)
             strcmp(key, "energy") == 0 ? "energy_target" : key);
     for (int i = 0; i < b->n; i++) {
         const swim_cont_point *q = &b->pt[i];
-        fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s,%.3g,%d,%.17g\n", q->param, q->period, q->dx, q->dy,
-                q->dtheta, q->energy, q->dy / q->period, q->max_abs, q->stable ? "yes" : "no", q->residual, q->iterations,
-                hypot(q->dx, q->dy));
+        const double num[] = {q->param, q->period, q->dx, q->dy, q->dtheta, q->energy, q->dy / q->period, q->max_abs};
+        for (size_t c = 0; c < sizeof num / sizeof num[0]; c++) {
+            if (c) fputc(',', f);
+            swim_number_print(f, num[c]);
+        }
+        fprintf(f, ",%s,", q->stable ? "yes" : "no");
+        swim_number_print(f, q->residual);
+        fprintf(f, ",%d,", q->iterations);
+        swim_number_print(f, hypot(q->dx, q->dy));
+        fputc('\n', f);
     }
 }
 

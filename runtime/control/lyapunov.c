@@ -34,6 +34,82 @@ static double shape_norm(const double *w, int from, int count)
     return sqrt(s);
 }
 
+/* Least-squares slope of y against x over [from, to) (points with x > 0 only when logx). */
+static double slope(const double *x, const double *y, int from, int to, int logx)
+{
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int m = 0;
+    for (int k = from; k < to; k++) {
+        if (logx && !(x[k] > 0)) continue;
+        const double u = logx ? log(x[k]) : x[k];
+        sx += u;
+        sy += y[k];
+        sxx += u * u;
+        sxy += u * y[k];
+        m++;
+    }
+    const double den = m * sxx - sx * sx;
+    return m >= 2 && den > 0 ? (m * sxy - sx * sy) / den : NAN;
+}
+
+/* The verdict of lyapunov.h on l's segments; need = ln(separation / rtol). */
+static void assess(swim_lyapunov *l, double need)
+{
+    l->verdict = SWIM_LYAP_NOT_CONVERGED;
+    l->rate_first = l->rate_second = l->power = l->horizon_power = l->t_end_needed = NAN;
+    const int n = l->n;
+    const double T = n > 0 ? l->t[n - 1] : 0.0;
+    if (n < 2) {
+        l->t_end_needed = SWIM_LYAPUNOV_MIN_SEGMENTS * l->interval;
+        return;
+    }
+    /* the points (0, 0), (t_k, G_k): the first half is [0, h], the second [h, n] */
+    double *t = malloc(sizeof(double) * (size_t)(n + 1)), *G = malloc(sizeof(double) * (size_t)(n + 1));
+    if (!t || !G) {
+        free(t);
+        free(G);
+        return;
+    }
+    t[0] = G[0] = 0.0;
+    for (int k = 0; k < n; k++) {
+        t[k + 1] = l->t[k];
+        G[k + 1] = G[k] + l->log_growth[k];
+    }
+    const int h = (n + 1) / 2;
+    l->rate_first = slope(t, G, 0, h + 1, 0);
+    l->rate_second = slope(t, G, h, n + 1, 0);
+    l->power = slope(t, G, h, n + 1, 1);
+    const double a1 = l->rate_first, a2 = l->rate_second, half = T - t[h];
+    const int enough = n >= SWIM_LYAPUNOV_MIN_SEGMENTS;
+    const int agree = fabs(a1 - a2) <= SWIM_LYAPUNOV_AGREE * fmax(fabs(a1), fabs(a2));
+    if (enough && agree && fabs(a2) * half >= SWIM_LYAPUNOV_EFOLDS) {
+        l->verdict = SWIM_LYAP_CONVERGED;
+    } else if (enough && l->power <= SWIM_LYAPUNOV_POWER) {
+        l->verdict = SWIM_LYAP_REGULAR;
+        /* G(t) = G_fit(T) + p ln(t / T): the power law's value at T from the fit's centroid */
+        double su = 0, sg = 0;
+        for (int k = h; k <= n; k++) {
+            su += log(t[k]);
+            sg += G[k];
+        }
+        const double gT = sg / (n + 1 - h) + l->power * (log(T) - su / (n + 1 - h));
+        l->horizon_power = gT >= need ? NAN : l->power > 0 ? T * exp((need - gT) / l->power) : INFINITY;
+    } else {
+        /* twice as long, and long enough for the e-folds at the second half's rate */
+        double want = 2.0 * T;
+        if (a2 > 0) want = fmax(want, 2.0 * SWIM_LYAPUNOV_EFOLDS / a2);
+        if (!enough) want = fmax(want, SWIM_LYAPUNOV_MIN_SEGMENTS * l->interval);
+        l->t_end_needed = want;
+    }
+    free(t);
+    free(G);
+}
+
+const char *swim_lyapunov_verdict_name(swim_lyapunov_verdict v)
+{
+    return v == SWIM_LYAP_CONVERGED ? "converged" : v == SWIM_LYAP_REGULAR ? "regular" : "not_converged";
+}
+
 int swim_lyapunov_compute(swim_dynamics *d, const char *integrator, double t_end, double interval,
                           swim_lyapunov *l)
 {
@@ -104,6 +180,7 @@ int swim_lyapunov_compute(swim_dynamics *d, const char *integrator, double t_end
             break;
         }
     }
+    assess(l, need);
 done:
     swim_sens_free(&S);
     free(Y);

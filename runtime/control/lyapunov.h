@@ -36,7 +36,25 @@
  * interval below t_end / 10^6 is refused before the run rather than asking for 10^9 rows. */
 #define SWIM_LYAPUNOV_MAX_SEGMENTS 1000000
 
-typedef struct {
+/* The verdict on the growth (swim_lyapunov_compute sets it from the segments).
+ * G(t) = sum ln r_k is fitted by least squares with a line in t over each half of the segments
+ * (rates a1, a2) and with a line in ln t over the second half (power p: |w| ~ t^p).
+ *   converged: |a1 - a2| <= SWIM_LYAPUNOV_AGREE * max(|a1|, |a2|), the second half grows (or shrinks)
+ *     by at least SWIM_LYAPUNOV_EFOLDS e-folds and there are SWIM_LYAPUNOV_MIN_SEGMENTS segments:
+ *     the growth is exponential at one rate, the exponent is a result;
+ *   regular: otherwise, p <= SWIM_LYAPUNOV_POWER: the tangent vector grows like a power of t (the
+ *     drift along a family of periodic orbits or tori grows linearly), the exponent is p ln t / t
+ *     and tends to 0; an exponential rate, if any, is below about 2 p / T, so it cannot matter
+ *     within the run; the horizon is where the power law reaches ln(separation / rtol);
+ *   not converged: neither; t_end_needed says how long to run. */
+#define SWIM_LYAPUNOV_AGREE 0.2
+#define SWIM_LYAPUNOV_EFOLDS 3.0
+#define SWIM_LYAPUNOV_POWER 3.0
+#define SWIM_LYAPUNOV_MIN_SEGMENTS 8
+
+typedef enum { SWIM_LYAP_NOT_CONVERGED = 0, SWIM_LYAP_CONVERGED, SWIM_LYAP_REGULAR } swim_lyapunov_verdict;
+
+typedef struct swim_lyapunov_s {
     double interval;       /* renormalization interval */
     double t_end;          /* where the pass ended (t_end, or where it failed) */
     int n;                 /* segments done */
@@ -46,6 +64,11 @@ typedef struct {
     double rtol;           /* the run's relative tolerance */
     double horizon;        /* where sum ln r_k reaches ln(SWIM_LYAPUNOV_SEPARATION / rtol), or INFINITY */
     double horizon_mean;   /* ln(SWIM_LYAPUNOV_SEPARATION / rtol) / exponent, or INFINITY */
+    swim_lyapunov_verdict verdict;
+    double rate_first, rate_second;   /* least-squares slopes of sum ln r_k over each half (NAN: too few) */
+    double power;          /* least-squares slope of sum ln r_k against ln t over the second half */
+    double horizon_power;  /* regular: where t^power growth reaches ln(separation / rtol); else NAN */
+    double t_end_needed;   /* not converged: the t_end to run to next; else NAN */
     long rhs_calls;
     double seconds;
     int status;            /* 0 completed; 1 the integration failed (then t_end says where) */
@@ -57,6 +80,8 @@ typedef struct {
 int swim_lyapunov_compute(swim_dynamics *d, const char *integrator, double t_end, double interval,
                           swim_lyapunov *out);
 void swim_lyapunov_free(swim_lyapunov *l);
+/* "converged", "regular" or "not_converged" (the summary's words). */
+const char *swim_lyapunov_verdict_name(swim_lyapunov_verdict v);
 /* DIR/lyapunov.csv: t, ln growth of the segment, running exponent. 0, or -1 (errno). */
 int swim_lyapunov_csv(const swim_lyapunov *l, const char *path);
 

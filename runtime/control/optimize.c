@@ -13,6 +13,7 @@
 #include "driver/run.h"
 #include "io/clock.h"
 #include "io/files.h"
+#include "io/json.h"
 #include "io/message.h"
 #include "ode/ode.h"
 #include "scene/resolve.h"
@@ -333,8 +334,12 @@ static void log_iteration(swim_opt_problem *p, int iter, double size)
     const swim_opt_start *st = &p->start[p->nstarts - 1];
     if (p->log_csv) {
         fprintf(p->log_csv, "%d,%ld", iter, p->evaluations);
-        for (int i = 0; i < p->nkeys; i++) fprintf(p->log_csv, ",%.17g", st->best_value[i]);
-        fprintf(p->log_csv, ",%.17g,%.17g,%d\n", st->best_q, size, p->nstarts);
+        const double tail[2] = {st->best_q, size};
+        for (int i = 0; i < p->nkeys + 2; i++) {
+            fputc(',', p->log_csv);
+            swim_number_print(p->log_csv, i < p->nkeys ? st->best_value[i] : tail[i - p->nkeys]);
+        }
+        fprintf(p->log_csv, ",%d\n", p->nstarts);
         fflush(p->log_csv);
     }
     if (!p->quiet) {

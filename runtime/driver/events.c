@@ -367,7 +367,10 @@ static void fill_csv(FILE *f, void *ctx)
     fprintf(f, "t,column,kind,value\n");
     for (size_t r = 0; r < ev->nrec; r++) {
         const record *e = &ev->rec[r];
-        fprintf(f, "%.17g,%s,%s,%.17g\n", e->t, ev->specs[e->spec].name, kind_names[ev->specs[e->spec].kind], e->value);
+        swim_number_print(f, e->t);
+        fprintf(f, ",%s,%s,", ev->specs[e->spec].name, kind_names[ev->specs[e->spec].kind]);
+        swim_number_print(f, e->value);
+        fputc('\n', f);
     }
 }
 

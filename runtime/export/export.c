@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "codegen/codegen.h"
+#include "driver/run.h"
 #include "io/files.h"
 #include "io/message.h"
 #include "io/version.h"
@@ -37,10 +38,12 @@
 
 /* The runtime's C a run needs (output/job.h down), besides every header of these folders. */
 static const char *const sources[] = {
+    "runtime/cli/args.c", "runtime/cli/run_settings.c",   /* simulate reads swim run's options with swim run's code */
     "runtime/codegen/structure.c", "runtime/control/sensitivity.c", "runtime/control/lyapunov.c",
     "runtime/driver/events.c", "runtime/driver/watch.c", "runtime/driver/run.c", "runtime/driver/stroke_run.c",
     "runtime/driver/summary.c",
     "runtime/io/json.c", "runtime/io/csv.c", "runtime/io/files.c", "runtime/io/message.c", "runtime/io/clock.c",
+    "runtime/io/stdout_check.c",
     "runtime/model/dynamics.c", "runtime/model/flow.c", "runtime/model/bounce.c",
     "runtime/ode/ode.c", "runtime/ode/events.c", "runtime/ode/abm.c", "runtime/ode/peers_gsl.c",
     "runtime/output/folder.c", "runtime/output/job.c",
@@ -51,10 +54,10 @@ static const char *const sources[] = {
     "runtime/export/kernels.c",
 };
 static const char *const extra[] = {"runtime/ode/peers_cvode.c", "runtime/export/no_cvode.c"};
-static const char *const header_dirs[] = {"codegen", "control", "driver", "io", "kernel", "model", "ode", "output",
+static const char *const header_dirs[] = {"cli", "codegen", "control", "driver", "io", "kernel", "model", "ode", "output",
                                           "scene", "shape", "stroke"};
 /* headers of those folders that belong to what the tree leaves out */
-static const char *const skip_headers[] = {"summary_read.h", "stdout_check.h", "floquet.h", "optimize.h", "model_setup.h", "periodic.h", "continuation.h"};
+static const char *const skip_headers[] = {"commands.h", "run_signals.h", "sweep_args.h", "summary_read.h", "floquet.h", "optimize.h", "model_setup.h", "periodic.h", "continuation.h"};
 
 typedef struct {
     const swim_export_request *req;
@@ -273,24 +276,86 @@ static char *makefile_text(const swim_scene *s, const swim_compiled *kn, int cvo
     return text;
 }
 
+/* The README's description of the outputs: trajectory.csv's columns for this scene (the run
+ * driver's own list, swim_run_columns), summary.json's fields, and how events are added. */
+static void readme_outputs(FILE *f, const swim_scene *s)
+{
+    const char *names[SWIM_RUN_MAX_COLUMNS];
+    static char storage[SWIM_RUN_MAX_COLUMNS][24];
+    const int n = swim_run_columns(s, names, storage);
+    fprintf(f, "\nOUT/trajectory.csv: one row per output step (run.output_step, or --output-step), %d columns:\n", n);
+    int w = 0;   /* the current line's width: lines of at most ~96 characters */
+    for (int i = 0; i < n; i++) {
+        const int len = (int)strlen(names[i]) + 1;
+        if (w && w + len + 1 > 96) {
+            fputc('\n', f);
+            w = 0;
+        }
+        fprintf(f, "%s%s%s", w ? " " : "  ", names[i], i + 1 < n ? "," : "\n");
+        w += len + (w ? 1 : 2);
+    }
+    fprintf(f,
+        "  t: time; x, y, theta: the body frame's position and angle; then the %d shape coordinates (a1, b1, am1, bm1, ...:\n"
+        "  the boundary's Fourier coefficients) and their rates (d...); kinetic_fluid, kinetic_shape,\n"
+        "  kinetic_rigid, potential, energy: the energy's parts and total; impulse_*: the impulses of the body,\n"
+        "  of the fluid from the rigid motion and from the deformation (fixed frame; x, y, angular; they sum\n"
+        "  to zero); res_volume, res_volume_rate, res_angular, res_locks: the\n"
+        "  constraints' residuals; jmin: the smallest Jacobian of the map on the boundary (> 0: not\n"
+        "  self-intersecting); work: the work done on the shape; w1, w2: the elastic and the barrier parts of\n"
+        "  the potential%s.\n"
+        "  Numbers are the shortest text that reads back to the same double; nan where undefined.\n",
+        s->n, s->stroke_count > 0 ? "; power, work_positive, phase_c1: the stroke's power, its positive work and phase" : "");
+    fprintf(f,
+        "\nOUT/summary.json, the fields: scene, title, out; modes, rho0, rhof, integrator, rtol, atol,\n"
+        "  step_lookahead, free, effects (elastic, barrier, damping, forcing), kernel, projection: what ran;\n"
+        "  status (completed / failed / interrupted), reason, t_end, t_reached, rows: how it ended;\n"
+        "  final_state (t, x, y, theta, c, cdot); energy_initial, energy_drift_abs, energy_drift_rel,\n"
+        "  forcing_work, max_residuals, jmin, jmin_t, left_D_t: checks; integrator_switch_t, stiff_switch,\n"
+        "  step_checks, origin_shift, impacts, energy_control: what the driver did on the way; events,\n"
+        "  event_stop, periodic: the events found (and the period of a periodic column); provenance (the\n"
+        "  command line, versions, the scene as given) and stats (steps, RHS evaluations, timings).\n"
+        "  A field that does not apply is null; numbers as in the CSV.\n");
+    fprintf(f,
+        "\nEvents: ./simulate --event COLUMN:KIND[:stop] (repeatable), as `swim run --event`: COLUMN is any\n"
+        "  column of trajectory.csv but t, KIND is zero, min or max, :stop ends the run at the first one.\n"
+        "  Or put them into scene.toml for every run, without rebuilding:\n"
+        "      [events]\n"
+        "      list = [\"am1:max\", \"y:zero\"]\n"
+        "  The times and values go into OUT/events.csv (t, column, kind, value) and into summary.json's\n"
+        "  events (a column's period, when it is periodic).\n");
+}
+
 static char *readme_text(const swim_scene *s, int cvode)
 {
-    return swim_strprintf(
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&text, &len);
+    if (!f) return NULL;
+    fprintf(f,
         "This folder was made by `swim export %s` (swim %s): the scene, the C of its kernels and the\n"
         "part of swim's runtime that runs it, as one program. Nothing else is needed: no Python, no\n"
         "SymPy, no kernel cache.\n\n"
         "Build:  make            (a C compiler, GNU make, GSL, LAPACK/LAPACKE/BLAS%s)\n"
-        "Run:    ./simulate [--out OUT] [--t-end T] [--rtol R] [--atol A] [--set KEY=VALUE ...] [--quiet]\n\n"
+        "Run:    ./simulate [--out OUT] [--t-end T] [--output-step H] [--rtol R] [--atol A]\n"
+        "                   [--event COLUMN:KIND[:stop] ...] [--set KEY=VALUE ...] [--quiet]\n\n"
         "simulate runs scene.toml (next to it) into OUT (default out/<scene name>): OUT/trajectory.csv,\n"
         "OUT/summary.json, OUT/scene.toml (the scene as run), and OUT/events.csv when the scene has\n"
         "events, exactly as `swim run %s --out OUT` with the same options: row for row and digit for\n"
         "digit, since the Makefile compiles the same sources with the compiler and flags of the build\n"
         "that exported it (-march=native: build and run it on the same kind of machine). summary.json\n"
         "differs in provenance.command and in the timings (stats.*_seconds, ns_per_rhs, max_rss_kb,\n"
-        "step_checks.seconds). --set changes run-time values (initial data, R, D, densities, ...);\n"
+        "step_checks.seconds). The options are read by swim run's own code: each but --event and --set\n"
+        "once. --set changes run-time values (initial data, R, D, densities, ...);\n"
         "one that changes the kernel's structure (frees or locks a coordinate, zeroes a stiffness,\n"
-        "changes the forcing law) is refused: export the scene again. Bad input: one line, exit 2.\n",
+        "changes the forcing law) is refused: export the scene again. Bad input: one line, exit 2.\n"
+        "A run that fails, or a report that cannot be written (a full disk or stdout): exit 1.\n",
         s->path, SWIM_VERSION, cvode ? ", SUNDIALS CVODE" : "", s->path);
+    readme_outputs(f, s);
+    if (fclose(f) != 0) {
+        free(text);
+        return NULL;
+    }
+    return text;
 }
 
 /* DIR: made, or empty, or an earlier export (its marker). 0 or 2 after one line. */

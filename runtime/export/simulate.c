@@ -1,132 +1,91 @@
 /* simulate.c -- the program of a tree made by `swim export SCENE --out DIR` (docs/export.md).
  *
- *   DIR/simulate [--out OUT] [--t-end T] [--rtol R] [--atol A] [--set KEY=VALUE ...] [--quiet]
+ *   DIR/simulate [--out OUT] [--t-end T] [--output-step H] [--rtol R] [--atol A]
+ *                [--event COLUMN:KIND[:stop] ...] [--set KEY=VALUE ...] [--quiet]
  *
  * runs the scene DIR/scene.toml (found next to the program) into OUT (default out/<scene name>)
  * exactly as `swim run SCENE` does: the same job (output/job.h), the same run driver, the same
  * kernels compiled with the same flags, so OUT/trajectory.csv and OUT/summary.json are those of
- * `swim run SCENE --out OUT` with the same options. The options are those of swim run: --t-end,
- * --rtol and --atol are checked and written into OUT/scene.toml as swim run's are, --set is
- * applied before the scene is validated. Bad input: one line on stderr, exit status 2; a run
+ * `swim run SCENE --out OUT` with the same options. The options are those of swim run, read by
+ * its code (cli/args.c, cli/run_settings.c, copied into the tree): --t-end, --output-step,
+ * --rtol and --atol are checked and written into OUT/scene.toml as swim run's are, --event adds
+ * to the scene's [events] list, --set is applied before the scene is validated, an option other
+ * than --event and --set given twice is refused. Bad input: one line on stderr, exit status 2; a run
  * that fails: exit status 1, its outputs kept.
  *
  * Not part of bin/swim: runtime/export/export.c copies it into the tree.
  */
-#include <errno.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "cli/args.h"
+#include "cli/run_settings.h"
+#include "driver/events.h"
 #include "export_info.h"
 #include "io/message.h"
+#include "io/stdout_check.h"
 #include "output/job.h"
 
 #define PROG "simulate"
 
+/* swim run's own option rows for what simulate takes (cli/run.c spells the same help) */
+enum { OPT_OUT, OPT_T_END, OPT_OUTPUT_STEP, OPT_RTOL, OPT_ATOL, OPT_QUIET, NOPTS };
+
 typedef struct {
-    const char *out, *value[3];   /* --t-end, --rtol, --atol as given */
-    int quiet;
+    swim_opt opts[NOPTS];
     swim_override sets[SWIM_JOB_MAX_SETS];
     int nsets;
+    const char *events[SWIM_RUN_MAX_EVENTS + 1];
+    int nevents;
 } options;
 
-static const char *const number_opt[3] = {"t-end", "rtol", "atol"};
-static const char *const number_key[3] = {"run.t_end", "run.rtol", "run.atol"};
-static const int number_set[3] = {SWIM_SET_T_END, SWIM_SET_RTOL, SWIM_SET_ATOL};
-
-static void usage(FILE *f)
+static void init_options(options *o)
 {
-    fprintf(f, "usage: %s [--out OUT] [--t-end T] [--rtol R] [--atol A] [--set KEY=VALUE ...] [--quiet]\n"
-               "  runs %s (exported by swim %s) as `swim run` does: OUT/trajectory.csv, summary.json, scene.toml\n",
-            PROG, SWIM_EXPORT_SCENE_NAME, SWIM_VERSION);
+    const swim_opt opts[NOPTS] = {
+        {"out", 1, NULL, "OUT", "output folder (default out/<scene name>)"},
+        {"t-end", 1, NULL, "T", "end time (default: the scene's run.t_end)"},
+        {"output-step", 1, NULL, "H", "time between output rows (default: the scene's run.output_step)"},
+        {"rtol", 1, NULL, "R", "relative tolerance (default: the scene's run.rtol)"},
+        {"atol", 1, NULL, "A", "absolute tolerance (default: the scene's run.atol)"},
+        {"quiet", 0, NULL, NULL, "no line on stdout"},
+    };
+    memcpy(o->opts, opts, sizeof opts);
 }
 
-/* "--name value" or "--name=value". 0, or 2 after one line. */
+static void usage(FILE *f, const options *o)
+{
+    fprintf(f, "usage: %s [--out OUT] [--t-end T] [--output-step H] [--rtol R] [--atol A] [--event COLUMN:KIND[:stop] ...]\n"
+               "       [--set KEY=VALUE ...] [--quiet]\n"
+               "  runs %s (exported by swim %s) as `swim run` does: OUT/trajectory.csv, summary.json, scene.toml,\n"
+               "  events.csv with --event (COLUMN: a header of trajectory.csv; KIND: zero, min or max; :stop ends the run)\n",
+            PROG, SWIM_EXPORT_SCENE_NAME, SWIM_VERSION);
+    swim_args_help(f, o->opts, NOPTS);
+}
+
+/* swim run's parsing (cli/args.h): --event and --set may repeat, every other option is given
+ * once (a second one is refused). 0, SWIM_ARGS_HELP, or 2 after one line. */
 static int read_options(int argc, char **argv, options *o)
 {
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "--quiet") == 0) {
-            o->quiet = 1;
-            continue;
+    if ((o->nsets = swim_args_take_sets(PROG, &argc, argv, 1, o->sets, SWIM_JOB_MAX_SETS)) < 0) return 2;
+    o->nevents = swim_args_take_all(PROG, &argc, argv, 1, "event", o->events, SWIM_RUN_MAX_EVENTS + 1);
+    if (o->nevents < 0) return 2;
+    for (int i = 1; i < argc; i++)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            usage(stdout, o);
+            return SWIM_ARGS_HELP;
         }
-        if (strncmp(a, "--", 2) != 0) {
-            swim_message(stderr, "%s: unexpected argument '%s' (the scene is %s; options: --out, --t-end, --rtol, --atol, "
-                         "--set, --quiet)", PROG, a, SWIM_EXPORT_SCENE_NAME);
-            return 2;
-        }
-        const char *eq = strchr(a + 2, '=');
-        const size_t nlen = eq ? (size_t)(eq - a - 2) : strlen(a + 2);
-        const char *names[] = {"out", "t-end", "rtol", "atol", "set"};
-        int which = -1;
-        for (int k = 0; k < 5; k++)
-            if (strlen(names[k]) == nlen && strncmp(a + 2, names[k], nlen) == 0) which = k;
-        if (which < 0) {
-            swim_message(stderr, "%s: unknown option '%.*s' (options: --out, --t-end, --rtol, --atol, --set, --quiet)", PROG,
-                         (int)(nlen + 2), a);
-            return 2;
-        }
-        const char *v = eq ? eq + 1 : i + 1 < argc ? argv[++i] : NULL;
-        if (!v) {
-            swim_message(stderr, "%s: --%s: missing value", PROG, names[which]);
-            return 2;
-        }
-        if (which == 0) {
-            o->out = v;
-        } else if (which == 4) {
-            char err[256];
-            if (o->nsets == SWIM_JOB_MAX_SETS) {
-                swim_message(stderr, "%s: --set: more than %d overrides", PROG, SWIM_JOB_MAX_SETS);
-                return 2;
-            }
-            if (swim_override_parse(v, &o->sets[o->nsets], err, sizeof err) != 0) {
-                swim_message(stderr, "%s: --set: %s", PROG, err);
-                return 2;
-            }
-            o->nsets++;
-        } else {
-            o->value[which - 1] = v;
-        }
-    }
-    return 0;
+    return swim_args_parse(PROG, argc, argv, 1, o->opts, NOPTS, NULL, 0, NULL);
 }
 
-/* A finite number, as swim run reads its number options. */
-static int number(const char *opt, const char *v, double *out)
-{
-    char *end;
-    errno = 0;
-    const double x = strtod(v, &end);
-    if (*v == '\0' || *end != '\0' || end == v || errno == ERANGE || !isfinite(x)) {
-        swim_message(stderr, "%s: --%s: '%s' is not a finite number", PROG, opt, v);
-        return 2;
-    }
-    *out = x;
-    return 0;
-}
-
-/* The job's adjustment: the run options over the scene, checked and recorded as swim run's are
- * (cli/run_settings.c): the bounds name the option, OUT/scene.toml gets "run.t_end=%.17g". */
+/* The job's adjustment: the run options over the scene, read, bounded and recorded into
+ * OUT/scene.toml by swim run's own code (cli/run_settings.h). */
 static int adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx)
 {
     const options *o = ctx;
-    swim_run_overrides cli = {{0}};
-    double *field[3] = {&s->t_end, &s->rtol, &s->atol};
-    for (int k = 0; k < 3; k++) {
-        if (!o->value[k]) continue;
-        if (number(number_opt[k], o->value[k], field[k])) return 2;
-        cli.given[number_set[k]] = 1;
-    }
-    if (swim_run_settings_check(s, &cli) != 0) return 2;
-    *nrecorded = 0;
-    for (int k = 0; k < 3; k++) {
-        if (!o->value[k]) continue;
-        char text[160];
-        snprintf(text, sizeof text, "%s=%.17g", number_key[k], *field[k]);
-        if (swim_override_parse(text, &recorded[*nrecorded], NULL, 0) == 0) ++*nrecorded;
-    }
+    if (swim_run_settings_options(o->opts, NOPTS, s) != 0) return 2;
+    *nrecorded = swim_run_settings_record(o->opts, NOPTS, s, recorded);
     return 0;
 }
 
@@ -146,22 +105,19 @@ static void on_notice(void *ctx, const char *line) { swim_message(stderr, "%s", 
 
 int main(int argc, char **argv)
 {
-    for (int i = 1; i < argc; i++)
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            usage(stdout);
-            return 0;
-        }
     options *o = calloc(1, sizeof *o);
     char *scene = scene_file(), *command = swim_shell_words(argc, (const char *const *)argv);
     if (!o || !scene || !command) {
         swim_message(stderr, "%s: out of memory", PROG);
         return 1;
     }
+    init_options(o);
     int rc = read_options(argc, argv, o);
     swim_job *job = NULL;
     if (rc == 0) {
-        const swim_run_job req = {.cmd = PROG, .scene_file = scene, .scene_name = SWIM_EXPORT_SCENE_NAME, .sets = o->sets, .nsets = o->nsets, .adjust = adjust,
-                                  .adjust_ctx = o, .out = o->out, .quiet = 1, .command = command,
+        const swim_run_job req = {.cmd = PROG, .scene_file = scene, .scene_name = SWIM_EXPORT_SCENE_NAME, .sets = o->sets,
+                                  .nsets = o->nsets, .events = o->events, .nevents = o->nevents, .adjust = adjust,
+                                  .adjust_ctx = o, .out = o->opts[OPT_OUT].value, .quiet = 1, .command = command,
                                   .notice = on_notice, .ctx = o};
         rc = swim_job_open(&req, &job);
     }
@@ -170,15 +126,15 @@ int main(int argc, char **argv)
         const swim_run_result *r = swim_job_result(job);
         const char *oerr = swim_job_output_error(job);
         if (oerr) swim_message(stderr, "%s: %s", PROG, oerr);
-        if (!o->quiet)
+        if (!o->opts[OPT_QUIET].value)
             swim_message(stdout, "%s: %s (%s); %ld rows in %s", swim_job_scene(job)->path, status ? "FAILED" : "completed",
                          r->reason ? r->reason : "out of memory", r->rows, swim_job_paths(job)->csv_path);
         rc = status ? 1 : 0;
-        if (fflush(stdout) != 0 && rc == 0) rc = 1;
     }
     swim_job_free(job);
     free(command);
     free(scene);
     free(o);
-    return rc;
+    /* a line lost to a full stdout is a failure, said on stderr (io/stdout_check.h) */
+    return swim_stdout_finish(PROG, rc == SWIM_ARGS_HELP ? 0 : rc);
 }

@@ -1,5 +1,7 @@
 #include "io/csv.h"
 
+#include "io/json.h"
+
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -67,7 +69,7 @@ int swim_csv_row(swim_csv *w, const double *v)
     size_t at = 0;
     for (int i = 0; i < w->columns; i++) {
         if (i) w->line[at++] = ',';
-        if (isfinite(v[i])) at += (size_t)snprintf(w->line + at, w->cap - at, "%.17g", v[i]);
+        if (isfinite(v[i])) at += (size_t)swim_number_text(w->line + at, w->cap - at, v[i]);
         else at += (size_t)snprintf(w->line + at, w->cap - at, "nan");
     }
     w->line[at++] = '\n';

@@ -1,14 +1,33 @@
 #include "io/json.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "io/message.h"
 
+int swim_number_text(char *buf, size_t len, double v)
+{
+    if (!isfinite(v)) return snprintf(buf, len, "%s", isnan(v) ? "nan" : v > 0 ? "inf" : "-inf");
+    int n = 0;
+    for (int prec = 15; prec <= 17; prec++) {
+        n = snprintf(buf, len, "%.*g", prec, v);
+        if (strtod(buf, NULL) == v) break;
+    }
+    return n;
+}
+
+void swim_number_print(FILE *f, double v)
+{
+    char buf[32];
+    swim_number_text(buf, sizeof buf, v);
+    fputs(buf, f);
+}
+
 void swim_json_number(FILE *f, double v)
 {
     if (isfinite(v))
-        fprintf(f, "%.17g", v);
+        swim_number_print(f, v);
     else
         fputs("null", f);
 }

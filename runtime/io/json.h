@@ -1,9 +1,17 @@
-/* json.h -- the one JSON writer: numbers at full precision (%.17g), NaN/inf as null. */
+/* json.h -- the one JSON writer: numbers as the shortest text that reads back to the same double
+ * (swim_number_text, also every CSV's format), NaN/inf as null. */
 #ifndef SWIM_JSON_H
 #define SWIM_JSON_H
 
 #include <stdio.h>
 
+/* v as the shortest text strtod reads back to the same double: %.15g, %.16g or %.17g, the first
+ * that round-trips (a double has 15.95 digits, so any shorter exact text is the %.15g one with its
+ * trailing zeros dropped): 30 as "30", 0.05 as "0.05", never "3e+01" or "0.050000000000000003";
+ * "nan", "inf" or "-inf" when not finite. len >= 32. Returns the length. */
+int swim_number_text(char *buf, size_t len, double v);
+/* FILE gets swim_number_text(v) (nan/inf as the text says; for JSON use swim_json_number). */
+void swim_number_print(FILE *f, double v);
 void swim_json_number(FILE *f, double v);
 /* [v0, v1, ...] */
 void swim_json_vector(FILE *f, const double *v, int n);

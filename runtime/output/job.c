@@ -345,7 +345,7 @@ static void run_lyapunov(swim_job *j)
     } else {
         j->lyap_status = j->lyap.status == 0 ? "written" : "failed";
         if (j->lyap.status == 0 && !(j->req.stop && *j->req.stop) && j->req.lyapunov_done)
-            j->req.lyapunov_done(j->req.ctx, path, j->lyap.exponent, j->lyap.horizon, j->lyap.rtol, j->lyap.seconds);
+            j->req.lyapunov_done(j->req.ctx, path, &j->lyap);
     }
     const int sig = j->req.stop ? *j->req.stop : 0;
     if (sig && rc == 0) {
@@ -371,6 +371,25 @@ static void lyapunov_json(FILE *f, const void *ctx)
     swim_json_number(f, l->n > 0 ? l->exponent : NAN);
     fprintf(f, ", \"exponent_second_half\": ");
     swim_json_number(f, l->n > 0 ? l->exponent_half : NAN);
+    fprintf(f, ", \"verdict\": \"%s\", \"rate_first_half\": ", swim_lyapunov_verdict_name(l->verdict));
+    swim_json_number(f, l->rate_first);
+    fprintf(f, ", \"rate_second_half\": ");
+    swim_json_number(f, l->rate_second);
+    fprintf(f, ", \"agreement_tolerance\": ");
+    swim_json_number(f, SWIM_LYAPUNOV_AGREE);
+    fprintf(f, ", \"growth_power\": ");
+    swim_json_number(f, l->power);
+    fprintf(f, ", \"horizon_from_power\": ");
+    swim_json_number(f, l->horizon_power);
+    fprintf(f, ", \"t_end_needed\": ");
+    swim_json_number(f, l->t_end_needed);
+    fprintf(f, ", \"verdict_note\": \"sum ln r_k fitted by a line in t over each half (rate_first_half, "
+               "rate_second_half) and by a line in ln t over the second half (growth_power p: |w| ~ t^p); "
+               "converged: the rates agree within agreement_tolerance (relative), the second half grows by at "
+               "least %g e-folds and there are at least %d intervals: the exponent is a result; regular: else "
+               "p <= %g, the growth is a power of t, not exponential (regular motion), the exponent tends to 0 "
+               "and horizon_from_power extrapolates t^p to ln(separation / rtol); not_converged: neither, run "
+               "to t_end_needed\"", SWIM_LYAPUNOV_EFOLDS, SWIM_LYAPUNOV_MIN_SEGMENTS, SWIM_LYAPUNOV_POWER);
     fprintf(f, ", \"interval\": ");
     swim_json_number(f, l->interval);
     fprintf(f, ", \"t_end\": ");

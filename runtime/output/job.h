@@ -18,6 +18,8 @@
 
 #include "driver/run.h"
 #include "output/folder.h"
+
+struct swim_lyapunov_s;   /* control/lyapunov.h */
 #include "scene/scene.h"
 
 #define SWIM_JOB_MAX_SETS 64
@@ -52,7 +54,7 @@ typedef struct {
     void (*notice)(void *ctx, const char *line);           /* lines for the user (driver/run.h) */
     void (*progress)(void *ctx, double t, double t_end);
     void (*sens_done)(void *ctx, int nkeys, const char *path, double t, double seconds, long evals);
-    void (*lyapunov_done)(void *ctx, const char *path, double exponent, double horizon, double rtol, double seconds);
+    void (*lyapunov_done)(void *ctx, const char *path, const struct swim_lyapunov_s *l);
     void *ctx;
 } swim_run_job;
 

@@ -118,7 +118,14 @@ void sweep_free(sweep_plan *p)
     p->finished = NULL;
     free(p->scene_text);
     p->scene_text = NULL;
-    if (p->lock_fd >= 0) close(p->lock_fd);   /* releases DIR's lock */
+    if (p->lock_fd >= 0) {
+        /* the lock file goes while it is held: a sweep that opened it meanwhile finds, once it has
+         * the lock, that its file is no longer DIR's (lock_dir checks) and opens the path again */
+        char path[SWIM_SWEEP_PATH + 64];
+        snprintf(path, sizeof path, "%s/sweep.lock", p->dir);
+        unlink(path);
+        close(p->lock_fd);   /* releases DIR's lock */
+    }
     p->lock_fd = -1;
 }
 
@@ -270,10 +277,19 @@ static int lock_dir(sweep_plan *p)
 {
     char path[SWIM_SWEEP_PATH + 64], holder[128] = "";
     snprintf(path, sizeof path, "%s/sweep.lock", p->dir);
-    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd < 0) {
-        swim_message(stderr, "swim %s: cannot open %s: %s", p->cmd, path, strerror(errno));
-        return 1;
+    int fd = -1;
+    for (int attempt = 0;; attempt++) {
+        fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+        if (fd < 0) {
+            swim_message(stderr, "swim %s: cannot open %s: %s", p->cmd, path, strerror(errno));
+            return 1;
+        }
+        if (flock(fd, LOCK_EX | LOCK_NB) != 0) break;
+        /* held: still DIR's lock file, or one a finished sweep removed before it let go? */
+        struct stat a, b;
+        if (attempt >= 8 || (fstat(fd, &a) == 0 && stat(path, &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino))
+            break;
+        close(fd);
     }
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
         const int busy = errno == EWOULDBLOCK;
@@ -455,10 +471,7 @@ static void real_field(const swim_summary_real *r, char *out, size_t len)
 {
     out[0] = '\0';
     if (!r->set) return;
-    for (int prec = 1; prec <= 17; prec++) {
-        snprintf(out, len, "%.*g", prec, r->value);
-        if (strtod(out, NULL) == r->value) return;
-    }
+    swim_number_text(out, len, r->value);
 }
 
 static void count_field(const swim_summary_count *c, char *out, size_t len)
@@ -494,7 +507,11 @@ static void format_row(const sweep_plan *p, long m, const swim_summary *s, char 
     char reason[404];
     reason_field(s->reason, reason, sizeof reason);
     int k = snprintf(row, len, "%ld", m);
-    for (int v = 0; v < p->nvary && (size_t)k < len; v++) k += snprintf(row + k, len - (size_t)k, ",%.17g", sweep_value(p, m, v));
+    char num[32];
+    for (int v = 0; v < p->nvary && (size_t)k < len; v++) {
+        swim_number_text(num, sizeof num, sweep_value(p, m, v));
+        k += snprintf(row + k, len - (size_t)k, ",%s", num);
+    }
     if ((size_t)k < len) k += snprintf(row + k, len - (size_t)k, ",%s,\"%s\"", s->status, reason);
     char tok[64];
     for (size_t i = 0; i < sizeof columns / sizeof columns[0] && (size_t)k < len; i++) {
