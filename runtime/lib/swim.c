@@ -33,10 +33,13 @@
 #include "shape/shape.h"
 
 #define MAX_SETS 64
-#if SWIM_BUILD_MAJOR != SWIM_VERSION_MAJOR || SWIM_BUILD_MINOR != SWIM_VERSION_MINOR || SWIM_BUILD_PATCH != SWIM_VERSION_PATCH
+/* runtime/lib/module.mk passes VERSION's numbers and the SONAME's (test_library checks the same
+ * at run time, for a build without them) */
+#if defined(SWIM_BUILD_MAJOR) && (SWIM_BUILD_MAJOR != SWIM_VERSION_MAJOR || SWIM_BUILD_MINOR != SWIM_VERSION_MINOR || \
+                                  SWIM_BUILD_PATCH != SWIM_VERSION_PATCH)
 #error "VERSION and swim.h's SWIM_VERSION_MAJOR/MINOR/PATCH disagree"
 #endif
-#if SWIM_BUILD_ABI != SWIM_ABI
+#if defined(SWIM_BUILD_ABI) && SWIM_BUILD_ABI != SWIM_ABI
 #error "the SONAME's number (runtime/lib/module.mk) is not swim.h's SWIM_ABI"
 #endif
 _Static_assert(SWIM_LIB_MAX_EVENTS == SWIM_RUN_MAX_EVENTS, "the library's event bound is the driver's");
