@@ -384,6 +384,7 @@ static void test_model_set(void)
     swim_result rl = SWIM_RESULT_INIT;
     model_rows(m, &last, &rl);
     CHECK(same_rows(&last, &before), "after the refusals the model runs as before, bit for bit");
+    free(last.v);
     /* a stiffness value that keeps the zeros, a parameter-free run key */
     CHECK(swim_model_set(m, "elastic.stiffness.am1", "3", &e) == SWIM_OK && swim_model_set(m, "run.t_end", "1", &e) == SWIM_OK,
           "a nonzero stiffness and run.t_end are run-time keys: %s", e.message);

@@ -124,10 +124,9 @@ SWIM_API const char *swim_model_scene_text(const swim_model *m);
  * barrier.alpha, shape.c0 / shape.dc0 items, run.t_end, run.rtol, run.integrator, ...), in
  * place: the scene file is not read again and the kernels stay (a simulation created afterwards
  * equals one of a model opened with that override, bit for bit). A key that changes the kernel's
- * structure (model.modes, shape.free, forcing.law, stroke.*, or a value that makes a zero of
- * elastic.stiffness, damping.diagonal or forcing.direction nonzero or back, or barrier.epsilon
- * to or from 0) is SWIM_EINPUT naming it, and so is a value --set refuses; the model is then as
- * before. Simulations already created keep the values they were created with. Not while another
+ * structure (model.modes, shape.free, forcing.law, stroke.*, or a value that changes the
+ * structure key the kernel cache uses: a zero of elastic.stiffness made nonzero or back, ...) is
+ * SWIM_EINPUT naming it, and so is a value --set refuses; the model is then as before. Simulations already created keep the values they were created with. Not while another
  * thread uses the model (creating a simulation of it); the string of swim_model_scene_text is
  * replaced. */
 SWIM_API int swim_model_set(swim_model *model, const char *key, const char *value, swim_error *err);
