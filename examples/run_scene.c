@@ -26,13 +26,16 @@ int main(int argc, char **argv)
     const char *sets[] = {set};
     swim_model *model;
     swim_sim *sim;
-    swim_error err;
+    swim_error err = SWIM_ERROR_INIT;   /* size set: the library fills what this struct holds */
     if (swim_model_from_file(argv[1], sets, 1, &model, &err) != SWIM_OK) {
-        fprintf(stderr, "run_scene: %s (file %s, line %d, key %s)\n", err.message, err.file, err.line, err.key);
+        fprintf(stderr, "run_scene: %s (file %s, line %d, key %s; %s)\n", err.message, err.file, err.line, err.key,
+                swim_strerror(err.status));
         return 2;
     }
     long rows = 0;
-    swim_sim_options opts = {count_row, &rows, NULL, 0, NULL};
+    swim_sim_options opts = SWIM_SIM_OPTIONS_INIT;
+    opts.rows = count_row;
+    opts.rows_ctx = &rows;
     if (swim_sim_create(model, &opts, &sim, &err) != SWIM_OK) {
         fprintf(stderr, "run_scene: %s\n", err.message);
         swim_model_free(model);
@@ -40,7 +43,7 @@ int main(int argc, char **argv)
     }
     const int rc = swim_sim_run(sim, &err);
     if (rc != SWIM_OK) fprintf(stderr, "run_scene: the run failed: %s\n", err.message);
-    swim_result r;
+    swim_result r = SWIM_RESULT_INIT;
     swim_sim_result(sim, &r);
     printf("swim %s: %ld rows\n", swim_version(), rows);
     printf("%.17g %.17g %.17g %.17g\n", r.t_reached, r.x, r.y, r.theta);

@@ -162,5 +162,42 @@ def test_fig48_recipe_as_written():
     check(p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1, "plot --events nonsense: %d %s" % (p.returncode, p.stderr))
 
 
+def test_library_md_c_blocks_compile_and_run():
+    """Every ```c block of docs/library.md is a program: compiled against runtime/lib/swim.h with
+    -Wall -Wextra -Werror, linked with make lib's libswim and run from the source tree (exit 0)."""
+    import shutil
+    import tempfile
+    text = open(os.path.join(ROOT, "docs", "library.md"), encoding="utf-8").read()
+    blocks = re.findall(r"```c\n(.*?)```", text, re.S)
+    check(len(blocks) >= 2, "docs/library.md has %d C blocks, expected the programs" % len(blocks))
+    with open(os.path.join(ROOT, "VERSION")) as f:
+        so = os.path.join(ROOT, "build", "lib", "libswim.so." + f.read().strip())
+    abi = re.search(r"^#define SWIM_ABI (\d+)$", open(os.path.join(ROOT, "runtime", "lib", "swim.h")).read(), re.M)
+    check(os.path.exists(so) and abi is not None, "no %s (make lib) or no SWIM_ABI in swim.h" % so)
+    if not os.path.exists(so) or abi is None:
+        return
+    # in build/: the library finds the generator next to the program, as for the test programs
+    tmp = tempfile.mkdtemp(prefix="libdocs-", dir=os.path.join(ROOT, "build"))
+    try:
+        os.symlink(so, os.path.join(tmp, "libswim.so." + abi.group(1)))   # the SONAME the program asks for
+        env = dict(os.environ, LD_LIBRARY_PATH=tmp)
+        env.setdefault("SWIM_CACHE", os.path.join(ROOT, "build", "cache"))
+        for i, block in enumerate(blocks):
+            src, exe = os.path.join(tmp, "block%d.c" % i), os.path.join(tmp, "block%d" % i)
+            with open(src, "w") as f:
+                f.write(block)
+            p = subprocess.run(["cc", "-std=c11", "-Wall", "-Wextra", "-Werror", "-I", os.path.join(ROOT, "runtime", "lib"),
+                                src, so, "-o", exe], capture_output=True, text=True)
+            first = block.strip().splitlines()[0] if block.strip() else ""
+            check(p.returncode == 0, "docs/library.md C block %d (%s) does not compile: %s" % (i + 1, first, p.stderr[-600:]))
+            if p.returncode != 0:
+                continue
+            p = subprocess.run([exe], capture_output=True, text=True, cwd=ROOT, env=env, timeout=120)
+            check(p.returncode == 0, "docs/library.md C block %d exits %d: %s%s" % (i + 1, p.returncode, p.stdout[-300:],
+                                                                                  p.stderr[-300:]))
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
 if __name__ == "__main__":
     sys.exit(main(globals(), "test_docs"))

@@ -5,7 +5,12 @@
  *   - two simulations on two threads give the results of two sequential ones, bit for bit;
  *   - the row callback can stop a run, which then fails saying so;
  *   - swim_inspect's K is Md - N^T Mr^-1 N and symmetric, Gamma(v, v) is Gamma contracted twice,
- *     and an inadmissible shape is refused naming the argument. */
+ *     and an inadmissible shape is refused naming the argument;
+ *   - the version macros are swim_version()'s numbers; swim_strerror names every status;
+ *   - the caller's structs are filled only as far as their size field says (a bigger struct's
+ *     tail untouched, a too small one refused and left as it was);
+ *   - swim_model_set of a run-time key gives the rows of a model opened with that override, bit
+ *     for bit; a structure key or a bad value is refused naming the key, the model unchanged. */
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -37,15 +42,29 @@ static int keep_row(void *ctx, double t, const double *values, int ncol)
     return r->stop_after > 0 && r->n >= r->stop_after;
 }
 
+/* The rows of model m run to its end. */
+static int model_rows(const swim_model *m, rows *out, swim_result *res)
+{
+    swim_sim *s;
+    swim_error e = SWIM_ERROR_INIT;
+    memset(out, 0, sizeof *out);
+    swim_sim_options o = {sizeof o, keep_row, out, NULL, 0, NULL};
+    if (swim_sim_create(m, &o, &s, &e) != SWIM_OK) return -1;
+    const int rc = swim_sim_run(s, &e);
+    swim_sim_result(s, res);
+    swim_sim_free(s);
+    return rc;
+}
+
 /* The rows of scene path with overrides, run to its end (or in pieces of `piece` time units). */
 static int run_rows(const char *path, const char *const *sets, int nsets, double piece, rows *out, swim_result *res)
 {
     swim_model *m;
     swim_sim *s;
-    swim_error e;
+    swim_error e = SWIM_ERROR_INIT;
     memset(out, 0, sizeof *out);
     if (swim_model_from_file(path, sets, nsets, &m, &e) != SWIM_OK) return -1;
-    swim_sim_options o = {keep_row, out, NULL, 0, NULL};
+    swim_sim_options o = {sizeof o, keep_row, out, NULL, 0, NULL};
     if (swim_sim_create(m, &o, &s, &e) != SWIM_OK) {
         swim_model_free(m);
         return -1;
@@ -75,7 +94,7 @@ static void test_pieces(void)
 {
     const char *sets[] = {"run.t_end=3"};
     rows whole, parts;
-    swim_result rw, rp;
+    swim_result rw = SWIM_RESULT_INIT, rp = SWIM_RESULT_INIT;
     CHECK(run_rows("models/example3.toml", sets, 1, 0, &whole, &rw) == SWIM_OK, "Example 3 runs");
     CHECK(run_rows("models/example3.toml", sets, 1, 0.37, &parts, &rp) == SWIM_OK, "Example 3 runs in pieces");
     CHECK(same_rows(&whole, &parts), "pieces of 0.37 give the rows of one run, bit for bit (%ld vs %ld rows)", whole.n,
@@ -89,7 +108,7 @@ static void test_pieces(void)
 static void test_errors(void)
 {
     swim_model *m = NULL;
-    swim_error e;
+    swim_error e = SWIM_ERROR_INIT;
     const char *bad[] = {"model.rho0=-1"};
     int rc = swim_model_from_file("models/example3.toml", bad, 1, &m, &e);
     CHECK(rc == SWIM_EINPUT && m == NULL && e.status == SWIM_EINPUT, "a refused override is SWIM_EINPUT (%d)", rc);
@@ -108,16 +127,16 @@ static void test_errors(void)
     CHECK(rc == SWIM_OK && m, "a good scene after the errors loads");
     swim_sim *s = NULL;
     const char *ev[] = {"nosuchcolumn:max"};
-    swim_sim_options o = {NULL, NULL, ev, 1, NULL};
+    swim_sim_options o = {sizeof o, NULL, NULL, ev, 1, NULL};
     rc = swim_sim_create(m, &o, &s, &e);
     CHECK(rc == SWIM_EINPUT && s == NULL && strstr(e.message, "nosuchcolumn"), "a bad event: %s", e.message);
     /* the caller's callback stops the run */
     rows r = {0};
     r.stop_after = 3;
-    swim_sim_options o2 = {keep_row, &r, NULL, 0, NULL};
+    swim_sim_options o2 = {sizeof o2, keep_row, &r, NULL, 0, NULL};
     CHECK(swim_sim_create(m, &o2, &s, &e) == SWIM_OK, "a simulation");
     rc = swim_sim_run(s, &e);
-    swim_result res;
+    swim_result res = SWIM_RESULT_INIT;
     swim_sim_result(s, &res);
     CHECK(rc == SWIM_EFAILED && strstr(e.message, "stopped by the caller") && res.rows == 3 && !res.completed,
           "stopped by the row callback after 3 rows: %s (%ld rows)", e.message, res.rows);
@@ -147,8 +166,8 @@ static void *run_job(void *p)
 
 static void test_threads(void)
 {
-    job seq[2] = {{"models/example3.toml", "run.t_end=4", {0}, {0}, 0},
-                  {"models/hard/near_boundary_a05.toml", "run.t_end=0.5", {0}, {0}, 0}};
+    job seq[2] = {{"models/example3.toml", "run.t_end=4", {0}, SWIM_RESULT_INIT, 0},
+                  {"models/hard/near_boundary_a05.toml", "run.t_end=0.5", {0}, SWIM_RESULT_INIT, 0}};
     job par[2] = {seq[0], seq[1]};
     for (int i = 0; i < 2; i++) run_job(&seq[i]);
     pthread_t th[2];
@@ -182,8 +201,8 @@ static void test_inspect(void)
     enum { N = 2, n = 2 * (N + 1) };
     const double c[n] = {1, 0, 0.2, -0.05, 0.1, 0.04}, v[n] = {0, 0, 0.1, 0.3, -0.2, 0.1};
     double Mr[9], Nc[3 * n], Md[n * n], K[n * n], gvv[n], G[n * n * n];
-    swim_inspection in = {0, Mr, Nc, Md, K, gvv, G};
-    swim_error e;
+    swim_inspection in = {sizeof in, 0, Mr, Nc, Md, K, gvv, G};
+    swim_error e = SWIM_ERROR_INIT;
     CHECK(swim_inspect(N, c, v, 1.3, 0.7, &in, &e) == SWIM_OK, "swim_inspect at an admissible shape: %s", e.message);
     double worst = 0, asym = 0, scale = 0, gerr = 0;
     for (int j = 0; j < n; j++) {
@@ -212,6 +231,175 @@ static void test_inspect(void)
     CHECK(rc == SWIM_EINPUT && strcmp(e.key, "rhof") == 0, "rhof = 0 refused, key rhof (%d, %s)", rc, e.key);
 }
 
+static void test_versions(void)
+{
+    char want[64];
+    snprintf(want, sizeof want, "%d.%d.%d", SWIM_VERSION_MAJOR, SWIM_VERSION_MINOR, SWIM_VERSION_PATCH);
+    CHECK(strcmp(swim_version(), want) == 0, "swim.h's version macros %s are the library's %s", want, swim_version());
+    const char *names[] = {"SWIM_OK", "SWIM_EFAILED", "SWIM_EINPUT", "SWIM_ENOMEM", "SWIM_EKERNEL"};
+    const int statuses[] = {SWIM_OK, SWIM_EFAILED, SWIM_EINPUT, SWIM_ENOMEM, SWIM_EKERNEL};
+    for (int i = 0; i < 5; i++) {
+        const char *t = swim_strerror(statuses[i]);
+        CHECK(t && strncmp(t, names[i], strlen(names[i])) == 0 && t[strlen(names[i])] == ':' && strlen(t) > 20,
+              "swim_strerror(%d) names %s: %s", statuses[i], names[i], t ? t : "(NULL)");
+    }
+    CHECK(strcmp(swim_strerror(-SWIM_EINPUT), swim_strerror(SWIM_EINPUT)) == 0, "a negated status is named too");
+    CHECK(strcmp(swim_strerror(99), "unknown status") == 0, "an unknown status: %s", swim_strerror(99));
+    CHECK(swim_struct_size("swim_error") == sizeof(swim_error) && swim_struct_size("swim_result") == sizeof(swim_result) &&
+          swim_struct_size("swim_sim_options") == sizeof(swim_sim_options) &&
+          swim_struct_size("swim_inspection") == sizeof(swim_inspection) && swim_struct_size("swim_x") == 0 &&
+          swim_struct_size(NULL) == 0, "swim_struct_size gives the header's sizes");
+}
+
+/* A caller's struct of `size` bytes inside a buffer of 0xAB: the bytes from `size` on stay 0xAB. */
+static int tail_untouched(const unsigned char *buf, size_t from, size_t len)
+{
+    for (size_t i = from; i < len; i++)
+        if (buf[i] != 0xAB) return 0;
+    return 1;
+}
+
+static void test_sizes(void)
+{
+    enum { PAD = 64 };
+    const char *sets[] = {"run.t_end=0.2"};
+    swim_model *m = NULL;
+    swim_sim *s = NULL;
+    swim_error e = SWIM_ERROR_INIT;
+    if (swim_model_from_file("models/example3.toml", sets, 1, &m, &e) != SWIM_OK ||
+        swim_sim_create(m, NULL, &s, &e) != SWIM_OK || swim_sim_run(s, &e) != SWIM_OK) {
+        CHECK(0, "Example 3 runs: %s", e.message);
+        return;
+    }
+    /* a newer caller's bigger struct: the library fills its own part, the rest stays */
+    union { swim_result r; unsigned char b[sizeof(swim_result) + PAD]; } big;
+    memset(big.b, 0xAB, sizeof big.b);
+    big.r.size = sizeof big.b;
+    CHECK(swim_sim_result(s, &big.r) == SWIM_OK && big.r.completed && big.r.t_reached == 0.2 &&
+          big.r.size == sizeof big.b && tail_untouched(big.b, sizeof(swim_result), sizeof big.b),
+          "a bigger swim_result: filled up to sizeof(swim_result), its tail and size untouched");
+    /* a size below the first layout: refused, nothing written */
+    memset(big.b, 0xAB, sizeof big.b);
+    big.r.size = sizeof(swim_result) - sizeof(long);
+    CHECK(swim_sim_result(s, &big.r) == SWIM_EINPUT && tail_untouched(big.b, sizeof(size_t), sizeof big.b),
+          "a swim_result smaller than its first layout: SWIM_EINPUT, not written");
+    big.r.size = 0;
+    CHECK(swim_sim_result(s, &big.r) == SWIM_EINPUT, "a swim_result of size 0 (never set): SWIM_EINPUT");
+
+    /* the error struct: a bigger one filled up to its size; one of size 0 left as it was */
+    union { swim_error e; unsigned char b[sizeof(swim_error) + PAD]; } berr;
+    memset(berr.b, 0xAB, sizeof berr.b);
+    berr.e.size = sizeof berr.b;
+    CHECK(swim_sim_advance(s, NAN, &berr.e) == SWIM_EINPUT && strcmp(berr.e.key, "t") == 0 &&
+          berr.e.size == sizeof berr.b && tail_untouched(berr.b, sizeof(swim_error), sizeof berr.b),
+          "a bigger swim_error: the error in it (key '%s'), its tail untouched", berr.e.key);
+    memset(berr.b, 0xAB, sizeof berr.b);
+    berr.e.size = 0;
+    CHECK(swim_sim_advance(s, NAN, &berr.e) == SWIM_EINPUT && tail_untouched(berr.b, sizeof(size_t), sizeof berr.b),
+          "a swim_error of size 0: SWIM_EINPUT, nothing written into it");
+
+    /* options and inspection: too small is SWIM_EINPUT naming the struct */
+    swim_sim *s2 = NULL;
+    swim_sim_options o = {0};
+    int rc = swim_sim_create(m, &o, &s2, &e);
+    CHECK(rc == SWIM_EINPUT && s2 == NULL && strcmp(e.key, "swim_sim_options") == 0 && strstr(e.message, "size"),
+          "swim_sim_options without its size: %d key '%s' (%s)", rc, e.key, e.message);
+    union { swim_sim_options o; unsigned char b[sizeof(swim_sim_options) + PAD]; } bo;
+    memset(bo.b, 0xAB, sizeof bo.b);   /* a newer caller's fields: not read (they would be garbage) */
+    bo.o = (swim_sim_options)SWIM_SIM_OPTIONS_INIT;
+    bo.o.size = sizeof bo.b;
+    CHECK(swim_sim_create(m, &bo.o, &s2, &e) == SWIM_OK && swim_sim_run(s2, &e) == SWIM_OK,
+          "a bigger swim_sim_options: its own fields read, the run goes: %s", e.message);
+    swim_sim_free(s2);
+    const double c[4] = {1, 0, 0.1, 0};
+    double Mr[9];
+    swim_inspection in = {0};
+    in.mass_rigid = Mr;
+    rc = swim_inspect(1, c, NULL, 1, 1, &in, &e);
+    CHECK(rc == SWIM_EINPUT && strcmp(e.key, "swim_inspection") == 0, "swim_inspection without its size: %d key '%s'",
+          rc, e.key);
+    swim_sim_free(s);
+    swim_model_free(m);
+}
+
+static void test_model_set(void)
+{
+    const char *sets[] = {"run.t_end=2"}, *with[] = {"run.t_end=2", "model.rho0=2"};
+    swim_model *m = NULL, *ref = NULL;
+    swim_error e = SWIM_ERROR_INIT;
+    if (swim_model_from_file("models/example3.toml", sets, 1, &m, &e) != SWIM_OK ||
+        swim_model_from_file("models/example3.toml", with, 2, &ref, &e) != SWIM_OK) {
+        CHECK(0, "Example 3 loads: %s", e.message);
+        return;
+    }
+    rows before, after, want;
+    swim_result rb = SWIM_RESULT_INIT, ra = SWIM_RESULT_INIT, rw = SWIM_RESULT_INIT;
+    model_rows(m, &before, &rb);
+    /* a simulation created before the set keeps rho0 = 1 */
+    swim_sim *old = NULL;
+    rows old_rows = {0};
+    swim_sim_options o = {sizeof o, keep_row, &old_rows, NULL, 0, NULL};
+    CHECK(swim_sim_create(m, &o, &old, &e) == SWIM_OK, "a simulation before the set");
+    CHECK(swim_model_set(m, "model.rho0", "2", &e) == SWIM_OK, "model.rho0 set to 2: %s", e.message);
+    model_rows(m, &after, &ra);
+    model_rows(ref, &want, &rw);
+    CHECK(same_rows(&after, &want) && ra.x == rw.x && ra.y == rw.y && ra.steps == rw.steps,
+          "set model.rho0=2, then a run: the rows of a model opened with it, bit for bit (%ld, %ld rows)", after.n, want.n);
+    CHECK(!same_rows(&before, &after), "and not the rows of rho0 = 1");
+    CHECK(strstr(swim_model_scene_text(m), "rho0 = 2") != NULL, "the scene text has the new value");
+    swim_sim_run(old, &e);
+    CHECK(same_rows(&old_rows, &before), "a simulation created before the set runs with rho0 = 1");
+    char *json = swim_sim_summary_json(old);
+    CHECK(json && !strstr(json, "model.rho0=2"), "and its summary lists the overrides it was made with");
+    swim_free(json);
+    swim_sim_free(old);
+    /* the same key again replaces it: back to 1 gives the first rows */
+    rows back;
+    swim_result rbk = SWIM_RESULT_INIT;
+    CHECK(swim_model_set(m, "model.rho0", "1.0", &e) == SWIM_OK, "model.rho0 set back to 1: %s", e.message);
+    model_rows(m, &back, &rbk);
+    CHECK(same_rows(&back, &before), "set back, the rows are the first ones, bit for bit");
+    /* refused: structure keys, a value that changes the structure, bad values; the model as it was */
+    int rc = swim_model_set(m, "model.modes", "3", &e);
+    CHECK(rc == SWIM_EINPUT && strcmp(e.key, "model.modes") == 0 && strstr(e.message, "structure"),
+          "model.modes refused: %d key '%s' (%s)", rc, e.key, e.message);
+    rc = swim_model_set(m, "elastic.stiffness.am1", "0", &e);
+    CHECK(rc == SWIM_EINPUT && strcmp(e.key, "elastic.stiffness.am1") == 0 && strstr(e.message, "structure"),
+          "a stiffness made zero changes the structure, refused: %d key '%s' (%s)", rc, e.key, e.message);
+    rc = swim_model_set(m, "model.rho0", "-1", &e);
+    CHECK(rc == SWIM_EINPUT && strcmp(e.key, "model.rho0") == 0 && strstr(e.file, "example3.toml"),
+          "rho0 = -1 refused as --set refuses it: %d file '%s' key '%s' (%s)", rc, e.file, e.key, e.message);
+    rc = swim_model_set(m, "model.rho0", "abc(", &e);
+    CHECK(rc == SWIM_EINPUT && strcmp(e.key, "model.rho0") == 0, "a value that does not parse: %d key '%s' (%s)", rc,
+          e.key, e.message);
+    rc = swim_model_set(m, "model.nosuch", "1", &e);
+    CHECK(rc == SWIM_EINPUT && e.message[0], "an unknown key: %d (%s)", rc, e.message);
+    rc = swim_model_set(NULL, "model.rho0", "1", &e);
+    CHECK(rc == SWIM_EINPUT && strcmp(e.key, "model") == 0, "a NULL model");
+    rc = swim_model_set(m, NULL, "1", &e);
+    CHECK(rc == SWIM_EINPUT && strcmp(e.key, "key") == 0, "a NULL key");
+    rc = swim_model_set(m, "model.rho0", NULL, &e);
+    CHECK(rc == SWIM_EINPUT && strcmp(e.key, "value") == 0, "a NULL value");
+    rows last;
+    swim_result rl = SWIM_RESULT_INIT;
+    model_rows(m, &last, &rl);
+    CHECK(same_rows(&last, &before), "after the refusals the model runs as before, bit for bit");
+    free(last.v);
+    /* a stiffness value that keeps the zeros, a parameter-free run key */
+    CHECK(swim_model_set(m, "elastic.stiffness.am1", "3", &e) == SWIM_OK && swim_model_set(m, "run.t_end", "1", &e) == SWIM_OK,
+          "a nonzero stiffness and run.t_end are run-time keys: %s", e.message);
+    model_rows(m, &last, &rl);
+    CHECK(rl.completed && rl.t_reached == 1.0, "run.t_end set to 1: the run ends at %g", rl.t_reached);
+    free(last.v);
+    free(before.v);
+    free(after.v);
+    free(want.v);
+    free(old_rows.v);
+    free(back.v);
+    swim_model_free(m);
+    swim_model_free(ref);
+}
+
 int main(void)
 {
     CHECK(strcmp(swim_version(), "unknown") != 0 && strchr(swim_version(), '.'), "a version: %s", swim_version());
@@ -219,5 +407,8 @@ int main(void)
     test_errors();
     test_threads();
     test_inspect();
+    test_versions();
+    test_sizes();
+    test_model_set();
     return check_report("test_library");
 }

@@ -39,7 +39,7 @@ static void expect_input(int rc, const swim_error *e, const char *key, const cha
 static void test_model_arguments(void)
 {
     swim_model *m = (swim_model *)1;
-    swim_error e;
+    swim_error e = SWIM_ERROR_INIT;
     const char *one[] = {"run.t_end=1"}, *holed[] = {"run.t_end=1", NULL};
     expect_input(swim_model_from_file(SCENE, NULL, 0, NULL, &e), &e, "out", "out NULL");
     expect_input(swim_model_from_file(NULL, NULL, 0, &m, &e), &e, "path", "path NULL");
@@ -71,7 +71,7 @@ static void test_sim_arguments(void)
 {
     swim_model *m;
     swim_sim *s = (swim_sim *)1;
-    swim_error e;
+    swim_error e = SWIM_ERROR_INIT;
     const char *sets[] = {"run.t_end=2"};
     if (swim_model_from_file(SCENE, sets, 1, &m, &e) != SWIM_OK) {
         CHECK(0, "Example 3 loads: %s", e.message);
@@ -79,7 +79,7 @@ static void test_sim_arguments(void)
     }
     const char *const *names;
     CHECK(swim_model_columns(m, NULL) == -SWIM_EINPUT && swim_model_columns(m, &names) > 4, "columns");
-    swim_sim_options o = {0};
+    swim_sim_options o = SWIM_SIM_OPTIONS_INIT;
     expect_input(swim_sim_create(m, &o, NULL, &e), &e, "out", "sim out NULL");
     expect_input(swim_sim_create(NULL, &o, &s, &e), &e, "model", "model NULL");
     CHECK(s == NULL, "a refused create leaves *out NULL");
@@ -94,7 +94,7 @@ static void test_sim_arguments(void)
     o.nevents = 0;
     expect_input(swim_sim_advance(NULL, 1, &e), &e, "sim", "advance NULL");
     expect_input(swim_sim_run(NULL, &e), &e, "sim", "run NULL");
-    swim_result r;
+    swim_result r = SWIM_RESULT_INIT;
     CHECK(swim_sim_result(NULL, &r) == SWIM_EINPUT, "result of NULL");
     CHECK(swim_sim_state(NULL, NULL, 0) == -SWIM_EINPUT, "state of NULL");
     CHECK(swim_sim_summary_json(NULL) == NULL && swim_sim_events_csv(NULL) == NULL, "summary, events of NULL");
@@ -112,7 +112,7 @@ static void test_sim_arguments(void)
     CHECK(json && strstr(json, "\"status\": \"in progress\"") && !strstr(json, "completed") && !strstr(json, "out of memory"),
           "the summary of a run advanced part way: %.200s", json ? strstr(json, "\"status\"") : "(none)");
     swim_free(json);
-    swim_result before;
+    swim_result before = SWIM_RESULT_INIT;
     swim_sim_result(s, &before);
     expect_input(swim_sim_advance(s, NAN, &e), &e, "t", "advance to NaN");
     expect_input(swim_sim_advance(s, INFINITY, &e), &e, "t", "advance to +inf");
@@ -129,7 +129,7 @@ static void test_sim_arguments(void)
 
     /* the stop flag: 1 is a request to stop, not SIGHUP */
     int flag[2] = {0, 0};
-    swim_sim_options os = {stop_after_rows, flag, NULL, 0, (volatile int *)&flag[0]};
+    swim_sim_options os = {sizeof os, stop_after_rows, flag, NULL, 0, (volatile int *)&flag[0]};
     CHECK(swim_sim_create(m, &os, &s, &e) == SWIM_OK, "a simulation with a stop flag");
     const int rc = swim_sim_run(s, &e);
     swim_sim_result(s, &r);
@@ -165,8 +165,8 @@ static void test_inspect_arguments(void)
     enum { N = 1, n = 2 * (N + 1) };
     const double c[n] = {1, 0, 0.1, 0}, bad[n] = {1, NAN, 0.1, 0};
     double Mr[9];
-    swim_inspection in = {0, Mr, NULL, NULL, NULL, NULL, NULL};
-    swim_error e;
+    swim_inspection in = {sizeof in, 0, Mr, NULL, NULL, NULL, NULL, NULL};
+    swim_error e = SWIM_ERROR_INIT;
     expect_input(swim_inspect(N, c, NULL, 1, 1, NULL, &e), &e, "out", "inspect out NULL");
     expect_input(swim_inspect(N, NULL, NULL, 1, 1, &in, &e), &e, "shape", "inspect shape NULL");
     expect_input(swim_inspect(N, bad, NULL, 1, 1, &in, &e), &e, "shape", "inspect shape NaN");
@@ -184,7 +184,7 @@ static int kernel_dir(char *dir, size_t len)
 {
     swim_model *m;
     swim_sim *s;
-    swim_error e;
+    swim_error e = SWIM_ERROR_INIT;
     const char *sets[] = {"run.t_end=0.1"};
     if (swim_model_from_file(SCENE, sets, 1, &m, &e) || swim_sim_create(m, NULL, &s, &e)) return -1;
     swim_sim_run(s, &e);
@@ -223,7 +223,7 @@ static void test_out_of_descriptors(void)
     while (nfd < 64 && (fds[nfd] = dup(0)) >= 0) nfd++;   /* every descriptor taken ... */
     if (nfd > 0) close(fds[--nfd]);                         /* ... but one: the scene file is read */
     swim_model *m = NULL;
-    swim_error e;
+    swim_error e = SWIM_ERROR_INIT;
     const int rc = swim_model_from_file(SCENE, NULL, 0, &m, &e);
     while (nfd > 0) close(fds[--nfd]);
     setrlimit(RLIMIT_NOFILE, &old);
@@ -260,8 +260,9 @@ typedef struct {
 static void *inspect_n9(void *p)
 {
     build_job *j = p;
+    j->e.size = sizeof j->e;
     double shape[20] = {1}, Mr[9];
-    swim_inspection in = {0, Mr, NULL, NULL, NULL, NULL, NULL};
+    swim_inspection in = {sizeof in, 0, Mr, NULL, NULL, NULL, NULL, NULL};
     j->rc = swim_inspect(9, shape, NULL, 1, 1, &in, &j->e);
     return NULL;
 }
@@ -316,7 +317,7 @@ static void test_kernel_builds(void)
     build_job one;
     inspect_n9(&one);
     swim_model *m = NULL;
-    swim_error em;
+    swim_error em = SWIM_ERROR_INIT;
     const int mrc = swim_model_from_file(SCENE, NULL, 0, &m, &em);   /* its scene kernel: a new cache */
     fflush(stdout);
     fflush(stderr);

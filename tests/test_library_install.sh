@@ -29,9 +29,16 @@ export PKG_CONFIG_PATH="$prefix/lib/pkgconfig"
 # CITATION.cff cites this version, not another
 [ "$(sed -n 's/^version: "\(.*\)"$/\1/p' CITATION.cff)" = "$(cat VERSION)" ] && ok || bad "CITATION.cff's version is not VERSION's"
 # only swim.h's functions are exported by the shared library
-others=$(nm -D --defined-only "$prefix/lib/libswim.so" | awk '$2 == "T" && $3 !~ /^swim_(version|free|inspect|model_|sim_)$|^swim_(model|sim)_/ {print $3}' | head -5)
+others=$(nm -D --defined-only "$prefix/lib/libswim.so" | awk '$2 == "T" && $3 !~ /^swim_(version|free|inspect|strerror|struct_size)$|^swim_(model|sim)_/ {print $3}' | head -5)
 [ -z "$others" ] && ok || bad "libswim.so exports more than swim.h: $others"
-readelf -d "$prefix/lib/libswim.so" | grep -q "SONAME.*libswim.so.$(cut -d. -f1 VERSION)\]" && ok || bad "no SONAME libswim.so.MAJOR"
+for f in swim_strerror swim_model_set swim_struct_size; do
+    nm -D --defined-only "$prefix/lib/libswim.so" | grep -q " T $f\$" && ok || bad "libswim.so does not export $f"
+done
+# one ABI number: swim.h's SWIM_ABI is the SONAME's, the installed symlink's and the Python package's
+abi=$(sed -n 's/^#define SWIM_ABI \([0-9][0-9]*\)$/\1/p' runtime/lib/swim.h)
+[ -n "$abi" ] && readelf -d "$prefix/lib/libswim.so" | grep -q "SONAME.*\[libswim.so.$abi\]" && [ -e "$prefix/lib/libswim.so.$abi" ] && ok \
+    || bad "no SONAME libswim.so.$abi (swim.h's SWIM_ABI) or no lib/libswim.so.$abi"
+grep -q "^ABI = $abi\$" python/swim/_lib.py && ok || bad "python/swim/_lib.py's ABI is not swim.h's SWIM_ABI $abi"
 
 cp examples/run_scene.c "$top/"
 # shellcheck disable=SC2046

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The Python package as a user gets it: `make install PREFIX=...` (a PREFIX with a space and a
 # quote), then from another folder Debian's python3 with PYTHONPATH=PREFIX/lib/python3/dist-packages
-# imports swim from the prefix, which loads PREFIX/lib/libswim.so.0 (not the build tree's), runs
+# imports swim from the prefix, which loads PREFIX/lib/libswim.so.ABI (not the build tree's), runs
 # Example 3 to t = 5 with the final state of `swim run` to the last bit, and says VERSION's
 # version; the import may write bytecode (PYTHONDONTWRITEBYTECODE unset, as for most users).
 # `make uninstall` removes the package and that bytecode but not another package beside it, and
@@ -28,7 +28,8 @@ want=$(python_reference "$top")
 out=$(cd "$top/elsewhere" && env -u SWIM_LIB -u SWIM_SHARE -u PYTHONDONTWRITEBYTECODE PYTHONPATH="$pkg" /usr/bin/python3 -c "$PYTHON_RUN" \
       "$OLDPWD/models/example3.toml" 2>"$top/py.err")
 [ "$(sed -n 1p <<<"$out")" = "$pkg/swim/__init__.py" ] && ok || bad "swim imported from '$(sed -n 1p <<<"$out")' ($(cat "$top/py.err"))"
-[ "$(sed -n 2p <<<"$out")" = "$prefix/lib/libswim.so.0" ] && ok || bad "libswim loaded from '$(sed -n 2p <<<"$out")'"
+abi=$(sed -n 's/^#define SWIM_ABI \([0-9][0-9]*\)$/\1/p' runtime/lib/swim.h)
+[ "$(sed -n 2p <<<"$out")" = "$prefix/lib/libswim.so.$abi" ] && ok || bad "libswim loaded from '$(sed -n 2p <<<"$out")'"
 [ "$(sed -n 3p <<<"$out")" = "$(cat VERSION)" ] && ok || bad "swim.__version__ '$(sed -n 3p <<<"$out")' vs VERSION $(cat VERSION)"
 [ -n "$want" ] && [ "$(sed -n 4p <<<"$out")" = "$want" ] && ok || bad "final state '$(sed -n 4p <<<"$out")' vs swim run '$want'"
 [ -d "$pkg/swim/__pycache__" ] && ok || bad "the import wrote no bytecode (the uninstall check below tests nothing)"

@@ -7,6 +7,10 @@
     r.summary["energy_drift_rel"]       # summary.json, as a dict
     rows = swim.sweep("models/example3.toml", vary={"model.rho0": [0.5, 1.0, 2.0]}, t_end=5)
     m = swim.inspect(2, [1, 0, 0.2, -0.05, 0.1, 0.04])["mass_reduced"]
+    with swim.Model("models/example3.toml", t_end=5) as model:   # read once, kernels loaded once
+        for rho0 in (0.5, 1.0, 2.0):
+            model.set("model.rho0", rho0)                       # a run-time key, in place
+            r = model.run()
 
 Every run is `swim run`'s run driver in this process: the same rows and the same summary as
 `swim run` with the same overrides, bit for bit. docs/python.md is the reference.
@@ -14,6 +18,9 @@ Every run is `swim run`'s run driver in this process: the same rows and the same
 Errors: swim.Error (status, message); swim.SceneError for bad input (file, line, key); a run that
 fails (leaves the admissible set, an integrator gives up, ...) is not an exception: its Result has
 completed False and the summary says why, so a loop over a family goes on past its failed members.
+
+Keyword names: `overrides=` (alias `set=`) and `zipped=` (alias `zip=`); the aliases, which shadow
+Python's builtins, keep working.
 """
 import csv
 import ctypes
@@ -31,8 +38,9 @@ from . import _lib
 OK, EFAILED, EINPUT, ENOMEM, EKERNEL = (_lib.SWIM_OK, _lib.SWIM_EFAILED, _lib.SWIM_EINPUT,
                                         _lib.SWIM_ENOMEM, _lib.SWIM_EKERNEL)
 
-__all__ = ["run", "sweep", "spec_values", "inspect", "Result", "Error", "SceneError", "KernelError",
-           "LibraryNotFound", "__version__"]
+__all__ = ["run", "sweep", "spec_values", "inspect", "strerror", "Model", "Result", "Error", "SceneError",
+           "KernelError", "LibraryNotFound", "OK", "EFAILED", "EINPUT", "ENOMEM", "EKERNEL", "MAX_MEMBERS",
+           "__version__"]
 
 
 class Error(Exception):
@@ -59,7 +67,9 @@ class KernelError(Error):
 
 
 class LibraryNotFound(Error, ImportError):
-    """libswim.so was not found (raised by `import swim`)."""
+    """No usable libswim.so (raised by `import swim`): none was found, or the one found is of
+    another version (a function missing, or a struct whose size is not this package's mirror's:
+    the message names the struct)."""
 
 
 _L, _why = _lib.load()
@@ -67,6 +77,21 @@ if _L is None:
     raise LibraryNotFound(EFAILED, _why)
 
 __version__ = _L.swim_version().decode()
+
+
+def strerror(status):
+    """The name of a status of libswim and what it means: strerror(EINPUT) is "SWIM_EINPUT: bad
+    input (...)" (swim_strerror)."""
+    return _L.swim_strerror(int(status)).decode()
+
+
+def _alias(new, old, new_name, old_name):
+    """The value of a keyword argument given by its name or by its older alias, not both."""
+    if old is None:
+        return new
+    if new is not None:
+        raise TypeError("swim: give %s= or its alias %s=, not both" % (new_name, old_name))
+    return old
 
 
 def _error(e):
@@ -105,11 +130,11 @@ def _value_text(key, value):
     raise TypeError("swim: the value of %s must be a number, a bool or a word, not %r" % (key, value))
 
 
-def _overrides(scene, set=None, **run_keys):
+def _overrides(scene, overrides=None, **run_keys):
     """["KEY=VALUE", ...] of a dict of overrides and the run.* keyword arguments given (not None);
     a value refused here is a SceneError naming the key and the scene."""
     try:
-        out = ["%s=%s" % (k, _value_text(k, v)) for k, v in (set or {}).items()]
+        out = ["%s=%s" % (k, _value_text(k, v)) for k, v in (overrides or {}).items()]
         out += ["run.%s=%s" % (k, _value_text("run." + k, v)) for k, v in run_keys.items() if v is not None]
     except SceneError as e:
         e.file = _scene_name(scene)
@@ -134,11 +159,40 @@ def _c_strings(strings, key, file=None):
 
 # ---- models ---------------------------------------------------------------------------------
 
-class _Model:
-    """A scene read and validated with its overrides (swim_model); freed by close()."""
+class Model:
+    """A scene read and validated once, with its overrides and its kernels (swim_model): run it any
+    number of times, changing run-time keys in place between runs with set().
 
-    def __init__(self, scene, sets, name=None):
+        with swim.Model("models/example3.toml", t_end=5) as m:
+            m.set("model.rho0", 2.0)     # as opening it with overrides={"model.rho0": 2.0}
+            r = m.run()                  # a Result, bit for bit swim.run's
+
+    scene, overrides (alias set), integrator, rtol, atol, t_end, output_step, name
+                 as for run()
+    m.columns    the names of the rows' columns (trajectory.csv's header)
+    m.name       the scene's name in errors
+
+    Raises SceneError for bad input and KernelError when no kernel can be had. Free it with
+    close() or a with block (the garbage collector frees it too). One thread at a time.
+    """
+
+    def __init__(self, scene, overrides=None, integrator=None, rtol=None, atol=None, t_end=None,
+                 output_step=None, name=None, *, set=None):
         self.ptr = None   # for close() when the scene is refused
+        overrides = _alias(overrides, set, "overrides", "set")
+        sets = _overrides(_scene_name(scene, name), overrides, integrator=integrator, rtol=rtol, atol=atol,
+                          t_end=t_end, output_step=output_step)
+        self._open(scene, sets, name)
+
+    @classmethod
+    def _with_sets(cls, scene, sets, name=None):
+        """A model of ["KEY=VALUE", ...] already made (run() and sweep())."""
+        m = cls.__new__(cls)
+        m.ptr = None
+        m._open(scene, sets, name)
+        return m
+
+    def _open(self, scene, sets, name):
         self.name = _scene_name(scene, name)
         self.text = None if isinstance(scene, os.PathLike) or "\n" not in scene else scene
         self.sets = list(sets)
@@ -157,10 +211,36 @@ class _Model:
         ncol = _L.swim_model_columns(ptr, ctypes.byref(names))
         self.columns = tuple(names[i].decode() for i in range(ncol))
 
+    def _live(self):
+        if not self.ptr:
+            raise ValueError("swim: the model %s is closed" % self.name)
+        return self.ptr
+
+    def set(self, key, value):
+        """Set a run-time key in place, as opening the model with overrides={key: value} would
+        (model.rho0, model.rhof, parameters.NAME, elastic.stiffness[I], damping.diagonal[I],
+        barrier.alpha, shape.c0.am1, run.t_end, run.rtol, ...): the scene file is not read again
+        and the kernels stay. A key that changes the kernel's structure (model.modes, shape.free,
+        a stiffness made zero, ...) or a value the scene refuses raises SceneError naming the key;
+        the model is then as it was (swim_model_set)."""
+        text = _value_text(key, value)
+        err = _lib.swim_error()
+        if _L.swim_model_set(self._live(), _c_text(key, "key", self.name), _c_text(text, key, self.name),
+                             ctypes.byref(err)) != OK:
+            raise _error(err)
+
+    def run(self, events=None, rows=True):
+        """Run the model to its t_end (or a :stop event): a Result, as run() gives (events and
+        rows as there)."""
+        self._live()
+        return _simulate(self, events, rows)
+
     def scene_text(self):
-        return _L.swim_model_scene_text(self.ptr).decode()
+        """The scene as it will run, overrides and set() values written in (swim run's scene.toml)."""
+        return _L.swim_model_scene_text(self._live()).decode()
 
     def close(self):
+        """Free the model (its kernels and scene); a closed model cannot run. Called again: nothing."""
         if self.ptr and _L is not None:   # (at interpreter exit the module's globals may be gone)
             _L.swim_model_free(self.ptr)
             self.ptr = None
@@ -172,6 +252,9 @@ class _Model:
 
     def __exit__(self, *exc):
         self.close()
+
+    def __repr__(self):
+        return "<swim.Model %s%s>" % (self.name, "" if self.ptr else " (closed)")
 
 
 # ---- rows -----------------------------------------------------------------------------------
@@ -278,6 +361,7 @@ class Result:
         return name in self._index
 
     def keys(self):
+        """The column names, as r.columns (so that dict(r) and pandas.DataFrame(dict(r)) work)."""
         return self.columns
 
     def __repr__(self):
@@ -317,14 +401,15 @@ def _simulate(model, events=None, rows=True):
     return Result(model.columns, data, res, state, summary, ev_rows, model.scene_text())
 
 
-def run(scene, set=None, integrator=None, rtol=None, atol=None, t_end=None, output_step=None, events=None,
-        name=None, rows=True):
+def run(scene, overrides=None, integrator=None, rtol=None, atol=None, t_end=None, output_step=None, events=None,
+        name=None, rows=True, *, set=None):
     """Run a scene, as `swim run SCENE --set ...` does, and return its Result.
 
     scene        a scene file's path, or the TOML text itself (text when it holds a newline; its
                  errors then name it `name`, default "(text)")
-    set          overrides {"model.rho0": 2, "elastic.stiffness[4]": 3, "shape.c0.am1": 0.3, ...}
-                 applied before the scene is validated (the --set grammar; models/README.md keys)
+    overrides    {"model.rho0": 2, "elastic.stiffness[4]": 3, "shape.c0.am1": 0.3, ...}
+                 applied before the scene is validated (the --set grammar; models/README.md keys);
+                 `set=` is its older alias
     integrator, rtol, atol, t_end, output_step
                  the run.* keys of the same names ("abm", "rk8pd", "cvode-bdf", ...)
     events       ["COLUMN:KIND[:stop]", ...] as `swim run --event` (KIND zero, min or max;
@@ -334,9 +419,10 @@ def run(scene, set=None, integrator=None, rtol=None, atol=None, t_end=None, outp
     Raises SceneError for bad input and KernelError when no kernel can be had; a run that fails
     returns its Result with completed False (r.reason says why).
     """
-    sets = _overrides(_scene_name(scene, name), set, integrator=integrator, rtol=rtol, atol=atol, t_end=t_end,
+    overrides = _alias(overrides, set, "overrides", "set")
+    sets = _overrides(_scene_name(scene, name), overrides, integrator=integrator, rtol=rtol, atol=atol, t_end=t_end,
                       output_step=output_step)
-    with _Model(scene, sets, name) as model:
+    with Model._with_sets(scene, sets, name) as model:
         return _simulate(model, events, rows)
 
 
@@ -437,15 +523,15 @@ def _member_row(i, values, r):
     return row
 
 
-def sweep(scene, vary, set=None, zip=False, integrator=None, rtol=None, atol=None, t_end=None,
-          output_step=None, events=None, results=False):
+def sweep(scene, vary, overrides=None, zipped=None, integrator=None, rtol=None, atol=None, t_end=None,
+          output_step=None, events=None, results=False, *, set=None, zip=None):
     """Run a family of a scene in this process, one member after another, as `swim sweep` would.
 
     vary         {KEY: [values, ...] or "SPEC", ...} (SPEC as swim sweep's: "0.5:2:16",
                  "log:1e-3:1:4", "1,2,5"; spec_values): the members are the Cartesian product of the lists
                  (the last key varies fastest; member ids 0, 1, ... in that order), or with
-                 zip=True the lists paired (equal lengths)
-    set, integrator, rtol, atol, t_end, output_step, events
+                 zipped=True (alias zip=True) the lists paired (equal lengths)
+    overrides (alias set), integrator, rtol, atol, t_end, output_step, events
                  as for run(), the same for every member
     results      True: each row also holds the member's Result under "result" (its rows kept)
 
@@ -458,8 +544,11 @@ def sweep(scene, vary, set=None, zip=False, integrator=None, rtol=None, atol=Non
     (MAX_MEMBERS, as swim sweep's), and one member's model is open at a time (a model holds its
     kernels' file descriptors: a model kept per member would run out of them).
     """
-    fixed = _overrides(scene, set, integrator=integrator, rtol=rtol, atol=atol, t_end=t_end, output_step=output_step)
-    keys, _count, members = _members(vary, zip)   # bounded, never listed
+    overrides = _alias(overrides, set, "overrides", "set")
+    zipped = bool(_alias(zipped, zip, "zipped", "zip"))
+    fixed = _overrides(scene, overrides, integrator=integrator, rtol=rtol, atol=atol, t_end=t_end,
+                       output_step=output_step)
+    keys, _count, members = _members(vary, zipped)   # bounded, never listed
     fixed_keys = {s.split("=", 1)[0] for s in fixed}
     twice = [k for k in keys if k in fixed_keys]
     if twice:
@@ -468,7 +557,7 @@ def sweep(scene, vary, set=None, zip=False, integrator=None, rtol=None, atol=Non
     def model(i, values):
         sets = _overrides(scene, values) + fixed
         try:
-            return _Model(scene, sets)
+            return Model._with_sets(scene, sets)
         except Error as e:
             label = " ".join(sets[:len(values)])
             e.message = "member %d (%s): %s" % (i, label, e.message)
@@ -525,8 +614,9 @@ def inspect(modes, shape, velocity=None, rho0=1.0, rhof=1.0, full=True):
     if full:
         out["christoffel"] = np.zeros((n, n, n))
     ptr = lambda a: a.ctypes.data_as(_lib._PD) if a is not None else None
-    ins = _lib.swim_inspection(0.0, *(ptr(out.get(k)) for k in ("mass_rigid", "mass_coupling", "mass_shape",
-                                                                  "mass_reduced", "christoffel_vv", "christoffel")))
+    ins = _lib.swim_inspection(jmin=0.0, **{k: ptr(out.get(k)) for k in ("mass_rigid", "mass_coupling", "mass_shape",
+                                                                          "mass_reduced", "christoffel_vv",
+                                                                          "christoffel")})
     err = _lib.swim_error()
     if _L.swim_inspect(int(modes), ptr(c), ptr(v), float(rho0), float(rhof), ctypes.byref(ins), ctypes.byref(err)) != OK:
         raise _error(err)

@@ -1,8 +1,9 @@
 """libswim through ctypes: finding the shared library, and swim.h's types and prototypes.
 
 Nothing here is public; swim/__init__.py builds the API on it. The structures mirror
-runtime/lib/swim.h field for field (a change there must be made here too: test_python.py runs
-every function, so a mismatch shows as wrong numbers, not as silence).
+runtime/lib/swim.h field for field; each starts with its size, set on creation, and at load their
+sizes are compared with the library's (swim_struct_size), so a mirror that no longer matches is an
+ImportError naming the struct, never wrong numbers.
 """
 import ctypes
 import glob
@@ -11,9 +12,24 @@ import shutil
 
 SWIM_OK, SWIM_EFAILED, SWIM_EINPUT, SWIM_ENOMEM, SWIM_EKERNEL = 0, 1, 2, 3, 4
 
+# swim.h's SWIM_ABI, the number of the SONAME libswim.so.ABI these mirrors and prototypes are
+# written against (tests/test_library_install.sh checks that the two agree).
+ABI = 1
+SONAME = "libswim.so.%d" % ABI
 
-class swim_error(ctypes.Structure):
-    _fields_ = [("status", ctypes.c_int),
+
+class _Sized(ctypes.Structure):
+    """A struct of swim.h that starts with `size_t size`: set to its sizeof on creation, as the
+    C initialisers SWIM_*_INIT do."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.size = ctypes.sizeof(self)
+
+
+class swim_error(_Sized):
+    _fields_ = [("size", ctypes.c_size_t),
+                ("status", ctypes.c_int),
                 ("file", ctypes.c_char * 1024),
                 ("line", ctypes.c_int),
                 ("key", ctypes.c_char * 128),
@@ -24,16 +40,18 @@ ROW_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double,
                           ctypes.POINTER(ctypes.c_double), ctypes.c_int)
 
 
-class swim_sim_options(ctypes.Structure):
-    _fields_ = [("rows", ROW_FN),
+class swim_sim_options(_Sized):
+    _fields_ = [("size", ctypes.c_size_t),
+                ("rows", ROW_FN),
                 ("rows_ctx", ctypes.c_void_p),
                 ("events", ctypes.POINTER(ctypes.c_char_p)),
                 ("nevents", ctypes.c_int),
                 ("stop", ctypes.POINTER(ctypes.c_int))]
 
 
-class swim_result(ctypes.Structure):
-    _fields_ = [("finished", ctypes.c_int),
+class swim_result(_Sized):
+    _fields_ = [("size", ctypes.c_size_t),
+                ("finished", ctypes.c_int),
                 ("completed", ctypes.c_int),
                 ("t_reached", ctypes.c_double),
                 ("rows", ctypes.c_long),
@@ -51,14 +69,31 @@ class swim_result(ctypes.Structure):
 _PD = ctypes.POINTER(ctypes.c_double)
 
 
-class swim_inspection(ctypes.Structure):
-    _fields_ = [("jmin", ctypes.c_double),
+class swim_inspection(_Sized):
+    _fields_ = [("size", ctypes.c_size_t),
+                ("jmin", ctypes.c_double),
                 ("mass_rigid", _PD),
                 ("mass_coupling", _PD),
                 ("mass_shape", _PD),
                 ("mass_reduced", _PD),
                 ("christoffel_vv", _PD),
                 ("christoffel", _PD)]
+
+
+# The mirrors checked against the library at load, by swim.h's names.
+MIRRORS = (swim_error, swim_sim_options, swim_result, swim_inspection)
+
+
+def size_mismatches(lib, mirrors=None):
+    """"NAME: N bytes here, M in the library" for each mirror (default MIRRORS) whose size is not
+    the library's."""
+    out = []
+    mirrors = MIRRORS if mirrors is None else mirrors
+    for m in mirrors:
+        theirs = lib.swim_struct_size(m.__name__.encode())
+        if theirs != ctypes.sizeof(m):
+            out.append("%s: %d bytes here, %d in the library" % (m.__name__, ctypes.sizeof(m), theirs))
+    return out
 
 
 def _tree_libraries(tree):
@@ -79,7 +114,7 @@ def candidates():
     PREFIX/lib/python3/dist-packages/swim, the library in PREFIX/lib); the build tree (this package
     in python/swim of the source tree); for a package installed by pip, the checkout it was built
     from (recorded in swim/_checkout.py), then the PREFIX of a `swim` on PATH and /usr/local, where
-    `make install` puts libswim by default. The SONAME's symlink libswim.so.0: major 0 is the ABI
+    `make install` puts libswim by default. There, the SONAME's symlink libswim.so.ABI: the ABI
     these prototypes were written against."""
     here = os.path.dirname(os.path.abspath(__file__))
     env = os.environ.get("SWIM_LIB")
@@ -87,8 +122,8 @@ def candidates():
         return [env]   # asked for this one: no silent fallback to another build
     out = []
     if os.path.basename(os.path.dirname(here)) in ("dist-packages", "site-packages"):
-        # PREFIX/lib/python3/dist-packages/swim -> PREFIX/lib/libswim.so.0
-        out.append(os.path.normpath(os.path.join(here, "..", "..", "..", "libswim.so.0")))
+        # PREFIX/lib/python3/dist-packages/swim -> PREFIX/lib/libswim.so.ABI
+        out.append(os.path.normpath(os.path.join(here, "..", "..", "..", SONAME)))
     out += _tree_libraries(os.path.normpath(os.path.join(here, "..", "..")))
     try:
         from . import _checkout   # written by python/setup.py into a pip-built package only
@@ -98,8 +133,8 @@ def candidates():
     program = shutil.which("swim")
     if program:
         prefix = os.path.dirname(os.path.dirname(os.path.realpath(program)))
-        out.append(os.path.join(prefix, "lib", "libswim.so.0"))
-    out.append("/usr/local/lib/libswim.so.0")
+        out.append(os.path.join(prefix, "lib", SONAME))
+    out.append("/usr/local/lib/" + SONAME)
     return list(dict.fromkeys(out))
 
 
@@ -110,6 +145,9 @@ def _declare(lib):
     sets = ctypes.POINTER(c_char_p)
     protos = {
         "swim_version": (c_char_p, []),
+        "swim_strerror": (c_char_p, [c_int]),
+        "swim_struct_size": (ctypes.c_size_t, [c_char_p]),
+        "swim_model_set": (c_int, [c_void_p, c_char_p, c_char_p, err]),
         "swim_model_from_file": (c_int, [c_char_p, sets, c_int, pp, err]),
         "swim_model_from_text": (c_int, [c_char_p, c_char_p, sets, c_int, pp, err]),
         "swim_model_columns": (c_int, [c_void_p, ctypes.POINTER(sets)]),
@@ -141,11 +179,16 @@ def load():
             tried.append(path + " (absent)")
             continue
         try:
-            return _declare(ctypes.CDLL(path)), None
+            lib = _declare(ctypes.CDLL(path))
         except OSError as e:
             tried.append("%s (%s)" % (path, e))
         except AttributeError as e:   # a library of another version, without a function of swim.h
             tried.append("%s (%s)" % (path, e))
+            continue
+        wrong = size_mismatches(lib)
+        if not wrong:
+            return lib, None
+        tried.append("%s (its structs are not this package's: %s)" % (path, "; ".join(wrong)))
     return None, ("libswim not found; tried: " + "; ".join(tried) +
                   ". Build it with `make lib` in the source tree, install it with `make install PREFIX=...` "
                   "(then put PREFIX/bin on PATH), or set SWIM_LIB to the path of libswim.so")

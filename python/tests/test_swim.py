@@ -246,3 +246,69 @@ def test_library_not_found_says_make_lib():
     p = subprocess.run([sys.executable, "-c", "import swim"], capture_output=True, text=True, env=env,
                        cwd=os.path.join(ROOT, "python"))
     assert p.returncode != 0 and "LibraryNotFound" in p.stderr and "make lib" in p.stderr
+
+
+def test_model_set_is_a_model_opened_with_the_override():
+    with swim.Model(EX3, t_end=2) as m:
+        first = m.run()
+        m.set("model.rho0", 2.0)
+        after = m.run()
+        assert "rho0 = 2" in m.scene_text()
+        with pytest.raises(swim.SceneError) as e:
+            m.set("model.modes", 3)   # a structure key
+        assert e.value.key == "model.modes" and "structure" in e.value.message
+        with pytest.raises(swim.SceneError) as e:
+            m.set("model.rho0", -1)
+        assert e.value.key == "model.rho0"
+        assert np.array_equal(m.run().rows, after.rows)   # the refusals left it as it was
+    want = swim.run(EX3, overrides={"model.rho0": 2.0}, t_end=2)
+    assert np.array_equal(after.rows, want.rows) and reprs(after.final_state) == reprs(want.final_state)
+    assert not np.array_equal(after.rows, first.rows)
+    with pytest.raises(ValueError):
+        m.run()   # closed
+
+
+def test_keyword_aliases():
+    a = swim.run(EX3, overrides={"model.rho0": 2.0}, t_end=0.3)
+    b = swim.run(EX3, set={"model.rho0": 2.0}, t_end=0.3)
+    assert np.array_equal(a.rows, b.rows)
+    with pytest.raises(TypeError):
+        swim.run(EX3, overrides={"model.rho0": 2.0}, set={"model.rho0": 2.0})
+    vary = {"model.rho0": [1.0, 2.0], "model.rhof": [0.5, 2.0]}
+    z = swim.sweep(EX3, vary=vary, zipped=True, t_end=0.2)
+    assert [(r["model.rho0"], r["model.rhof"]) for r in z] == [(1.0, 0.5), (2.0, 2.0)]
+    assert [r["y"] for r in swim.sweep(EX3, vary=vary, zip=True, t_end=0.2)] == [r["y"] for r in z]
+
+
+def test_struct_sizes_are_checked_at_load(monkeypatch):
+    assert swim._lib.size_mismatches(swim._L) == []
+    for m in swim._lib.MIRRORS:   # each mirror starts with its size, set on creation
+        assert m._fields_[0][0] == "size" and m().size == swim._L.swim_struct_size(m.__name__.encode()) > 0
+
+    class swim_result(swim._lib._Sized):   # a mirror one field longer than the library's
+        _fields_ = swim._lib.swim_result._fields_ + [("later", swim._lib.ctypes.c_double)]
+
+    monkeypatch.setattr(swim._lib, "MIRRORS", (swim._lib.swim_error, swim_result))
+    lib, why = swim._lib.load()
+    assert lib is None and "swim_result" in why and "bytes" in why
+
+
+def test_strerror_names_the_statuses():
+    for name in ("OK", "EFAILED", "EINPUT", "ENOMEM", "EKERNEL"):
+        assert swim.strerror(getattr(swim, name)).startswith("SWIM_%s: " % name)
+
+
+def test_every_public_name_has_a_docstring():
+    import inspect
+    missing = []
+    for name in swim.__all__:
+        obj = getattr(swim, name)
+        if not (inspect.isclass(obj) or inspect.isfunction(obj)):
+            continue
+        if not (obj.__doc__ or "").strip():
+            missing.append(name)
+        if inspect.isclass(obj) and obj.__module__ == "swim":
+            for attr, member in vars(obj).items():
+                if not attr.startswith("_") and inspect.isfunction(member) and not (member.__doc__ or "").strip():
+                    missing.append(name + "." + attr)
+    assert missing == []

@@ -126,10 +126,14 @@ int swim_cmd_inspect(int argc, char **argv)
         swim_message(stderr, "swim inspect: out of memory");
         return 1;
     }
-    swim_inspection in = {0.0, buf, buf + 9, buf + 9 + 3 * n, buf + 9 + 3 * n + n * n, NULL, NULL};
+    swim_inspection in = SWIM_INSPECTION_INIT;
+    in.mass_rigid = buf;
+    in.mass_coupling = buf + 9;
+    in.mass_shape = buf + 9 + 3 * n;
+    in.mass_reduced = buf + 9 + 3 * n + n * n;
     if (vs) in.christoffel_vv = in.mass_reduced + n * n;
     if (full) in.christoffel = in.mass_reduced + n * n + n;
-    swim_error e;
+    swim_error e = SWIM_ERROR_INIT;
     const int rc = swim_inspect((int)N, x, vs ? v : NULL, rho0, rhof, &in, &e);
     if (rc != SWIM_OK) {   /* the library names the argument at fault; here it is an option */
         if (e.key[0]) swim_message(stderr, "swim inspect: --%s: %s", e.key, e.message);

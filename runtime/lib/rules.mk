@@ -17,7 +17,7 @@ $(BUILD)/pic/kernel_table.o: $(BUILD)/kernel_table.c
 
 $(LIB_SO): $(PIC_OBJS)
 	@mkdir -p $(dir $@)
-	$(CC) -shared -Wl,-soname,libswim.so.$(SWIM_MAJOR) -Wl,--no-undefined $(CFLAGS) $^ -o $@ $(LDLIBS)
+	$(CC) -shared -Wl,-soname,libswim.so.$(SWIM_ABI) -Wl,--no-undefined $(CFLAGS) $^ -o $@ $(LDLIBS)
 $(LIB_A): $(LIB_OBJS)
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
@@ -25,7 +25,7 @@ $(LIB_A): $(LIB_OBJS)
 # swim.pc for PREFIX, written at install (PREFIX may hold spaces and quotes: it goes through the
 # environment, never through make's text): the shared library with its run path, so a program
 # finds it without LD_LIBRARY_PATH; --static links the archive and what it needs.
-LIB_INSTALLED = lib/libswim.so.$(SWIM_VERSION) lib/libswim.so.$(SWIM_MAJOR) lib/libswim.so lib/libswim.a \
+LIB_INSTALLED = lib/libswim.so.$(SWIM_VERSION) lib/libswim.so.$(SWIM_ABI) lib/libswim.so lib/libswim.a \
                 include/swim.h lib/pkgconfig/swim.pc
 install: install-lib
 install-lib: export SWIM_INSTALL_DEST := $(DESTDIR)$(PREFIX)
@@ -34,8 +34,8 @@ install-lib: export SWIM_LIBS_PRIVATE := $(LDLIBS)
 install-lib: lib | install-begin
 	@case "$$SWIM_INSTALL_DEST" in /*) ;; *) echo "make install: PREFIX='$$SWIM_INSTALL_DEST' is not an absolute path" >&2; exit 2 ;; esac
 	install -D -m 755 $(LIB_SO) "$$SWIM_INSTALL_DEST/lib/libswim.so.$(SWIM_VERSION)"
-	ln -sf libswim.so.$(SWIM_VERSION) "$$SWIM_INSTALL_DEST/lib/libswim.so.$(SWIM_MAJOR)"
-	ln -sf libswim.so.$(SWIM_MAJOR) "$$SWIM_INSTALL_DEST/lib/libswim.so"
+	ln -sf libswim.so.$(SWIM_VERSION) "$$SWIM_INSTALL_DEST/lib/libswim.so.$(SWIM_ABI)"
+	ln -sf libswim.so.$(SWIM_ABI) "$$SWIM_INSTALL_DEST/lib/libswim.so"
 	install -D -m 644 $(LIB_A) "$$SWIM_INSTALL_DEST/lib/libswim.a"
 	install -D -m 644 runtime/lib/swim.h "$$SWIM_INSTALL_DEST/include/swim.h"
 	install -d "$$SWIM_INSTALL_DEST/lib/pkgconfig"

@@ -5,7 +5,10 @@
  *
  * The layers below report bad input as one line on stderr; during a library call those lines are
  * redirected (swim_message_redirect, per thread) into the swim_error returned, "FILE:LINE: KEY:
- * message" taken apart into its fields. */
+ * message" taken apart into its fields.
+ *
+ * The caller's structs are read and written only as far as their size field says: every call
+ * works on whole structs of its own and copies in or out what the caller's size holds. */
 #include "lib/swim.h"
 
 #include <ctype.h>
@@ -30,6 +33,15 @@
 #include "shape/shape.h"
 
 #define MAX_SETS 64
+/* runtime/lib/module.mk passes VERSION's numbers and the SONAME's (test_library checks the same
+ * at run time, for a build without them) */
+#if defined(SWIM_BUILD_MAJOR) && (SWIM_BUILD_MAJOR != SWIM_VERSION_MAJOR || SWIM_BUILD_MINOR != SWIM_VERSION_MINOR || \
+                                  SWIM_BUILD_PATCH != SWIM_VERSION_PATCH)
+#error "VERSION and swim.h's SWIM_VERSION_MAJOR/MINOR/PATCH disagree"
+#endif
+#if defined(SWIM_BUILD_ABI) && SWIM_BUILD_ABI != SWIM_ABI
+#error "the SONAME's number (runtime/lib/module.mk) is not swim.h's SWIM_ABI"
+#endif
 _Static_assert(SWIM_LIB_MAX_EVENTS == SWIM_RUN_MAX_EVENTS, "the library's event bound is the driver's");
 
 struct swim_model {
@@ -37,8 +49,8 @@ struct swim_model {
     size_t len;
     swim_override sets[MAX_SETS];
     int nsets;
-    swim_scene s;                /* as validated, for the columns and the kernels */
-    int loaded;
+    swim_scene *s;               /* as validated, for the columns, the kernels and swim_model_set;
+                                    on the heap: a loaded scene is never moved (scene.h) */
     swim_compiled kn, sys;
     const char *names[SWIM_RUN_MAX_COLUMNS];
     char storage[2 * SWIM_NMAX][24];
@@ -47,6 +59,8 @@ struct swim_model {
 
 struct swim_sim {
     const swim_model *m;
+    swim_override *sets;         /* the model's overrides when the simulation was created */
+    int nsets;
     swim_scene s;
     int loaded;
     swim_run_events *events;
@@ -122,6 +136,67 @@ const char *swim_version(void) { return SWIM_VERSION; }
 
 void swim_free(void *p) { free(p); }
 
+const char *swim_strerror(int status)
+{
+    switch (status < 0 ? -status : status) {
+    case SWIM_OK: return "SWIM_OK: success, nothing went wrong";
+    case SWIM_EFAILED: return "SWIM_EFAILED: the run failed or stopped early (the reason is in the error and the summary)";
+    case SWIM_EINPUT: return "SWIM_EINPUT: bad input (a scene value, an override, an event, an argument)";
+    case SWIM_ENOMEM: return "SWIM_ENOMEM: out of memory";
+    case SWIM_EKERNEL: return "SWIM_EKERNEL: no kernel could be had (generation or compilation failed)";
+    default: return "unknown status";
+    }
+}
+
+/* ---- the caller's structs: as much of them as their size holds ------------------------------ */
+
+/* The first layout of a struct: up to its last field of the first version. A later version adds
+ * fields after these; a caller's size below this is refused. */
+#define FIRST_LAYOUT(type, last) (offsetof(type, last) + sizeof(((type *)0)->last))
+#define ERROR_V1 FIRST_LAYOUT(swim_error, message)
+#define OPTIONS_V1 FIRST_LAYOUT(swim_sim_options, stop)
+#define RESULT_V1 FIRST_LAYOUT(swim_result, rhs_evaluations)
+#define INSPECTION_V1 FIRST_LAYOUT(swim_inspection, christoffel)
+
+size_t swim_struct_size(const char *name)
+{
+    static const struct {
+        const char *name;
+        size_t size;
+    } sizes[] = {{"swim_error", sizeof(swim_error)},
+                 {"swim_sim_options", sizeof(swim_sim_options)},
+                 {"swim_result", sizeof(swim_result)},
+                 {"swim_inspection", sizeof(swim_inspection)}};
+    for (size_t i = 0; name && i < sizeof sizes / sizeof sizes[0]; i++)
+        if (strcmp(name, sizes[i].name) == 0) return sizes[i].size;
+    return 0;
+}
+
+/* what bytes of our struct (whole, `ours` bytes) into the caller's `theirs` of `size` bytes,
+ * keeping their size field */
+static void give(void *theirs, const void *ours, size_t whole)
+{
+    const size_t size = *(const size_t *)theirs;
+    memcpy(theirs, ours, size < whole ? size : whole);
+    *(size_t *)theirs = size;
+}
+
+/* The start of a call with the caller's error err (NULL allowed): 0 when err is too small to
+ * hold the first swim_error (nothing is written into it), else 1 with e, the call's own, clear. */
+static int error_begin(const swim_error *err, swim_error *e)
+{
+    memset(e, 0, sizeof *e);
+    e->size = sizeof *e;
+    return !err || err->size >= ERROR_V1;
+}
+
+/* The end of the call: its error into the caller's, as far as their size goes; status. */
+static int error_give(swim_error *err, const swim_error *e, int status)
+{
+    if (err) give(err, e, sizeof *e);
+    return status;
+}
+
 /* ---- arguments: checked at the top of every function, before anything is touched ---------- */
 
 /* status with err->key naming what was refused (err cleared first; NULL err: the status alone);
@@ -141,6 +216,13 @@ static int refuse(swim_error *err, int status, const char *key, const char *fmt,
     return status;
 }
 #define bad_arg(err, key, ...) refuse((err), SWIM_EINPUT, (key), __VA_ARGS__)
+
+/* A caller's struct whose size field is below its first layout (not set, or garbage). */
+static int too_small(swim_error *err, const char *type, size_t size, size_t first)
+{
+    return bad_arg(err, type, "%s.size is %zu, below the %zu bytes of its first layout: set it to sizeof(%s) "
+                   "(the SWIM_*_INIT initialisers do)", type, size, first, type);
+}
 
 /* value against the bounds of function's argument arg (scene/keys.h, the library's rows). */
 static int bounded(swim_error *err, const char *function, const char *arg, double value)
@@ -168,6 +250,13 @@ static int string_list(swim_error *err, const char *function, const char *name, 
 
 /* ---- models --------------------------------------------------------------------------------- */
 
+static void scene_drop(swim_scene *s)
+{
+    if (!s) return;
+    swim_scene_free(s);
+    free(s);
+}
+
 /* The key of override `set` ("KEY=VALUE") into key (what precedes '='). */
 static void override_key(const char *set, char *key, size_t len)
 {
@@ -191,18 +280,22 @@ static int model_open(swim_model *m, const char *const *sets, int nsets, char *b
         }
     }
     m->nsets = nsets;
-    if (swim_scene_parse_with(m->text, m->len, m->name, m->sets, m->nsets, &m->s) != 0) return SWIM_EINPUT;
-    m->loaded = 1;
-    if (swim_run_settings_check(&m->s, NULL) != 0) return SWIM_EINPUT;
+    if (!(m->s = calloc(1, sizeof *m->s))) return SWIM_ENOMEM;
+    if (swim_scene_parse_with(m->text, m->len, m->name, m->sets, m->nsets, m->s) != 0) {
+        free(m->s);
+        m->s = NULL;
+        return SWIM_EINPUT;
+    }
+    if (swim_run_settings_check(m->s, NULL) != 0) return SWIM_EINPUT;
     size_t outlen;
     char why[512];
     if (nsets > 0 && swim_scene_resolve(m->text, m->len, m->name, m->sets, m->nsets, &m->resolved, &outlen, why, sizeof why) != 0) {
         swim_message(stderr, "swim: %s: %s", m->name, why);
         return SWIM_EINPUT;
     }
-    const int rc = swim_codegen_for_scene("library", &m->s, 0, 0, &m->kn, &m->sys);
+    const int rc = swim_codegen_for_scene("library", m->s, 0, 0, &m->kn, &m->sys);
     if (rc) return rc == 2 ? SWIM_EINPUT : SWIM_EKERNEL;
-    m->ncol = swim_run_columns(&m->s, m->names, m->storage);
+    m->ncol = swim_run_columns(m->s, m->names, m->storage);
     return SWIM_OK;
 }
 
@@ -235,7 +328,7 @@ static int model_new(char *text, size_t len, const char *name, const char *const
     return end(&c, SWIM_OK, "");
 }
 
-int swim_model_from_file(const char *path, const char *const *sets, int nsets, swim_model **out, swim_error *err)
+static int swim_model_from_file_(const char *path, const char *const *sets, int nsets, swim_model **out, swim_error *err)
 {
     if (!out) return bad_arg(err, "out", "out is NULL");
     *out = NULL;
@@ -258,7 +351,7 @@ int swim_model_from_file(const char *path, const char *const *sets, int nsets, s
     return model_new(text, len, path, sets, nsets, out, err);
 }
 
-int swim_model_from_text(const char *toml, const char *name, const char *const *sets, int nsets, swim_model **out,
+static int swim_model_from_text_(const char *toml, const char *name, const char *const *sets, int nsets, swim_model **out,
                          swim_error *err)
 {
     if (!out) return bad_arg(err, "out", "out is NULL");
@@ -280,12 +373,88 @@ int swim_model_columns(const swim_model *m, const char *const **names)
 
 const char *swim_model_scene_text(const swim_model *m) { return !m ? NULL : m->resolved ? m->resolved : m->text; }
 
+/* One run-time key set in place (swim.h): the override list with it, validated as opening the
+ * model with it would validate it, then kept when the kernel's structure is what it was. */
+static int model_set(swim_model *m, const char *key, const char *value, swim_error *err)
+{
+    if (!m) return bad_arg(err, "model", "model is NULL");
+    if (!key) return bad_arg(err, "key", "key is NULL");
+    if (!value) return bad_arg(err, "value", "value is NULL");
+    swim_override ov;
+    char text[sizeof ov.text], why[256];
+    if (snprintf(text, sizeof text, "%s=%s", key, value) >= (int)sizeof text)
+        return bad_arg(err, "key", "%s=%s: longer than the %zu characters of an override", key, value, sizeof text - 1);
+    if (swim_override_parse(text, &ov, why, sizeof why) != 0) {
+        bad_arg(err, key, "%s: --set: %s", m->name, why);
+        snprintf(err->file, sizeof err->file, "%s", m->name);
+        return SWIM_EINPUT;
+    }
+    const swim_scene_key *row = swim_scene_key_find(ov.table, ov.key);
+    if (row && (row->flags & SWIM_KEY_STRUCTURE) && !(row->flags & SWIM_KEY_RUNTIME)) {
+        bad_arg(err, key, "%s: --set %s: %s.%s is a structure key (%s): it is given when the model is opened, "
+                "not set in place", m->name, text, ov.table, ov.key, row->doc);
+        snprintf(err->file, sizeof err->file, "%s", m->name);
+        return SWIM_EINPUT;
+    }
+    /* the model's overrides with this one in place of any that set the same value */
+    swim_override sets[MAX_SETS];
+    int nsets = 0;
+    for (int i = 0; i < m->nsets; i++)
+        if (!(swim_override_same_target(&m->sets[i], &ov) && m->sets[i].index == ov.index)) sets[nsets++] = m->sets[i];
+    if (nsets == MAX_SETS) return bad_arg(err, key, "%s: more than %d overrides", m->name, MAX_SETS);
+    sets[nsets++] = ov;
+
+    capture c;
+    begin(&c, err);
+    swim_scene *s = calloc(1, sizeof *s);
+    if (!s) return end(&c, SWIM_ENOMEM, "out of memory");
+    if (swim_scene_parse_with(m->text, m->len, m->name, sets, nsets, s) != 0) {
+        free(s);
+        return end(&c, SWIM_EINPUT, "the value was refused");
+    }
+    int rc = swim_run_settings_check(s, NULL) != 0 ? SWIM_EINPUT : SWIM_OK;
+    if (!rc) {
+        char *was = swim_codegen_scene_key(m->s, 0), *now = swim_codegen_scene_key(s, 0);
+        if (!was || !now) rc = SWIM_ENOMEM;
+        else if (strcmp(was, now) != 0) {
+            swim_message(stderr, "swim: %s: --set %s: the value changes the kernel's structure%s%s%s: it is given "
+                         "when the model is opened, not set in place", m->name, text,
+                         row ? " (" : "", row ? row->doc : "", row ? ")" : "");
+            rc = SWIM_EINPUT;
+        }
+        free(was);
+        free(now);
+    }
+    /* the magnitude check opening the model makes with the kernel (codegen_for_scene's) */
+    if (!rc && s->stroke_count == 0 && swim_scene_check_model(s, m->kn.kernel) != 0) rc = SWIM_EINPUT;
+    char *resolved = NULL;
+    size_t outlen;
+    if (!rc && swim_scene_resolve(m->text, m->len, m->name, sets, nsets, &resolved, &outlen, why, sizeof why) != 0) {
+        swim_message(stderr, "swim: %s: %s", m->name, why);
+        rc = SWIM_EINPUT;
+    }
+    if (rc) {
+        scene_drop(s);
+        end(&c, rc, rc == SWIM_ENOMEM ? "out of memory" : "the value was refused");
+        if (!err->key[0]) snprintf(err->key, sizeof err->key, "%s", key);
+        if (!err->file[0]) snprintf(err->file, sizeof err->file, "%s", m->name);
+        return rc;
+    }
+    scene_drop(m->s);
+    m->s = s;
+    memcpy(m->sets, sets, sizeof sets[0] * (size_t)nsets);
+    m->nsets = nsets;
+    free(m->resolved);
+    m->resolved = resolved;
+    return end(&c, SWIM_OK, "");
+}
+
 void swim_model_free(swim_model *m)
 {
     if (!m) return;
     swim_compiled_close(&m->sys);
     swim_compiled_close(&m->kn);
-    if (m->loaded) swim_scene_free(&m->s);
+    scene_drop(m->s);
     free(m->text);
     free(m->name);
     free(m->resolved);
@@ -306,7 +475,7 @@ static int sink_row(void *ctx, const swim_run_row *row, char *why, size_t len)
 static int sim_open(swim_sim *s)
 {
     const swim_model *m = s->m;
-    if (swim_scene_parse_with(m->text, m->len, m->name, m->sets, m->nsets, &s->s) != 0) return SWIM_EINPUT;
+    if (swim_scene_parse_with(m->text, m->len, m->name, s->sets, s->nsets, &s->s) != 0) return SWIM_EINPUT;
     s->loaded = 1;
     if (swim_run_settings_check(&s->s, NULL) != 0) return SWIM_EINPUT;
     char why[1024];
@@ -325,19 +494,29 @@ static int sim_open(swim_sim *s)
     return rc == 0 ? SWIM_OK : rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
 }
 
-int swim_sim_create(const swim_model *m, const swim_sim_options *o, swim_sim **out, swim_error *err)
+static int swim_sim_create_(const swim_model *m, const swim_sim_options *o, swim_sim **out, swim_error *err)
 {
     if (!out) return bad_arg(err, "out", "out is NULL");
     *out = NULL;
     if (!m) return bad_arg(err, "model", "model is NULL");
-    if (o && string_list(err, "swim_sim_create", "events", "nevents", o->events, o->nevents)) return SWIM_EINPUT;
+    swim_sim_options opts = {0};   /* what the caller's size does not hold keeps its default */
+    if (o) {
+        if (o->size < OPTIONS_V1) return too_small(err, "swim_sim_options", o->size, OPTIONS_V1);
+        memcpy(&opts, o, o->size < sizeof opts ? o->size : sizeof opts);
+    }
+    if (string_list(err, "swim_sim_create", "events", "nevents", opts.events, opts.nevents)) return SWIM_EINPUT;
     capture c;
     begin(&c, err);
     *out = NULL;
     swim_sim *s = calloc(1, sizeof *s);
-    if (!s) return end(&c, SWIM_ENOMEM, "out of memory");
+    if (!s || !(s->sets = malloc(sizeof *s->sets * (size_t)(m->nsets > 0 ? m->nsets : 1)))) {
+        free(s);
+        return end(&c, SWIM_ENOMEM, "out of memory");
+    }
     s->m = m;
-    if (o) s->o = *o;
+    s->o = opts;
+    s->nsets = m->nsets;
+    memcpy(s->sets, m->sets, sizeof *s->sets * (size_t)m->nsets);
     const int rc = sim_open(s);
     if (rc) {
         end(&c, rc, "the simulation could not be set up");
@@ -362,7 +541,7 @@ static int sim_advance(swim_sim *s, double t, swim_error *err)
     return end(&c, status ? SWIM_EFAILED : SWIM_OK, r->reason ? r->reason : "out of memory");
 }
 
-int swim_sim_advance(swim_sim *s, double t, swim_error *err)
+static int swim_sim_advance_(swim_sim *s, double t, swim_error *err)
 {
     if (!s) return bad_arg(err, "sim", "sim is NULL");
     if (bounded(err, "swim_sim_advance", "t", t)) return SWIM_EINPUT;
@@ -372,17 +551,17 @@ int swim_sim_advance(swim_sim *s, double t, swim_error *err)
     return sim_advance(s, t, err);
 }
 
-int swim_sim_run(swim_sim *s, swim_error *err)
+static int swim_sim_run_(swim_sim *s, swim_error *err)
 {
     if (!s) return bad_arg(err, "sim", "sim is NULL");
     return sim_advance(s, INFINITY, err);
 }
 
-int swim_sim_result(const swim_sim *s, swim_result *out)
+int swim_sim_result(const swim_sim *s, swim_result *theirs)
 {
-    if (!s || !out) return SWIM_EINPUT;
+    if (!s || !theirs || theirs->size < RESULT_V1) return SWIM_EINPUT;
     const swim_run_result *r = swim_run_get_result(s->run);
-    memset(out, 0, sizeof *out);
+    swim_result ours = {0}, *out = &ours;
     out->finished = r->finished;
     out->completed = r->finished && r->status == 0;
     out->t_reached = r->t_reached;
@@ -398,6 +577,7 @@ int swim_sim_result(const swim_sim *s, swim_result *out)
     out->jmin = r->jmin;
     out->steps = r->stats.steps;
     out->rhs_evaluations = r->stats.rhs_evals;
+    give(theirs, out, sizeof *out);
     return SWIM_OK;
 }
 
@@ -417,7 +597,7 @@ char *swim_sim_summary_json(const swim_sim *s)
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);
     if (!f) return NULL;
-    const swim_summary_context x = {NULL, NULL, s->m->name, s->m->sets, s->m->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0, NULL, NULL};
+    const swim_summary_context x = {NULL, NULL, s->m->name, s->sets, s->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0, NULL, NULL};
     swim_run_summary_json(f, s->run, &x);
     if (fclose(f) != 0) {
         free(buf);
@@ -447,6 +627,7 @@ void swim_sim_free(swim_sim *s)
     swim_run_free(s->run);
     swim_run_events_free(s->events);
     if (s->loaded) swim_scene_free(&s->s);
+    free(s->sets);
     free(s);
 }
 
@@ -459,11 +640,13 @@ static int all_finite(const double *a, size_t count)
     return 1;
 }
 
-int swim_inspect(int modes, const double *shape, const double *velocity, double rho0, double rhof,
-                 swim_inspection *out, swim_error *err)
+static int swim_inspect_(int modes, const double *shape, const double *velocity, double rho0, double rhof,
+                         swim_inspection *theirs, swim_error *err)
 {
-    if (err) memset(err, 0, sizeof *err);
-    if (!out) return bad_arg(err, "out", "out is NULL");
+    if (!theirs) return bad_arg(err, "out", "out is NULL");
+    if (theirs->size < INSPECTION_V1) return too_small(err, "swim_inspection", theirs->size, INSPECTION_V1);
+    swim_inspection in = {0}, *out = &in;   /* the caller's arrays, as far as its size holds */
+    memcpy(&in, theirs, theirs->size < sizeof in ? theirs->size : sizeof in);
     if (bounded(err, "swim_inspect", "modes", modes) || bounded(err, "swim_inspect", "rho0", rho0) ||
         bounded(err, "swim_inspect", "rhof", rhof))
         return SWIM_EINPUT;
@@ -472,7 +655,7 @@ int swim_inspect(int modes, const double *shape, const double *velocity, double 
     if (!all_finite(shape, nc)) return bad_arg(err, "shape", "the shape has a value that is not a finite number");
     if (velocity && !all_finite(velocity, nc))
         return bad_arg(err, "velocity", "the velocity has a value that is not a finite number");
-    out->jmin = swim_shape_jmin(modes, shape);
+    theirs->jmin = out->jmin = swim_shape_jmin(modes, shape);   /* jmin: in the first layout */
     if (!(out->jmin > 0.0))
         return refuse(err, SWIM_EINPUT, "shape", "the shape is outside the admissible set D "
                       "(min J = %.6g <= 0 on the unit circle, (4.1))", out->jmin);
@@ -517,4 +700,57 @@ int swim_inspect(int modes, const double *shape, const double *velocity, double 
     if (out->christoffel_vv && velocity) memcpy(out->christoffel_vv, gvv, sizeof(double) * (size_t)n);
     free(work);
     return SWIM_OK;
+}
+
+/* ---- the functions with an error: the call on an error of its own, given to the caller's ----- */
+
+int swim_model_from_file(const char *path, const char *const *sets, int nsets, swim_model **out, swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return SWIM_EINPUT;
+    return error_give(err, &e, swim_model_from_file_(path, sets, nsets, out, &e));
+}
+
+int swim_model_from_text(const char *toml, const char *name, const char *const *sets, int nsets, swim_model **out,
+                         swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return SWIM_EINPUT;
+    return error_give(err, &e, swim_model_from_text_(toml, name, sets, nsets, out, &e));
+}
+
+int swim_model_set(swim_model *model, const char *key, const char *value, swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return SWIM_EINPUT;
+    return error_give(err, &e, model_set(model, key, value, &e));
+}
+
+int swim_sim_create(const swim_model *m, const swim_sim_options *o, swim_sim **out, swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return SWIM_EINPUT;
+    return error_give(err, &e, swim_sim_create_(m, o, out, &e));
+}
+
+int swim_sim_advance(swim_sim *s, double t, swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return SWIM_EINPUT;
+    return error_give(err, &e, swim_sim_advance_(s, t, &e));
+}
+
+int swim_sim_run(swim_sim *s, swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return SWIM_EINPUT;
+    return error_give(err, &e, swim_sim_run_(s, &e));
+}
+
+int swim_inspect(int modes, const double *shape, const double *velocity, double rho0, double rhof,
+                 swim_inspection *out, swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return SWIM_EINPUT;
+    return error_give(err, &e, swim_inspect_(modes, shape, velocity, rho0, rhof, out, &e));
 }

@@ -21,9 +21,17 @@
  * naming the argument ("out", "model", "sim", "sets[1]", "nevents", "t", ...). The functions
  * without an error argument say so by their value (below).
  *
- *   swim_model *m;  swim_sim *s;  swim_error e;  swim_result r;
+ * The structs the caller allocates (swim_error, swim_sim_options, swim_result, swim_inspection)
+ * start with `size_t size`, which the caller sets to sizeof the struct it has (the SWIM_*_INIT
+ * initialisers do): the library reads and fills only what that size holds, so a program built
+ * against an older, smaller struct is never written past when fields are added at the end. A
+ * size below the struct's first layout is SWIM_EINPUT naming the struct (a swim_error that small
+ * is left untouched: the status alone says it).
+ *
+ *   swim_model *m;  swim_sim *s;
+ *   swim_error e = SWIM_ERROR_INIT;  swim_result r = SWIM_RESULT_INIT;
  *   if (swim_model_from_file("models/example3.toml", NULL, 0, &m, &e)) { puts(e.message); ... }
- *   swim_sim_options o = {0};                  // rows to a callback, events, a stop flag
+ *   swim_sim_options o = SWIM_SIM_OPTIONS_INIT;   // rows to a callback, events, a stop flag
  *   swim_sim_create(m, &o, &s, &e);
  *   swim_sim_advance(s, 5.0, &e);              // rows up to t = 5, then on to t_end:
  *   swim_sim_run(s, &e);
@@ -45,6 +53,27 @@ extern "C" {
 #define SWIM_API
 #endif
 
+/* The version of this header: VERSION's numbers (swim_version() gives the library's, which a
+ * program may compare with these; a test checks that they agree). */
+#define SWIM_VERSION_MAJOR 0
+#define SWIM_VERSION_MINOR 3
+#define SWIM_VERSION_PATCH 0
+/* The ABI: the SONAME is libswim.so.SWIM_ABI. Raised when a function changes or a struct's first
+ * layout does; growing a struct at its end (its size field says how much the caller has) and
+ * adding functions keep it. */
+#define SWIM_ABI 1
+
+/* Initialisers of the caller's structs: the size set, everything else zero. */
+#if defined(__cplusplus)
+#define SWIM_SIZED_INIT_(type) { sizeof(type) }
+#else
+#define SWIM_SIZED_INIT_(type) { .size = sizeof(type) }
+#endif
+#define SWIM_ERROR_INIT SWIM_SIZED_INIT_(swim_error)
+#define SWIM_SIM_OPTIONS_INIT SWIM_SIZED_INIT_(swim_sim_options)
+#define SWIM_RESULT_INIT SWIM_SIZED_INIT_(swim_result)
+#define SWIM_INSPECTION_INIT SWIM_SIZED_INIT_(swim_inspection)
+
 enum {
     SWIM_OK = 0,
     SWIM_EFAILED = 1,       /* the run failed or stopped early (its reason in the error) */
@@ -55,6 +84,7 @@ enum {
 
 /* What went wrong. file/line/key are set for a scene value ("" and 0 otherwise). */
 typedef struct {
+    size_t size;            /* sizeof(swim_error), set by the caller (SWIM_ERROR_INIT) */
     int status;
     char file[1024];
     int line;
@@ -64,6 +94,13 @@ typedef struct {
 
 /* "MAJOR.MINOR.PATCH", the version of the library (VERSION). */
 SWIM_API const char *swim_version(void);
+/* The name of a status and what it means, "SWIM_EINPUT: bad input ..." (a status or its negative,
+ * as swim_model_columns returns; "unknown status" for any other number). A static string. */
+SWIM_API const char *swim_strerror(int status);
+/* sizeof the library's struct of that name ("swim_error", "swim_sim_options", "swim_result",
+ * "swim_inspection"), 0 for another name or NULL: for bindings that mirror the structs (Python
+ * checks its mirrors against these at import). */
+SWIM_API size_t swim_struct_size(const char *name);
 
 /* ---- a model: a scene read and validated, with its kernels -------------------------------- */
 
@@ -82,6 +119,17 @@ SWIM_API int swim_model_columns(const swim_model *m, const char *const **names);
 /* The scene as it will run (the overrides written into its text), a string owned by the model
  * (NULL for a NULL model). */
 SWIM_API const char *swim_model_scene_text(const swim_model *m);
+/* Sets one run-time key, "KEY" to "VALUE" as `--set KEY=VALUE` would (model.rho0, model.rhof,
+ * parameters.NAME, elastic.stiffness[I] or .NAME, elastic.reference, damping.diagonal,
+ * barrier.alpha, shape.c0 / shape.dc0 items, run.t_end, run.rtol, run.integrator, ...), in
+ * place: the scene file is not read again and the kernels stay (a simulation created afterwards
+ * equals one of a model opened with that override, bit for bit). A key that changes the kernel's
+ * structure (model.modes, shape.free, forcing.law, stroke.*, or a value that changes the
+ * structure key the kernel cache uses: a zero of elastic.stiffness made nonzero or back, ...) is
+ * SWIM_EINPUT naming it, and so is a value --set refuses; the model is then as before. Simulations already created keep the values they were created with. Not while another
+ * thread uses the model (creating a simulation of it); the string of swim_model_scene_text is
+ * replaced. */
+SWIM_API int swim_model_set(swim_model *model, const char *key, const char *value, swim_error *err);
 SWIM_API void swim_model_free(swim_model *m);
 
 /* ---- a simulation of a model --------------------------------------------------------------- */
@@ -94,6 +142,7 @@ typedef struct swim_sim swim_sim;
 typedef int (*swim_row_fn)(void *ctx, double t, const double *values, int ncol);
 
 typedef struct {
+    size_t size;                      /* sizeof(swim_sim_options), set by the caller (SWIM_SIM_OPTIONS_INIT) */
     swim_row_fn rows;                 /* NULL: rows not delivered */
     void *rows_ctx;
     const char *const *events;        /* "COLUMN:KIND[:stop]" as `swim run --event`, besides the scene's */
@@ -115,6 +164,7 @@ SWIM_API int swim_sim_advance(swim_sim *s, double t, swim_error *err);
 SWIM_API int swim_sim_run(swim_sim *s, swim_error *err);
 
 typedef struct {
+    size_t size;                      /* sizeof(swim_result), set by the caller (SWIM_RESULT_INIT) */
     int finished;                     /* the run has ended */
     int completed;                    /* ... and reached t_end or a :stop event */
     double t_reached;
@@ -124,7 +174,7 @@ typedef struct {
     long steps, rhs_evaluations;
 } swim_result;
 
-/* SWIM_OK, or SWIM_EINPUT when s or r is NULL. */
+/* SWIM_OK, or SWIM_EINPUT when s or r is NULL or r->size is below the first swim_result's. */
 SWIM_API int swim_sim_result(const swim_sim *s, swim_result *r);
 /* The state at t_reached in the layout of trajectory.csv's columns 1 .. 3 + 2n (x, y, theta,
  * c, cdot): at most len doubles into y; how many there are (-SWIM_EINPUT for a NULL s, len < 0,
@@ -144,6 +194,7 @@ SWIM_API void swim_sim_free(swim_sim *s);
 /* For N modes, n = 2(N + 1) shape coordinates (a_1, b_1, a_-1, b_-1, ..., a_-N, b_-N). The
  * arrays are the caller's, row-major; a NULL pointer skips that output. */
 typedef struct {
+    size_t size;              /* sizeof(swim_inspection), set by the caller (SWIM_INSPECTION_INIT) */
     double jmin;              /* out: min J on the unit circle, > 0 inside the admissible set (4.1) */
     double *mass_rigid;       /* 3 x 3: Mr (section 3.2) */
     double *mass_coupling;    /* 3 x n: N */
