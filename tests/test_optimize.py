@@ -142,6 +142,28 @@ def test_not_converged_and_interrupted():
         check(False, "SIGINT: optimize.json readable (%r)" % exc)
 
 
+def test_scene_read_once():
+    """The search parses the scene's text read once, however many runs it makes: strace counts
+    the opens of the scene file (a copy, so no other program's open is counted)."""
+    probe = subprocess.run(["strace", "-f", "-o", os.devnull, "true"], capture_output=True, text=True)
+    if probe.returncode != 0:   # no ptrace in this container: nothing to count with
+        print("skipped: strace cannot trace here: %s" % probe.stderr.strip())
+        return
+    scene = os.path.join(TMP, "read_once.toml")
+    with open(os.path.join(ROOT, EX3)) as src, open(scene, "w") as dst:
+        dst.write(src.read())
+    trace, out = os.path.join(TMP, "read_once.strace"), os.path.join(TMP, "read_once")
+    p = subprocess.run(["strace", "-f", "-e", "trace=open,openat", "-o", trace, SWIM, "optimize", scene, "--out", out,
+                        "--quiet", "--set", "run.t_end=0.5", "--vary", "model.rho0=0.5:2", "--maximize", "x",
+                        "--max-iter", "4"], capture_output=True, text=True, cwd=ROOT)
+    with open(trace) as fh:
+        opens = sum(1 for line in fh if scene in line)
+    with open(os.path.join(out, "optimize.json")) as fh:
+        runs = json.load(fh)["evaluations"]
+    check(p.returncode in (0, 1) and runs >= 5, "the search ran (exit %d, %d runs): %s" % (p.returncode, runs, p.stderr))
+    check(opens == 1, "the scene file opened once for %d runs, best.toml included (%d opens)" % (runs, opens))
+
+
 def test_bad_arguments():
     cases = [(["--vary", "elastic.reference.am1=0:1"], "exactly one of"),
              (["--vary", "elastic.reference.am1=1:0", "--minimize", "energy"], "LO < HI"),

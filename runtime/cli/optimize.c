@@ -195,7 +195,8 @@ static int plot(const char *dir)
     return 0;
 }
 
-int swim_cmd_optimize(int argc, char **argv)
+/* The command, with the scene file's text kept in *text (read once; the caller frees it). */
+static int optimize_command(int argc, char **argv, char **text)
 {
     static swim_override sets[SWIM_OPT_MAX_SETS];
     static swim_opt_problem p;
@@ -276,6 +277,8 @@ int swim_cmd_optimize(int argc, char **argv)
     p.max_iter = (int)max_iter;
     p.quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     p.scene_path = pos[0];
+    if (!(*text = swim_scene_read(pos[0], &p.scene_len))) return 2;   /* the one read of the file */
+    p.scene_text = *text;
     p.sets = sets;
     p.nsets = nsets;
     /* The scene with the keys at the middle of their ranges is read and checked now: a key the
@@ -295,7 +298,7 @@ int swim_cmd_optimize(int argc, char **argv)
                 snprintf(o->text, sizeof o->text, "--vary %s=%.10g:%.10g (at %s = %.10g)", p.keys[i].text, p.lo[i],
                          p.hi[i], p.keys[i].text, o->value);
             }
-            if (swim_scene_load_with(pos[0], ov, k, &s) != 0) return 2;
+            if (swim_scene_parse_with(p.scene_text, p.scene_len, pos[0], ov, k, &s) != 0) return 2;
             if (at < 2) swim_scene_free(&s);
         }
         const int forced = s.forced || s.stroke;   /* a stroke's work is the body's positive work */
@@ -369,5 +372,13 @@ int swim_cmd_optimize(int argc, char **argv)
         if (rc == 0 && !p.converged) rc = 1;   /* written, but not the optimum asked for */
     }
     free(dir); free(csv); free(best); free(json);
+    return rc;
+}
+
+int swim_cmd_optimize(int argc, char **argv)
+{
+    char *text = NULL;
+    const int rc = optimize_command(argc, argv, &text);
+    free(text);
     return rc;
 }

@@ -91,7 +91,7 @@ int swim_opt_check_gradient(const swim_opt_problem *p, const swim_override *ov, 
     swim_compiled kn, sys;
     memset(&kn, 0, sizeof kn);
     memset(&sys, 0, sizeof sys);
-    if (swim_scene_load_with(p->scene_path, ov, nov, &s) != 0) return 2;
+    if (swim_scene_parse_with(p->scene_text, p->scene_len, p->scene_path, ov, nov, &s) != 0) return 2;
     int rc = swim_codegen_for_scene("optimize", &s, 0, 0, &kn, &sys) ? 2 : 0;
     swim_dynamics d;
     swim_sens S;
@@ -126,7 +126,7 @@ static void integrate(const swim_opt_problem *p, const swim_override *ov, int no
     memset(&sys, 0, sizeof sys);
     swim_run *run = NULL;
     r->status = 1;
-    if (swim_scene_load_with(p->scene_path, ov, nov, &s) != 0) {
+    if (swim_scene_parse_with(p->scene_text, p->scene_len, p->scene_path, ov, nov, &s) != 0) {
         r->status = 2;
         snprintf(r->reason, sizeof r->reason, "values refused by the scene checks");
         return;
@@ -456,7 +456,7 @@ static void tight_check(swim_opt_problem *p)
     const int nov = all_overrides(p, p->best_value, ov);
     swim_scene s;
     p->tight_status = 1;
-    if (swim_scene_load_with(p->scene_path, ov, nov, &s) != 0) return;
+    if (swim_scene_parse_with(p->scene_text, p->scene_len, p->scene_path, ov, nov, &s) != 0) return;
     const double rtol = fmax(s.rtol / 100.0, SWIM_RTOL_MIN), atol = s.atol / 100.0;
     swim_scene_free(&s);
     swim_override extra[2];
@@ -520,15 +520,13 @@ int swim_opt_run(swim_opt_problem *p)
 
 int swim_opt_write_scene(const swim_opt_problem *p, const char *path)
 {
-    size_t len = 0, outlen = 0;
-    char *text = swim_read_file(p->scene_path, SWIM_SCENE_MAX_BYTES, &len), err[512];
-    if (!text) return -1;
+    size_t outlen = 0;
+    char err[512];
     swim_override ov[SWIM_OPT_MAX_SETS + SWIM_OPT_MAX_KEYS];
     const int nov = all_overrides(p, p->best_value, ov);
     char *out = NULL;
     /* the scene as the best run ran it (scene/resolve.h): swim run of it is that run */
-    int rc = swim_scene_resolve(text, len, p->scene_path, ov, nov, &out, &outlen, err, sizeof err);
-    free(text);
+    int rc = swim_scene_resolve(p->scene_text, p->scene_len, p->scene_path, ov, nov, &out, &outlen, err, sizeof err);
     if (rc != 0) {
         errno = EINVAL;
         return -1;

@@ -68,7 +68,11 @@ typedef struct {
 } swim_opt_start;
 
 typedef struct {
-    const char *scene_path;
+    const char *scene_path;      /* names the scene in messages and in optimize.json */
+    const char *scene_text;      /* the scene file's text, read once (swim_scene_read) by the caller:
+                                    every evaluation parses this, so the file is opened once and an
+                                    edit during the search changes nothing */
+    size_t scene_len;
     const swim_override *sets;   /* --set overrides, applied first */
     int nsets;
     int nkeys;
