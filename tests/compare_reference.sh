@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
-# Compares bin/swim with the build of an earlier commit on the same machine, scene by scene:
-# trajectory.csv and events.csv value for value (bit for bit as doubles), summary.json key for key (timings and keys only
-# one side has left out). The refactoring of the run driver (runtime/driver/) promised no change
+# Compares bin/swim with the build of an earlier commit on the same machine, case by case: every
+# CSV and TOML file of the output folder value for value (bit for bit as doubles), every JSON file
+# key for key (timings and keys only one side has left out). The refactoring of the run driver (runtime/driver/) promised no change
 # of behaviour; this is the check, run before and after (`make compare-reference`).
 #
 #   tests/compare_reference.sh [REF]     REF: a commit (default: the last one before the driver)
 #
 # Scenes: every paper scene (models/example*.toml, to t = 12 or its own end), the self-propelled
 # and stroke scenes, the control scenes, every hard scene to t = 3, and a few option variants
-# (rk8pd, --no-projection, events, --set). Both builds use the kernel cache of this tree.
+# (rk8pd, --no-projection, events, --set), sensitivities and Lyapunov exponents, and the analysis
+# commands (periodic, floquet, continue, optimize with both methods). Both builds use the kernel
+# cache of this tree.
 set -u
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 REF=${1:-b08e746}
@@ -39,6 +41,16 @@ cases+=("example3_noproj|$ROOT/models/example3.toml|--no-projection --set run.t_
 cases+=("example3_rho0|$ROOT/models/example3.toml|--set model.rho0=2 --set run.t_end=6")
 cases+=("example1_events|$ROOT/models/example1.toml|--event a1:max --event y:zero --set run.t_end=12")
 cases+=("example5_cvode|$ROOT/models/example5.toml|--integrator cvode-bdf --set run.t_end=6")
+# The analyses: a case "NAME|SCENE|OPTIONS|COMMAND" runs `swim COMMAND` (default run); every CSV,
+# TOML and JSON file of its folder is compared.
+cases+=("example3_sens|$ROOT/models/example3.toml|--sensitivity model.rho0 --sensitivity shape.c0.am1 --set run.t_end=6")
+cases+=("example3_lyap|$ROOT/models/example3.toml|--lyapunov --set run.t_end=20")
+cases+=("example7_sens_lyap|$ROOT/models/example7.toml|--sensitivity model.rho0 --lyapunov --set run.t_end=4")
+cases+=("periodic_example3|$ROOT/models/example3.toml||periodic")
+cases+=("floquet_example3|$ROOT/models/example3.toml||floquet")
+cases+=("continue_example1|$ROOT/models/example1.toml|--param energy=0.05:0.3 --max-points 4|continue")
+cases+=("optimize_example3|$ROOT/models/example3.toml|--set run.t_end=1 --vary elastic.reference.am1=0.3:0.6 --minimize energy --max-iter 8|optimize")
+cases+=("optimize_bfgs_example3|$ROOT/models/example3.toml|--set run.t_end=1 --vary model.rho0=0.5:2 --maximize x --method bfgs --max-iter 4|optimize")
 
 # The same values in other text (the number format changed from %.17g to the shortest text that
 # reads back to the same double): cell by cell, numbers compared as doubles (bit for bit), the
@@ -62,23 +74,23 @@ EOF
 
 failed=0
 for c in "${cases[@]}"; do
-    IFS='|' read -r name scene opts <<<"$c"
+    IFS='|' read -r name scene opts cmd <<<"$c"
     for side in old new; do
         exe=$OLD; [ $side = new ] && exe=$NEW
         rm -rf "$WORK/$side/$name"
         # shellcheck disable=SC2086
-        "$exe" run "$scene" --out "$WORK/$side/$name" --quiet $opts >"$WORK/$side.$name.log" 2>&1
+        "$exe" "${cmd:-run}" "$scene" --out "$WORK/$side/$name" --quiet $opts >"$WORK/$side.$name.log" 2>&1
         echo $? >"$WORK/$side.$name.rc"
     done
     why=""
     cmp -s "$WORK/old.$name.rc" "$WORK/new.$name.rc" || why="exit status $(cat "$WORK/old.$name.rc") vs $(cat "$WORK/new.$name.rc")"
-    for f in trajectory.csv events.csv; do
-        if [ -e "$WORK/old/$name/$f" ] || [ -e "$WORK/new/$name/$f" ]; then
-            cmp -s "$WORK/old/$name/$f" "$WORK/new/$name/$f" || same_values "$WORK/old/$name/$f" "$WORK/new/$name/$f" \
-                || why="$why $f differs"
-        fi
+    files=$(cd "$WORK" && { ls "old/$name" "new/$name" 2>/dev/null; } | grep -E '\.(csv|toml|json)$' | sort -u)
+    for f in $(grep -E '\.(csv|toml)$' <<<"$files"); do
+        cmp -s "$WORK/old/$name/$f" "$WORK/new/$name/$f" || same_values "$WORK/old/$name/$f" "$WORK/new/$name/$f" \
+            || why="$why $f differs"
     done
-    d=$("$PY" - "$WORK/old/$name/summary.json" "$WORK/new/$name/summary.json" <<'EOF'
+    for f in $(grep -E '\.json$' <<<"$files"); do
+    d=$("$PY" - "$WORK/old/$name/$f" "$WORK/new/$name/$f" "$OLD" "$NEW" "$WORK/old/" "$WORK/new/" <<'EOF'
 import json, sys
 def flat(x, p=""):
     if isinstance(x, dict):
@@ -90,15 +102,20 @@ def flat(x, p=""):
 try:
     a, b = (dict(flat(json.load(open(f)))) for f in sys.argv[1:3])
 except Exception as e:
-    print("summary.json unreadable: %s" % e); sys.exit()
+    print("%s unreadable: %s" % (sys.argv[1].rsplit("/", 1)[-1], e)); sys.exit()
 # the cache folder is named by the kernel key, which hashes the kernel sources: a change there
 # renames it without changing a result
 skip = ("seconds", "max_rss_kb", "wall", "timing", "ns_per_rhs", "from_cache", "kernel.cache")
+# texts name each build's own program and output folder (the command line, best.toml's path):
+# compared with those swapped
+old_bin, new_bin, old_out, new_out = sys.argv[3:7]
+a = {k: v.replace(old_bin, new_bin).replace(old_out, new_out) if isinstance(v, str) else v for k, v in a.items()}
 bad = [k for k in a if k in b and a[k] != b[k] and k != ".out" and not any(s in k for s in skip)]
-print(" ".join("summary%s: %r vs %r" % (k, a[k], b[k]) for k in bad[:4]))
+print(" ".join("%s%s: %r vs %r" % (sys.argv[1].rsplit("/", 1)[-1], k, a[k], b[k]) for k in bad[:4]))
 EOF
 )
     why="$why${d:+ $d}"
+    done
     if [ -n "$why" ]; then echo "DIFFER $name:$why"; failed=$((failed + 1)); else echo "same   $name"; fi
 done
 echo "${#cases[@]} cases, $failed differ (reference $REF)"
