@@ -17,6 +17,16 @@ CFLAGS     ?= $(OPT) -g
 CFLAGS     += -std=c11 -D_XOPEN_SOURCE=700 -Wall -Wextra -Wno-unused-parameter -MMD -MP
 CPPFLAGS   += -Iruntime -I/usr/include/sundials
 LDLIBS     += -ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -ljansson -lquadmath -lm
+# The programs (bin/swim, the tests) link the same libraries from their archives: a run then maps
+# no shared library besides libc, libm and libgcc_s, and starts in about 2 ms instead of 25 ms
+# (docs/performance.md, "Start-up"). libgslcblas comes before libblas so that GSL's cblas calls go
+# where they go in the shared link. libgfortran (LAPACK's runtime) is static where its archive is
+# installed (libgfortran-NN-dev), else shared. HDF5 is not linked at all: runtime/sweep/family_hdf5.c
+# opens it when a family file is written. The shared library (runtime/lib) keeps LDLIBS.
+archive_or_l = $(if $(filter /%,$(shell $(CC) -print-file-name=lib$(1).a)),$(shell $(CC) -print-file-name=lib$(1).a),-l$(1))
+EXE_LDLIBS  = -ldl -Wl,-Bstatic -lgsl -lgslcblas -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial \
+              -lsundials_sunlinsoldense -lsundials_sunmatrixdense -lsundials_generic -ljansson -Wl,-Bdynamic \
+              $(call archive_or_l,gfortran) $(call archive_or_l,quadmath) -lm
 BUILD      ?= build
 BIN        ?= bin
 # Mode counts whose kernels are committed (generated/) and linked into bin/swim; any other N up
@@ -131,10 +141,10 @@ $(BUILD)/libswimtest.a: $(TESTLIB_OBJS)
 
 $(BIN)/swim: $(BUILD)/runtime/cli/main.o $(BUILD)/libswim.a
 	@mkdir -p $(BIN)
-	$(CC) $(CFLAGS) $^ -o $@ $(LDLIBS)
+	$(CC) $(CFLAGS) $^ -o $@ $(EXE_LDLIBS)
 
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(BUILD)/libswimtest.a $(BUILD)/libswim.a
-	$(CC) $(CFLAGS) $^ -o $@ $(LDLIBS)
+	$(CC) $(CFLAGS) $^ -o $@ $(EXE_LDLIBS)
 
 $(BUILD)/tests/%.o: CPPFLAGS += -Itests
 
