@@ -63,7 +63,10 @@ static int h5lib_open(h5lib *h, char *why, size_t len)
 #define LOOK(name) if (!(*(void **)&h->name = dlsym(lib, #name)) && !missing) missing = #name;
     H5_FUNCTIONS(LOOK)
 #undef LOOK
-    /* the type ids are variables the library sets in H5open (the headers' H5OPEN does the same) */
+    /* no clean-up at exit, said before H5open starts the library (which would otherwise register
+     * it): a file whose close failed cannot be closed again (write_file). The type ids are
+     * variables the library sets in H5open (the headers' H5OPEN does the same). */
+    if (!missing) h->H5dont_atexit();   /* fails only when said before: ignored */
     if (!missing && h->H5open() < 0) missing = "H5open";
 #define LOOK(name) { const hid_t *v = dlsym(lib, #name); if (v) h->name = *v; else if (!missing) missing = #name; }
     H5_IDS(LOOK)
@@ -379,8 +382,6 @@ int sweep_write_family_hdf5(const sweep_plan *p)
     h5lib lib, *h = &lib;
     int rc = h5lib_open(h, why, sizeof why);
     if (rc == 0) {
-        /* no clean-up at exit: a file whose close failed cannot be closed again (write_file) */
-        h->H5dont_atexit();
         h->H5Eset_auto2(H5E_DEFAULT, NULL, NULL);   /* its own error stack print: the one line below says it */
         table t;
         rc = table_read(p, &t);
