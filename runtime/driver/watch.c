@@ -22,19 +22,17 @@ int swim_run_watch_init(swim_run_watch *w, swim_dynamics *d, int sdim, int energ
     w->energy = energy;
     w->ys = calloc((size_t)sdim, sizeof(double));
     w->full = calloc((size_t)d->dim, sizeof(double));
-    w->G = malloc(sizeof(double) * d->n * (d->n + 2));
     w->r.jmin = INFINITY;
     w->r.jmin_t = NAN;
     swim_run_watch_mark(w);
-    return w->ys && w->full && w->G ? 0 : -1;
+    return w->ys && w->full ? 0 : -1;
 }
 
 void swim_run_watch_free(swim_run_watch *w)
 {
     free(w->ys);
     free(w->full);
-    free(w->G);
-    w->ys = w->full = w->G = NULL;
+    w->ys = w->full = NULL;
 }
 
 static void note_jmin(swim_run_watch_results *r, double t, double J)
@@ -154,7 +152,7 @@ static void balance(swim_run_watch *w, double tb, const double *u)
     p->drift = fabs(E - w->e0 - work);
     p->e = fabs(E);
     swim_constraint_residuals res;
-    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, w->G, &res);
+    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, &res);
     p->res_volume = fabs(res.volume);
     p->res_volume_rate = fabs(res.volume_rate);
     p->res_angular = fabs(res.angular);

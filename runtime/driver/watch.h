@@ -36,7 +36,7 @@ typedef struct {
 typedef struct {
     swim_dynamics *d;          /* borrowed */
     int sdim;                  /* integrator state dimension */
-    double *ys, *full, *G;     /* work: integrator state, full state, constraint rows (owned) */
+    double *ys, *full;         /* work: integrator state, full state (owned) */
     int energy;                /* also evaluate the energy balance and residuals at step ends */
     double e0;                 /* E(0), for the balance (set before the first step) */
     /* the previous step end */

@@ -393,10 +393,11 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     const int n = d->n;
     const double *c = y + 3, *v = y + 3 + n;
     memset(o, 0, sizeof *o);
-    double Mr[9], *Nc = malloc(sizeof(double) * 3 * n), *Md = malloc(sizeof(double) * n * n);
-    if (!Nc || !Md) { free(Nc); free(Md); return -1; }
+    /* on the stack (35 kB at the largest N): this runs at every output row */
+    enum { NMAX = 2 * (SWIM_KERNEL_MAX_MODES + 1) };
+    double Mr[9], Nc[3 * NMAX], Md[NMAX * NMAX];
     d->k->mass(c, s->rho0, s->rhof, Mr, Nc, Md);
-    if (d->k->reduced(c, NULL, s->rho0, s->rhof, d->K, d->P, NULL) != 0) { free(Nc); free(Md); return -1; }
+    if (d->k->reduced(c, NULL, s->rho0, s->rhof, d->K, d->P, NULL) != 0) return -1;
     double q[3] = {0, 0, 0};
     for (int p = 0; p < 3; p++)
         for (int k = 0; k < n; k++) q[p] += d->P[p * n + k] * v[k];
@@ -431,20 +432,21 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     swim_to_fixed_frame(y[2], Ncv, o->impulse_fluid_shape);
     memcpy(o->rigid_velocity, q, sizeof q);
     swim_constraint_residuals res;
-    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, d->G, &res);
+    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, &res);
     o->res_volume = res.volume;
     o->res_volume_rate = res.volume_rate;
     o->res_angular = res.angular;
     o->res_locks = res.locks;
     o->jmin = swim_shape_jmin(s->modes, c);
-    free(Nc);
-    free(Md);
     if (s->energy) {   /* the energy law's W, last: the rest of this function compiles as without it */
         o->w_law = swim_dynamics_w_law(d, c);
         o->energy += o->w_law;
     }
     return 0;
 }
+
+/* fmax(a, b) for a never NaN, without the library call (the projection runs at every step). */
+static inline double larger(double a, double b) { return b > a ? b : a; }
 
 int swim_dynamics_project(double t, double *ys, void *params)
 {
@@ -460,7 +462,7 @@ int swim_dynamics_project(double t, double *ys, void *params)
     swim_dynamics_unpack(d, ys, y);
     for (int i = 0; i < n; i++)
         if (!s->free_mask[i]) {
-            change = fmax(change, fabs(c[i] - s->c0[i]) + fabs(v[i]));
+            change = larger(change, fabs(c[i] - s->c0[i]) + fabs(v[i]));
             c[i] = s->c0[i];
             v[i] = 0.0;
         }
@@ -497,7 +499,7 @@ int swim_dynamics_project(double t, double *ys, void *params)
         for (int i = 0; i < n; i++) {
             c[i] -= r * g[i] / gg;
             dcx[i] -= r * g[i] / gg;
-            change = fmax(change, fabs(r * g[i] / gg));
+            change = larger(change, fabs(r * g[i] / gg));
         }
     }
     /* Velocity: v <- v - G^T (G G^T)^-1 G v on the free coordinates (l2-orthogonal, as for the
@@ -528,7 +530,7 @@ int swim_dynamics_project(double t, double *ys, void *params)
     for (int i = 0; i < n; i++) {
         double dv = lam[0] * G[i] + lam[1] * G[n + i];
         v[i] -= dv;
-        change = fmax(change, fabs(dv));
+        change = larger(change, fabs(dv));
     }
     if (shifted) {
         /* the corrections go to u itself: packing origin + u rounded would drop u's low bits */
