@@ -162,7 +162,7 @@ static void balance(swim_run_watch *w, double tb, const double *u)
 int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
 {
     swim_run_watch *w = data;
-    const double t0 = swim_clock_seconds();
+    const int timed = swim_clock_sample_start(&w->time);
     int stop = 0;
     commit(&w->r, &w->pend, INFINITY);   /* a step followed by another is part of the run */
     swim_run_watch_pending *p = &w->pend;
@@ -175,7 +175,7 @@ int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
     w->end_y = NULL;
     if (j_at(w, st, st->tb, st->y_end, &Jb, &rb) != 0) {
         w->have_prev = 0;
-        w->seconds += swim_clock_seconds() - t0;
+        swim_clock_sample_stop(&w->time, timed);
         return 0;
     }
     const double theta_b = w->theta_last;
@@ -204,6 +204,6 @@ int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
     w->end_y = st->y_end;
     w->end_j = Jb;
     w->end_theta = theta_b;
-    w->seconds += swim_clock_seconds() - t0;
+    swim_clock_sample_stop(&w->time, timed);
     return stop;
 }

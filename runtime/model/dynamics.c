@@ -267,7 +267,7 @@ double swim_dynamics_jmin(const swim_dynamics *d, const double *u, double *theta
 int swim_dynamics_rhs(double t, const double *u, double *dy, void *params)
 {
     swim_dynamics *d = params;
-    double t0 = swim_clock_seconds();
+    const int timed = swim_clock_sample_start(&d->rhs_time);
     int rc;
     const double *y = split_state(d, u);
     if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;   /* fatal: negative */
@@ -276,11 +276,13 @@ int swim_dynamics_rhs(double t, const double *u, double *dy, void *params)
     d->lo_valid = 0;
     d->bal_valid = d->bal_track && rc == 0 && (!d->scene->barrier || d->w2_valid);
     if (d->bal_valid) memcpy(d->bal_u, u, sizeof(double) * (size_t)swim_dynamics_state_dim(d));
-    d->rhs_seconds += swim_clock_seconds() - t0;
+    swim_clock_sample_stop(&d->rhs_time, timed);
     d->rhs_calls++;
     d->last_rhs_t = d->t_origin + t;
     return rc;
 }
+
+double swim_dynamics_rhs_seconds(const swim_dynamics *d) { return swim_clock_sample_total(&d->rhs_time); }
 
 double swim_dynamics_w2(swim_dynamics *d, const double *c)
 {
@@ -397,7 +399,9 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     enum { NMAX = 2 * (SWIM_KERNEL_MAX_MODES + 1) };
     double Mr[9], Nc[3 * NMAX], Md[NMAX * NMAX];
     d->k->mass(c, s->rho0, s->rhof, Mr, Nc, Md);
-    if (d->k->reduced(c, NULL, s->rho0, s->rhof, d->K, d->P, NULL) != 0) return -1;
+    /* P alone (K = NULL: assembly.h's reduced then skips the Gram product, which nothing
+     * here reads); the call still fails when Mr is not positive definite */
+    if (d->k->reduced(c, NULL, s->rho0, s->rhof, NULL, d->P, NULL) != 0) return -1;
     double q[3] = {0, 0, 0};
     for (int p = 0; p < 3; p++)
         for (int k = 0; k < n; k++) q[p] += d->P[p * n + k] * v[k];
