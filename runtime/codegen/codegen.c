@@ -358,12 +358,13 @@ static void remove_private(const char *dir)
 #define IDENTITY_FILE ".identity"
 #define IDENTITY_MAX 8192
 
-/* The trusted cache root in buf, or -1 (none, not yet made, or not trusted: nothing is kept). */
-static int identity_root(char *buf, size_t len)
+/* The trusted cache root in buf, or -1 (none, or not trusted: nothing is kept); made first
+ * (private, as obtain makes it) when `make`, else -1 when it does not exist yet. */
+static int identity_root(char *buf, size_t len, int make)
 {
     char why[SWIM_CODEGEN_PATH + 128];
     struct stat st;
-    if (cache_root(buf, len) != 0 || stat(buf, &st) != 0) return -1;
+    if (cache_root(buf, len) != 0 || (make ? make_private_dirs(buf) : stat(buf, &st)) != 0) return -1;
     return trusted_root(buf, why, sizeof why);
 }
 
@@ -402,7 +403,7 @@ static char *identity_line(char *text, const char *kind)
 static int identity_recall(const char *kind, const char *stamp, char *value, size_t len)
 {
     char root[SWIM_CODEGEN_PATH], text[IDENTITY_MAX];
-    if (identity_root(root, sizeof root) != 0) return -1;
+    if (identity_root(root, sizeof root, 0) != 0) return -1;
     identity_text(root, text, sizeof text);
     char *line = identity_line(text, kind);
     if (!line) return -1;
@@ -420,7 +421,7 @@ static int identity_recall(const char *kind, const char *stamp, char *value, siz
 static void identity_keep(const char *kind, const char *stamp, const char *value)
 {
     char root[SWIM_CODEGEN_PATH], text[IDENTITY_MAX], tmp[SWIM_CODEGEN_PATH + 64], path[SWIM_CODEGEN_PATH + 32];
-    if (strpbrk(stamp, "\t\n") || strpbrk(value, "\t\n") || identity_root(root, sizeof root) != 0) return;
+    if (strpbrk(stamp, "\t\n") || strpbrk(value, "\t\n") || identity_root(root, sizeof root, 1) != 0) return;
     identity_text(root, text, sizeof text);
     char *line = identity_line(text, kind);
     if (line) {   /* this kind's old line goes */
