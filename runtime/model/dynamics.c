@@ -464,8 +464,11 @@ int swim_dynamics_project(double t, double *ys, void *params)
     if (d->origin) memcpy(before, absolute(d, ys, d->hi), sizeof(double) * m);
     memcpy(d->proj_delta, ys, sizeof(double) * m);
     swim_dynamics_unpack(d, ys, y);
+    int free_at[2 * (SWIM_KERNEL_MAX_MODES + 1)], nfree = 0;
     for (int i = 0; i < n; i++)
-        if (!s->free_mask[i]) {
+        if (s->free_mask[i]) {
+            free_at[nfree++] = i;
+        } else {
             change = larger(change, fabs(c[i] - s->c0[i]) + fabs(v[i]));
             c[i] = s->c0[i];
             v[i] = 0.0;
@@ -494,13 +497,18 @@ int swim_dynamics_project(double t, double *ys, void *params)
         } else {
             r = swim_area_constant(n, c) - mu0;
         }
+        /* over the free coordinates only: a locked one's gradient entry is 0, and adding the
+         * exact zeros it gave to sums that start at +0 changed no bit (a NaN residual, which left
+         * NaN there as well, fails the step either way) */
         double g[2 * (SWIM_KERNEL_MAX_MODES + 1)];
-        for (int i = 0; i < n; i++) {
-            g[i] = s->free_mask[i] ? 2.0 * swim_coord_mode(i) * c[i] : 0.0;
+        for (int f = 0; f < nfree; f++) {
+            const int i = free_at[f];
+            g[i] = 2.0 * swim_coord_mode(i) * c[i];
             gg += g[i] * g[i];
         }
         if (!(gg > 0.0) || r == 0.0) break;
-        for (int i = 0; i < n; i++) {
+        for (int f = 0; f < nfree; f++) {
+            const int i = free_at[f];
             c[i] -= r * g[i] / gg;
             dcx[i] -= r * g[i] / gg;
             change = larger(change, fabs(r * g[i] / gg));
@@ -508,18 +516,20 @@ int swim_dynamics_project(double t, double *ys, void *params)
     }
     /* Velocity: v <- v - G^T (G G^T)^-1 G v on the free coordinates (l2-orthogonal, as for the
      * initial data; a K-orthogonal projection changed the energy drift of the T = 1000 runs by
-     * less than 1 % at twice the cost, since it needs K). */
-    double *G = d->G;
-    swim_constraint_rows(n, c, s->free_mask, G);
-    for (int j = 0; j < 2; j++)
-        for (int i = 0; i < n; i++)
-            if (!s->free_mask[i]) G[j * n + i] = 0.0;
+     * less than 1 % at twice the cost, since it needs K). G's rows 0 and 1 (swim_constraint_rows,
+     * the same expressions) on the free coordinates; the locked columns, zeros, are left out of
+     * the sums as above. */
+    double G[2][2 * (SWIM_KERNEL_MAX_MODES + 1)];
     double A[2][2] = {{0, 0}, {0, 0}}, b[2] = {0, 0}, lam[2] = {0, 0};
-    for (int i = 0; i < n; i++)
+    for (int f = 0; f < nfree; f++) {
+        const int i = free_at[f], k = swim_coord_mode(i), ak = abs(k);
+        G[0][i] = k * c[i];
+        G[1][i] = i % 2 ? -c[i - 1] / (ak + 1) : c[i + 1] / (ak + 1);
         for (int j = 0; j < 2; j++) {
-            b[j] += G[j * n + i] * v[i];
-            for (int l = 0; l < 2; l++) A[j][l] += G[j * n + i] * G[l * n + i];
+            b[j] += G[j][i] * v[i];
+            for (int l = 0; l < 2; l++) A[j][l] += G[j][i] * G[l][i];
         }
+    }
     const double scale = A[0][0] + A[1][1] + 1e-300;
     const int use0 = A[0][0] > 1e-13 * scale, use1 = A[1][1] > 1e-13 * scale;
     const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
@@ -531,8 +541,9 @@ int swim_dynamics_project(double t, double *ys, void *params)
     } else if (use1) {
         lam[1] = b[1] / A[1][1];
     }
-    for (int i = 0; i < n; i++) {
-        double dv = lam[0] * G[i] + lam[1] * G[n + i];
+    for (int f = 0; f < nfree; f++) {
+        const int i = free_at[f];
+        double dv = lam[0] * G[0][i] + lam[1] * G[1][i];
         v[i] -= dv;
         change = larger(change, fabs(dv));
     }
