@@ -3,7 +3,8 @@
 entries with their state (a damaged one as damaged), `clean --older-than` keeps what was used
 recently and `clean` empties it; the cache key names the processor and the compiler's version,
 which is asked of the compiler (a `cc --version` child) only when the compiler's stamp in the
-cache's .identity no longer matches the program PATH finds. Prints "test_cache_command: P passed, F failed"."""
+cache's .identity no longer matches the program PATH finds; the hash of the generator's sources
+is read again only when a file's stamp changes. Prints "test_cache_command: P passed, F failed"."""
 
 import glob
 import os
@@ -90,6 +91,37 @@ def test_compiler_identity_kept():
         check(open(log).read().count("v") == before + 1, "an untrusted cache's .identity is not used")
     finally:
         os.chmod(cache, 0o700)
+
+
+def test_sources_hash_kept():
+    """The hash of generator/ and runtime/kernel/ is kept with their files' stamps: a file touched
+    (a new stamp, the same bytes) reuses the kernel without building; a file whose bytes change
+    gives a new key and a new entry."""
+    share, cache = os.path.join(TMP, "share"), os.path.join(TMP, "srccache")
+    for sub in ("generator", os.path.join("runtime", "kernel")):
+        shutil.copytree(os.path.join(ROOT, sub), os.path.join(share, sub),
+                        ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+    env = dict(ENV, SWIM_CACHE=cache, SWIM_SHARE=share)
+
+    def run():
+        p = subprocess.run([SWIM, "run", "models/example3.toml", "--out", os.path.join(TMP, "srcrun"), "--t-end", "0.1",
+                            "--summary-only", "--quiet"], capture_output=True, text=True, cwd=ROOT, env=env)
+        check(p.returncode == 0, "run with a copied share folder: exit %d %s" % (p.returncode, p.stderr))
+        line = [l for l in open(os.path.join(cache, ".identity")).read().splitlines() if l.startswith("sources ")]
+        return len(glob.glob(os.path.join(cache, "*", "manifest"))), line[0] if line else ""
+
+    entries, first = run()
+    check(entries == 1 and first.startswith("sources ") and share in first, "the sources' hash is kept: %r" % first)
+    header = os.path.join(share, "runtime", "kernel", "coords.h")
+    os.utime(header, None)
+    entries, touched = run()
+    check(entries == 1 and touched != first and touched.split("\t")[1] == first.split("\t")[1],
+          "a touched file: new stamp, same hash, no new entry (%d entries; %r, %r)" % (entries, first, touched))
+    with open(header, "a") as fh:
+        fh.write("/* changed */\n")
+    entries, changed = run()
+    check(entries == 2 and changed.split("\t")[1] != first.split("\t")[1],
+          "a changed file: a new hash and a new entry (%d entries)" % entries)
 
 
 def test_bad_input():
