@@ -19,14 +19,16 @@ CPPFLAGS   += -Iruntime -I/usr/include/sundials
 LDLIBS     += -ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -ljansson -lquadmath -lm
 # The programs (bin/swim, the tests) link the same libraries from their archives: a run then maps
 # no shared library besides libc, libm and libgcc_s, and starts in about 2 ms instead of 25 ms
-# (docs/performance.md, "Start-up"). libgslcblas comes before libblas so that GSL's cblas calls go
-# where they go in the shared link. libgfortran (LAPACK's runtime) is static where its archive is
-# installed (libgfortran-NN-dev), else shared. HDF5 is not linked at all: runtime/sweep/family_hdf5.c
-# opens it when a family file is written. The shared library (runtime/lib) keeps LDLIBS.
-archive_or_l = $(if $(filter /%,$(shell $(CC) -print-file-name=lib$(1).a)),$(shell $(CC) -print-file-name=lib$(1).a),-l$(1))
-EXE_LDLIBS  = -ldl -Wl,-Bstatic -lgsl -lgslcblas -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial \
-              -lsundials_sunlinsoldense -lsundials_sunmatrixdense -lsundials_generic -ljansson -Wl,-Bdynamic \
-              $(call archive_or_l,gfortran) $(call archive_or_l,quadmath) -lm
+# (docs/performance.md, "Start-up and the cost around the RHS"). libgslcblas comes before libblas
+# so that GSL's cblas calls go where they go in the shared link. LAPACK's archive needs
+# libgfortran's (libgfortran-NN-dev, installed with gfortran): without it, LAPACK and BLAS stay
+# shared (GFORTRAN_A empty). HDF5 is not linked at all: runtime/sweep/family_hdf5.c opens it when
+# a family file is written. The shared library (runtime/lib) keeps LDLIBS.
+GFORTRAN_A ?= $(filter /%,$(shell $(CC) -print-file-name=libgfortran.a))
+EXE_LDLIBS  = -ldl -Wl,-Bstatic -lgsl -lgslcblas -lsundials_cvode -lsundials_nvecserial -lsundials_sunlinsoldense \
+              -lsundials_sunmatrixdense -lsundials_generic -ljansson $(if $(GFORTRAN_A),-llapacke -llapack -lblas) \
+              -Wl,-Bdynamic $(if $(GFORTRAN_A),$(GFORTRAN_A),-llapacke -llapack -lblas) -Wl,-Bstatic -lquadmath \
+              -Wl,-Bdynamic -lm
 BUILD      ?= build
 BIN        ?= bin
 # Mode counts whose kernels are committed (generated/) and linked into bin/swim; any other N up
