@@ -17,6 +17,18 @@ CFLAGS     ?= $(OPT) -g
 CFLAGS     += -std=c11 -D_XOPEN_SOURCE=700 -Wall -Wextra -Wno-unused-parameter -MMD -MP
 CPPFLAGS   += -Iruntime -I/usr/include/sundials
 LDLIBS     += -ldl -lgsl -llapacke -llapack -lblas -lsundials_cvode -lsundials_nvecserial -ljansson -lquadmath -lm
+# The programs (bin/swim, the tests) link the same libraries from their archives: a run then maps
+# no shared library besides libc, libm and libgcc_s, and starts in about 2 ms instead of 25 ms
+# (docs/performance.md, "Start-up and the cost around the RHS"). libgslcblas comes before libblas
+# so that GSL's cblas calls go where they go in the shared link. LAPACK's archive needs
+# libgfortran's (libgfortran-NN-dev, installed with gfortran): without it, LAPACK and BLAS stay
+# shared (GFORTRAN_A empty). HDF5 is not linked at all: runtime/sweep/family_hdf5.c opens it when
+# a family file is written. The shared library (runtime/lib) keeps LDLIBS.
+GFORTRAN_A ?= $(filter /%,$(shell $(CC) -print-file-name=libgfortran.a))
+EXE_LDLIBS  = -ldl -Wl,-Bstatic -lgsl -lgslcblas -lsundials_cvode -lsundials_nvecserial -lsundials_sunlinsoldense \
+              -lsundials_sunmatrixdense -lsundials_generic -ljansson $(if $(GFORTRAN_A),-llapacke -llapack -lblas) \
+              -Wl,-Bdynamic $(if $(GFORTRAN_A),$(GFORTRAN_A),-llapacke -llapack -lblas) -Wl,-Bstatic -lquadmath \
+              -Wl,-Bdynamic -lm
 BUILD      ?= build
 BIN        ?= bin
 # Mode counts whose kernels are committed (generated/) and linked into bin/swim; any other N up
@@ -131,10 +143,10 @@ $(BUILD)/libswimtest.a: $(TESTLIB_OBJS)
 
 $(BIN)/swim: $(BUILD)/runtime/cli/main.o $(BUILD)/libswim.a
 	@mkdir -p $(BIN)
-	$(CC) $(CFLAGS) $^ -o $@ $(LDLIBS)
+	$(CC) $(CFLAGS) $^ -o $@ $(EXE_LDLIBS)
 
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(BUILD)/libswimtest.a $(BUILD)/libswim.a
-	$(CC) $(CFLAGS) $^ -o $@ $(LDLIBS)
+	$(CC) $(CFLAGS) $^ -o $@ $(EXE_LDLIBS)
 
 $(BUILD)/tests/%.o: CPPFLAGS += -Itests
 
@@ -238,7 +250,7 @@ fuzz: | $(DEPS_STAMP) $(FUZZ_STAMP)
 
 BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_latency.py tests/bench/bench_drift.py \
                  tests/bench/bench_step_checks.py tests/bench/bench_jacobian.py tests/bench/bench_python_loop.py \
-                 tests/bench/bench_sensitivity.py tests/bench/bench_materials.py
+                 tests/bench/bench_sensitivity.py tests/bench/bench_materials.py tests/bench/bench_overhead.py
 
 bench: $(BIN)/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs $(BUILD)/tests/bench/bench_jacobian_cost
 	@bash tests/bench/run_bench.sh $(BENCH_SCRIPTS) $(BENCH_BINS)

@@ -252,7 +252,7 @@ static void report_dynamics(run_cmd *c, swim_job *job, const swim_run_result *r)
     const swim_ode_stats *st = &r->stats;
     printf("  %s kernel (state dimension %d)\n", d->generic ? "generic" : "specialized", swim_dynamics_state_dim(d));
     swim_message(stdout, "  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)",
-                 r->used, s->rtol, st->steps, st->rhs_evals, st->rejected, swim_clock_seconds() - c->t_start, d->rhs_seconds);
+                 r->used, s->rtol, st->steps, st->rhs_evals, st->rejected, swim_clock_seconds() - c->t_start, swim_dynamics_rhs_seconds(d));
     printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g at t = %.6g\n",
            r->drift_abs, r->e0, r->res_volume, r->res_angular, r->res_locks, r->jmin, r->jmin_t);
     if (r->impacts)   /* min J above is over the computed steps, not the turning points of the impacts */

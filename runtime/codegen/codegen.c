@@ -97,8 +97,10 @@ static int skip_entry(const struct dirent *e)
     return n[0] != '.' && strcmp(n, "__pycache__") != 0 && !(len > 4 && strcmp(n + len - 4, ".pyc") == 0);
 }
 
-/* Every file under `dir` (sorted, recursively; names and contents) folded into h. */
-static uint64_t hash_tree(uint64_t h, const char *dir, const char *rel)
+/* Every file under `dir` (sorted, recursively) folded into h: its name and, with contents, what
+ * it holds, else its stamp (size, modification time in ns, inode, device: what changes when the
+ * file is written or replaced, found without reading it). */
+static uint64_t hash_tree(uint64_t h, const char *dir, const char *rel, int contents)
 {
     struct dirent **list;
     int count = scandir(dir, &list, skip_entry, alphasort);
@@ -109,12 +111,18 @@ static uint64_t hash_tree(uint64_t h, const char *dir, const char *rel)
         snprintf(name, sizeof name, "%s/%s", rel, list[i]->d_name);
         struct stat st;
         if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
-            h = hash_tree(h, path, name);
+            h = hash_tree(h, path, name, contents);
         } else if (stat(path, &st) == 0 && S_ISREG(st.st_mode)) {
             uint64_t fh;
             long long size;
             h = fnv1a(h, name, strlen(name) + 1);
-            if (hash_file(path, &fh, &size) == 0) h = fnv1a(h, &fh, sizeof fh);
+            if (!contents) {
+                const long long stamp[5] = {(long long)st.st_size, (long long)st.st_mtim.tv_sec,
+                                            (long long)st.st_mtim.tv_nsec, (long long)st.st_ino, (long long)st.st_dev};
+                h = fnv1a(h, stamp, sizeof stamp);
+            } else if (hash_file(path, &fh, &size) == 0) {
+                h = fnv1a(h, &fh, sizeof fh);
+            }
         }
         free(list[i]);
     }
@@ -124,18 +132,38 @@ static uint64_t hash_tree(uint64_t h, const char *dir, const char *rel)
 
 /* ---- where things are ------------------------------------------------------------------ */
 
-/* Hash of everything that shapes the generated code besides the key's own text. */
+/* The folders whose files shape the generated code besides the key's own text, hashed by
+ * contents or by stamps (hash_tree). */
+static uint64_t sources_tree(const char *root, int contents)
+{
+    char dir[SWIM_CODEGEN_PATH];
+    uint64_t h = FNV_START;
+    snprintf(dir, sizeof dir, "%s/generator", root);
+    h = hash_tree(h, dir, "generator", contents);
+    snprintf(dir, sizeof dir, "%s/runtime/kernel", root);
+    return hash_tree(h, dir, "runtime/kernel", contents);
+}
+
+static int identity_recall(const char *kind, const char *stamp, char *value, size_t len);
+static void identity_keep(const char *kind, const char *stamp, const char *value);
+
+/* Hash of the contents of sources_tree, read again only when a stamp there changed (the last
+ * hash is kept with the stamps in the cache, identity_recall). Computed once per thread. */
 static uint64_t sources_hash(const char *root)
 {
     static _Thread_local uint64_t h;
     static _Thread_local int done;
     if (!done) {
-        char dir[SWIM_CODEGEN_PATH];
-        h = FNV_START;
-        snprintf(dir, sizeof dir, "%s/generator", root);
-        h = hash_tree(h, dir, "generator");
-        snprintf(dir, sizeof dir, "%s/runtime/kernel", root);
-        h = hash_tree(h, dir, "runtime/kernel");
+        char stamp[SWIM_CODEGEN_PATH + 32], kept[32];
+        snprintf(stamp, sizeof stamp, "%016llx %s", (unsigned long long)sources_tree(root, 0), root);
+        char *end = NULL;
+        if (identity_recall("sources", stamp, kept, sizeof kept) == 0 && strlen(kept) == 16)
+            h = strtoull(kept, &end, 16);
+        if (!end || *end) {
+            h = sources_tree(root, 1);
+            snprintf(kept, sizeof kept, "%016llx", (unsigned long long)h);
+            identity_keep("sources", stamp, kept);
+        }
         done = 1;
     }
     return h;
@@ -315,6 +343,103 @@ static void remove_private(const char *dir)
 {
     remove_entries(dir, NULL);
     rmdir(dir);
+}
+
+/* ---- what a key says of the compiler and the sources, kept between runs --------------------
+ * The compiler's version costs a child process (cc --version) and the sources' hash reads every
+ * file of generator/ and runtime/kernel/; both change only when files change. So each is kept in
+ * the cache root's .identity (a dot name: never an entry, untouched by `swim cache clean`) with
+ * a stamp of what it was found from, and found again only when the stamp differs: for the
+ * compiler the program the PATH search finds, its resolved path, size, modification time (ns),
+ * inode and device; for the sources the same of every file (hash_tree). .identity is read only
+ * from a root trusted_root accepts and as open_trusted opens a kernel: whoever could alter it
+ * could alter the kernels themselves. One line per kind: "KIND STAMP<tab>VALUE". */
+
+#define IDENTITY_FILE ".identity"
+#define IDENTITY_MAX 8192
+
+/* The trusted cache root in buf, or -1 (none, or not trusted: nothing is kept); made first
+ * (private, as obtain makes it) when `make`, else -1 when it does not exist yet. */
+static int identity_root(char *buf, size_t len, int make)
+{
+    char why[SWIM_CODEGEN_PATH + 128];
+    struct stat st;
+    if (cache_root(buf, len) != 0 || (make ? make_private_dirs(buf) : stat(buf, &st)) != 0) return -1;
+    return trusted_root(buf, why, sizeof why);
+}
+
+/* The identity file's text (at most IDENTITY_MAX - 1 bytes) in text; "" when there is none. */
+static void identity_text(const char *root, char *text, size_t len)
+{
+    struct stat st;
+    int absent;
+    char why[SWIM_CODEGEN_PATH + 128];
+    text[0] = '\0';
+    const int fd = open_trusted(root, IDENTITY_FILE, &st, &absent, why, sizeof why);
+    if (fd < 0) return;
+    size_t got = 0;
+    for (ssize_t n; got + 1 < len && (n = read(fd, text + got, len - 1 - got)) != 0;) {
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) {
+            got = 0;
+            break;
+        }
+        got += (size_t)n;
+    }
+    text[got] = '\0';
+    close(fd);
+}
+
+/* The line of `kind` in text, or NULL. */
+static char *identity_line(char *text, const char *kind)
+{
+    const size_t k = strlen(kind);
+    for (char *line = text; line && *line; line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL)
+        if (strncmp(line, kind, k) == 0 && line[k] == ' ') return line;
+    return NULL;
+}
+
+/* The value kept for kind with this stamp, in value: 0, or -1 (none kept, or with another stamp). */
+static int identity_recall(const char *kind, const char *stamp, char *value, size_t len)
+{
+    char root[SWIM_CODEGEN_PATH], text[IDENTITY_MAX];
+    if (identity_root(root, sizeof root, 0) != 0) return -1;
+    identity_text(root, text, sizeof text);
+    char *line = identity_line(text, kind);
+    if (!line) return -1;
+    line += strlen(kind) + 1;
+    char *tab = strchr(line, '\t'), *eol = strchr(line, '\n');
+    if (!tab || !eol || tab > eol || (size_t)(tab - line) != strlen(stamp) || strncmp(line, stamp, strlen(stamp)) != 0)
+        return -1;
+    snprintf(value, len, "%.*s", (int)(eol - tab - 1), tab + 1);
+    return 0;
+}
+
+/* Keeps value for kind with this stamp (the other kinds' lines as they are), written whole
+ * under a temporary name and renamed: a reader sees the old file or the new one. Best effort:
+ * a cache that cannot be written only means the value is found again next time. */
+static void identity_keep(const char *kind, const char *stamp, const char *value)
+{
+    char root[SWIM_CODEGEN_PATH], text[IDENTITY_MAX], tmp[SWIM_CODEGEN_PATH + 64], path[SWIM_CODEGEN_PATH + 32];
+    if (strpbrk(stamp, "\t\n") || strpbrk(value, "\t\n") || identity_root(root, sizeof root, 1) != 0) return;
+    identity_text(root, text, sizeof text);
+    char *line = identity_line(text, kind);
+    if (line) {   /* this kind's old line goes */
+        char *eol = strchr(line, '\n');
+        memmove(line, eol ? eol + 1 : line + strlen(line), strlen(eol ? eol + 1 : line + strlen(line)) + 1);
+    }
+    snprintf(tmp, sizeof tmp, "%s/%s.%ld.tmp", root, IDENTITY_FILE, (long)getpid());
+    snprintf(path, sizeof path, "%s/%s", root, IDENTITY_FILE);
+    const int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+    if (fd < 0) return;
+    FILE *f = fdopen(fd, "w");
+    if (!f) {
+        close(fd);
+        unlink(tmp);
+        return;
+    }
+    fprintf(f, "%s%s %s\t%s\n", text, kind, stamp, value);
+    if (fclose(f) != 0 || rename(tmp, path) != 0) unlink(tmp);
 }
 
 /* ---- processes ------------------------------------------------------------------------- */
@@ -856,6 +981,48 @@ static void first_line_of(char *const argv[], char *buf, size_t len)
     while (pid > 0 && waitpid(pid, NULL, 0) < 0 && errno == EINTR) {}
 }
 
+/* Where the program SWIM_CC is, as execvp finds it, with its stamp: that path, the path it
+ * resolves to, size, modification time (ns), inode, device. 0, or -1 when it is not found. */
+static int compiler_stamp(char *stamp, size_t len)
+{
+    const char *cc = SWIM_CC, *search = getenv("PATH");
+    char found[SWIM_CODEGEN_PATH] = "";
+    struct stat st;
+    if (strchr(cc, '/')) {
+        snprintf(found, sizeof found, "%s", cc);
+    } else {
+        if (!search) search = "/bin:/usr/bin";   /* execvp's search path when PATH is unset */
+        for (const char *p = search;; p++) {
+            const size_t n = strcspn(p, ":");
+            snprintf(found, sizeof found, "%.*s/%s", (int)n, n ? p : ".", cc);
+            if (stat(found, &st) == 0 && S_ISREG(st.st_mode) && access(found, X_OK) == 0) break;
+            found[0] = '\0';
+            p += n;
+            if (!*p) break;
+        }
+    }
+    char *real = found[0] ? realpath(found, NULL) : NULL;
+    const int rc = real && stat(real, &st) == 0 ? 0 : -1;
+    if (rc == 0)
+        snprintf(stamp, len, "%s %s %lld %lld.%09ld %llu %llu", found, real, (long long)st.st_size,
+                 (long long)st.st_mtim.tv_sec, st.st_mtim.tv_nsec, (unsigned long long)st.st_ino,
+                 (unsigned long long)st.st_dev);
+    free(real);
+    return rc;
+}
+
+/* The first line of `SWIM_CC --version`, run only when the compiler's stamp is not the one kept
+ * with the version in the cache (identity_recall); "" when it cannot be found. */
+static void compiler_version(char *version, size_t len)
+{
+    char stamp[3 * SWIM_CODEGEN_PATH];
+    const int stamped = compiler_stamp(stamp, sizeof stamp) == 0;
+    if (stamped && identity_recall("cc", stamp, version, len) == 0 && version[0]) return;
+    char *argv[] = {SWIM_CC, "--version", NULL};
+    first_line_of(argv, version, len);
+    if (stamped && version[0]) identity_keep("cc", stamp, version);
+}
+
 /* What compiled code depends on besides its sources and flags: the processor (the flags say
  * -march=native, so code built on one machine may not run on another that shares the cache)
  * and the compiler's version. The processor is /proc/cpuinfo's model name (or its
@@ -885,8 +1052,7 @@ static const char *machine_text(void)
         snprintf(cpu, sizeof cpu, "%s", uname(&u) == 0 ? u.machine : "unknown");
     }
     char version[200];
-    char *argv[] = {SWIM_CC, "--version", NULL};
-    first_line_of(argv, version, sizeof version);
+    compiler_version(version, sizeof version);
     /* the key is one line of plain text (manifest, generated C string): no quotes or controls */
     snprintf(text, sizeof text, " cpu=%s ccversion=%s", cpu, version[0] ? version : "unknown");
     for (char *c = text; *c; c++)

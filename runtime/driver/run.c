@@ -1009,7 +1009,7 @@ static void fill_result(swim_run *c)
     res->projection = c->s->projection && (swim_ode_capabilities(c->s->integrator) & SWIM_ODE_CAP_PROJECTION);
     res->step_checks = c->watch_ready;
     res->step_check_steps = c->watch.r.steps;
-    res->step_check_seconds = c->watch.seconds;
+    res->step_check_seconds = swim_clock_sample_total(&c->watch.time);
     res->origin_shift_enabled = c->shift_ok || c->shifts;
     res->shifts = c->shifts;
     res->impacts_enabled = c->ys_shift && c->s->impact_depth > 0;

@@ -117,7 +117,7 @@ void swim_run_summary_json(FILE *f, const swim_run *c, const swim_summary_contex
         fputs("null", f);
     }
     fprintf(f, ",\n  \"step_checks\": {\"enabled\": %s, \"steps\": %ld, \"seconds\": %.6f}",
-            c->watch_ready ? "true" : "false", c->watch.r.steps, c->watch.seconds);
+            c->watch_ready ? "true" : "false", c->watch.r.steps, swim_clock_sample_total(&c->watch.time));
     fprintf(f, ",\n  \"origin_shift\": {\"enabled\": %s, \"restarts\": %ld}", c->shift_ok || c->shifts ? "true" : "false",
             c->shifts);
     fprintf(f, ",\n  \"impacts\": {\"enabled\": %s, \"impact_depth\": %.3g, \"count\": %ld",
@@ -131,7 +131,7 @@ void swim_run_summary_json(FILE *f, const swim_run *c, const swim_summary_contex
             c->invariant_on ? "true" : "false", c->invariant_on ? c->o.invariant_tol : 0.0, c->total.rejected_invariant);
     swim_run_events_json(c->events, f);   /* "events", "event_stop", "periodic" (with events) */
     /* which Jacobian the BDF methods used: the kernel's exact one (calls, time) or differences */
-    const swim_run_timing t = {r->integrate_seconds, r->diagnostics_seconds, r->output_seconds, d->rhs_seconds, wall_s,
+    const swim_run_timing t = {r->integrate_seconds, r->diagnostics_seconds, r->output_seconds, swim_dynamics_rhs_seconds(d), wall_s,
                                d->rhs_calls, c->sys.jacobian ? "exact" : "differences", d->jac_calls, d->jac_seconds};
     swim_summary_provenance_json(f, x, sp);
     swim_run_stats_json(f, st, &t);

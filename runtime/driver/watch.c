@@ -22,19 +22,17 @@ int swim_run_watch_init(swim_run_watch *w, swim_dynamics *d, int sdim, int energ
     w->energy = energy;
     w->ys = calloc((size_t)sdim, sizeof(double));
     w->full = calloc((size_t)d->dim, sizeof(double));
-    w->G = malloc(sizeof(double) * d->n * (d->n + 2));
     w->r.jmin = INFINITY;
     w->r.jmin_t = NAN;
     swim_run_watch_mark(w);
-    return w->ys && w->full && w->G ? 0 : -1;
+    return w->ys && w->full ? 0 : -1;
 }
 
 void swim_run_watch_free(swim_run_watch *w)
 {
     free(w->ys);
     free(w->full);
-    free(w->G);
-    w->ys = w->full = w->G = NULL;
+    w->ys = w->full = NULL;
 }
 
 static void note_jmin(swim_run_watch_results *r, double t, double J)
@@ -154,7 +152,7 @@ static void balance(swim_run_watch *w, double tb, const double *u)
     p->drift = fabs(E - w->e0 - work);
     p->e = fabs(E);
     swim_constraint_residuals res;
-    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, w->G, &res);
+    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, &res);
     p->res_volume = fabs(res.volume);
     p->res_volume_rate = fabs(res.volume_rate);
     p->res_angular = fabs(res.angular);
@@ -164,7 +162,7 @@ static void balance(swim_run_watch *w, double tb, const double *u)
 int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
 {
     swim_run_watch *w = data;
-    const double t0 = swim_clock_seconds();
+    const int timed = swim_clock_sample_start(&w->time);
     int stop = 0;
     commit(&w->r, &w->pend, INFINITY);   /* a step followed by another is part of the run */
     swim_run_watch_pending *p = &w->pend;
@@ -177,7 +175,7 @@ int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
     w->end_y = NULL;
     if (j_at(w, st, st->tb, st->y_end, &Jb, &rb) != 0) {
         w->have_prev = 0;
-        w->seconds += swim_clock_seconds() - t0;
+        swim_clock_sample_stop(&w->time, timed);
         return 0;
     }
     const double theta_b = w->theta_last;
@@ -206,6 +204,6 @@ int swim_run_watch_step(const swim_ode_accepted *st, void *data, double *t_stop)
     w->end_y = st->y_end;
     w->end_j = Jb;
     w->end_theta = theta_b;
-    w->seconds += swim_clock_seconds() - t0;
+    swim_clock_sample_stop(&w->time, timed);
     return stop;
 }

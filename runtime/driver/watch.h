@@ -12,6 +12,7 @@
 #ifndef SWIM_DRIVER_WATCH_H
 #define SWIM_DRIVER_WATCH_H
 
+#include "io/clock.h"
 #include "model/dynamics.h"
 #include "ode/ode.h"
 
@@ -36,7 +37,7 @@ typedef struct {
 typedef struct {
     swim_dynamics *d;          /* borrowed */
     int sdim;                  /* integrator state dimension */
-    double *ys, *full, *G;     /* work: integrator state, full state, constraint rows (owned) */
+    double *ys, *full;         /* work: integrator state, full state (owned) */
     int energy;                /* also evaluate the energy balance and residuals at step ends */
     double e0;                 /* E(0), for the balance (set before the first step) */
     /* the previous step end */
@@ -50,7 +51,7 @@ typedef struct {
     double theta_last;         /* angle of the minimum of J at the last state j_at looked at */
     const double *end_y;       /* the latest step's y_end (NULL: none, or the step was not checked) ... */
     double end_j, end_theta;   /* ... its min J and the angle of that minimum (swim_dynamics_jmin) */
-    double seconds;            /* time spent here */
+    swim_clock_sample time;    /* time spent here, sampled (io/clock.h) */
     swim_run_watch_results mark_r;        /* at the last mark (swim_run_watch_mark) */
     swim_run_watch_pending mark_pend;
 } swim_run_watch;

@@ -267,7 +267,7 @@ double swim_dynamics_jmin(const swim_dynamics *d, const double *u, double *theta
 int swim_dynamics_rhs(double t, const double *u, double *dy, void *params)
 {
     swim_dynamics *d = params;
-    double t0 = swim_clock_seconds();
+    const int timed = swim_clock_sample_start(&d->rhs_time);
     int rc;
     const double *y = split_state(d, u);
     if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;   /* fatal: negative */
@@ -276,11 +276,13 @@ int swim_dynamics_rhs(double t, const double *u, double *dy, void *params)
     d->lo_valid = 0;
     d->bal_valid = d->bal_track && rc == 0 && (!d->scene->barrier || d->w2_valid);
     if (d->bal_valid) memcpy(d->bal_u, u, sizeof(double) * (size_t)swim_dynamics_state_dim(d));
-    d->rhs_seconds += swim_clock_seconds() - t0;
+    swim_clock_sample_stop(&d->rhs_time, timed);
     d->rhs_calls++;
     d->last_rhs_t = d->t_origin + t;
     return rc;
 }
+
+double swim_dynamics_rhs_seconds(const swim_dynamics *d) { return swim_clock_sample_total(&d->rhs_time); }
 
 double swim_dynamics_w2(swim_dynamics *d, const double *c)
 {
@@ -393,10 +395,13 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     const int n = d->n;
     const double *c = y + 3, *v = y + 3 + n;
     memset(o, 0, sizeof *o);
-    double Mr[9], *Nc = malloc(sizeof(double) * 3 * n), *Md = malloc(sizeof(double) * n * n);
-    if (!Nc || !Md) { free(Nc); free(Md); return -1; }
+    /* on the stack (35 kB at the largest N): this runs at every output row */
+    enum { NMAX = 2 * (SWIM_KERNEL_MAX_MODES + 1) };
+    double Mr[9], Nc[3 * NMAX], Md[NMAX * NMAX];
     d->k->mass(c, s->rho0, s->rhof, Mr, Nc, Md);
-    if (d->k->reduced(c, NULL, s->rho0, s->rhof, d->K, d->P, NULL) != 0) { free(Nc); free(Md); return -1; }
+    /* P alone (K = NULL: assembly.h's reduced then skips the Gram product, which nothing
+     * here reads); the call still fails when Mr is not positive definite */
+    if (d->k->reduced(c, NULL, s->rho0, s->rhof, NULL, d->P, NULL) != 0) return -1;
     double q[3] = {0, 0, 0};
     for (int p = 0; p < 3; p++)
         for (int k = 0; k < n; k++) q[p] += d->P[p * n + k] * v[k];
@@ -431,20 +436,21 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     swim_to_fixed_frame(y[2], Ncv, o->impulse_fluid_shape);
     memcpy(o->rigid_velocity, q, sizeof q);
     swim_constraint_residuals res;
-    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, d->G, &res);
+    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, &res);
     o->res_volume = res.volume;
     o->res_volume_rate = res.volume_rate;
     o->res_angular = res.angular;
     o->res_locks = res.locks;
     o->jmin = swim_shape_jmin(s->modes, c);
-    free(Nc);
-    free(Md);
     if (s->energy) {   /* the energy law's W, last: the rest of this function compiles as without it */
         o->w_law = swim_dynamics_w_law(d, c);
         o->energy += o->w_law;
     }
     return 0;
 }
+
+/* fmax(a, b) for a never NaN, without the library call (the projection runs at every step). */
+static inline double larger(double a, double b) { return b > a ? b : a; }
 
 int swim_dynamics_project(double t, double *ys, void *params)
 {
@@ -458,9 +464,12 @@ int swim_dynamics_project(double t, double *ys, void *params)
     if (d->origin) memcpy(before, absolute(d, ys, d->hi), sizeof(double) * m);
     memcpy(d->proj_delta, ys, sizeof(double) * m);
     swim_dynamics_unpack(d, ys, y);
+    int free_at[2 * (SWIM_KERNEL_MAX_MODES + 1)], nfree = 0;
     for (int i = 0; i < n; i++)
-        if (!s->free_mask[i]) {
-            change = fmax(change, fabs(c[i] - s->c0[i]) + fabs(v[i]));
+        if (s->free_mask[i]) {
+            free_at[nfree++] = i;
+        } else {
+            change = larger(change, fabs(c[i] - s->c0[i]) + fabs(v[i]));
             c[i] = s->c0[i];
             v[i] = 0.0;
         }
@@ -488,32 +497,39 @@ int swim_dynamics_project(double t, double *ys, void *params)
         } else {
             r = swim_area_constant(n, c) - mu0;
         }
+        /* over the free coordinates only: a locked one's gradient entry is 0, and adding the
+         * exact zeros it gave to sums that start at +0 changed no bit (a NaN residual, which left
+         * NaN there as well, fails the step either way) */
         double g[2 * (SWIM_KERNEL_MAX_MODES + 1)];
-        for (int i = 0; i < n; i++) {
-            g[i] = s->free_mask[i] ? 2.0 * swim_coord_mode(i) * c[i] : 0.0;
+        for (int f = 0; f < nfree; f++) {
+            const int i = free_at[f];
+            g[i] = 2.0 * swim_coord_mode(i) * c[i];
             gg += g[i] * g[i];
         }
         if (!(gg > 0.0) || r == 0.0) break;
-        for (int i = 0; i < n; i++) {
+        for (int f = 0; f < nfree; f++) {
+            const int i = free_at[f];
             c[i] -= r * g[i] / gg;
             dcx[i] -= r * g[i] / gg;
-            change = fmax(change, fabs(r * g[i] / gg));
+            change = larger(change, fabs(r * g[i] / gg));
         }
     }
     /* Velocity: v <- v - G^T (G G^T)^-1 G v on the free coordinates (l2-orthogonal, as for the
      * initial data; a K-orthogonal projection changed the energy drift of the T = 1000 runs by
-     * less than 1 % at twice the cost, since it needs K). */
-    double *G = d->G;
-    swim_constraint_rows(n, c, s->free_mask, G);
-    for (int j = 0; j < 2; j++)
-        for (int i = 0; i < n; i++)
-            if (!s->free_mask[i]) G[j * n + i] = 0.0;
+     * less than 1 % at twice the cost, since it needs K). G's rows 0 and 1 (swim_constraint_rows,
+     * the same expressions) on the free coordinates; the locked columns, zeros, are left out of
+     * the sums as above. */
+    double G[2][2 * (SWIM_KERNEL_MAX_MODES + 1)];
     double A[2][2] = {{0, 0}, {0, 0}}, b[2] = {0, 0}, lam[2] = {0, 0};
-    for (int i = 0; i < n; i++)
+    for (int f = 0; f < nfree; f++) {
+        const int i = free_at[f], k = swim_coord_mode(i), ak = abs(k);
+        G[0][i] = k * c[i];
+        G[1][i] = i % 2 ? -c[i - 1] / (ak + 1) : c[i + 1] / (ak + 1);
         for (int j = 0; j < 2; j++) {
-            b[j] += G[j * n + i] * v[i];
-            for (int l = 0; l < 2; l++) A[j][l] += G[j * n + i] * G[l * n + i];
+            b[j] += G[j][i] * v[i];
+            for (int l = 0; l < 2; l++) A[j][l] += G[j][i] * G[l][i];
         }
+    }
     const double scale = A[0][0] + A[1][1] + 1e-300;
     const int use0 = A[0][0] > 1e-13 * scale, use1 = A[1][1] > 1e-13 * scale;
     const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
@@ -525,10 +541,11 @@ int swim_dynamics_project(double t, double *ys, void *params)
     } else if (use1) {
         lam[1] = b[1] / A[1][1];
     }
-    for (int i = 0; i < n; i++) {
-        double dv = lam[0] * G[i] + lam[1] * G[n + i];
+    for (int f = 0; f < nfree; f++) {
+        const int i = free_at[f];
+        double dv = lam[0] * G[0][i] + lam[1] * G[1][i];
         v[i] -= dv;
-        change = fmax(change, fabs(dv));
+        change = larger(change, fabs(dv));
     }
     if (shifted) {
         /* the corrections go to u itself: packing origin + u rounded would drop u's low bits */

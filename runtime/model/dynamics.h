@@ -23,6 +23,7 @@
 #ifndef SWIM_DYNAMICS_H
 #define SWIM_DYNAMICS_H
 
+#include "io/clock.h"
 #include "scene/scene.h"
 #include "shape/barrier.h"
 #include "shape/shape.h"
@@ -59,7 +60,7 @@ typedef struct {
     /* statistics */
     long rhs_calls, projections;
     double max_projection;       /* largest change made by swim_dynamics_project */
-    double rhs_seconds;
+    swim_clock_sample rhs_time;  /* the right-hand side's time, sampled (swim_dynamics_rhs_seconds) */
     double last_rhs_t;
     /* W2 of the barrier's last evaluation by the right-hand side, at shape w2_x (swim_dynamics_w2) */
     int w2_valid;
@@ -134,6 +135,8 @@ int swim_dynamics_project(double t, double *y, void *params);
 /* The right-hand side on the integrator's state, in the form of swim_ode_func
  * (params = swim_dynamics *); needs swim_dynamics_use_scene_kernel first. */
 int swim_dynamics_rhs(double t, const double *y, double *dydt, void *params);
+/* Seconds spent in swim_dynamics_rhs so far (estimated from a sample of the calls, io/clock.h). */
+double swim_dynamics_rhs_seconds(const swim_dynamics *d);
 
 /* The exact Jacobian of swim_dynamics_rhs (the scene kernel's, kernel/scene_rhs.h), in the form
  * of swim_ode_jacobian; the barrier's Hessian comes from shape/barrier.h on the nodes of its

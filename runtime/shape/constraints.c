@@ -3,6 +3,7 @@
 #include "kernel/coords.h"
 
 #include <lapacke.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -53,20 +54,25 @@ int swim_constraint_project(int n, int m, const double *G, double *v)
 }
 
 void swim_constraint_residuals_at(int n, const double *c, const double *v, const double *c0, const int *free_mask,
-                                  double *G, swim_constraint_residuals *r)
+                                  swim_constraint_residuals *r)
 {
     r->volume = swim_area_constant(n, c) - swim_area_constant(n, c0);
-    const int m = swim_constraint_rows(n, c, free_mask, G);
-    double rate = 0.0, ang = 0.0;
-    for (int k = 0; k < n; k++) {
-        rate += G[k] * v[k];
-        ang += G[n + k] * v[k];
+    /* G1.v and G2.v with the rows of swim_constraint_rows formed term by term, in its order (the
+     * same sums to the bit), without writing G: this runs at every step */
+    double rate = 0.0, ang = 0.0, locks = 0.0;
+    for (int i = 0; i < n; i += 2) {
+        const int k = swim_coord_mode(i), ak = abs(k);
+        rate += (k * c[i]) * v[i];
+        rate += (k * c[i + 1]) * v[i + 1];
+        ang += (c[i + 1] / (ak + 1)) * v[i];
+        ang += (-c[i] / (ak + 1)) * v[i + 1];
     }
+    for (int i = 0; i < n; i++)
+        if (!free_mask[i]) {
+            const double e = fabs(c[i] - c0[i]) + fabs(v[i]);
+            if (e > locks) locks = e;   /* fmax(locks, e) without the library call: a NaN e is skipped */
+        }
     r->volume_rate = rate;
     r->angular = ang;
-    r->locks = 0.0;
-    for (int j = 2; j < m; j++) {
-        const int i = swim_constraint_locked_index(n, free_mask, j);
-        r->locks = fmax(r->locks, fabs(c[i] - c0[i]) + fabs(v[i]));
-    }
+    r->locks = locks;
 }

@@ -12,13 +12,12 @@ int swim_constraint_locked_index(int n, const int *free_mask, int row);
 
 /* How far a state (c, v) is from the constraints, with c0 the initial shape: the volume
  * mu^2(c) - mu^2(c0) (2.5), G1.v (2.8) and G2.v (2.14) (signed), and the largest
- * |c_i - c0_i| + |v_i| of a locked coordinate. G is workspace for the rows ((n + 2) n doubles).
- * The one computation of the residuals of the diagnostics and of the checks at every step. */
+ * |c_i - c0_i| + |v_i| of a locked coordinate. The one computation of the residuals of the diagnostics and of the checks at every step. */
 typedef struct {
     double volume, volume_rate, angular, locks;
 } swim_constraint_residuals;
 void swim_constraint_residuals_at(int n, const double *c, const double *v, const double *c0, const int *free_mask,
-                                  double *G, swim_constraint_residuals *r);
+                                  swim_constraint_residuals *r);
 /* v <- v - G^T (G G^T)^-1 G v, the l2-orthogonal projection onto {G v = 0} (ERRATA D5).
  * 0, or -1 when G G^T is singular. */
 int swim_constraint_project(int n, int m, const double *G, double *v);

@@ -5,7 +5,13 @@ DEB_PKGS     += libhdf5-dev python3-h5py
 HDF5_CFLAGS  := $(shell pkg-config --cflags hdf5-serial 2>/dev/null || echo -I/usr/include/hdf5/serial)
 HDF5_LIBS    := $(shell pkg-config --libs hdf5-serial 2>/dev/null || echo -L/usr/lib/x86_64-linux-gnu/hdf5/serial -lhdf5)
 CPPFLAGS     += $(HDF5_CFLAGS)
-LDLIBS       += $(HDF5_LIBS)
+# Not linked: family_hdf5.c opens the library by its soname when it writes a file (HDF5 and what
+# it needs -- curl, TLS, Kerberos, LDAP -- are most of the start-up of a program that links it).
+# Read when the object is compiled, after `make deps` has installed libhdf5-dev.
+HDF5_SONAME   = $(shell objdump -p $(firstword $(patsubst -L%,%,$(filter -L%,$(HDF5_LIBS))) /usr/lib)/libhdf5.so \
+                2>/dev/null | awk '/SONAME/ {print $$2}')
+$(BUILD)/runtime/sweep/family_hdf5.o $(BUILD)/pic/runtime/sweep/family_hdf5.o: \
+    CPPFLAGS += $(if $(HDF5_SONAME),-DSWIM_HDF5_SONAME='"$(HDF5_SONAME)"')
 $(BUILD)/runtime/sweep/family_hdf5.o $(BUILD)/pic/runtime/sweep/family_hdf5.o: VERSION
 
 # The paper's families (Figs 4.1, 4.2, 4.5, 4.6, 4.7): one sweep and one `swim plot` each, into
