@@ -79,7 +79,7 @@ help:
 	@echo "make deps-media check/install: $(MEDIA_PKGS) (for animations, the page and make test)"
 	@echo "make paper      run every paper scene and family (fig-4-N sweeps), build out/paper/index.html (~3 min)"
 	@echo "make paper-test make paper, then check the page in headless Chromium (out/paper/screenshot.png)"
-	@echo "make test       build and run every test program in tests/"
+	@echo "make test       build and run every test program in tests/ (T=PATTERN: only those whose name matches)"
 	@echo "make mpi        bin/swim-mpi: swim sweep over MPI ranks (installs OpenMPI); make test-mpi tests it"
 	@echo "make sanitize   the whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer"
 	@echo "                 (make test already runs the C unit tests so built, as asan-test_*)"
@@ -169,11 +169,13 @@ asan-tests: | $(DEPS_STAMP)
 	@$(MAKE) --no-print-directory BUILD=$(ASAN_BUILD) BIN=$(ASAN_BUILD)/bin OPT="$(SANITIZE_OPT)" \
 	  KERNEL_OPT="$(KERNEL_OPT)" $(ASAN_TEST_BINS)
 
+# make test T=PATTERN runs only the programs whose name (test_io, asan-test_io, test_flow) matches
+# the extended regular expression PATTERN.
 # Everything the tests install is built first: two tests running `make install` at once only copy.
 test: $(BIN)/swim lib $(BUILD)/man/swim.1 $(TEST_BINS) $(if $(ASAN_TEST_BINS),asan-tests) $(MEDIA_STAMP) $(FUZZ_STAMP)
 	@$(MAKE) --no-print-directory mpi >/dev/null 2>&1 || echo "make mpi failed: the MPI sweep tests are skipped"
 	@$(SAN_ENV) SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim \
-	  bash tests/run_tests.sh $(TEST_BINS) $(ASAN_TEST_BINS) $(TEST_SCRIPTS)
+	  TEST_FILTER='$(T)' bash tests/run_tests.sh $(TEST_BINS) $(ASAN_TEST_BINS) $(TEST_SCRIPTS)
 
 # bin/swim finds PREFIX/share/swim from its own location, so the tree can be moved as a whole.
 SHARE_FILES := $(shell find generator runtime/kernel -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null) \

@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
 # Runs the test programs given on the command line, TEST_JOBS at a time (default: the machine's
-# cores), each with its output kept in $TEST_LOGS/NAME.log (default build/test-logs). The
-# programs that took longest last time start first (build/test-logs/durations), so the slowest
-# one does not start last. When all have ended it prints, in the order given, each program's
-# FAIL lines and summary line, then one closing line "tests: P passed, F failed" summing the
-# "NAME: p passed, f failed" lines. A program that crashes or exits non-zero without a summary
-# line counts as one failure.
+# cores), each with its output kept in $TEST_LOGS/NAME.log (default build/test-logs). With
+# TEST_FILTER (make test T=PATTERN) only the programs whose name matches that extended regular
+# expression run. It names the log folder first, then prints one line per program AS IT ENDS
+# ("NAME: p passed, f failed (S s)", with the program's FAIL lines under it), and closes with
+# the programs that failed and one line "tests: P passed, F failed" summing the programs'
+# "NAME: p passed, f failed" lines (CI reads that last line). A program that crashes or exits
+# non-zero without a summary line counts as one failure. The programs that took longest last
+# time start first (build/test-logs/durations), so the slowest one does not start last.
 set -u
 jobs="${TEST_JOBS:-$(nproc 2>/dev/null || echo 1)}"
 logs="${TEST_LOGS:-build/test-logs}"
+filter="${TEST_FILTER:-}"
 mkdir -p "$logs"
 durations="$logs/durations"
 touch "$durations"
@@ -17,24 +20,56 @@ touch "$durations"
 # is test_io, the sanitized build/asan/tests/test_io is asan-test_io, tests/test_flow.py test_flow).
 name_of() { sed -E -e 's#^(\./)?(build/)?##' -e 's#(^|/)tests/#\1#' -e 's#/#-#g' -e 's/\.(py|sh)$//' <<<"$1"; }
 
-run_one() {   # run_one PROG: output to its log, exit status and seconds to its .rc file
-    local prog="$1" name start rc
+progs=()
+for prog in "$@"; do
+    if [ -z "$filter" ] || grep -qE -- "$filter" <<<"$(name_of "$prog")"; then progs+=("$prog"); fi
+done
+if [ "${#progs[@]}" -eq 0 ]; then
+    echo "tests: no test program matches T=$filter (names as in $logs: test_io, asan-test_io, test_flow, ...)" >&2
+    exit 2
+fi
+
+# summary LOG RC: "p f" from the program's summary line; "" when it has none
+summary() {
+    local line
+    line=$(grep -E '^[A-Za-z0-9_.-]+: [0-9]+ passed, [0-9]+ failed' "$1" | tail -n 1)
+    [ -n "$line" ] && sed -E 's/.*: ([0-9]+) passed, ([0-9]+) failed.*/\1 \2/' <<<"$line"
+}
+
+run_one() {   # run_one PROG: output to its log, exit status and milliseconds to its .rc file, one line out
+    local prog="$1" name start rc ms counts report fails
     name=$(name_of "$prog")
     start=$(date +%s%N)
     case "$prog" in
         *.py) "${PYTHON:-/usr/bin/python3}" "$prog" >"$logs/$name.log" 2>&1; rc=$? ;;
         *) "$prog" >"$logs/$name.log" 2>&1; rc=$? ;;
     esac
-    echo "$rc $((($(date +%s%N) - start) / 1000000))" >"$logs/$name.rc"   # milliseconds
+    ms=$((($(date +%s%N) - start) / 1000000))
+    echo "$rc $ms" >"$logs/$name.rc"
+    counts=$(summary "$logs/$name.log")
+    if [ -n "$counts" ]; then
+        report=$(printf '%s: %s passed, %s failed (%d.%d s)' "$name" ${counts% *} ${counts#* } \
+                 $((ms / 1000)) $((ms % 1000 / 100)))
+        [ "$rc" -ne 0 ] && [ "${counts#* }" -eq 0 ] && report="$report, exit status $rc"
+    else
+        report=$(printf '%s: no summary line, exit status %d (%d.%d s)' "$name" "$rc" \
+                 $((ms / 1000)) $((ms % 1000 / 100)))
+    fi
+    # one write per program, so that lines of programs ending together do not interleave
+    fails=$(grep -E 'FAIL' "$logs/$name.log" | head -n 20 | sed 's/^/    /')
+    if [ -n "$fails" ]; then printf '%s\n%s\n' "$report" "$fails"; else printf '%s\n' "$report"; fi
 }
 
+[ "${#progs[@]}" -eq 1 ] && word=program || word=programs
+echo "tests: ${#progs[@]} $word, $jobs at a time; each one's output in $logs/NAME.log"
+
 # Longest first (by the last run's milliseconds; unknown programs first of all, in the given order).
-order=$(for prog in "$@"; do
+order=$(for prog in "${progs[@]}"; do
     s=$(awk -v n="$(name_of "$prog")" '$1 == n { print $2 }' "$durations")
     printf '%s %s\n' "${s:-1e9}" "$prog"
 done | sort -s -g -r -k1,1 | cut -d' ' -f2-)
 
-for prog in "$@"; do rm -f "$logs/$(name_of "$prog").rc"; done
+for prog in "${progs[@]}"; do rm -f "$logs/$(name_of "$prog").rc"; done
 running=0
 for prog in $order; do
     if [ "$running" -ge "$jobs" ]; then wait -n; running=$((running - 1)); fi
@@ -43,29 +78,28 @@ for prog in $order; do
 done
 wait
 
-total_pass=0; total_fail=0
-: >"$durations.new"
-for prog in "$@"; do
+total_pass=0; total_fail=0; failed=()
+cp "$durations" "$durations.new"
+for prog in "${progs[@]}"; do
     name=$(name_of "$prog")
-    read -r rc secs <"$logs/$name.rc" 2>/dev/null || { rc=255; secs=0; }
-    echo "$name $secs" >>"$durations.new"
-    out="$logs/$name.log"
-    grep -E 'FAIL' "$out" || true
-    line=$(grep -E '^[A-Za-z0-9_.-]+: [0-9]+ passed, [0-9]+ failed' "$out" | tail -n 1)
-    [ -n "$line" ] && echo "$name:${line#*:}"
-    if [ -n "$line" ]; then
-        p=$(sed -E 's/.*: ([0-9]+) passed, ([0-9]+) failed.*/\1/' <<<"$line")
-        f=$(sed -E 's/.*: ([0-9]+) passed, ([0-9]+) failed.*/\2/' <<<"$line")
+    read -r rc ms <"$logs/$name.rc" 2>/dev/null || { rc=255; ms=0; }
+    # this run's time replaces the last one; programs not run this time (T=...) keep theirs
+    awk -v n="$name" '$1 != n' "$durations.new" >"$durations.tmp" && mv "$durations.tmp" "$durations.new"
+    echo "$name $ms" >>"$durations.new"
+    counts=$(summary "$logs/$name.log")
+    if [ -n "$counts" ]; then
+        p=${counts% *}; f=${counts#* }
         total_pass=$((total_pass + p)); total_fail=$((total_fail + f))
-        if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then
-            echo "$prog: exit status $rc"; total_fail=$((total_fail + 1))
-        fi
+        if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then total_fail=$((total_fail + 1)); f=1; fi
     else
-        echo "$prog: no summary line (exit status $rc)"; tail -n 20 "$out"
-        total_fail=$((total_fail + 1))
+        total_fail=$((total_fail + 1)); f=1
     fi
+    [ "$f" -gt 0 ] && failed+=("$name")
 done
 mv "$durations.new" "$durations"
-echo "(outputs in $logs/NAME.log; $jobs programs at a time)"
+for name in "${failed[@]+"${failed[@]}"}"; do
+    echo "failed: $name (see $logs/$name.log)"
+    grep -q -E '^[A-Za-z0-9_.-]+: [0-9]+ passed, [0-9]+ failed' "$logs/$name.log" || tail -n 20 "$logs/$name.log"
+done
 echo "tests: $total_pass passed, $total_fail failed"
 [ "$total_fail" -eq 0 ]

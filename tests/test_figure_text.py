@@ -154,12 +154,137 @@ def problems(fig):
     return out, texts
 
 
+# ---- axes and legends: no round-off drawn as structure, no legend entry without data, no legend
+# over the data
+
+OFFSET_REL = 1e-6   # an axis spanning less than this fraction of its values draws round-off
+
+
+def legend_sources(fig):
+    """{id(Legend): [the handles it was made from]} (the legend draws copies of its own)."""
+    return getattr(fig, "_legend_sources", {})
+
+
+def record_legend_sources():
+    """From now on every Legend remembers the handles it was given (on its figure)."""
+    from matplotlib.legend import Legend
+    if getattr(Legend, "_spied", False):
+        return
+    orig = Legend.__init__
+
+    def init(self, parent, handles, labels, *a, **kw):
+        orig(self, parent, handles, labels, *a, **kw)
+        fig = parent if not hasattr(parent, "figure") or parent.figure is None else parent.figure
+        if not hasattr(fig, "_legend_sources"):
+            fig._legend_sources = {}
+        fig._legend_sources[id(self)] = (self, list(handles), list(labels))
+    Legend.__init__ = init
+    Legend._spied = True
+
+
+def has_data(art):
+    from matplotlib.lines import Line2D
+    if isinstance(art, Line2D):
+        xy = np.asarray(art.get_xydata(), float).reshape(-1, 2)
+        return bool(np.isfinite(xy).all(axis=1).any())
+    if isinstance(art, Collection):
+        offs = np.asarray(art.get_offsets()).reshape(-1, 2) if art.get_offsets() is not None else np.zeros((0, 2))
+        return len(art.get_paths()) > 0 and (len(offs) > 0 or any(len(p.vertices) for p in art.get_paths()))
+    return True     # patches, images, containers: drawn as given
+
+
+def style(art):
+    from matplotlib.colors import to_rgba
+    from matplotlib.lines import Line2D
+    if isinstance(art, Line2D):
+        return ("line", to_rgba(art.get_color()), art.get_linestyle(), str(art.get_marker()))
+    if isinstance(art, Collection):
+        fc = art.get_facecolor()
+        return ("coll", tuple(np.round(fc[0], 3)) if len(fc) else None)
+    return ("other", id(art))
+
+
+def legend_problems(fig):
+    """Offsets below OFFSET_REL of an axis's values; legend entries whose artist (or, for a proxy
+    without data, every artist of the same style) has no data; legends over data points."""
+    out = {"offset": [], "legend": [], "cover": []}
+    fig.canvas.draw()
+    for ax in axes_of(fig):
+        if ax.name != "rectilinear" or getattr(ax, "_colorbar", None) is not None:
+            continue
+        for which, axis in (("x", ax.xaxis), ("y", ax.yaxis)):
+            if axis.get_scale() != "linear" or not axis.get_visible():
+                continue
+            lo, hi = axis.get_view_interval()
+            mag = max(abs(lo), abs(hi))
+            if mag > 0 and abs(hi - lo) < OFFSET_REL * mag:
+                out["offset"].append("%s-axis of %r spans %.3g around %.10g (offset text %r)" % (
+                    which, ax.get_title()[:30], hi - lo, 0.5 * (lo + hi),
+                    axis.get_major_formatter().get_offset()))
+    from matplotlib.lines import Line2D
+    styles_with_data = {style(a) for ax in axes_of(fig) for a in ax.get_children()
+                        if isinstance(a, (Line2D, Collection)) and a.get_visible() and has_data(a)}
+    rend = fig.canvas.get_renderer()
+    for leg, handles, labels in legend_sources(fig).values():
+        if leg.figure is not fig or not leg.get_visible():
+            continue
+        for h, lab in zip(handles, labels):
+            if has_data(h) and (getattr(h, "axes", None) is not None
+                                or getattr(h, "figure", None) is not None or not hasattr(h, "axes")):
+                continue
+            if not has_data(h) and style(h) in styles_with_data:
+                continue
+            out["legend"].append("legend entry %r has no artist with data" % lab)
+        box = leg.get_window_extent(rend)
+        for ax in axes_of(fig):
+            for a in ax.get_lines():
+                if a.get_transform() != ax.transData or not a.get_visible():
+                    continue
+                xy = np.asarray(a.get_xydata(), float).reshape(-1, 2)
+                xy = xy[np.isfinite(xy).all(axis=1)]
+                if not len(xy):
+                    continue
+                pix = ax.transData.transform(xy)
+                # points drawn (inside the axes) and inside the legend's box
+                hit = [p for p in pix if ax.bbox.x0 <= p[0] <= ax.bbox.x1 and ax.bbox.y0 <= p[1] <= ax.bbox.y1
+                       and box.x0 + SLACK < p[0] < box.x1 - SLACK and box.y0 + SLACK < p[1] < box.y1 - SLACK]
+                if hit:
+                    out["cover"].append("legend covers %d point(s) of %r" % (len(hit), a.get_label()[:40]))
+                    break
+    return out
+
+
 def check_figure(tag, fig):
     found, texts = problems(fig)
     for kind, what in (("overlap", "text overlaps"), ("labels", "axis labels"),
                        ("colorbar", "colour bars"), ("raw", "raw coordinate names")):
         check(not found[kind], "%s: %s: %s" % (tag, what, "; ".join(found[kind][:6])))
+    found = legend_problems(fig)
+    for kind, what in (("offset", "axis offset below 1e-6 of its values"),
+                       ("legend", "legend entries without data"), ("cover", "legend over data")):
+        check(not found[kind], "%s: %s: %s" % (tag, what, "; ".join(found[kind][:6])))
     return texts
+
+
+def test_legend_checker_catches():
+    """A constant drawn on a 1e-13 offset axis, a legend entry for nothing drawn, a legend over
+    the points: each reported; the same figure made right passes."""
+    from matplotlib.lines import Line2D
+    for bad in (True, False):
+        fig, ax = plt.subplots(figsize=(4, 3))
+        x = np.linspace(0, 1, 40)
+        y = 0.5093094348 + (1e-13 if bad else 0.2) * x   # through the centre, under the legend
+        ax.plot(x, y, "o-", color="C0", label="|dr|")
+        handles = [Line2D([], [], color="C0", marker="o", label="|dr|")]
+        if bad:
+            handles.append(Line2D([], [], color="C3", ls="--", label="unstable"))
+        ax.legend(handles=handles, loc="center" if bad else "upper left",
+                  bbox_to_anchor=None if bad else (1.02, 1.0))
+        found = legend_problems(fig)
+        plt.close(fig)
+        for kind in ("offset", "legend", "cover"):
+            check(bool(found[kind]) == bad, "the legend checker, kind %s, %s figure: %s"
+                  % (kind, "faulty" if bad else "right", found[kind]))
 
 
 def test_checker_catches():
@@ -280,6 +405,65 @@ def test_family():
             plt.close(fig)
 
 
+def test_branch():
+    """The figures of a `swim continue` folder (plot_branch.py) on a branch like Example 1's: the
+    displacement per period constant to round-off (0.5093094348 +- 1e-13), every point stable, no
+    special point -- no offset axis, legend entries only for what is drawn, the same units."""
+    import csv
+    import json
+    import plot_branch
+    d = os.path.join(swimtest.TMP, "branch")
+    os.makedirs(d, exist_ok=True)
+    rng = np.random.default_rng(1)
+    with open(os.path.join(d, "branch.csv"), "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["shape.dc0.bm2", "period", "dx", "dy", "stable"])
+        for i in range(12):
+            w.writerow(["%.6f" % (0.1 + 0.05 * i), "%.12f" % (7.9 + 0.01 * i), "0",
+                        repr(0.5093094348 + 1e-13 * rng.standard_normal()), "yes"])
+    meta = {"parameter": "shape.dc0.bm2", "scene": "models/example1.toml", "special_points": [],
+            "points": [{"parameter": 0.1 + 0.05 * i, "multipliers": [[0.9, 0.3], [0.9, -0.3]]}
+                       for i in range(12)]}
+    with open(os.path.join(d, "branch.json"), "w") as fh:
+        json.dump(meta, fh)
+    rows, meta = plot_branch.read(d)
+    for name, build in (("bifurcation", plot_branch.build_bifurcation),
+                        ("multipliers", plot_branch.build_multipliers)):
+        fig = build(rows, meta)
+        check_figure("branch " + name, fig)
+        plt.close(fig)
+
+
+def test_arrows_at_a_vertex():
+    """Arrow feet bunched at a sharp vertex with speeds growing towards it (a star): after
+    plot_run.tame_arrows no two drawn feet are closer than half the median foot spacing, none is
+    drawn on the boundary, none is longer than the 98th percentile speed; far arrows stay."""
+    ring = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+    X = list(2.0 * np.cos(ring))
+    Y = list(2.0 * np.sin(ring))
+    for k in range(12):                       # the star: feet crowding to the vertex (1, 0)
+        a = 2 * np.pi * k / 12
+        X.append(1.0 + 0.02 * np.cos(a))
+        Y.append(0.02 * np.sin(a))
+    X, Y = np.array(X), np.array(Y)
+    r = np.hypot(X - 1.0, Y)
+    U, V = (X - 1.0) / r ** 2, Y / r ** 2    # speed ~ 1/r at the vertex
+    th = np.linspace(0, 2 * np.pi, 400)
+    snap = {"t": 0.0, "arrows": [X, Y, U, V], "boundary": (np.cos(th), 0.5 * np.sin(th))}
+    speeds = np.hypot(U, V)
+    vref = np.percentile(speeds, 98)
+    plot_run.tame_arrows([snap])
+    X2, Y2, U2, V2 = snap["arrows"]
+    shown = np.isfinite(U2)
+    P = np.column_stack([X2[shown], Y2[shown]])
+    D = np.hypot(P[:, None, 0] - P[None, :, 0], P[:, None, 1] - P[None, :, 1])
+    np.fill_diagonal(D, np.inf)
+    check(X2.size == X.size, "the arrow count changed (the animation moves a fixed set)")
+    check(shown[:24].all(), "arrows away from the body were dropped: %d of 24" % shown[:24].sum())
+    check(shown[24:].sum() <= 1, "%d arrows of the star still drawn" % shown[24:].sum())
+    check(np.nanmax(np.hypot(U2, V2)) <= vref * (1 + 1e-12), "an arrow longer than the key speed")
+
+
 def test_cli_same_files():
     """`swim plot` still writes the figures under their names (the CLI uses build_figure)."""
     d = run_scene("models/example1.toml", "cli", "--t-end", "2")
@@ -287,6 +471,8 @@ def test_cli_same_files():
     names = sorted(os.path.basename(x) for x in p.stdout.split())
     check(p.returncode == 0 and names == ["energy.png", "phase.png"], "swim plot: %s %s" % (names, p.stderr[-300:]))
 
+
+record_legend_sources()
 
 if __name__ == "__main__":
     sys.exit(swimtest.main(globals(), "test_figure_text"))

@@ -128,6 +128,13 @@ def check_numbers_and_scenes(text):
             "this shortened run does not reach them" in body
         check(bool(table) != stated, "%s: table %s, statement %s" % (sid, bool(table), stated))
         check('<p class="paper"><b>The paper, Fig.' in body, "%s: no paper caption" % sid)
+        srcs = re.findall(r'<img src="([^"]+)"', body)
+        made = [x for x in srcs if os.path.isfile(os.path.join(OUT, x))
+                and os.path.getsize(os.path.join(OUT, x)) > 5000]
+        check(bool(made), "%s: no figure image made (img %s)" % (sid, srcs))
+    sec43 = dict(secs).get("fig4.3", "")
+    check('src="runs/example1/fig4_3.png"' in sec43,
+          "Fig. 4.3 does not show its screenshot panels: %s" % sec43[:300])
     no_numbers = [sid for sid, body in secs if "gives no numbers" in body]
     check("fig4.9" in no_numbers and "fig4.10" in no_numbers,
           "Figs 4.9, 4.10 (pictures only) lack the statement: %s" % no_numbers)
@@ -199,6 +206,8 @@ def test_2_checker_catches_faults():
     text = re.sub(r'<section id="scene-stroke_loop" class="scene">.*?</section>', "", text,
                   count=1, flags=re.S)
     text = text.replace('<tr id="scene-hard-stiff_n7">', '<tr id="x">')
+    text = re.sub(r'(<section id="fig4\.3" class="paperfig">.*?)<figure><img [^>]*></figure>',
+                  r"\1", text, count=1, flags=re.S)
     with open(bad, "w") as fh:
         fh.write(text)
     fails = []
@@ -210,6 +219,8 @@ def test_2_checker_catches_faults():
           "Fig. 4.4 without its table not reported: %s" % joined[:600])
     check("stroke_loop.toml has no section" in joined, "a missing scene section not reported: %s"
           % joined[:600])
+    check("Fig. 4.3 —" in joined and "promises a figure" in joined,
+          "Fig. 4.3 without its image not reported: %s" % joined[:600])
     check("hard/stiff_n7.toml is not listed" in joined, "an unlisted hard scene not reported: %s"
           % joined[:600])
     os.remove(bad)
@@ -242,6 +253,24 @@ def test_3_instants_from_events_csv():
     check(r.find_events("potential", "zero") == [],
           "with events.csv, a kind it lacks must not fall back to the rows")
     check(build_paper.strokes(r) is None, "strokes found without a_-1 events in events.csv")
+
+
+def test_4_missing_image_recorded():
+    """A figure section's image that was not made (absent or empty) is recorded, so that
+    build_paper fails instead of dropping it from the page."""
+    import build_paper
+    d = os.path.join(swimtest.TMP, "promised")
+    os.makedirs(d, exist_ok=True)
+    with open(os.path.join(d, "made.png"), "wb") as fh:
+        fh.write(b"x" * 100)
+    open(os.path.join(d, "empty.png"), "w").close()
+    missing = []
+    got = build_paper.promised_images(d, "runs/x", ["made.png", "empty.png", "absent.png"],
+                                      "Fig. 9.9", missing)
+    check(got == ["runs/x/made.png"], "images kept: %s" % got)
+    check(len(missing) == 2 and all(m.startswith("Fig. 9.9: ") for m in missing)
+          and "empty.png" in missing[0] and "absent.png" in missing[1],
+          "missing images recorded: %s" % missing)
 
 
 if __name__ == "__main__":

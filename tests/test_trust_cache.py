@@ -325,27 +325,39 @@ def start_generation(name, sig):
                             stderr=subprocess.PIPE, text=True, cwd=ROOT, env=env_with(SWIM_CACHE=cache),
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     gen = None
-    deadline = time.time() + 20
+    # the generator itself (python .../generate.py), not an earlier short child such as the
+    # compiler's --version for the cache key: the signal must land while generation runs, however
+    # slowly a loaded machine starts it
+    deadline = time.time() + 60
     while gen is None and time.time() < deadline and proc.poll() is None:
-        kids = children_of(proc.pid)
-        gen = kids[0] if kids else None
+        gen = next((k for k in children_of(proc.pid) if b"generate.py" in cmdline(k)), None)
         time.sleep(0.05)
     time.sleep(0.3)
     proc.send_signal(sig)
     return proc, gen, cache
 
 
+def cmdline(pid):
+    try:
+        with open("/proc/%d/cmdline" % pid, "rb") as fh:
+            return fh.read()
+    except OSError:
+        return b""
+
+
 def test_ctrl_c_during_generation():
     proc, gen, cache = start_generation("int", signal.SIGINT)
     check(gen is not None, "interrupted generation: the generator was never seen running")
+    err = ""
     try:
-        proc.communicate(timeout=30)
+        _, err = proc.communicate(timeout=30)
     except subprocess.TimeoutExpired:
         proc.kill()
         check(False, "SIGINT during generation: swim did not end")
     time.sleep(0.2)
     check(gen is None or not alive(gen), "SIGINT during generation: the generator keeps running")
-    check(proc.returncode == -signal.SIGINT, "SIGINT during generation: exit %s, want death by SIGINT" % proc.returncode)
+    check(proc.returncode == -signal.SIGINT, "SIGINT during generation: exit %s, want death by SIGINT "
+          "(stderr: %s)" % (proc.returncode, (err or "").strip()[-400:]))
     left = [f for f in glob.glob(os.path.join(cache, "*", "*")) if ".tmp" in os.path.basename(f)]
     check(not left, "SIGINT during generation: temporary files left: %s" % left)
     check(not glob.glob(os.path.join(cache, "*", "manifest")), "SIGINT during generation: an entry was recorded")

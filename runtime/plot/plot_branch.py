@@ -20,6 +20,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from plot_run import DIMLESS, LENGTH, steady_axis, with_unit  # noqa: E402  (one set of unit labels)
+from plot_family import key_label  # noqa: E402  (scene keys named as in a sweep's figures)
+
 OUTSIDE_TOL = 1e-6   # runtime/control/continuation.h, SWIM_CONT_OUTSIDE_TOL
 
 
@@ -33,7 +37,7 @@ def read(folder):
 
 def parameter_label(meta, column):
     key = meta["parameter"]
-    return "energy E (target)" if key == "energy" else column
+    return with_unit("energy $E$ (target)" if key == "energy" else key_label(column), DIMLESS)
 
 
 def runs_of_stability(x, y, stable):
@@ -49,19 +53,27 @@ def runs_of_stability(x, y, stable):
 
 
 def fig_bifurcation(folder, rows, meta):
+    fig = build_bifurcation(rows, meta)
+    fig.savefig(os.path.join(folder, "bifurcation.png"), dpi=110)
+    plt.close(fig)
+
+
+def build_bifurcation(rows, meta):
     col = list(rows[0].keys())[0]
     x = [float(r[col]) for r in rows]
     disp = [math.hypot(float(r["dx"]), float(r["dy"])) for r in rows]
     period = [float(r["period"]) for r in rows]
     stable = [r["stable"] == "yes" for r in rows]
     fig, axes = plt.subplots(2, 1, figsize=(7.5, 6.4), sharex=True)
-    for ax, y, label in ((axes[0], disp, "displacement per period |Δr| (body radii)"),
-                         (axes[1], period, "period T (time units)")):
+    for ax, y, label in ((axes[0], disp, with_unit(r"displacement per period $|\Delta r|$", LENGTH, newline=True)),
+                         (axes[1], period, with_unit("period $T$", DIMLESS, newline=True))):
         for xs, ys, st in runs_of_stability(x, y, stable):
             ax.plot(xs, ys, "-" if st else "--", color="C0" if st else "C3", lw=1.6)
         ax.plot(x, y, "o", ms=3, color="k")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
+        if not (ax is axes[0] and max(disp) < 1e-8):
+            steady_axis(ax, y)
         for i, s in enumerate(meta["special_points"]):
             at = 0.5 * (s["between"][0] + s["between"][1])
             ax.axvline(at, color="C2", lw=0.9, ls=":")
@@ -77,27 +89,36 @@ def fig_bifurcation(folder, rows, meta):
     if x0 is not None:
         for ax in axes:
             ax.axvline(x0, color="0.5", lw=0.8)
-    handles = [Line2D([], [], color="C0", lw=1.6, label="stable"),
-               Line2D([], [], color="C3", lw=1.6, ls="--", label="unstable"),
-               Line2D([], [], color="0.5", lw=0.8, label="the scene's own orbit"),
-               Line2D([], [], color="C2", lw=0.9, ls=":", label="special points (numbered)")]
+    # an entry only for what is drawn
+    handles = ([Line2D([], [], color="C0", lw=1.6, label="stable")] if any(stable) else []) + \
+        ([Line2D([], [], color="C3", lw=1.6, ls="--", label="unstable")] if not all(stable) else []) + \
+        ([Line2D([], [], color="0.5", lw=0.8, label="the scene's own orbit")] if x0 is not None else []) + \
+        ([Line2D([], [], color="C2", lw=0.9, ls=":", label="special points (numbered)")]
+         if meta["special_points"] else [])
     notes = ["%d: %s at %.8g%s" % (i + 1, s["kind"], 0.5 * (s["between"][0] + s["between"][1]),
                                    "" if s.get("refined") else " (not refined)")
              for i, s in enumerate(meta["special_points"])]
     lines_below = (len(notes) + 1) // 2
     bottom = 0.08 + 0.035 * lines_below
-    fig.suptitle("swim continue: %s, %d points in %s" % (os.path.basename(meta["scene"]), len(rows), meta["parameter"]),
+    fig.suptitle("swim continue: %s, %d points in %s" % (os.path.basename(meta["scene"]), len(rows),
+                                                         key_label(meta["parameter"])),
                  fontsize=10)
     fig.tight_layout(rect=(0, bottom, 1, 0.97))
-    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, frameon=False,
-               bbox_to_anchor=(0.5, bottom - 0.07))
+    if handles:
+        fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, frameon=False,
+                   bbox_to_anchor=(0.5, bottom - 0.07))
     for k, note in enumerate(notes):   # two columns of notes under the legend
         fig.text(0.08 + 0.46 * (k % 2), bottom - 0.085 - 0.035 * (k // 2), note, fontsize=8, color="C2", va="top")
-    fig.savefig(os.path.join(folder, "bifurcation.png"), dpi=110)
-    plt.close(fig)
+    return fig
 
 
 def fig_multipliers(folder, rows, meta):
+    fig = build_multipliers(rows, meta)
+    fig.savefig(os.path.join(folder, "multipliers.png"), dpi=110)
+    plt.close(fig)
+
+
+def build_multipliers(rows, meta):
     col = list(rows[0].keys())[0]
     pts = meta["points"]
     pmin, pmax = min(p["parameter"] for p in pts), max(p["parameter"] for p in pts)
@@ -116,8 +137,8 @@ def fig_multipliers(folder, rows, meta):
         ax0.text(0.02, 0.02, "%d beyond the frame (|λ| up to %.3g)" % (len(far), max(far)),
                  transform=ax0.transAxes, fontsize=8, color="0.3")
     ax0.set_aspect("equal")
-    ax0.set_xlabel("Re λ")
-    ax0.set_ylabel("Im λ")
+    ax0.set_xlabel(with_unit(r"Re $\lambda$", DIMLESS))
+    ax0.set_ylabel(with_unit(r"Im $\lambda$", DIMLESS))
     ax0.set_title("multipliers (the exact 1s taken out) and the unit circle", fontsize=9)
     ax0.grid(alpha=0.3)
     sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
@@ -127,12 +148,13 @@ def fig_multipliers(folder, rows, meta):
     ax1.set_yscale("symlog", linthresh=1e-12)
     ax1.axhline(OUTSIDE_TOL, color="C3", lw=0.8, ls="--", label="outside the circle above 1e-6")
     ax1.set_xlabel(parameter_label(meta, col))
-    ax1.set_ylabel("max |λ| − 1")
-    ax1.legend(fontsize=8, loc="upper left")
+    ax1.set_ylabel(with_unit(r"max $|\lambda| - 1$", DIMLESS))
     ax1.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(os.path.join(folder, "multipliers.png"), dpi=110)
-    plt.close(fig)
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    # under the panels: inside the axes it would cover the points
+    fig.legend(handles=[Line2D([], [], color="C3", lw=0.8, ls="--", label="outside the circle above 1e-6")],
+               loc="lower center", fontsize=8, frameon=False)
+    return fig
 
 
 def main(argv):

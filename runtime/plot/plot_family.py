@@ -313,10 +313,17 @@ def plot_family(d, sweep, members, title, collect=None):
         bad = [(a, b) for a, b, o in zip(x, y, ok) if not o]
         if bad:
             ax.plot(*zip(*bad), "rx", label="failed")
+        # the time the final y is taken at (members.csv t_reached): one t, or the range
+        reached = sorted({float(m["row"]["t_reached"]) for m in members
+                          if m["row"].get("t_reached") not in (None, "")})
+        at = ("at $t$ = %.6g" % reached[0] if len(reached) == 1 else
+              "at each member's last $t$ (%.6g to %.6g)" % (reached[0], reached[-1]) if reached else
+              "at each member's last $t$")
         ax.set_xlabel("%s (%s)" % (key_label(key), DIMLESS))
-        ax.set_ylabel("final $y$ of the centre of mass (%s)" % LENGTH)
-        ax.legend()
-        ax.set_title(title or "%s: final $y$ of %d members" % (sweep["scene"], len(members)))
+        ax.set_ylabel("final $y$ of the centre of mass\n%s (%s)" % (at, LENGTH))
+        if bad:
+            ax.legend()
+        ax.set_title(title or "%s: final $y$ of %d members, %s" % (sweep["scene"], len(members), at))
         ax.grid(alpha=0.3)
     finish(fig, path, collect)
 
@@ -402,7 +409,6 @@ def plot_phase(d, sweep, members, swim, title, collect=None):
     ticks = np.arange(math.ceil(w / (math.pi / 3) - 1e-9), math.floor((w + 2 * math.pi) / (math.pi / 3) + 1e-9) + 1)
     ax.set_xticks(ticks * math.pi / 3)
     ax.set_xticklabels([pi_third(t) for t in ticks.astype(int)])
-    ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
     ax.set_title(title or r"phase portrait of $\beta$, %s ($\gamma$ = %.3g)" % (os.path.basename(sweep["scene"]), gamma))
     for kind, mk in (("passing", "o"), ("trapped", "s")):
         pts = [(e, r[1]) for k_, e, r, _ in results if k_ == kind and r is not None]
@@ -413,9 +419,12 @@ def plot_phase(d, sweep, members, swim, title, collect=None):
     ax2.set_ylabel("net displacement per period along $y$\n(%s)" % LENGTH)
     ax2.set_title("net displacement per period (along $x$: 0 by symmetry)")
     ax2.grid(alpha=0.3)
-    if any(r is not None for _, _, r, _ in results):
-        ax2.legend(loc="best")
-    fig.tight_layout()
+    # one legend under both panels: inside the portrait it covers the curves
+    h1, l1 = ax.get_legend_handles_labels()
+    h2, l2 = ax2.get_legend_handles_labels()
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    fig.legend(h1 + h2, l1 + ["per period: " + x for x in l2], loc="lower center", ncol=5,
+               fontsize=8, frameon=False)
     finish(fig, os.path.join(d, "phase.png"), collect)
     with open(os.path.join(d, "periods.csv"), "w") as fh:
         fh.write("id,betadot0,kind,energy,energy_swim,energy_mismatch,period,dy_per_period,dx_per_period\n")

@@ -208,6 +208,29 @@ def with_unit(text, unit=DIMLESS, newline=False):
     return "%s%s(%s)" % (text, "\n" if newline else " ", unit)
 
 
+# An axis whose values vary by less than this fraction of their size would show round-off as
+# structure (on an offset axis such as "1e-13 + 5.093e-1").
+STEADY_REL = 1e-6
+
+
+def steady_axis(ax, values, axis="y"):
+    """When VALUES vary by less than STEADY_REL of their size, the axis is centred on them with a
+    span of 1e-3 of their size and no offset, and says the constant and its spread; True then."""
+    v = np.asarray(values, float)
+    v = v[np.isfinite(v)]
+    if not v.size:
+        return False
+    mag, spread = float(np.max(np.abs(v))), float(np.ptp(v))
+    if mag == 0 or spread >= STEADY_REL * mag:
+        return False
+    mid, half = float(np.mean(v)), 1e-3 * mag
+    (ax.set_ylim if axis == "y" else ax.set_xlim)(mid - half, mid + half)
+    ax.ticklabel_format(axis=axis, useOffset=False)
+    ax.text(0.02, 0.04, "constant %.10g (spread %.1g: round-off)" % (mid, spread),
+            transform=ax.transAxes, fontsize=8, color="0.3")
+    return True
+
+
 def coord_axis(name, dot=False, newline=False):
     """Axis label of a shape coordinate or its velocity, with its unit."""
     return with_unit(coord_label(name, dot), newline=newline)
@@ -660,11 +683,10 @@ def fig_impulse(run):
         ax.set_title("Linear impulse, $%s$-component" % c)
         ax.grid(alpha=0.3)
     h, lab = axes[0][0].get_legend_handles_labels()
-    if len(shown) == 1:
-        lab = lab + ["($x$-components negligible, not shown)"]
-        h = h + [plt.Line2D([], [], color="none")]
     run.suptitle(fig, "linear impulse")
-    legend_below(fig, h, lab, ncol_max=3)
+    # a note, not an entry: a legend entry stands for something drawn
+    legend_below(fig, h, lab, ncol_max=3,
+                 title="$x$-components negligible, not shown" if len(shown) == 1 else None)
     return fig
 
 
@@ -842,7 +864,56 @@ def parse_snapshots(raw):
     if not snaps:
         raise Skip("no usable snapshot (no boundary nor density)")
     snaps.sort(key=lambda s: s["t"])
+    tame_arrows(snaps)
     return snaps
+
+
+def tame_arrows(snaps):
+    """The fluid velocity grows without bound towards a sharp vertex of the body, and the arrow
+    feet (on curves around the body) bunch up there: the arrows would crowd into a star hiding
+    the body. So an arrow is not drawn (NaN; the count stays, as the animation moves a fixed set
+    of arrows) when its foot is closer than half the typical foot spacing (the median distance
+    to the nearest other foot) to an arrow kept before it, or than a quarter of it to the
+    boundary, and none is drawn
+    longer than the run's 98th percentile speed (the arrow key's speed)."""
+    speeds = np.concatenate([np.hypot(s["arrows"][2], s["arrows"][3])
+                             for s in snaps if s["arrows"] is not None] or [np.zeros(0)])
+    speeds = speeds[np.isfinite(speeds)]
+    vref = float(np.percentile(speeds, 98)) if speeds.size else 0.0
+    for s in snaps:
+        if s["arrows"] is None:
+            continue
+        X, Y, U, V = [a.copy() for a in s["arrows"]]
+        foot = np.isfinite(X) & np.isfinite(Y)
+        if foot.sum() > 2:
+            P = np.column_stack([X, Y])
+            D = np.hypot(P[:, None, 0] - P[None, :, 0], P[:, None, 1] - P[None, :, 1])
+            D[~foot, :] = np.inf
+            D[:, ~foot] = np.inf
+            np.fill_diagonal(D, np.inf)
+            gap = 0.5 * float(np.median(D.min(axis=1)[foot]))
+            drop = ~foot
+            if s["boundary"] is not None:
+                bx, by = s["boundary"]
+                ok = np.isfinite(bx) & np.isfinite(by)
+                if ok.any():
+                    db = np.min(np.hypot(X[:, None] - bx[ok][None, :], Y[:, None] - by[ok][None, :]), axis=1)
+                    drop |= db < 0.5 * gap
+            kept = []
+            for i in range(X.size):
+                if drop[i]:
+                    continue
+                if kept and D[i, kept].min() < gap:
+                    drop[i] = True
+                else:
+                    kept.append(i)
+            U[drop] = np.nan
+            V[drop] = np.nan
+        if vref > 0:
+            sp = np.hypot(U, V)
+            f = np.where(sp > vref, vref / np.where(sp > 0, sp, 1.0), 1.0)
+            U, V = U * f, V * f
+        s["arrows"] = [X, Y, U, V]
 
 
 def fig_snapshots(run):
@@ -1069,9 +1140,14 @@ def fig_modes(run):
         ax.set_title("modes excited at $t$ = 0" if g is low and high else
                      ("modes not excited at $t$ = 0" if g is high else "mode amplitudes"))
         ax.grid(alpha=0.3)
-        ax.legend(loc="best")
+    # one legend under the panels: inside an axes it would cover the curves
+    handles, labels = [], []
+    for ax in axes[0]:
+        h, lab = ax.get_legend_handles_labels()
+        handles += h
+        labels += lab
     run.suptitle(fig, "amplitudes of the shape modes")
-    fig.tight_layout()
+    legend_below(fig, handles, labels, ncol_max=5)
     return fig
 
 
@@ -1208,9 +1284,6 @@ def fig_stroke(run):
         axw = ax1.twinx()
         axw.plot(t, cols["work_positive"], color="tab:red", lw=1.0, ls="--", label="positive work so far")
         axw.set_ylabel(with_unit("positive work so far", newline=True))
-        h1, l1 = ax1.get_legend_handles_labels()
-        h2, l2 = axw.get_legend_handles_labels()
-        ax1.legend(h1 + h2, l1 + l2, loc="upper left", fontsize=8)
     mark_failure(ax1, run, t)
     ax1.set_xlabel(T_LABEL)
     ax1.set_ylabel(with_unit("power $P$"))
@@ -1230,9 +1303,7 @@ def fig_stroke(run):
             off = 0.0 if len(drawn) == 1 else (-0.2 if j == 0 else 0.2)
             ax2.bar(k + off, v, width=0.4 if len(drawn) > 1 else 0.5, color=colour,
                     label="displacement along " + e)
-        for v, colour, e in comps:
-            if all(c[2] != e for c in drawn):
-                ax2.plot([], [], color="none", label="(along %s: 0, not drawn)" % e)
+        not_drawn = ["along %s: 0, not drawn" % e for v, colour, e in comps if all(c[2] != e for c in drawn)]
         ax2.axhline(0, color="k", lw=0.6)
         ax2.set_xticks(k if len(k) <= 20 else k[::max(1, len(k) // 10)])
         ax2.set_xlabel("stroke number (count; period $T$ = %.6g, %s)"
@@ -1242,9 +1313,6 @@ def fig_stroke(run):
         axp.plot(k, wp, "o-", color="tab:red", label="positive work per stroke")
         axp.set_ylabel(with_unit("positive work per stroke", newline=True))
         axp.set_ylim(0, 1.2 * max(np.nanmax(wp), 1e-300))
-        h1, l1 = ax2.get_legend_handles_labels()
-        h2, l2 = axp.get_legend_handles_labels()
-        ax2.legend(h1 + h2, l1 + l2, loc="lower left", fontsize=8)
         ax2.set_title("Per stroke")
     else:
         x, y = need(cols, "x", "y")
@@ -1255,7 +1323,15 @@ def fig_stroke(run):
         ax2.set_title("Path of the centre of mass (no period: no strokes to compare)")
     ax2.grid(alpha=0.3)
     run.suptitle(fig, "prescribed stroke" + (", $c_1$ completed" if info.get("completed_c1") else ""))
-    fig.tight_layout()
+    # one legend under both panels (inside, it covered the curves); a component not drawn is said
+    # in its title, not given an entry
+    handles, labels = [], []
+    for ax in fig.axes:
+        h, lab = ax.get_legend_handles_labels()
+        handles += h
+        labels += lab
+    legend_below(fig, handles, labels, ncol_max=3,
+                 title="; ".join(not_drawn) if strokes and not_drawn else None)
     return fig
 
 

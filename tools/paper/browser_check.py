@@ -14,7 +14,8 @@ library: no Node, no Python packages). Checks, each printed as a FAIL line when 
   * the companion page keeps its promises (when the page says it is one, <meta name="swim-page">):
     every paper-figure section (class paperfig) quotes the paper's caption and has either a
     numbers table (table.cmp: quantity, the paper, ours, difference, every row filled) or the
-    statement "The paper gives no numbers for this figure; compare by eye."; every scene of
+    statement "The paper gives no numbers for this figure; compare by eye.", and shows at
+    least one loaded image of non-trivial size (both sides >= MIN_FIGURE_PX); every scene of
     models/*.toml and models/control/*.toml has its section (id scene-NAME, with the key numbers
     of its summary.json and a video) -- on a reduced page (--scenes) every scene the page names
     in <meta name="swim-scenes">, and only scenes of models/; every models/hard/*.toml has its row
@@ -192,12 +193,16 @@ CHECK_JS = r"""
       keys: sec.querySelectorAll('table.keys tr').length,
       videos: sec.querySelectorAll('video').length,
       images: sec.querySelectorAll('img').length,
+      sizes: [...sec.querySelectorAll('img')].map(im => [im.naturalWidth, im.naturalHeight]),
       rows: [...sec.querySelectorAll('tr[id]')].map(tr => tr.id)}))});
 })()
 """
 
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+# a figure worth the name: a decoded image at least this many pixels on each side (an empty or
+# placeholder PNG is smaller)
+MIN_FIGURE_PX = 100
 NO_NUMBERS = "The paper gives no numbers for this figure; compare by eye."
 SHORTENED = "The paper gives numbers for this figure, but this shortened run does not reach them"
 
@@ -231,6 +236,9 @@ def check_promises(report, check, models=None):
                        and t["rows"] and all(len(r) == 4 and all(r) for r in t["rows"])]
         stated = [n for n in s["nonumbers"] if n.startswith(NO_NUMBERS) or
                   (kind == "reduced" and n.startswith(SHORTENED))]
+        big = [wh for wh in s.get("sizes", []) if min(wh) >= MIN_FIGURE_PX]
+        check(bool(big), "%s: promises a figure but shows no loaded image of at least %d px "
+              "(images %s)" % (what, MIN_FIGURE_PX, s.get("sizes")))
         check(bool(good_tables) != bool(stated),
               "%s: wants a numbers table with a difference column or the no-numbers statement "
               "(tables %s, statements %s)" % (what, s["tables"], s["nonumbers"]))

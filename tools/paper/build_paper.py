@@ -254,7 +254,9 @@ class SceneRun:
         run = plot_run.Run(self.dir)
         os.environ["SWIM_BIN"] = SWIM
         snaps = plot_run.parse_snapshots(run.flow(times=times))
-        plot_run.draw_panels(run, snaps, name, title)
+        # draw_panels returns the figure; saving is the caller's (plot_run's main loop saves
+        # its own figures the same way)
+        plot_run.save(plot_run.draw_panels(run, snaps, name, title), run, name)
         plot_run.plt.close("all")
         return name + ".png"
 
@@ -269,6 +271,19 @@ class SceneRun:
         self.animation = "animation.mp4" if p.returncode == 0 else None
         if p.returncode != 0:
             log("%s: animation failed: %s" % (self.name, p.stderr.strip()[-300:]))
+
+
+def promised_images(d, rel, names, what, missing):
+    """Page paths REL/NAME of the NAMES made (non-empty files) in folder D; each one not made is
+    appended to MISSING as "WHAT: D/NAME" (the page promised it: the build must fail)."""
+    got = []
+    for i in names:
+        path = os.path.join(d, i)
+        if os.path.isfile(path) and os.path.getsize(path) > 0:
+            got.append("%s/%s" % (rel, i))
+        else:
+            missing.append("%s: %s" % (what, path))
+    return got
 
 
 def row_events(t, v, kind):
@@ -1353,12 +1368,17 @@ def main(argv):
 
     # each: dict(fig, title, scene, imgs, caption, fam, numbers)
     sections = []
+    # figure sections whose promised image was not made: the page is still written (nothing
+    # lost), but the build fails naming them
+    missing = []
+
+    def present(d, rel, names, fig):
+        return promised_images(d, rel, names, "Fig. %s" % fig, missing)
 
     def add(fig, title, scene, images, caption, numbers=None):
         if scene in runs:
             r = runs[scene]
-            imgs = ["%s/%s" % (r.rel, i) for i in images
-                    if i and os.path.exists(os.path.join(r.dir, i))]
+            imgs = present(r.dir, r.rel, images, fig)
             sections.append(dict(fig=fig, title=title, scene=scene, imgs=imgs,
                                  caption=caption(r), fam=None,
                                  numbers=numbers(r) if numbers else None))
@@ -1370,10 +1390,9 @@ def main(argv):
         if f is None:
             return False
         r = runs.get(f.scene)
-        imgs = ["%s/%s" % (f.rel, f.image)]
+        imgs = present(f.dir, f.rel, [f.image], fig)
         if r is not None:
-            imgs += ["%s/%s" % (r.rel, i) for i in run_images
-                     if os.path.exists(os.path.join(r.dir, i))]
+            imgs += present(r.dir, r.rel, run_images, fig)
         sections.append(dict(fig=fig, title=title, scene=f.scene, imgs=imgs,
                              caption=caption(f, r), fam=f, numbers=numbers(f)))
         return True
@@ -1544,6 +1563,9 @@ def main(argv):
         os.path.join(out, "index.html"), len(sections), len(runs), total,
         ", ".join("%s %.1f s" % kv for kv in phase.items())))
     print(os.path.join(out, "index.html"))
+    if missing:
+        log("error: %d promised figure(s) not made: %s" % (len(missing), "; ".join(missing)))
+        return 1
     return 0
 
 
