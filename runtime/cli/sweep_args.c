@@ -12,6 +12,7 @@
 #include "io/message.h"
 #include "ode/ode.h"
 #include "scene/keys.h"
+#include "sweep/family_hdf5.h"
 
 /* One fixed override; option names the run option it came from (t-end, ...), NULL for a --set. */
 static int add_set(sweep_plan *p, const char *text, const char *option)
@@ -207,8 +208,14 @@ int sweep_parse(sweep_plan *p, const char *cmd, int argc, char **argv, int first
     p->no_projection = swim_args_get(opts, nopts, "no-projection") != NULL;
     p->quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     if ((v = swim_args_get(opts, nopts, "format"))) {
-        if (strcmp(v, "hdf5") == 0) p->format_hdf5 = 1;
-        else if (strcmp(v, "csv") != 0) {
+        char why[512];
+        if (strcmp(v, "hdf5") == 0) {
+            p->format_hdf5 = 1;
+            if (sweep_family_hdf5_ready(why, sizeof why) != 0) {
+                swim_message(stderr, "swim %s: --format hdf5: %s", cmd, why);
+                return 2;
+            }
+        } else if (strcmp(v, "csv") != 0) {
             swim_message(stderr, "swim %s: --format: expected 'csv' (default) or 'hdf5', got '%s'", cmd, v);
             return 2;
         }

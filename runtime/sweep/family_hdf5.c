@@ -367,6 +367,12 @@ static int write_file(const h5lib *h, const sweep_plan *p, const char *path, con
     return rc;
 }
 
+int sweep_family_hdf5_ready(char *why, size_t len)
+{
+    h5lib lib;
+    return h5lib_open(&lib, why, len);
+}
+
 int sweep_family_hdf5_due(const sweep_plan *p)
 {
     char path[SWIM_SWEEP_PATH + 64];

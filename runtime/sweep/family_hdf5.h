@@ -21,6 +21,8 @@
 #ifndef SWIM_FAMILY_HDF5_H
 #define SWIM_FAMILY_HDF5_H
 
+#include <stddef.h>
+
 #include "sweep/sweep.h"
 
 /* 1 when the sweep's end writes family.h5: --format hdf5, or a family.h5 already in DIR (made by
@@ -28,5 +30,8 @@
 int sweep_family_hdf5_due(const sweep_plan *p);
 /* 0, or 1 after one line naming the file and the reason on stderr. */
 int sweep_write_family_hdf5(const sweep_plan *p);
+/* 0 when the HDF5 library (opened at run time, not linked) can be loaded with every function
+ * the writer uses, else -1 with the reason in why: said before any member runs. */
+int sweep_family_hdf5_ready(char *why, size_t len);
 
 #endif
