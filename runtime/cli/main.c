@@ -24,7 +24,7 @@ static const command commands[] = {
      "           [--energy LAW [--param NAME=VALUE ...]]",
      "swim inspect --modes 1 --shape 1,0,0.2,0 --velocity 0,0,0.1,0.3 --full"},
     {"run", swim_cmd_run,
-     "simulate a scene: DIR/trajectory.csv, summary.json, scene.toml (a copy)\n"
+     "simulate a scene: DIR/trajectory.csv, summary.json, scene.toml (as run; the file as given: scene.original.toml)\n"
      "           [--out DIR] [--t-end T] [--output-step DT] [--rtol R] [--atol A]\n"
      "           [--integrator NAME] [--generic] [--no-projection] [--step-lookahead P]\n"
      "           [--trace-steps FILE] [--event COLUMN:KIND[:stop]]... [--snapshots] [--quiet]\n"
