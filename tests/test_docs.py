@@ -254,6 +254,50 @@ def test_number_blocks():
     check("docs-numbers" in targets and "bench-docs" in targets, "make docs-numbers or bench-docs missing")
 
 
+def test_docs_numbers_rewrites_blocks():
+    """tools/docs_numbers.py on a small tree: a block whose source exists is rewritten from it
+    with its stamp (command, source, date, load), the text around it untouched; a block whose
+    source is missing is left as it is and named with the command that makes it."""
+    import json
+    import shutil
+    import tempfile
+    sys.path.insert(0, os.path.join(ROOT, "tools"))
+    import docs_numbers
+    tmp = tempfile.mkdtemp(prefix="docs-numbers-")
+    old_root = docs_numbers.ROOT
+    try:
+        os.makedirs(os.path.join(tmp, "docs"))
+        os.makedirs(os.path.join(tmp, "build", "bench", "docs"))
+        page = ("before\n<!-- numbers: member_cost.sentence -->\nold 2.4 ms\n<!-- /numbers -->\nafter\n"
+                "<!-- numbers: event_cost -->\nkept\n<!-- /numbers -->\n")
+        with open(os.path.join(tmp, "docs", "a.md"), "w") as fh:
+            fh.write(page)
+        with open(os.path.join(tmp, "README.md"), "w") as fh:
+            fh.write("no blocks\n")
+        stats = {"integrate_seconds": 0.0046, "diagnostics_seconds": 0.0016, "output_seconds": 1e-5,
+                 "wall_seconds": 0.0063}
+        rec = {"name": "member_cost", "command": "make bench-docs", "date": "2026-12-05 18:00 UTC",
+               "load_before": 1.5, "load_after": 2.5, "cores": 2,
+               "values": {"runs": 5, "scene": "models/example3.toml", "full": stats, "summary_only": stats}}
+        with open(os.path.join(tmp, "build", "bench", "docs", "member_cost.json"), "w") as fh:
+            json.dump(rec, fh)
+        docs_numbers.ROOT = tmp
+        rc = docs_numbers.main([])
+        with open(os.path.join(tmp, "docs", "a.md")) as fh:
+            new = fh.read()
+        body = dict(docs_numbers.blocks_in(new))
+        check(rc == 0 and new.startswith("before\n") and "\nafter\n" in new and "old 2.4 ms" not in new,
+              "the block was not rewritten in place: %r" % new)
+        check("integration 4.6 ms" in body.get("member_cost.sentence", "") and "diagnostics of the rows" in body.get(
+            "member_cost.sentence", "") and "load average 1.5 → 2.5 on 2 cores" in body.get("member_cost.sentence", ""),
+            "the rewritten block: %r" % body.get("member_cost.sentence"))
+        check(body.get("event_cost") == "kept\n", "a block without its source was changed: %r" % body.get("event_cost"))
+        check(docs_numbers.main(["--check"]) == 1, "--check does not fail on a missing source")
+    finally:
+        docs_numbers.ROOT = old_root
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
 def test_listed_measurements_only_in_blocks():
     for doc in DOCS:
         prose = outside_blocks(open(doc, encoding="utf-8").read())
