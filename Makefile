@@ -70,7 +70,7 @@ include python/rules.mk
 TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 
-.PHONY: FORCE asan-tests all deps deps-media paper paper-test help install test sanitize fuzz bench bench-accuracy bench-drift bench-optimize bench-hard bench-soft generate generate-all run readme-figures clean
+.PHONY: FORCE asan-tests all deps deps-media paper paper-test help install test sanitize fuzz bench bench-docs docs-numbers bench-accuracy bench-drift bench-optimize bench-hard bench-soft generate generate-all run readme-figures clean
 all: $(BIN)/swim
 
 help:
@@ -89,6 +89,8 @@ help:
 	@echo "make bench-sweep     sweep throughput: --jobs 1/2, MPI 2/4 ranks, rank 0's cost (~3 min)"
 	@echo "make paper-families  Figs 4.1, 4.2, 4.5, 4.6, 4.7 (sweeps + swim plot) into out/families/"
 	@echo "make bench-optimize  Nelder-Mead vs BFGS, multi-start and the tolerance check on Section 5.2 (~30 min)"
+	@echo "make bench-docs      the measurements README.md and docs/ quote (~2 min, build/bench/docs/)"
+	@echo "make docs-numbers    rewrite the docs' generated number blocks from them (and the last make test)"
 	@echo "make bench-drift     energy drift of the T = 1000 runs vs tolerance and step look-ahead (~30 s)"
 	@echo "make bench-hard      every hard scene at its own settings and at rtol 1e-10 (~30 min)"
 	@echo "make bench-soft      perturbed families of the soft hard scenes: completion, energy, time (~20 min)"
@@ -277,6 +279,14 @@ paper-test: paper
 # Work-precision per paper scene: build/bench/accuracy/{accuracy.csv,table.md,*.png}.
 bench-accuracy: $(BIN)/swim
 	$(PYTHON) tests/bench/bench_accuracy.py
+
+# The measurements the docs quote (tests/bench/bench_docs.py, ~2 min, build/bench/docs/), and the
+# generated number blocks of README.md and docs/ rewritten from them and from the last make test.
+bench-docs: $(BIN)/swim
+	SWIM_BIN=$(CURDIR)/$(BIN)/swim $(PYTHON) tests/bench/bench_docs.py
+
+docs-numbers:
+	$(PYTHON) tools/docs_numbers.py
 
 bench-drift: $(BIN)/swim
 	$(PYTHON) tests/bench/bench_drift.py

@@ -60,6 +60,8 @@ run_one() {   # run_one PROG: output to its log, exit status and milliseconds to
     if [ -n "$fails" ]; then printf '%s\n%s\n' "$report" "$fails"; else printf '%s\n' "$report"; fi
 }
 
+load_start=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo 0)
+clock_start=$(date +%s)
 [ "${#progs[@]}" -eq 1 ] && word=program || word=programs
 echo "tests: ${#progs[@]} $word, $jobs at a time; each one's output in $logs/NAME.log"
 
@@ -101,5 +103,10 @@ for name in "${failed[@]+"${failed[@]}"}"; do
     echo "failed: $name (see $logs/$name.log)"
     grep -q -E '^[A-Za-z0-9_.-]+: [0-9]+ passed, [0-9]+ failed' "$logs/$name.log" || tail -n 20 "$logs/$name.log"
 done
+# this run's record for make docs-numbers (tools/docs_numbers.py): passed, failed, programs,
+# seconds, jobs, filter, date, load average at the start and at the end, cores
+printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$total_pass" "$total_fail" "${#progs[@]}" \
+    "$(($(date +%s) - clock_start))" "$jobs" "$filter" "$(date -u '+%Y-%m-%d %H:%M UTC')" "$load_start" \
+    "$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo 0)" "$(nproc 2>/dev/null || echo 1)" >"$logs/last-run"
 echo "tests: $total_pass passed, $total_fail failed"
 [ "$total_fail" -eq 0 ]

@@ -72,6 +72,25 @@ def check_refusals(command, cases):
         check(not os.path.exists(out), "%s: nothing written" % " ".join(args))
 
 
+def wait_rows(proc, out, rows=2, seconds=60):
+    """Until DIR/trajectory.csv holds ROWS data rows (or the process ends, or SECONDS pass); True
+    when it does. Rows are written only once `swim run` integrates, after it has installed its
+    signal handlers: a signal sent then is the run's to handle, however slowly a loaded machine
+    got there (a fixed sleep may hit the program before, where the default action kills it)."""
+    import time
+    path = os.path.join(out, "trajectory.csv")
+    end = time.time() + seconds
+    while time.time() < end and proc.poll() is None:
+        try:
+            with open(path) as fh:
+                if sum(1 for _ in fh) > rows:
+                    return True
+        except OSError:
+            pass
+        time.sleep(0.05)
+    return False
+
+
 def main(namespace, name):
     for fname, fn in sorted(namespace.items()):
         if fname.startswith("test_") and callable(fn):

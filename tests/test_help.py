@@ -81,6 +81,21 @@ def test_every_command_lists_every_option():
               "swim %s --help: every option has its meaning: %s" % (cmd, [o for o, t in opts.items() if len(t.strip()) <= 10]))
 
 
+def test_top_level_help_names_every_option():
+    """`swim --help`'s synopsis of each command names every option of `swim CMD --help`."""
+    p = subprocess.run([SWIM, "--help"], capture_output=True, text=True, cwd=ROOT, timeout=60)
+    blocks = re.split(r"\n  (?=[a-z]+ )", "\n" + p.stdout.split("\ncommands:\n", 1)[-1])
+    block = {b.split(" ", 1)[0]: b for b in blocks if b.strip()}
+    for cmd in commands():
+        text = block.get(cmd, "")
+        named = set(re.findall(r"--([a-z][a-z0-9-]*)", text))
+        if "[run options]" in text:       # sweep: the options of swim run, named there
+            named |= set(re.findall(r"--([a-z][a-z0-9-]*)", block.get("run", "")))
+        opts, _ = listed(cmd)
+        missing = sorted(set(opts) - named - {"help"})
+        check(text and not missing, "swim --help on %s does not name %s" % (cmd, ["--" + m for m in missing]))
+
+
 def test_listed_options_are_accepted():
     for cmd in commands():
         opts, _ = listed(cmd)

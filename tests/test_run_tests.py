@@ -79,6 +79,12 @@ def test_streams_and_counts():
     with open(os.path.join(logs, "durations")) as fh:
         names = sorted(ln.split()[0] for ln in fh if ln.strip())
     check(names == ["test_crash", "test_quick", "test_slow"], "durations: %s" % names)
+    # the record make docs-numbers reads: passed, failed, programs, seconds, jobs, filter, date,
+    # load at start and end, cores
+    with open(os.path.join(logs, "last-run")) as fh:
+        f = fh.read().rstrip("\n").split("\t")
+    check(len(f) == 10 and f[:3] == ["5", "2", "3"] and f[4] == "3" and f[5] == "" and f[6].endswith("UTC"),
+          "last-run record: %r" % f)
 
 
 def test_filter():
@@ -100,6 +106,9 @@ def test_filter():
         names = sorted(ln.split()[0] for ln in fh if ln.strip())
     check(names == ["test_crash", "test_quick", "test_slow"],
           "a subset run forgot the other programs' durations: %s" % names)
+    with open(os.path.join(logs, "last-run")) as fh:
+        f = fh.read().rstrip("\n").split("\t")
+    check(len(f) == 10 and f[5] == "quick|nothing", "a subset's record names its filter: %r" % f)
     env["TEST_FILTER"] = "no_such_test"
     p = subprocess.run(["bash", RUNNER] + paths, capture_output=True, text=True, env=env,
                        timeout=60, cwd=d)

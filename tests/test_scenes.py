@@ -13,7 +13,6 @@ import re
 import signal
 import subprocess
 import sys
-import time
 
 import numpy as np
 
@@ -113,7 +112,7 @@ def test_interrupt():
     out = os.path.join(TMP, "interrupted")
     proc = subprocess.Popen([SWIM, "run", scene_path("example4"), "--out", out, "--t-end", "100000",
                              "--quiet"], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    time.sleep(1.0)
+    swimtest.wait_rows(proc, out)   # integrating: its SIGINT handler is in place
     proc.send_signal(signal.SIGINT)
     proc.wait(timeout=30)
     with open(os.path.join(out, "summary.json")) as fh:

@@ -186,7 +186,7 @@ def test_failing_and_crashing_member():
     # a member that crashes (SIGSEGV: its own fault) gets a "crashed" row and is not rerun
     out = os.path.join(TMP, "crash")
     proc, child = start_and_signal(out, "3000", signal.SIGSEGV)
-    time.sleep(0.3)
+    wait_for_row(out, 0)              # the crash recorded, however long a loaded machine takes
     proc.send_signal(signal.SIGINT)   # stop the second (long) member: it is unfinished
     proc.communicate(timeout=60)
     r = by_id(out)
@@ -201,19 +201,44 @@ def start_and_signal(out, t_end, sig):
                              "--vary", "shape.dc0.bm2=-0.7,0.7"], cwd=ROOT, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
     child = None
-    for _ in range(400):
+    swim_exe = os.path.realpath(SWIM)
+    deadline = time.time() + 60
+    while child is None and time.time() < deadline and proc.poll() is None:
         time.sleep(0.02)
         ps = subprocess.run(["pgrep", "-P", str(proc.pid)], capture_output=True, text=True).stdout.split()
-        if not ps:
+        # a member is a forked copy of swim (no exec); other children (the compiler's --version
+        # for the kernel key, a generator) run other programs, and a signal meant for the member
+        # must not hit them on a loaded machine, where they live long enough to be seen
+        members = [int(p) for p in ps if exe_of(int(p)) == swim_exe]
+        if not members:
             continue
         time.sleep(0.2)
         try:
-            os.kill(int(ps[0]), sig)
-            child = int(ps[0])
-            break
-        except ProcessLookupError:   # a short-lived helper process, not the member
+            os.kill(members[0], sig)
+            child = members[0]
+        except ProcessLookupError:
             continue
     return proc, child
+
+
+def exe_of(pid):
+    try:
+        return os.path.realpath(os.readlink("/proc/%d/exe" % pid))
+    except OSError:
+        return None
+
+
+def wait_for_row(out, member, seconds=60):
+    """Until members.csv has MEMBER's row (or SECONDS pass)."""
+    end = time.time() + seconds
+    while time.time() < end:
+        try:
+            if member in by_id(out):
+                return True
+        except (OSError, ValueError, KeyError):
+            pass
+        time.sleep(0.05)
+    return False
 
 
 def test_member_stopped_by_a_signal_reruns():

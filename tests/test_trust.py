@@ -202,7 +202,7 @@ def test_sigterm_sighup():
         out = os.path.join(TMP, "sig_" + name)
         proc = subprocess.Popen([SWIM, "run", "models/example4.toml", "--out", out, "--t-end", "100000",
                                  "--quiet", "--snapshots"], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-        time.sleep(1.0)
+        swimtest.wait_rows(proc, out)
         proc.send_signal(sig)
         proc.wait(timeout=30)
         s = read_summary(out)

@@ -19,15 +19,19 @@ typedef struct {
 
 static const command commands[] = {
     {"inspect", swim_cmd_inspect,
-     "mass matrices, reduced mass K and Christoffel symbol at one shape, as JSON",
+     "mass matrices, reduced mass K and Christoffel symbol at one shape, as JSON\n"
+     "           --modes N --shape a1,b1,... [--velocity V1,...] [--rho0 RHO] [--rhof RHO] [--full]\n"
+     "           [--energy LAW [--param NAME=VALUE ...]]",
      "swim inspect --modes 1 --shape 1,0,0.2,0 --velocity 0,0,0.1,0.3 --full"},
     {"run", swim_cmd_run,
-     "simulate a scene: DIR/trajectory.csv, summary.json, scene.toml (a copy)\n"
+     "simulate a scene: DIR/trajectory.csv, summary.json, scene.toml (as run; the file as given: scene.original.toml)\n"
      "           [--out DIR] [--t-end T] [--output-step DT] [--rtol R] [--atol A]\n"
      "           [--integrator NAME] [--generic] [--no-projection] [--step-lookahead P]\n"
      "           [--trace-steps FILE] [--event COLUMN:KIND[:stop]]... [--snapshots] [--quiet]\n"
      "           [--set KEY=VALUE ...] [--summary-only]\n"
      "           [--sensitivity KEY[,KEY...]] [--sensitivity-steps all|state]\n"
+     "           [--sensitivity-method exact|differences] [--sensitivity-initial]\n"
+     "           [--lyapunov [--lyapunov-interval T]] (the largest Lyapunov exponent and its verdict)\n"
      "           a scene with a [stroke] table is a prescribed stroke: (3.21) only (models/stroke_loop.toml),\n"
      "           without --sensitivity (a prescribed shape has no free dynamics to differentiate)",
      "swim run models/example3.toml --out out/example3 --rtol=1e-10"},
@@ -53,17 +57,20 @@ static const command commands[] = {
     {"periodic", swim_cmd_periodic,
      "a periodic orbit of the shape dynamics by Newton shooting: DIR/periodic.json (period,\n"
      "           phase point, displacement per period, Newton history, Floquet multipliers)\n"
-     "           [--guess-event COLUMN:KIND] [--out DIR] [--tol R] [--max-iter K] [--t-max T] [--set KEY=VALUE ...]",
+     "           [--guess-event COLUMN:KIND] [--out DIR] [--tol R] [--max-iter K] [--t-max T] [--set KEY=VALUE ...]\n"
+     "           [--generic] [--quiet]",
      "swim periodic models/example1.toml --guess-event am1:max --out out/example1-periodic"},
     {"continue", swim_cmd_continue,
      "a branch of periodic orbits in the energy or a run-time scene key: DIR/branch.csv, branch.json\n"
-     "           --param KEY=START:STOP [--max-points K] [--guess-event COLUMN:KIND] [--out DIR] [--tol R]",
+     "           --param KEY=START:STOP [--max-points K] [--guess-event COLUMN:KIND] [--out DIR] [--tol R]\n"
+     "           [--set KEY=VALUE ...] [--generic] [--quiet]",
      "swim continue models/example1.toml --param energy=0.05:0.3 --max-points 6"},
     {"optimize", swim_cmd_optimize,
-     "best values of scene keys within bounds for a quantity of the run (Nelder-Mead, GSL multimin):\n"
+     "best values of scene keys within bounds for a quantity of the run (Nelder-Mead or BFGS):\n"
      "           DIR/optimize.csv, optimize.json, best.toml, convergence.png\n"
      "           --vary KEY=LO:HI [--vary ...] (--maximize|--minimize) QUANTITY [--out DIR]\n"
-     "           [--max-iter K] [--tol S] [--set KEY=VALUE ...] [--quiet]; QUANTITY: x, y, theta,\n"
+     "           [--method nelder-mead|bfgs] [--starts K] [--max-iter K] [--tol S] [--set KEY=VALUE ...]\n"
+     "           [--quiet]; QUANTITY: x, y, theta,\n"
      "           displacement, work, forcing_work, displacement_per_work, energy (at t_end)",
      "swim optimize models/selfpropelled.toml --set run.t_end=30 --vary parameters.A=0.5:4 --maximize displacement_per_work"},
     {"cache", swim_cmd_cache,

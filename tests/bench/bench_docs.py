@@ -1,0 +1,120 @@
+#!/usr/bin/env python3
+"""The measurements the documentation quotes (make bench-docs, ~2 min): written to
+build/bench/docs/NAME.json, each with the command that made it, the date and the machine's load
+average before and after, for `make docs-numbers` (tools/docs_numbers.py) to write into the
+generated blocks of README.md and docs/.
+
+  member_cost  Example 3 (T = 30, 601 rows): summary.json stats (integrate, diagnostics, output,
+               wall seconds), medians of 5 runs, full and --summary-only.
+  event_cost   Example 3 (T = 30): stats.integrate_seconds without events, with am1:max and with
+               the four energy events of Fig. 4.8, medians of 3 runs.
+  lyapunov     swim run --lyapunov --t-end 20 of models/hard/soft_n10_a1.toml and
+               soft_n10_a05.toml at rtol 1e-8 and 1e-10 (exponent, verdict, horizon, pass time),
+               soft_n10_a1 over T = 10 and T = 3 (verdicts), and Example 3 over its own T.
+
+Usage: bench_docs.py [NAME ...] (default: all). Timings on a shared machine are noisy: the load
+is recorded beside them."""
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SWIM = os.environ.get("SWIM_BIN", os.path.join(ROOT, "bin", "swim"))
+OUT = os.path.join(ROOT, "build", "bench", "docs")
+
+
+def load():
+    with open("/proc/loadavg") as fh:
+        return float(fh.read().split()[0])
+
+
+def run(scene, *args):
+    """summary.json of `swim run SCENE --quiet ARGS` in a fresh folder."""
+    d = tempfile.mkdtemp(prefix="bench-docs-")
+    try:
+        p = subprocess.run([SWIM, "run", scene, "--out", os.path.join(d, "o"), "--quiet", *args],
+                           capture_output=True, text=True, cwd=ROOT)
+        if p.returncode != 0:
+            raise RuntimeError("swim run %s %s failed: %s" % (scene, " ".join(args), p.stderr[-300:]))
+        with open(os.path.join(d, "o", "summary.json")) as fh:
+            return json.load(fh)
+    finally:
+        shutil.rmtree(d, ignore_errors=True)
+
+
+def median_stats(scene, n, *args):
+    stats = [run(scene, *args)["stats"] for _ in range(n)]
+    keys = ("integrate_seconds", "diagnostics_seconds", "output_seconds", "wall_seconds")
+    return {k: statistics.median(s[k] for s in stats) for k in keys if k in stats[0]}
+
+
+def member_cost():
+    ex3 = "models/example3.toml"
+    return {"runs": 5, "scene": ex3,
+            "full": median_stats(ex3, 5),
+            "summary_only": median_stats(ex3, 5, "--summary-only")}
+
+
+FIG48_EVENTS = ["kinetic_rigid:max", "potential:min", "kinetic_rigid:min", "potential:max"]
+
+
+def event_cost():
+    ex3 = "models/example3.toml"
+    ev = [a for e in FIG48_EVENTS for a in ("--event", e)]
+    return {"runs": 3, "scene": ex3,
+            "none": median_stats(ex3, 3, "--summary-only")["integrate_seconds"],
+            "am1_max": median_stats(ex3, 3, "--summary-only", "--event", "am1:max")["integrate_seconds"],
+            "four_energy_events": median_stats(ex3, 3, "--summary-only", *ev)["integrate_seconds"],
+            "events": FIG48_EVENTS}
+
+
+def lyapunov():
+    out = {}
+    for name in ("soft_n10_a1", "soft_n10_a05"):
+        for rtol in ("1e-8", "1e-10"):
+            ly = run("models/hard/%s.toml" % name, "--rtol", rtol, "--t-end", "20", "--lyapunov",
+                     "--summary-only")["lyapunov"]
+            out["%s@%s" % (name, rtol)] = {k: ly.get(k) for k in (
+                "exponent", "exponent_second_half", "verdict", "horizon", "horizon_from_exponent",
+                "seconds", "rate_first_half", "rate_second_half")}
+    for t_end in ("10", "3"):     # the verdicts of a long enough and of a too short run
+        ly = run("models/hard/soft_n10_a1.toml", "--t-end", t_end, "--lyapunov", "--summary-only")["lyapunov"]
+        out["soft_n10_a1@T" + t_end] = {k: ly.get(k) for k in (
+            "exponent", "verdict", "rate_first_half", "rate_second_half", "t_end_needed")}
+    ly = run("models/example3.toml", "--lyapunov", "--summary-only")["lyapunov"]
+    out["example3"] = {k: ly.get(k) for k in ("exponent", "verdict", "growth_power",
+                                              "rate_second_half", "horizon_from_power", "seconds")}
+    return out
+
+
+MEASURE = {"member_cost": member_cost, "event_cost": event_cost, "lyapunov": lyapunov}
+
+
+def main(argv):
+    names = argv or list(MEASURE)
+    bad = [n for n in names if n not in MEASURE]
+    if bad:
+        print("bench_docs.py: unknown measurement %s (known: %s)" % (", ".join(bad), ", ".join(MEASURE)),
+              file=sys.stderr)
+        return 2
+    os.makedirs(OUT, exist_ok=True)
+    for n in names:
+        before, t0 = load(), time.time()
+        values = MEASURE[n]()
+        rec = {"name": n, "command": "make bench-docs", "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+               "load_before": before, "load_after": load(), "cores": os.cpu_count(),
+               "seconds": round(time.time() - t0, 1), "values": values}
+        with open(os.path.join(OUT, n + ".json"), "w") as fh:
+            json.dump(rec, fh, indent=1)
+        print("bench_docs: %s in %.0f s (load %.1f -> %.1f): %s" % (
+            n, rec["seconds"], before, rec["load_after"], os.path.join(OUT, n + ".json")))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
