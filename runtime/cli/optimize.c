@@ -175,8 +175,12 @@ static void fill_json(FILE *f, void *ctx)
 /* runtime/plot/plot_optimize.py DIR: convergence.png. 0, or nonzero (said on stderr). */
 static int plot(const char *dir)
 {
-    const char *share = swim_share_dir(), *python = swim_python();
-    if (!share) return 1;
+    swim_status missing = {0};
+    const char *share = swim_share_dir(&missing), *python = swim_python();
+    if (!share) {
+        swim_status_print(&missing, stderr);
+        return 1;
+    }
     char *script = swim_strprintf("%s/runtime/plot/plot_optimize.py", share);
     if (!script) return 1;
     fflush(stdout);
@@ -295,7 +299,11 @@ int swim_cmd_optimize(int argc, char **argv)
                 snprintf(o->text, sizeof o->text, "--vary %s=%.10g:%.10g (at %s = %.10g)", p.keys[i].text, p.lo[i],
                          p.hi[i], p.keys[i].text, o->value);
             }
-            if (swim_scene_load_with(pos[0], ov, k, &s) != 0) return 2;
+            swim_status st = SWIM_STATUS_STDERR;
+            if (swim_scene_load_with(pos[0], ov, k, &s, &st) != 0) {
+                swim_status_print(&st, stderr);
+                return 2;
+            }
             if (at < 2) swim_scene_free(&s);
         }
         const int forced = s.forced || s.stroke;   /* a stroke's work is the body's positive work */

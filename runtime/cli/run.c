@@ -56,8 +56,9 @@ static int take_sensitivity_options(int *argc, char **argv, char **out)
 }
 
 /* The run options over the read scene (checked with their option's names), and their record. */
-static int adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx)
+static int adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx, swim_status *st)
 {
+    (void)st;   /* the options' refusals are this command's own lines */
     run_cmd *c = ctx;
     /* the variational equations are those of the free shape dynamics; a prescribed stroke has
      * none (its shape is a given function of time) */
@@ -262,6 +263,9 @@ static void report_dynamics(run_cmd *c, swim_job *job, const swim_run_result *r)
 
 /* The lines printed. The exit status: 0 only when the run reached t_end and every output,
  * the summary and this report were written. */
+/* A notice of the layers below (a projected initial velocity) as the run's own notices. */
+static void on_status_note(void *ctx, const char *line) { on_notice(ctx, line); }
+
 static int report(run_cmd *c, swim_job *job, int status)
 {
     const swim_run_paths *p = swim_job_paths(job);
@@ -302,7 +306,11 @@ int swim_cmd_run(int argc, char **argv)
         c->job.sens_done = on_sensitivities;
         c->job.lyapunov_done = on_lyapunov;
         c->job.ctx = c;
-        rc = swim_job_open(&c->job, &job);
+        swim_status st = SWIM_STATUS_STDERR;
+        st.note = on_status_note;
+        st.note_ctx = c;
+        rc = swim_job_open(&c->job, &job, &st);
+        swim_status_print(&st, stderr);
     }
     if (rc == 0) {
         swim_run_signals sig;

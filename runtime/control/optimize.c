@@ -91,8 +91,13 @@ int swim_opt_check_gradient(const swim_opt_problem *p, const swim_override *ov, 
     swim_compiled kn, sys;
     memset(&kn, 0, sizeof kn);
     memset(&sys, 0, sizeof sys);
-    if (swim_scene_load_with(p->scene_path, ov, nov, &s) != 0) return 2;
-    int rc = swim_codegen_for_scene("optimize", &s, 0, 0, &kn, &sys) ? 2 : 0;
+    swim_status st = SWIM_STATUS_STDERR;   /* shown here until the command takes it */
+    if (swim_scene_load_with(p->scene_path, ov, nov, &s, &st) != 0) {
+        swim_status_print(&st, stderr);
+        return 2;
+    }
+    int rc = swim_codegen_for_scene("optimize", &s, 0, 0, &kn, &sys, &st) ? 2 : 0;
+    swim_status_print(&st, stderr);
     swim_dynamics d;
     swim_sens S;
     if (rc == 0 && swim_dynamics_init(&d, &s, kn.kernel) == 0) {
@@ -126,20 +131,23 @@ static void integrate(const swim_opt_problem *p, const swim_override *ov, int no
     memset(&sys, 0, sizeof sys);
     swim_run *run = NULL;
     r->status = 1;
-    if (swim_scene_load_with(p->scene_path, ov, nov, &s) != 0) {
+    swim_status st = SWIM_STATUS_STDERR;   /* shown here until the command takes it */
+    if (swim_scene_load_with(p->scene_path, ov, nov, &s, &st) != 0) {
+        swim_status_print(&st, stderr);
         r->status = 2;
         snprintf(r->reason, sizeof r->reason, "values refused by the scene checks");
         return;
     }
-    int rc = swim_codegen_for_scene("optimize", &s, 0, 0, &kn, &sys);
+    int rc = swim_codegen_for_scene("optimize", &s, 0, 0, &kn, &sys, &st);
+    swim_status_print(&st, stderr);
     if (rc) {
         r->status = rc == 2 ? 2 : 1;
         snprintf(r->reason, sizeof r->reason, rc == 2 ? "values refused by the scene checks" : "no kernel");
         goto done;
     }
     const swim_run_request req = {&s, &kn, &sys, 0, NULL, (volatile sig_atomic_t *)p->interrupt, {NULL, NULL, NULL, NULL, NULL}, 0};
-    char err[512] = "";
-    rc = swim_run_open(&req, &run, err, sizeof err);
+    swim_status_clear(&st);
+    rc = swim_run_open(&req, &run, &st);
     if (rc) {
         r->status = rc == 2 ? 2 : 1;
         snprintf(r->reason, sizeof r->reason, "%s", rc == 2 ? "stroke not allowable" : "out of memory");
@@ -456,7 +464,11 @@ static void tight_check(swim_opt_problem *p)
     const int nov = all_overrides(p, p->best_value, ov);
     swim_scene s;
     p->tight_status = 1;
-    if (swim_scene_load_with(p->scene_path, ov, nov, &s) != 0) return;
+    swim_status st = SWIM_STATUS_STDERR;   /* shown here until the command takes it */
+    if (swim_scene_load_with(p->scene_path, ov, nov, &s, &st) != 0) {
+        swim_status_print(&st, stderr);
+        return;
+    }
     const double rtol = fmax(s.rtol / 100.0, SWIM_RTOL_MIN), atol = s.atol / 100.0;
     swim_scene_free(&s);
     swim_override extra[2];

@@ -444,14 +444,18 @@ int swim_export(const swim_export_request *req, swim_export_result *res)
     memset(res, 0, sizeof *res);
     ctx c = {req, res, NULL};
     swim_scene s;
-    if (swim_scene_load_with(req->scene_file, req->sets, req->nsets, &s)) return 2;
+    swim_status st = SWIM_STATUS_STDERR;   /* shown here until the command takes it */
+    if (swim_scene_load_with(req->scene_file, req->sets, req->nsets, &s, &st)) {
+        swim_status_print(&st, stderr);
+        return 2;
+    }
     res->stroke = s.stroke_count > 0;
     res->modes = s.modes;
     /* peers_cvode.c is the only user of SUNDIALS; a stroke runs its own integrator without fallback */
     res->cvode = is_cvode(s.integrator) || (!res->stroke && s.stiff_fallback[0] && is_cvode(s.stiff_fallback));
     char probe[4200];
     int rc = 0;
-    if (!(c.share = swim_share_dir())) rc = 1;
+    if (!(c.share = swim_share_dir(&st))) rc = 1;
     else {
         snprintf(probe, sizeof probe, "%s/runtime/driver/run.c", c.share);
         if (access(probe, R_OK) != 0) {
@@ -462,7 +466,8 @@ int swim_export(const swim_export_request *req, swim_export_result *res)
     }
     if (!rc) rc = check_out(&c);
     swim_compiled kn = {0}, sys = {0};
-    if (!rc) rc = swim_codegen_for_scene(req->cmd, &s, 0, req->verbose, &kn, &sys);
+    if (!rc) rc = swim_codegen_for_scene(req->cmd, &s, 0, req->verbose, &kn, &sys, &st);
+    swim_status_print(&st, stderr);
     /* the tree copies the scene kernel's source from its cache entry: checked before any of it
      * is written */
     if (!rc && !sys.dir[0]) {

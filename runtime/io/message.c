@@ -33,11 +33,18 @@ static int invisible(unsigned long cp)
 
 int swim_quote(FILE *f, const char *text, size_t len, size_t max)
 {
+    return swim_quote_part(f, text, len, len, max);
+}
+
+int swim_quote_part(FILE *f, const char *text, size_t have, size_t len, size_t max)
+{
     const unsigned char *s = (const unsigned char *)text;
     size_t i = 0, stop = max && len > max ? max : len;
+    if (have > len) have = len;
+    if (stop > have) stop = have;
     while (i < stop) {
         unsigned long cp;
-        size_t k = swim_utf8_sequence(s + i, len - i, &cp);
+        size_t k = swim_utf8_sequence(s + i, have - i, &cp);
         if (k == 0) {
             fprintf(f, "\\x%02x", s[i]);
             i++;

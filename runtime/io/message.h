@@ -21,6 +21,11 @@
  * note; max = 0 means no limit). Returns 0, or -1 on a write error. */
 int swim_quote(FILE *f, const char *text, size_t len, size_t max);
 
+/* The same for a text of len bytes of which only the first `have` are at hand (have <= len,
+ * have >= max + 3 so that a UTF-8 sequence at the cut is whole): what swim_quote writes for
+ * the whole text (swim_status keeps no more of a line than this). */
+int swim_quote_part(FILE *f, const char *text, size_t have, size_t len, size_t max);
+
 /* printf-like; the result is quoted, cut at SWIM_MESSAGE_MAX, and followed by '\n'.
  * No fixed-size buffer: the text is formatted at its full length first. */
 void swim_message(FILE *f, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

@@ -41,35 +41,39 @@ struct swim_job {
 /* ---- before the run ------------------------------------------------------------------------ */
 
 /* Options that mean something for free dynamics only are refused on a prescribed stroke. */
-static int refuse_for_stroke(const swim_job *j)
+static int refuse_for_stroke(const swim_job *j, swim_status *st)
 {
     const swim_run_job *r = &j->req;
+    char who[64];
+    snprintf(who, sizeof who, "swim %s", r->cmd);
     if (r->sensitivity || r->lyapunov > 0) {
         /* the variational equations are those of the free shape dynamics; a prescribed stroke has
          * none (its shape is a given function of time) */
-        swim_message(stderr, "swim %s: --%s: not available on a prescribed stroke ([stroke] in %s): "
-                     "the variational equations are those of free shape dynamics only", r->cmd,
-                     r->sensitivity ? "sensitivity" : "lyapunov", r->scene_file);
+        swim_status_fail(st, who, NULL, 0, NULL, "--%s: not available on a prescribed stroke ([stroke] in %s): "
+                         "the variational equations are those of free shape dynamics only",
+                         r->sensitivity ? "sensitivity" : "lyapunov", r->scene_file);
         return 2;
     }
     const char *opt = r->generic ? "generic" : r->trace ? "trace-steps" : NULL;
     if (opt) {
-        swim_message(stderr, "swim %s: --%s: does not apply to a prescribed stroke (%s has [stroke]: "
-                     "only (3.21) is integrated)", r->cmd, opt, r->scene_file);
+        swim_status_fail(st, who, NULL, 0, NULL, "--%s: does not apply to a prescribed stroke (%s has [stroke]: "
+                         "only (3.21) is integrated)", opt, r->scene_file);
         return 2;
     }
     return 0;
 }
 
 /* The scene read with the overrides, adjusted, its events checked; the text for DIR/scene.toml. */
-static int read_scene(swim_job *j)
+static int read_scene(swim_job *j, swim_status *st)
 {
     const swim_run_job *r = &j->req;
     swim_scene *s = &j->s;
-    if (swim_scene_load_with(r->scene_file, r->sets, r->nsets, s)) return 2;
+    char who[64];
+    snprintf(who, sizeof who, "swim %s", r->cmd);
+    if (swim_scene_load_with(r->scene_file, r->sets, r->nsets, s, st)) return 2;
     char *name = r->scene_name ? strdup(r->scene_name) : NULL;
     if (r->scene_name && !name) {
-        swim_message(stderr, "swim %s: out of memory", r->cmd);
+        swim_status_fail(st, who, NULL, 0, NULL, "out of memory");
         return 2;
     }
     if (name) {
@@ -79,28 +83,25 @@ static int read_scene(swim_job *j)
     j->stroke = s->stroke_count > 0;
     int nadj = 0;
     swim_override adjusted[SWIM_JOB_MAX_SETS];
-    if (r->adjust && r->adjust(s, adjusted, &nadj, r->adjust_ctx) != 0) return 2;
-    if (j->stroke && refuse_for_stroke(j)) return 2;
+    if (r->adjust && r->adjust(s, adjusted, &nadj, r->adjust_ctx, st) != 0) return 2;
+    if (j->stroke && refuse_for_stroke(j, st)) return 2;
     if (r->lyapunov > 0 && !(s->t_end / r->lyapunov <= SWIM_LYAPUNOV_MAX_SEGMENTS)) {
-        swim_message(stderr, "swim %s: --lyapunov-interval: %g gives %.3g renormalizations over t_end = %g, more "
-                     "than %d (the rows of lyapunov.csv); give an interval >= %.3g", r->cmd, r->lyapunov,
-                     s->t_end / r->lyapunov, s->t_end, SWIM_LYAPUNOV_MAX_SEGMENTS,
-                     s->t_end / SWIM_LYAPUNOV_MAX_SEGMENTS);
+        swim_status_fail(st, who, NULL, 0, NULL, "--lyapunov-interval: %g gives %.3g renormalizations over t_end = %g, "
+                         "more than %d (the rows of lyapunov.csv); give an interval >= %.3g", r->lyapunov,
+                         s->t_end / r->lyapunov, s->t_end, SWIM_LYAPUNOV_MAX_SEGMENTS,
+                         s->t_end / SWIM_LYAPUNOV_MAX_SEGMENTS);
         return 2;
     }
     if (r->trace && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
-        swim_message(stderr, "swim %s: --trace-steps: integrator '%s' does not report its steps", r->cmd, s->integrator);
+        swim_status_fail(st, who, NULL, 0, NULL, "--trace-steps: integrator '%s' does not report its steps", s->integrator);
         return 2;
     }
     /* events name columns of trajectory.csv: checked against them, before any output */
     const char *names[SWIM_RUN_MAX_COLUMNS];
-    char storage[2 * SWIM_NMAX][24], err[1024];
+    char storage[2 * SWIM_NMAX][24];
     const int ncol = swim_run_columns(s, names, storage);
-    const int erc = swim_run_events_parse(s, r->events, r->nevents, names, ncol, &j->events, err, sizeof err);
-    if (erc) {
-        swim_message(stderr, "%s", err);
-        return erc;
-    }
+    const int erc = swim_run_events_parse(s, r->events, r->nevents, names, ncol, &j->events, st);
+    if (erc) return erc;
     /* the record of the run: the overrides, except those an adjustment sets again, then those */
     for (int i = 0; i < r->nsets; i++) {
         int again = 0;
@@ -112,22 +113,22 @@ static int read_scene(swim_job *j)
     size_t len = 0, outlen = 0;
     char *text = swim_read_file(r->scene_file, SWIM_SCENE_MAX_BYTES, &len), why[512];
     if (!text) {
-        swim_message(stderr, "swim: %s: cannot read: %s", r->scene_file, strerror(errno));
+        swim_status_fail(st, "swim", r->scene_file, 0, NULL, "%s: cannot read: %s", r->scene_file, strerror(errno));
         return 2;
     }
     const int rc = swim_scene_resolve(text, len, r->scene_name ? r->scene_name : r->scene_file, j->recorded, j->nrecorded, &j->resolved, &outlen, why, sizeof why);
     free(text);
     if (rc != 0) {
-        swim_message(stderr, "swim %s: %s: cannot write the overrides into the output's scene.toml: %s", r->cmd,
-                     r->scene_file, why);
+        swim_status_fail(st, who, r->scene_file, 0, NULL, "%s: cannot write the overrides into the output's scene.toml: %s",
+                         r->scene_file, why);
         return 2;
     }
     return 0;
 }
 
-static int acquire_kernels(swim_job *j)
+static int acquire_kernels(swim_job *j, swim_status *st)
 {
-    return swim_codegen_for_scene(j->req.cmd, &j->s, j->req.generic, j->req.quiet ? 0 : 1, &j->kn, &j->spz);
+    return swim_codegen_for_scene(j->req.cmd, &j->s, j->req.generic, j->req.quiet ? 0 : 1, &j->kn, &j->spz, st);
 }
 
 /* --sensitivity: the keys resolved on a dynamics of their own, before any output (exit 2). */
@@ -150,13 +151,13 @@ static swim_folder_request folder_request(const swim_job *j, const char **names,
                                  j->req.summary_only, j->req.snapshots && !j->req.summary_only, names, ncol};
 }
 
-static int preflight(const swim_job *j)
+static int preflight(const swim_job *j, swim_status *st)
 {
     const char *names[SWIM_RUN_MAX_COLUMNS];
     char storage[2 * SWIM_NMAX][24], err[2 * 4096 + 256];
     const swim_folder_request fr = folder_request(j, names, storage);
     const int rc = swim_folder_preflight(&fr, err, sizeof err);
-    if (rc) swim_message(stderr, "%s", err);
+    if (rc) swim_status_fail(st, NULL, NULL, 0, NULL, "%s", err);
     return rc;
 }
 
@@ -188,40 +189,39 @@ static void sink_progress(void *ctx, double t, double t_end)
 }
 
 /* The run (whose opening checks a stroke on its whole interval), then the folder. */
-static int open_run(swim_job *j)
+static int open_run(swim_job *j, swim_status *st)
 {
-    if (!j->req.quiet && j->spz.from_cache && !j->stroke)
-        swim_message(stderr, "swim: scene kernel from cache %s", j->spz.dir);
+    if (!j->req.quiet && j->spz.from_cache && !j->stroke && j->req.notice) {
+        char *line = swim_strprintf("swim: scene kernel from cache %s", j->spz.dir);
+        if (line) j->req.notice(j->req.ctx, line);
+        free(line);
+    }
     const swim_run_request rr = {&j->s, &j->kn, &j->spz, j->req.generic, j->events, j->req.stop,
                                  {sink_row, j->req.trace ? sink_step : NULL, sink_notice, sink_progress, j}, 0};
-    char err[1024] = "";
-    int rc = swim_run_open(&rr, &j->run, err, sizeof err);
-    if (rc) {
-        if (err[0]) swim_message(stderr, "%s", err);
-        return rc;
-    }
+    int rc = swim_run_open(&rr, &j->run, st);
+    if (rc) return rc;
     const char *names[SWIM_RUN_MAX_COLUMNS];
     char storage[2 * SWIM_NMAX][24], ferr[2 * 4096 + 256];
     const swim_folder_request fr = folder_request(j, names, storage);
     rc = swim_folder_open(&fr, &j->folder, ferr, sizeof ferr);
-    if (rc) swim_message(stderr, "%s", ferr);
+    if (rc) swim_status_fail(st, NULL, NULL, 0, NULL, "%s", ferr);
     return rc;
 }
 
-int swim_job_open(const swim_run_job *req, swim_job **out)
+int swim_job_open(const swim_run_job *req, swim_job **out, swim_status *st)
 {
     *out = NULL;
     swim_job *j = calloc(1, sizeof *j);
     if (!j) {
-        swim_message(stderr, "swim %s: out of memory", req->cmd);
+        swim_status_fail(st, NULL, NULL, 0, NULL, "swim %s: out of memory", req->cmd);
         return 1;
     }
     j->req = *req;
-    int rc = read_scene(j);
-    if (rc == 0) rc = preflight(j);
-    if (rc == 0) rc = acquire_kernels(j);
+    int rc = read_scene(j, st);
+    if (rc == 0) rc = preflight(j, st);
+    if (rc == 0) rc = acquire_kernels(j, st);
     if (rc == 0 && req->sensitivity) rc = check_sensitivity(j);
-    if (rc == 0) rc = open_run(j);
+    if (rc == 0) rc = open_run(j, st);
     if (rc) {
         swim_job_free(j);
         return rc;
@@ -470,10 +470,10 @@ void swim_job_free(swim_job *j)
     free(j);
 }
 
-int swim_job_execute(const swim_run_job *req)
+int swim_job_execute(const swim_run_job *req, swim_status *st)
 {
     swim_job *j;
-    int rc = swim_job_open(req, &j);
+    int rc = swim_job_open(req, &j, st);
     if (rc) return rc;
     rc = swim_job_run(j);
     swim_job_free(j);
