@@ -12,15 +12,14 @@
  *     tail untouched, a too small one refused and left as it was);
  *   - swim_model_set of a run-time key gives the rows of a model opened with that override, bit
  *     for bit; a structure key or a bad value is refused naming the key, the model unchanged. */
-#include <fcntl.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
+#include "capture.h"
 #include "check.h"
 #include "lib/swim.h"
 
@@ -169,12 +168,7 @@ static void test_nothing_printed(void)
         return;
     }
     snprintf(path, sizeof path, "%s/printed", dir);
-    fflush(stdout);
-    fflush(stderr);
-    const int saved1 = dup(1), saved2 = dup(2), to = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    dup2(to, 1);
-    dup2(to, 2);
-    close(to);
+    const capture_fds q = capture_begin(path);
     swim_model *m = NULL;
     swim_error bad_file = SWIM_ERROR_INIT, bad_text = SWIM_ERROR_INIT, bad_word = SWIM_ERROR_INIT,
                bad_set = SWIM_ERROR_INIT, projected = SWIM_ERROR_INIT;
@@ -192,14 +186,8 @@ static void test_nothing_printed(void)
         rc_set = swim_model_set(m, "run.rtol", "-2", &bad_set);
         swim_model_free(m);
     }
-    fflush(stdout);
-    fflush(stderr);
-    dup2(saved1, 1);
-    dup2(saved2, 2);
-    close(saved1);
-    close(saved2);
-    struct stat st;
-    CHECK(stat(path, &st) == 0 && st.st_size == 0, "bad values printed %lld bytes", (long long)st.st_size);
+    const long long printed = capture_end(q);
+    CHECK(printed == 0, "bad values printed %lld bytes", printed);
     CHECK(rc_file == SWIM_EINPUT && strstr(bad_file.file, "example3.toml") && bad_file.line == 0 &&
           strcmp(bad_file.key, "model.rho0") == 0 && strstr(bad_file.message, "--set model.rho0=-1"),
           "an override's bad value: file '%s' line %d key '%s' (%s)", bad_file.file, bad_file.line, bad_file.key,

@@ -26,6 +26,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "capture.h"
 #include "check.h"
 #include "lib/swim.h"
 
@@ -270,36 +271,6 @@ static void *inspect_n9(void *p)
 
 static atomic_int threads_done;
 
-/* stdout and stderr into `path` until quiet_end, which returns the bytes written there. */
-typedef struct {
-    int saved1, saved2;
-    const char *path;
-} quiet_fds;
-
-static quiet_fds quiet_begin(const char *path)
-{
-    fflush(stdout);
-    fflush(stderr);
-    quiet_fds q = {dup(1), dup(2), path};
-    const int to = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    dup2(to, 1);
-    dup2(to, 2);
-    close(to);
-    return q;
-}
-
-static long long quiet_end(quiet_fds q)
-{
-    fflush(stdout);
-    fflush(stderr);
-    dup2(q.saved1, 1);
-    dup2(q.saved2, 2);
-    close(q.saved1);
-    close(q.saved2);
-    struct stat st;
-    return stat(q.path, &st) == 0 ? (long long)st.st_size : -1;
-}
-
 /* No cache (SWIM_CACHE a file) and no folder for a private build (TMPDIR absent): the kernel of
  * N = 9 and the scene's kernel cannot be had; the error says where, and nothing is printed. */
 static void test_no_cache_no_tmpdir(void)
@@ -318,13 +289,13 @@ static void test_no_cache_no_tmpdir(void)
     char *keep_cache = old_cache ? strdup(old_cache) : NULL, *keep_tmp = old_tmp ? strdup(old_tmp) : NULL;
     setenv("SWIM_CACHE", cache, 1);
     setenv("TMPDIR", tmp, 1);
-    quiet_fds q = quiet_begin(printed);
+    const capture_fds q = capture_begin(printed);
     build_job one;
     inspect_n9(&one);
     swim_model *m = NULL;
     swim_error em = SWIM_ERROR_INIT;
     const int mrc = swim_model_from_file(SCENE, NULL, 0, &m, &em);
-    const long long bytes = quiet_end(q);
+    const long long bytes = capture_end(q);
     if (keep_cache) setenv("SWIM_CACHE", keep_cache, 1);
     else unsetenv("SWIM_CACHE");
     if (keep_tmp) setenv("TMPDIR", keep_tmp, 1);
@@ -380,27 +351,16 @@ static void test_kernel_builds(void)
     sigaction(SIGHUP, &sa, NULL);
 
     /* one thread: the cause in the error, nothing printed */
-    fflush(stdout);
-    fflush(stderr);
     char out_path[300];
     snprintf(out_path, sizeof out_path, "%s/printed", tmpdir);
-    const int saved1 = dup(1), saved2 = dup(2), to = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    dup2(to, 1);
-    dup2(to, 2);
+    const capture_fds q = capture_begin(out_path);
     build_job one;
     inspect_n9(&one);
     swim_model *m = NULL;
     swim_error em = SWIM_ERROR_INIT;
     const int mrc = swim_model_from_file(SCENE, NULL, 0, &m, &em);   /* its scene kernel: a new cache */
-    fflush(stdout);
-    fflush(stderr);
-    dup2(saved1, 1);
-    dup2(saved2, 2);
-    close(saved1);
-    close(saved2);
-    close(to);
-    struct stat st;
-    CHECK(stat(out_path, &st) == 0 && st.st_size == 0, "a failed kernel build printed %lld bytes", (long long)st.st_size);
+    const long long printed = capture_end(q);
+    CHECK(printed == 0, "a failed kernel build printed %lld bytes", printed);
     CHECK(one.rc == SWIM_EKERNEL && one.e.status == SWIM_EKERNEL && strstr(one.e.message, "generating"),
           "swim_inspect without a kernel: %d '%s'", one.rc, one.e.message);
     CHECK(mrc == SWIM_EKERNEL && m == NULL && strstr(em.message, "generating"), "a model without a kernel: %d '%s'", mrc,

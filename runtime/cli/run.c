@@ -30,6 +30,7 @@ typedef struct {
     char *sensitivity, *command;
     swim_run_job job;
     double t_start, last_progress;
+    swim_status status;          /* what the layers below found wrong, and where their notices go */
 } run_cmd;
 
 /* --sensitivity KEYS (repeatable: each adds its keys), taken out of argv and joined with commas
@@ -297,6 +298,8 @@ int swim_cmd_run(int argc, char **argv)
         return 1;
     }
     swim_run_stop = 0;
+    c->status.note = on_status_note;
+    c->status.note_ctx = c;
     int rc = read_options(argc, argv, c);
     swim_job *job = NULL;
     if (rc == 0) {
@@ -306,18 +309,17 @@ int swim_cmd_run(int argc, char **argv)
         c->job.sens_done = on_sensitivities;
         c->job.lyapunov_done = on_lyapunov;
         c->job.ctx = c;
-        swim_status st = SWIM_STATUS_STDERR;
-        st.note = on_status_note;
-        st.note_ctx = c;
-        rc = swim_job_open(&c->job, &job, &st);
-        swim_status_print(&st, stderr);
+        rc = swim_job_open(&c->job, &job, &c->status);
+        swim_status_print(&c->status, stderr);
     }
     if (rc == 0) {
         swim_run_signals sig;
         swim_run_signals_install(&sig);
         c->last_progress = c->t_start = swim_clock_seconds();
-        const int status = swim_job_run(job);
+        swim_status_clear(&c->status);
+        const int status = swim_job_run(job, &c->status);
         if (!c->job.quiet && c->last_progress > c->t_start) fputc('\n', stderr);
+        swim_status_print(&c->status, stderr);
         rc = report(c, job, status);
         swim_run_signals_restore(&sig);
     }

@@ -125,7 +125,9 @@ int main(int argc, char **argv)
         swim_status_print(&st, stderr);
     }
     if (rc == 0) {
-        const int status = swim_job_run(job);
+        swim_status st = SWIM_STATUS_STDERR;
+        const int status = swim_job_run(job, &st);
+        swim_status_print(&st, stderr);
         const swim_run_result *r = swim_job_result(job);
         const char *oerr = swim_job_output_error(job);
         if (oerr) swim_message(stderr, "%s: %s", PROG, oerr);

@@ -75,25 +75,10 @@ static char *vformat(const char *fmt, va_list ap, int *len)
     return buf;
 }
 
-/* The calling thread's redirection of its error lines (swim_message_redirect), NULL: none. */
-static _Thread_local swim_message_hook redirect_hook;
-static _Thread_local void *redirect_ctx;
-
-void swim_message_redirect(swim_message_hook hook, void *ctx)
-{
-    redirect_hook = hook;
-    redirect_ctx = ctx;
-}
-
 void swim_vmessage(FILE *f, const char *fmt, va_list ap)
 {
     int n;
     char *buf = vformat(fmt, ap, &n);
-    if (f == stderr && redirect_hook) {   /* a library call: the line goes to its caller */
-        redirect_hook(redirect_ctx, buf ? buf : fmt);
-        free(buf);
-        return;
-    }
     if (buf) {
         swim_quote(f, buf, (size_t)n, SWIM_MESSAGE_MAX);
         free(buf);

@@ -255,14 +255,14 @@ static void pass_notice(const swim_job *j, const char *what, double step, double
  * trajectory ended (t_end or a stopping event). Skipped when the trajectory failed or was
  * interrupted; a sensitivity pass that does not finish fails the run, so that the summary and the
  * exit status say so. */
-static void run_sensitivity(swim_job *j)
+static void run_sensitivity(swim_job *j, swim_status *st)
 {
     const swim_run_result *r = swim_run_get_result(j->run);
     j->sens_t = r->t_reached;
     char why[256];
     if (r->status != 0) {
         j->sens_status = "skipped";
-        swim_message(stderr, "swim %s: no sensitivity.csv: the run did not complete", j->req.cmd);
+        swim_status_note(st, "swim %s: no sensitivity.csv: the run did not complete", j->req.cmd);
         return;
     }
     if (r->impacts) {   /* the variational equations would need the impact's jump (a saltation matrix) */
@@ -313,7 +313,7 @@ static void run_sensitivity(swim_job *j)
  * over [0, t_reached] and the predictability horizon at the run's rtol (control/lyapunov.h). A
  * pass that fails is said in the summary; it does not fail the run. A stop request (signal)
  * during the pass does: the segments done are written, and the run's reason names the signal. */
-static void run_lyapunov(swim_job *j)
+static void run_lyapunov(swim_job *j, swim_status *st)
 {
     const swim_run_result *r = swim_run_get_result(j->run);
     const int sig0 = j->req.stop ? *j->req.stop : 0;
@@ -326,9 +326,9 @@ static void run_lyapunov(swim_job *j)
     }
     if (r->status != 0 || r->impacts || !(r->t_reached > 0)) {
         j->lyap_status = "skipped";
-        swim_message(stderr, "swim %s: no lyapunov.csv: %s", j->req.cmd, r->status != 0 ? "the run did not complete"
-                     : r->impacts ? "the run took impacts, across which the variational equations do not hold"
-                                  : "the run has no time span");
+        swim_status_note(st, "swim %s: no lyapunov.csv: %s", j->req.cmd, r->status != 0 ? "the run did not complete"
+                         : r->impacts ? "the run took impacts, across which the variational equations do not hold"
+                                      : "the run has no time span");
         return;
     }
     char *path = swim_strprintf("%s/lyapunov.csv", swim_folder_paths(j->folder)->dir);
@@ -356,7 +356,7 @@ static void run_lyapunov(swim_job *j)
         snprintf(j->lyap.reason, sizeof j->lyap.reason, "%s", stopped_by(sig));
         swim_run_fail(j->run, why);
     } else if (j->lyap.status != 0 || rc != 0) {
-        swim_message(stderr, "swim %s: lyapunov.csv: %s", j->req.cmd, j->lyap.reason);
+        swim_status_note(st, "swim %s: lyapunov.csv: %s", j->req.cmd, j->lyap.reason);
     }
     free(path);
 }
@@ -426,17 +426,19 @@ static void fill_summary(FILE *f, void *ctx)
     swim_run_summary_json(f, j->run, &x);
 }
 
-int swim_job_run(swim_job *j)
+int swim_job_run(swim_job *j, swim_status *st)
 {
     swim_run_integrate(j->run);
     if (swim_folder_finish(j->folder, j->events) != 0) swim_run_fail(j->run, swim_folder_error(j->folder));
-    if (j->req.sensitivity) run_sensitivity(j);
-    if (j->req.lyapunov > 0) run_lyapunov(j);
+    if (j->req.sensitivity) run_sensitivity(j, st);
+    if (j->req.lyapunov > 0) run_lyapunov(j, st);
     const swim_run_result *r = swim_run_get_result(j->run);
     if (swim_folder_write_summary(j->folder, fill_summary, j) != 0) {
-        swim_message(stderr, "swim %s: cannot write %s: %s (the run %s: %s)", j->req.cmd,
-                     swim_folder_paths(j->folder)->summary_path, strerror(errno), r->status ? "FAILED" : "completed",
-                     r->reason ? r->reason : "out of memory");
+        char who[64];
+        snprintf(who, sizeof who, "swim %s", j->req.cmd);
+        swim_status_fail(st, who, NULL, 0, NULL, "cannot write %s: %s (the run %s: %s)",
+                         swim_folder_paths(j->folder)->summary_path, strerror(errno), r->status ? "FAILED" : "completed",
+                         r->reason ? r->reason : "out of memory");
         j->summary_failed = 1;
     }
     return r->status || j->summary_failed ? 1 : 0;
@@ -475,7 +477,7 @@ int swim_job_execute(const swim_run_job *req, swim_status *st)
     swim_job *j;
     int rc = swim_job_open(req, &j, st);
     if (rc) return rc;
-    rc = swim_job_run(j);
+    rc = swim_job_run(j, st);
     swim_job_free(j);
     return rc;
 }

@@ -64,8 +64,9 @@ typedef struct swim_job swim_job;
 /* Everything before the integration. 0 with *out; 1 or 2 with the cause in st (*out is NULL). */
 int swim_job_open(const swim_run_job *req, swim_job **out, swim_status *st);
 /* The integration, the outputs closed, the sensitivities, the summary. The run's status: 0
- * completed, 1 failed (also when an output, or the summary itself, could not be written). */
-int swim_job_run(swim_job *j);
+ * completed, 1 failed (also when an output, or the summary itself, could not be written: that
+ * cause in st). A pass skipped or failed after the trajectory is a notice to st's note. */
+int swim_job_run(swim_job *j, swim_status *st);
 
 const swim_scene *swim_job_scene(const swim_job *j);
 const swim_run_result *swim_job_result(const swim_job *j);
@@ -78,7 +79,7 @@ int swim_job_summary_failed(const swim_job *j);
 void swim_job_free(swim_job *j);
 
 /* The convenience of a sweep member: open, run, free. The exit status of `swim run`; a refusal
- * before the run in st. */
+ * before the run, or a summary not written, in st. */
 int swim_job_execute(const swim_run_job *req, swim_status *st);
 
 #endif

@@ -750,7 +750,7 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
 }
 
 /* The whole file in a new buffer, refused before reading when it is not a regular file of at
- * most SWIM_SCENE_MAX_BYTES (a pipe is read up to that size). NULL after one line on stderr. */
+ * most SWIM_SCENE_MAX_BYTES (a pipe is read up to that size). NULL with the reason in status. */
 char *swim_scene_read(const char *path, size_t *len, swim_status *status)
 {
     FILE *f = fopen(path, "rb");
