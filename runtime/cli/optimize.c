@@ -314,7 +314,11 @@ int swim_cmd_optimize(int argc, char **argv)
                          "sensitivities; use --method nelder-mead", pos[0]);
             return 2;
         }
-        if (p.method == SWIM_OPT_BFGS && swim_opt_check_gradient(&p, ov, k) != 0) return 2;
+        swim_status st = SWIM_STATUS_STDERR;
+        if (p.method == SWIM_OPT_BFGS && swim_opt_check_gradient(&p, ov, k, &st) != 0) {
+            swim_status_print(&st, stderr);
+            return 2;
+        }
         if ((p.quantity == SWIM_Q_DISPLACEMENT_PER_WORK || p.quantity == SWIM_Q_FORCING_WORK) && !forced) {
             swim_message(stderr, "swim optimize: %s: %s needs a [forcing] law (the work of F(t)) or a [stroke] "
                          "(the positive work of the body)", pos[0], qname);
@@ -336,8 +340,11 @@ int swim_cmd_optimize(int argc, char **argv)
     swim_run_stop = 0;
     p.interrupt = (volatile int *)&swim_run_stop;
     swim_run_signals_install(&sig);
+    swim_status st = SWIM_STATUS_STDERR;   /* the iteration lines as they come, a failure after */
+    p.status = &st;
     int rc = swim_opt_run(&p);
     swim_run_signals_restore(&sig);
+    swim_status_print(&st, stderr);
     if (fclose(p.log_csv) != 0) rc = 1;
     p.log_csv = NULL;
     if (rc != 0) {

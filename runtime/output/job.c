@@ -132,13 +132,13 @@ static int acquire_kernels(swim_job *j, swim_status *st)
 }
 
 /* --sensitivity: the keys resolved on a dynamics of their own, before any output (exit 2). */
-static int check_sensitivity(swim_job *j)
+static int check_sensitivity(swim_job *j, swim_status *st)
 {
     swim_dynamics d;
     swim_sens S;
     if (swim_dynamics_init(&d, &j->s, j->kn.kernel) != 0) return 1;
     swim_dynamics_use_scene_kernel(&d, j->spz.scene, j->req.generic);
-    int rc = swim_sens_init(&S, &d) != 0 ? 1 : swim_sens_add_list(&S, &j->s, j->req.cmd, j->req.sensitivity);
+    int rc = swim_sens_init(&S, &d) != 0 ? 1 : swim_sens_add_list(&S, &j->s, j->req.cmd, j->req.sensitivity, st);
     swim_sens_free(&S);
     swim_dynamics_free(&d);
     return rc;
@@ -220,7 +220,7 @@ int swim_job_open(const swim_run_job *req, swim_job **out, swim_status *st)
     int rc = read_scene(j, st);
     if (rc == 0) rc = preflight(j, st);
     if (rc == 0) rc = acquire_kernels(j, st);
-    if (rc == 0 && req->sensitivity) rc = check_sensitivity(j);
+    if (rc == 0 && req->sensitivity) rc = check_sensitivity(j, st);
     if (rc == 0) rc = open_run(j, st);
     if (rc) {
         swim_job_free(j);
@@ -275,7 +275,7 @@ static void run_sensitivity(swim_job *j, swim_status *st)
     swim_sens S;
     char *path = swim_strprintf("%s/sensitivity.csv", swim_folder_paths(j->folder)->dir);
     int rc = !path || swim_sens_init(&S, swim_run_dynamics(j->run)) != 0 ? 1
-             : swim_sens_add_list(&S, &j->s, j->req.cmd, j->req.sensitivity);
+             : swim_sens_add_list(&S, &j->s, j->req.cmd, j->req.sensitivity, st);
     double sec = 0.0;
     long evals = 0;
     S.error_control = !j->req.sens_state_steps;
@@ -283,7 +283,7 @@ static void run_sensitivity(swim_job *j, swim_status *st)
     if (rc == 0) {
         pass_notice(j, "the sensitivities (sensitivity.csv): the state and its variational equations again, rows "
                     "every", j->s.output_step, j->sens_t);
-        rc = swim_sens_write_run(&S, j->s.integrator, path, j->sens_t, &sec, &evals) ? 1 : 0;
+        rc = swim_sens_write_run(&S, j->s.integrator, path, j->sens_t, &sec, &evals, st) ? 1 : 0;
         j->sens_rows = S.rows;
         j->sens_t_last = S.t_last;
         j->sens_method = swim_sens_exact(&S) ? "exact" : "differences";
