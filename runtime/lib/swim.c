@@ -456,9 +456,9 @@ static int swim_sim_create_(const swim_model *m, const swim_sim_options *o, swim
     const int rc = sim_open(s, &st);
     if (rc) {
         failed(err, &st, rc, "the simulation could not be set up");
-        if (err && s->bad_events && !err->key[0]) {   /* an event of the options or of the scene */
-            snprintf(err->key, sizeof err->key, "events");
-            snprintf(err->file, sizeof err->file, "%s", m->name);
+        if (err && s->bad_events) {   /* an event of the options or of the scene: the model's file */
+            if (!err->key[0]) snprintf(err->key, sizeof err->key, "events");
+            if (!err->file[0]) snprintf(err->file, sizeof err->file, "%s", m->name);
         }
         swim_sim_free(s);
         return rc;
