@@ -16,6 +16,7 @@
 #include "io/files.h"
 #include "io/json.h"
 #include "io/message.h"
+#include "io/status.h"
 
 /* swim_quote of len bytes into a new string. */
 static char *quoted(const char *text, size_t len, size_t max)
@@ -55,6 +56,8 @@ static void test_quote(void)
     free(q);
 }
 
+static void note_to(void *ctx, const char *line) { fprintf(ctx, "%s|", line); }
+
 static void test_message(void)
 {
     char *buf = NULL;
@@ -79,6 +82,56 @@ static void test_message(void)
     char *s = swim_strprintf("%s-%d", "p", 42);
     CHECK(s && strcmp(s, "p-42") == 0, "strprintf: '%s'", s);
     free(s);
+}
+
+/* What a status shows is what swim_message shows for the same line, also for a line longer than
+ * the status keeps (a multibyte character across the cut); the cause's fields and message, later
+ * lines, notices. */
+static void test_status(void)
+{
+    char *big = malloc(SWIM_MESSAGE_MAX + 5000);
+    memset(big, 'v', SWIM_MESSAGE_MAX + 4999);
+    /* a euro sign across the cut: its first byte the line's last shown ("swim: f.toml:3: model.rho0: " is 28) */
+    memcpy(big + SWIM_MESSAGE_MAX - 1 - 28, "\xe2\x82\xac", 3);
+    big[SWIM_MESSAGE_MAX + 4999] = '\0';
+    char *want = NULL, *got = NULL;
+    size_t nw = 0, ng = 0;
+    FILE *m = open_memstream(&want, &nw);
+    swim_message(m, "swim: f.toml:3: model.rho0: %s", big);
+    swim_message(m, "swim run: f.toml: no kernel\x1b");
+    fclose(m);
+    swim_status st = {0};
+    swim_status_fail(&st, "swim", "f.toml", 3, "model.rho0", "f.toml:3: model.rho0: %s", big);
+    swim_status_fail(&st, "swim run", "other.toml", 9, "x", "f.toml: no kernel\x1b");
+    m = open_memstream(&got, &ng);
+    swim_status_print(&st, m);
+    fclose(m);
+    CHECK(want && got && strcmp(want, got) == 0, "a status shows what swim_message shows (%zu and %zu bytes)", nw, ng);
+    CHECK(st.failed && strcmp(st.file, "f.toml") == 0 && st.line == 3 && strcmp(st.key, "model.rho0") == 0 &&
+          st.nlines == 2, "the cause's fields, two lines: '%s' %d '%s' %d", st.file, st.line, st.key, st.nlines);
+    char msg[64];
+    swim_status_message(&st, msg, sizeof msg);
+    CHECK(strncmp(msg, "f.toml:3: model.rho0: vvv", 25) == 0, "the message is the cause without 'swim: ': '%s'", msg);
+    for (int i = 0; i < 5; i++) swim_status_fail(&st, NULL, NULL, 0, NULL, "more %d", i);
+    CHECK(st.nlines == SWIM_STATUS_LINES, "at most %d lines kept: %d", SWIM_STATUS_LINES, st.nlines);
+    swim_status_clear(&st);
+    CHECK(!st.failed && st.nlines == 0 && swim_status_print(&st, stdout) == 0, "a clear status shows nothing");
+    free(want);
+    free(got);
+    free(big);
+    /* notices go to the callback, nowhere without one; clearing keeps it */
+    char *notes = NULL;
+    size_t nn = 0;
+    FILE *nf = open_memstream(&notes, &nn);
+    swim_status quiet = {0}, loud = {.note = note_to, .note_ctx = nf};
+    swim_status_note(&quiet, "lost %d", 1);
+    swim_status_note(&loud, "kept %d", 2);
+    swim_status_clear(&loud);
+    swim_status_note(&loud, "kept %d", 3);
+    swim_status_note(NULL, "lost %d", 4);
+    fclose(nf);
+    CHECK(notes && strcmp(notes, "kept 2|kept 3|") == 0, "notices: '%s'", notes);
+    free(notes);
 }
 
 static void test_json_string(void)
@@ -222,6 +275,7 @@ int main(void)
     if (!mkdtemp(dir)) return 1;
     test_quote();
     test_message();
+    test_status();
     test_json_string();
     test_number_text();
     test_replace_and_paths(dir);

@@ -323,7 +323,7 @@ static void compare(int N, const kind *kd, int trials)
     static swim_scene s;
     fill_scene(&s, N, kd);
     swim_compiled sc;
-    if (swim_codegen_scene(&s, kd->generic, &sc, 0) != 0) {
+    if (swim_codegen_scene(&s, kd->generic, &sc, 0, NULL) != 0) {
         CHECK(0, "N=%d %s: no kernel", N, kd->name);
         swim_scene_free(&s);
         return;
@@ -413,7 +413,7 @@ static void integrate(const char *method, int N)
     memset(s.dc0, 0, sizeof s.dc0);
     s.dc0[4] = 0.2;   /* G1, G2 are violated a little: the RHS does not care */
     swim_compiled sc;
-    if (swim_codegen_scene(&s, 0, &sc, 0) != 0) {
+    if (swim_codegen_scene(&s, 0, &sc, 0, NULL) != 0) {
         CHECK(0, "%s: no kernel", method);
         swim_scene_free(&s);
         return;

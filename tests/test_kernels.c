@@ -314,7 +314,7 @@ int main(void)
     static const int extra_modes[] = {12, 15, 20};
     swim_compiled extra[3];
     for (int e = 0; e < 3; e++) {
-        int rc = swim_codegen_kernel(extra_modes[e], &extra[e], 0);
+        int rc = swim_codegen_kernel(extra_modes[e], &extra[e], 0, NULL);
         CHECK(rc == 0 && extra[e].kernel && extra[e].kernel->modes == extra_modes[e],
               "the N = %d kernel is generated on demand", extra_modes[e]);
         if (rc == 0) ks[count++] = extra[e].kernel;

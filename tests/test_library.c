@@ -1,7 +1,8 @@
 /* libswim's contract (runtime/lib/swim.h), through the public API only:
  *   - a run gives swim run's rows: advancing in pieces gives the rows of one run, bit for bit;
  *   - a bad scene or override comes back as an error struct (file, line, key, message), nothing
- *     printed, and the process goes on to the next call;
+ *     printed (stdout and stderr checked), and the process goes on to the next call; a notice
+ *     (an initial velocity projected onto the constraints) is not printed either;
  *   - two simulations on two threads give the results of two sequential ones, bit for bit;
  *   - the row callback can stop a run, which then fails saying so;
  *   - swim_inspect's K is Md - N^T Mr^-1 N and symmetric, Gamma(v, v) is Gamma contracted twice,
@@ -18,6 +19,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "capture.h"
 #include "check.h"
 #include "lib/swim.h"
 
@@ -155,6 +157,53 @@ typedef struct {
     swim_result res;
     int rc;
 } job;
+
+/* Bad values with stdout and stderr going to a file: the causes come back in the error, the file
+ * stays empty. */
+static void test_nothing_printed(void)
+{
+    char dir[] = "/tmp/swim-lib-quiet-XXXXXX", path[64];
+    if (!mkdtemp(dir)) {
+        CHECK(0, "a temporary folder");
+        return;
+    }
+    snprintf(path, sizeof path, "%s/printed", dir);
+    const capture_fds q = capture_begin(path);
+    swim_model *m = NULL;
+    swim_error bad_file = SWIM_ERROR_INIT, bad_text = SWIM_ERROR_INIT, bad_word = SWIM_ERROR_INIT,
+               bad_set = SWIM_ERROR_INIT, projected = SWIM_ERROR_INIT;
+    const char *bad[] = {"model.rho0=-1"}, *word[] = {"model.rho0=x1"};
+    const int rc_file = swim_model_from_file("models/example3.toml", bad, 1, &m, &bad_file);
+    const char *text = "[model]\nmodes = 1\nrho0 = 1.0\nrhof = 1.0\n[shape]\nc0 = [1, 0, 0.2, 0]\ndc0 = [0, 0, 0, 0]\n"
+                       "free = \"all\"\n[run]\nt_end = 1\noutput_step = 0.1\nrtol = 7\n";
+    const int rc_text = swim_model_from_text(text, "inline.toml", NULL, 0, &m, &bad_text);
+    const int rc_word = swim_model_from_file("models/example3.toml", word, 1, &m, &bad_word);
+    /* projected: a notice on swim run's stderr, nothing here */
+    const char *proj[] = {"run.t_end=0.01", "run.project_initial=true", "shape.dc0[0]=0.1"};
+    const int rc_proj = swim_model_from_file("models/example3.toml", proj, 3, &m, &projected);
+    int rc_set = -1;
+    if (rc_proj == SWIM_OK) {
+        rc_set = swim_model_set(m, "run.rtol", "-2", &bad_set);
+        swim_model_free(m);
+    }
+    const long long printed = capture_end(q);
+    CHECK(printed == 0, "bad values printed %lld bytes", printed);
+    CHECK(rc_file == SWIM_EINPUT && strstr(bad_file.file, "example3.toml") && bad_file.line == 0 &&
+          strcmp(bad_file.key, "model.rho0") == 0 && strstr(bad_file.message, "--set model.rho0=-1"),
+          "an override's bad value: file '%s' line %d key '%s' (%s)", bad_file.file, bad_file.line, bad_file.key,
+          bad_file.message);
+    CHECK(rc_text == SWIM_EINPUT && strcmp(bad_text.file, "inline.toml") == 0 && bad_text.line == 12 &&
+          strcmp(bad_text.key, "run.rtol") == 0 && strncmp(bad_text.message, "inline.toml:12: run.rtol: ", 26) == 0,
+          "a bad value in the text: file '%s' line %d key '%s' (%s)", bad_text.file, bad_text.line, bad_text.key,
+          bad_text.message);
+    CHECK(rc_word == SWIM_EINPUT && strcmp(bad_word.key, "model.rho0") == 0 && strstr(bad_word.message, "not a string"),
+          "a word for a number: key '%s' (%s)", bad_word.key, bad_word.message);
+    CHECK(rc_proj == SWIM_OK, "a velocity projected onto the constraints loads: %s", projected.message);
+    CHECK(rc_set == SWIM_EINPUT && strcmp(bad_set.key, "run.rtol") == 0 && strstr(bad_set.message, "must be > 0"),
+          "swim_model_set of a bad value: %d key '%s' (%s)", rc_set, bad_set.key, bad_set.message);
+    unlink(path);
+    rmdir(dir);
+}
 
 static void *run_job(void *p)
 {
@@ -405,6 +454,7 @@ int main(void)
     CHECK(strcmp(swim_version(), "unknown") != 0 && strchr(swim_version(), '.'), "a version: %s", swim_version());
     test_pieces();
     test_errors();
+    test_nothing_printed();
     test_threads();
     test_inspect();
     test_versions();

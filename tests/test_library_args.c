@@ -5,8 +5,9 @@
  *   - swim_sim_advance refuses NaN, infinities and a step back, and the run goes on unharmed;
  *   - the summary of a run not started or advanced part-way says so (never "completed");
  *   - the stop flag is a flag: stop = 1 stops the run "by the caller", never "by SIGHUP";
- *   - a kernel that cannot be generated comes back as SWIM_EKERNEL with the cause in the error
- *     and nothing on stdout or stderr;
+ *   - a kernel that cannot be generated (a generator that fails; a cache and a TMPDIR that cannot
+ *     be written) comes back as SWIM_EKERNEL with the cause in the error and nothing on stdout
+ *     or stderr;
  *   - a process out of file descriptors gets an error, and its cache entries are not taken for
  *     damaged and rebuilt;
  *   - two threads needing the same new kernel build it one after the other (the cache entry's
@@ -25,6 +26,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "capture.h"
 #include "check.h"
 #include "lib/swim.h"
 
@@ -269,6 +271,48 @@ static void *inspect_n9(void *p)
 
 static atomic_int threads_done;
 
+/* No cache (SWIM_CACHE a file) and no folder for a private build (TMPDIR absent): the kernel of
+ * N = 9 and the scene's kernel cannot be had; the error says where, and nothing is printed. */
+static void test_no_cache_no_tmpdir(void)
+{
+    char dir[] = "/tmp/swim-nocache-XXXXXX", cache[128], tmp[128], printed[128];
+    if (!mkdtemp(dir)) {
+        CHECK(0, "a temporary folder");
+        return;
+    }
+    snprintf(cache, sizeof cache, "%s/cache-is-a-file", dir);
+    snprintf(tmp, sizeof tmp, "%s/no-such-folder", dir);
+    snprintf(printed, sizeof printed, "%s/printed", dir);
+    FILE *f = fopen(cache, "w");
+    if (f) fclose(f);
+    const char *old_cache = getenv("SWIM_CACHE"), *old_tmp = getenv("TMPDIR");
+    char *keep_cache = old_cache ? strdup(old_cache) : NULL, *keep_tmp = old_tmp ? strdup(old_tmp) : NULL;
+    setenv("SWIM_CACHE", cache, 1);
+    setenv("TMPDIR", tmp, 1);
+    const capture_fds q = capture_begin(printed);
+    build_job one;
+    inspect_n9(&one);
+    swim_model *m = NULL;
+    swim_error em = SWIM_ERROR_INIT;
+    const int mrc = swim_model_from_file(SCENE, NULL, 0, &m, &em);
+    const long long bytes = capture_end(q);
+    if (keep_cache) setenv("SWIM_CACHE", keep_cache, 1);
+    else unsetenv("SWIM_CACHE");
+    if (keep_tmp) setenv("TMPDIR", keep_tmp, 1);
+    else unsetenv("TMPDIR");
+    free(keep_cache);
+    free(keep_tmp);
+    CHECK(bytes == 0, "no cache and no TMPDIR: %lld bytes printed", bytes);
+    CHECK(one.rc == SWIM_EKERNEL && one.e.status == SWIM_EKERNEL && strstr(one.e.message, "no private folder") &&
+          strstr(one.e.message, tmp), "swim_inspect(9) without a cache or TMPDIR: %d '%s'", one.rc, one.e.message);
+    CHECK(mrc == SWIM_EKERNEL && m == NULL && strstr(em.message, "no private folder") && strstr(em.message, "scene kernel"),
+          "a model without a cache or TMPDIR: %d '%s'", mrc, em.message);
+    swim_model_free(m);
+    char cmd[200];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0) fprintf(stderr, "cannot remove %s\n", dir);
+}
+
 static void *watch_handlers(void *p)
 {
     int *bad = p;
@@ -307,27 +351,16 @@ static void test_kernel_builds(void)
     sigaction(SIGHUP, &sa, NULL);
 
     /* one thread: the cause in the error, nothing printed */
-    fflush(stdout);
-    fflush(stderr);
     char out_path[300];
     snprintf(out_path, sizeof out_path, "%s/printed", tmpdir);
-    const int saved1 = dup(1), saved2 = dup(2), to = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    dup2(to, 1);
-    dup2(to, 2);
+    const capture_fds q = capture_begin(out_path);
     build_job one;
     inspect_n9(&one);
     swim_model *m = NULL;
     swim_error em = SWIM_ERROR_INIT;
     const int mrc = swim_model_from_file(SCENE, NULL, 0, &m, &em);   /* its scene kernel: a new cache */
-    fflush(stdout);
-    fflush(stderr);
-    dup2(saved1, 1);
-    dup2(saved2, 2);
-    close(saved1);
-    close(saved2);
-    close(to);
-    struct stat st;
-    CHECK(stat(out_path, &st) == 0 && st.st_size == 0, "a failed kernel build printed %lld bytes", (long long)st.st_size);
+    const long long printed = capture_end(q);
+    CHECK(printed == 0, "a failed kernel build printed %lld bytes", printed);
     CHECK(one.rc == SWIM_EKERNEL && one.e.status == SWIM_EKERNEL && strstr(one.e.message, "generating"),
           "swim_inspect without a kernel: %d '%s'", one.rc, one.e.message);
     CHECK(mrc == SWIM_EKERNEL && m == NULL && strstr(em.message, "generating"), "a model without a kernel: %d '%s'", mrc,
@@ -367,6 +400,7 @@ int main(void)
     test_sim_arguments();
     test_inspect_arguments();
     test_out_of_descriptors();
+    test_no_cache_no_tmpdir();
     test_kernel_builds();   /* last: it points SWIM_PYTHON and SWIM_CACHE elsewhere */
     return check_report("test_library_args");
 }

@@ -96,7 +96,7 @@ static void compare(int N, const kind *kd, int trials)
         s.direction[n - 2] = 0.7;
     }
     swim_compiled sc;
-    if (swim_codegen_scene(&s, kd->generic, &sc, 0) != 0) {
+    if (swim_codegen_scene(&s, kd->generic, &sc, 0, NULL) != 0) {
         CHECK(0, "N=%d %s: no kernel", N, kd->name);
         swim_scene_free(&s);
         return;

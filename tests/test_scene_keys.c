@@ -66,7 +66,7 @@ static int load(const char *text, const char *const *sets, int nsets, swim_scene
     swim_override ov[8];
     for (int i = 0; i < nsets; i++) CHECK(swim_override_parse(sets[i], &ov[i], NULL, 0) == 0, "override %s", sets[i]);
     memset(s, 0, sizeof *s);
-    return swim_scene_parse_with(text, strlen(text), SCENE, ov, nsets, s);
+    return swim_scene_parse_with(text, strlen(text), SCENE, ov, nsets, s, NULL);
 }
 
 static void test_plain_defaults(void)

@@ -333,7 +333,7 @@ typedef struct {
 static int parse_ov(const scene_case *c, const swim_override *ov, int nov, swim_scene *s)
 {
     quiet(1);
-    int rc = swim_scene_parse_with(c->text, c->len, c->path, ov, nov, s);
+    int rc = swim_scene_parse_with(c->text, c->len, c->path, ov, nov, s, NULL);
     quiet(0);
     return rc;
 }
@@ -480,7 +480,7 @@ static void test_scene(const char *path)
     scene_case c;
     memset(&c, 0, sizeof c);
     c.path = path;
-    char *text = swim_scene_read(path, &c.len);
+    char *text = swim_scene_read(path, &c.len, NULL);
     CHECK(text != NULL, "%s: read", path);
     if (!text) return;
     c.text = text;
@@ -547,7 +547,7 @@ static void test_scene(const char *path)
     CHECK(rrc == 0, "%s: resolved: %s", path, err);
     if (ok && rrc == 0) {
         quiet(1);
-        int back_ok = swim_scene_parse(res, reslen, path, &back) == 0;
+        int back_ok = swim_scene_parse(res, reslen, path, &back, NULL) == 0;
         quiet(0);
         CHECK(back_ok, "%s: the resolved text reads:\n%s", path, res);
         if (back_ok) {

@@ -37,7 +37,9 @@ int swim_cmd_export(int argc, char **argv)
     const double t0 = swim_clock_seconds();
     const swim_export_request req = {"export", pos[0], out, sets, nsets, quiet ? 0 : 1};
     swim_export_result res;
-    const int rc = swim_export(&req, &res);
+    swim_status st = SWIM_STATUS_STDERR;
+    const int rc = swim_export(&req, &res, &st);
+    swim_status_print(&st, stderr);
     if (rc) return rc;
     if (!quiet) {
         swim_message(stdout, "%s: exported into %s: %d files, %.0f kB, in %.2f s (kernel of N = %d from %s, %s%s)", pos[0],

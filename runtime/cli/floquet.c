@@ -51,7 +51,10 @@ int swim_cmd_floquet(int argc, char **argv)
     double t_max = 0.0;
     if (swim_args_bounded("floquet", opts, nopts, "t-max", &t_max)) return 2;
     static swim_model_setup m;
-    int rc = swim_setup_load(&m, pos[0], sets, nsets);
+    swim_status st = SWIM_STATUS_STDERR;
+    int rc = swim_setup_load(&m, pos[0], sets, nsets, &st);
+    swim_status_print(&st, stderr);
+    swim_status_clear(&st);
     if (rc == 0 && m.s.stroke) {
         /* A prescribed stroke gives the shape as a function of time: there is no shape state to
          * perturb, so no monodromy and no multipliers (swim run reports its strokes instead). */
@@ -60,7 +63,8 @@ int swim_cmd_floquet(int argc, char **argv)
         rc = 2;
     }
     if (rc == 0 && t_max > 0) rc = swim_args_steps_bounded("floquet", "t-max", t_max, m.s.output_step);
-    if (rc == 0) rc = swim_setup_kernels(&m, "floquet", swim_args_get(opts, nopts, "generic") != NULL, quiet);
+    if (rc == 0) rc = swim_setup_kernels(&m, "floquet", swim_args_get(opts, nopts, "generic") != NULL, quiet, &st);
+    swim_status_print(&st, stderr);
     if (rc) {
         swim_setup_close(&m);
         return rc;

@@ -227,7 +227,11 @@ int swim_cmd_flow(int argc, char **argv)
         return 2;
     }
     fclose(probe);
-    if (swim_scene_load(path, &s)) return 2;
+    swim_status st = SWIM_STATUS_STDERR;
+    if (swim_scene_load(path, &s, &st)) {
+        swim_status_print(&st, stderr);
+        return 2;
+    }
     table tb = {0, 0, NULL, NULL};
     snprintf(path, sizeof path, "%s/trajectory.csv", dir);
     if (read_trajectory(path, &s, &tb)) {
@@ -262,7 +266,8 @@ int swim_cmd_flow(int argc, char **argv)
     }
     /* The kernel of N modes (boundary data and K): linked in, cached, or generated now. */
     swim_compiled kn;
-    if (swim_codegen_kernel(s.modes, &kn, 1) != 0) {
+    if (swim_codegen_kernel(s.modes, &kn, 1, &st) != 0) {
+        swim_status_print(&st, stderr);
         swim_message(stderr, "swim flow: %s: no kernel for N = %d, nothing computed", dir, s.modes);
         free(tb.t);
         free(tb.q);

@@ -50,13 +50,18 @@ static int inspect_energy(long N, const double *x, double rho0, double rhof, con
     fprintf(f, "[run]\nt_end = 1\noutput_step = 1\n");
     fclose(f);
     swim_scene s;
-    int rc = swim_scene_parse(text, len, "swim inspect --energy", &s);
+    swim_status st = SWIM_STATUS_STDERR;
+    int rc = swim_scene_parse(text, len, "swim inspect --energy", &s, &st);
     free(text);
-    if (rc != 0) return 2;
+    if (rc != 0) {
+        swim_status_print(&st, stderr);
+        return 2;
+    }
     swim_compiled sys;
     memset(&sys, 0, sizeof sys);
     rc = 1;
-    if (swim_codegen_scene(&s, 0, &sys, 0) != 0 || !sys.scene->material) {
+    if (swim_codegen_scene(&s, 0, &sys, 0, &st) != 0 || !sys.scene->material) {
+        swim_status_print(&st, stderr);
         swim_message(stderr, "swim inspect: --energy: no kernel for \"%s\"", law);
     } else {
         swim_scene_params p;

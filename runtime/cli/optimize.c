@@ -175,8 +175,12 @@ static void fill_json(FILE *f, void *ctx)
 /* runtime/plot/plot_optimize.py DIR: convergence.png. 0, or nonzero (said on stderr). */
 static int plot(const char *dir)
 {
-    const char *share = swim_share_dir(), *python = swim_python();
-    if (!share) return 1;
+    swim_status missing = {0};
+    const char *share = swim_share_dir(&missing), *python = swim_python();
+    if (!share) {
+        swim_status_print(&missing, stderr);
+        return 1;
+    }
     char *script = swim_strprintf("%s/runtime/plot/plot_optimize.py", share);
     if (!script) return 1;
     fflush(stdout);
@@ -277,7 +281,11 @@ static int optimize_command(int argc, char **argv, char **text)
     p.max_iter = (int)max_iter;
     p.quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     p.scene_path = pos[0];
-    if (!(*text = swim_scene_read(pos[0], &p.scene_len))) return 2;   /* the one read of the file */
+    swim_status rst = SWIM_STATUS_STDERR;
+    if (!(*text = swim_scene_read(pos[0], &p.scene_len, &rst))) {   /* the one read of the file */
+        swim_status_print(&rst, stderr);
+        return 2;
+    }
     p.scene_text = *text;
     p.sets = sets;
     p.nsets = nsets;
@@ -298,7 +306,11 @@ static int optimize_command(int argc, char **argv, char **text)
                 snprintf(o->text, sizeof o->text, "--vary %s=%.10g:%.10g (at %s = %.10g)", p.keys[i].text, p.lo[i],
                          p.hi[i], p.keys[i].text, o->value);
             }
-            if (swim_scene_parse_with(p.scene_text, p.scene_len, pos[0], ov, k, &s) != 0) return 2;
+            swim_status st = SWIM_STATUS_STDERR;
+            if (swim_scene_parse_with(p.scene_text, p.scene_len, pos[0], ov, k, &s, &st) != 0) {
+                swim_status_print(&st, stderr);
+                return 2;
+            }
             if (at < 2) swim_scene_free(&s);
         }
         const int forced = s.forced || s.stroke;   /* a stroke's work is the body's positive work */
@@ -309,7 +321,11 @@ static int optimize_command(int argc, char **argv, char **text)
                          "sensitivities; use --method nelder-mead", pos[0]);
             return 2;
         }
-        if (p.method == SWIM_OPT_BFGS && swim_opt_check_gradient(&p, ov, k) != 0) return 2;
+        swim_status st = SWIM_STATUS_STDERR;
+        if (p.method == SWIM_OPT_BFGS && swim_opt_check_gradient(&p, ov, k, &st) != 0) {
+            swim_status_print(&st, stderr);
+            return 2;
+        }
         if ((p.quantity == SWIM_Q_DISPLACEMENT_PER_WORK || p.quantity == SWIM_Q_FORCING_WORK) && !forced) {
             swim_message(stderr, "swim optimize: %s: %s needs a [forcing] law (the work of F(t)) or a [stroke] "
                          "(the positive work of the body)", pos[0], qname);
@@ -331,8 +347,11 @@ static int optimize_command(int argc, char **argv, char **text)
     swim_run_stop = 0;
     p.interrupt = (volatile int *)&swim_run_stop;
     swim_run_signals_install(&sig);
+    swim_status st = SWIM_STATUS_STDERR;   /* the iteration lines as they come, a failure after */
+    p.status = &st;
     int rc = swim_opt_run(&p);
     swim_run_signals_restore(&sig);
+    swim_status_print(&st, stderr);
     if (fclose(p.log_csv) != 0) rc = 1;
     p.log_csv = NULL;
     if (rc != 0) {

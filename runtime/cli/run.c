@@ -30,6 +30,7 @@ typedef struct {
     char *sensitivity, *command;
     swim_run_job job;
     double t_start, last_progress;
+    swim_status status;          /* what the layers below found wrong, and where their notices go */
 } run_cmd;
 
 /* --sensitivity KEYS (repeatable: each adds its keys), taken out of argv and joined with commas
@@ -56,8 +57,9 @@ static int take_sensitivity_options(int *argc, char **argv, char **out)
 }
 
 /* The run options over the read scene (checked with their option's names), and their record. */
-static int adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx)
+static int adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx, swim_status *st)
 {
+    (void)st;   /* the options' refusals are this command's own lines */
     run_cmd *c = ctx;
     /* the variational equations are those of the free shape dynamics; a prescribed stroke has
      * none (its shape is a given function of time) */
@@ -262,6 +264,9 @@ static void report_dynamics(run_cmd *c, swim_job *job, const swim_run_result *r)
 
 /* The lines printed. The exit status: 0 only when the run reached t_end and every output,
  * the summary and this report were written. */
+/* A notice of the layers below (a projected initial velocity) as the run's own notices. */
+static void on_status_note(void *ctx, const char *line) { on_notice(ctx, line); }
+
 static int report(run_cmd *c, swim_job *job, int status)
 {
     const swim_run_paths *p = swim_job_paths(job);
@@ -293,6 +298,8 @@ int swim_cmd_run(int argc, char **argv)
         return 1;
     }
     swim_run_stop = 0;
+    c->status.note = on_status_note;
+    c->status.note_ctx = c;
     int rc = read_options(argc, argv, c);
     swim_job *job = NULL;
     if (rc == 0) {
@@ -302,14 +309,17 @@ int swim_cmd_run(int argc, char **argv)
         c->job.sens_done = on_sensitivities;
         c->job.lyapunov_done = on_lyapunov;
         c->job.ctx = c;
-        rc = swim_job_open(&c->job, &job);
+        rc = swim_job_open(&c->job, &job, &c->status);
+        swim_status_print(&c->status, stderr);
     }
     if (rc == 0) {
         swim_run_signals sig;
         swim_run_signals_install(&sig);
         c->last_progress = c->t_start = swim_clock_seconds();
-        const int status = swim_job_run(job);
+        swim_status_clear(&c->status);
+        const int status = swim_job_run(job, &c->status);
         if (!c->job.quiet && c->last_progress > c->t_start) fputc('\n', stderr);
+        swim_status_print(&c->status, stderr);
         rc = report(c, job, status);
         swim_run_signals_restore(&sig);
     }

@@ -81,7 +81,10 @@ int swim_run_settings_options(const swim_opt *opts, int nopts, swim_scene *s)
         snprintf(s->integrator, sizeof s->integrator, "%s", v);   /* a known name: it fits */
     }
     if (plain_options(opts, nopts, s)) return 2;
-    return swim_run_settings_check(s, &cli) != 0 ? 2 : 0;
+    swim_status st = SWIM_STATUS_STDERR;
+    if (swim_run_settings_check(s, &cli, &st) == 0) return 0;
+    swim_status_print(&st, stderr);
+    return 2;
 }
 
 int swim_run_settings_record(const swim_opt *opts, int nopts, const swim_scene *s, swim_override *out)

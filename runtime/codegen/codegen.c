@@ -529,7 +529,27 @@ typedef struct {
     const char *what;         /* "kernel for N = 20", for messages */
     const char *cflags;       /* compiler flags (part of the key) */
     int stroke;               /* json is a stroke structure (generate.py --stroke) */
+    swim_status *st;          /* where a failure goes (nothing is printed here) */
 } entry_spec;
+
+/* The last lines of a failed build's log, for the status's detail (a reader's, not a terminal's). */
+static void log_tail(const char *log, swim_status *st)
+{
+    FILE *f = st ? fopen(log, "r") : NULL;
+    if (!f) return;
+    const long cap = (long)sizeof st->detail - 1;
+    long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+    const int cut = size > cap;
+    if (size < 0 || fseek(f, cut ? size - cap : 0, SEEK_SET) != 0) {
+        fclose(f);
+        return;
+    }
+    const size_t got = fread(st->detail, 1, (size_t)cap, f);
+    fclose(f);
+    st->detail[got] = '\0';
+    const char *nl = cut ? strchr(st->detail, '\n') : NULL;   /* a line cut at the start is not shown */
+    if (nl) memmove(st->detail, nl + 1, strlen(nl + 1) + 1);
+}
 
 /* Files of an entry are created with fixed modes (0644, kernel.so 0755) whatever the umask, so
  * that the trust check below never refuses what this user wrote. */
@@ -778,7 +798,10 @@ static int build_entry(const char *root, const char *dir, const entry_spec *e, s
         return -4;
     }
     if (rc != 0 || chmod(tmp, 0644) != 0 || rename(tmp, out->source) != 0) {
-        if (!*stopped) swim_message(stderr, "swim: generating the %s failed (see %s)", e->what, log);
+        if (!*stopped) {
+            swim_status_fail(e->st, "swim", NULL, 0, NULL, "generating the %s failed (see %s)", e->what, log);
+            log_tail(log, e->st);
+        }
         unlink(tmp);
         if (!e->json) remove_private(path);
         return *stopped ? -3 : -1;
@@ -799,7 +822,10 @@ static int build_entry(const char *root, const char *dir, const entry_spec *e, s
     snprintf(so, sizeof so, "%s/kernel.so", dir);
     /* installed by rename only: a process that has the old file open keeps it whole */
     if (run_command(argv, log, stopped) != 0 || chmod(tmp, 0755) != 0 || rename(tmp, so) != 0) {
-        if (!*stopped) swim_message(stderr, "swim: compiling the %s failed (see %s)", e->what, log);
+        if (!*stopped) {
+            swim_status_fail(e->st, "swim", NULL, 0, NULL, "compiling the %s failed (see %s)", e->what, log);
+            log_tail(log, e->st);
+        }
         unlink(tmp);
         return *stopped ? -3 : -1;
     }
@@ -842,7 +868,7 @@ static int obtain_in(const char *croot, const char *root, const entry_spec *e, s
     int first = check_entry(out->dir, e->key, &so, why, sizeof why);
     if (first == 0) first = load_entry(out->dir, e, &so, out, why, sizeof why) == -3 ? -2 : 0;
     if (first == -2) {   /* out of descriptors or memory: the entry is not to blame */
-        swim_message(stderr, "swim: the %s in the kernel cache cannot be opened now: %s", e->what, why);
+        swim_status_fail(e->st, "swim", NULL, 0, NULL, "the %s in the kernel cache cannot be opened now: %s", e->what, why);
         return -1;
     }
     if (first == 0 && out->handle) {
@@ -860,7 +886,8 @@ static int obtain_in(const char *croot, const char *root, const entry_spec *e, s
     snprintf(lock, sizeof lock, "%s/lock", out->dir);
     int fd = open(lock, O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0600);
     if (fd < 0 && out_of_resources(errno)) {
-        swim_message(stderr, "swim: the %s in the kernel cache cannot be opened now: lock: %s", e->what, strerror(errno));
+        swim_status_fail(e->st, "swim", NULL, 0, NULL, "the %s in the kernel cache cannot be opened now: lock: %s", e->what,
+                         strerror(errno));
         return -1;
     }
     if (fd < 0) return -2;
@@ -871,7 +898,7 @@ static int obtain_in(const char *croot, const char *root, const entry_spec *e, s
     const int loaded = state == 0 ? load_entry(out->dir, e, &so, out, why, sizeof why) : -1;
     if (state == -2 || loaded == -3) {
         close(fd);
-        swim_message(stderr, "swim: the %s in the kernel cache cannot be opened now: %s", e->what, why);
+        swim_status_fail(e->st, "swim", NULL, 0, NULL, "the %s in the kernel cache cannot be opened now: %s", e->what, why);
         return -1;
     }
     if (state == 0) {
@@ -893,7 +920,7 @@ static int obtain_in(const char *croot, const char *root, const entry_spec *e, s
     int rc = build_entry(root, out->dir, e, out, stopped);
     if (rc == 0 && check_entry(out->dir, e->key, &so, why, sizeof why) != 0) rc = -2;
     if (rc == 0 && load_entry(out->dir, e, &so, out, why, sizeof why) != 0) {
-        swim_message(stderr, "swim: cannot load the %s %s/kernel.so: %s", e->what, out->dir, why);
+        swim_status_fail(e->st, "swim", NULL, 0, NULL, "cannot load the %s %s/kernel.so: %s", e->what, out->dir, why);
         rc = -1;
     }
     close(fd);
@@ -911,12 +938,12 @@ static int obtain_private(const char *root, const entry_spec *e, swim_compiled *
     char priv[SWIM_CODEGEN_PATH];
     snprintf(priv, sizeof priv, "%s/swim-cache-XXXXXX", tmpdir && *tmpdir == '/' ? tmpdir : "/tmp");
     if (!mkdtemp(priv)) {
-        swim_message(stderr, "swim: no private folder for the %s could be made in %s: %s", e->what,
-                tmpdir && *tmpdir == '/' ? tmpdir : "/tmp", strerror(errno));
+        swim_status_fail(e->st, "swim", NULL, 0, NULL, "no private folder for the %s could be made in %s: %s", e->what,
+                         tmpdir && *tmpdir == '/' ? tmpdir : "/tmp", strerror(errno));
         return -1;
     }
     int rc = obtain_in(priv, root, e, out, verbose, stopped);
-    if (rc == -2) swim_message(stderr, "swim: cannot write the private kernel folder %s either", priv);
+    if (rc == -2) swim_status_fail(e->st, "swim", NULL, 0, NULL, "cannot write the private kernel folder %s either", priv);
     if (rc != -1) remove_private(priv);
     out->dir[0] = '\0';      /* gone with the run */
     out->from_cache = 0;
@@ -925,7 +952,7 @@ static int obtain_private(const char *root, const entry_spec *e, swim_compiled *
 
 static int obtain(const entry_spec *e, swim_compiled *out, int verbose)
 {
-    const char *root = swim_share_dir();
+    const char *root = swim_share_dir(e->st);
     if (!root) return -1;
     char croot[SWIM_CODEGEN_PATH], why[SWIM_CODEGEN_PATH + 256];
     int stopped = 0, rc = -2;
@@ -944,7 +971,7 @@ static int obtain(const entry_spec *e, swim_compiled *out, int verbose)
     if (rc == -2) rc = obtain_private(root, e, out, verbose, &stopped);
     if (rc == -3) {
         if (hooks.stopped) hooks.stopped(hooks.ctx, stopped);   /* the program's policy: it may end here */
-        swim_message(stderr, "swim: generating the %s was interrupted", e->what);
+        swim_status_fail(e->st, "swim", NULL, 0, NULL, "generating the %s was interrupted", e->what);
     }
     return rc == 0 ? 0 : rc == -4 ? -2 : -1;
 }
@@ -1063,7 +1090,7 @@ static const char *machine_text(void)
 
 static char *key_suffix(const char *cflags)
 {
-    const char *root = swim_share_dir();
+    const char *root = swim_share_dir(NULL);   /* not found: obtain says so */
     char *s = NULL;
     size_t len;
     FILE *f = open_memstream(&s, &len);
@@ -1074,20 +1101,23 @@ static char *key_suffix(const char *cflags)
     return s;
 }
 
-int swim_codegen_kernel(int modes, swim_compiled *out, int verbose)
+int swim_codegen_kernel(int modes, swim_compiled *out, int verbose, swim_status *st)
 {
     memset(out, 0, sizeof *out);
     if (modes < 0 || modes > SWIM_KERNEL_MAX_MODES) {
-        swim_message(stderr, "swim: N = %d is out of range 0..%d", modes, SWIM_KERNEL_MAX_MODES);
+        swim_status_fail(st, "swim", NULL, 0, NULL, "N = %d is out of range 0..%d", modes, SWIM_KERNEL_MAX_MODES);
         return -1;
     }
     if ((out->kernel = swim_kernel_find(modes))) return 0;   /* linked in */
     char *suffix = key_suffix(SWIM_KERNEL_CFLAGS_N), key[2048], what[64];
-    if (!suffix) return -1;
+    if (!suffix) {
+        swim_status_fail(st, "swim", NULL, 0, NULL, "out of memory");
+        return -1;
+    }
     snprintf(key, sizeof key, "kernel N=%d%s", modes, suffix);
     free(suffix);
     snprintf(what, sizeof what, "kernel for N = %d", modes);
-    entry_spec e = {key, NULL, modes, what, SWIM_KERNEL_CFLAGS_N, 0};
+    entry_spec e = {key, NULL, modes, what, SWIM_KERNEL_CFLAGS_N, 0, st};
     return obtain(&e, out, verbose);
 }
 
@@ -1106,7 +1136,7 @@ char *swim_codegen_scene_key(const swim_scene *s, int generic)
     return key;
 }
 
-int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int verbose)
+int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int verbose, swim_status *st)
 {
     memset(out, 0, sizeof *out);
     out->generic = generic;
@@ -1114,7 +1144,7 @@ int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int
     char *json = key ? swim_codegen_structure_text(s, generic, key) : NULL;
     if (!json) {
         free(key);
-        swim_message(stderr, "swim: %s: out of memory describing the scene structure", s->path);
+        swim_status_fail(st, "swim", s->path, 0, NULL, "%s: out of memory describing the scene structure", s->path);
         return -1;
     }
     int nfree = 0;
@@ -1122,7 +1152,7 @@ int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int
     char what[128];
     snprintf(what, sizeof what, "%s kernel for N = %d (%d coordinates)", generic ? "generic scene" : "scene",
              s->modes, nfree);
-    entry_spec e = {key, json, s->modes, what, SWIM_KERNEL_CFLAGS, 0};
+    entry_spec e = {key, json, s->modes, what, SWIM_KERNEL_CFLAGS, 0, st};
     int rc = obtain(&e, out, verbose);
     free(key);
     free(json);
@@ -1325,7 +1355,7 @@ int swim_cache_clean(const char *root, double older_days, int *removed, int *bus
 
 /* ---- prescribed strokes --------------------------------------------------------------------- */
 
-int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose)
+int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose, swim_status *st)
 {
     memset(out, 0, sizeof *out);
     char *structure = swim_codegen_stroke_text(s, NULL), *suffix = key_suffix(SWIM_KERNEL_CFLAGS), *key = NULL, *json = NULL;
@@ -1339,37 +1369,44 @@ int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose)
     free(suffix);
     if (!json) {
         free(key);
-        swim_message(stderr, "swim: %s: out of memory describing the stroke", s->path);
+        swim_status_fail(st, "swim", s->path, 0, NULL, "%s: out of memory describing the stroke", s->path);
         return -1;
     }
     char what[128];
     snprintf(what, sizeof what, "stroke kernel for N = %d (%d laws)", s->modes, s->stroke_count);
-    entry_spec e = {key, json, s->modes, what, SWIM_KERNEL_CFLAGS, 1};
+    entry_spec e = {key, json, s->modes, what, SWIM_KERNEL_CFLAGS, 1, st};
     int rc = obtain(&e, out, verbose);
     free(key);
     free(json);
     return rc;
 }
 
-int swim_codegen_for_scene(const char *cmd, const swim_scene *s, int generic, int verbose, swim_compiled *kn, swim_compiled *sys)
+int swim_codegen_for_scene(const char *cmd, const swim_scene *s, int generic, int verbose, swim_compiled *kn, swim_compiled *sys,
+                           swim_status *st)
 {
+    char who[64];
+    snprintf(who, sizeof who, "swim %s", cmd);
     if (s->stroke_count > 0) {
-        const int got = swim_codegen_kernel(s->modes, kn, verbose) != 0 ? -1 : swim_codegen_stroke(s, sys, verbose);
+        const int got = swim_codegen_kernel(s->modes, kn, verbose, st) != 0 ? -1 : swim_codegen_stroke(s, sys, verbose, st);
         if (got == -2) {   /* a law that parses but is not twice differentiable: bad input */
-            char where[640];
-            swim_message(stderr, "swim: %s: %s", swim_scene_stroke_where(s, sys->refused_index, where, sizeof where),
-                         sys->refused);
+            char where[640], key[32];
+            int k = 0;
+            while (k < s->stroke_count - 1 && s->stroke_index[k] != sys->refused_index) k++;
+            snprintf(key, sizeof key, "stroke.");
+            swim_coord_name(sys->refused_index, key + 7, sizeof key - 7);
+            swim_status_fail(st, "swim", s->path, s->stroke_line[k] > 0 ? s->stroke_line[k] : 0, key, "%s: %s",
+                             swim_scene_stroke_where(s, sys->refused_index, where, sizeof where), sys->refused);
             return 2;
         }
         if (got != 0) {
-            swim_message(stderr, "swim %s: %s: no kernel for this stroke, nothing computed", cmd, s->path);
+            swim_status_fail(st, who, s->path, 0, NULL, "%s: no kernel for this stroke, nothing computed", s->path);
             return 1;
         }
         return 0;
     }
-    if (swim_codegen_kernel(s->modes, kn, verbose) != 0 || swim_codegen_scene(s, generic, sys, verbose) != 0) {
-        swim_message(stderr, "swim %s: %s: no kernel for this scene, nothing computed", cmd, s->path);
+    if (swim_codegen_kernel(s->modes, kn, verbose, st) != 0 || swim_codegen_scene(s, generic, sys, verbose, st) != 0) {
+        swim_status_fail(st, who, s->path, 0, NULL, "%s: no kernel for this scene, nothing computed", s->path);
         return 1;
     }
-    return swim_scene_check_model(s, kn->kernel);
+    return swim_scene_check_model(s, kn->kernel, st);
 }

@@ -31,8 +31,8 @@
  * or compiler) ends with its parent even on SIGKILL.
  *
  * Messages and signals belong to the program, not to this code (swim_codegen_hooks): a failure
- * is one error line (swim_message on stderr, which libswim redirects into its swim_error);
- * progress ("generating ...") and notices of damage and fallbacks go to the note hook the
+ * fills the caller's status (io/status.h; a failed build keeps the end of its build.log there),
+ * which bin/swim prints and libswim turns into its swim_error; progress ("generating ...") and notices of damage and fallbacks go to the note hook the
  * calling thread installed, nowhere without one. No signal handler is ever installed here: a
  * build stops when the program's stop flag is set (its child sent SIGTERM, its temporary files
  * removed, then the stopped hook called), and the program decides what its signals do.
@@ -83,27 +83,28 @@ void swim_codegen_set_hooks(const swim_codegen_hooks *h);
 /* verbose: 0 quiet (damage and fallback notices only), 1 also progress of a generation,
  * 2 also where a cached kernel came from. */
 
-/* The kernel of N modes (0 <= N <= SWIM_KERNEL_MAX_MODES). 0, or -1 after one line on stderr. */
-int swim_codegen_kernel(int modes, swim_compiled *out, int verbose);
-/* The right-hand side for the scene's structure (generic: see above). 0, or -1 after one line. */
-int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int verbose);
+/* The kernel of N modes (0 <= N <= SWIM_KERNEL_MAX_MODES). 0, or -1 with the cause in st. */
+int swim_codegen_kernel(int modes, swim_compiled *out, int verbose, swim_status *st);
+/* The right-hand side for the scene's structure (generic: see above). 0, or -1 with the cause in st. */
+int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int verbose, swim_status *st);
 void swim_compiled_close(swim_compiled *c);
 
 /* The kernels a run of s needs: the kernel of N modes and the scene's right-hand side (generic:
  * the generated generic structure) or, for a prescribed stroke, its laws (swim_codegen_stroke),
  * linked in, cached or generated now (verbose 1: progress of a generation); then the magnitude
- * check of a dynamic scene's initial state. 0; 1 when no kernel could be had; 2 for a law the
- * generator refuses or numbers that overflow; one line on stderr each (codegen speaks too). */
+ * check of a dynamic scene's initial state. 0; 1 when no kernel could be had (the cause in st,
+ * then "swim CMD: FILE: no kernel for this scene, nothing computed"); 2 for a law the generator
+ * refuses or numbers that overflow (st names the key). */
 int swim_codegen_for_scene(const char *cmd, const swim_scene *s, int generic, int verbose, swim_compiled *kn,
-                           swim_compiled *sys);
+                           swim_compiled *sys, swim_status *st);
 
 
 /* The laws of the scene's [stroke] with their exact first and second derivatives
  * (generator/swimgen/stroke.py), cached like scene kernels under the key "stroke {structure}".
- * 0; -1 after one line on stderr; -2 when a law is refused (nothing printed): it parses and is
+ * 0; -1 with the cause in st; -2 when a law is refused (st untouched): it parses and is
  * finite, but the generator finds it not twice differentiable (an abs or step, perhaps hidden,
  * as in sqrt((t-1)^2)); out->refused_index is its coordinate, out->refused says why. */
-int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose);
+int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose, swim_status *st);
 
 /* The structure key of a scene as the cache uses it (malloc'd, caller frees), or NULL. */
 char *swim_codegen_scene_key(const swim_scene *s, int generic);

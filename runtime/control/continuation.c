@@ -224,7 +224,9 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
             return 1;
         }
         have_sens = 1;
-        const int krc = swim_sens_add_key(&S, scene, "continue: --param", o->key);
+        swim_status st = {0};
+        const int krc = swim_sens_add_key(&S, scene, "continue: --param", o->key, &st);
+        swim_status_print(&st, stderr);   /* shown here until the command takes it */
         if (krc != 0 || S.keys[0].nvalue == 0) {
             if (krc == 0)
                 swim_message(stderr, "swim continue: --param %s: an initial value, not a parameter of the equations", o->key);

@@ -19,13 +19,13 @@ typedef struct {
     int loaded, dyn_ready;
 } swim_model_setup;
 
-/* 0; 2 after one line on stderr (bad scene or override, numbers that overflow); 1 when no
- * kernel could be had or out of memory. swim_setup_load and swim_setup_kernels are its two
- * stages, for a command that judges the scene itself before any kernel is made. */
+/* 0; 2 with the cause in st (bad scene or override, numbers that overflow); 1 when no kernel
+ * could be had or out of memory. swim_setup_load and swim_setup_kernels are its two stages, for a
+ * command that judges the scene itself before any kernel is made. */
 int swim_setup_open(swim_model_setup *m, const char *cmd, const char *path, const swim_override *sets,
-                    int nsets, int generic, int quiet);
-int swim_setup_load(swim_model_setup *m, const char *path, const swim_override *sets, int nsets);
-int swim_setup_kernels(swim_model_setup *m, const char *cmd, int generic, int quiet);
+                    int nsets, int generic, int quiet, swim_status *st);
+int swim_setup_load(swim_model_setup *m, const char *path, const swim_override *sets, int nsets, swim_status *st);
+int swim_setup_kernels(swim_model_setup *m, const char *cmd, int generic, int quiet, swim_status *st);
 void swim_setup_close(swim_model_setup *m);
 
 #endif

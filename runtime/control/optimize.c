@@ -60,10 +60,10 @@ static void gradient(const swim_opt_problem *p, swim_scene *s, swim_run *run, sw
     S.error_control = 0;
     double *Y = NULL;
     for (int i = 0; i < p->nkeys; i++)
-        if (swim_sens_add_key(&S, s, "optimize: --vary", p->keys[i].text) != 0) goto done;
+        if (swim_sens_add_key(&S, s, "optimize: --vary", p->keys[i].text, NULL) != 0) goto done;   /* checked before */
     const int n = S.dim;
     if (!(Y = malloc(sizeof(double) * (size_t)swim_sens_dimension(&S)))) goto done;
-    if (swim_sens_final(&S, s->integrator, s->t_end, Y, NULL) != 0) goto done;
+    if (swim_sens_final(&S, s->integrator, s->t_end, Y, NULL, NULL) != 0) goto done;   /* no gradient: said by r */
     const double disp = hypot(Y[0], Y[1]);
     for (int i = 0; i < p->nkeys; i++) {
         const double *si = Y + (size_t)(i + 1) * n;
@@ -85,20 +85,21 @@ done:
     swim_sens_free(&S);
 }
 
-int swim_opt_check_gradient(const swim_opt_problem *p, const swim_override *ov, int nov)
+int swim_opt_check_gradient(const swim_opt_problem *p, const swim_override *ov, int nov, swim_status *st)
 {
     swim_scene s;
     swim_compiled kn, sys;
     memset(&kn, 0, sizeof kn);
     memset(&sys, 0, sizeof sys);
-    if (swim_scene_parse_with(p->scene_text, p->scene_len, p->scene_path, ov, nov, &s) != 0) return 2;
-    int rc = swim_codegen_for_scene("optimize", &s, 0, 0, &kn, &sys) ? 2 : 0;
+    if (swim_scene_parse_with(p->scene_text, p->scene_len, p->scene_path, ov, nov, &s, st) != 0) return 2;
+    int rc = swim_codegen_for_scene("optimize", &s, 0, 0, &kn, &sys, st) ? 2 : 0;
     swim_dynamics d;
     swim_sens S;
     if (rc == 0 && swim_dynamics_init(&d, &s, kn.kernel) == 0) {
         swim_dynamics_use_scene_kernel(&d, sys.scene, 0);
         if (swim_sens_init(&S, &d) == 0) {
-            for (int i = 0; i < p->nkeys && rc == 0; i++) rc = swim_sens_add_key(&S, &s, "optimize: --vary", p->keys[i].text);
+            for (int i = 0; i < p->nkeys && rc == 0; i++)
+                rc = swim_sens_add_key(&S, &s, "optimize: --vary", p->keys[i].text, st);
             swim_sens_free(&S);
         } else {
             rc = 2;
@@ -126,20 +127,23 @@ static void integrate(const swim_opt_problem *p, const swim_override *ov, int no
     memset(&sys, 0, sizeof sys);
     swim_run *run = NULL;
     r->status = 1;
-    if (swim_scene_parse_with(p->scene_text, p->scene_len, p->scene_path, ov, nov, &s) != 0) {
+    /* a refused value (outside D, a bound of the run settings) is not shown: the log row says
+     * "refused" */
+    swim_status st = {0};
+    if (swim_scene_parse_with(p->scene_text, p->scene_len, p->scene_path, ov, nov, &s, &st) != 0) {
         r->status = 2;
         snprintf(r->reason, sizeof r->reason, "values refused by the scene checks");
         return;
     }
-    int rc = swim_codegen_for_scene("optimize", &s, 0, 0, &kn, &sys);
+    int rc = swim_codegen_for_scene("optimize", &s, 0, 0, &kn, &sys, &st);
     if (rc) {
         r->status = rc == 2 ? 2 : 1;
         snprintf(r->reason, sizeof r->reason, rc == 2 ? "values refused by the scene checks" : "no kernel");
         goto done;
     }
     const swim_run_request req = {&s, &kn, &sys, 0, NULL, (volatile sig_atomic_t *)p->interrupt, {NULL, NULL, NULL, NULL, NULL}, 0};
-    char err[512] = "";
-    rc = swim_run_open(&req, &run, err, sizeof err);
+    swim_status_clear(&st);
+    rc = swim_run_open(&req, &run, &st);
     if (rc) {
         r->status = rc == 2 ? 2 : 1;
         snprintf(r->reason, sizeof r->reason, "%s", rc == 2 ? "stroke not allowable" : "out of memory");
@@ -199,21 +203,7 @@ static int evaluate_with(swim_opt_problem *p, const double *v, const swim_overri
         if (!replaced) ov[nov++] = all[i];
     }
     for (int i = 0; i < nextra; i++) ov[nov++] = extra[i];
-    /* a refused value (outside D, a bound of the run settings) is one line on stderr from the
-     * scene reader: keep it off the terminal, the log row says "refused" */
-    fflush(stderr);
-    int fd = dup(fileno(stderr));
-    if (fd >= 0 && !freopen("/dev/null", "w", stderr)) {
-        close(fd);
-        fd = -1;
-    }
     integrate(p, ov, nov, want_grad, r);
-    fflush(stderr);
-    if (fd >= 0) {
-        dup2(fd, fileno(stderr));
-        close(fd);
-        clearerr(stderr);
-    }
     p->evaluations++;
     p->gradients += r->have_grad;
     if (r->status) p->failed++;
@@ -342,12 +332,17 @@ static void log_iteration(swim_opt_problem *p, int iter, double size)
         fprintf(p->log_csv, ",%d\n", p->nstarts);
         fflush(p->log_csv);
     }
-    if (!p->quiet) {
-        fprintf(stderr, "swim optimize: start %d, iteration %3d, %4ld runs:", p->nstarts, iter, p->evaluations);
-        for (int i = 0; i < p->nkeys; i++) fprintf(stderr, " %s=%.8g", p->keys[i].text, st->best_value[i]);
-        fprintf(stderr, "  %s = %.10g  (%s %.2g)\n", quantity_names[p->quantity], st->best_q,
+    char *line = NULL;
+    size_t len = 0;
+    FILE *f = !p->quiet && p->status && p->status->note ? open_memstream(&line, &len) : NULL;
+    if (f) {
+        fprintf(f, "swim optimize: start %d, iteration %3d, %4ld runs:", p->nstarts, iter, p->evaluations);
+        for (int i = 0; i < p->nkeys; i++) fprintf(f, " %s=%.8g", p->keys[i].text, st->best_value[i]);
+        fprintf(f, "  %s = %.10g  (%s %.2g)", quantity_names[p->quantity], st->best_q,
                 p->method == SWIM_OPT_BFGS ? "|gradient|" : "simplex size", size);
+        if (fclose(f) == 0) swim_status_note(p->status, "%s", line);
     }
+    free(line);
 }
 
 /* Whether the search must stop now (SIGINT or SIGTERM): said in p. */
@@ -456,7 +451,7 @@ static void tight_check(swim_opt_problem *p)
     const int nov = all_overrides(p, p->best_value, ov);
     swim_scene s;
     p->tight_status = 1;
-    if (swim_scene_parse_with(p->scene_text, p->scene_len, p->scene_path, ov, nov, &s) != 0) return;
+    if (swim_scene_parse_with(p->scene_text, p->scene_len, p->scene_path, ov, nov, &s, p->status) != 0) return;
     const double rtol = fmax(s.rtol / 100.0, SWIM_RTOL_MIN), atol = s.atol / 100.0;
     swim_scene_free(&s);
     swim_override extra[2];
@@ -484,7 +479,7 @@ int swim_opt_run(swim_opt_problem *p)
     }
     gsl_vector *u = gsl_vector_alloc(n);
     if (!u) {
-        swim_message(stderr, "swim optimize: out of memory");
+        swim_status_fail(p->status, "swim optimize", NULL, 0, NULL, "out of memory");
         return 1;
     }
     p->best.status = 1;
@@ -498,7 +493,7 @@ int swim_opt_run(swim_opt_problem *p)
         const int rc = p->method == SWIM_OPT_BFGS ? search_bfgs(p, u, st) : search_nelder_mead(p, u, st);
         st->evaluations = p->evaluations - before;
         if (rc != 0) {
-            swim_message(stderr, "swim optimize: out of memory");
+            swim_status_fail(p->status, "swim optimize", NULL, 0, NULL, "out of memory");
             break;
         }
     }

@@ -85,7 +85,9 @@ typedef struct {
     double tol;                  /* simplex size (Nelder-Mead) or |grad_u| (BFGS) at which a search
                                     stops; also the relative value tolerance of the tight check */
     FILE *log_csv;               /* per-iteration rows (may be NULL) */
-    int quiet;                   /* no progress on stderr */
+    int quiet;                   /* no progress lines */
+    swim_status *status;         /* where a failure of the search goes (out of memory) and, by its
+                                    note, one progress line per iteration (may be NULL) */
     volatile int *interrupt;     /* set asynchronously (SIGINT): the current run stops, the search
                                     ends with what it has (may be NULL) */
     /* results */
@@ -108,8 +110,8 @@ double swim_opt_quantity(const swim_opt_problem *p, const swim_eval_result *r);
 /* 1 when `quantity` has a gradient from the sensitivities (BFGS), else 0. */
 int swim_opt_has_gradient(int quantity);
 /* Whether every varied key has a sensitivity at the scene with overrides ov (the scene's
- * kernel): 0, or 2 after one line "swim optimize: --sensitivity: KEY: reason" on stderr. */
-int swim_opt_check_gradient(const swim_opt_problem *p, const swim_override *ov, int nov);
+ * kernel): 0, or 2 with the line "swim optimize: --vary: KEY: reason" (or the scene's) in st. */
+int swim_opt_check_gradient(const swim_opt_problem *p, const swim_override *ov, int nov, swim_status *st);
 /* The search (every start, then the tight check); 0, or 1 when no evaluation succeeded.
  * converged = the best start's search met tol and its value held at the tight tolerances. */
 int swim_opt_run(swim_opt_problem *p);

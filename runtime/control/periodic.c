@@ -307,7 +307,10 @@ done:
 int swim_periodic_setup(swim_model_setup *m, const char *cmd, const char *path, const swim_override *sets, int nsets,
                         int generic, int quiet, const char *guess, swim_floquet_section *sec, char *text, size_t len)
 {
-    int rc = swim_setup_load(m, path, sets, nsets);
+    swim_status st = SWIM_STATUS_STDERR;   /* shown here until the command takes it */
+    int rc = swim_setup_load(m, path, sets, nsets, &st);
+    swim_status_print(&st, stderr);
+    swim_status_clear(&st);
     if (rc == 0 && m->s.stroke) {
         swim_message(stderr, "swim %s: %s: a prescribed stroke ([stroke]) is periodic by its laws: there is no free "
                      "shape dynamics to solve for (swim run reports its period and displacement per stroke)", cmd, path);
@@ -324,7 +327,8 @@ int swim_periodic_setup(swim_model_setup *m, const char *cmd, const char *path, 
                      swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
         rc = 2;
     }
-    if (rc == 0) rc = swim_setup_kernels(m, cmd, generic, quiet);
+    if (rc == 0) rc = swim_setup_kernels(m, cmd, generic, quiet, &st);
+    swim_status_print(&st, stderr);
     if (rc == 0) rc = swim_floquet_parse_section(&m->d, cmd, "guess-event", guess, sec, text, len);
     if (rc) swim_setup_close(m);
     return rc;

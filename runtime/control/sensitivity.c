@@ -121,11 +121,13 @@ static void initial_column(const swim_sens *S, int i, int velocity, double *s0)
     }
 }
 
-static int key_error(const char *cmd, const char *key, const char *fmt, const char *detail)
+static int key_error(swim_status *st, const char *cmd, const char *key, const char *fmt, const char *detail)
 {
     char *msg = swim_strprintf(fmt, detail);
     /* the option that gave the key: --sensitivity, unless cmd names another (sensitivity.h) */
-    swim_message(stderr, "swim %s%s: %s: %s", cmd, strchr(cmd, ':') ? "" : ": --sensitivity", key, msg ? msg : fmt);
+    char who[128];
+    snprintf(who, sizeof who, "swim %s%s", cmd, strchr(cmd, ':') ? "" : ": --sensitivity");
+    swim_status_fail(st, who, NULL, 0, key, "%s: %s", key, msg ? msg : fmt);
     free(msg);
     return 2;
 }
@@ -148,17 +150,17 @@ static const char *differentiable_keys(char *buf, size_t len)
     return buf;
 }
 
-int swim_sens_add_key(swim_sens *S, swim_scene *s, const char *cmd, const char *key)
+int swim_sens_add_key(swim_sens *S, swim_scene *s, const char *cmd, const char *key, swim_status *st)
 {
     swim_dynamics *d = S->d;
     swim_override o;
     char err[200];
-    if (swim_override_key(key, &o, err, sizeof err) != 0) return key_error(cmd, key, "%s", err);
+    if (swim_override_key(key, &o, err, sizeof err) != 0) return key_error(st, cmd, key, "%s", err);
     /* c0.NAME, dc0.NAME as shorthands of shape.c0.NAME, shape.dc0.NAME */
     if ((strcmp(o.table, "c0") == 0 || strcmp(o.table, "dc0") == 0) && o.index < 0) {
         char full[128];
         snprintf(full, sizeof full, "shape.%s.%s", o.table, o.key);
-        if (swim_override_key(full, &o, err, sizeof err) != 0) return key_error(cmd, key, "%s", err);
+        if (swim_override_key(full, &o, err, sizeof err) != 0) return key_error(st, cmd, key, "%s", err);
     }
     const int generic = d->generic;
     const long i = o.index;
@@ -170,20 +172,20 @@ int swim_sens_add_key(swim_sens *S, swim_scene *s, const char *cmd, const char *
     if (o.index >= s->n) {
         char n[16];
         snprintf(n, sizeof n, "%d", s->n);
-        return key_error(cmd, key, "index out of range (the scene has %s shape coordinates)", n);
+        return key_error(st, cmd, key, "index out of range (the scene has %s shape coordinates)", n);
     }
     if (strcmp(o.table, "shape") == 0 && (strcmp(o.key, "c0") == 0 || strcmp(o.key, "dc0") == 0) && coord) {
         const int vel = strcmp(o.key, "dc0") == 0;
         if (fr) {
             swim_sens_key *k = new_key(S, key);
-            if (!k) return key_error(cmd, key, "%s", "too many keys or out of memory");
+            if (!k) return key_error(st, cmd, key, "%s", "too many keys or out of memory");
             initial_column(S, (int)i, vel, k->s0);
             return 0;
         }
-        if (vel) return key_error(cmd, key, "%s", "the coordinate is locked: its velocity is 0 by definition");
+        if (vel) return key_error(st, cmd, key, "%s", "the coordinate is locked: its velocity is 0 by definition");
         v0 = &s->c0[i];   /* a locked coordinate's value is a parameter of the right-hand side */
     } else if (strcmp(o.table, "model") == 0 && o.index < 0 && strcmp(o.key, "rho0") == 0) {
-        if (s->rhof_neutral) return key_error(cmd, key, "%s", "rhof = \"neutral\" follows rho0: give rhof a number");
+        if (s->rhof_neutral) return key_error(st, cmd, key, "%s", "rhof = \"neutral\" follows rho0: give rhof a number");
         v0 = &s->rho0;
         v1 = &d->spec_params.rho0;
         par = (swim_param){SWIM_PARAM_RHO0, 0};
@@ -220,18 +222,18 @@ int swim_sens_add_key(swim_sens *S, swim_scene *s, const char *cmd, const char *
                 v0 = &s->param_values[j];
                 par = (swim_param){SWIM_PARAM_LAW, j};   /* the forcing and energy laws read law_params[j] */
             }
-        if (!v0) return key_error(cmd, key, "the scene's [parameters] has no '%s'", o.key);
+        if (!v0) return key_error(st, cmd, key, "the scene's [parameters] has no '%s'", o.key);
     } else {
         char list[600];
-        return key_error(cmd, key, "%s", differentiable_keys(list, sizeof list));
+        return key_error(st, cmd, key, "%s", differentiable_keys(list, sizeof list));
     }
     if (absent) {
         char why[200];
         snprintf(why, sizeof why, "%s (run with --generic to differentiate with respect to it)", absent);
-        return key_error(cmd, key, "%s", why);
+        return key_error(st, cmd, key, "%s", why);
     }
     swim_sens_key *k = new_key(S, key);
-    if (!k) return key_error(cmd, key, "%s", "too many keys or out of memory");
+    if (!k) return key_error(st, cmd, key, "%s", "too many keys or out of memory");
     k->value[0] = v0;
     k->value[1] = v1;
     k->nvalue = v1 ? 2 : 1;
@@ -241,7 +243,7 @@ int swim_sens_add_key(swim_sens *S, swim_scene *s, const char *cmd, const char *
     return 0;
 }
 
-int swim_sens_add_initial(swim_sens *S, swim_scene *scene, const char *cmd)
+int swim_sens_add_initial(swim_sens *S, swim_scene *scene, const char *cmd, swim_status *st)
 {
     for (int vel = 0; vel < 2; vel++)
         for (int f = 0; f < S->d->spec->nfree; f++) {
@@ -251,7 +253,7 @@ int swim_sens_add_initial(swim_sens *S, swim_scene *scene, const char *cmd)
             int given = 0;
             for (int k = 0; k < S->nkeys; k++) given |= strcmp(S->keys[k].name, key) == 0;
             if (given) continue;   /* --sensitivity named it already */
-            const int rc = swim_sens_add_key(S, scene, cmd, key);
+            const int rc = swim_sens_add_key(S, scene, cmd, key, st);
             if (rc != 0) return rc;
         }
     return 0;
@@ -269,19 +271,19 @@ int swim_sens_exact(const swim_sens *S)
     return 1;
 }
 
-int swim_sens_add_list(swim_sens *S, swim_scene *scene, const char *cmd, const char *list)
+int swim_sens_add_list(swim_sens *S, swim_scene *scene, const char *cmd, const char *list, swim_status *st)
 {
     char *copy = strdup(list), *save = NULL;
     if (!copy) return 2;
     int rc = 0, any = 0;
     for (char *tok = strtok_r(copy, ",", &save); tok && rc == 0; tok = strtok_r(NULL, ",", &save)) {
         for (int k = 0; k < S->nkeys; k++)
-            if (strcmp(S->keys[k].name, tok) == 0) rc = key_error(cmd, tok, "%s", "given twice");
-        if (rc == 0) rc = strcmp(tok, "initial") == 0 ? swim_sens_add_initial(S, scene, cmd)
-                                                      : swim_sens_add_key(S, scene, cmd, tok);
+            if (strcmp(S->keys[k].name, tok) == 0) rc = key_error(st, cmd, tok, "%s", "given twice");
+        if (rc == 0) rc = strcmp(tok, "initial") == 0 ? swim_sens_add_initial(S, scene, cmd, st)
+                                                      : swim_sens_add_key(S, scene, cmd, tok, st);
         any = 1;
     }
-    if (rc == 0 && !any) rc = key_error(cmd, list, "%s", "expected KEY[,KEY...]");
+    if (rc == 0 && !any) rc = key_error(st, cmd, list, "%s", "expected KEY[,KEY...]");
     free(copy);
     return rc;
 }
@@ -485,31 +487,32 @@ int swim_sens_advance(swim_sens *S, const char *integrator, double t0, double *Y
     return orc;
 }
 
-int swim_sens_final(swim_sens *S, const char *integrator, double t_end, double *Y, long *rhs_calls)
+int swim_sens_final(swim_sens *S, const char *integrator, double t_end, double *Y, long *rhs_calls, swim_status *st)
 {
     double *atolv = NULL;
     swim_ode *ode = NULL;
     int orc = open_augmented(S, integrator, Y, &atolv, &ode);
     if (orc == SWIM_ODE_OK && t_end > 0) orc = swim_ode_advance(ode, t_end, Y);
     if (ode) {
-        swim_ode_stats st;
-        swim_ode_get_stats(ode, &st);
-        if (rhs_calls) *rhs_calls = st.rhs_evals;
+        swim_ode_stats stats;
+        swim_ode_get_stats(ode, &stats);
+        if (rhs_calls) *rhs_calls = stats.rhs_evals;
         if (orc != SWIM_ODE_OK) {
             const int rs = swim_ode_rhs_status(ode);
-            swim_message(stderr, "swim: sensitivities stopped before t = %.6g: %s%s%s", t_end, swim_ode_strerror(orc),
-                         rs ? ": " : "", rs ? swim_dynamics_strerror(rs) : "");
+            swim_status_fail(st, "swim", NULL, 0, NULL, "sensitivities stopped before t = %.6g: %s%s%s", t_end,
+                             swim_ode_strerror(orc), rs ? ": " : "", rs ? swim_dynamics_strerror(rs) : "");
         }
         swim_ode_free(ode);
     } else if (orc != SWIM_ODE_OK) {
-        swim_message(stderr, "swim: %s", orc < 0 ? "out of memory computing sensitivities" : swim_ode_strerror(orc));
+        swim_status_fail(st, "swim", NULL, 0, NULL, "%s", orc < 0 ? "out of memory computing sensitivities"
+                                                                  : swim_ode_strerror(orc));
     }
     free(atolv);
     return orc == SWIM_ODE_OK ? 0 : 1;
 }
 
 int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double t_end,
-                        double *seconds, long *rhs_calls)
+                        double *seconds, long *rhs_calls, swim_status *status)
 {
     static const char *const what[] = {"dx", "dy", "dtheta", "denergy", "dwork"};
     const swim_scene *s = S->d->scene;
@@ -535,7 +538,7 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
     for (int c = 0; c < ncol; c++)
         if (!names[c]) goto oom;
     if (swim_csv_open(&csv, csv_path, (const char *const *)names, ncol) != 0) {
-        swim_message(stderr, "swim: %s: cannot write: %s", csv_path, strerror(errno));
+        swim_status_fail(status, "swim", NULL, 0, NULL, "%s: cannot write: %s", csv_path, strerror(errno));
         goto done;
     }
     int orc = open_augmented(S, integrator, Y, &atolv, &ode);
@@ -561,7 +564,7 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
             for (int c = 0; c < 2 * nf; c++) row[nhead + 2 * nf * j + c] = sj[3 + c];
         }
         if (swim_csv_row(&csv, row) != 0) {
-            swim_message(stderr, "swim: %s: write failed at t = %.6g: %s", csv_path, t, strerror(errno));
+            swim_status_fail(status, "swim", NULL, 0, NULL, "%s: write failed at t = %.6g: %s", csv_path, t, strerror(errno));
             goto done;
         }
         S->rows++;
@@ -569,14 +572,14 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
     }
     if (orc != SWIM_ODE_OK) {
         int st = ode ? swim_ode_rhs_status(ode) : 0;
-        swim_message(stderr, "swim: sensitivities stopped at t = %.6g: %s%s%s; rows up to there are in %s", t,
-                     swim_ode_strerror(orc), st ? ": " : "", st ? swim_dynamics_strerror(st) : "", csv_path);
+        swim_status_fail(status, "swim", NULL, 0, NULL, "sensitivities stopped at t = %.6g: %s%s%s; rows up to there are in %s",
+                         t, swim_ode_strerror(orc), st ? ": " : "", st ? swim_dynamics_strerror(st) : "", csv_path);
         goto done;
     }
     rc = 0;
     goto done;
 oom:
-    swim_message(stderr, "swim: out of memory computing sensitivities");
+    swim_status_fail(status, "swim", NULL, 0, NULL, "out of memory computing sensitivities");
 done:
     if (ode) {
         swim_ode_stats st;
@@ -585,7 +588,7 @@ done:
         swim_ode_free(ode);
     }
     if (swim_csv_close(&csv) != 0 && rc == 0) {
-        swim_message(stderr, "swim: %s: cannot write: %s", csv_path, strerror(errno));
+        swim_status_fail(status, "swim", NULL, 0, NULL, "%s: cannot write: %s", csv_path, strerror(errno));
         rc = 1;
     }
     if (names)

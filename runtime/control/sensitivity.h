@@ -65,25 +65,25 @@ int swim_sens_init(swim_sens *S, swim_dynamics *d);
 void swim_sens_free(swim_sens *S);
 
 /* Adds the key `key` (the grammar of swim run --set, plus c0.NAME / dc0.NAME), resolved on the
- * scene of S->d (mutable: scene). 0, or 2 after one line "swim CMD: --sensitivity: KEY: reason"
- * on stderr (unknown key, a term the kernel does not have, a locked velocity, ...). A key that
+ * scene of S->d (mutable: scene). 0, or 2 with the line "swim CMD: --sensitivity: KEY: reason"
+ * in st (unknown key, a term the kernel does not have, a locked velocity, ...). A key that
  * another option gave names that option: cmd "COMMAND: --OPTION" (e.g. "continue: --param"),
  * and the line is "swim COMMAND: --OPTION: KEY: reason". */
-int swim_sens_add_key(swim_sens *S, swim_scene *scene, const char *cmd, const char *key);
+int swim_sens_add_key(swim_sens *S, swim_scene *scene, const char *cmd, const char *key, swim_status *st);
 /* Adds a column with the initial sensitivity e_i of integrator-state component i (Floquet:
  * monodromy columns). */
 int swim_sens_add_state(swim_sens *S, int i, const char *name);
 /* Adds c0.NAME and dc0.NAME for every free coordinate: the derivatives with respect to the
  * initial shape and velocity on the constraint manifold (swim run --sensitivity-initial).
- * 0, or 2 after one line on stderr (too many keys). */
-int swim_sens_add_initial(swim_sens *S, swim_scene *scene, const char *cmd);
+ * 0, or 2 with the cause in st (too many keys). */
+int swim_sens_add_initial(swim_sens *S, swim_scene *scene, const char *cmd, swim_status *st);
 /* Every key by difference quotients, as before the exact partials (for comparisons). */
 void swim_sens_use_differences(swim_sens *S);
 /* 1 when every key is exact (no difference quotient anywhere). */
 int swim_sens_exact(const swim_sens *S);
 /* Adds every key of a comma-separated list (the word `initial` for swim_sens_add_initial);
  * 0 or 2 as swim_sens_add_key. */
-int swim_sens_add_list(swim_sens *S, swim_scene *scene, const char *cmd, const char *list);
+int swim_sens_add_list(swim_sens *S, swim_scene *scene, const char *cmd, const char *list, swim_status *st);
 
 /* Augmented state: dimension (1 + nkeys) * dim; Y = (y, s_1, ..., s_K). */
 int swim_sens_dimension(const swim_sens *S);
@@ -102,13 +102,13 @@ double swim_sens_energy(swim_sens *S, const double *Y, int k);
  * sensitivities dNAME/dKEY, NAME each carried coordinate's and velocity's column of
  * trajectory.csv (am1, ..., dam1, ...). denergy is the central difference of the energy function along
  * the sensitivity (a diagnostic, not the right-hand side). Rows already written stay on failure.
- * interrupt: as swim_dynamics.interrupt. 0, or 1 after one line on stderr saying where and why
- * it stopped. *seconds gets the wall time of the integration and the rows. */
+ * interrupt: as swim_dynamics.interrupt. 0, or 1 with the line in st saying where and why it
+ * stopped. *seconds gets the wall time of the integration and the rows. */
 int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double t_end,
-                        double *seconds, long *rhs_calls);
+                        double *seconds, long *rhs_calls, swim_status *st);
 /* The same integration without rows: Y (swim_sens_dimension entries) gets the augmented state at
- * t_end. 0, or 1 after one line on stderr. */
-int swim_sens_final(swim_sens *S, const char *integrator, double t_end, double *Y, long *rhs_calls);
+ * t_end. 0, or 1 with the cause in st. */
+int swim_sens_final(swim_sens *S, const char *integrator, double t_end, double *Y, long *rhs_calls, swim_status *st);
 /* The augmented system from (t0, Y) to t1 on `integrator` with the run's settings (a fresh
  * integrator: the caller may have changed Y between calls, e.g. renormalized its columns);
  * Y is updated, *rhs_calls increased. A swim_ode status (SWIM_ODE_OK), or -1 out of memory. */

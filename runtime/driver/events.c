@@ -117,7 +117,7 @@ static int parse_one(const char *text, const char *const *names, int ncol, spec 
 }
 
 int swim_run_events_parse(const swim_scene *s, const char *const *extra, int nextra, const char *const *names,
-                          int ncol, swim_run_events **out, char *err, size_t errlen)
+                          int ncol, swim_run_events **out, swim_status *st)
 {
     *out = NULL;
     spec specs[SWIM_RUN_MAX_EVENTS];
@@ -128,7 +128,8 @@ int swim_run_events_parse(const swim_scene *s, const char *const *extra, int nex
             if (n == SWIM_RUN_MAX_EVENTS)
                 snprintf(why, sizeof why, "more than %d events", SWIM_RUN_MAX_EVENTS);
             char where[512];
-            snprintf(err, errlen, "swim: %s: events.list: %s", swim_scene_where(s, s->events_line, where, sizeof where), why);
+            swim_status_fail(st, "swim", s->path, s->events_line > 0 ? s->events_line : 0, "events.list", "%s: events.list: %s",
+                             swim_scene_where(s, s->events_line, where, sizeof where), why);
             return 2;
         }
         n++;
@@ -137,7 +138,7 @@ int swim_run_events_parse(const swim_scene *s, const char *const *extra, int nex
         if (n == SWIM_RUN_MAX_EVENTS || parse_one(extra[a], names, ncol, &specs[n], why, sizeof why)) {
             if (n == SWIM_RUN_MAX_EVENTS)
                 snprintf(why, sizeof why, "more than %d events", SWIM_RUN_MAX_EVENTS);
-            snprintf(err, errlen, "swim run: --event: %s", why);
+            swim_status_fail(st, "swim run", NULL, 0, "events", "--event: %s", why);
             return 2;
         }
         n++;
@@ -145,17 +146,18 @@ int swim_run_events_parse(const swim_scene *s, const char *const *extra, int nex
     if (n == 0)
         return 0;
     if (!(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
-        snprintf(err, errlen, "swim run: --event: integrator '%s' cannot locate events (it has no dense output)", s->integrator);
+        swim_status_fail(st, "swim run", NULL, 0, "events", "--event: integrator '%s' cannot locate events (it has no dense "
+                         "output)", s->integrator);
         return 2;
     }
     if (s->stiff_fallback[0] && !(swim_ode_capabilities(s->stiff_fallback) & SWIM_ODE_CAP_EVENTS)) {
-        snprintf(err, errlen, "swim: %s: run.stiff_fallback: integrator '%s' cannot locate the events asked for", s->path,
-                 s->stiff_fallback);
+        swim_status_fail(st, "swim", s->path, 0, "run.stiff_fallback", "%s: run.stiff_fallback: integrator '%s' cannot "
+                         "locate the events asked for", s->path, s->stiff_fallback);
         return 2;
     }
     swim_run_events *ev = calloc(1, sizeof *ev);
     if (!ev) {
-        snprintf(err, errlen, "swim run: out of memory");
+        swim_status_fail(st, "swim run", NULL, 0, NULL, "out of memory");
         return 1;
     }
     ev->nspec = n;

@@ -1026,17 +1026,17 @@ static void fill_result(swim_run *c)
     res->forcing_work = !c->s->forced ? 0.0 : c->fw_on ? c->fw_at_row : NAN;
 }
 
-int swim_run_open(const swim_run_request *req, swim_run **out, char *err, size_t errlen)
+int swim_run_open(const swim_run_request *req, swim_run **out, swim_status *st)
 {
     *out = NULL;
     swim_run *c = calloc(1, sizeof *c);
     if (!c) {
-        snprintf(err, errlen, "out of memory");
+        swim_status_fail(st, NULL, NULL, 0, NULL, "out of memory");
         return 1;
     }
     c->req = *req;
     if (req->scene->stroke_count > 0) {
-        const int rc = swim_stroke_run_open(req, &c->stroke, err, errlen);
+        const int rc = swim_stroke_run_open(req, &c->stroke, st);
         if (rc) free(c);
         else *out = c;
         return rc;
@@ -1048,7 +1048,7 @@ int swim_run_open(const swim_run_request *req, swim_run **out, char *err, size_t
     c->ncol = swim_run_columns(c->s, c->names, c->storage);
     if (prepare(c) != 0) {
         swim_run_free(c);
-        snprintf(err, errlen, "out of memory");
+        swim_status_fail(st, NULL, NULL, 0, NULL, "out of memory");
         return 1;
     }
     *out = c;

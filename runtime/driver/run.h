@@ -12,8 +12,8 @@
  *
  * Use: fill a swim_run_request (a validated scene and its kernels, which the caller obtains and
  * keeps open for the run's life), swim_run_open, swim_run_integrate, read swim_run_result (and the
- * dynamics for anything computed after), swim_run_free. Errors come back as a status and one line
- * of text, never as an exit.
+ * dynamics for anything computed after), swim_run_free. Errors come back as a return code and a
+ * status (io/status.h), never as an exit or a printed line.
  */
 #ifndef SWIM_DRIVER_RUN_H
 #define SWIM_DRIVER_RUN_H
@@ -134,9 +134,9 @@ void swim_run_ode_options(const swim_scene *s, swim_ode_options *o);
 
 /* The run of req (copied; what it points to is borrowed): a dynamic run, or a prescribed stroke
  * when the scene has a [stroke] table (req->system then holds its laws, swim_codegen_stroke).
- * 0; 1 (out of memory) or 2 (a stroke that is not allowable) with the line in err (empty when a
- * lower layer printed it). Nothing is integrated yet. */
-int swim_run_open(const swim_run_request *req, swim_run **out, char *err, size_t errlen);
+ * 0; 1 (out of memory) or 2 (a stroke that is not allowable) with the cause in st. Nothing is
+ * integrated yet. */
+int swim_run_open(const swim_run_request *req, swim_run **out, swim_status *st);
 /* Rows from t = 0 to t_end or until the run stops. Returns the result's status. */
 int swim_run_integrate(swim_run *run);
 /* Rows up to time t (every row at or before t), going on from where the last call stopped: the

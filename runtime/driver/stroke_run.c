@@ -81,52 +81,52 @@ int swim_stroke_run_columns(const swim_scene *s, const char **names, char storag
 
 
 /* One line naming the scene, the first law's key and the time: the stroke is refused. */
-static int refuse(const swim_stroke_run *c, double t, const char *why, char *err, size_t errlen)
+static int refuse(const swim_stroke_run *c, double t, const char *why, swim_status *st)
 {
     const swim_scene *s = c->s;
-    char name[24];
+    char name[24], key[32];
     swim_coord_name(s->stroke_index[0], name, sizeof name);
+    snprintf(key, sizeof key, "stroke.%s", name);
     char where[512];
-    snprintf(err, errlen, "swim: %s: stroke.%s: the stroke is not allowable at t = %.9g: %s",
-             swim_scene_where(s, s->stroke_line[0], where, sizeof where), name, t, why);
+    swim_status_fail(st, "swim", s->path, s->stroke_line[0] > 0 ? s->stroke_line[0] : 0, key,
+                     "%s: %s: the stroke is not allowable at t = %.9g: %s",
+                     swim_scene_where(s, s->stroke_line[0], where, sizeof where), key, t, why);
     return 2;
 }
 
 
 /* The kernels, the stroke model, the check over [0, t_end], the period. 0, 1 or 2. */
-static int prepare_stroke(swim_stroke_run *c, char *err, size_t errlen)
+static int prepare_stroke(swim_stroke_run *c, swim_status *st)
 {
     swim_scene *s = c->s;
     int rc = swim_stroke_init(&c->st, s, c->kn->kernel, c->law->stroke, s->param_values);
     if (rc == -1) {
-        snprintf(err, errlen, "swim run: out of memory");
+        swim_status_fail(st, "swim run", NULL, 0, NULL, "out of memory");
         return 1;
     }
     c->st_ready = 1;
     c->st.interrupt = (volatile int *)c->req.stop;
     if (rc == SWIM_STROKE_EVOLUME) {
         char where[512];
-        snprintf(err, errlen, "swim: %s: shape.c0: c1 is 0: its phase, which c1's completion (2.14) integrates, "
-                 "is undefined", swim_scene_where(s, s->line_c0, where, sizeof where));
+        swim_status_fail(st, "swim", s->path, s->line_c0 > 0 ? s->line_c0 : 0, "shape.c0",
+                         "%s: shape.c0: c1 is 0: its phase, which c1's completion (2.14) integrates, is undefined",
+                         swim_scene_where(s, s->line_c0, where, sizeof where));
         return 2;
     }
-    if (rc != 0) return refuse(c, 0.0, swim_stroke_strerror(rc), err, errlen);
+    if (rc != 0) return refuse(c, 0.0, swim_stroke_strerror(rc), st);
     /* the scene's initial state becomes the stroke's: the diagnostics measure the volume and the
      * locks against it, and the magnitude check of the model runs on it */
     double y[SWIM_STROKE_DIM], full[4 + 2 * SWIM_NMAX];
     swim_stroke_initial_state(&c->st, y);
-    if ((rc = swim_stroke_full_state(&c->st, 0.0, y, full, NULL)) != 0) return refuse(c, 0.0, swim_stroke_strerror(rc), err, errlen);
+    if ((rc = swim_stroke_full_state(&c->st, 0.0, y, full, NULL)) != 0) return refuse(c, 0.0, swim_stroke_strerror(rc), st);
     memcpy(s->c0, full + 3, sizeof(double) * s->n);
     memcpy(s->dc0, full + 3 + s->n, sizeof(double) * s->n);
     if (s->rhof_neutral) s->rhof = s->rho0 / c->st.mu2;   /* (2.10) with the stroke's volume */
-    if (swim_scene_check_model(s, c->kn->kernel)) {   /* its line is printed by the scene's check */
-        err[0] = '\0';
-        return 2;
-    }
+    if (swim_scene_check_model(s, c->kn->kernel, st)) return 2;
     double t_bad;
     char why[512];
     if (swim_stroke_check(&c->st, s->t_end, s->output_step, SWIM_STROKE_CHECK_SAMPLES, &t_bad, why, sizeof why))
-        return refuse(c, t_bad, why, err, errlen);
+        return refuse(c, t_bad, why, st);
     if (s->stroke_period > 0) {
         c->period = s->stroke_period;
         c->period_source = "scene";
@@ -135,7 +135,7 @@ static int prepare_stroke(swim_stroke_run *c, char *err, size_t errlen)
         c->period_source = c->period > 0 ? "detected" : "none";
     }
     if (swim_dynamics_init(&c->d, s, c->kn->kernel) != 0) {
-        snprintf(err, errlen, "swim run: out of memory");
+        swim_status_fail(st, "swim run", NULL, 0, NULL, "out of memory");
         return 1;
     }
     c->d_ready = 1;
@@ -465,12 +465,12 @@ void swim_stroke_summary_json(FILE *f, const swim_stroke_run *c, const swim_summ
 
 /* ---- the contract ------------------------------------------------------------------------- */
 
-int swim_stroke_run_open(const swim_run_request *req, swim_stroke_run **out, char *err, size_t errlen)
+int swim_stroke_run_open(const swim_run_request *req, swim_stroke_run **out, swim_status *st)
 {
     *out = NULL;
     swim_stroke_run *c = calloc(1, sizeof *c);
     if (!c) {
-        snprintf(err, errlen, "swim run: out of memory");
+        swim_status_fail(st, "swim run", NULL, 0, NULL, "out of memory");
         return 1;
     }
     c->req = *req;
@@ -479,7 +479,7 @@ int swim_stroke_run_open(const swim_run_request *req, swim_stroke_run **out, cha
     c->law = req->system;
     c->events = req->events;
     c->ncol = swim_stroke_run_columns(c->s, c->names, c->storage);
-    const int rc = prepare_stroke(c, err, errlen);
+    const int rc = prepare_stroke(c, st);
     if (rc) {
         swim_stroke_run_free(c);
         return rc;

@@ -13,8 +13,8 @@ typedef struct swim_stroke_run swim_stroke_run;
 
 int swim_stroke_run_columns(const swim_scene *s, const char **names, char storage[][24]);
 /* The stroke model, its check over [0, t_end], the period: 0, 1 (out of memory) or 2 (not
- * allowable; the line in err, empty when the scene's check printed it). */
-int swim_stroke_run_open(const swim_run_request *req, swim_stroke_run **out, char *err, size_t errlen);
+ * allowable; the cause in st). */
+int swim_stroke_run_open(const swim_run_request *req, swim_stroke_run **out, swim_status *st);
 int swim_stroke_run_integrate(swim_stroke_run *c);
 void swim_stroke_run_fail(swim_stroke_run *c, const char *reason);
 const swim_run_result *swim_stroke_run_result(const swim_stroke_run *c);

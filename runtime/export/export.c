@@ -42,8 +42,8 @@ static const char *const sources[] = {
     "runtime/codegen/structure.c", "runtime/control/sensitivity.c", "runtime/control/lyapunov.c",
     "runtime/driver/events.c", "runtime/driver/watch.c", "runtime/driver/run.c", "runtime/driver/stroke_run.c",
     "runtime/driver/summary.c",
-    "runtime/io/json.c", "runtime/io/csv.c", "runtime/io/files.c", "runtime/io/message.c", "runtime/io/clock.c",
-    "runtime/io/stdout_check.c",
+    "runtime/io/json.c", "runtime/io/csv.c", "runtime/io/files.c", "runtime/io/message.c", "runtime/io/status.c",
+    "runtime/io/clock.c", "runtime/io/stdout_check.c",
     "runtime/model/dynamics.c", "runtime/model/flow.c", "runtime/model/bounce.c",
     "runtime/ode/ode.c", "runtime/ode/events.c", "runtime/ode/abm.c", "runtime/ode/peers_gsl.c",
     "runtime/output/folder.c", "runtime/output/job.c",
@@ -63,11 +63,13 @@ typedef struct {
     const swim_export_request *req;
     swim_export_result *res;
     const char *share;
+    swim_status *st;   /* where a failure goes */
+    char who[64];      /* "swim CMD", its lines' start */
 } ctx;
 
 static int fail_write(const ctx *c, const char *path)
 {
-    swim_message(stderr, "swim %s: --out: cannot write '%s': %s", c->req->cmd, path, strerror(errno));
+    swim_status_fail(c->st, c->who, NULL, 0, NULL, "--out: cannot write '%s': %s", path, strerror(errno));
     return 1;
 }
 
@@ -90,7 +92,7 @@ static int copy_to(const ctx *c, const char *src, const char *rel)
     int rc = swim_mkdirs(dst) != 0;
     *slash = '/';
     if (!rc && swim_copy_file(src, dst) != 0) {
-        swim_message(stderr, "swim %s: cannot copy '%s' to '%s': %s", c->req->cmd, src, dst, strerror(errno));
+        swim_status_fail(c->st, c->who, NULL, 0, NULL, "cannot copy '%s' to '%s': %s", src, dst, strerror(errno));
         free(dst);
         return 1;
     }
@@ -135,7 +137,7 @@ static int headers(const ctx *c)
         char *dir = swim_path_join(c->share, rel);
         DIR *h = dir ? opendir(dir) : NULL;
         if (!h) {
-            swim_message(stderr, "swim %s: cannot read the runtime's headers in '%s': %s", c->req->cmd, dir ? dir : rel,
+            swim_status_fail(c->st, c->who, NULL, 0, NULL, "cannot read the runtime's headers in '%s': %s", dir ? dir : rel,
                          strerror(errno));
             free(dir);
             return 1;
@@ -175,7 +177,7 @@ static int run_generator(const ctx *c, int modes)
     int status = 0;
     while (pid > 0 && waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
     if (pid < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        swim_message(stderr, "swim %s: generating the kernel of N = %d into '%s' failed (%s %s)", c->req->cmd, modes, out,
+        swim_status_fail(c->st, c->who, NULL, 0, NULL, "generating the kernel of N = %d into '%s' failed (%s %s)", modes, out,
                      swim_python(), gen);
         return 1;
     }
@@ -365,7 +367,7 @@ static int check_out(const ctx *c)
     DIR *d = opendir(out);
     if (!d) {
         if (errno == ENOENT && swim_mkdirs(out) == 0) return 0;
-        swim_message(stderr, "swim %s: --out: cannot make the folder '%s': %s", c->req->cmd, out,
+        swim_status_fail(c->st, c->who, NULL, 0, NULL, "--out: cannot make the folder '%s': %s", out,
                      errno == ENOENT ? "a parent cannot be made" : strerror(errno));
         return 2;
     }
@@ -378,8 +380,8 @@ static int check_out(const ctx *c)
     }
     closedir(d);
     if (other && !marked) {
-        swim_message(stderr, "swim %s: --out: '%s' is not empty and not an earlier export (no %s in it): give a new folder",
-                     c->req->cmd, out, MARKER);
+        swim_status_fail(c->st, c->who, NULL, 0, NULL, "--out: '%s' is not empty and not an earlier export (no %s in it): "
+                         "give a new folder", out, MARKER);
         return 2;
     }
     return 0;
@@ -390,7 +392,8 @@ static int scene_text(const ctx *c, char **text)
     size_t len = 0, outlen = 0;
     char *orig = swim_read_file(c->req->scene_file, SWIM_SCENE_MAX_BYTES, &len), why[512];
     if (!orig) {
-        swim_message(stderr, "swim: %s: cannot read: %s", c->req->scene_file, strerror(errno));
+        swim_status_fail(c->st, "swim", c->req->scene_file, 0, NULL, "%s: cannot read: %s", c->req->scene_file,
+                         strerror(errno));
         return 2;
     }
     if (c->req->nsets == 0) {
@@ -400,7 +403,8 @@ static int scene_text(const ctx *c, char **text)
     const int rc = swim_scene_resolve(orig, len, c->req->scene_file, c->req->sets, c->req->nsets, text, &outlen, why, sizeof why);
     free(orig);
     if (rc != 0) {
-        swim_message(stderr, "swim %s: %s: cannot write the overrides into scene.toml: %s", c->req->cmd, c->req->scene_file, why);
+        swim_status_fail(c->st, c->who, NULL, 0, NULL, "%s: cannot write the overrides into scene.toml: %s",
+                         c->req->scene_file, why);
         return 2;
     }
     return 0;
@@ -427,7 +431,7 @@ static int write_tree(const ctx *c, const swim_scene *s, const swim_compiled *kn
     static const char *const names[3] = {"export_info.h", "Makefile", "README"};
     for (int i = 0; i < 3; i++) {
         if (!rc && !t[i]) {
-            swim_message(stderr, "swim %s: out of memory", c->req->cmd);
+            swim_status_fail(c->st, c->who, NULL, 0, NULL, "out of memory");
             rc = 1;
         }
         if (!rc) rc = write_text(c, names[i], t[i]);
@@ -439,35 +443,36 @@ static int write_tree(const ctx *c, const swim_scene *s, const swim_compiled *kn
 
 static int is_cvode(const char *integrator) { return (swim_ode_capabilities(integrator) & SWIM_ODE_CAP_SUNDIALS) != 0; }
 
-int swim_export(const swim_export_request *req, swim_export_result *res)
+int swim_export(const swim_export_request *req, swim_export_result *res, swim_status *st)
 {
     memset(res, 0, sizeof *res);
-    ctx c = {req, res, NULL};
+    ctx c = {req, res, NULL, st, ""};
+    snprintf(c.who, sizeof c.who, "swim %s", req->cmd);
     swim_scene s;
-    if (swim_scene_load_with(req->scene_file, req->sets, req->nsets, &s)) return 2;
+    if (swim_scene_load_with(req->scene_file, req->sets, req->nsets, &s, st)) return 2;
     res->stroke = s.stroke_count > 0;
     res->modes = s.modes;
     /* peers_cvode.c is the only user of SUNDIALS; a stroke runs its own integrator without fallback */
     res->cvode = is_cvode(s.integrator) || (!res->stroke && s.stiff_fallback[0] && is_cvode(s.stiff_fallback));
     char probe[4200];
     int rc = 0;
-    if (!(c.share = swim_share_dir())) rc = 1;
+    if (!(c.share = swim_share_dir(st))) rc = 1;
     else {
         snprintf(probe, sizeof probe, "%s/runtime/driver/run.c", c.share);
         if (access(probe, R_OK) != 0) {
-            swim_message(stderr, "swim %s: the runtime's C sources are not in '%s' (an installed swim has only the kernel "
-                         "headers): export with bin/swim of a source tree", req->cmd, c.share);
+            swim_status_fail(c.st, c.who, NULL, 0, NULL, "the runtime's C sources are not in '%s' (an installed swim has "
+                             "only the kernel headers): export with bin/swim of a source tree", c.share);
             rc = 1;
         }
     }
     if (!rc) rc = check_out(&c);
     swim_compiled kn = {0}, sys = {0};
-    if (!rc) rc = swim_codegen_for_scene(req->cmd, &s, 0, req->verbose, &kn, &sys);
+    if (!rc) rc = swim_codegen_for_scene(req->cmd, &s, 0, req->verbose, &kn, &sys, st);
     /* the tree copies the scene kernel's source from its cache entry: checked before any of it
      * is written */
     if (!rc && !sys.dir[0]) {
-        swim_message(stderr, "swim %s: %s: the scene kernel was built in a private folder, now removed (the cache is not "
-                     "usable): set SWIM_CACHE to a folder of your own", req->cmd, s.path);
+        swim_status_fail(c.st, c.who, NULL, 0, NULL, "%s: the scene kernel was built in a private folder, now removed (the "
+                         "cache is not usable): set SWIM_CACHE to a folder of your own", s.path);
         rc = 1;
     }
     if (!rc) rc = write_tree(&c, &s, &kn, &sys);

@@ -37,7 +37,7 @@ typedef struct {
     char kernel_source[64];       /* where the kernel of N modes came from: "generated/", "cache", "generator" */
 } swim_export_result;
 
-/* 0; 1 (no kernel, a file that cannot be written) or 2 (bad input) after one line on stderr. */
-int swim_export(const swim_export_request *req, swim_export_result *res);
+/* 0; 1 (no kernel, a file that cannot be written) or 2 (bad input) with the cause in st. */
+int swim_export(const swim_export_request *req, swim_export_result *res, swim_status *st);
 
 #endif

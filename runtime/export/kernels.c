@@ -40,11 +40,12 @@ int swim_kernel_list(int *modes, int cap)
     return 1;
 }
 
-int swim_codegen_kernel(int modes, swim_compiled *out, int verbose)
+int swim_codegen_kernel(int modes, swim_compiled *out, int verbose, swim_status *st)
 {
     memset(out, 0, sizeof *out);
     if (!(out->kernel = swim_kernel_find(modes))) {
-        swim_message(stderr, "swim: this program has the kernel of N = %d modes only, not of N = %d", SWIM_EXPORT_MODES, modes);
+        swim_status_fail(st, "swim", NULL, 0, NULL, "this program has the kernel of N = %d modes only, not of N = %d",
+                         SWIM_EXPORT_MODES, modes);
         return -1;
     }
     return 0;
@@ -70,16 +71,16 @@ static void system_from_cache(swim_compiled *out)
     out->from_cache = 1;   /* as a run that finds it in the cache: generate and compile times 0 */
 }
 
-int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int verbose)
+int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int verbose, swim_status *st)
 {
     memset(out, 0, sizeof *out);
     out->generic = generic;
 #if SWIM_EXPORT_STROKE
-    swim_message(stderr, "swim: %s: this program was exported for a prescribed stroke: it has no scene kernel", s->path);
+    swim_status_fail(st, "swim", s->path, 0, NULL, "%s: this program was exported for a prescribed stroke: it has no scene kernel", s->path);
     return -1;
 #else
     if (!same_structure(swim_scene_kernel_entry.structure, "scene", swim_codegen_structure_text(s, generic, NULL))) {
-        swim_message(stderr, "swim: %s: the scene's structure (free and locked coordinates, effects, forcing law) is not "
+        swim_status_fail(st, "swim", s->path, 0, NULL, "%s: the scene's structure (free and locked coordinates, effects, forcing law) is not "
                      "the one this program was exported for: export the scene again (swim export)", s->path);
         return -1;
     }
@@ -89,12 +90,12 @@ int swim_codegen_scene(const swim_scene *s, int generic, swim_compiled *out, int
 #endif
 }
 
-int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose)
+int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose, swim_status *st)
 {
     memset(out, 0, sizeof *out);
 #if SWIM_EXPORT_STROKE
     if (!same_structure(swim_stroke_kernel_entry.structure, "stroke", swim_codegen_stroke_text(s, NULL))) {
-        swim_message(stderr, "swim: %s: the stroke's laws are not those this program was exported for: export the "
+        swim_status_fail(st, "swim", s->path, 0, NULL, "%s: the stroke's laws are not those this program was exported for: export the "
                      "scene again (swim export)", s->path);
         return -1;
     }
@@ -102,7 +103,7 @@ int swim_codegen_stroke(const swim_scene *s, swim_compiled *out, int verbose)
     system_from_cache(out);
     return 0;
 #else
-    swim_message(stderr, "swim: %s: this program was exported for a scene without [stroke]: it has no stroke kernel", s->path);
+    swim_status_fail(st, "swim", s->path, 0, NULL, "%s: this program was exported for a scene without [stroke]: it has no stroke kernel", s->path);
     return -1;
 #endif
 }
@@ -116,12 +117,13 @@ void swim_compiled_close(swim_compiled *c)
 
 /* As codegen.c's, with the compiled-in kernels: a structure they do not fit is bad input here
  * (2), since no kernel can be made for it. */
-int swim_codegen_for_scene(const char *cmd, const swim_scene *s, int generic, int verbose, swim_compiled *kn, swim_compiled *sys)
+int swim_codegen_for_scene(const char *cmd, const swim_scene *s, int generic, int verbose, swim_compiled *kn, swim_compiled *sys,
+                           swim_status *st)
 {
     if (s->stroke_count > 0) {
-        if (swim_codegen_kernel(s->modes, kn, verbose) != 0 || swim_codegen_stroke(s, sys, verbose) != 0) return 2;
+        if (swim_codegen_kernel(s->modes, kn, verbose, st) != 0 || swim_codegen_stroke(s, sys, verbose, st) != 0) return 2;
         return 0;
     }
-    if (swim_codegen_kernel(s->modes, kn, verbose) != 0 || swim_codegen_scene(s, generic, sys, verbose) != 0) return 2;
-    return swim_scene_check_model(s, kn->kernel);
+    if (swim_codegen_kernel(s->modes, kn, verbose, st) != 0 || swim_codegen_scene(s, generic, sys, verbose, st) != 0) return 2;
+    return swim_scene_check_model(s, kn->kernel, st);
 }

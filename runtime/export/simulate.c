@@ -81,8 +81,9 @@ static int read_options(int argc, char **argv, options *o)
 
 /* The job's adjustment: the run options over the scene, read, bounded and recorded into
  * OUT/scene.toml by swim run's own code (cli/run_settings.h). */
-static int adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx)
+static int adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx, swim_status *st)
 {
+    (void)st;   /* the options' refusals are this program's own lines */
     const options *o = ctx;
     if (swim_run_settings_options(o->opts, NOPTS, s) != 0) return 2;
     *nrecorded = swim_run_settings_record(o->opts, NOPTS, s, recorded);
@@ -119,10 +120,14 @@ int main(int argc, char **argv)
                                   .nsets = o->nsets, .events = o->events, .nevents = o->nevents, .adjust = adjust,
                                   .adjust_ctx = o, .out = o->opts[OPT_OUT].value, .quiet = 1, .command = command,
                                   .notice = on_notice, .ctx = o};
-        rc = swim_job_open(&req, &job);
+        swim_status st = SWIM_STATUS_STDERR;
+        rc = swim_job_open(&req, &job, &st);
+        swim_status_print(&st, stderr);
     }
     if (rc == 0) {
-        const int status = swim_job_run(job);
+        swim_status st = SWIM_STATUS_STDERR;
+        const int status = swim_job_run(job, &st);
+        swim_status_print(&st, stderr);
         const swim_run_result *r = swim_job_result(job);
         const char *oerr = swim_job_output_error(job);
         if (oerr) swim_message(stderr, "%s: %s", PROG, oerr);

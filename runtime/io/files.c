@@ -88,17 +88,32 @@ static int has_sources(const char *root)
     return access(a, R_OK) == 0 && access(b, R_OK) == 0;
 }
 
-const char *swim_share_dir(void)
+/* Why the search of swim_share_dir failed, for every later call of the thread. */
+static void share_missing(swim_status *st, const char *env)
+{
+    if (env)
+        swim_status_fail(st, "swim", NULL, 0, NULL, "SWIM_SHARE=%s holds no generator/generate.py and runtime/kernel/",
+                         env);
+    else
+        swim_status_fail(st, "swim", NULL, 0, NULL, "cannot find the generator (generator/ and runtime/kernel/ next to "
+                         "the executable, or PREFIX/share/swim); set SWIM_SHARE");
+}
+
+const char *swim_share_dir(swim_status *st)
 {
     static _Thread_local char root[4200];
     static _Thread_local int done;
-    if (done) return root[0] ? root : NULL;
-    done = 1;
     const char *env = getenv("SWIM_SHARE");
-    if (env && *env) {
+    if (env && !*env) env = NULL;
+    if (done) {
+        if (!root[0]) share_missing(st, env);
+        return root[0] ? root : NULL;
+    }
+    done = 1;
+    if (env) {
         snprintf(root, sizeof root, "%s", env);
         if (has_sources(root)) return root;
-        swim_message(stderr, "swim: SWIM_SHARE=%s holds no generator/generate.py and runtime/kernel/", env);
+        share_missing(st, env);
         root[0] = '\0';
         return NULL;
     }
@@ -124,8 +139,7 @@ const char *swim_share_dir(void)
         }
     }
     root[0] = '\0';
-    swim_message(stderr, "swim: cannot find the generator (generator/ and runtime/kernel/ next to the "
-                 "executable, or PREFIX/share/swim); set SWIM_SHARE");
+    share_missing(st, NULL);
     return NULL;
 }
 

@@ -9,15 +9,17 @@
 #include <stdio.h>
 #include <sys/stat.h>
 
+#include "io/status.h"
+
 #ifndef SWIM_PYTHON
 #define SWIM_PYTHON "/usr/bin/python3"
 #endif
 
 /* The folder holding generator/, runtime/kernel/ and runtime/plot/: $SWIM_SHARE if set, else
  * found from the executable's own path (/proc/self/exe): the source tree's root for bin/swim
- * (or build/tests/...), PREFIX/share/swim for PREFIX/bin/swim. NULL (after one line on stderr)
- * when there is none. */
-const char *swim_share_dir(void);
+ * (or build/tests/...), PREFIX/share/swim for PREFIX/bin/swim. NULL, with the reason in st
+ * (may be NULL), when there is none. */
+const char *swim_share_dir(swim_status *st);
 /* The Python interpreter to run: $SWIM_PYTHON or SWIM_PYTHON. */
 const char *swim_python(void);
 

@@ -33,11 +33,18 @@ static int invisible(unsigned long cp)
 
 int swim_quote(FILE *f, const char *text, size_t len, size_t max)
 {
+    return swim_quote_part(f, text, len, len, max);
+}
+
+int swim_quote_part(FILE *f, const char *text, size_t have, size_t len, size_t max)
+{
     const unsigned char *s = (const unsigned char *)text;
     size_t i = 0, stop = max && len > max ? max : len;
+    if (have > len) have = len;
+    if (stop > have) stop = have;
     while (i < stop) {
         unsigned long cp;
-        size_t k = swim_utf8_sequence(s + i, len - i, &cp);
+        size_t k = swim_utf8_sequence(s + i, have - i, &cp);
         if (k == 0) {
             fprintf(f, "\\x%02x", s[i]);
             i++;
@@ -68,25 +75,10 @@ static char *vformat(const char *fmt, va_list ap, int *len)
     return buf;
 }
 
-/* The calling thread's redirection of its error lines (swim_message_redirect), NULL: none. */
-static _Thread_local swim_message_hook redirect_hook;
-static _Thread_local void *redirect_ctx;
-
-void swim_message_redirect(swim_message_hook hook, void *ctx)
-{
-    redirect_hook = hook;
-    redirect_ctx = ctx;
-}
-
 void swim_vmessage(FILE *f, const char *fmt, va_list ap)
 {
     int n;
     char *buf = vformat(fmt, ap, &n);
-    if (f == stderr && redirect_hook) {   /* a library call: the line goes to its caller */
-        redirect_hook(redirect_ctx, buf ? buf : fmt);
-        free(buf);
-        return;
-    }
     if (buf) {
         swim_quote(f, buf, (size_t)n, SWIM_MESSAGE_MAX);
         free(buf);

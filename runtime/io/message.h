@@ -21,16 +21,15 @@
  * note; max = 0 means no limit). Returns 0, or -1 on a write error. */
 int swim_quote(FILE *f, const char *text, size_t len, size_t max);
 
+/* The same for a text of len bytes of which only the first `have` are at hand (have <= len,
+ * have >= max + 3 so that a UTF-8 sequence at the cut is whole): what swim_quote writes for
+ * the whole text (swim_status keeps no more of a line than this). */
+int swim_quote_part(FILE *f, const char *text, size_t have, size_t len, size_t max);
+
 /* printf-like; the result is quoted, cut at SWIM_MESSAGE_MAX, and followed by '\n'.
  * No fixed-size buffer: the text is formatted at its full length first. */
 void swim_message(FILE *f, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 void swim_vmessage(FILE *f, const char *fmt, va_list ap);
-
-/* Lines for stderr from this thread go to hook(ctx, line) instead (the unquoted text, without the
- * newline), until swim_message_redirect(NULL, NULL): how the library (lib/swim.h) turns the
- * messages of the layers below into the error it returns, without printing. Per thread. */
-typedef void (*swim_message_hook)(void *ctx, const char *line);
-void swim_message_redirect(swim_message_hook hook, void *ctx);
 
 /* Length of the valid UTF-8 sequence at s (n >= 1 bytes available), or 0 if it is not one
  * (overlong forms, surrogates and code points above U+10FFFF are invalid); *cp gets the code

@@ -3,9 +3,9 @@
  * resolves settings into it, a stroke its initial state) and runs it through driver/run.h with
  * the model's kernels, which any number of simulations share read-only.
  *
- * The layers below report bad input as one line on stderr; during a library call those lines are
- * redirected (swim_message_redirect, per thread) into the swim_error returned, "FILE:LINE: KEY:
- * message" taken apart into its fields.
+ * The layers below report a failure in a status of the call's own (io/status.h: file, line, key
+ * and the line a command would show), which becomes the swim_error returned; nothing is printed,
+ * and notices (a projected initial velocity) go nowhere.
  *
  * The caller's structs are read and written only as far as their size field says: every call
  * works on whole structs of its own and copies in or out what the caller's size holds. */
@@ -71,64 +71,25 @@ struct swim_sim {
     int bad_events;              /* sim_open refused an event */
 };
 
-/* ---- errors --------------------------------------------------------------------------------- */
+/* ---- errors ---------------------------------------------------------------------------------- */
 
-typedef struct {
-    swim_error *err;
-    int have;
-} capture;
-
-/* The first line of a failing call is its error: "swim[ CMD]: FILE:LINE: KEY: message". */
-static void on_line(void *ctx, const char *line)
+/* A failed call's status (io/status.h, filled by the layer that found the fault) into its error:
+ * the fields as they were set there, the message its line without "swim[ CMD]: "; fallback when
+ * no layer said more (out of memory before anything was read). The status alone when err is
+ * NULL. */
+static int failed(swim_error *err, const swim_status *st, int status, const char *fallback)
 {
-    capture *c = ctx;
-    if (c->have || !c->err) return;
-    c->have = 1;
-    swim_error *e = c->err;
-    const char *p = line;
-    if (strncmp(p, "swim", 4) == 0) {   /* "swim: " or "swim run: " */
-        const char *colon = strstr(p, ": ");
-        if (colon && colon - p < 16) p = colon + 2;
+    if (!err || !status) return status;
+    memset(err, 0, sizeof *err);
+    err->status = status;
+    if (!st || !st->failed) {
+        snprintf(err->message, sizeof err->message, "%s", fallback);
+        return status;
     }
-    snprintf(e->message, sizeof e->message, "%s", p);
-    /* FILE: --set KEY=VALUE: ... (an override refused): the key is the override's */
-    const char *ov = strstr(p, ": --set ");
-    if (ov) {
-        snprintf(e->file, sizeof e->file, "%.*s", (int)(ov - p), p);
-        const char *k = ov + 8, *eq = strchr(k, '=');
-        if (eq && (size_t)(eq - k) < sizeof e->key && !memchr(k, ' ', (size_t)(eq - k)))
-            snprintf(e->key, sizeof e->key, "%.*s", (int)(eq - k), k);
-        return;
-    }
-    /* FILE:LINE: KEY: ... */
-    const char *c1 = strchr(p, ':');
-    while (c1 && !isdigit((unsigned char)c1[1])) c1 = strchr(c1 + 1, ':');
-    if (!c1) return;
-    char *end;
-    long line_no = strtol(c1 + 1, &end, 10);
-    if (*end != ':' || end[1] != ' ') return;
-    snprintf(e->file, sizeof e->file, "%.*s", (int)(c1 - p), p);
-    e->line = (int)line_no;
-    const char *k = end + 2, *kc = strstr(k, ": ");
-    if (kc && (size_t)(kc - k) < sizeof e->key && !memchr(k, ' ', (size_t)(kc - k)))
-        snprintf(e->key, sizeof e->key, "%.*s", (int)(kc - k), k);
-}
-
-static void begin(capture *c, swim_error *err)
-{
-    c->err = err;
-    c->have = 0;
-    if (err) memset(err, 0, sizeof *err);
-    swim_message_redirect(on_line, c);
-}
-
-static int end(capture *c, int status, const char *fallback)
-{
-    swim_message_redirect(NULL, NULL);
-    if (c->err && status) {
-        c->err->status = status;
-        if (!c->have) snprintf(c->err->message, sizeof c->err->message, "%s", fallback);
-    }
+    snprintf(err->file, sizeof err->file, "%s", st->file);
+    err->line = st->line;
+    snprintf(err->key, sizeof err->key, "%s", st->key);
+    swim_status_message(st, err->message, sizeof err->message);
     return status;
 }
 
@@ -257,43 +218,37 @@ static void scene_drop(swim_scene *s)
     free(s);
 }
 
-/* The key of override `set` ("KEY=VALUE") into key (what precedes '='). */
-static void override_key(const char *set, char *key, size_t len)
-{
-    const size_t n = strcspn(set, "=");
-    snprintf(key, len, "%.*s", (int)(n < len ? n : len - 1), set);
-}
-
-/* bad_key: the key of an override that does not parse (the line names only the value). */
-static int model_open(swim_model *m, const char *const *sets, int nsets, char *bad_key, size_t keylen)
+static int model_open(swim_model *m, const char *const *sets, int nsets, swim_status *st)
 {
     if (nsets > MAX_SETS) {
-        swim_message(stderr, "swim: %s: more than %d overrides", m->name, MAX_SETS);
+        swim_status_fail(st, "swim", m->name, 0, "nsets", "%s: more than %d overrides", m->name, MAX_SETS);
         return SWIM_EINPUT;
     }
     for (int i = 0; i < nsets; i++) {
-        char why[256];
+        char why[256], key[128];
         if (swim_override_parse(sets[i], &m->sets[i], why, sizeof why) != 0) {
-            override_key(sets[i], bad_key, keylen);
-            swim_message(stderr, "swim: %s: --set: %s", m->name, why);
+            /* the key of the override that does not parse: what precedes '=' */
+            const size_t n = strcspn(sets[i], "=");
+            snprintf(key, sizeof key, "%.*s", (int)(n < sizeof key ? n : sizeof key - 1), sets[i]);
+            swim_status_fail(st, "swim", m->name, 0, key, "%s: --set: %s", m->name, why);
             return SWIM_EINPUT;
         }
     }
     m->nsets = nsets;
     if (!(m->s = calloc(1, sizeof *m->s))) return SWIM_ENOMEM;
-    if (swim_scene_parse_with(m->text, m->len, m->name, m->sets, m->nsets, m->s) != 0) {
+    if (swim_scene_parse_with(m->text, m->len, m->name, m->sets, m->nsets, m->s, st) != 0) {
         free(m->s);
         m->s = NULL;
         return SWIM_EINPUT;
     }
-    if (swim_run_settings_check(m->s, NULL) != 0) return SWIM_EINPUT;
+    if (swim_run_settings_check(m->s, NULL, st) != 0) return SWIM_EINPUT;
     size_t outlen;
     char why[512];
     if (nsets > 0 && swim_scene_resolve(m->text, m->len, m->name, m->sets, m->nsets, &m->resolved, &outlen, why, sizeof why) != 0) {
-        swim_message(stderr, "swim: %s: %s", m->name, why);
+        swim_status_fail(st, "swim", m->name, 0, NULL, "%s: %s", m->name, why);
         return SWIM_EINPUT;
     }
-    const int rc = swim_codegen_for_scene("library", m->s, 0, 0, &m->kn, &m->sys);
+    const int rc = swim_codegen_for_scene("library", m->s, 0, 0, &m->kn, &m->sys, st);
     if (rc) return rc == 2 ? SWIM_EINPUT : SWIM_EKERNEL;
     m->ncol = swim_run_columns(m->s, m->names, m->storage);
     return SWIM_OK;
@@ -302,30 +257,24 @@ static int model_open(swim_model *m, const char *const *sets, int nsets, char *b
 static int model_new(char *text, size_t len, const char *name, const char *const *sets, int nsets, swim_model **out,
                      swim_error *err)
 {
-    capture c;
-    begin(&c, err);
     *out = NULL;
     swim_model *m = calloc(1, sizeof *m);
     if (!m || !text || !(m->name = strdup(name))) {
         free(text);
         if (m) free(m);
-        return end(&c, SWIM_ENOMEM, "out of memory");
+        return failed(err, NULL, SWIM_ENOMEM, "out of memory");
     }
     m->text = text;
     m->len = len;
-    char bad_key[sizeof err->key] = "";
-    const int rc = model_open(m, sets, nsets, bad_key, sizeof bad_key);
+    swim_status st = {0};
+    const int rc = model_open(m, sets, nsets, &st);
     if (rc) {
-        end(&c, rc, "the scene could not be read");
-        if (err && bad_key[0] && !err->key[0]) {   /* an override's value: the key it was for */
-            snprintf(err->key, sizeof err->key, "%s", bad_key);
-            snprintf(err->file, sizeof err->file, "%s", m->name);
-        }
+        failed(err, &st, rc, "the scene could not be read");
         swim_model_free(m);
         return rc;
     }
     *out = m;
-    return end(&c, SWIM_OK, "");
+    return SWIM_OK;
 }
 
 static int swim_model_from_file_(const char *path, const char *const *sets, int nsets, swim_model **out, swim_error *err)
@@ -334,19 +283,12 @@ static int swim_model_from_file_(const char *path, const char *const *sets, int 
     *out = NULL;
     if (!path) return bad_arg(err, "path", "path is NULL");
     if (string_list(err, "swim_model_from_file", "sets", "nsets", sets, nsets)) return SWIM_EINPUT;
-    capture c;
-    begin(&c, err);
     size_t len = 0;
-    char *text = swim_scene_read(path, &len);   /* refuses what is not a scene file, in one line */
-    end(&c, 0, "");
+    swim_status st = {0};
+    char *text = swim_scene_read(path, &len, &st);   /* refuses what is not a scene file */
     if (!text) {
         *out = NULL;
-        if (err) {
-            err->status = SWIM_EINPUT;
-            if (!err->message[0]) snprintf(err->message, sizeof err->message, "%s: cannot be read", path);
-            if (!err->file[0]) snprintf(err->file, sizeof err->file, "%s", path);
-        }
-        return SWIM_EINPUT;
+        return failed(err, &st, SWIM_EINPUT, "the scene file cannot be read");
     }
     return model_new(text, len, path, sets, nsets, out, err);
 }
@@ -404,38 +346,37 @@ static int model_set(swim_model *m, const char *key, const char *value, swim_err
     if (nsets == MAX_SETS) return bad_arg(err, key, "%s: more than %d overrides", m->name, MAX_SETS);
     sets[nsets++] = ov;
 
-    capture c;
-    begin(&c, err);
+    swim_status st = {0};
     swim_scene *s = calloc(1, sizeof *s);
-    if (!s) return end(&c, SWIM_ENOMEM, "out of memory");
-    if (swim_scene_parse_with(m->text, m->len, m->name, sets, nsets, s) != 0) {
+    if (!s) return failed(err, NULL, SWIM_ENOMEM, "out of memory");
+    if (swim_scene_parse_with(m->text, m->len, m->name, sets, nsets, s, &st) != 0) {
         free(s);
-        return end(&c, SWIM_EINPUT, "the value was refused");
+        return failed(err, &st, SWIM_EINPUT, "the value was refused");
     }
-    int rc = swim_run_settings_check(s, NULL) != 0 ? SWIM_EINPUT : SWIM_OK;
+    int rc = swim_run_settings_check(s, NULL, &st) != 0 ? SWIM_EINPUT : SWIM_OK;
     if (!rc) {
         char *was = swim_codegen_scene_key(m->s, 0), *now = swim_codegen_scene_key(s, 0);
         if (!was || !now) rc = SWIM_ENOMEM;
         else if (strcmp(was, now) != 0) {
-            swim_message(stderr, "swim: %s: --set %s: the value changes the kernel's structure%s%s%s: it is given "
-                         "when the model is opened, not set in place", m->name, text,
-                         row ? " (" : "", row ? row->doc : "", row ? ")" : "");
+            swim_status_fail(&st, "swim", m->name, 0, key, "%s: --set %s: the value changes the kernel's structure%s%s%s: "
+                             "it is given when the model is opened, not set in place", m->name, text,
+                             row ? " (" : "", row ? row->doc : "", row ? ")" : "");
             rc = SWIM_EINPUT;
         }
         free(was);
         free(now);
     }
     /* the magnitude check opening the model makes with the kernel (codegen_for_scene's) */
-    if (!rc && s->stroke_count == 0 && swim_scene_check_model(s, m->kn.kernel) != 0) rc = SWIM_EINPUT;
+    if (!rc && s->stroke_count == 0 && swim_scene_check_model(s, m->kn.kernel, &st) != 0) rc = SWIM_EINPUT;
     char *resolved = NULL;
     size_t outlen;
     if (!rc && swim_scene_resolve(m->text, m->len, m->name, sets, nsets, &resolved, &outlen, why, sizeof why) != 0) {
-        swim_message(stderr, "swim: %s: %s", m->name, why);
+        swim_status_fail(&st, "swim", m->name, 0, key, "%s: %s", m->name, why);
         rc = SWIM_EINPUT;
     }
     if (rc) {
         scene_drop(s);
-        end(&c, rc, rc == SWIM_ENOMEM ? "out of memory" : "the value was refused");
+        failed(err, &st, rc, rc == SWIM_ENOMEM ? "out of memory" : "the value was refused");
         if (!err->key[0]) snprintf(err->key, sizeof err->key, "%s", key);
         if (!err->file[0]) snprintf(err->file, sizeof err->file, "%s", m->name);
         return rc;
@@ -446,7 +387,7 @@ static int model_set(swim_model *m, const char *key, const char *value, swim_err
     m->nsets = nsets;
     free(m->resolved);
     m->resolved = resolved;
-    return end(&c, SWIM_OK, "");
+    return SWIM_OK;
 }
 
 void swim_model_free(swim_model *m)
@@ -472,25 +413,21 @@ static int sink_row(void *ctx, const swim_run_row *row, char *why, size_t len)
     return SWIM_RUN_ROW_STOP;
 }
 
-static int sim_open(swim_sim *s)
+static int sim_open(swim_sim *s, swim_status *st)
 {
     const swim_model *m = s->m;
-    if (swim_scene_parse_with(m->text, m->len, m->name, s->sets, s->nsets, &s->s) != 0) return SWIM_EINPUT;
+    if (swim_scene_parse_with(m->text, m->len, m->name, s->sets, s->nsets, &s->s, st) != 0) return SWIM_EINPUT;
     s->loaded = 1;
-    if (swim_run_settings_check(&s->s, NULL) != 0) return SWIM_EINPUT;
-    char why[1024];
-    int rc = swim_run_events_parse(&s->s, s->o.events, s->o.nevents, m->names, m->ncol, &s->events, why, sizeof why);
+    if (swim_run_settings_check(&s->s, NULL, st) != 0) return SWIM_EINPUT;
+    int rc = swim_run_events_parse(&s->s, s->o.events, s->o.nevents, m->names, m->ncol, &s->events, st);
     if (rc) {
-        swim_message(stderr, "%s", why);
         s->bad_events = rc == 2;
         return rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
     }
     /* the caller's stop flag is a flag, not a signal number (any nonzero value stops the run) */
     const swim_run_request req = {&s->s, &m->kn, &m->sys, 0, s->events, (volatile sig_atomic_t *)s->o.stop,
                                   {sink_row, NULL, NULL, NULL, s}, 1};
-    why[0] = '\0';
-    rc = swim_run_open(&req, &s->run, why, sizeof why);
-    if (rc && why[0]) swim_message(stderr, "%s", why);
+    rc = swim_run_open(&req, &s->run, st);
     return rc == 0 ? SWIM_OK : rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
 }
 
@@ -505,40 +442,37 @@ static int swim_sim_create_(const swim_model *m, const swim_sim_options *o, swim
         memcpy(&opts, o, o->size < sizeof opts ? o->size : sizeof opts);
     }
     if (string_list(err, "swim_sim_create", "events", "nevents", opts.events, opts.nevents)) return SWIM_EINPUT;
-    capture c;
-    begin(&c, err);
     *out = NULL;
     swim_sim *s = calloc(1, sizeof *s);
     if (!s || !(s->sets = malloc(sizeof *s->sets * (size_t)(m->nsets > 0 ? m->nsets : 1)))) {
         free(s);
-        return end(&c, SWIM_ENOMEM, "out of memory");
+        return failed(err, NULL, SWIM_ENOMEM, "out of memory");
     }
     s->m = m;
     s->o = opts;
     s->nsets = m->nsets;
     memcpy(s->sets, m->sets, sizeof *s->sets * (size_t)m->nsets);
-    const int rc = sim_open(s);
+    swim_status st = {0};
+    const int rc = sim_open(s, &st);
     if (rc) {
-        end(&c, rc, "the simulation could not be set up");
-        if (err && s->bad_events && !err->key[0]) {   /* an event of the options or of the scene */
-            snprintf(err->key, sizeof err->key, "events");
-            snprintf(err->file, sizeof err->file, "%s", m->name);
+        failed(err, &st, rc, "the simulation could not be set up");
+        if (err && s->bad_events) {   /* an event of the options or of the scene: the model's file */
+            if (!err->key[0]) snprintf(err->key, sizeof err->key, "events");
+            if (!err->file[0]) snprintf(err->file, sizeof err->file, "%s", m->name);
         }
         swim_sim_free(s);
         return rc;
     }
     *out = s;
-    return end(&c, SWIM_OK, "");
+    return SWIM_OK;
 }
 
 static int sim_advance(swim_sim *s, double t, swim_error *err)
 {
-    capture c;
-    begin(&c, err);
     if (t > s->t_asked) s->t_asked = t;
     const int status = swim_run_advance(s->run, t);
     const swim_run_result *r = swim_run_get_result(s->run);
-    return end(&c, status ? SWIM_EFAILED : SWIM_OK, r->reason ? r->reason : "out of memory");
+    return failed(err, NULL, status ? SWIM_EFAILED : SWIM_OK, r->reason ? r->reason : "out of memory");
 }
 
 static int swim_sim_advance_(swim_sim *s, double t, swim_error *err)
@@ -659,11 +593,9 @@ static int swim_inspect_(int modes, const double *shape, const double *velocity,
     if (!(out->jmin > 0.0))
         return refuse(err, SWIM_EINPUT, "shape", "the shape is outside the admissible set D "
                       "(min J = %.6g <= 0 on the unit circle, (4.1))", out->jmin);
-    capture c;
-    begin(&c, err);
+    swim_status st = {0};
     swim_compiled kc;   /* linked in, cached, or generated now */
-    if (swim_codegen_kernel(modes, &kc, 0) != 0) return end(&c, SWIM_EKERNEL, "no kernel could be had");
-    end(&c, SWIM_OK, "");
+    if (swim_codegen_kernel(modes, &kc, 0, &st) != 0) return failed(err, &st, SWIM_EKERNEL, "no kernel could be had");
     const swim_kernel *k = kc.kernel;
     static const char *const culprit[] = {"", "shape", "rho0", "rhof", "velocity"};
     const int over = swim_model_overflow(k, shape, velocity, rho0, rhof);

@@ -41,35 +41,39 @@ struct swim_job {
 /* ---- before the run ------------------------------------------------------------------------ */
 
 /* Options that mean something for free dynamics only are refused on a prescribed stroke. */
-static int refuse_for_stroke(const swim_job *j)
+static int refuse_for_stroke(const swim_job *j, swim_status *st)
 {
     const swim_run_job *r = &j->req;
+    char who[64];
+    snprintf(who, sizeof who, "swim %s", r->cmd);
     if (r->sensitivity || r->lyapunov > 0) {
         /* the variational equations are those of the free shape dynamics; a prescribed stroke has
          * none (its shape is a given function of time) */
-        swim_message(stderr, "swim %s: --%s: not available on a prescribed stroke ([stroke] in %s): "
-                     "the variational equations are those of free shape dynamics only", r->cmd,
-                     r->sensitivity ? "sensitivity" : "lyapunov", r->scene_file);
+        swim_status_fail(st, who, NULL, 0, NULL, "--%s: not available on a prescribed stroke ([stroke] in %s): "
+                         "the variational equations are those of free shape dynamics only",
+                         r->sensitivity ? "sensitivity" : "lyapunov", r->scene_file);
         return 2;
     }
     const char *opt = r->generic ? "generic" : r->trace ? "trace-steps" : NULL;
     if (opt) {
-        swim_message(stderr, "swim %s: --%s: does not apply to a prescribed stroke (%s has [stroke]: "
-                     "only (3.21) is integrated)", r->cmd, opt, r->scene_file);
+        swim_status_fail(st, who, NULL, 0, NULL, "--%s: does not apply to a prescribed stroke (%s has [stroke]: "
+                         "only (3.21) is integrated)", opt, r->scene_file);
         return 2;
     }
     return 0;
 }
 
 /* The scene read with the overrides, adjusted, its events checked; the text for DIR/scene.toml. */
-static int read_scene(swim_job *j)
+static int read_scene(swim_job *j, swim_status *st)
 {
     const swim_run_job *r = &j->req;
     swim_scene *s = &j->s;
-    if (swim_scene_load_with(r->scene_file, r->sets, r->nsets, s)) return 2;
+    char who[64];
+    snprintf(who, sizeof who, "swim %s", r->cmd);
+    if (swim_scene_load_with(r->scene_file, r->sets, r->nsets, s, st)) return 2;
     char *name = r->scene_name ? strdup(r->scene_name) : NULL;
     if (r->scene_name && !name) {
-        swim_message(stderr, "swim %s: out of memory", r->cmd);
+        swim_status_fail(st, who, NULL, 0, NULL, "out of memory");
         return 2;
     }
     if (name) {
@@ -79,28 +83,25 @@ static int read_scene(swim_job *j)
     j->stroke = s->stroke_count > 0;
     int nadj = 0;
     swim_override adjusted[SWIM_JOB_MAX_SETS];
-    if (r->adjust && r->adjust(s, adjusted, &nadj, r->adjust_ctx) != 0) return 2;
-    if (j->stroke && refuse_for_stroke(j)) return 2;
+    if (r->adjust && r->adjust(s, adjusted, &nadj, r->adjust_ctx, st) != 0) return 2;
+    if (j->stroke && refuse_for_stroke(j, st)) return 2;
     if (r->lyapunov > 0 && !(s->t_end / r->lyapunov <= SWIM_LYAPUNOV_MAX_SEGMENTS)) {
-        swim_message(stderr, "swim %s: --lyapunov-interval: %g gives %.3g renormalizations over t_end = %g, more "
-                     "than %d (the rows of lyapunov.csv); give an interval >= %.3g", r->cmd, r->lyapunov,
-                     s->t_end / r->lyapunov, s->t_end, SWIM_LYAPUNOV_MAX_SEGMENTS,
-                     s->t_end / SWIM_LYAPUNOV_MAX_SEGMENTS);
+        swim_status_fail(st, who, NULL, 0, NULL, "--lyapunov-interval: %g gives %.3g renormalizations over t_end = %g, "
+                         "more than %d (the rows of lyapunov.csv); give an interval >= %.3g", r->lyapunov,
+                         s->t_end / r->lyapunov, s->t_end, SWIM_LYAPUNOV_MAX_SEGMENTS,
+                         s->t_end / SWIM_LYAPUNOV_MAX_SEGMENTS);
         return 2;
     }
     if (r->trace && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
-        swim_message(stderr, "swim %s: --trace-steps: integrator '%s' does not report its steps", r->cmd, s->integrator);
+        swim_status_fail(st, who, NULL, 0, NULL, "--trace-steps: integrator '%s' does not report its steps", s->integrator);
         return 2;
     }
     /* events name columns of trajectory.csv: checked against them, before any output */
     const char *names[SWIM_RUN_MAX_COLUMNS];
-    char storage[2 * SWIM_NMAX][24], err[1024];
+    char storage[2 * SWIM_NMAX][24];
     const int ncol = swim_run_columns(s, names, storage);
-    const int erc = swim_run_events_parse(s, r->events, r->nevents, names, ncol, &j->events, err, sizeof err);
-    if (erc) {
-        swim_message(stderr, "%s", err);
-        return erc;
-    }
+    const int erc = swim_run_events_parse(s, r->events, r->nevents, names, ncol, &j->events, st);
+    if (erc) return erc;
     /* the record of the run: the overrides, except those an adjustment sets again, then those */
     for (int i = 0; i < r->nsets; i++) {
         int again = 0;
@@ -112,32 +113,32 @@ static int read_scene(swim_job *j)
     size_t len = 0, outlen = 0;
     char *text = swim_read_file(r->scene_file, SWIM_SCENE_MAX_BYTES, &len), why[512];
     if (!text) {
-        swim_message(stderr, "swim: %s: cannot read: %s", r->scene_file, strerror(errno));
+        swim_status_fail(st, "swim", r->scene_file, 0, NULL, "%s: cannot read: %s", r->scene_file, strerror(errno));
         return 2;
     }
     const int rc = swim_scene_resolve(text, len, r->scene_name ? r->scene_name : r->scene_file, j->recorded, j->nrecorded, &j->resolved, &outlen, why, sizeof why);
     free(text);
     if (rc != 0) {
-        swim_message(stderr, "swim %s: %s: cannot write the overrides into the output's scene.toml: %s", r->cmd,
-                     r->scene_file, why);
+        swim_status_fail(st, who, r->scene_file, 0, NULL, "%s: cannot write the overrides into the output's scene.toml: %s",
+                         r->scene_file, why);
         return 2;
     }
     return 0;
 }
 
-static int acquire_kernels(swim_job *j)
+static int acquire_kernels(swim_job *j, swim_status *st)
 {
-    return swim_codegen_for_scene(j->req.cmd, &j->s, j->req.generic, j->req.quiet ? 0 : 1, &j->kn, &j->spz);
+    return swim_codegen_for_scene(j->req.cmd, &j->s, j->req.generic, j->req.quiet ? 0 : 1, &j->kn, &j->spz, st);
 }
 
 /* --sensitivity: the keys resolved on a dynamics of their own, before any output (exit 2). */
-static int check_sensitivity(swim_job *j)
+static int check_sensitivity(swim_job *j, swim_status *st)
 {
     swim_dynamics d;
     swim_sens S;
     if (swim_dynamics_init(&d, &j->s, j->kn.kernel) != 0) return 1;
     swim_dynamics_use_scene_kernel(&d, j->spz.scene, j->req.generic);
-    int rc = swim_sens_init(&S, &d) != 0 ? 1 : swim_sens_add_list(&S, &j->s, j->req.cmd, j->req.sensitivity);
+    int rc = swim_sens_init(&S, &d) != 0 ? 1 : swim_sens_add_list(&S, &j->s, j->req.cmd, j->req.sensitivity, st);
     swim_sens_free(&S);
     swim_dynamics_free(&d);
     return rc;
@@ -150,13 +151,13 @@ static swim_folder_request folder_request(const swim_job *j, const char **names,
                                  j->req.summary_only, j->req.snapshots && !j->req.summary_only, names, ncol};
 }
 
-static int preflight(const swim_job *j)
+static int preflight(const swim_job *j, swim_status *st)
 {
     const char *names[SWIM_RUN_MAX_COLUMNS];
     char storage[2 * SWIM_NMAX][24], err[2 * 4096 + 256];
     const swim_folder_request fr = folder_request(j, names, storage);
     const int rc = swim_folder_preflight(&fr, err, sizeof err);
-    if (rc) swim_message(stderr, "%s", err);
+    if (rc) swim_status_fail(st, NULL, NULL, 0, NULL, "%s", err);
     return rc;
 }
 
@@ -188,40 +189,39 @@ static void sink_progress(void *ctx, double t, double t_end)
 }
 
 /* The run (whose opening checks a stroke on its whole interval), then the folder. */
-static int open_run(swim_job *j)
+static int open_run(swim_job *j, swim_status *st)
 {
-    if (!j->req.quiet && j->spz.from_cache && !j->stroke)
-        swim_message(stderr, "swim: scene kernel from cache %s", j->spz.dir);
+    if (!j->req.quiet && j->spz.from_cache && !j->stroke && j->req.notice) {
+        char *line = swim_strprintf("swim: scene kernel from cache %s", j->spz.dir);
+        if (line) j->req.notice(j->req.ctx, line);
+        free(line);
+    }
     const swim_run_request rr = {&j->s, &j->kn, &j->spz, j->req.generic, j->events, j->req.stop,
                                  {sink_row, j->req.trace ? sink_step : NULL, sink_notice, sink_progress, j}, 0};
-    char err[1024] = "";
-    int rc = swim_run_open(&rr, &j->run, err, sizeof err);
-    if (rc) {
-        if (err[0]) swim_message(stderr, "%s", err);
-        return rc;
-    }
+    int rc = swim_run_open(&rr, &j->run, st);
+    if (rc) return rc;
     const char *names[SWIM_RUN_MAX_COLUMNS];
     char storage[2 * SWIM_NMAX][24], ferr[2 * 4096 + 256];
     const swim_folder_request fr = folder_request(j, names, storage);
     rc = swim_folder_open(&fr, &j->folder, ferr, sizeof ferr);
-    if (rc) swim_message(stderr, "%s", ferr);
+    if (rc) swim_status_fail(st, NULL, NULL, 0, NULL, "%s", ferr);
     return rc;
 }
 
-int swim_job_open(const swim_run_job *req, swim_job **out)
+int swim_job_open(const swim_run_job *req, swim_job **out, swim_status *st)
 {
     *out = NULL;
     swim_job *j = calloc(1, sizeof *j);
     if (!j) {
-        swim_message(stderr, "swim %s: out of memory", req->cmd);
+        swim_status_fail(st, NULL, NULL, 0, NULL, "swim %s: out of memory", req->cmd);
         return 1;
     }
     j->req = *req;
-    int rc = read_scene(j);
-    if (rc == 0) rc = preflight(j);
-    if (rc == 0) rc = acquire_kernels(j);
-    if (rc == 0 && req->sensitivity) rc = check_sensitivity(j);
-    if (rc == 0) rc = open_run(j);
+    int rc = read_scene(j, st);
+    if (rc == 0) rc = preflight(j, st);
+    if (rc == 0) rc = acquire_kernels(j, st);
+    if (rc == 0 && req->sensitivity) rc = check_sensitivity(j, st);
+    if (rc == 0) rc = open_run(j, st);
     if (rc) {
         swim_job_free(j);
         return rc;
@@ -255,14 +255,14 @@ static void pass_notice(const swim_job *j, const char *what, double step, double
  * trajectory ended (t_end or a stopping event). Skipped when the trajectory failed or was
  * interrupted; a sensitivity pass that does not finish fails the run, so that the summary and the
  * exit status say so. */
-static void run_sensitivity(swim_job *j)
+static void run_sensitivity(swim_job *j, swim_status *st)
 {
     const swim_run_result *r = swim_run_get_result(j->run);
     j->sens_t = r->t_reached;
     char why[256];
     if (r->status != 0) {
         j->sens_status = "skipped";
-        swim_message(stderr, "swim %s: no sensitivity.csv: the run did not complete", j->req.cmd);
+        swim_status_note(st, "swim %s: no sensitivity.csv: the run did not complete", j->req.cmd);
         return;
     }
     if (r->impacts) {   /* the variational equations would need the impact's jump (a saltation matrix) */
@@ -275,7 +275,7 @@ static void run_sensitivity(swim_job *j)
     swim_sens S;
     char *path = swim_strprintf("%s/sensitivity.csv", swim_folder_paths(j->folder)->dir);
     int rc = !path || swim_sens_init(&S, swim_run_dynamics(j->run)) != 0 ? 1
-             : swim_sens_add_list(&S, &j->s, j->req.cmd, j->req.sensitivity);
+             : swim_sens_add_list(&S, &j->s, j->req.cmd, j->req.sensitivity, st);
     double sec = 0.0;
     long evals = 0;
     S.error_control = !j->req.sens_state_steps;
@@ -283,7 +283,7 @@ static void run_sensitivity(swim_job *j)
     if (rc == 0) {
         pass_notice(j, "the sensitivities (sensitivity.csv): the state and its variational equations again, rows "
                     "every", j->s.output_step, j->sens_t);
-        rc = swim_sens_write_run(&S, j->s.integrator, path, j->sens_t, &sec, &evals) ? 1 : 0;
+        rc = swim_sens_write_run(&S, j->s.integrator, path, j->sens_t, &sec, &evals, st) ? 1 : 0;
         j->sens_rows = S.rows;
         j->sens_t_last = S.t_last;
         j->sens_method = swim_sens_exact(&S) ? "exact" : "differences";
@@ -313,7 +313,7 @@ static void run_sensitivity(swim_job *j)
  * over [0, t_reached] and the predictability horizon at the run's rtol (control/lyapunov.h). A
  * pass that fails is said in the summary; it does not fail the run. A stop request (signal)
  * during the pass does: the segments done are written, and the run's reason names the signal. */
-static void run_lyapunov(swim_job *j)
+static void run_lyapunov(swim_job *j, swim_status *st)
 {
     const swim_run_result *r = swim_run_get_result(j->run);
     const int sig0 = j->req.stop ? *j->req.stop : 0;
@@ -326,9 +326,9 @@ static void run_lyapunov(swim_job *j)
     }
     if (r->status != 0 || r->impacts || !(r->t_reached > 0)) {
         j->lyap_status = "skipped";
-        swim_message(stderr, "swim %s: no lyapunov.csv: %s", j->req.cmd, r->status != 0 ? "the run did not complete"
-                     : r->impacts ? "the run took impacts, across which the variational equations do not hold"
-                                  : "the run has no time span");
+        swim_status_note(st, "swim %s: no lyapunov.csv: %s", j->req.cmd, r->status != 0 ? "the run did not complete"
+                         : r->impacts ? "the run took impacts, across which the variational equations do not hold"
+                                      : "the run has no time span");
         return;
     }
     char *path = swim_strprintf("%s/lyapunov.csv", swim_folder_paths(j->folder)->dir);
@@ -356,7 +356,7 @@ static void run_lyapunov(swim_job *j)
         snprintf(j->lyap.reason, sizeof j->lyap.reason, "%s", stopped_by(sig));
         swim_run_fail(j->run, why);
     } else if (j->lyap.status != 0 || rc != 0) {
-        swim_message(stderr, "swim %s: lyapunov.csv: %s", j->req.cmd, j->lyap.reason);
+        swim_status_note(st, "swim %s: lyapunov.csv: %s", j->req.cmd, j->lyap.reason);
     }
     free(path);
 }
@@ -426,17 +426,19 @@ static void fill_summary(FILE *f, void *ctx)
     swim_run_summary_json(f, j->run, &x);
 }
 
-int swim_job_run(swim_job *j)
+int swim_job_run(swim_job *j, swim_status *st)
 {
     swim_run_integrate(j->run);
     if (swim_folder_finish(j->folder, j->events) != 0) swim_run_fail(j->run, swim_folder_error(j->folder));
-    if (j->req.sensitivity) run_sensitivity(j);
-    if (j->req.lyapunov > 0) run_lyapunov(j);
+    if (j->req.sensitivity) run_sensitivity(j, st);
+    if (j->req.lyapunov > 0) run_lyapunov(j, st);
     const swim_run_result *r = swim_run_get_result(j->run);
     if (swim_folder_write_summary(j->folder, fill_summary, j) != 0) {
-        swim_message(stderr, "swim %s: cannot write %s: %s (the run %s: %s)", j->req.cmd,
-                     swim_folder_paths(j->folder)->summary_path, strerror(errno), r->status ? "FAILED" : "completed",
-                     r->reason ? r->reason : "out of memory");
+        char who[64];
+        snprintf(who, sizeof who, "swim %s", j->req.cmd);
+        swim_status_fail(st, who, NULL, 0, NULL, "cannot write %s: %s (the run %s: %s)",
+                         swim_folder_paths(j->folder)->summary_path, strerror(errno), r->status ? "FAILED" : "completed",
+                         r->reason ? r->reason : "out of memory");
         j->summary_failed = 1;
     }
     return r->status || j->summary_failed ? 1 : 0;
@@ -470,12 +472,12 @@ void swim_job_free(swim_job *j)
     free(j);
 }
 
-int swim_job_execute(const swim_run_job *req)
+int swim_job_execute(const swim_run_job *req, swim_status *st)
 {
     swim_job *j;
-    int rc = swim_job_open(req, &j);
+    int rc = swim_job_open(req, &j, st);
     if (rc) return rc;
-    rc = swim_job_run(j);
+    rc = swim_job_run(j, st);
     swim_job_free(j);
     return rc;
 }

@@ -7,9 +7,10 @@
  * then integrates it (driver/run.h) into its folder (output/folder.h) and writes the summary
  * (driver/summary.h). Dynamic scenes and prescribed strokes alike.
  *
- * Bad input is one line on stderr and status 2, before any output; a run that fails keeps what it
- * wrote and says why in its summary (status 1). The lines come from the layers that find the
- * fault (the scene reader, codegen, this module); nothing else is printed and nothing exits.
+ * Bad input is status 2 with the cause in the caller's swim_status (io/status.h), before any
+ * output; a run that fails keeps what it wrote and says why in its summary (status 1). The
+ * status is filled by the layer that finds the fault (the scene reader, codegen, the driver,
+ * this module) and shown by the command; nothing exits.
  */
 #ifndef SWIM_OUTPUT_JOB_H
 #define SWIM_OUTPUT_JOB_H
@@ -34,9 +35,9 @@ typedef struct {
     const swim_override *sets;          /* applied before the scene is validated (--set) */
     int nsets;
     /* Settings applied to the read scene (the command line's run options, checked there with
-     * their option's name): 0, or 2 after one line. It may add to `recorded` (at most
+     * their option's name): 0, or 2 with the cause in st. It may add to `recorded` (at most
      * SWIM_JOB_MAX_SETS) the overrides that write its changes into DIR/scene.toml. May be NULL. */
-    int (*adjust)(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx);
+    int (*adjust)(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx, swim_status *st);
     void *adjust_ctx;
     const char *out;                    /* NULL: out/<scene name> */
     const char *trace;                  /* --trace-steps FILE (dynamic scenes) */
@@ -60,11 +61,12 @@ typedef struct {
 
 typedef struct swim_job swim_job;
 
-/* Everything before the integration. 0 with *out; 1 or 2 after one line on stderr (*out is NULL). */
-int swim_job_open(const swim_run_job *req, swim_job **out);
+/* Everything before the integration. 0 with *out; 1 or 2 with the cause in st (*out is NULL). */
+int swim_job_open(const swim_run_job *req, swim_job **out, swim_status *st);
 /* The integration, the outputs closed, the sensitivities, the summary. The run's status: 0
- * completed, 1 failed (also when an output, or the summary itself, could not be written). */
-int swim_job_run(swim_job *j);
+ * completed, 1 failed (also when an output, or the summary itself, could not be written: that
+ * cause in st). A pass skipped or failed after the trajectory is a notice to st's note. */
+int swim_job_run(swim_job *j, swim_status *st);
 
 const swim_scene *swim_job_scene(const swim_job *j);
 const swim_run_result *swim_job_result(const swim_job *j);
@@ -76,7 +78,8 @@ const char *swim_job_output_error(const swim_job *j);
 int swim_job_summary_failed(const swim_job *j);
 void swim_job_free(swim_job *j);
 
-/* The convenience of a sweep member: open, run, free. The exit status of `swim run`. */
-int swim_job_execute(const swim_run_job *req);
+/* The convenience of a sweep member: open, run, free. The exit status of `swim run`; a refusal
+ * before the run, or a summary not written, in st. */
+int swim_job_execute(const swim_run_job *req, swim_status *st);
 
 #endif

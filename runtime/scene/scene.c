@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 
 #include "io/message.h"
+#include "io/status.h"
 #include "shape/constraints.h"
 #include "shape/shape.h"
 #include "ode/ode.h"
@@ -22,6 +23,7 @@ typedef struct {
     const char *path;
     const char *table;   /* current table name, for messages */
     const swim_scene *s; /* its overrides name the values they set (swim_scene_where) */
+    swim_status *st;     /* where a refusal goes */
 } ctx;
 
 /* How an override is named in messages: "--set KEY=VALUE", or its text as it is when that names
@@ -39,7 +41,32 @@ const char *swim_scene_where(const swim_scene *s, int line, char *buf, size_t n)
 
 #define WHERE_MAX 512   /* a path of any length is cut in messages, not the message itself */
 
-/* One line "swim: FILE:LINE: TABLE.KEY: message" on stderr (user text quoted by swim_message);
+/* The key an override's text names ("KEY" of "KEY=VALUE"; "" for the text of another option). */
+static void override_key(const char *text, char *buf, size_t n)
+{
+    const char *eq = strchr(text, '=');
+    snprintf(buf, n, "%.*s", text[0] == '-' || !eq ? 0 : (int)(eq - text), text);
+}
+
+/* The status of a value refused where it was given (line > 0: the file's line; line < 0: the
+ * override -line; 0: the file): file, line and key, and its line as a command shows it. */
+static void value_error(swim_status *st, const swim_scene *s, int line, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 5, 6)));
+static void value_error(swim_status *st, const swim_scene *s, int line, const char *key, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    char *msg = swim_vstrprintf(fmt, ap);
+    va_end(ap);
+    char where[WHERE_MAX], okey[128];
+    const int from_override = line < 0 && -line <= s->nover;
+    if (from_override) override_key(s->override_text[-line - 1], okey, sizeof okey);
+    swim_status_fail(st, "swim", s->path, line > 0 ? line : 0, from_override && okey[0] ? okey : key, "%s: %s",
+                     swim_scene_where(s, line, where, sizeof where), msg ? msg : fmt);
+    free(msg);
+}
+
+/* One line "swim: FILE:LINE: TABLE.KEY: message" (user text quoted when it is shown);
  * for a value an override set, "swim: FILE: --set KEY=VALUE: TABLE.KEY: message". */
 static void scene_error(const ctx *c, int line, const char *key, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
@@ -49,10 +76,9 @@ static void scene_error(const ctx *c, int line, const char *key, const char *fmt
     va_start(ap, fmt);
     char *msg = swim_vstrprintf(fmt, ap);
     va_end(ap);
-    char where[WHERE_MAX];
-    swim_scene_where(c->s, line, where, sizeof where);
-    swim_message(stderr, "swim: %s: %s%s%s: %s", where, c->table ? c->table : "",
-                 c->table ? "." : "", key, msg ? msg : fmt);
+    char full[128];
+    snprintf(full, sizeof full, "%s%s%s", c->table ? c->table : "", c->table ? "." : "", key);
+    value_error(c->st, c->s, line, full, "%s: %s", full, msg ? msg : fmt);
     free(msg);
 }
 
@@ -94,9 +120,9 @@ int swim_model_overflow(const swim_kernel *k, const double *c, const double *v, 
     return SWIM_INPUT_OK;
 }
 
-int swim_scene_check_model(const swim_scene *s, const swim_kernel *k)
+int swim_scene_check_model(const swim_scene *s, const swim_kernel *k, swim_status *st)
 {
-    ctx c = {.path = s->path, .table = "shape", .s = s};
+    ctx c = {.path = s->path, .table = "shape", .s = s, .st = st};
     switch (swim_model_overflow(k, s->c0, s->dc0, s->rho0, s->rhof)) {
     case SWIM_INPUT_SHAPE:
         ERR(&c, s->line_c0, "c0", "too large: the mass matrices at this shape exceed %g", SWIM_MAGNITUDE_MAX);
@@ -173,13 +199,11 @@ static const toml_value *get_table(ctx *c, const toml_value *root, const char *n
     const toml_value *t = toml_get(root, name);
     *rc = 0;
     if (!t && required) {
-        swim_message(stderr, "swim: %s:1: [%s]: missing table", c->path, name);
+        swim_status_fail(c->st, "swim", c->path, 1, name, "%s:1: [%s]: missing table", c->path, name);
         *rc = 2;
     } else if (t && toml_kind_of(t) != TOML_TABLE) {
-        char where[WHERE_MAX];
-        swim_message(stderr, "swim: %s: %s: expected a table [%s], got a %s",
-                     swim_scene_where(c->s, toml_get_key_line(root, name), where, sizeof where), name, name,
-                     toml_kind_name(toml_kind_of(t)));
+        value_error(c->st, c->s, toml_get_key_line(root, name), name, "%s: expected a table [%s], got a %s", name,
+                    name, toml_kind_name(toml_kind_of(t)));
         *rc = 2;
         t = NULL;
     }
@@ -291,9 +315,9 @@ static int check_initial_velocity(ctx *c, const toml_value *shape, swim_scene *s
     s->projection_change = 0.0;
     for (int i = 0; i < s->n; i++) s->projection_change = fmax(s->projection_change, fabs(s->dc0[i] - before[i]));
     char where[WHERE_MAX];
-    swim_message(stderr, "swim: %s: shape.dc0: violated %s by %.3g; projected onto the constraints "
-                 "(largest change %.3g)", swim_scene_where(s, line, where, sizeof where), what, worst,
-                 s->projection_change);
+    swim_status_note(c->st, "swim: %s: shape.dc0: violated %s by %.3g; projected onto the constraints "
+                     "(largest change %.3g)", swim_scene_where(s, line, where, sizeof where), what, worst,
+                     s->projection_change);
     return 0;
 }
 
@@ -642,20 +666,20 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
         }
         s->events_line = line;
     }
-    if (swim_run_settings_check(s, NULL)) return 2;
+    if (swim_run_settings_check(s, NULL, c->st)) return 2;
     c->table = "shape";
     return check_initial_velocity(c, shape, s);
 }
 
 int swim_scene_parse_with(const char *text, size_t len, const char *path, const swim_override *ov,
-                          int nov, swim_scene *s)
+                          int nov, swim_scene *s, swim_status *st)
 {
     memset(s, 0, sizeof *s);
     s->forcing_finite_until = INFINITY;
     s->path = strdup(path);
     s->title = strdup("");
     if (!s->path || !s->title) {
-        swim_message(stderr, "swim: %s: out of memory", path);
+        swim_status_fail(st, "swim", path, 0, NULL, "%s: out of memory", path);
         swim_scene_free(s);
         return 2;
     }
@@ -670,7 +694,7 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
         int line = 0;
         const char *msg = err;
         if (sscanf(err, "line %d:", &line) == 1 && strchr(err, ':')) msg = strchr(err, ':') + 2;
-        swim_message(stderr, "swim: %s:%d: %s", path, line, msg);
+        swim_status_fail(st, "swim", path, line, NULL, "%s:%d: %s", path, line, msg);
         swim_scene_free(s);
         return 2;
     }
@@ -678,22 +702,22 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
     if (j >= 0) {
         char target[100];
         swim_override_target(&ov[j], target, sizeof target);
-        swim_message(stderr, "swim: %s: %s%s: sets %s, which %s%s already sets to another value "
-                     "(give each value once)", path, set_option(ov[j].text), ov[j].text, target,
-                     set_option(ov[earlier].text), ov[earlier].text);
+        swim_status_fail(st, "swim", path, 0, target, "%s: %s%s: sets %s, which %s%s already sets to another value "
+                         "(give each value once)", path, set_option(ov[j].text), ov[j].text, target,
+                         set_option(ov[earlier].text), ov[earlier].text);
         toml_free(root);
         swim_scene_free(s);
         return 2;
     }
     if (nov > 0 && !(s->override_text = calloc((size_t)nov, sizeof *s->override_text))) {
-        swim_message(stderr, "swim: %s: out of memory", path);
+        swim_status_fail(st, "swim", path, 0, NULL, "%s: out of memory", path);
         toml_free(root);
         swim_scene_free(s);
         return 2;
     }
     for (int i = 0; i < nov; i++) {
         if (!(s->override_text[i] = strdup(ov[i].text))) {
-            swim_message(stderr, "swim: %s: out of memory", path);
+            swim_status_fail(st, "swim", path, 0, NULL, "%s: out of memory", path);
             toml_free(root);
             swim_scene_free(s);
             return 2;
@@ -709,14 +733,16 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
         else
             bad = toml_set_string(root, ov[i].table, ov[i].key, ov[i].word, err, sizeof err);
         if (bad) {
-            swim_message(stderr, "swim: %s: %s%s: %s", path, set_option(ov[i].text), ov[i].text, err);
+            char okey[128];
+            override_key(ov[i].text, okey, sizeof okey);
+            swim_status_fail(st, "swim", path, 0, okey, "%s: %s%s: %s", path, set_option(ov[i].text), ov[i].text, err);
             toml_free(root);
             swim_scene_free(s);
             return 2;
         }
         toml_set_origin(root, ov[i].table, ov[i].key, ov[i].index, -(i + 1));
     }
-    ctx c = {path, NULL, s};
+    ctx c = {path, NULL, s, st};
     int rc = load_tree(&c, root, s);
     toml_free(root);
     if (rc) swim_scene_free(s);
@@ -724,12 +750,12 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
 }
 
 /* The whole file in a new buffer, refused before reading when it is not a regular file of at
- * most SWIM_SCENE_MAX_BYTES (a pipe is read up to that size). NULL after one line on stderr. */
-char *swim_scene_read(const char *path, size_t *len)
+ * most SWIM_SCENE_MAX_BYTES (a pipe is read up to that size). NULL with the reason in status. */
+char *swim_scene_read(const char *path, size_t *len, swim_status *status)
 {
     FILE *f = fopen(path, "rb");
     if (!f) {
-        swim_message(stderr, "swim: %s: cannot open scene file: %s", path, strerror(errno));
+        swim_status_fail(status, "swim", path, 0, NULL, "%s: cannot open scene file: %s", path, strerror(errno));
         return NULL;
     }
     struct stat st = {0};
@@ -739,10 +765,10 @@ char *swim_scene_read(const char *path, size_t *len)
     else if (S_ISREG(st.st_mode) && st.st_size > SWIM_SCENE_MAX_BYTES) refusal = "too large for a scene file";
     if (refusal) {
         if (S_ISREG(st.st_mode))
-            swim_message(stderr, "swim: %s: %s (%lld bytes; the limit is %ld)", path, refusal,
-                         (long long)st.st_size, SWIM_SCENE_MAX_BYTES);
+            swim_status_fail(status, "swim", path, 0, NULL, "%s: %s (%lld bytes; the limit is %ld)", path, refusal,
+                             (long long)st.st_size, SWIM_SCENE_MAX_BYTES);
         else
-            swim_message(stderr, "swim: %s: %s", path, refusal);
+            swim_status_fail(status, "swim", path, 0, NULL, "%s: %s", path, refusal);
         fclose(f);
         return NULL;
     }
@@ -751,8 +777,8 @@ char *swim_scene_read(const char *path, size_t *len)
     int bad = buf && ferror(f);
     fclose(f);
     if (!buf || bad || got > SWIM_SCENE_MAX_BYTES) {
-        swim_message(stderr, "swim: %s: %s", path, !buf ? "out of memory" : bad ? "read error"
-                     : "too large for a scene file (the limit is 1 MiB)");
+        swim_status_fail(status, "swim", path, 0, NULL, "%s: %s", path, !buf ? "out of memory" : bad ? "read error"
+                         : "too large for a scene file (the limit is 1 MiB)");
         free(buf);
         return NULL;
     }
@@ -761,23 +787,23 @@ char *swim_scene_read(const char *path, size_t *len)
     return buf;
 }
 
-int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *s)
+int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *s, swim_status *st)
 {
-    return swim_scene_parse_with(text, len, path, NULL, 0, s);
+    return swim_scene_parse_with(text, len, path, NULL, 0, s, st);
 }
 
-int swim_scene_load(const char *path, swim_scene *s)
+int swim_scene_load(const char *path, swim_scene *s, swim_status *st)
 {
-    return swim_scene_load_with(path, NULL, 0, s);
+    return swim_scene_load_with(path, NULL, 0, s, st);
 }
 
-int swim_scene_load_with(const char *path, const swim_override *ov, int nov, swim_scene *s)
+int swim_scene_load_with(const char *path, const swim_override *ov, int nov, swim_scene *s, swim_status *st)
 {
     memset(s, 0, sizeof *s);
     size_t len;
-    char *buf = swim_scene_read(path, &len);
+    char *buf = swim_scene_read(path, &len, st);
     if (!buf) return 2;
-    int rc = swim_scene_parse_with(buf, len, path, ov, nov, s);
+    int rc = swim_scene_parse_with(buf, len, path, ov, nov, s, st);
     free(buf);
     return rc;
 }
@@ -934,21 +960,19 @@ static const char *const setting_key[SWIM_SET_COUNT] = {"run.t_end", "run.output
 static const char *const setting_option[SWIM_SET_COUNT] = {"t-end", "output-step", "rtol", "atol", NULL};
 
 /* One line naming setting i where it came from: the option, or FILE:LINE: key. */
-static int setting_error(const swim_scene *s, const swim_run_overrides *cli, int i, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
-static int setting_error(const swim_scene *s, const swim_run_overrides *cli, int i, const char *fmt, ...)
+static int setting_error(const swim_scene *s, const swim_run_overrides *cli, swim_status *st, int i, const char *fmt,
+                         ...) __attribute__((format(printf, 5, 6)));
+static int setting_error(const swim_scene *s, const swim_run_overrides *cli, swim_status *st, int i, const char *fmt,
+                         ...)
 {
     va_list ap;
     va_start(ap, fmt);
     char *msg = swim_vstrprintf(fmt, ap);
     va_end(ap);
     if (cli && cli->given[i] && setting_option[i])
-        swim_message(stderr, "swim run: --%s: %s", setting_option[i], msg ? msg : fmt);
-    else {
-        char where[WHERE_MAX];
-        swim_message(stderr, "swim: %s: %s: %s", swim_scene_where(s, s->setting_line[i], where, sizeof where),
-                     setting_key[i], msg ? msg : fmt);
-    }
+        swim_status_fail(st, "swim run", NULL, 0, setting_key[i], "--%s: %s", setting_option[i], msg ? msg : fmt);
+    else
+        value_error(st, s, s->setting_line[i], setting_key[i], "%s: %s", setting_key[i], msg ? msg : fmt);
     free(msg);
     return 2;
 }
@@ -989,7 +1013,7 @@ static double law_finite_until(const swim_scene *s, const swim_expr *e)
 /* A stroke law must be defined on the whole run (its kernel has no other law to follow, and
  * the generator refuses a part that is never finite): at t = 0 and at every sample. 0, or 2
  * after one line naming the file, the key and the law. */
-static int check_stroke_laws(const swim_scene *s)
+static int check_stroke_laws(const swim_scene *s, swim_status *st)
 {
     for (int k = 0; k < s->stroke_count; k++) {
         char key[24], why[160];
@@ -997,40 +1021,42 @@ static int check_stroke_laws(const swim_scene *s)
         double t = swim_expr_defined(s->stroke_expr[k], 0.0, NULL, 0) ? law_finite_until(s, s->stroke_expr[k]) : 0.0;
         if (isfinite(t)) {
             swim_expr_defined(s->stroke_expr[k], t, why, sizeof why);
-            swim_message(stderr, "swim: %s:%d: stroke.%s: \"%s\" is not finite at t = %.9g: %s", s->path,
-                         s->stroke_line[k], key, s->stroke_law[k], t, why);
+            char full[32];
+            snprintf(full, sizeof full, "stroke.%s", key);
+            swim_status_fail(st, "swim", s->path, s->stroke_line[k], full, "%s:%d: %s: \"%s\" is not finite at t = %.9g: %s",
+                             s->path, s->stroke_line[k], full, s->stroke_law[k], t, why);
             return 2;
         }
     }
     return 0;
 }
 
-int swim_run_settings_check(swim_scene *s, const swim_run_overrides *cli)
+int swim_run_settings_check(swim_scene *s, const swim_run_overrides *cli, swim_status *st)
 {
     /* With both t_end and output_step from the scene, a row-count problem is output_step's
      * (its line is the one to change); with one from the command line, it is that option's. */
     int rows_key = cli && cli->given[SWIM_SET_T_END] && !cli->given[SWIM_SET_OUTPUT_STEP] ? SWIM_SET_T_END
                                                                                         : SWIM_SET_OUTPUT_STEP;
-    if (!(s->t_end > 0)) return setting_error(s, cli, SWIM_SET_T_END, "must be > 0, got %g", s->t_end);
-    if (!(s->output_step > 0)) return setting_error(s, cli, SWIM_SET_OUTPUT_STEP, "must be > 0, got %g", s->output_step);
+    if (!(s->t_end > 0)) return setting_error(s, cli, st, SWIM_SET_T_END, "must be > 0, got %g", s->t_end);
+    if (!(s->output_step > 0)) return setting_error(s, cli, st, SWIM_SET_OUTPUT_STEP, "must be > 0, got %g", s->output_step);
     if (!(s->t_end / s->output_step <= SWIM_ROWS_MAX))
-        return setting_error(s, cli, rows_key, "output_step %g gives more than 10^7 rows for t_end = %g",
+        return setting_error(s, cli, st, rows_key, "output_step %g gives more than 10^7 rows for t_end = %g",
                              s->output_step, s->t_end);
-    if (!(s->rtol > 0)) return setting_error(s, cli, SWIM_SET_RTOL, "must be > 0, got %g", s->rtol);
+    if (!(s->rtol > 0)) return setting_error(s, cli, st, SWIM_SET_RTOL, "must be > 0, got %g", s->rtol);
     if (!(s->rtol >= SWIM_RTOL_MIN && s->rtol <= SWIM_RTOL_MAX))
-        return setting_error(s, cli, SWIM_SET_RTOL, "%g is outside [%.2g, %g]: below 100 unit roundoffs the error "
+        return setting_error(s, cli, st, SWIM_SET_RTOL, "%g is outside [%.2g, %g]: below 100 unit roundoffs the error "
                              "test cannot be met in double precision, above %g it bounds nothing",
                              s->rtol, SWIM_RTOL_MIN, SWIM_RTOL_MAX, SWIM_RTOL_MAX);
-    if (!(s->atol > 0)) return setting_error(s, cli, SWIM_SET_ATOL, "must be > 0, got %g", s->atol);
+    if (!(s->atol > 0)) return setting_error(s, cli, st, SWIM_SET_ATOL, "must be > 0, got %g", s->atol);
     if (!(s->atol <= SWIM_ATOL_MAX))
-        return setting_error(s, cli, SWIM_SET_ATOL, "%g is above %g: the states are of order 1", s->atol, SWIM_ATOL_MAX);
+        return setting_error(s, cli, st, SWIM_SET_ATOL, "%g is above %g: the states are of order 1", s->atol, SWIM_ATOL_MAX);
     s->forcing_finite_until = INFINITY;
     if (s->forcing) {
         char why[160];
         if (!swim_expr_defined(s->forcing, 0.0, why, sizeof why))
-            return setting_error(s, NULL, SWIM_SET_LAW, "\"%s\" is not finite at t = 0, the start of the run: %s",
+            return setting_error(s, NULL, st, SWIM_SET_LAW, "\"%s\" is not finite at t = 0, the start of the run: %s",
                                  s->forcing_text, why);
         s->forcing_finite_until = law_finite_until(s, s->forcing);
     }
-    return s->stroke ? check_stroke_laws(s) : 0;
+    return s->stroke ? check_stroke_laws(s, st) : 0;
 }

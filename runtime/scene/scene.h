@@ -2,16 +2,18 @@
  *
  * swim_scene_load validates everything before any work: unknown keys, wrong types or lengths,
  * non-finite numbers, a shape outside D (4.1), initial velocities that violate G1 (2.8),
- * G2 (2.14) or the locks. Each problem is reported as one line on stderr,
- * "FILE:LINE: KEY: message (value)", and the call returns 2. With `project_initial = true`
- * in [run], an inconsistent initial velocity is instead projected onto the constraints (the
- * l2-orthogonal projection of ERRATA D5) and the change is reported on stderr.
+ * G2 (2.14) or the locks. A problem fills the caller's status (io/status.h: file, line, key and
+ * the line "swim: FILE:LINE: KEY: message (value)" a command shows) and the call returns 2;
+ * nothing is printed here. With `project_initial = true` in [run], an inconsistent initial
+ * velocity is instead projected onto the constraints (the l2-orthogonal projection of ERRATA D5)
+ * and the change is a notice to the status's note callback.
  */
 #ifndef SWIM_SCENE_H
 #define SWIM_SCENE_H
 
 #include <stddef.h>
 
+#include "io/status.h"
 #include "kernel/coords.h"
 #include "kernel/swim_kernel.h"
 #include "scene/expr.h"
@@ -129,16 +131,16 @@ typedef struct {
     int given[SWIM_SET_COUNT];
 } swim_run_overrides;
 
-/* 0 on success; 2 after printing a one-line error naming the file, the key and the value. */
-int swim_scene_load(const char *path, swim_scene *scene);
+/* 0 on success; 2 with st naming the file, the key and the value. */
+int swim_scene_load(const char *path, swim_scene *scene, swim_status *st);
 /* The scene file's text, read once into a new buffer (NUL-terminated, *len bytes), refused
  * before reading when it is not a regular file of at most SWIM_SCENE_MAX_BYTES: for a command
  * that parses one scene many times (swim sweep), so that every parse sees the same text even if
- * the file is edited meanwhile. NULL after one line on stderr. */
-char *swim_scene_read(const char *path, size_t *len);
+ * the file is edited meanwhile. NULL with the reason in st. */
+char *swim_scene_read(const char *path, size_t *len, swim_status *st);
 /* The same on text already in memory (len bytes, not necessarily NUL-terminated); `path` names
  * it in messages. */
-int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *scene);
+int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *scene, swim_status *st);
 void swim_scene_free(swim_scene *scene);
 
 /* The one check of the run settings, whatever set them: the row cap and the tolerance bounds
@@ -146,10 +148,10 @@ void swim_scene_free(swim_scene *scene);
  * finite at t when every part of it is (swim_expr_defined: step(sqrt(-1)) is not). The forcing
  * law not finite at t0 is an error; the first sampled time where it is not finite later is
  * recorded in forcing_finite_until (the run stops there). A stroke law not finite at t0 or at
- * any sample is an error naming its key (stroke.am1). 0, or 2 after one line on stderr naming
- * the scene key (FILE:LINE: run.rtol: ...) or, for a setting in `cli`, the option (swim run:
- * --rtol: ...). cli may be NULL. */
-int swim_run_settings_check(swim_scene *scene, const swim_run_overrides *cli);
+ * any sample is an error naming its key (stroke.am1). 0, or 2 with st naming the scene key
+ * (FILE:LINE: run.rtol: ...) or, for a setting in `cli`, the option (swim run: --rtol: ...).
+ * cli may be NULL. */
+int swim_run_settings_check(swim_scene *scene, const swim_run_overrides *cli, swim_status *st);
 
 /* The model's numbers at a state must leave room for the products the right-hand side forms
  * (K v, v^T K v, the constrained solve of (4.12)): every entry of Mr, N, Md, K, <Gamma, v, v>
@@ -162,10 +164,10 @@ enum { SWIM_INPUT_OK, SWIM_INPUT_SHAPE, SWIM_INPUT_RHO0, SWIM_INPUT_RHOF, SWIM_I
  * whose own value does it, or SWIM_INPUT_OK. Used by the scene reader and by swim inspect. */
 int swim_model_overflow(const swim_kernel *k, const double *c, const double *v, double rho0, double rhof);
 /* swim_model_overflow on the scene's initial state with k, its kernel of N modes (which may
- * have to be generated, so the scene reader cannot run it): 0, or 2 after one line on stderr
- * naming the file, line and key (shape.c0, model.rho0, model.rhof, shape.dc0). Every command
- * that computes with a scene calls it before any output is touched. */
-int swim_scene_check_model(const swim_scene *s, const swim_kernel *k);
+ * have to be generated, so the scene reader cannot run it): 0, or 2 with st naming the file,
+ * line and key (shape.c0, model.rho0, model.rhof, shape.dc0). Every command that computes with
+ * a scene calls it before any output is touched. */
+int swim_scene_check_model(const swim_scene *s, const swim_kernel *k, swim_status *st);
 /* An override `KEY=VALUE` (swim run --set, swim sweep --vary) applied to the parsed TOML tree
  * before the scene is validated, so an overridden value is checked like one in the file. KEY is
  * `table.key` (a number), `table.key[I]` (item I, 0-based, of a vector) or `table.key.NAME`
@@ -199,10 +201,11 @@ int swim_override_same_target(const swim_override *a, const swim_override *b);
 int swim_override_conflict(const swim_override *ov, int n, int *earlier);
 /* swim_scene_load / swim_scene_parse with overrides applied first; an override that does not
  * fit the file (no such table, not a number, index out of range) or that conflicts with an
- * earlier one (swim_override_conflict) is one line "swim: FILE: --set KEY=VALUE: reason" and 2. */
-int swim_scene_load_with(const char *path, const swim_override *ov, int nov, swim_scene *scene);
+ * earlier one (swim_override_conflict) is 2 with the line "swim: FILE: --set KEY=VALUE: reason"
+ * in st. */
+int swim_scene_load_with(const char *path, const swim_override *ov, int nov, swim_scene *scene, swim_status *st);
 int swim_scene_parse_with(const char *text, size_t len, const char *path, const swim_override *ov,
-                          int nov, swim_scene *scene);
+                          int nov, swim_scene *scene, swim_status *st);
 
 /* Coordinate names, modes and mu^2: kernel/coords.h. */
 

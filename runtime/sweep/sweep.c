@@ -171,46 +171,34 @@ static void mode_kernels_close(mode_kernels *mk)
  * have changed since), then, with mk, the magnitude check of its model (swim_scene_check_model:
  * a density of 1e308 passes the reader but overflows the mass matrices). 0 or 2, or 1 when no
  * kernel of its N could be had. */
-static int check_member(const sweep_plan *p, long m, swim_scene *s, mode_kernels *mk)
+static int check_member(const sweep_plan *p, long m, swim_scene *s, mode_kernels *mk, swim_status *st)
 {
     swim_override ov[SWEEP_MAX_SETS + SWEEP_MAX_VARY];
     int nov = member_overrides(p, m, ov);
-    int rc = swim_scene_parse_with(p->scene_text, p->scene_len, p->scene, ov, nov, s);
+    int rc = swim_scene_parse_with(p->scene_text, p->scene_len, p->scene, ov, nov, s, st);
     if (rc || !mk) return rc;
     const int n = s->modes;
     if (n < 1 || n > SWIM_KERNEL_MAX_MODES) return 0;   /* the reader refuses these */
     if (!mk->open[n]) {
-        if (swim_codegen_kernel(n, &mk->kn[n], 0) != 0) rc = 1;
+        if (swim_codegen_kernel(n, &mk->kn[n], 0, st) != 0) rc = 1;
         else mk->open[n] = 1;
     }
-    if (!rc) rc = swim_scene_check_model(s, mk->kn[n].kernel);
+    if (!rc) rc = swim_scene_check_model(s, mk->kn[n].kernel, st);
     if (rc) swim_scene_free(s);
     return rc;
 }
 
-/* Loads member m's scene (check_member) with stderr captured: the one-line message is re-emitted
- * with the member named in front of it. 0, 2, or 1 (no kernel). */
+/* Loads member m's scene (check_member): the cause of a refusal is shown with the member named
+ * in front of it. 0, 2, or 1 (no kernel). */
 static int load_member(const sweep_plan *p, long m, swim_scene *s, mode_kernels *mk)
 {
-    fflush(stderr);
-    FILE *cap = tmpfile();
-    int saved = dup(2);
-    if (cap && saved >= 0) dup2(fileno(cap), 2);
-    int rc = check_member(p, m, s, mk);
-    fflush(stderr);
-    if (cap && saved >= 0) { dup2(saved, 2); close(saved); }
+    swim_status st = {0};   /* notices of a member's scene are not the sweep's */
+    int rc = check_member(p, m, s, mk, &st);
     if (rc != 0) {
-        char label[600], msg[1024] = "";
+        char label[600], msg[SWIM_MESSAGE_MAX + 8];
         member_label(p, m, label, sizeof label);
-        if (cap) {
-            rewind(cap);
-            if (!fgets(msg, sizeof msg, cap)) msg[0] = '\0';
-            msg[strcspn(msg, "\n")] = '\0';
-        }
-        const char *text = strncmp(msg, "swim: ", 6) == 0 ? msg + 6 : msg;
-        swim_message(stderr, "swim %s: %s: %s", p->cmd, label, text);
+        swim_message(stderr, "swim %s: %s: %s", p->cmd, label, swim_status_message(&st, msg, sizeof msg));
     }
-    if (cap) fclose(cap);
     return rc;
 }
 
@@ -613,10 +601,11 @@ static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys)
         swim_scene s;
         if (load_member(p, rep[k], &s, NULL)) return 2;
         swim_compiled kn, sc;
-        int bad = swim_codegen_kernel(s.modes, &kn, verbose) != 0;
+        swim_status st = SWIM_STATUS_STDERR;   /* shown here until the command takes it */
+        int bad = swim_codegen_kernel(s.modes, &kn, verbose, &st) != 0;
         if (!bad) {
             /* a prescribed stroke's members run on its laws' kernel (runtime/stroke) */
-            bad = s.stroke ? swim_codegen_stroke(&s, &sc, verbose) : swim_codegen_scene(&s, p->generic, &sc, verbose);
+            bad = s.stroke ? swim_codegen_stroke(&s, &sc, verbose, &st) : swim_codegen_scene(&s, p->generic, &sc, verbose, &st);
             if (!bad) swim_compiled_close(&sc);
             swim_compiled_close(&kn);
         }
@@ -629,6 +618,7 @@ static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys)
         }
         swim_scene_free(&s);
         if (bad) {
+            swim_status_print(&st, stderr);
             swim_message(stderr, "swim %s: no kernel for the structure of member %ld, no member run", p->cmd, rep[k]);
             return 1;
         }
@@ -642,7 +632,11 @@ int sweep_prepare(sweep_plan *p)
     long *rep = NULL;
     int nkeys = 0, cap = 0, rc = 0;
     free(p->scene_text);
-    if (!(p->scene_text = swim_scene_read(p->scene, &p->scene_len))) return 2;
+    swim_status st = {0};
+    if (!(p->scene_text = swim_scene_read(p->scene, &p->scene_len, &st))) {
+        swim_status_print(&st, stderr);
+        return 2;
+    }
     mode_kernels mk;
     memset(mk.open, 0, sizeof mk.open);
     for (long m = 0; m < p->members && !rc; m++) {
@@ -702,7 +696,7 @@ int sweep_prepare(sweep_plan *p)
 
 /* The sweep's run options over a member's scene (as swim run's --integrator and --no-projection),
  * recorded for its DIR/scene.toml. */
-static int member_adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx)
+static int member_adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx, swim_status *st)
 {
     const sweep_plan *p = ctx;
     char text[64];
@@ -717,11 +711,11 @@ static int member_adjust(swim_scene *s, swim_override *recorded, int *nrecorded,
         if (swim_override_parse("run.projection=false", &recorded[*nrecorded], NULL, 0) == 0) (*nrecorded)++;
     }
     if (p->no_projection && s->stroke_count > 0) {
-        swim_message(stderr, "swim run: --no-projection: does not apply to a prescribed stroke (%s has [stroke]: "
-                     "only (3.21) is integrated)", s->path);
+        swim_status_fail(st, "swim run", s->path, 0, NULL, "--no-projection: does not apply to a prescribed stroke (%s has "
+                         "[stroke]: only (3.21) is integrated)", s->path);
         return 2;
     }
-    return swim_run_settings_check(s, NULL) != 0 ? 2 : 0;
+    return swim_run_settings_check(s, NULL, st) != 0 ? 2 : 0;
 }
 
 /* Member m in this process (the forked child): a job of the run layer (output/job.h), with the
@@ -733,7 +727,9 @@ static int run_member(const sweep_plan *p, const char *scene, const char *dir, c
     const swim_run_job job = {.cmd = "run", .scene_file = scene, .sets = ov, .nsets = nov, .adjust = member_adjust,
                               .adjust_ctx = (void *)p, .out = dir, .quiet = 1, .generic = p->generic,
                               .summary_only = !p->keep_trajectories, .command = command};
-    const int rc = swim_job_execute(&job);
+    swim_status st = SWIM_STATUS_STDERR;
+    const int rc = swim_job_execute(&job, &st);
+    swim_status_print(&st, stderr);   /* the member's refusal: its log's line */
     free(command);
     return rc;
 }

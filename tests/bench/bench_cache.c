@@ -14,7 +14,7 @@ int main(int argc, char **argv)
         int N = atoi(argv[a]);
         swim_compiled c;
         double t0 = bench_now();
-        int rc = swim_codegen_kernel(N, &c, 0);
+        int rc = swim_codegen_kernel(N, &c, 0, NULL);
         double ms = 1e3 * (bench_now() - t0);
         if (rc != 0) return 1;
         printf("%d,%.3f,%s\n", N, ms, c.from_cache ? "cache" : c.handle ? "built" : "linked");

@@ -67,7 +67,7 @@ int main(int argc, char **argv)
         if (N >= 2) s.c0[5] = 0.1;
         swim_compiled sc;
         swim_dynamics d;
-        if (swim_codegen_scene(&s, 0, &sc, 1) != 0 || swim_dynamics_init(&d, &s, NULL) != 0) return 1;
+        if (swim_codegen_scene(&s, 0, &sc, 1, NULL) != 0 || swim_dynamics_init(&d, &s, NULL) != 0) return 1;
         swim_dynamics_use_scene_kernel(&d, sc.scene, 0);
         const int sdim = swim_dynamics_state_dim(&d);
         double *y = calloc((size_t)d.dim, sizeof(double)), *ys = calloc((size_t)sdim, sizeof(double));

@@ -50,8 +50,8 @@ int main(int argc, char **argv)
         static swim_scene s;
         swim_dynamics d;
         swim_compiled gen, sp;
-        if (swim_scene_load(argv[a], &s) != 0 || swim_dynamics_init(&d, &s, NULL) != 0) return 1;
-        if (swim_codegen_scene(&s, 1, &gen, 0) != 0 || swim_codegen_scene(&s, 0, &sp, 0) != 0) return 1;
+        if (swim_scene_load(argv[a], &s, NULL) != 0 || swim_dynamics_init(&d, &s, NULL) != 0) return 1;
+        if (swim_codegen_scene(&s, 1, &gen, 0, NULL) != 0 || swim_codegen_scene(&s, 0, &sp, 0, NULL) != 0) return 1;
         double *y = calloc((size_t)d.dim, sizeof(double)), *ys = calloc((size_t)d.dim, sizeof(double));
         double *dy = calloc((size_t)d.dim, sizeof(double));
         swim_dynamics_initial_state(&d, y);

@@ -12,7 +12,7 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static swim_scene s;
-    int rc = swim_scene_parse((const char *)data, size, "fuzz.toml", &s);
+    int rc = swim_scene_parse((const char *)data, size, "fuzz.toml", &s, NULL);
     if (rc == 0) {
         if (s.n != 2 * (s.modes + 1) || s.modes < 0 || s.modes > SWIM_KERNEL_MAX_MODES || !(s.t_end > 0) || !(s.output_step > 0)) abort();
         /* an accepted scene passed the run-settings check (the magnitude check needs the
