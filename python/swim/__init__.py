@@ -38,7 +38,8 @@ from . import _lib
 OK, EFAILED, EINPUT, ENOMEM, EKERNEL = (_lib.SWIM_OK, _lib.SWIM_EFAILED, _lib.SWIM_EINPUT,
                                         _lib.SWIM_ENOMEM, _lib.SWIM_EKERNEL)
 
-__all__ = ["run", "sweep", "spec_values", "inspect", "strerror", "Model", "Result", "Error", "SceneError",
+__all__ = ["run", "sweep", "spec_values", "inspect", "strerror", "Model", "Result", "Simulation", "Event", "Lyapunov",
+           "Error", "SceneError",
            "KernelError", "LibraryNotFound", "OK", "EFAILED", "EINPUT", "ENOMEM", "EKERNEL", "MAX_MEMBERS",
            "__version__"]
 
@@ -622,3 +623,8 @@ def inspect(modes, shape, velocity=None, rho0=1.0, rhof=1.0, full=True):
         raise _error(err)
     out["jmin"] = ins.jmin
     return out
+
+
+# ---- a run to step through ------------------------------------------------------------------
+
+from ._simulation import Event, Lyapunov, Simulation  # noqa: E402  (it builds on the names above)

@@ -150,7 +150,9 @@ typedef struct {
     const char *column;               /* trajectory.csv's name of the column, "am1" */
     const char *kind;                 /* "zero", "min" or "max" */
     double value;                     /* the column's value there */
-    const double *state;              /* the state there: nstate values in the layout of swim_sim_state */
+    const double *state;              /* the state there: nstate values in the layout of swim_sim_state, the
+                                         interpolant's (a row there is it projected onto the
+                                         constraints, as every row: equal to rounding) */
     int nstate;
 } swim_event;
 
