@@ -121,3 +121,28 @@ def test_lyapunov_is_summary_json(tmp_path):
         horizon = want["horizon"]
         assert lyap.horizon == (math.inf if horizon is None else horizon)
         assert sim.lyapunov_exponent == lyap.exponent and len(lyap.t) == 8
+
+
+def test_sweep_on_threads_is_sweep():
+    def strip(rows):   # everything but the timings
+        return [{k: v for k, v in r.items() if "seconds" not in k} for r in rows]
+
+    vary = {"model.rho0": "0.5:2:6", "elastic.stiffness[2]": [1.0, 3.0]}
+    one = swim.sweep(EX3, vary=vary, t_end=1)
+    two = swim.sweep(EX3, vary=vary, t_end=1, threads=2)
+    assert strip(two) == strip(one) and [r["id"] for r in two] == list(range(12))
+    assert all(r["completed"] for r in one)
+    # each member equals its own run
+    assert one[7]["y"] == swim.run(EX3, t_end=1, set={"model.rho0": 1.4, "elastic.stiffness[2]": 3.0}).final_state["y"]
+    # a structure key varied: a model per member, the same rows as one after another
+    modes = swim.sweep(EX3, vary={"elastic.stiffness[3]": [0.0, 1.0, 0.0]}, t_end=0.5, threads=2)
+    assert strip(modes) == strip(swim.sweep(EX3, vary={"elastic.stiffness[3]": [0.0, 1.0, 0.0]}, t_end=0.5))
+    assert modes[1]["y"] == swim.run(EX3, t_end=0.5, set={"elastic.stiffness[3]": 1.0}).final_state["y"]
+    # a member that fails is a row; a bad member is refused before any runs, naming it
+    barrier = os.path.join(ROOT, "models", "hard", "near_boundary_a05.toml")
+    hard = swim.sweep(barrier, vary={"run.origin_shift": [True, False]}, t_end=4, threads=2)
+    assert hard[0]["completed"] and not hard[1]["completed"] and hard[1]["status"] == "failed"
+    with pytest.raises(swim.SceneError, match="member 1"):
+        swim.sweep(EX3, vary={"model.rho0": [1.0, -1.0, 2.0]}, t_end=1, threads=2)
+    with pytest.raises(swim.SceneError):
+        swim.sweep(EX3, vary={"model.rho0": [1.0]}, threads=0)
