@@ -39,6 +39,7 @@ OK, EFAILED, EINPUT, ENOMEM, EKERNEL = (_lib.SWIM_OK, _lib.SWIM_EFAILED, _lib.SW
                                         _lib.SWIM_ENOMEM, _lib.SWIM_EKERNEL)
 
 __all__ = ["run", "sweep", "spec_values", "inspect", "strerror", "Model", "Result", "Simulation", "Event", "Lyapunov",
+           "periodic", "floquet", "continuation", "optimize", "Periodic", "Floquet", "Continuation", "Optimize",
            "Error", "SceneError",
            "KernelError", "LibraryNotFound", "OK", "EFAILED", "EINPUT", "ENOMEM", "EKERNEL", "MAX_MEMBERS",
            "__version__"]
@@ -580,9 +581,13 @@ def sweep(scene, vary, overrides=None, zipped=None, integrator=None, rtol=None, 
     import threading
     local, opened = threading.local(), []
 
+    spare = []   # models opened here, one per thread, before the threads start
+
     def model_for(i, values):
         """(model, whether it is the member's own, to be closed after it)."""
         m = getattr(local, "model", None)
+        if m is None and spare:
+            m = local.model = spare.pop()
         if m is not None and getattr(local, "settable", True):
             try:
                 for k, v in values.items():
@@ -627,6 +632,16 @@ def sweep(scene, vary, overrides=None, zipped=None, integrator=None, rtol=None, 
     def each(fn):
         if threads == 1:
             return [fn(i, values) for i, values in enumerate(members())]
+        # the threads' models opened one after another here: threads opening the same kernel at
+        # once would wait on its cache entry's lock
+        first = next(members(), None)
+        while first is not None and len(spare) < min(threads, _count):
+            try:
+                m = model(0, first)
+            except Error:
+                break   # member 0 is bad: the check says so
+            opened.append(m)
+            spare.append(m)
         return _on_threads(fn, enumerate(members()), threads, _count)
 
     try:
@@ -724,3 +739,4 @@ def inspect(modes, shape, velocity=None, rho0=1.0, rhof=1.0, full=True):
 # ---- a run to step through ------------------------------------------------------------------
 
 from ._simulation import Event, Lyapunov, Simulation  # noqa: E402  (it builds on the names above)
+from ._commands import Continuation, Floquet, Optimize, Periodic, continuation, floquet, optimize, periodic  # noqa: E402,F401

@@ -146,3 +146,51 @@ def test_sweep_on_threads_is_sweep():
         swim.sweep(EX3, vary={"model.rho0": [1.0, -1.0, 2.0]}, t_end=1, threads=2)
     with pytest.raises(swim.SceneError):
         swim.sweep(EX3, vary={"model.rho0": [1.0]}, threads=0)
+
+
+def cli_json(tmp_path, cmd, scene, name, *args):
+    out = tmp_path / cmd
+    p = subprocess.run([SWIM, cmd, scene, "--out", str(out), "--quiet", *args], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    import json
+    with open(out / name) as f:
+        return json.load(f), out
+
+
+def untimed(d):
+    """A JSON value without its timings (seconds differ from run to run)."""
+    if isinstance(d, dict):
+        return {k: untimed(v) for k, v in d.items() if "seconds" not in k}
+    if isinstance(d, list):
+        return [untimed(v) for v in d]
+    return d
+
+
+def test_periodic_and_floquet_are_the_commands_files(tmp_path):
+    ex1 = os.path.join(ROOT, "models", "example1.toml")
+    want, _ = cli_json(tmp_path, "periodic", ex1, "periodic.json")
+    p = swim.periodic(ex1)
+    assert untimed(p.json) == untimed(want) and p.converged and p.period == want["period"]
+    tangent = want["floquet"]["multipliers_tangent"]
+    assert p.floquet["multipliers_tangent"].tolist() == [complex(m["re"], m["im"]) for m in tangent]
+    assert p.phase_point == want["phase_point"]
+    want, _ = cli_json(tmp_path, "floquet", EX3, "floquet.json", "--event", "am1:max")
+    f = swim.floquet(EX3, event="am1:max")
+    assert untimed(f.json) == untimed(want) and f.monodromy.tolist() == want["monodromy"]
+    with pytest.raises(swim.SceneError):
+        swim.periodic(EX3, overrides={"model.rho0": -1})
+
+
+def test_continuation_is_branch_csv(tmp_path):
+    ex1 = os.path.join(ROOT, "models", "example1.toml")
+    _, out = cli_json(tmp_path, "continue", ex1, "branch.json", "--param", "energy=0.1:0.15", "--max-points", "2")
+    c = swim.continuation(ex1, "energy", 0.1, 0.15, max_points=2)
+    with open(out / "branch.csv") as f:
+        rows = list(csv.reader(f))
+    assert list(c.columns) == rows[0]
+    for i, name in enumerate(rows[0]):
+        try:
+            want = np.array([float(r[i]) if r[i] != "" else math.nan for r in rows[1:]])
+            assert np.array_equal(c.table[name], want, equal_nan=True), name
+        except ValueError:   # a column of words
+            assert c.table[name].tolist() == [r[i] for r in rows[1:]], name
