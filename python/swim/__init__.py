@@ -634,6 +634,7 @@ def sweep(scene, vary, overrides=None, zipped=None, integrator=None, rtol=None, 
             return [fn(i, values) for i, values in enumerate(members())]
         # the threads' models opened one after another here: threads opening the same kernel at
         # once would wait on its cache entry's lock
+        spare[:] = opened   # the models of the threads of a pass before (none are in use)
         first = next(members(), None)
         while first is not None and len(spare) < min(threads, _count):
             try:

@@ -14,7 +14,7 @@ the values swim sweep computes from that SPEC, swim.spec_values), to t = BENCH_P
 The kernels are cached before timing (one warm-up run). Every member's final y of each way is
 checked against members.csv's (the same doubles), so all ran the same family.
 Then the threads on longer members, where the integration is most of a member's time:
-swim.sweep of BENCH_PY_LONG members (default "0.5:2:20") to t = BENCH_PY_LONG_T_END (default 30)
+swim.sweep of BENCH_PY_LONG members (default "0.5:2:20") to t = BENCH_PY_LONG_T_END (default 300)
 with threads=1 and threads=2 (the same rows checked). Run on 2 cores: the threads only gain when
 the other core is free, so the load average is printed beside the numbers.
 Writes build/bench/python_loop.csv and prints the tables."""
@@ -38,7 +38,7 @@ T_END = float(os.environ.get("BENCH_PY_T_END", "1"))
 REPEATS = int(os.environ.get("BENCH_PY_REPEATS", "3"))
 KEY = "model.rho0"
 LONG = os.environ.get("BENCH_PY_LONG", "0.5:2:20")
-LONG_T_END = float(os.environ.get("BENCH_PY_LONG_T_END", "30"))
+LONG_T_END = float(os.environ.get("BENCH_PY_LONG_T_END", "300"))
 
 
 def python_loop(values):
