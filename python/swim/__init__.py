@@ -161,7 +161,23 @@ def _c_strings(strings, key, file=None):
 
 # ---- models ---------------------------------------------------------------------------------
 
-class Model:
+class _Closing:
+    """An object of the library freed by close(): in a with block, and by the garbage collector."""
+
+    def close(self):
+        pass
+
+    def __del__(self):
+        self.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class Model(_Closing):
     """A scene read and validated once, with its overrides and its kernels (swim_model): run it any
     number of times, changing run-time keys in place between runs with set().
 
@@ -246,14 +262,6 @@ class Model:
         if self.ptr and _L is not None:   # (at interpreter exit the module's globals may be gone)
             _L.swim_model_free(self.ptr)
             self.ptr = None
-
-    __del__ = close
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def __repr__(self):
         return "<swim.Model %s%s>" % (self.name, "" if self.ptr else " (closed)")

@@ -7,7 +7,7 @@ import numpy as np
 
 from . import _lib
 from . import (EFAILED, OK, Error, Model, Result, SceneError, EINPUT, _L, _alias, _c_strings, _c_text,  # noqa: F401
-               _error, _overrides, _parse_events, _Rows, _scene_name, _take_text)
+               _Closing, _error, _overrides, _parse_events, _Rows, _scene_name, _take_text)
 
 
 class Event:
@@ -51,7 +51,7 @@ class Lyapunov:
         return "<swim.Lyapunov exponent %r (%s), horizon %r>" % (self.exponent, self.verdict, self.horizon)
 
 
-class Simulation:
+class Simulation(_Closing):
     """One run of a scene to step through, as heyoka's integrators or solve_ivp's dense output:
 
         sim = swim.Simulation("models/example3.toml", t_end=10, events=["am1:max"],
@@ -331,14 +331,6 @@ class Simulation:
         self._free()
         if self._model is not None:
             self._model.close()
-
-    __del__ = close
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def __repr__(self):
         return "<swim.Simulation %s at t = %r%s>" % (self.name, self.t, "" if self._sim else " (closed)")
