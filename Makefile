@@ -40,7 +40,7 @@ PREFIX     ?= /usr/local
 # Debian packages a fresh machine lacks (checked by `make deps`). libjansson-dev: the JSON parser
 # that reads summaries back (runtime/driver/summary_read.c). python3-pip, -venv, -setuptools,
 # -wheel: `pip install ./python` offline into a virtual environment (tests/test_python_pip.sh).
-DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev libjansson-dev python3-sympy python3-numpy python3-matplotlib python3-pytest python3-pip python3-venv python3-setuptools python3-wheel strace
+DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev libjansson-dev python3-sympy python3-numpy python3-matplotlib python3-pytest python3-pip python3-venv python3-setuptools python3-wheel strace jupyter-nbconvert python3-nbclient python3-ipykernel
 # Installed on demand by the targets that need them (animations, the page and its browser test):
 # ffmpeg pulls ~90 packages and chromium ~280 MB, too much for a plain build.
 MEDIA_PKGS := ffmpeg chromium

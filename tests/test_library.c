@@ -50,7 +50,7 @@ static int model_rows(const swim_model *m, rows *out, swim_result *res)
     swim_sim *s;
     swim_error e = SWIM_ERROR_INIT;
     memset(out, 0, sizeof *out);
-    swim_sim_options o = {sizeof o, keep_row, out, NULL, 0, NULL};
+    swim_sim_options o = {.size = sizeof o, .rows = keep_row, .rows_ctx = out};
     if (swim_sim_create(m, &o, &s, &e) != SWIM_OK) return -1;
     const int rc = swim_sim_run(s, &e);
     swim_sim_result(s, res);
@@ -66,7 +66,7 @@ static int run_rows(const char *path, const char *const *sets, int nsets, double
     swim_error e = SWIM_ERROR_INIT;
     memset(out, 0, sizeof *out);
     if (swim_model_from_file(path, sets, nsets, &m, &e) != SWIM_OK) return -1;
-    swim_sim_options o = {sizeof o, keep_row, out, NULL, 0, NULL};
+    swim_sim_options o = {.size = sizeof o, .rows = keep_row, .rows_ctx = out};
     if (swim_sim_create(m, &o, &s, &e) != SWIM_OK) {
         swim_model_free(m);
         return -1;
@@ -129,13 +129,13 @@ static void test_errors(void)
     CHECK(rc == SWIM_OK && m, "a good scene after the errors loads");
     swim_sim *s = NULL;
     const char *ev[] = {"nosuchcolumn:max"};
-    swim_sim_options o = {sizeof o, NULL, NULL, ev, 1, NULL};
+    swim_sim_options o = {.size = sizeof o, .events = ev, .nevents = 1};
     rc = swim_sim_create(m, &o, &s, &e);
     CHECK(rc == SWIM_EINPUT && s == NULL && strstr(e.message, "nosuchcolumn"), "a bad event: %s", e.message);
     /* the caller's callback stops the run */
     rows r = {0};
     r.stop_after = 3;
-    swim_sim_options o2 = {sizeof o2, keep_row, &r, NULL, 0, NULL};
+    swim_sim_options o2 = {.size = sizeof o2, .rows = keep_row, .rows_ctx = &r};
     CHECK(swim_sim_create(m, &o2, &s, &e) == SWIM_OK, "a simulation");
     rc = swim_sim_run(s, &e);
     swim_result res = SWIM_RESULT_INIT;
@@ -387,7 +387,7 @@ static void test_model_set(void)
     /* a simulation created before the set keeps rho0 = 1 */
     swim_sim *old = NULL;
     rows old_rows = {0};
-    swim_sim_options o = {sizeof o, keep_row, &old_rows, NULL, 0, NULL};
+    swim_sim_options o = {.size = sizeof o, .rows = keep_row, .rows_ctx = &old_rows};
     CHECK(swim_sim_create(m, &o, &old, &e) == SWIM_OK, "a simulation before the set");
     CHECK(swim_model_set(m, "model.rho0", "2", &e) == SWIM_OK, "model.rho0 set to 2: %s", e.message);
     model_rows(m, &after, &ra);

@@ -131,7 +131,7 @@ static void test_sim_arguments(void)
 
     /* the stop flag: 1 is a request to stop, not SIGHUP */
     int flag[2] = {0, 0};
-    swim_sim_options os = {sizeof os, stop_after_rows, flag, NULL, 0, (volatile int *)&flag[0]};
+    swim_sim_options os = {.size = sizeof os, .rows = stop_after_rows, .rows_ctx = flag, .stop = (volatile int *)&flag[0]};
     CHECK(swim_sim_create(m, &os, &s, &e) == SWIM_OK, "a simulation with a stop flag");
     const int rc = swim_sim_run(s, &e);
     swim_sim_result(s, &r);

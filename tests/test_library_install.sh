@@ -31,7 +31,7 @@ export PKG_CONFIG_PATH="$prefix/lib/pkgconfig"
 # only swim.h's functions are exported by the shared library
 others=$(nm -D --defined-only "$prefix/lib/libswim.so" | awk '$2 == "T" && $3 !~ /^swim_(version|free|inspect|strerror|struct_size)$|^swim_(model|sim)_/ {print $3}' | head -5)
 [ -z "$others" ] && ok || bad "libswim.so exports more than swim.h: $others"
-for f in swim_strerror swim_model_set swim_struct_size; do
+for f in swim_strerror swim_model_set swim_struct_size swim_sim_state_at swim_sim_sensitivity swim_sim_lyapunov; do
     nm -D --defined-only "$prefix/lib/libswim.so" | grep -q " T $f\$" && ok || bad "libswim.so does not export $f"
 done
 # one ABI number: swim.h's SWIM_ABI is the SONAME's, the installed symlink's and the Python package's

@@ -38,7 +38,9 @@ from . import _lib
 OK, EFAILED, EINPUT, ENOMEM, EKERNEL = (_lib.SWIM_OK, _lib.SWIM_EFAILED, _lib.SWIM_EINPUT,
                                         _lib.SWIM_ENOMEM, _lib.SWIM_EKERNEL)
 
-__all__ = ["run", "sweep", "spec_values", "inspect", "strerror", "Model", "Result", "Error", "SceneError",
+__all__ = ["run", "sweep", "spec_values", "inspect", "strerror", "Model", "Result", "Simulation", "Event", "Lyapunov",
+           "periodic", "floquet", "continuation", "optimize", "Periodic", "Floquet", "Continuation", "Optimize",
+           "Error", "SceneError",
            "KernelError", "LibraryNotFound", "OK", "EFAILED", "EINPUT", "ENOMEM", "EKERNEL", "MAX_MEMBERS",
            "__version__"]
 
@@ -159,7 +161,23 @@ def _c_strings(strings, key, file=None):
 
 # ---- models ---------------------------------------------------------------------------------
 
-class Model:
+class _Closing:
+    """An object of the library freed by close(): in a with block, and by the garbage collector."""
+
+    def close(self):
+        pass
+
+    def __del__(self):
+        self.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class Model(_Closing):
     """A scene read and validated once, with its overrides and its kernels (swim_model): run it any
     number of times, changing run-time keys in place between runs with set().
 
@@ -244,14 +262,6 @@ class Model:
         if self.ptr and _L is not None:   # (at interpreter exit the module's globals may be gone)
             _L.swim_model_free(self.ptr)
             self.ptr = None
-
-    __del__ = close
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def __repr__(self):
         return "<swim.Model %s%s>" % (self.name, "" if self.ptr else " (closed)")
@@ -524,8 +534,9 @@ def _member_row(i, values, r):
 
 
 def sweep(scene, vary, overrides=None, zipped=None, integrator=None, rtol=None, atol=None, t_end=None,
-          output_step=None, events=None, results=False, *, set=None, zip=None):
-    """Run a family of a scene in this process, one member after another, as `swim sweep` would.
+          output_step=None, events=None, results=False, threads=1, *, set=None, zip=None):
+    """Run a family of a scene in this process, as `swim sweep` would: one member after another, or
+    on `threads` threads at once.
 
     vary         {KEY: [values, ...] or "SPEC", ...} (SPEC as swim sweep's: "0.5:2:16",
                  "log:1e-3:1:4", "1,2,5"; spec_values): the members are the Cartesian product of the lists
@@ -534,15 +545,19 @@ def sweep(scene, vary, overrides=None, zipped=None, integrator=None, rtol=None, 
     overrides (alias set), integrator, rtol, atol, t_end, output_step, events
                  as for run(), the same for every member
     results      True: each row also holds the member's Result under "result" (its rows kept)
+    threads      K > 1: the members on K threads of this process (libswim runs without the GIL,
+                 so K cores work at once); the rows are the same, bit for bit, in member-id order
 
     Returns one dict per member in id order, with members.csv's names: id, the varied keys,
     status, reason, t_reached, x, y, theta, energy_drift_rel, energy_balance_abs, jmin, steps,
     rhs_evaluations, integrate_seconds, wall_seconds (read from the member's summary at the paths
     swim sweep reads), and completed (a bool). Every member is loaded and validated before any
     runs: bad input raises SceneError naming the member ("member 1 (model.rho0=-1): ..."). A failed
-    member is a row with completed False; the family goes on. The member count is bounded first
-    (MAX_MEMBERS, as swim sweep's), and one member's model is open at a time (a model holds its
-    kernels' file descriptors: a model kept per member would run out of them).
+    member is a row with completed False (also one whose run raised an error of the library:
+    status "failed", reason its message); the family goes on. The member count is bounded first
+    (MAX_MEMBERS, as swim sweep's). A model is opened once per thread and each member's varied keys
+    are set in it (Model.set; a key that cannot be set in place, a structure key, opens a model for
+    that member alone), so the scene is read and its kernels loaded once per thread, not per member.
     """
     overrides = _alias(overrides, set, "overrides", "set")
     zipped = bool(_alias(zipped, zip, "zipped", "zip"))
@@ -554,6 +569,10 @@ def sweep(scene, vary, overrides=None, zipped=None, integrator=None, rtol=None, 
     if twice:
         raise SceneError(EINPUT, "%s: both varied and set" % ", ".join(twice), key=twice[0])
 
+    if isinstance(threads, bool) or not isinstance(threads, numbers.Integral) or threads < 1:
+        raise SceneError(EINPUT, "threads must be an integer >= 1, not %r" % (threads,), key="threads")
+    threads = int(threads)
+
     def model(i, values):
         sets = _overrides(scene, values) + fixed
         try:
@@ -564,17 +583,119 @@ def sweep(scene, vary, overrides=None, zipped=None, integrator=None, rtol=None, 
             e.args = (e.message,)
             raise
 
-    for i, values in enumerate(members()):   # every member validated before any runs
-        model(i, values).close()
-    rows = []
-    for i, values in enumerate(members()):
-        with model(i, values) as m:
-            r = _simulate(m, events, rows=results)
+    # One model per thread, its varied keys set in place for each member (Model.set: bit for bit a
+    # model opened with them, without reading the scene or loading kernels again); a member whose
+    # keys cannot be set (a structure key) gets a model of its own. Every model is closed at the end.
+    import threading
+    local, opened = threading.local(), []
+
+    spare = []   # models opened here, one per thread, before the threads start
+
+    def model_for(i, values):
+        """(model, whether it is the member's own, to be closed after it)."""
+        m = getattr(local, "model", None)
+        if m is None and spare:
+            m = local.model = spare.pop()
+        if m is not None and getattr(local, "settable", True):
+            try:
+                for k, v in values.items():
+                    m.set(k, v)
+                return m, False
+            except SceneError:
+                local.settable = False   # kept as it was; opening the member says whether it is bad
+        own = model(i, values)
+        if m is None:
+            local.model = own
+            opened.append(own)
+            return own, False
+        return own, True
+
+    def check(i, values):
+        try:
+            m, own = model_for(i, values)
+            if own:
+                m.close()
+        except Error as e:
+            return e
+        return None
+
+    def member(i, values):
+        try:
+            m, own = model_for(i, values)
+            try:
+                r = _simulate(m, events, rows=results)
+            finally:
+                if own:
+                    m.close()
+        except Error as e:   # out of memory, a kernel gone since the check: a failed member, not the family's end
+            row = {"id": i}
+            row.update(values)
+            row.update({"status": "failed", "completed": False, "reason": e.message})
+            return row
         row = _member_row(i, values, r)
         if results:
             row["result"] = r
-        rows.append(row)
-    return rows
+        return row
+
+    def each(fn):
+        if threads == 1:
+            return [fn(i, values) for i, values in enumerate(members())]
+        # the threads' models opened one after another here: threads opening the same kernel at
+        # once would wait on its cache entry's lock
+        spare[:] = opened   # the models of the threads of a pass before (none are in use)
+        first = next(members(), None)
+        while first is not None and len(spare) < min(threads, _count):
+            try:
+                m = model(0, first)
+            except Error:
+                break   # member 0 is bad: the check says so
+            opened.append(m)
+            spare.append(m)
+        return _on_threads(fn, enumerate(members()), threads, _count)
+
+    try:
+        # every member validated before any runs; the first bad one by id is raised
+        for e in each(check):
+            if e is not None:
+                raise e
+        return each(member)
+    finally:
+        for m in opened:
+            m.close()
+
+
+def _on_threads(fn, items, threads, count):
+    """[fn(*item) for item in items] on `threads` threads, in the items' order: each thread takes the
+    next item (one at a time, so that a family of any length is never listed whole). The first
+    exception (KeyboardInterrupt included) stops the others at their next item and is raised."""
+    import threading
+    out = [None] * count
+    lock = threading.Lock()
+    failed = []
+
+    def work():
+        while True:
+            with lock:
+                if failed:
+                    return
+                item = next(items, None)
+            if item is None:
+                return
+            try:
+                out[item[0]] = fn(*item)
+            except BaseException as e:
+                with lock:
+                    failed.append(e)
+                return
+
+    pool = [threading.Thread(target=work, daemon=True) for _ in range(min(threads, max(1, count)))]
+    for t in pool:
+        t.start()
+    for t in pool:
+        t.join()
+    if failed:
+        raise failed[0]
+    return out
 
 
 # ---- inspection -----------------------------------------------------------------------------
@@ -622,3 +743,9 @@ def inspect(modes, shape, velocity=None, rho0=1.0, rhof=1.0, full=True):
         raise _error(err)
     out["jmin"] = ins.jmin
     return out
+
+
+# ---- a run to step through ------------------------------------------------------------------
+
+from ._simulation import Event, Lyapunov, Simulation  # noqa: E402  (it builds on the names above)
+from ._commands import Continuation, Floquet, Optimize, Periodic, continuation, floquet, optimize, periodic  # noqa: E402,F401

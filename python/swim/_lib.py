@@ -40,13 +40,31 @@ ROW_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double,
                           ctypes.POINTER(ctypes.c_double), ctypes.c_int)
 
 
+class swim_event(_Sized):
+    """Filled by the library (its size is the library's): the fields read are the ones here."""
+    _fields_ = [("size", ctypes.c_size_t),
+                ("t", ctypes.c_double),
+                ("column", ctypes.c_char_p),
+                ("kind", ctypes.c_char_p),
+                ("value", ctypes.c_double),
+                ("state", ctypes.POINTER(ctypes.c_double)),
+                ("nstate", ctypes.c_int)]
+
+
+EVENT_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.POINTER(swim_event))
+
+
 class swim_sim_options(_Sized):
     _fields_ = [("size", ctypes.c_size_t),
                 ("rows", ROW_FN),
                 ("rows_ctx", ctypes.c_void_p),
                 ("events", ctypes.POINTER(ctypes.c_char_p)),
                 ("nevents", ctypes.c_int),
-                ("stop", ctypes.POINTER(ctypes.c_int))]
+                ("stop", ctypes.POINTER(ctypes.c_int)),
+                ("on_event", EVENT_FN),
+                ("event_ctx", ctypes.c_void_p),
+                ("sensitivity", ctypes.c_char_p),
+                ("lyapunov", ctypes.c_double)]
 
 
 class swim_result(_Sized):
@@ -80,8 +98,25 @@ class swim_inspection(_Sized):
                 ("christoffel", _PD)]
 
 
+class swim_lyapunov_result(_Sized):
+    _fields_ = [("size", ctypes.c_size_t),
+                ("computed", ctypes.c_int),
+                ("exponent", ctypes.c_double),
+                ("exponent_second_half", ctypes.c_double),
+                ("verdict", ctypes.c_char_p),
+                ("horizon", ctypes.c_double),
+                ("horizon_from_exponent", ctypes.c_double),
+                ("interval", ctypes.c_double),
+                ("t_end", ctypes.c_double),
+                ("rtol", ctypes.c_double),
+                ("segments", ctypes.c_int),
+                ("t", _PD),
+                ("log_growth", _PD),
+                ("reason", ctypes.c_char_p)]
+
+
 # The mirrors checked against the library at load, by swim.h's names.
-MIRRORS = (swim_error, swim_sim_options, swim_result, swim_inspection)
+MIRRORS = (swim_error, swim_sim_options, swim_result, swim_inspection, swim_event, swim_lyapunov_result)
 
 
 def size_mismatches(lib, mirrors=None):
@@ -162,6 +197,10 @@ def _declare(lib):
         "swim_sim_summary_json": (c_void_p, [c_void_p]),
         "swim_sim_events_csv": (c_void_p, [c_void_p]),
         "swim_sim_free": (None, [c_void_p]),
+        "swim_sim_state_at": (c_int, [c_void_p, c_double, _PD, c_int, err]),
+        "swim_sim_sensitivity": (c_int, [c_void_p, ctypes.POINTER(sets), ctypes.POINTER(c_int), ctypes.POINTER(_PD),
+                                         ctypes.POINTER(ctypes.c_long)]),
+        "swim_sim_lyapunov": (c_int, [c_void_p, ctypes.POINTER(swim_lyapunov_result)]),
         "swim_inspect": (c_int, [c_int, _PD, _PD, c_double, c_double, ctypes.POINTER(swim_inspection), err]),
         "swim_free": (None, [c_void_p]),
     }

@@ -511,8 +511,13 @@ int swim_sens_final(swim_sens *S, const char *integrator, double t_end, double *
     return orc == SWIM_ODE_OK ? 0 : 1;
 }
 
-int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double t_end,
-                        double *seconds, long *rhs_calls, swim_status *status)
+/* The rows of swim_sens_write_run to a sink: row(ctx, names, ncol, values) for each, nonzero
+ * when it could not be kept (the cause in st). `where` names the rows' destination in the line of a
+ * failure. */
+typedef int (*sens_row_fn)(void *ctx, const char *const *names, int ncol, const double *row, swim_status *st);
+
+static int sens_rows(swim_sens *S, const char *integrator, double t_end, sens_row_fn sink, void *ctx,
+                     const char *where, double *seconds, long *rhs_calls, swim_status *status)
 {
     static const char *const what[] = {"dx", "dy", "dtheta", "denergy", "dwork"};
     const swim_scene *s = S->d->scene;
@@ -522,7 +527,6 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
     char **names = calloc((size_t)ncol, sizeof *names);
     double *Y = malloc(sizeof(double) * N), *row = malloc(sizeof(double) * ncol), *atolv = NULL;
     int rc = 1;
-    swim_csv csv = {0};
     swim_ode *ode = NULL;
     if (!names || !Y || !row) goto oom;
     names[0] = strdup("t");
@@ -537,10 +541,7 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
         }
     for (int c = 0; c < ncol; c++)
         if (!names[c]) goto oom;
-    if (swim_csv_open(&csv, csv_path, (const char *const *)names, ncol) != 0) {
-        swim_status_fail(status, "swim", NULL, 0, NULL, "%s: cannot write: %s", csv_path, strerror(errno));
-        goto done;
-    }
+    if (sink(ctx, (const char *const *)names, ncol, NULL, status) != 0) goto done;   /* the header */
     int orc = open_augmented(S, integrator, Y, &atolv, &ode);
     if (orc < 0) goto oom;
     const long rows = (long)floor(t_end / s->output_step + 1e-9);
@@ -563,17 +564,14 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
             row[5 + 5 * j] = sj[n - 1];
             for (int c = 0; c < 2 * nf; c++) row[nhead + 2 * nf * j + c] = sj[3 + c];
         }
-        if (swim_csv_row(&csv, row) != 0) {
-            swim_status_fail(status, "swim", NULL, 0, NULL, "%s: write failed at t = %.6g: %s", csv_path, t, strerror(errno));
-            goto done;
-        }
+        if (sink(ctx, (const char *const *)names, ncol, row, status) != 0) goto done;
         S->rows++;
         S->t_last = t;
     }
     if (orc != SWIM_ODE_OK) {
         int st = ode ? swim_ode_rhs_status(ode) : 0;
         swim_status_fail(status, "swim", NULL, 0, NULL, "sensitivities stopped at t = %.6g: %s%s%s; rows up to there are in %s",
-                         t, swim_ode_strerror(orc), st ? ": " : "", st ? swim_dynamics_strerror(st) : "", csv_path);
+                         t, swim_ode_strerror(orc), st ? ": " : "", st ? swim_dynamics_strerror(st) : "", where);
         goto done;
     }
     rc = 0;
@@ -587,13 +585,81 @@ done:
         if (rhs_calls) *rhs_calls = st.rhs_evals;
         swim_ode_free(ode);
     }
-    if (swim_csv_close(&csv) != 0 && rc == 0) {
-        swim_status_fail(status, "swim", NULL, 0, NULL, "%s: cannot write: %s", csv_path, strerror(errno));
-        rc = 1;
-    }
     if (names)
         for (int c = 0; c < ncol; c++) free(names[c]);
     free(names); free(Y); free(row); free(atolv);
     if (seconds) *seconds = swim_clock_seconds() - t0;
     return rc;
+}
+
+typedef struct {
+    swim_csv csv;
+    const char *path;
+} csv_sink;
+
+static int csv_row(void *ctx, const char *const *names, int ncol, const double *row, swim_status *st)
+{
+    csv_sink *w = ctx;
+    if (!row) {
+        if (swim_csv_open(&w->csv, w->path, names, ncol) == 0) return 0;
+        swim_status_fail(st, "swim", NULL, 0, NULL, "%s: cannot write: %s", w->path, strerror(errno));
+        return 1;
+    }
+    if (swim_csv_row(&w->csv, row) == 0) return 0;
+    swim_status_fail(st, "swim", NULL, 0, NULL, "%s: write failed at t = %.6g: %s", w->path, row[0], strerror(errno));
+    return 1;
+}
+
+int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double t_end,
+                        double *seconds, long *rhs_calls, swim_status *status)
+{
+    csv_sink w = {{0}, csv_path};
+    int rc = sens_rows(S, integrator, t_end, csv_row, &w, csv_path, seconds, rhs_calls, status);
+    if (swim_csv_close(&w.csv) != 0 && rc == 0) {
+        swim_status_fail(status, "swim", NULL, 0, NULL, "%s: cannot write: %s", csv_path, strerror(errno));
+        rc = 1;
+    }
+    return rc;
+}
+
+/* The rows in memory (swim_sens_table). */
+static int table_row(void *ctx, const char *const *names, int ncol, const double *row, swim_status *st)
+{
+    swim_sens_table *T = ctx;
+    if (!row) {
+        if (!(T->names = calloc((size_t)ncol, sizeof *T->names))) goto oom;
+        T->ncol = ncol;
+        for (int c = 0; c < ncol; c++)
+            if (!(T->names[c] = strdup(names[c]))) goto oom;
+        return 0;
+    }
+    if (T->nrows == T->cap) {
+        const long cap = T->cap ? 2 * T->cap : 64;
+        double *v = realloc(T->values, sizeof(double) * (size_t)cap * (size_t)ncol);
+        if (!v) goto oom;
+        T->values = v;
+        T->cap = cap;
+    }
+    memcpy(T->values + (size_t)T->nrows * (size_t)ncol, row, sizeof(double) * (size_t)ncol);
+    T->nrows++;
+    return 0;
+oom:
+    swim_status_fail(st, "swim", NULL, 0, NULL, "out of memory computing sensitivities");
+    return 1;
+}
+
+int swim_sens_rows_table(swim_sens *S, const char *integrator, double t_end, swim_sens_table *T, double *seconds,
+                         long *rhs_calls, swim_status *st)
+{
+    memset(T, 0, sizeof *T);
+    return sens_rows(S, integrator, t_end, table_row, T, "memory", seconds, rhs_calls, st);
+}
+
+void swim_sens_table_free(swim_sens_table *T)
+{
+    if (!T) return;
+    for (int c = 0; T->names && c < T->ncol; c++) free(T->names[c]);
+    free(T->names);
+    free(T->values);
+    memset(T, 0, sizeof *T);
 }

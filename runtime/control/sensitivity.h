@@ -106,6 +106,18 @@ double swim_sens_energy(swim_sens *S, const double *Y, int k);
  * stopped. *seconds gets the wall time of the integration and the rows. */
 int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_path, double t_end,
                         double *seconds, long *rhs_calls, swim_status *st);
+/* The same rows in memory: T->names[0 .. ncol) (sensitivity.csv's header) and T->values, nrows
+ * rows of ncol numbers, row-major (swim_sens_table_free). 0, or 1 with the cause in st (the rows
+ * up to there are kept). */
+typedef struct {
+    char **names;
+    int ncol;
+    double *values;
+    long nrows, cap;
+} swim_sens_table;
+int swim_sens_rows_table(swim_sens *S, const char *integrator, double t_end, swim_sens_table *T, double *seconds,
+                         long *rhs_calls, swim_status *st);
+void swim_sens_table_free(swim_sens_table *T);
 /* The same integration without rows: Y (swim_sens_dimension entries) gets the augmented state at
  * t_end. 0, or 1 with the cause in st. */
 int swim_sens_final(swim_sens *S, const char *integrator, double t_end, double *Y, long *rhs_calls, swim_status *st);

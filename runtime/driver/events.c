@@ -71,6 +71,9 @@ struct swim_run_events {
     double *cy, *cyp;        /* dim each */
     int cache_value, cache_deriv;
     double *drow;            /* dq/dt of every column at the cached point */
+    swim_run_event_listener listener;   /* swim_run_events_listen */
+    void *listener_ctx;
+    volatile int caller_stop;   /* the listener asked to stop (swim_ode_options.event_stop) */
 };
 
 static int parse_one(const char *text, const char *const *names, int ncol, spec *sp, char *why, size_t len)
@@ -235,7 +238,22 @@ static void on_event(const swim_ode_event_hit *hit, void *data)
                                    hit->index, hit->rising};
     if (hit->terminal)
         ev->stopped_by = hit->index;
+    if (ev->listener && ev->listener(ev->listener_ctx, ev->t0 + hit->t, sp->name, kind_names[sp->kind],
+                                     ev->rowv[sp->column], ev->rowv + 1, ev->nstate) != 0) {
+        ev->caller_stop = 1;
+        ev->stopped_by = hit->index;
+    }
 }
+
+void swim_run_events_listen(swim_run_events *ev, swim_run_event_listener fn, void *ctx)
+{
+    if (!ev)
+        return;
+    ev->listener = fn;
+    ev->listener_ctx = ctx;
+}
+
+int swim_run_events_caller_stopped(const swim_run_events *ev) { return ev && ev->caller_stop; }
 
 int swim_run_events_attach(swim_run_events *ev, swim_ode_options *o, size_t state_dim, int nstate,
                            swim_run_row_func row, void *ctx)
@@ -270,6 +288,7 @@ int swim_run_events_attach(swim_run_events *ev, swim_ode_options *o, size_t stat
     o->nevents = (size_t)ev->nspec;
     o->on_event = on_event;
     o->on_event_data = ev;
+    o->event_stop = ev->listener ? &ev->caller_stop : NULL;
     return 0;
 }
 

@@ -35,6 +35,18 @@ int swim_run_events_parse(const swim_scene *s, const char *const *extra, int nex
 int swim_run_events_attach(swim_run_events *ev, swim_ode_options *o, size_t state_dim, int nstate,
                            swim_run_row_func row, void *ctx);
 
+/* A caller told of every event as it is located: its time, column, kind ("zero", "min", "max"),
+ * the column's value there and the state there (trajectory.csv's columns 1 .. nstate: x, y,
+ * theta, the coordinates and their velocities). Nonzero stops the integration at that event, as
+ * a :stop event would (swim_run_events_caller_stopped then says so). An event found in a step
+ * the stiff fallback takes back (swim_run_events_rewind) has been told already. */
+typedef int (*swim_run_event_listener)(void *ctx, double t, const char *column, const char *kind, double value,
+                                       const double *state, int nstate);
+/* Before swim_run_events_attach. */
+void swim_run_events_listen(swim_run_events *ev, swim_run_event_listener fn, void *ctx);
+/* The listener asked to stop at the event that ended the run. */
+int swim_run_events_caller_stopped(const swim_run_events *ev);
+
 /* The integrator was restarted at t (stiff fallback): forget events found after t. */
 void swim_run_events_rewind(swim_run_events *ev, double t);
 

@@ -300,6 +300,10 @@ static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop
     swim_run *c = data;
     int rc;
     const double t0 = c->d.t_origin;
+    c->last_ta = t0 + step->ta;   /* swim_run_state_at: the interpolant's interval */
+    c->last_tb = t0 + step->tb;
+    c->last_origin = t0;
+    c->have_step = 1;
     if (t0 == 0.0) {
         rc = swim_run_watch_step(step, &c->watch, t_stop);
         if (rc) c->left_native = *t_stop;
@@ -785,7 +789,10 @@ static int advance_to(swim_run *c, double *t, double *t_last)
         rc = SWIM_ODE_OK;
     } else if (rc == SWIM_ODE_TERMINATED) {   /* ys holds the state at the event */
         *t = ode_time(c);
-        end_run(c, 0, "stopped by event %s at t = %.10g", swim_run_events_stop_name(c->events), *t);
+        if (swim_run_events_caller_stopped(c->events))   /* the caller's listener said stop */
+            stop(c, "stopped by the caller at event %s at t = %.10g", swim_run_events_stop_name(c->events), *t);
+        else
+            end_run(c, 0, "stopped by event %s at t = %.10g", swim_run_events_stop_name(c->events), *t);
         c->r.event_stop = 1;
         rc = SWIM_ODE_OK;
     } else if (rc == SWIM_ODE_ERHS && swim_ode_rhs_status(c->ode) == SWIM_DYN_EBARRIER && !stop_requested(c)) {
@@ -1094,6 +1101,24 @@ void swim_run_fail(swim_run *c, const char *reason)
 }
 
 const swim_run_result *swim_run_get_result(const swim_run *c) { return &c->res; }
+
+int swim_run_state_at(swim_run *c, double t, double *state, double *t_from, double *t_to)
+{
+    if (c->stroke || !c->ode || !c->have_step || c->last_origin != c->d.t_origin) return -1;
+    *t_from = c->last_ta;
+    *t_to = c->last_tb;
+    if (!(t >= c->last_ta && t <= c->last_tb)) return 1;
+    double *ys = malloc(sizeof(double) * (size_t)c->sdim), *full = malloc(sizeof(double) * (size_t)c->d.dim);
+    int rc = !ys || !full ? -1 : swim_ode_dense(c->ode, t - c->d.t_origin, ys, NULL) == SWIM_ODE_OK ? 0 : -1;
+    if (rc == 0) {   /* as a row is made (advance_to): the interpolant projected, then unpacked */
+        if (c->o.project) c->o.project(t, ys, &c->d);
+        swim_dynamics_unpack(&c->d, ys, full);
+        memcpy(state, full, sizeof(double) * (size_t)(3 + 2 * c->s->n));
+    }
+    free(ys);
+    free(full);
+    return rc;
+}
 
 swim_dynamics *swim_run_dynamics(swim_run *c) { return c->stroke ? swim_stroke_run_dynamics(c->stroke) : &c->d; }
 

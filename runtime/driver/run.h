@@ -147,6 +147,12 @@ int swim_run_advance(swim_run *run, double t);
 /* The output rows failed after the run (closing a file): the run is failed with this reason. */
 void swim_run_fail(swim_run *run, const char *reason);
 const swim_run_result *swim_run_get_result(const swim_run *run);
+/* The state at time t (trajectory.csv's columns 1 .. 3 + 2n: x, y, theta, c, cdot) from the
+ * interpolant of the last accepted step [*t_from, *t_to] (set whenever there is one), projected
+ * as a row is: a row's time gives the row's state bit for bit. 0; 1 when t is outside that step;
+ * -1 when there is no such step (a prescribed stroke, an integrator without dense output, no
+ * step yet, a restart since) or out of memory. */
+int swim_run_state_at(swim_run *run, double t, double *state, double *t_from, double *t_to);
 /* The run's dynamics (the scene's model at its kernels): for work after the run, sensitivities. */
 swim_dynamics *swim_run_dynamics(swim_run *run);
 void swim_run_free(swim_run *run);

@@ -85,6 +85,9 @@ struct swim_run {
     /* the last row's energy and work */
     double last_energy, last_work;
     double t_start;
+    /* the last accepted step, absolute times (swim_run_state_at), and the origin it was taken in */
+    double last_ta, last_tb, last_origin;
+    int have_step;
 };
 
 #endif

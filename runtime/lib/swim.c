@@ -20,6 +20,8 @@
 #include <string.h>
 
 #include "codegen/codegen.h"
+#include "control/lyapunov.h"
+#include "control/sensitivity.h"
 #include "driver/events.h"
 #include "driver/run.h"
 #include "driver/summary.h"
@@ -69,6 +71,14 @@ struct swim_sim {
     int caller_stopped;
     double t_asked;              /* the latest time swim_sim_advance was asked for */
     int bad_events;              /* sim_open refused an event */
+    int bad_option;              /* sim_open refused the sensitivity keys or the Lyapunov interval */
+    int analysed;                /* the analyses after the run were done (sim_analyses) */
+    char *sens_keys;             /* the options' sensitivity (a copy), NULL: none */
+    swim_sens_table sens;        /* its rows */
+    int sens_ok;
+    swim_lyapunov lyap;          /* the Lyapunov pass (o.lyapunov > 0) */
+    int lyap_done;
+    char lyap_reason[160];
 };
 
 /* ---- errors ---------------------------------------------------------------------------------- */
@@ -118,6 +128,7 @@ const char *swim_strerror(int status)
 #define OPTIONS_V1 FIRST_LAYOUT(swim_sim_options, stop)
 #define RESULT_V1 FIRST_LAYOUT(swim_result, rhs_evaluations)
 #define INSPECTION_V1 FIRST_LAYOUT(swim_inspection, christoffel)
+#define LYAPUNOV_V1 FIRST_LAYOUT(swim_lyapunov_result, reason)
 
 size_t swim_struct_size(const char *name)
 {
@@ -127,7 +138,9 @@ size_t swim_struct_size(const char *name)
     } sizes[] = {{"swim_error", sizeof(swim_error)},
                  {"swim_sim_options", sizeof(swim_sim_options)},
                  {"swim_result", sizeof(swim_result)},
-                 {"swim_inspection", sizeof(swim_inspection)}};
+                 {"swim_inspection", sizeof(swim_inspection)},
+                 {"swim_event", sizeof(swim_event)},
+                 {"swim_lyapunov_result", sizeof(swim_lyapunov_result)}};
     for (size_t i = 0; name && i < sizeof sizes / sizeof sizes[0]; i++)
         if (strcmp(name, sizes[i].name) == 0) return sizes[i].size;
     return 0;
@@ -413,6 +426,89 @@ static int sink_row(void *ctx, const swim_run_row *row, char *why, size_t len)
     return SWIM_RUN_ROW_STOP;
 }
 
+/* An event of the run to the caller's on_event (driver/events.h's listener). */
+static int sim_event(void *ctx, double t, const char *column, const char *kind, double value, const double *state,
+                     int nstate)
+{
+    swim_sim *s = ctx;
+    const swim_event e = {sizeof e, t, column, kind, value, state, nstate};
+    return s->o.on_event(s->o.event_ctx, &e) != 0;
+}
+
+/* The options' analyses checked before anything runs, as `swim run` checks --sensitivity and
+ * --lyapunov-interval (output/job.c): the keys resolved on the run's dynamics. */
+static int sim_check_analyses(swim_sim *s, swim_status *st)
+{
+    const char *keys = s->o.sensitivity;
+    if ((keys || s->o.lyapunov != 0) && s->s.stroke_count > 0) {
+        swim_status_fail(st, "swim", s->m->name, 0, keys ? "sensitivity" : "lyapunov", "%s: --%s: not available on a "
+                         "prescribed stroke: the variational equations are those of free shape dynamics only",
+                         s->m->name, keys ? "sensitivity" : "lyapunov");
+        s->bad_option = 1;
+        return SWIM_EINPUT;
+    }
+    if (s->o.lyapunov != 0 && !(s->o.lyapunov > 0 && s->s.t_end / s->o.lyapunov <= SWIM_LYAPUNOV_MAX_SEGMENTS)) {
+        swim_status_fail(st, "swim", s->m->name, 0, "lyapunov", "%s: lyapunov: the interval %g must be > 0 and give at "
+                         "most %d renormalizations over t_end = %g", s->m->name, s->o.lyapunov,
+                         SWIM_LYAPUNOV_MAX_SEGMENTS, s->s.t_end);
+        s->bad_option = 2;
+        return SWIM_EINPUT;
+    }
+    if (!keys) return SWIM_OK;
+    if (!(s->sens_keys = strdup(keys))) return SWIM_ENOMEM;
+    swim_sens S;
+    if (swim_sens_init(&S, swim_run_dynamics(s->run)) != 0) return SWIM_ENOMEM;
+    const int rc = swim_sens_add_list(&S, &s->s, "library", s->sens_keys, st);
+    swim_sens_free(&S);
+    if (rc) s->bad_option = 1;
+    return rc == 0 ? SWIM_OK : rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
+}
+
+/* The options' analyses once the run ended, as `swim run` does them after the trajectory
+ * (output/job.c): from t = 0 to where it ended, on the run's dynamics; a sensitivity pass that
+ * fails fails the run, a Lyapunov pass does not. */
+static void sim_analyses(swim_sim *s)
+{
+    const swim_run_result *r = swim_run_get_result(s->run);
+    if (s->analysed || !r->finished) return;
+    s->analysed = 1;
+    if (s->sens_keys && r->status == 0) {
+        swim_sens S;
+        char why[256];
+        if (r->impacts) {   /* the variational equations would need the impact's jump (a saltation matrix) */
+            snprintf(why, sizeof why, "no sensitivities: the run took %ld bounce(s) off the barrier as impacts, "
+                     "across which sensitivities are not computed; set run.impact_depth = 0 to follow them", r->impacts);
+            swim_run_fail(s->run, why);
+        } else if (swim_sens_init(&S, swim_run_dynamics(s->run)) != 0) {
+            swim_run_fail(s->run, "out of memory");
+        } else {
+            swim_status sst = {0};   /* the keys were checked when the simulation opened */
+            int rc = swim_sens_add_list(&S, &s->s, "library", s->sens_keys, &sst);
+            if (rc == 0) rc = swim_sens_rows_table(&S, s->s.integrator, r->t_reached, &s->sens, NULL, NULL, &sst);
+            s->sens_ok = rc == 0 && !(s->o.stop && *s->o.stop);
+            if (!s->sens_ok) {
+                snprintf(why, sizeof why, "the sensitivities stopped before t = %.6g", r->t_reached);
+                swim_run_fail(s->run, why);
+            }
+            swim_sens_free(&S);
+        }
+    }
+    if (s->o.lyapunov > 0) {
+        r = swim_run_get_result(s->run);
+        if (r->status != 0 || r->impacts || !(r->t_reached > 0))
+            snprintf(s->lyap_reason, sizeof s->lyap_reason, "%s", r->status != 0 ? "the run did not complete"
+                     : r->impacts ? "the run took impacts, across which the variational equations do not hold"
+                                  : "the run has no time span");
+        else if (swim_lyapunov_compute(swim_run_dynamics(s->run), s->s.integrator, r->t_reached, s->o.lyapunov,
+                                       &s->lyap) != 0)
+            snprintf(s->lyap_reason, sizeof s->lyap_reason, "out of memory");
+        else if (s->lyap.status != 0)
+            snprintf(s->lyap_reason, sizeof s->lyap_reason, "%s", s->lyap.reason);
+        else
+            s->lyap_done = 1;
+    }
+}
+
 static int sim_open(swim_sim *s, swim_status *st)
 {
     const swim_model *m = s->m;
@@ -424,11 +520,13 @@ static int sim_open(swim_sim *s, swim_status *st)
         s->bad_events = rc == 2;
         return rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
     }
+    if (s->o.on_event && s->events) swim_run_events_listen(s->events, sim_event, s);
     /* the caller's stop flag is a flag, not a signal number (any nonzero value stops the run) */
     const swim_run_request req = {&s->s, &m->kn, &m->sys, 0, s->events, (volatile sig_atomic_t *)s->o.stop,
                                   {sink_row, NULL, NULL, NULL, s}, 1};
     rc = swim_run_open(&req, &s->run, st);
-    return rc == 0 ? SWIM_OK : rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
+    if (rc) return rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
+    return sim_check_analyses(s, st);
 }
 
 static int swim_sim_create_(const swim_model *m, const swim_sim_options *o, swim_sim **out, swim_error *err)
@@ -460,6 +558,8 @@ static int swim_sim_create_(const swim_model *m, const swim_sim_options *o, swim
             if (!err->key[0]) snprintf(err->key, sizeof err->key, "events");
             if (!err->file[0]) snprintf(err->file, sizeof err->file, "%s", m->name);
         }
+        if (err && s->bad_option && !err->key[0])
+            snprintf(err->key, sizeof err->key, "%s", s->bad_option == 1 ? "sensitivity" : "lyapunov");
         swim_sim_free(s);
         return rc;
     }
@@ -470,7 +570,9 @@ static int swim_sim_create_(const swim_model *m, const swim_sim_options *o, swim
 static int sim_advance(swim_sim *s, double t, swim_error *err)
 {
     if (t > s->t_asked) s->t_asked = t;
-    const int status = swim_run_advance(s->run, t);
+    swim_run_advance(s->run, t);
+    sim_analyses(s);
+    const int status = swim_run_get_result(s->run)->status;
     const swim_run_result *r = swim_run_get_result(s->run);
     return failed(err, NULL, status ? SWIM_EFAILED : SWIM_OK, r->reason ? r->reason : "out of memory");
 }
@@ -555,9 +657,60 @@ char *swim_sim_events_csv(const swim_sim *s)
     return buf;
 }
 
+int swim_sim_sensitivity(const swim_sim *s, const char *const **names, int *ncol, const double **values, long *nrows)
+{
+    if (!s || !names || !ncol || !values || !nrows || !s->sens_keys) return SWIM_EINPUT;
+    *names = (const char *const *)s->sens.names;
+    *ncol = s->sens.ncol;
+    *values = s->sens.values;
+    *nrows = s->sens.nrows;
+    return s->sens_ok ? SWIM_OK : SWIM_EFAILED;
+}
+
+int swim_sim_lyapunov(const swim_sim *s, swim_lyapunov_result *theirs)
+{
+    if (!s || !theirs || theirs->size < LYAPUNOV_V1 || !(s->o.lyapunov > 0)) return SWIM_EINPUT;
+    const swim_lyapunov *l = &s->lyap;
+    const int have = l->n > 0;
+    swim_lyapunov_result ours = {sizeof ours, s->lyap_done, have ? l->exponent : NAN,
+                                 have ? l->exponent_half : NAN, swim_lyapunov_verdict_name(l->verdict),
+                                 have && isfinite(l->horizon) ? l->horizon : INFINITY,
+                                 have && isfinite(l->horizon_mean) ? l->horizon_mean : INFINITY,
+                                 s->o.lyapunov, l->t_end, l->rtol, l->n, l->t, l->log_growth, s->lyap_reason};
+    give(theirs, &ours, sizeof ours);
+    return SWIM_OK;
+}
+
+static int swim_sim_state_at_(swim_sim *s, double t, double *y, int len, swim_error *err)
+{
+    if (!s) return -bad_arg(err, "sim", "sim is NULL");
+    if (len < 0 || (!y && len > 0)) return -bad_arg(err, "y", "y is NULL or len < 0");
+    const int n = 3 + 2 * s->s.n;
+    double state[3 + 2 * SWIM_NMAX], ta = NAN, tb = NAN;
+    const int rc = s->run ? swim_run_state_at(s->run, t, state, &ta, &tb) : -1;
+    if (rc == 1)
+        return -bad_arg(err, "t", "t = %.17g is outside the last step of the integrator, [%.17g, %.17g]", t, ta, tb);
+    if (rc)
+        return -refuse(err, SWIM_EFAILED, "", "no step to interpolate: nothing run yet, a restart since, a prescribed "
+                       "stroke or an integrator without dense output");
+    for (int i = 0; i < n && i < len; i++) y[i] = state[i];
+    return n;
+}
+
+int swim_sim_state_at(swim_sim *s, double t, double *y, int len, swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return -SWIM_EINPUT;
+    const int rc = swim_sim_state_at_(s, t, y, len, &e);
+    return error_give(err, &e, rc);
+}
+
 void swim_sim_free(swim_sim *s)
 {
     if (!s) return;
+    swim_sens_table_free(&s->sens);
+    swim_lyapunov_free(&s->lyap);
+    free(s->sens_keys);
     swim_run_free(s->run);
     swim_run_events_free(s->events);
     if (s->loaded) swim_scene_free(&s->s);

@@ -98,7 +98,7 @@ SWIM_API const char *swim_version(void);
  * as swim_model_columns returns; "unknown status" for any other number). A static string. */
 SWIM_API const char *swim_strerror(int status);
 /* sizeof the library's struct of that name ("swim_error", "swim_sim_options", "swim_result",
- * "swim_inspection"), 0 for another name or NULL: for bindings that mirror the structs (Python
+ * "swim_inspection", "swim_event", "swim_lyapunov_result"), 0 for another name or NULL: for bindings that mirror the structs (Python
  * checks its mirrors against these at import). */
 SWIM_API size_t swim_struct_size(const char *name);
 
@@ -141,6 +141,26 @@ typedef struct swim_sim swim_sim;
  * nonzero to stop the run (it then fails with "stopped by the caller"). */
 typedef int (*swim_row_fn)(void *ctx, double t, const double *values, int ncol);
 
+/* An event as it is located (swim_sim_options.on_event): filled by the library, its size that of
+ * the library's struct (a caller built against a smaller one reads only its own fields). The
+ * strings and the state are valid during the call only. */
+typedef struct {
+    size_t size;                      /* sizeof(swim_event) as the library has it */
+    double t;                         /* where it is (located on the integrator's interpolant) */
+    const char *column;               /* trajectory.csv's name of the column, "am1" */
+    const char *kind;                 /* "zero", "min" or "max" */
+    double value;                     /* the column's value there */
+    const double *state;              /* the state there: nstate values in the layout of swim_sim_state, the
+                                         interpolant's (a row there is it projected onto the
+                                         constraints, as every row: equal to rounding) */
+    int nstate;
+} swim_event;
+
+/* Return 0 to go on, nonzero to stop the run at this event: its row (at the event's time) is the
+ * last, and the run fails with "stopped by the caller at event COLUMN:KIND at t = T". An event
+ * in a step the stiff fallback takes back (summary's switch) may be told twice. */
+typedef int (*swim_event_fn)(void *ctx, const swim_event *event);
+
 typedef struct {
     size_t size;                      /* sizeof(swim_sim_options), set by the caller (SWIM_SIM_OPTIONS_INIT) */
     swim_row_fn rows;                 /* NULL: rows not delivered */
@@ -151,6 +171,17 @@ typedef struct {
                                          another thread or a signal handler) to stop the run at its
                                          next step; it then fails with "stopped by the caller at
                                          t = T", keeping the rows so far. NULL: never stopped. */
+    /* added after the first layout (a caller with a smaller size gets their defaults): */
+    swim_event_fn on_event;           /* every event of the run (the scene's and `events`); NULL: none */
+    void *event_ctx;
+    const char *sensitivity;          /* "KEY[,KEY...]" as `swim run --sensitivity` (model.rho0,
+                                         parameters.NAME, c0.NAME, initial, ...): the forward
+                                         sensitivities, computed once the run completes, as
+                                         sensitivity.csv (swim_sim_sensitivity); a key that is not
+                                         one is SWIM_EINPUT at swim_sim_create. NULL: none */
+    double lyapunov;                  /* > 0: the largest Lyapunov exponent and the predictability
+                                         horizon, renormalized at this interval, once the run
+                                         completes (swim_sim_lyapunov), as `swim run --lyapunov` */
 } swim_sim_options;
 
 SWIM_API int swim_sim_create(const swim_model *m, const swim_sim_options *o, swim_sim **out, swim_error *err);
@@ -180,6 +211,42 @@ SWIM_API int swim_sim_result(const swim_sim *s, swim_result *r);
  * c, cdot): at most len doubles into y; how many there are (-SWIM_EINPUT for a NULL s, len < 0,
  * or y NULL with len > 0). */
 SWIM_API int swim_sim_state(const swim_sim *s, double *y, int len);
+/* The state at time t inside the integrator's last accepted step (dense output: the interpolant
+ * the rows come from, so a row's time gives that row's state bit for bit), in the layout of
+ * swim_sim_state: at most len doubles into y; how many there are, or a negative status:
+ * -SWIM_EINPUT with err->key "t" when t is outside the last step (err->message gives the step) or
+ * for a NULL s or y, -SWIM_EFAILED when there is no step to interpolate (nothing run yet, a
+ * prescribed stroke, an integrator without dense output: rk8pd, msadams, rkf45, msbdf). */
+SWIM_API int swim_sim_state_at(swim_sim *s, double t, double *y, int len, swim_error *err);
+/* The sensitivities the options asked for, once the run completed: the columns of
+ * sensitivity.csv (*names, *ncol of them, "t", "dx/dmodel.rho0", ...) and *nrows rows of them,
+ * row-major, in *values (pointers valid while the simulation lives); the same numbers as
+ * `swim run --sensitivity` writes. SWIM_OK; SWIM_EINPUT for a NULL argument or when no
+ * sensitivity was asked for; SWIM_EFAILED when they were not computed (the run did not complete,
+ * it took impacts, or the integration failed: the summary says why; rows computed so far are
+ * given). */
+SWIM_API int swim_sim_sensitivity(const swim_sim *s, const char *const **names, int *ncol, const double **values,
+                                  long *nrows);
+
+/* The Lyapunov pass (swim_sim_options.lyapunov), the numbers of summary.json's "lyapunov". */
+typedef struct {
+    size_t size;                      /* sizeof(swim_lyapunov_result), set by the caller (SWIM_LYAPUNOV_RESULT_INIT) */
+    int computed;                     /* 1: the pass ran to its end; 0: skipped or failed (reason) */
+    double exponent;                  /* the largest exponent over [0, t_end] */
+    double exponent_second_half;
+    const char *verdict;              /* "converged", "regular" or "not_converged" */
+    double horizon;                   /* where a run at rtol departs from the exact trajectory, INFINITY: not within */
+    double horizon_from_exponent;
+    double interval, t_end, rtol;
+    int segments;                     /* renormalizations: t[i] and log_growth[i], i < segments */
+    const double *t, *log_growth;     /* valid while the simulation lives */
+    const char *reason;               /* why not computed, "" when it was */
+} swim_lyapunov_result;
+#define SWIM_LYAPUNOV_RESULT_INIT SWIM_SIZED_INIT_(swim_lyapunov_result)
+
+/* SWIM_OK once the run ended with the pass asked for (out->computed says whether it was done);
+ * SWIM_EINPUT for a NULL argument, a size below the struct's first layout, or no pass asked for. */
+SWIM_API int swim_sim_lyapunov(const swim_sim *s, swim_lyapunov_result *out);
 /* summary.json of the run as text, malloc'd: free it with swim_free (NULL for a NULL s). Its
  * "status" is "completed" or "failed" once the run ended, "in progress" after a swim_sim_advance
  * that stopped before t_end, "not started" before any. */

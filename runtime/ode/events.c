@@ -26,6 +26,7 @@ struct ode_events {
     swim_ode_event *ev;       /* the events (copied) */
     void (*on_event)(const swim_ode_event_hit *hit, void *data);
     void *on_event_data;
+    const volatile int *event_stop;   /* swim_ode_options.event_stop */
     double tol;               /* bracket width that ends the root finder */
     double *gprev;            /* g at the previous step end (NAN: unknown) */
     double *gnew;             /* g at this step end */
@@ -58,6 +59,7 @@ ode_events *ode_events_create(size_t n, const swim_ode_options *opt)
     e->ystop = e->yp + n;
     e->on_event = opt->on_event;
     e->on_event_data = opt->on_event_data;
+    e->event_stop = opt->event_stop;
     e->tol = opt->event_tol > 0 ? opt->event_tol : 1e-13;
     return e;
 }
@@ -187,7 +189,7 @@ int ode_events_step(ode_events *e, const ode_backend *be, void *impl, double ta,
         e->found++;
         if (e->on_event)
             e->on_event(&hit, e->on_event_data);
-        if (ev->terminal) {
+        if (ev->terminal || (e->event_stop && *e->event_stop)) {
             memcpy(e->ystop, e->y, e->n * sizeof(double));
             *t_stop = hits[h].t;
             *y_stop = e->ystop;

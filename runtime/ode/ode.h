@@ -204,6 +204,10 @@ typedef struct {
     double (*invariant)(double t, const double *y, double *noise, void *data);
     void *invariant_data;
     double invariant_tol;
+    /* Optional, with events: read right after on_event returns; nonzero makes the event just
+     * reported terminal (a caller that decides at the event whether the integration ends there,
+     * as a terminal event would). Not copied: the caller's int. NULL = never. */
+    const volatile int *event_stop;
 } swim_ode_options;
 
 /* rtol = 1e-6, atol = 1e-9, no hmax, automatic h0, tstop = INFINITY,

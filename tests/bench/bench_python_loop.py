@@ -5,13 +5,19 @@ members, one core each.
 
 The family: Example 3 with model.rho0 = SPEC (BENCH_PY_SPEC, default "0.5:2:200": 200 members,
 the values swim sweep computes from that SPEC, swim.spec_values), to t = BENCH_PY_T_END (default
-1). Three ways, each BENCH_PY_REPEATS times (default 3), medians reported:
+1). Five ways, each BENCH_PY_REPEATS times (default 3), medians reported:
   python loop    for v in values: swim.run(scene, set={"model.rho0": v}, t_end=T)  (rows kept)
+  Simulation     one swim.Simulation(scene, t_end=T); for v: sim.set("model.rho0", v); sim.run()
   swim.sweep     swim.sweep(scene, vary={"model.rho0": SPEC}, t_end=T)  (summaries only)
+  ... threads=2  the same on 2 threads
   swim sweep     bin/swim sweep scene --out FRESH_DIR --vary model.rho0=SPEC --t-end T --jobs 1 --quiet
-The kernels are cached before timing (one warm-up run). Every member's final y of the loop is
-checked against members.csv's (the same doubles), so the two sides ran the same family.
-Writes build/bench/python_loop.csv and prints a table."""
+The kernels are cached before timing (one warm-up run). Every member's final y of each way is
+checked against members.csv's (the same doubles), so all ran the same family.
+Then the threads on longer members, where the integration is most of a member's time:
+swim.sweep of BENCH_PY_LONG members (default "0.5:2:20") to t = BENCH_PY_LONG_T_END (default 300)
+with threads=1 and threads=2 (the same rows checked). Run on 2 cores: the threads only gain when
+the other core is free, so the load average is printed beside the numbers.
+Writes build/bench/python_loop.csv and prints the tables."""
 import csv
 import os
 import statistics
@@ -31,14 +37,25 @@ SPEC = os.environ.get("BENCH_PY_SPEC", "0.5:2:200")
 T_END = float(os.environ.get("BENCH_PY_T_END", "1"))
 REPEATS = int(os.environ.get("BENCH_PY_REPEATS", "3"))
 KEY = "model.rho0"
+LONG = os.environ.get("BENCH_PY_LONG", "0.5:2:20")
+LONG_T_END = float(os.environ.get("BENCH_PY_LONG_T_END", "300"))
 
 
 def python_loop(values):
     return [swim.run(SCENE, set={KEY: v}, t_end=T_END) for v in values]
 
 
-def python_sweep(values):
-    return swim.sweep(SCENE, vary={KEY: SPEC}, t_end=T_END)
+def python_sweep(values, spec=SPEC, t_end=T_END, threads=1):
+    return swim.sweep(SCENE, vary={KEY: spec}, t_end=t_end, threads=threads)
+
+
+def simulation_set(values):
+    ys = []
+    with swim.Simulation(SCENE, t_end=T_END) as sim:
+        for v in values:
+            sim.set(KEY, v)
+            ys.append(sim.run().final_state["y"])
+    return ys
 
 
 def cli_sweep(tmp, k):
@@ -60,22 +77,31 @@ def timed(fn, *args):
 def main():
     values = swim.spec_values(SPEC)
     swim.run(SCENE, t_end=T_END)   # warm-up: kernels into the cache, the library's pages in memory
-    times = {"python loop (swim.run)": [], "swim.sweep (in process)": [], "swim sweep --jobs 1": []}
+    ways = ["python loop (swim.run)", "Simulation.set + run", "swim.sweep (in process)", "swim.sweep threads=2",
+            "swim sweep --jobs 1"]
+    times = {w: [] for w in ways}
+    load = os.getloadavg()[0]
     with tempfile.TemporaryDirectory(prefix="swim-bench-py-") as tmp:
         for k in range(REPEATS):
             t, loop = timed(python_loop, values)
-            times["python loop (swim.run)"].append(t)
+            times[ways[0]].append(t)
+            t, sim_ys = timed(simulation_set, values)
+            times[ways[1]].append(t)
             t, rows = timed(python_sweep, values)
-            times["swim.sweep (in process)"].append(t)
+            times[ways[2]].append(t)
+            t, rows2 = timed(python_sweep, values, SPEC, T_END, 2)
+            times[ways[3]].append(t)
             t, table = timed(cli_sweep, tmp, k)
-            times["swim sweep --jobs 1"].append(t)
-    if len(table) != len(values) or [repr(r.final_state["y"]) for r in loop] != [repr(float(m["y"])) for m in table] \
-            or [repr(r["y"]) for r in rows] != [repr(float(m["y"])) for m in table]:
-        print("FAIL: the loop, swim.sweep and swim sweep did not compute the same members")
+            times[ways[4]].append(t)
+    want = [repr(float(m["y"])) for m in table]
+    if len(table) != len(values) or [repr(r.final_state["y"]) for r in loop] != want \
+            or [repr(r["y"]) for r in rows] != want or [repr(r["y"]) for r in rows2] != want \
+            or [repr(y) for y in sim_ys] != want:
+        print("FAIL: the loop, the Simulation, swim.sweep and swim sweep did not compute the same members")
         return 1
     cli = statistics.median(times["swim sweep --jobs 1"])
-    print("Example 3, %d members (%s=%s), t_end = %g, median of %d (swim %s, %s)" % (
-        len(values), KEY, SPEC, T_END, REPEATS, swim.__version__, os.path.basename(swim._L._name)))
+    print("Example 3, %d members (%s=%s), t_end = %g, median of %d (swim %s, %s), load average %.1f" % (
+        len(values), KEY, SPEC, T_END, REPEATS, swim.__version__, os.path.basename(swim._L._name), load))
     print("%-26s %10s %12s %10s" % ("way", "seconds", "members/s", "vs sweep"))
     os.makedirs(os.path.join(ROOT, "build", "bench"), exist_ok=True)
     with open(os.path.join(ROOT, "build", "bench", "python_loop.csv"), "w", newline="") as f:
@@ -85,6 +111,28 @@ def main():
             med = statistics.median(ts)
             print("%-26s %10.3f %12.1f %9.2fx" % (way, med, len(values) / med, cli / med))
             w.writerow([way, len(values), T_END, "%.4f" % med, "%.1f" % (len(values) / med), "%.2f" % (cli / med)])
+        # the threads on longer members
+        long_values = swim.spec_values(LONG)
+        long_times = {1: [], 2: []}
+        load = os.getloadavg()[0]
+        for k in range(REPEATS):
+            for threads in (1, 2):
+                t, out = timed(python_sweep, long_values, LONG, LONG_T_END, threads)
+                long_times[threads].append(t)
+                if threads == 1:
+                    ref = [repr(r["y"]) for r in out]
+                elif [repr(r["y"]) for r in out] != ref:
+                    print("FAIL: threads=2 did not compute the members of threads=1")
+                    return 1
+        print("\nswim.sweep, %d members (%s=%s) to t = %g, median of %d, load average %.1f" % (
+            len(long_values), KEY, LONG, LONG_T_END, REPEATS, load))
+        print("%-26s %10s %12s %10s" % ("threads", "seconds", "members/s", "vs 1"))
+        one = statistics.median(long_times[1])
+        for threads, ts in long_times.items():
+            med = statistics.median(ts)
+            print("%-26s %10.3f %12.1f %9.2fx" % ("swim.sweep threads=%d" % threads, med, len(long_values) / med, one / med))
+            w.writerow(["swim.sweep threads=%d" % threads, len(long_values), LONG_T_END, "%.4f" % med,
+                        "%.1f" % (len(long_values) / med), ""])
     return 0
 
 

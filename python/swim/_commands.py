@@ -1,0 +1,229 @@
+"""swim.periodic, swim.floquet, swim.continuation and swim.optimize: the commands of the same names
+run in a temporary folder, their files read back as Python numbers and numpy arrays.
+
+libswim has no entry for these analyses yet (their C code keeps its own integration loops), so
+each call runs the command-line program `swim` (bin/swim of the checkout this package belongs
+to, or of the PREFIX libswim was loaded from, or the first `swim` on PATH; $SWIM_BIN overrides)
+with --quiet and --out in a temporary folder that is removed afterwards. The numbers are those of
+the command's files, parsed as Python parses JSON and CSV (the same doubles)."""
+import csv
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+
+import numpy as np
+
+from . import EFAILED, EINPUT, Error, SceneError, _L, _overrides, _value_text
+
+
+def _program():
+    """The `swim` program beside the library: $SWIM_BIN, the checkout's bin/swim, PREFIX/bin/swim
+    of the libswim loaded, `swim` on PATH."""
+    env = os.environ.get("SWIM_BIN")
+    if env:
+        return env
+    here = os.path.dirname(os.path.abspath(__file__))
+    places = [os.path.join(here, "..", "..", "bin", "swim")]
+    try:
+        from . import _checkout
+        places.append(os.path.join(_checkout.TREE, "bin", "swim"))
+    except ImportError:
+        pass
+    lib = os.path.realpath(_L._name)
+    places.append(os.path.join(os.path.dirname(os.path.dirname(lib)), "bin", "swim"))   # PREFIX/lib -> PREFIX/bin
+    places.append(os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(lib))), "bin", "swim"))   # build/lib
+    for p in places:
+        if os.path.isfile(p) and os.access(p, os.X_OK):
+            return os.path.normpath(p)
+    found = shutil.which("swim")
+    if found:
+        return found
+    raise Error(EFAILED, "swim: the program `swim` was not found (tried %s and PATH): build it with `make` or set "
+                "SWIM_BIN" % ", ".join(os.path.normpath(p) for p in places))
+
+
+def _numbers(v):
+    """JSON values as numbers and arrays: a list of numbers (or of such lists) a float64 array, a
+    list of {"re", "im", ...} a complex array, null NaN inside an array; dicts converted key by key."""
+    if isinstance(v, dict):
+        return {k: _numbers(x) for k, x in v.items()}
+    if isinstance(v, list) and v:
+        if all(isinstance(x, dict) and {"re", "im"} <= set(x) for x in v):
+            return np.array([complex(x["re"], x["im"]) for x in v])
+        try:
+            a = np.array([np.nan if x is None else x for x in v] if not isinstance(v[0], list) else
+                         [[np.nan if y is None else y for y in x] for x in v], dtype=np.float64)
+            return a
+        except (TypeError, ValueError):
+            return [_numbers(x) for x in v]
+    return v
+
+
+class Output:
+    """A command's JSON file: every entry as an attribute and by key (o.period, o["period"]), its
+    lists of numbers as float64 arrays (matrices 2-D), complex numbers ({"re", "im"}) as complex
+    arrays, null as None (NaN inside arrays). o.json is the file as json.load gives it."""
+
+    def __init__(self, data, **more):
+        self.json = data
+        self._data = _numbers(data)
+        self._data.update(more)
+
+    def __getattr__(self, name):
+        if name.startswith("_") or name == "json":
+            raise AttributeError(name)
+        try:
+            return self._data[name]
+        except KeyError:
+            raise AttributeError("%s has no %r (it has: %s)" % (type(self).__name__, name,
+                                                                ", ".join(self._data))) from None
+
+    def __getitem__(self, name):
+        return self._data[name]
+
+    def __contains__(self, name):
+        return name in self._data
+
+    def keys(self):
+        return self._data.keys()
+
+    def __repr__(self):
+        return "<swim.%s %s>" % (type(self).__name__, ", ".join(list(self._data)[:8]))
+
+
+class Periodic(Output):
+    """periodic.json of `swim periodic`: converged, reason, period, phase_point, displacement_per_period,
+    newton (the iterations), floquet (the multipliers), ... (docs/control.md lists them)."""
+
+
+class Floquet(Output):
+    """floquet.json of `swim floquet`: the monodromy matrix (2-D array), the multipliers (complex
+    array), periodic, stable, ... (docs/control.md)."""
+
+
+class Continuation(Output):
+    """branch.json of `swim continue`, and branch.csv as .table ({column: float64 array}) with
+    .columns, its header."""
+
+
+class Optimize(Output):
+    """optimize.json of `swim optimize` (best values, the quantity, the searches), and optimize.csv
+    (every evaluation) as .table ({column: array}) with .columns."""
+
+
+def _csv_table(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    if not rows:
+        return (), {}
+    header, body = rows[0], rows[1:]
+    table = {}
+    for i, name in enumerate(header):
+        col = [r[i] if i < len(r) else "" for r in body]
+        try:
+            table[name] = np.array([float(x) if x != "" else np.nan for x in col])
+        except ValueError:
+            table[name] = np.array(col, dtype=object)
+    return tuple(header), table
+
+
+def _command(cmd, scene, args, overrides, files):
+    """Runs `swim CMD SCENE --out TMP --quiet ARGS --set ...`; the parsed files named (name, kind)."""
+    scene = os.fspath(scene)
+    if "\n" in scene:
+        raise SceneError(EINPUT, "swim.%s: give the scene as a file's path (the command reads a file)" % cmd,
+                         key="scene")
+    sets = _overrides(scene, overrides)
+    with tempfile.TemporaryDirectory(prefix="swim-%s-" % cmd) as tmp:
+        out = os.path.join(tmp, "out")
+        argv = [_program(), cmd, scene, "--out", out, "--quiet"] + list(args)
+        for s in sets:
+            argv += ["--set", s]
+        p = subprocess.run(argv, capture_output=True, text=True)
+        first = files[0][0]
+        if p.returncode == 2 or not os.path.exists(os.path.join(out, first)):
+            lines = [ln for ln in p.stderr.splitlines() if ln.strip()]
+            why = lines[-1] if lines else "exit status %d" % p.returncode
+            if why.startswith("swim"):
+                why = why.split(": ", 1)[-1]
+            raise (SceneError if p.returncode == 2 else Error)(EINPUT if p.returncode == 2 else EFAILED,
+                                                             "swim %s: %s" % (cmd, why), file=scene)
+        got = {}
+        for name, kind in files:
+            path = os.path.join(out, name)
+            if not os.path.exists(path):
+                continue
+            if kind == "json":
+                with open(path) as f:
+                    got[name] = json.load(f)
+            else:
+                got[name] = _csv_table(path)
+        got["exit_status"] = p.returncode
+        got["report"] = p.stdout
+        return got
+
+
+def periodic(scene, overrides=None, guess_event=None, tol=None, max_iter=None, t_max=None, *, set=None):
+    """A periodic orbit of the shape dynamics by Newton shooting, as `swim periodic` (docs/control.md):
+    a Periodic with periodic.json's numbers (.converged, .period, .phase_point, .floquet, ...).
+
+    overrides (alias set)  {KEY: value} as --set; guess_event "COLUMN:KIND"; tol, max_iter, t_max
+    the command's --tol, --max-iter, --t-max. Runs the program `swim` in a temporary folder (no
+    C entry yet). Bad input raises SceneError; an orbit not found is a Periodic with converged
+    False and the reason."""
+    args = _opts(("--guess-event", guess_event), ("--tol", tol), ("--max-iter", max_iter), ("--t-max", t_max))
+    got = _command("periodic", scene, args, overrides if set is None else set, [("periodic.json", "json")])
+    return Periodic(got["periodic.json"], exit_status=got["exit_status"])
+
+
+def floquet(scene, overrides=None, event=None, t_max=None, *, set=None):
+    """The monodromy matrix and Floquet multipliers of a periodic stroke, as `swim floquet`: a Floquet
+    with floquet.json's numbers (.monodromy a 2-D array, the multipliers complex arrays, .periodic,
+    .stable, ...). event "COLUMN:KIND" and t_max as the command's --event and --t-max. Runs the
+    program `swim` in a temporary folder (no C entry yet)."""
+    args = _opts(("--event", event), ("--t-max", t_max))
+    got = _command("floquet", scene, args, overrides if set is None else set, [("floquet.json", "json")])
+    return Floquet(got["floquet.json"], exit_status=got["exit_status"])
+
+
+def continuation(scene, param, start, stop, max_points=None, guess_event=None, tol=None, overrides=None, *, set=None):
+    """A branch of periodic orbits in `param` ("energy" or a run-time key such as "model.rho0") from
+    start to stop, as `swim continue --param PARAM=START:STOP`: a Continuation with branch.json's
+    numbers and branch.csv as .table (a float64 array per column) and .columns. Runs the program
+    `swim` in a temporary folder (no C entry yet)."""
+    args = ["--param", "%s=%s:%s" % (param, _value_text(param, start), _value_text(param, stop))]
+    args += _opts(("--max-points", max_points), ("--guess-event", guess_event), ("--tol", tol))
+    got = _command("continue", scene, args, overrides if set is None else set,
+                   [("branch.json", "json"), ("branch.csv", "csv")])
+    columns, table = got.get("branch.csv", ((), {}))
+    return Continuation(got["branch.json"], table=table, columns=columns, exit_status=got["exit_status"])
+
+
+def optimize(scene, vary, maximize=None, minimize=None, method=None, starts=None, max_iter=None, tol=None,
+             overrides=None, *, set=None):
+    """The best values of run-time keys within bounds for a quantity at t_end, as `swim optimize`:
+    vary {KEY: (LO, HI)}, one of maximize / minimize a quantity (x, y, theta, displacement, work,
+    forcing_work, displacement_per_work, energy), method "nelder-mead" or "bfgs", starts, max_iter,
+    tol as the command's options. An Optimize with optimize.json's numbers and optimize.csv as
+    .table and .columns. Runs the program `swim` in a temporary folder (no C entry yet)."""
+    if (maximize is None) == (minimize is None):
+        raise SceneError(EINPUT, "swim.optimize: give one of maximize= and minimize=", key="maximize")
+    args = []
+    for key, (lo, hi) in vary.items():
+        args += ["--vary", "%s=%s:%s" % (key, _value_text(key, lo), _value_text(key, hi))]
+    args += ["--maximize", maximize] if maximize is not None else ["--minimize", minimize]
+    args += _opts(("--method", method), ("--starts", starts), ("--max-iter", max_iter), ("--tol", tol))
+    got = _command("optimize", scene, args, overrides if set is None else set,
+                   [("optimize.json", "json"), ("optimize.csv", "csv")])
+    columns, table = got.get("optimize.csv", ((), {}))
+    return Optimize(got["optimize.json"], table=table, columns=columns, exit_status=got["exit_status"])
+
+
+def _opts(*pairs):
+    out = []
+    for option, value in pairs:
+        if value is not None:
+            out += [option, value if isinstance(value, str) else _value_text(option.lstrip("-"), value)]
+    return out
