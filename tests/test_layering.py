@@ -65,9 +65,10 @@ def test_no_integrator_named():
 
 def test_cli_is_small():
     lines = sum(t.count("\n") for _, t in sources("cli"))
-    # 3200: inspect --energy and the commands' up-front --out and range checks; the checks move
+    # 3300: inspect --energy, the commands' up-front --out and range checks, and the printing of
+    # statuses the layers below now return instead of printing (io/status.h); the checks move
     # below cli/ with the settings struct of the typed engine, and the budget back to 3000
-    check(0 < lines <= 3200, "runtime/cli/ has %d lines (at most 3200)" % lines)
+    check(0 < lines <= 3300, "runtime/cli/ has %d lines (at most 3300)" % lines)
 
 
 if __name__ == "__main__":

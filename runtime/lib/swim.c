@@ -460,7 +460,10 @@ static int sim_check_analyses(swim_sim *s, swim_status *st)
     if (swim_sens_init(&S, swim_run_dynamics(s->run)) != 0) return SWIM_ENOMEM;
     const int rc = swim_sens_add_list(&S, &s->s, "library", s->sens_keys, st);
     swim_sens_free(&S);
-    if (rc) s->bad_option = 1;
+    if (rc) {   /* the option is what the caller gave: the key refused is named in the message */
+        s->bad_option = 1;
+        if (st) snprintf(st->key, sizeof st->key, "sensitivity");
+    }
     return rc == 0 ? SWIM_OK : rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
 }
 
