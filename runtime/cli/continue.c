@@ -86,8 +86,8 @@ int swim_cmd_continue(int argc, char **argv)
                                              "scene's family of orbits) or a run-time scene key such as "
                                              "elastic.stiffness[4] or model.rho0 (required)"},
         {"max-points", 1, NULL, "K", "K evenly spaced parameter values from START to STOP, 2..1000 (default 11)"},
-        {"guess-event", 1, NULL, "COLUMN:KIND", "the section of the first orbit's guess, as for swim periodic "
-                                                "(default: the first moving coordinate's max)"},
+        {"guess-event", 1, NULL, "COLUMN:KIND[:COUNT]", "the section of the first orbit's guess, as for swim "
+                                                        "periodic (default: the first moving coordinate's max)"},
         {"out", 1, NULL, "DIR", "the output folder of branch.csv and branch.json (default: out/NAME-continue)"},
         {"tol", 1, NULL, "R", "each orbit to max |phi_T(z) - z| <= R times the state's scale (default 1e-11)"},
         {"set", 2, NULL, "KEY=VALUE", "a scene value overridden before the scene is validated (as for swim run)"},

@@ -31,9 +31,10 @@ int swim_cmd_floquet(int argc, char **argv)
     if (nsets < 0) return 2;
     swim_opt opts[] = {
         {"out", 1, NULL, "DIR", "the output folder of floquet.json (default: out/NAME-floquet)"},
-        {"event", 1, NULL, "COLUMN:KIND", "the section that defines the period: two successive events of a moving "
-                                          "coordinate or its velocity, KIND max, min or zero (default: the first moving "
-                                          "coordinate's max, e.g. am1:max)"},
+        {"event", 1, NULL, "COLUMN:KIND[:COUNT]", "the section that defines the period: two successive events of a "
+                                                  "moving coordinate or its velocity, KIND max, min or zero (default: "
+                                                  "the first moving coordinate's max, e.g. am1:max); with COUNT, the "
+                                                  "period spans COUNT events after the first (1..16, e.g. bm2:max:2)"},
         {"t-max", 1, NULL, "T", "how long to look for the two events (default: the scene's run.t_end)"},
         {"set", 2, NULL, "KEY=VALUE", "a scene value overridden before the scene is validated (as for swim run)"},
         {"quiet", 0, NULL, NULL, "no notices on stderr (kernel generation); the table stays on stdout"},

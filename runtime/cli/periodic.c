@@ -1,6 +1,7 @@
 /* swim periodic: a periodic orbit of the shape dynamics by Newton shooting
  * (runtime/control/periodic.h), into DIR/periodic.json and a report on stdout. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,8 +29,11 @@ static void report(const swim_periodic *p, const char *scene, const char *json)
 {
     printf("%s: %s periodic orbit after %d Newton iterations (residual %.2g); %s\n", scene,
            p->converged ? "a" : "NO", p->iterations, p->residual, json);
-    printf("  period T = %.12g (guess %.10g from events), energy %.12g%s\n", p->period, p->period_guess, p->energy,
-           p->conservative ? " (kept: the family is by energy)" : "");
+    if (isfinite(p->energy_target))
+        printf("  period T = %.12g (guess %.10g from events), energy %.12g (target: the guess's %.12g; the family is "
+               "by energy)\n", p->period, p->period_guess, p->energy, p->energy_target);
+    else
+        printf("  period T = %.12g (guess %.10g from events), energy %.12g\n", p->period, p->period_guess, p->energy);
     printf("  per period: dx = %.10g, dy = %.10g, dtheta = %.10g (body frame at the phase point)\n", p->dx, p->dy,
            p->dtheta);
     if (p->have_floquet)
@@ -45,9 +49,12 @@ int swim_cmd_periodic(int argc, char **argv)
     int nsets = swim_args_take_sets("periodic", &argc, argv, 2, sets, (int)(sizeof sets / sizeof sets[0]));
     if (nsets < 0) return 2;
     swim_opt opts[] = {
-        {"guess-event", 1, NULL, "COLUMN:KIND", "the section whose two successive events give the guess (state and "
-                                                "period) from a plain run: a moving coordinate or its velocity, KIND "
-                                                "max, min or zero (default: the first moving coordinate's max)"},
+        {"guess-event", 1, NULL, "COLUMN:KIND[:COUNT]", "the section whose two successive events give the guess "
+                                                        "(state and period) from a plain run: a moving coordinate or "
+                                                        "its velocity, KIND max, min or zero (default: the first moving "
+                                                        "coordinate's max); with COUNT the period spans COUNT events "
+                                                        "after the first (1..16: bm2:max:2 for a libration beyond 90 "
+                                                        "degrees, which passes bm2's maximum twice)"},
         {"out", 1, NULL, "DIR", "the output folder of periodic.json (default: out/NAME-periodic)"},
         {"tol", 1, NULL, "R", "converged when max |phi_T(z) - z| <= R times the state's scale (default 1e-11)"},
         {"max-iter", 1, NULL, "K", "at most K Newton iterations, 1..40 (default 20)"},

@@ -1,6 +1,7 @@
 #include "control/floquet.h"
 
 #include <complex.h>
+#include <errno.h>
 #include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
@@ -23,7 +24,7 @@
 
 
 typedef struct {
-    double t[2];
+    double t[SWIM_FLOQUET_MAX_CROSSINGS + 1];
     int count;
 } event_log;
 
@@ -42,7 +43,7 @@ static double section_zero(double t, const double *y, const double *yp, void *da
 static void on_event(const swim_ode_event_hit *hit, void *data)
 {
     event_log *log = data;
-    if (log->count < 2) log->t[log->count] = hit->t;
+    if (log->count <= SWIM_FLOQUET_MAX_CROSSINGS) log->t[log->count] = hit->t;
     log->count++;
 }
 
@@ -61,7 +62,24 @@ int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const ch
     char col[32];
     if (!colon || (size_t)(colon - spec) >= sizeof col) goto bad;
     snprintf(col, sizeof col, "%.*s", (int)(colon - spec), spec);
-    const char *kind = colon + 1;
+    char kind[8];
+    const char *colon2 = strchr(colon + 1, ':');
+    sec->count = 1;
+    if (colon2) {   /* :COUNT, the events the period spans */
+        char *end;
+        errno = 0;
+        const long c = strtol(colon2 + 1, &end, 10);
+        if (end == colon2 + 1 || *end || errno || c < 1 || c > SWIM_FLOQUET_MAX_CROSSINGS) {
+            swim_message(stderr, "swim %s: --%s: '%s': the count after the second ':' is the number of events the "
+                         "period spans, an integer 1..%d, got '%s'", cmd, option, spec, SWIM_FLOQUET_MAX_CROSSINGS,
+                         colon2 + 1);
+            return 2;
+        }
+        sec->count = (int)c;
+    }
+    const size_t klen = colon2 ? (size_t)(colon2 - colon - 1) : strlen(colon + 1);
+    if (klen >= sizeof kind) goto bad;
+    snprintf(kind, sizeof kind, "%.*s", (int)klen, colon + 1);
     if (strcmp(kind, "max") == 0) sec->kind = 'x';
     else if (strcmp(kind, "min") == 0) sec->kind = 'n';
     else if (strcmp(kind, "zero") == 0) sec->kind = 'z';
@@ -79,8 +97,8 @@ int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const ch
                  "(d + name)", cmd, option, col);
     return 2;
 bad:
-    swim_message(stderr, "swim %s: --%s: expected COLUMN:KIND (KIND max, min or zero), e.g. am1:max, got '%s'", cmd,
-                 option, spec);
+    swim_message(stderr, "swim %s: --%s: expected COLUMN:KIND[:COUNT] (KIND max, min or zero; COUNT the events the "
+                 "period spans, 1 by default), e.g. am1:max or bm2:max:2, got '%s'", cmd, option, spec);
     return 2;
 }
 
@@ -108,18 +126,22 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
     swim_ode *ode = NULL;
     int rc = swim_ode_create(s->integrator, &sys, &o, 0.0, y, &ode);
     const double dt = s->output_step;
-    for (double t = dt; rc == SWIM_ODE_OK && log.count < 2 && t < t_max + dt; t += dt)
+    const int want = sec->count + 1;
+    for (double t = dt; rc == SWIM_ODE_OK && log.count < want && t < t_max + dt; t += dt)
         rc = swim_ode_advance(ode, fmin(t, t_max), y);
     if (rc != SWIM_ODE_OK)
         swim_message(stderr, "swim %s: the run for the period failed: %s", cmd, swim_ode_strerror(rc));
-    else if (log.count < 2)
-        swim_message(stderr, "swim %s: fewer than two events of the section before t = %g: no period "
-                     "(raise %s or choose another section with %s)", cmd, t_max, t_max_from, section_option);
+    else if (log.count < want) {
+        char many[16];
+        snprintf(many, sizeof many, want == 2 ? "two" : "%d", want);
+        swim_message(stderr, "swim %s: fewer than %s events of the section before t = %g: no period "
+                     "(raise %s or choose another section with %s)", cmd, many, t_max, t_max_from, section_option);
+    }
     swim_ode_free(ode);
     free(y);
-    if (rc != SWIM_ODE_OK || log.count < 2) return 1;
+    if (rc != SWIM_ODE_OK || log.count < want) return 1;
     *t1 = log.t[0];
-    *period = log.t[1] - log.t[0];
+    *period = log.t[sec->count] - log.t[0];
     return 0;
 }
 

@@ -90,10 +90,14 @@ typedef struct {
 extern const char *const swim_floquet_symmetry_names[SWIM_FLOQUET_NSYM];
 
 /* Event that defines the period: extremum (kind 'x' max, 'n' min) or rising zero ('z') of the
- * integrator-state component `index` of d's state (c or cdot of a carried coordinate). */
+ * integrator-state component `index` of d's state (c or cdot of a carried coordinate); the period
+ * spans `count` events after the first (COLUMN:KIND:COUNT, 1 by default): a libration of more
+ * than 90 degrees passes the maximum of a coordinate that goes as the sine of its angle twice. */
+#define SWIM_FLOQUET_MAX_CROSSINGS 16
 typedef struct {
     int index;
     char kind;
+    int count;
 } swim_floquet_section;
 
 /* Computes everything above; t_max bounds the search for two events. 0 (also for an orbit that
@@ -108,7 +112,7 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
  * the section as text (len bytes). 0, or 2 after one line "swim CMD: --OPTION: ..." on stderr. */
 int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const char *option, const char *spec,
                                swim_floquet_section *sec, char *text, size_t len);
-/* T and the time t_first of the first of two successive events of the section from state ys0
+/* T and the time t_first of the first of count + 1 successive events of the section from state ys0
  * at t = 0, on the scene's integrator with its drift control (messages "swim CMD: ..."; with
  * fewer than two events before t_max the remedy names what sets t_max and the section, e.g.
  * "--t-max" and "--event"). 0 or 1. */

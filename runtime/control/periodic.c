@@ -164,8 +164,14 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
     else if (guess(d, sec, o, ys, full, p) == 0) {
         const double t_guess = p->t_guess, period_guess = p->period_guess;
         const long calls = p->rhs_calls;
-        rc = swim_periodic_refine(d, ys, period_guess, NAN, o, p);
+        /* a conservative scene: the orbit of the guess's energy, held as a target (the bordered
+         * row E(z) - E_guess = 0), not its linearization grad E . dz = 0, along which Newton
+         * drifts to another member of the family (a libration at E = 0.3 became a rotation at
+         * 0.544) */
+        const double target = swim_periodic_conservative(d) ? energy_at(d, ys, full) : NAN;
+        rc = swim_periodic_refine(d, ys, period_guess, target, o, p);
         p->t_guess = t_guess;
+        p->section_events = sec->count;
         p->rhs_calls += calls;
         p->seconds = swim_clock_seconds() - t_start;   /* the guess's run included */
     }
@@ -185,6 +191,7 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
     p->conservative = swim_periodic_conservative(d);
     p->period_guess = T0;
     const int targeted = isfinite(energy_target) && p->conservative;
+    p->energy_target = targeted ? energy_target : NAN;
     double *ys = malloc(sizeof(double) * N), *yt = malloc(sizeof(double) * N), *work = malloc(sizeof(double) * N);
     double *full = calloc((size_t)d->dim, sizeof(double));
     double r[SWIM_FLOQUET_MAX], rt[SWIM_FLOQUET_MAX], u[SWIM_FLOQUET_MAX];
@@ -278,6 +285,12 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
             break;
         }
     }
+    if (!p->converged && targeted && fabs(E - energy_target) / escale > fmax(o->tol, res)) {
+        /* what keeps Newton from converging is the energy: a nearby orbit closes at another one */
+        snprintf(p->why_text, sizeof p->why_text, "the orbit left the energy it was asked to keep (E = %.12g, target "
+                 "%.12g): %s", E, energy_target, p->why ? p->why : "");
+        p->why = p->why_text;
+    }
     if (!p->converged && !p->conservative) {   /* say what the scene makes likely */
         snprintf(p->why_text, sizeof p->why_text, "%s; the scene has %s, which %s energy, so only a rest state "
                  "can close", p->why ? p->why : "", d->scene->forcing ? "forcing" : "damping",
@@ -343,6 +356,7 @@ void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d,
     swim_json_string(f, scene);
     fprintf(f, ",\n  \"section\": ");
     swim_json_string(f, section);
+    if (p->section_events > 0) fprintf(f, ",\n  \"section_events_per_period\": %d", p->section_events);
     fprintf(f, ",\n  \"converged\": %s,\n  \"reason\": ", p->converged ? "true" : "false");
     if (p->why) swim_json_string(f, p->why);
     else fprintf(f, "null");
@@ -363,6 +377,8 @@ void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d,
     fprintf(f, ",\n  \"energy\": ");
     swim_json_number(f, p->energy);
     fprintf(f, ",\n  \"energy_fixed\": %s", p->conservative ? "true" : "false");
+    fprintf(f, ",\n  \"energy_target\": ");   /* the guess's energy, held (conservative scenes) */
+    swim_json_number(f, p->energy_target);
     fprintf(f, ",\n  \"phase_point\": {");
     const int nf = p->n2 / 2;
     for (int i = 0; i < p->n2; i++) {

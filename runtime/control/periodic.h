@@ -4,9 +4,14 @@
  * Equations: the orbit closes, phi_T(z) - z = 0, with phi the flow of the scene's equations
  * (its integrator and drift control, at a tight tolerance); a phase condition that fixes the
  * point along the orbit, f(z_k) . (z - z_k) = 0 (the correction orthogonal to the flow); and,
- * for a conservative scene (no damping, no forcing), the energy of the guess kept,
- * grad E(z_k) . (z - z_k) = 0 -- a conservative system has a family of orbits by energy, so
- * closing alone does not pick one. The corrections stay on the constraint manifold
+ * for a conservative scene (no damping, no forcing), the energy held at a target, E(z) - E* = 0
+ * with E* the guess's energy (swim periodic) or the branch's value (swim continue), as the
+ * bordered row grad E(z_k) . dz = E* - E(z_k) -- a conservative system has a family of orbits by
+ * energy, so closing alone does not pick one, and the linearized row alone (dE = 0 at each step)
+ * lets the iterates drift along the family (a libration from rest at E = 0.3 ended as a rotation
+ * at 0.544). A step is taken when it lowers the larger of the closing residual and the energy's
+ * relative miss; an orbit that cannot be closed at E* is refused, saying that it left the
+ * energy. The corrections stay on the constraint manifold
  * {mu^2(c) = mu^2(c0), G1 cdot = 0, G2 cdot = 0}: dz = B u with B an orthonormal basis of its
  * tangent space (control/floquet.h), and z is put back on the manifold after each step
  * (model/dynamics.h, swim_dynamics_project). The Newton matrix [(M - I) B, f; f^T B, 0;
@@ -14,8 +19,10 @@
  * solved in the least-squares sense (LAPACK dgelsd), which also copes with the rank a symmetry
  * takes away. A step that does not lower the residual is halved (at most 8 times).
  *
- * The guess: the state at the first of two successive events of the section (e.g. am1:max) of a
- * plain run from the scene's initial state, and the time between them.
+ * The guess: the state at the first event of the section (e.g. am1:max) of a plain run from the
+ * scene's initial state, and the time to the section's count-th event after it (am1:max:2: a
+ * libration beyond 90 degrees passes the maximum of a coordinate that goes as the sine of its
+ * angle twice per period).
  *
  * Converged when max |phi_T(z) - z| <= tol * max(max |z|, atol). Then the displacement and
  * rotation per period (Delta x, Delta y, Delta theta: the rigid motion over [0, T] from
@@ -59,7 +66,8 @@ typedef struct {
     char why_text[512];
     int iterations;
     swim_periodic_iteration history[SWIM_PERIODIC_MAX_ITER + 1];
-    double t_guess, period_guess;  /* the guess: first event and time between two */
+    double t_guess, period_guess;  /* the guess: first event and time to the section's count-th after it */
+    int section_events;            /* the count: events of the section per period (0: no section, a refine) */
     double period;
     double residual;               /* relative, as in the history */
     double scale;
@@ -67,6 +75,7 @@ typedef struct {
     double z[SWIM_FLOQUET_MAX];    /* the shape state at the phase point */
     double dx, dy, dtheta;         /* rigid motion per period, from q = 0 */
     double energy;
+    double energy_target;          /* the energy held (NAN: none) */
     int conservative;              /* the energy row was used */
     swim_floquet floquet;          /* at the phase point (converged only; free with swim_periodic_free) */
     int have_floquet;
