@@ -103,7 +103,7 @@ int swim_cmd_continue(int argc, char **argv)
                      "--param energy=0.1:0.3");
         return 2;
     }
-    swim_cont_options o = {NULL, 0, 0, 11, {1e-11, 20, 1e-12, 1e-14, 0.0, "continue", "run.t_end (--set run.t_end=T)"}};
+    swim_cont_options o = {NULL, 0, 0, 11, {1e-11, 20, 1e-12, 1e-14, 0.0, "continue", "run.t_end (--set run.t_end=T)", NULL}};
     char key[128];
     if (parse_param(swim_args_get(opts, nopts, "param"), &o, key, sizeof key)) return 2;
     double points = o.points;

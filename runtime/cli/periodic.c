@@ -71,7 +71,7 @@ int swim_cmd_periodic(int argc, char **argv)
         swim_message(stderr, "swim periodic: expected one scene file, e.g. swim periodic models/example3.toml");
         return 2;
     }
-    swim_periodic_options o = {1e-11, 20, 1e-12, 1e-14, 0.0, "periodic", "--t-max"};
+    swim_periodic_options o = {1e-11, 20, 1e-12, 1e-14, 0.0, "periodic", "--t-max", NULL};
     double iters = o.max_iter;
     if (swim_args_bounded("periodic", opts, nopts, "tol", &o.tol) ||
         swim_args_bounded("periodic", opts, nopts, "max-iter", &iters) ||

@@ -221,6 +221,8 @@ static int eigenvalues(const double *M, int n, double *re, double *im)
     return rc;
 }
 
+int swim_floquet_eigenvalues(const double *M, int n, double *re, double *im) { return eigenvalues(M, n, re, im); }
+
 static double determinant(const double *M, int n)
 {
     double *A = malloc(sizeof(double) * n * n);

@@ -121,6 +121,8 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
                         double *period);
 void swim_floquet_free(swim_floquet *f);
 /* floquet.json and the table printed by swim floquet. */
+/* The eigenvalues of the n x n row-major matrix M into re, im. 0, or -1 (out of memory, LAPACK). */
+int swim_floquet_eigenvalues(const double *M, int n, double *re, double *im);
 void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const char *section);
 void swim_floquet_table(FILE *f, const swim_floquet *fl);
 /* The "checks" object of floquet.json (flow, energy, reciprocal residuals, det M_t, ...). */

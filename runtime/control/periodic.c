@@ -85,13 +85,15 @@ int swim_periodic_conservative(const swim_dynamics *d)
 }
 
 /* The Newton step (u, dT) of the bordered system, least squares. 0, or -1. */
-static int newton_step(const swim_floquet *fl, const double *r, int with_energy, double energy_gap, double *u,
-                       double *dT)
+static int newton_step(const swim_floquet *fl, const double *r, int with_energy, double energy_gap,
+                       const signed char *hold, double *u, double *dT)
 {
-    int nsym = 0, sym[SWIM_FLOQUET_NSYM];
+    int nsym = 0, sym[SWIM_FLOQUET_NSYM], held[SWIM_FLOQUET_MAX], nheld = 0;
     for (int k = 0; k < SWIM_FLOQUET_NSYM; k++)   /* a symmetry's orbit of orbits: a phase condition for it too */
         if (fl->symmetry_residual[k] <= SWIM_FLOQUET_SYMMETRY_TOL) sym[nsym++] = k;
-    const int n2 = fl->n2, nt = fl->nt, m = n2 + 1 + with_energy + nsym, nc = nt + 1, ld = nc;
+    for (int i = 0; hold && i < fl->n2; i++)
+        if (hold[i]) held[nheld++] = i;
+    const int n2 = fl->n2, nt = fl->nt, m = n2 + 1 + with_energy + nsym + nheld, nc = nt + 1, ld = nc;
     const int rows = m > nc ? m : nc;
     double *A = calloc((size_t)rows * ld, sizeof(double)), *b = calloc((size_t)rows, sizeof(double));
     double *sv = malloc(sizeof(double) * (size_t)(m < nc ? m : nc));
@@ -116,6 +118,11 @@ static int newton_step(const swim_floquet *fl, const double *r, int with_energy,
             for (int q = 0; q < nsym; q++)
                 A[(n2 + 1 + with_energy + q) * ld + k] += fl->symmetry[sym[q]][j] * fl->B[j * nt + k];
         }
+    /* the invariant subspace: dz_i = 0 for each held entry (z_i is 0 and stays 0). Without these
+     * rows the least-squares step may move along the out-of-subspace directions a reversible
+     * orbit leaves neutral (a multiplier 1 on the complement), and a branch drifts off its family */
+    for (int q = 0; q < nheld; q++)
+        for (int k = 0; k < nt; k++) A[(n2 + 1 + with_energy + nsym + q) * ld + k] = fl->B[held[q] * nt + k];
     /* rcond 1e-6: M is accurate to ~1e-8, so the multipliers at 1 of a symmetry or a conserved
      * quantity the rows above do not fix split by ~1e-4 and leave singular values of that size;
      * cut, they do not throw the step along a direction the orbit does not determine */
@@ -202,6 +209,8 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
     }
     memcpy(ys, ys0, sizeof(double) * N);
     ys[0] = ys[1] = ys[2] = ys[N - 1] = 0.0;
+    for (int i = 0; o->hold_zero && i < n2; i++)
+        if (o->hold_zero[i]) ys[3 + i] = 0.0;
     double T = T0, res;
     p->scale = d->scene->atol;
     for (int i = 0; i < n2; i++) p->scale = fmax(p->scale, fabs(ys[3 + i]));
@@ -242,7 +251,8 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
         if (swim_floquet_at(d, ys, T, &fl) != 0) goto done;
         p->rhs_calls += fl.rhs_calls;
         double dT = 0.0;
-        const int step_rc = newton_step(&fl, r, p->conservative, targeted ? energy_target - E : 0.0, u, &dT);
+        const int step_rc = newton_step(&fl, r, p->conservative, targeted ? energy_target - E : 0.0, o->hold_zero, u,
+                                        &dT);
         double dz[SWIM_FLOQUET_MAX];
         for (int i = 0; i < n2; i++) {
             dz[i] = 0.0;
@@ -261,6 +271,8 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
             for (int i = 0; i < n2; i++) yt[3 + i] += lambda * dz[i];
             yt[0] = yt[1] = yt[2] = yt[N - 1] = 0.0;
             swim_dynamics_project(0.0, yt, d);   /* back onto the constraint manifold */
+            for (int i = 0; o->hold_zero && i < n2; i++)   /* the projection keeps them to rounding */
+                if (o->hold_zero[i]) yt[3 + i] = 0.0;
             const double Tt = T + lambda * dT;
             if (!(Tt > 0.0)) continue;
             if (residual(d, yt, Tt, o, p->scale, rt, &res_t, work, &p->rhs_calls, 0) != 0) continue;
@@ -341,6 +353,31 @@ int swim_periodic_setup(swim_model_setup *m, const char *cmd, const char *path, 
     if (rc == 0) rc = swim_floquet_parse_section(&m->d, cmd, "guess-event", guess, sec, text, len);
     if (rc) swim_setup_close(m);
     return rc;
+}
+
+int swim_periodic_invariant_zeros(const swim_periodic *p, signed char *hold)
+{
+    const int n2 = p->n2;
+    memset(hold, 0, (size_t)n2);
+    if (!p->converged || !p->have_floquet) return 0;
+    const swim_floquet *fl = &p->floquet;
+    double fmax_ = 0.0, mmax = 0.0;
+    for (int i = 0; i < n2; i++) fmax_ = fmax(fmax_, fabs(fl->flow[i]));
+    for (int i = 0; i < n2 * n2; i++) mmax = fmax(mmax, fabs(fl->M[i]));
+    int n = 0;
+    for (int i = 0; i < n2; i++) {
+        hold[i] = fabs(p->z[i]) <= 1e-10 * p->scale && fabs(fl->flow[i]) <= 1e-10 * fmax_;
+        n += hold[i];
+    }
+    /* invariance to first order along the whole orbit: M maps the subspace into itself */
+    for (int i = 0; i < n2 && n; i++)
+        for (int j = 0; j < n2; j++)
+            if (hold[i] && !hold[j] && fabs(fl->M[i * n2 + j]) > 1e-7 * mmax) {
+                memset(hold, 0, (size_t)n2);
+                return 0;
+            }
+    if (n == n2) memset(hold, 0, (size_t)n2);   /* a rest state, not a subspace */
+    return n == n2 ? 0 : n;
 }
 
 void swim_periodic_free(swim_periodic *p)

@@ -48,6 +48,9 @@ typedef struct {
     const char *cmd;               /* messages "swim CMD: ..." (NULL: periodic) */
     const char *t_max_from;        /* what the user sets t_max with, for the remedy when the guess
                                     * finds no period (NULL: --t-max) */
+    const signed char *hold_zero;  /* n2 flags: entries of the shape state held at 0 -- an invariant
+                                    * subspace the orbit stays in (swim_periodic_invariant_zeros) --
+                                    * or NULL */
 } swim_periodic_options;
 
 typedef struct {
@@ -102,6 +105,12 @@ int swim_periodic_conservative(const swim_dynamics *d);
  * through ys0's energy. Same results and status as swim_periodic_solve (t_guess is 0). */
 int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double energy_target,
                          const swim_periodic_options *o, swim_periodic *out);
+/* The invariant subspace a converged orbit p lies in, as the entries of the shape state that are 0
+ * on it: each such entry is 0 at the phase point (to 1e-10 of the state's scale), so is its rate
+ * there (the flow f), and the monodromy does not feed the other entries into it (|M_ij| <= 1e-7
+ * max |M| for i held, j not): a mirror symmetry's fixed set, e.g. b_-1 = a_-2 = 0 for Example 3.
+ * Flags into hold (n2 entries); the number held (0 when none or no Floquet data). */
+int swim_periodic_invariant_zeros(const swim_periodic *p, signed char *hold);
 void swim_periodic_free(swim_periodic *p);
 /* DIR/periodic.json: names are the carried coordinates (d's spec). */
 void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d, const char *scene,
