@@ -21,6 +21,7 @@ typedef struct {
     double keep_energy;            /* a key of a conservative scene: the energy kept (else NAN) */
     const swim_periodic_options *po;
     const signed char *hold;       /* the invariant subspace held (n2 flags), or NULL */
+    const swim_cont_options *o;
     long rhs_calls;
 } problem;
 
@@ -29,6 +30,9 @@ typedef struct {
     double param, T;
     double *ys;
 } anchor;
+
+/* The caller asked the work to stop (swim_dynamics.interrupt): its value, else 0. */
+static int stop_asked(const problem *pb) { return pb->d->interrupt && *pb->d->interrupt ? *pb->d->interrupt : 0; }
 
 static void set_param(problem *pb, double v)
 {
@@ -137,7 +141,7 @@ static int walk(problem *pb, const anchor *first, const double *targets, int n, 
     an[0].T = first->T;
     memcpy(an[0].ys, first->ys, sizeof(double) * N);
     int have_prev = 0, rc = 0;
-    for (int k = 0; k < n; k++) {
+    for (int k = 0; k < n && !stop_asked(pb); k++) {
         /* from the last anchor to targets[k], in halved steps when a point does not converge */
         double goal = targets[k];
         int halvings = 0, reached = 0, attempts = 0;
@@ -150,8 +154,15 @@ static int walk(problem *pb, const anchor *first, const double *targets, int n, 
             swim_periodic p;
             predict(&an[0], &an[1], have_prev, goal, N, ys, &T);
             const int s = solve_at(pb, goal, ys, T, &p);
+            if (stop_asked(pb)) {   /* this point's Newton was cut short: the points before it stand */
+                swim_periodic_free(&p);
+                goto end;
+            }
             if (s == 0) {
-                if (goal == targets[k]) record(&b->pt[b->n++], goal, &p, pb->hold);
+                if (goal == targets[k]) {
+                    record(&b->pt[b->n++], goal, &p, pb->hold);
+                    if (pb->o->progress) pb->o->progress(pb->o->progress_ctx, goal, p.period);
+                }
                 an[1].param = an[0].param;
                 an[1].T = an[0].T;
                 memcpy(an[1].ys, an[0].ys, sizeof(double) * N);
@@ -244,7 +255,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
 {
     memset(b, 0, sizeof *b);
     const double t0 = swim_clock_seconds();
-    problem pb = {d, strcmp(o->key, "energy") == 0, {NULL, NULL}, 0, NAN, &o->periodic, NULL, 0};
+    problem pb = {d, strcmp(o->key, "energy") == 0, {NULL, NULL}, 0, NAN, &o->periodic, NULL, o, 0};
     swim_periodic_options held;   /* the options with the invariant subspace held */
     const int conservative = swim_periodic_conservative(d);
     if (pb.energy && !conservative) {
@@ -289,6 +300,13 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     if (swim_periodic_solve(d, sec, &o->periodic, &p0) != 0) goto done;
     have_p0 = 1;
     pb.rhs_calls += p0.rhs_calls;
+    if (p0.stopped) {   /* no point yet: an empty branch, said as stopped */
+        b->stopped = p0.stopped;
+        snprintf(b->ended[0], sizeof b->ended[0], "stopped by %s before the first orbit converged",
+                 swim_periodic_signal_name(p0.stopped));
+        rc = 0;
+        goto done;
+    }
     if (!p0.converged) {
         swim_message(stderr, "swim continue: %s: no periodic orbit to start from: %s (residual %.2g)", scene->path,
                      p0.why, p0.residual);
@@ -339,6 +357,13 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
         goto done;
     }
     qsort(b->pt, (size_t)b->n, sizeof *b->pt, by_param);
+    if ((b->stopped = stop_asked(&pb)) != 0) {   /* the points so far, no refinement of special points */
+        snprintf(b->ended[0], sizeof b->ended[0], "stopped by %s after %d of %d points",
+                 swim_periodic_signal_name(b->stopped), b->n, o->points);
+        b->ended[1][0] = '\0';
+        rc = 0;
+        goto done;
+    }
     if (classify(&pb, b) != 0) {
         swim_message(stderr, "swim continue: out of memory");
         goto done;
@@ -402,6 +427,12 @@ void swim_branch_json(FILE *f, const swim_branch *b, const char *scene, const ch
     fprintf(f, ",\n  \"parameter\": ");
     swim_json_string(f, key);
     fprintf(f, ",\n  \"method\": \"natural-parameter continuation, secant predictor, Newton shooting corrector\"");
+    fprintf(f, ",\n  \"status\": \"%s\"", b->stopped ? "stopped" : b->ended[0][0] || b->ended[1][0] ? "ended early"
+                                                                   : "completed");
+    if (b->stopped) {
+        fprintf(f, ",\n  \"signal\": ");
+        swim_json_string(f, swim_periodic_signal_name(b->stopped));
+    }
     fprintf(f, ",\n  \"start_orbit_parameter\": ");
     swim_json_number(f, b->param0);
     /* the entries held at 0 along the branch (the start orbit's invariant subspace), [] when none */

@@ -78,6 +78,8 @@ typedef struct {
     double start, stop;
     int points;
     swim_periodic_options periodic;
+    void (*progress)(void *ctx, double param, double period);   /* after each point of the branch (NULL: none) */
+    void *progress_ctx;
 } swim_cont_options;
 
 typedef struct {
@@ -87,6 +89,8 @@ typedef struct {
     int nspecial;
     char ended[2][256];            /* why each side ended early ("" when it reached its end) */
     double param0;                 /* the scene's own orbit's parameter */
+    int stopped;                   /* d->interrupt's value when the caller stopped the work (a signal
+                                    * number for swim continue): the points so far are kept */
     int n2;                        /* shape state entries of the phase points ... */
     char znames[SWIM_FLOQUET_MAX][24];   /* ... and their names (velocities as dNAME) */
     signed char hold[SWIM_FLOQUET_MAX];  /* the invariant subspace held: entries at 0 */

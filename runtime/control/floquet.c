@@ -129,9 +129,10 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
     const int want = sec->count + 1;
     for (double t = dt; rc == SWIM_ODE_OK && log.count < want && t < t_max + dt; t += dt)
         rc = swim_ode_advance(ode, fmin(t, t_max), y);
-    if (rc != SWIM_ODE_OK)
+    const int stopped = d->interrupt && *d->interrupt;   /* the caller's to say */
+    if (rc != SWIM_ODE_OK && !stopped)
         swim_message(stderr, "swim %s: the run for the period failed: %s", cmd, swim_ode_strerror(rc));
-    else if (log.count < want) {
+    else if (log.count < want && !stopped) {
         char many[16];
         snprintf(many, sizeof many, want == 2 ? "two" : "%d", want);
         swim_message(stderr, "swim %s: fewer than %s events of the section before t = %g: no period "
@@ -512,7 +513,8 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
         swim_ode_free(ode);
     }
     if (orc != SWIM_ODE_OK) {
-        swim_message(stderr, "swim floquet: the variational equations failed: %s", swim_ode_strerror(orc));
+        if (!(d->interrupt && *d->interrupt))   /* stopped: the caller's to say */
+            swim_message(stderr, "swim floquet: the variational equations failed: %s", swim_ode_strerror(orc));
         goto done;
     }
     double scale = d->scene->atol;

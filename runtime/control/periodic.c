@@ -2,6 +2,7 @@
 #include "control/periodic.h"
 
 #include <lapacke.h>
+#include <signal.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,6 +18,10 @@
 #define CMD(o) ((o)->cmd ? (o)->cmd : "periodic")
 
 #define MAX_HALVINGS 8
+
+/* The caller asked the work to stop (swim_dynamics.interrupt: the right-hand side then refuses,
+ * so an integration under way ends at once): the value of the flag, else 0. */
+static int stop_asked(const swim_dynamics *d) { return d->interrupt && *d->interrupt ? *d->interrupt : 0; }
 
 /* The flow map: the integrator state ys at t = 0 carried to t = T by the scene's integrator and
  * drift control at rtol/atol (the rigid part and the work start from 0). 0, or 1 (said). */
@@ -43,7 +48,7 @@ static int flow(swim_dynamics *d, const double *ys, double T, const swim_periodi
         swim_ode_free(ode);
     }
     if (rc != SWIM_ODE_OK) {
-        if (loud)   /* a trial step of the line search that fails is only a step not taken */
+        if (loud && !stop_asked(d))   /* a trial step of the line search that fails is only a step not taken */
             swim_message(stderr, "swim %s: the integration over one period (T = %.10g) failed: %s", CMD(o), T,
                      swim_ode_strerror(rc));
         return 1;
@@ -167,8 +172,19 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
     const int N = swim_dynamics_state_dim(d);
     double *ys = malloc(sizeof(double) * N), *full = calloc((size_t)d->dim, sizeof(double));
     int rc = 1;
-    if (!ys || !full) swim_message(stderr, "swim %s: out of memory", CMD(o));
-    else if (guess(d, sec, o, ys, full, p) == 0) {
+    const int g = ys && full ? guess(d, sec, o, ys, full, p) : -1;
+    if (g < 0) swim_message(stderr, "swim %s: out of memory", CMD(o));
+    else if (g != 0 && stop_asked(d)) {   /* stopped before any iterate */
+        p->stopped = stop_asked(d);
+        p->why = "stopped by a signal while the guess was looked for";
+        p->n2 = 2 * d->spec->nfree;
+        p->period = p->residual = p->energy = p->energy_target = NAN;
+        p->dx = p->dy = p->dtheta = NAN;
+        p->history[0].residual = p->history[0].period = p->history[0].energy = NAN;
+        p->section_events = sec->count;
+        p->seconds = swim_clock_seconds() - t_start;
+        rc = 0;
+    } else if (g == 0) {
         const double t_guess = p->t_guess, period_guess = p->period_guess;
         const long calls = p->rhs_calls;
         /* a conservative scene: the orbit of the guess's energy, held as a target (the bordered
@@ -218,15 +234,29 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
      * relative miss, so a step is taken for either */
     const double escale = targeted ? fmax(fabs(energy_target), 1e-300) : 1.0;
     double E = energy_at(d, ys, full);
-    if (residual(d, ys, T, o, p->scale, r, &res, work, &p->rhs_calls, 1)) goto done;
+    res = NAN;
+    if (residual(d, ys, T, o, p->scale, r, &res, work, &p->rhs_calls, 1) && !stop_asked(d)) goto done;
     double merit = targeted ? fmax(res, fabs(E - energy_target) / escale) : res;
     for (int it = 0;; it++) {
         swim_periodic_iteration *h = &p->history[it];
+        if (stop_asked(d)) {   /* the last iterate stands, not converged */
+            p->stopped = stop_asked(d);
+            p->iterations = it > 0 ? it - 1 : 0;
+            if (it == 0) {   /* the guess itself, its residual if it was computed */
+                h->residual = res;
+                h->merit = merit;
+                h->period = T;
+                h->energy = E;
+            }
+            p->why = "stopped by a signal before the residual reached the tolerance";
+            break;
+        }
         h->residual = res;
         h->merit = merit;
         h->period = T;
         h->energy = E;
         p->iterations = it;
+        if (o->progress) o->progress(o->progress_ctx, it, res, T);
         if (merit <= o->tol) {
             /* a rest state closes for every T: that is not the orbit asked for */
             double rhs_max = 0.0;
@@ -248,7 +278,10 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
             break;
         }
         swim_floquet fl;
-        if (swim_floquet_at(d, ys, T, &fl) != 0) goto done;
+        if (swim_floquet_at(d, ys, T, &fl) != 0) {
+            if (!stop_asked(d)) goto done;
+            continue;   /* said at the top */
+        }
         p->rhs_calls += fl.rhs_calls;
         double dT = 0.0;
         const int step_rc = newton_step(&fl, r, p->conservative, targeted ? energy_target - E : 0.0, o->hold_zero, u,
@@ -291,6 +324,7 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
                 merit = merit_t;
             }
         }
+        if (!accepted && stop_asked(d)) continue;   /* the trials were cut short: said at the top */
         if (!accepted) {
             p->why = "no step along the Newton direction lowered the residual (at the tolerance of the flow map, "
                      "or no periodic orbit near the guess)";
@@ -303,7 +337,7 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
                  "%.12g): %s", E, energy_target, p->why ? p->why : "");
         p->why = p->why_text;
     }
-    if (!p->converged && !p->conservative) {   /* say what the scene makes likely */
+    if (!p->converged && !p->conservative && !p->stopped) {   /* say what the scene makes likely */
         snprintf(p->why_text, sizeof p->why_text, "%s; the scene has %s, which %s energy, so only a rest state "
                  "can close", p->why ? p->why : "", d->scene->forcing ? "forcing" : "damping",
                  d->scene->forcing ? "supplies" : "dissipates");
@@ -313,6 +347,11 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
     p->residual = res;
     for (int i = 0; i < n2; i++) p->z[i] = ys[3 + i];
     p->energy = energy_at(d, ys, full);
+    if (p->stopped) {   /* no more integrations: the displacement is unknown */
+        p->dx = p->dy = p->dtheta = NAN;
+        rc = 0;
+        goto done;
+    }
     if (flow(d, ys, T, o, work, &p->rhs_calls, 1)) goto done;
     p->dx = work[0];
     p->dy = work[1];
@@ -380,6 +419,11 @@ int swim_periodic_invariant_zeros(const swim_periodic *p, signed char *hold)
     return n == n2 ? 0 : n;
 }
 
+const char *swim_periodic_signal_name(int sig)
+{
+    return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal";
+}
+
 void swim_periodic_free(swim_periodic *p)
 {
     if (p->have_floquet) swim_floquet_free(&p->floquet);
@@ -394,6 +438,11 @@ void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d,
     fprintf(f, ",\n  \"section\": ");
     swim_json_string(f, section);
     if (p->section_events > 0) fprintf(f, ",\n  \"section_events_per_period\": %d", p->section_events);
+    fprintf(f, ",\n  \"status\": \"%s\"", p->converged ? "converged" : p->stopped ? "stopped" : "not converged");
+    if (p->stopped) {
+        fprintf(f, ",\n  \"signal\": ");
+        swim_json_string(f, swim_periodic_signal_name(p->stopped));
+    }
     fprintf(f, ",\n  \"converged\": %s,\n  \"reason\": ", p->converged ? "true" : "false");
     if (p->why) swim_json_string(f, p->why);
     else fprintf(f, "null");

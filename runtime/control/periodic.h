@@ -48,6 +48,9 @@ typedef struct {
     const char *cmd;               /* messages "swim CMD: ..." (NULL: periodic) */
     const char *t_max_from;        /* what the user sets t_max with, for the remedy when the guess
                                     * finds no period (NULL: --t-max) */
+    void (*progress)(void *ctx, int iteration, double residual, double period);   /* after each Newton
+                                    * iterate's residual (NULL: none) */
+    void *progress_ctx;
     const signed char *hold_zero;  /* n2 flags: entries of the shape state held at 0 -- an invariant
                                     * subspace the orbit stays in (swim_periodic_invariant_zeros) --
                                     * or NULL */
@@ -65,6 +68,9 @@ typedef struct {
 
 typedef struct {
     int converged;
+    int stopped;                   /* the value of d->interrupt when the caller stopped the work (a
+                                    * signal number for swim periodic/continue), else 0: the last
+                                    * iterate and its residual are kept, never called converged */
     const char *why;               /* why not (static text or why_text), NULL when converged */
     char why_text[512];
     int iterations;
@@ -112,6 +118,8 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
  * Flags into hold (n2 entries); the number held (0 when none or no Floquet data). */
 int swim_periodic_invariant_zeros(const swim_periodic *p, signed char *hold);
 void swim_periodic_free(swim_periodic *p);
+/* "SIGINT", "SIGTERM", "SIGHUP" for a stop flag holding that signal's number, else "a signal". */
+const char *swim_periodic_signal_name(int sig);
 /* DIR/periodic.json: names are the carried coordinates (d's spec). */
 void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d, const char *scene,
                         const char *section);
