@@ -6,6 +6,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/run_signals.h"
 #include "control/floquet.h"
 #include "control/model_setup.h"
 #include "ode/ode.h"
@@ -22,6 +23,15 @@ static void fill(FILE *f, void *ctx)
 {
     const json_job *j = ctx;
     swim_floquet_json(f, j->fl, j->scene, j->section);
+}
+
+/* The period found, on stderr: the variational equations that follow can take long (and a test
+ * waits for this line). */
+static void on_period(void *ctx, double t_first, double period)
+{
+    (void)ctx;
+    swim_message(stderr, "swim floquet: period T = %.12g (events at %.10g and %.10g); now the variational equations",
+                 period, t_first, t_first + period);
 }
 
 int swim_cmd_floquet(int argc, char **argv)
@@ -90,9 +100,24 @@ int swim_cmd_floquet(int argc, char **argv)
         swim_setup_close(&m);
         return 2;
     }
+    /* SIGINT, SIGTERM and SIGHUP alike stop the work; floquet.json then says so (run_signals.h) */
     swim_floquet fl;
-    rc = swim_floquet_compute(&m.d, &sec, t_max > 0 ? t_max : m.s.t_end, &fl);
-    if (rc == 0) {
+    swim_run_signals sig;
+    swim_run_stop = 0;
+    m.d.interrupt = (volatile int *)&swim_run_stop;
+    swim_run_signals_install(&sig);
+    rc = swim_floquet_compute(&m.d, &sec, t_max > 0 ? t_max : m.s.t_end, quiet ? NULL : on_period, NULL, &fl);
+    swim_run_signals_restore(&sig);
+    if (rc == 0 && fl.stopped) {
+        json_job job = {&fl, pos[0], section};
+        const int written = swim_replace_file_with(json, fill, &job) == 0;
+        printf("%s: STOPPED by %s before the monodromy was complete: no multipliers; %s\n", pos[0],
+               swim_floquet_signal_name(fl.stopped), written ? json : "floquet.json NOT written");
+        swim_message(stderr, "swim floquet: %s: stopped by %s (period %s); %s", pos[0],
+                     swim_floquet_signal_name(fl.stopped), fl.period == fl.period ? "found" : "not yet found",
+                     written ? json : "floquet.json could not be written");
+        rc = 1;
+    } else if (rc == 0) {
         json_job job = {&fl, pos[0], section};
         if (swim_replace_file_with(json, fill, &job) != 0) {
             swim_message(stderr, "swim floquet: cannot write %s", json);

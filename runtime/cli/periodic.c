@@ -37,7 +37,7 @@ static void report(const swim_periodic *p, const char *scene, const char *json)
 {
     if (p->stopped)
         printf("%s: STOPPED by %s: NO periodic orbit, the last Newton iterate (%d) kept (residual %.2g, not converged); "
-               "%s\n", scene, swim_periodic_signal_name(p->stopped), p->iterations, p->residual, json);
+               "%s\n", scene, swim_floquet_signal_name(p->stopped), p->iterations, p->residual, json);
     else
         printf("%s: %s periodic orbit after %d Newton iterations (residual %.2g); %s\n", scene,
                p->converged ? "a" : "NO", p->iterations, p->residual, json);
@@ -137,7 +137,7 @@ int swim_cmd_periodic(int argc, char **argv)
         report(&p, pos[0], written ? json : "periodic.json NOT written");
         if (p.stopped) {
             swim_message(stderr, "swim periodic: %s: stopped by %s after %d Newton iterations, not converged (the "
-                         "last iterate and its residual %.2g are in %s)", pos[0], swim_periodic_signal_name(p.stopped),
+                         "last iterate and its residual %.2g are in %s)", pos[0], swim_floquet_signal_name(p.stopped),
                          p.iterations, p.residual, rc ? "nothing: it could not be written" : json);
             rc = 1;
         } else if (!p.converged) {

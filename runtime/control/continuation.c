@@ -303,7 +303,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     if (p0.stopped) {   /* no point yet: an empty branch, said as stopped */
         b->stopped = p0.stopped;
         snprintf(b->ended[0], sizeof b->ended[0], "stopped by %s before the first orbit converged",
-                 swim_periodic_signal_name(p0.stopped));
+                 swim_floquet_signal_name(p0.stopped));
         rc = 0;
         goto done;
     }
@@ -359,7 +359,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     qsort(b->pt, (size_t)b->n, sizeof *b->pt, by_param);
     if ((b->stopped = stop_asked(&pb)) != 0) {   /* the points so far, no refinement of special points */
         snprintf(b->ended[0], sizeof b->ended[0], "stopped by %s after %d of %d points",
-                 swim_periodic_signal_name(b->stopped), b->n, o->points);
+                 swim_floquet_signal_name(b->stopped), b->n, o->points);
         b->ended[1][0] = '\0';
         rc = 0;
         goto done;
@@ -431,7 +431,7 @@ void swim_branch_json(FILE *f, const swim_branch *b, const char *scene, const ch
                                                                    : "completed");
     if (b->stopped) {
         fprintf(f, ",\n  \"signal\": ");
-        swim_json_string(f, swim_periodic_signal_name(b->stopped));
+        swim_json_string(f, swim_floquet_signal_name(b->stopped));
     }
     fprintf(f, ",\n  \"start_orbit_parameter\": ");
     swim_json_number(f, b->param0);

@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <lapacke.h>
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -447,7 +448,8 @@ done:
     free(MtQ);
 }
 
-int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max, swim_floquet *fl)
+int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max,
+                         void (*on_period)(void *ctx, double t_first, double period), void *ctx, swim_floquet *fl)
 {
     memset(fl, 0, sizeof *fl);
     if (d->scene->stroke || !d->spec) {   /* a prescribed shape has no shape state to perturb */
@@ -463,10 +465,19 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
     } else {
         swim_dynamics_initial_state(d, full);
         swim_dynamics_pack(d, full, ys);
-        double t_first, period;
+        double t_first = NAN, period = NAN;
         if (swim_floquet_period(d, "floquet", sec, t_max, "--t-max", "--event", ys, &t_first, &period) == 0) {
+            if (on_period) on_period(ctx, t_first, period);
             rc = swim_floquet_at(d, ys, period, fl);   /* the monodromy based at t = 0 */
             fl->t_first = t_first;
+        }
+        if (rc != 0 && d->interrupt && *d->interrupt) {   /* stopped: what is known, said as such */
+            swim_floquet_free(fl);
+            memset(fl, 0, sizeof *fl);
+            fl->stopped = *d->interrupt;
+            fl->period = period;
+            fl->t_first = t_first;
+            rc = 0;
         }
     }
     free(full);
@@ -548,6 +559,11 @@ done:
     return rc;
 }
 
+const char *swim_floquet_signal_name(int sig)
+{
+    return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal";
+}
+
 void swim_floquet_free(swim_floquet *fl)
 {
     free(fl->M);
@@ -601,10 +617,18 @@ void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const
     swim_json_string(f, scene);
     fprintf(f, ",\n  \"section\": ");
     swim_json_string(f, section);
+    fprintf(f, ",\n  \"status\": \"%s\"", fl->stopped ? "stopped" : "computed");
     fprintf(f, ",\n  \"period\": ");
     swim_json_number(f, fl->period);
     fprintf(f, ",\n  \"first_event\": ");
     swim_json_number(f, fl->t_first);
+    if (fl->stopped) {   /* the monodromy was not finished: nothing more to say */
+        fprintf(f, ",\n  \"signal\": \"%s\",\n  \"periodic\": false,\n  \"seconds\": ",
+                swim_floquet_signal_name(fl->stopped));
+        swim_json_number(f, fl->seconds);
+        fprintf(f, "\n}\n");
+        return;
+    }
     /* the monodromy is the map over [0, T] from the scene's initial state, not from the first
      * event: a Floquet matrix based elsewhere on the orbit is similar, same multipliers */
     fprintf(f, ",\n  \"base\": \"t = 0 (the scene's initial state; the period is the time between the events at "

@@ -38,6 +38,9 @@
 #define SWIM_FLOQUET_CLOSURE_TOL (SWIM_FLOQUET_TOL * SWIM_FLOQUET_TOL)   /* relative closure */
 
 typedef struct {
+    int stopped;                   /* d->interrupt's value when the caller stopped the work (a signal
+                                    * number for swim floquet); then only period and t_first may be
+                                    * known (NAN otherwise) and nothing else was computed */
     double period, t_first;        /* T and the time of the first event */
     double closure;                /* max |x(T) - x(0)| over the shape state */
     double closure_rel;            /* closure / max(max |x(0)|, atol) */
@@ -100,10 +103,12 @@ typedef struct {
     int count;
 } swim_floquet_section;
 
-/* Computes everything above; t_max bounds the search for two events. 0 (also for an orbit that
- * does not close: see periodic), or 1 after one line on stderr (no period found before t_max, an
- * integration failure, a scene without free shape dynamics). */
-int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max, swim_floquet *out);
+/* Computes everything above; t_max bounds the search for two events; on_period (may be NULL) is
+ * told the period once found. 0 (also for an orbit that does not close: see periodic; and when
+ * d->interrupt stopped the work: then fl->stopped), or 1 after one line on stderr (no period found
+ * before t_max, an integration failure, a scene without free shape dynamics). */
+int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max,
+                         void (*on_period)(void *ctx, double t_first, double period), void *ctx, swim_floquet *out);
 /* The same analysis of the map over [0, period] from the integrator state ys (a point of the
  * orbit, e.g. the phase point of control/periodic.h); t_first is left 0. 0 or 1 (said). */
 int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floquet *out);
@@ -121,6 +126,9 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
                         double *period);
 void swim_floquet_free(swim_floquet *f);
 /* floquet.json and the table printed by swim floquet. */
+/* "SIGINT", "SIGTERM", "SIGHUP" for a stop flag holding that signal's number (swim periodic,
+ * continue and floquet report what stopped them), else "a signal". */
+const char *swim_floquet_signal_name(int sig);
 /* The eigenvalues of the n x n row-major matrix M into re, im. 0, or -1 (out of memory, LAPACK). */
 int swim_floquet_eigenvalues(const double *M, int n, double *re, double *im);
 void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const char *section);

@@ -2,7 +2,6 @@
 #include "control/periodic.h"
 
 #include <lapacke.h>
-#include <signal.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -419,11 +418,6 @@ int swim_periodic_invariant_zeros(const swim_periodic *p, signed char *hold)
     return n == n2 ? 0 : n;
 }
 
-const char *swim_periodic_signal_name(int sig)
-{
-    return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal";
-}
-
 void swim_periodic_free(swim_periodic *p)
 {
     if (p->have_floquet) swim_floquet_free(&p->floquet);
@@ -441,7 +435,7 @@ void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d,
     fprintf(f, ",\n  \"status\": \"%s\"", p->converged ? "converged" : p->stopped ? "stopped" : "not converged");
     if (p->stopped) {
         fprintf(f, ",\n  \"signal\": ");
-        swim_json_string(f, swim_periodic_signal_name(p->stopped));
+        swim_json_string(f, swim_floquet_signal_name(p->stopped));
     }
     fprintf(f, ",\n  \"converged\": %s,\n  \"reason\": ", p->converged ? "true" : "false");
     if (p->why) swim_json_string(f, p->why);

@@ -118,8 +118,6 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
  * Flags into hold (n2 entries); the number held (0 when none or no Floquet data). */
 int swim_periodic_invariant_zeros(const swim_periodic *p, signed char *hold);
 void swim_periodic_free(swim_periodic *p);
-/* "SIGINT", "SIGTERM", "SIGHUP" for a stop flag holding that signal's number, else "a signal". */
-const char *swim_periodic_signal_name(int sig);
 /* DIR/periodic.json: names are the carried coordinates (d's spec). */
 void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d, const char *scene,
                         const char *section);
