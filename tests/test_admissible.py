@@ -11,6 +11,8 @@
 - The summary's min J is taken over every accepted step and located between steps: Section 5.2
   gives 0.01711 at t = 18.1162 (ERRATA B4) with rows 0.05 or 0.5 apart, never more than the
   rows' own minimum; the per-step checks saw every accepted step.
+- That minimum is where the trajectory's min J is smallest: within 2e-8 of a golden section on
+  short runs, 1e-8 in t, with rows 0.001, 0.05 or 0.5 apart.
 - A stiff scene without stiff_fallback switches to cvode-bdf and says so (stderr, summary);
   with stiff_fallback = "none" it stops as before, naming the remedy.
 Prints "test_admissible: P passed, F failed".
@@ -115,6 +117,45 @@ def test_jmin_over_steps():
     p, d, s = run("models/selfpropelled.toml", "sp-rk8pd", "--t-end", "2", "--integrator", "rk8pd")
     check(s["step_checks"]["enabled"] is False and s["step_checks"]["steps"] == 0 and s["jmin"] == np.min(d["jmin"]),
           "rk8pd: step checks %r, min J %r vs rows %r" % (s["step_checks"], s["jmin"], np.min(d["jmin"])))
+
+
+def test_jmin_located_whatever_output_step():
+    """Section 5.2's minimum of J (t ~ 18.1162, between the rows) against a reference found
+    here: golden section on the last row of short runs ending at t (each row is the trajectory's
+    state at t), to 1e-9 in t. The summary's min J must be within 2e-8 of it, its time within
+    1e-8, with rows 0.001, 0.05 or 0.5 apart."""
+    sp = "models/selfpropelled.toml"
+
+    def j_at(t):
+        p, d, s = run(sp, "sp-golden", "--set", "run.t_end=%.17g" % t, "--output-step", "0.5")
+        ok = p.returncode == 0 and d is not None and d["t"][-1] == t
+        check(ok, "golden section: run to t = %.17g: %s" % (t, p.stderr.strip()))
+        return d["jmin"][-1] if ok else float("nan")
+
+    a, b, g = 18.11, 18.122, (5 ** 0.5 - 1) / 2
+    c, e = b - g * (b - a), a + g * (b - a)
+    fc, fe = j_at(c), j_at(e)
+    while b - a > 1e-9 and fc == fc and fe == fe:
+        if fc < fe:
+            b, e, fe = e, c, fc
+            c = b - g * (b - a)
+            fc = j_at(c)
+        else:
+            a, c, fc = c, e, fe
+            e = a + g * (b - a)
+            fe = j_at(e)
+    jref, tref = min(fc, fe), 0.5 * (a + b)
+    check(a > 18.11 and b < 18.122 and 0.0170 < jref < 0.0172,
+          "golden section: min J %.10g at %.10g, inside the bracket" % (jref, tref))
+    for dt in ("0.001", "0.05", "0.5"):
+        p, d, s = run(sp, "sp-locate-" + dt, "--t-end", "18.2", "--output-step", dt)
+        check(s is not None and s["status"] == "completed", "dt %s: %s" % (dt, s and s["reason"]))
+        if s is None:
+            continue
+        check(abs(s["jmin"] - jref) <= 2e-8 and abs(s["jmin_t"] - tref) <= 1e-8,
+              "dt %s: summary min J %.12g at t = %.12g, golden section %.12g at %.12g"
+              % (dt, s["jmin"], s["jmin_t"], jref, tref))
+        check(s["jmin"] <= np.min(d["jmin"]), "dt %s: summary min J above the rows' %.12g" % (dt, np.min(d["jmin"])))
 
 
 def stiff_variant(fallback_line):

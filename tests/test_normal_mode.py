@@ -100,13 +100,14 @@ def test_rotations_round_the_ellipse():
 
 def test_special_point_refined():
     """The librations lose stability near E = 0.1895: a real pair leaves the unit circle at +1
-    (a branch point of the symmetric orbits). Between the points 0.15, 0.2, 0.25 of a coarse
+    (a branch point of the symmetric orbits: the pair is the directions' across the mirror plane,
+    and the special point says so). Between the points 0.15, 0.2, 0.25 of a coarse
     branch it is bracketed, then bisected to 2^-24 of the bracket."""
     out = os.path.join(TMP, "special")
     rows = branch(out, "0.15:0.25", 3)
     d = json.load(open(os.path.join(out, "branch.json")))
     sp = d["special_points"]
-    check(len(sp) == 1 and sp[0]["kind"] == "fold or branch point" and sp[0]["refined"],
+    check(len(sp) == 1 and "branch point of orbits leaving the invariant subspace" in sp[0]["kind"] and sp[0]["refined"],
           "one special point, refined: %s" % [(s["kind"], s["between"]) for s in sp])
     if len(sp) != 1:
         return

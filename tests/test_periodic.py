@@ -3,7 +3,9 @@ state's scale; its period and displacement per period agree with a long plain ru
 between two events of the section at rtol 1e-12, and y at those times: both examples swim along
 y with theta = 0, so the body frame at the phase point is the fixed frame); the Newton history is
 kept and the residual falls; the Floquet part is based at the phase point and its flow direction
-is an eigenvector with multiplier 1. A damped scene (Example 7) has no periodic orbit: exit 1,
+is an eigenvector with multiplier 1. A conservative scene holds the guess's energy as a target
+(the libration from rest at E = 0.3: its orbit, or a refusal naming the energy; the section's
+second crossing reaches it). A damped scene (Example 7) has no periodic orbit: exit 1,
 its last line saying Newton did not converge and why (after the scene's own
 notice of its projected initial velocity), the history in periodic.json. Bad input: one
 line, exit 2."""
@@ -118,8 +120,41 @@ def test_damped_scene_does_not_converge():
           "damped: periodic.json keeps the history and the reason")
 
 
+LIB = "tests/scenes/example3_libration.toml"
+# at rest at E = 0.3 on the ellipse a_-1^2 + 2 b_-2^2 = 0.4899^2 (the invariant plane), beyond 90
+# degrees from c_ref: a libration whose b_-2 passes its maximum twice per period
+AT_REST_03 = ["--set", "shape.c0.am1=-0.12246987140232701", "--set", "shape.c0.bm2=0.33541253748085914"]
+
+
+def test_energy_held_as_target():
+    """A conservative scene keeps the guess's energy as a target: from the libration at rest at
+    E = 0.3, the section bm2:max (crossed twice per period) gives a half-period guess, from which
+    Newton used to converge to the rotation at E = 0.544 while saying the energy was kept; now it
+    refuses, saying the orbit left the energy. bm2:max:2 spans the whole period: the libration of
+    energy 0.3 (to 1e-9), with no displacement per period, in the invariant plane."""
+    p, d = periodic(LIB, "lib03-half", "--guess-event", "bm2:max", *AT_REST_03)
+    check(d is not None and abs(d["energy_target"] - 0.3) < 1e-12 and d["section"] == "bm2:max"
+          and d["section_events_per_period"] == 1, "half guess: target 0.3 and the section in periodic.json")
+    converged = p.returncode == 0 and d and d["converged"]
+    check((converged and abs(d["energy"] - 0.3) <= 1e-9) or
+          (p.returncode == 1 and d and not d["converged"] and "left the energy" in d["reason"]
+           and "left the energy" in p.stderr),
+          "half guess: an orbit of energy 0.3 or a refusal naming the energy: exit %d, %r" % (p.returncode, p.stderr))
+    p, d = periodic(LIB, "lib03", "--guess-event", "bm2:max:2", *AT_REST_03)
+    check(p.returncode == 0 and d and d["converged"], "bm2:max:2: converged (%r)" % p.stderr[-300:])
+    if not (d and d["converged"]):
+        return
+    check(abs(d["energy"] - 0.3) <= 1e-9 and d["section"] == "bm2:max:2" and d["section_events_per_period"] == 2,
+          "bm2:max:2: energy %.15g, section %r" % (d["energy"], d["section"]))
+    z = d["phase_point"]
+    check(abs(d["displacement_per_period"]["dy"]) < 1e-9 and max(abs(z[k]) for k in ("bm1", "am2", "dbm1", "dam2")) < 1e-9,
+          "bm2:max:2: a libration in the plane b_-1 = a_-2 = 0 (dy %.3g, %r)" % (d["displacement_per_period"]["dy"], z))
+    check("energy 0.3" in p.stdout and "target" in p.stdout, "the report names the target: %r" % p.stdout)
+
+
 def test_bad_input():
     for args, what in ((["--guess-event", "nosuch:max"], "nosuch"), (["--guess-event", "am1:sideways"], "COLUMN:KIND"),
+                       (["--guess-event", "am1:max:0"], "integer 1..16"), (["--guess-event", "am1:max:x"], "am1:max:x"),
                        (["--tol", "2"], "--tol"), (["--max-iter", "0"], "max-iter")):
         p = swim("periodic", "models/example3.toml", "--out", os.path.join(TMP, "bad"), *args)
         check(p.returncode == 2 and swimtest.one_line(p) and what in p.stderr, "%s: one line, exit 2: %r" % (args, p.stderr))

@@ -239,6 +239,34 @@ static void test_watch(void)
     }
     const double fd = (swim_shape_jmin(2, xp) - swim_shape_jmin(2, xm)) / (2 * e);
     CHECK(fabs(rate - fd) < 1e-8, "d/dt min J %.12g vs central difference %.12g", rate, fd);
+    /* mirror-symmetric shapes (real coefficients, alternating signs): by the triangle inequality
+     * the minimum of J lies at theta = pi, on a sample of swim_shape_jmin_at, where the refined value
+     * may be a rounding above the sample's; the angle must still be pi (the rate at a wrong angle
+     * put spurious sign changes of d/dt min J into Section 5.2's steps) */
+    int wrong = 0;
+    double worst = 0.0;
+    srand(7);
+    for (int trial = 0; trial < 200; trial++) {
+        const int modes = 3 + trial % 5, nn = 2 * (modes + 1);
+        double xs[16] = {0}, vs[16] = {0}, xsp[16], xsm[16], ths;
+        xs[0] = 1.0;
+        for (int m = 1; m <= modes; m++) {
+            xs[2 * m] = (m % 2 ? 1.0 : -1.0) * (0.02 + 0.2 * rand() / (double)RAND_MAX) / (m * modes);
+            vs[2 * m] = rand() / (double)RAND_MAX - 0.5;   /* a real velocity keeps the mirror */
+        }
+        vs[0] = 0.1;
+        swim_shape_jmin_at(modes, xs, &ths);
+        for (int i = 0; i < nn; i++) {
+            xsp[i] = xs[i] + e * vs[i];
+            xsm[i] = xs[i] - e * vs[i];
+        }
+        const double r = swim_shape_j_rate(modes, xs, vs, ths);
+        const double f = (swim_shape_jmin(modes, xsp) - swim_shape_jmin(modes, xsm)) / (2 * e);
+        if (fabs(ths - PI) > 1e-6) wrong++;
+        worst = fmax(worst, fabs(r - f));
+    }
+    CHECK(wrong == 0 && worst < 1e-7, "mirror shapes: %d of 200 angles not pi; worst d/dt min J vs central "
+          "difference %.3g", wrong, worst);
     CHECK(swim_shape_in_D(2, x) == 1, "in D");
     double out[6] = {1.0, 0.0, 0.0, 0.0, 0.6, 0.0};   /* min J = 1 - 1.44 */
     CHECK(swim_shape_in_D(2, out) == 0 && fabs(swim_shape_jmin(2, out) + 0.44) < 1e-14, "outside D");

@@ -8,6 +8,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/run_signals.h"
 #include "control/continuation.h"
 #include "control/model_setup.h"
 #include "io/files.h"
@@ -80,6 +81,13 @@ static int check_ends(const char *scene, const swim_override *sets, int nsets, c
     return 0;
 }
 
+/* Each point of the branch on stderr: a branch can take minutes (and a test waits for it to begin). */
+static void on_point(void *ctx, double param, double period)
+{
+    (void)ctx;
+    swim_message(stderr, "swim continue: point at %.10g: period %.12g", param, period);
+}
+
 int swim_cmd_continue(int argc, char **argv)
 {
     swim_override sets[SWIM_SETUP_MAX_SETS];
@@ -90,8 +98,8 @@ int swim_cmd_continue(int argc, char **argv)
                                              "scene's family of orbits) or a run-time scene key such as "
                                              "elastic.stiffness[4] or model.rho0 (required)"},
         {"max-points", 1, NULL, "K", "K evenly spaced parameter values from START to STOP, 2..1000 (default 11)"},
-        {"guess-event", 1, NULL, "COLUMN:KIND", "the section of the first orbit's guess, as for swim periodic "
-                                                "(default: the first moving coordinate's max)"},
+        {"guess-event", 1, NULL, "COLUMN:KIND[:COUNT]", "the section of the first orbit's guess, as for swim "
+                                                        "periodic (default: the first moving coordinate's max)"},
         {"out", 1, NULL, "DIR", "the output folder of branch.csv and branch.json (default: out/NAME-continue)"},
         {"tol", 1, NULL, "R", "each orbit to max |phi_T(z) - z| <= R times the state's scale (default 1e-11)"},
         {"set", 2, NULL, "KEY=VALUE", "a scene value overridden before the scene is validated (as for swim run)"},
@@ -107,7 +115,7 @@ int swim_cmd_continue(int argc, char **argv)
                      "--param energy=0.1:0.3");
         return 2;
     }
-    swim_cont_options o = {NULL, 0, 0, 11, {1e-11, 20, 1e-12, 1e-14, 0.0, "continue", "run.t_end (--set run.t_end=T)"}};
+    swim_cont_options o = {NULL, 0, 0, 11, {1e-11, 20, 1e-12, 1e-14, 0.0, "continue", "run.t_end (--set run.t_end=T)", NULL, NULL, NULL}, NULL, NULL};
     char key[128];
     if (parse_param(swim_args_get(opts, nopts, "param"), &o, key, sizeof key)) return 2;
     double points = o.points;
@@ -137,8 +145,15 @@ int swim_cmd_continue(int argc, char **argv)
         return rc;
     }
     o.periodic.t_max = m.s.t_end;
+    if (!swim_args_get(opts, nopts, "quiet")) o.progress = on_point;
+    /* SIGINT, SIGTERM and SIGHUP alike stop the branch; the points so far are written (run_signals.h) */
     swim_branch b;
+    swim_run_signals sig;
+    swim_run_stop = 0;
+    m.d.interrupt = (volatile int *)&swim_run_stop;
+    swim_run_signals_install(&sig);
     rc = swim_continue(&m.d, &m.s, &sec, &o, &b);
+    swim_run_signals_restore(&sig);
     if (rc == 0) {
         out_job job = {&b, pos[0], key};
         const char *failed = swim_mkdirs(dir) != 0 ? dir : swim_replace_file_with(csv, fill_csv, &job) != 0 ? csv

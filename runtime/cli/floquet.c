@@ -6,6 +6,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/run_signals.h"
 #include "control/floquet.h"
 #include "control/model_setup.h"
 #include "ode/ode.h"
@@ -24,6 +25,15 @@ static void fill(FILE *f, void *ctx)
     swim_floquet_json(f, j->fl, j->scene, j->section);
 }
 
+/* The period found, on stderr: the variational equations that follow can take long (and a test
+ * waits for this line). */
+static void on_period(void *ctx, double t_first, double period)
+{
+    (void)ctx;
+    swim_message(stderr, "swim floquet: period T = %.12g (events at %.10g and %.10g); now the variational equations",
+                 period, t_first, t_first + period);
+}
+
 int swim_cmd_floquet(int argc, char **argv)
 {
     swim_override sets[SWIM_SETUP_MAX_SETS];
@@ -31,9 +41,10 @@ int swim_cmd_floquet(int argc, char **argv)
     if (nsets < 0) return 2;
     swim_opt opts[] = {
         {"out", 1, NULL, "DIR", "the output folder of floquet.json (default: out/NAME-floquet)"},
-        {"event", 1, NULL, "COLUMN:KIND", "the section that defines the period: two successive events of a moving "
-                                          "coordinate or its velocity, KIND max, min or zero (default: the first moving "
-                                          "coordinate's max, e.g. am1:max)"},
+        {"event", 1, NULL, "COLUMN:KIND[:COUNT]", "the section that defines the period: two successive events of a "
+                                                  "moving coordinate or its velocity, KIND max, min or zero (default: "
+                                                  "the first moving coordinate's max, e.g. am1:max); with COUNT, the "
+                                                  "period spans COUNT events after the first (1..16, e.g. bm2:max:2)"},
         {"t-max", 1, NULL, "T", "how long to look for the two events (default: the scene's run.t_end)"},
         {"set", 2, NULL, "KEY=VALUE", "a scene value overridden before the scene is validated (as for swim run)"},
         {"quiet", 0, NULL, NULL, "no notices on stderr (kernel generation); the table stays on stdout"},
@@ -93,9 +104,24 @@ int swim_cmd_floquet(int argc, char **argv)
         swim_setup_close(&m);
         return 2;
     }
+    /* SIGINT, SIGTERM and SIGHUP alike stop the work; floquet.json then says so (run_signals.h) */
     swim_floquet fl;
-    rc = swim_floquet_compute(&m.d, &sec, t_max > 0 ? t_max : m.s.t_end, &fl);
-    if (rc == 0) {
+    swim_run_signals sig;
+    swim_run_stop = 0;
+    m.d.interrupt = (volatile int *)&swim_run_stop;
+    swim_run_signals_install(&sig);
+    rc = swim_floquet_compute(&m.d, &sec, t_max > 0 ? t_max : m.s.t_end, quiet ? NULL : on_period, NULL, &fl);
+    swim_run_signals_restore(&sig);
+    if (rc == 0 && fl.stopped) {
+        json_job job = {&fl, pos[0], section};
+        const int written = swim_replace_file_with(json, fill, &job) == 0;
+        printf("%s: STOPPED by %s before the monodromy was complete: no multipliers; %s\n", pos[0],
+               swim_floquet_signal_name(fl.stopped), written ? json : "floquet.json NOT written");
+        swim_message(stderr, "swim floquet: %s: stopped by %s (period %s); %s", pos[0],
+                     swim_floquet_signal_name(fl.stopped), fl.period == fl.period ? "found" : "not yet found",
+                     written ? json : "floquet.json could not be written");
+        rc = 1;
+    } else if (rc == 0) {
         json_job job = {&fl, pos[0], section};
         if (swim_replace_file_with(json, fill, &job) != 0) {
             swim_message(stderr, "swim floquet: cannot write %s", json);

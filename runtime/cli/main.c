@@ -51,18 +51,18 @@ static const command commands[] = {
      "swim sweep models/example1.toml --out out/fig42 --vary shape.dc0.bm2=-0.7,0.7 --keep trajectories"},
     {"floquet", swim_cmd_floquet,
      "monodromy matrix and Floquet multipliers of a periodic stroke: DIR/floquet.json, a table\n"
-     "           [--event COLUMN:KIND (default: first moving coordinate, max)] [--t-max T] [--out DIR]\n"
+     "           [--event COLUMN:KIND[:COUNT] (default: first moving coordinate, max)] [--t-max T] [--out DIR]\n"
      "           [--set KEY=VALUE ...] [--generic] [--quiet]",
      "swim floquet models/example3.toml --event am1:max --out out/example3-floquet"},
     {"periodic", swim_cmd_periodic,
      "a periodic orbit of the shape dynamics by Newton shooting: DIR/periodic.json (period,\n"
      "           phase point, displacement per period, Newton history, Floquet multipliers)\n"
-     "           [--guess-event COLUMN:KIND] [--out DIR] [--tol R] [--max-iter K] [--t-max T] [--set KEY=VALUE ...]\n"
+     "           [--guess-event COLUMN:KIND[:COUNT]] [--out DIR] [--tol R] [--max-iter K] [--t-max T] [--set KEY=VALUE ...]\n"
      "           [--generic] [--quiet]",
      "swim periodic models/example1.toml --guess-event am1:max --out out/example1-periodic"},
     {"continue", swim_cmd_continue,
      "a branch of periodic orbits in the energy or a run-time scene key: DIR/branch.csv, branch.json\n"
-     "           --param KEY=START:STOP [--max-points K] [--guess-event COLUMN:KIND] [--out DIR] [--tol R]\n"
+     "           --param KEY=START:STOP [--max-points K] [--guess-event COLUMN:KIND[:COUNT]] [--out DIR] [--tol R]\n"
      "           [--set KEY=VALUE ...] [--generic] [--quiet]",
      "swim continue models/example1.toml --param energy=0.05:0.3 --max-points 6"},
     {"optimize", swim_cmd_optimize,

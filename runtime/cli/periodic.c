@@ -1,12 +1,14 @@
 /* swim periodic: a periodic orbit of the shape dynamics by Newton shooting
  * (runtime/control/periodic.h), into DIR/periodic.json and a report on stdout. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/run_signals.h"
 #include "control/model_setup.h"
 #include "control/periodic.h"
 #include "io/files.h"
@@ -24,12 +26,26 @@ static void fill(FILE *f, void *ctx)
     swim_periodic_json(f, j->p, j->d, j->scene, j->section);
 }
 
+/* Each Newton iterate on stderr: the work can take minutes (and a test waits for it to begin). */
+static void on_iterate(void *ctx, int it, double residual, double period)
+{
+    (void)ctx;
+    swim_message(stderr, "swim periodic: Newton iterate %d: residual %.3g, T = %.12g", it, residual, period);
+}
+
 static void report(const swim_periodic *p, const char *scene, const char *json)
 {
-    printf("%s: %s periodic orbit after %d Newton iterations (residual %.2g); %s\n", scene,
-           p->converged ? "a" : "NO", p->iterations, p->residual, json);
-    printf("  period T = %.12g (guess %.10g from events), energy %.12g%s\n", p->period, p->period_guess, p->energy,
-           p->conservative ? " (kept: the family is by energy)" : "");
+    if (p->stopped)
+        printf("%s: STOPPED by %s: NO periodic orbit, the last Newton iterate (%d) kept (residual %.2g, not converged); "
+               "%s\n", scene, swim_floquet_signal_name(p->stopped), p->iterations, p->residual, json);
+    else
+        printf("%s: %s periodic orbit after %d Newton iterations (residual %.2g); %s\n", scene,
+               p->converged ? "a" : "NO", p->iterations, p->residual, json);
+    if (isfinite(p->energy_target))
+        printf("  period T = %.12g (guess %.10g from events), energy %.12g (target: the guess's %.12g; the family is "
+               "by energy)\n", p->period, p->period_guess, p->energy, p->energy_target);
+    else
+        printf("  period T = %.12g (guess %.10g from events), energy %.12g\n", p->period, p->period_guess, p->energy);
     printf("  per period: dx = %.10g, dy = %.10g, dtheta = %.10g (body frame at the phase point)\n", p->dx, p->dy,
            p->dtheta);
     if (p->have_floquet)
@@ -45,9 +61,12 @@ int swim_cmd_periodic(int argc, char **argv)
     int nsets = swim_args_take_sets("periodic", &argc, argv, 2, sets, (int)(sizeof sets / sizeof sets[0]));
     if (nsets < 0) return 2;
     swim_opt opts[] = {
-        {"guess-event", 1, NULL, "COLUMN:KIND", "the section whose two successive events give the guess (state and "
-                                                "period) from a plain run: a moving coordinate or its velocity, KIND "
-                                                "max, min or zero (default: the first moving coordinate's max)"},
+        {"guess-event", 1, NULL, "COLUMN:KIND[:COUNT]", "the section whose two successive events give the guess "
+                                                        "(state and period) from a plain run: a moving coordinate or "
+                                                        "its velocity, KIND max, min or zero (default: the first moving "
+                                                        "coordinate's max); with COUNT the period spans COUNT events "
+                                                        "after the first (1..16: bm2:max:2 for a libration beyond 90 "
+                                                        "degrees, which passes bm2's maximum twice)"},
         {"out", 1, NULL, "DIR", "the output folder of periodic.json (default: out/NAME-periodic)"},
         {"tol", 1, NULL, "R", "converged when max |phi_T(z) - z| <= R times the state's scale (default 1e-11)"},
         {"max-iter", 1, NULL, "K", "at most K Newton iterations, 1..40 (default 20)"},
@@ -64,7 +83,7 @@ int swim_cmd_periodic(int argc, char **argv)
         swim_message(stderr, "swim periodic: expected one scene file, e.g. swim periodic models/example3.toml");
         return 2;
     }
-    swim_periodic_options o = {1e-11, 20, 1e-12, 1e-14, 0.0, "periodic", "--t-max"};
+    swim_periodic_options o = {1e-11, 20, 1e-12, 1e-14, 0.0, "periodic", "--t-max", NULL, NULL, NULL};
     double iters = o.max_iter;
     if (swim_args_bounded("periodic", opts, nopts, "tol", &o.tol) ||
         swim_args_bounded("periodic", opts, nopts, "max-iter", &iters) ||
@@ -99,8 +118,15 @@ int swim_cmd_periodic(int argc, char **argv)
         swim_setup_close(&m);
         return rc;
     }
+    if (!quiet) o.progress = on_iterate;
+    /* SIGINT, SIGTERM and SIGHUP alike stop the work; what it has is written (run_signals.h) */
     swim_periodic p;
+    swim_run_signals sig;
+    swim_run_stop = 0;
+    m.d.interrupt = (volatile int *)&swim_run_stop;
+    swim_run_signals_install(&sig);
     rc = swim_periodic_solve(&m.d, &sec, &o, &p);
+    swim_run_signals_restore(&sig);
     if (rc == 0) {   /* converged or not, the history is kept */
         json_job job = {&p, &m.d, pos[0], section};
         const int written = swim_mkdirs(dir) == 0 && swim_replace_file_with(json, fill, &job) == 0;
@@ -109,7 +135,12 @@ int swim_cmd_periodic(int argc, char **argv)
             rc = 1;
         }
         report(&p, pos[0], written ? json : "periodic.json NOT written");
-        if (!p.converged) {
+        if (p.stopped) {
+            swim_message(stderr, "swim periodic: %s: stopped by %s after %d Newton iterations, not converged (the "
+                         "last iterate and its residual %.2g are in %s)", pos[0], swim_floquet_signal_name(p.stopped),
+                         p.iterations, p.residual, rc ? "nothing: it could not be written" : json);
+            rc = 1;
+        } else if (!p.converged) {
             swim_message(stderr, "swim periodic: %s: Newton did not converge: %s (residual %.2g > %.2g after %d "
                          "iterations; the history is in %s)", pos[0], p.why, p.residual, o.tol, p.iterations,
                          rc ? "nothing: it could not be written" : json);

@@ -9,6 +9,7 @@
 #include "io/clock.h"
 #include "io/json.h"
 #include "io/message.h"
+#include "kernel/coords.h"
 
 #define MAX_HALVINGS 4
 
@@ -19,6 +20,8 @@ typedef struct {
     int nvalue;
     double keep_energy;            /* a key of a conservative scene: the energy kept (else NAN) */
     const swim_periodic_options *po;
+    const signed char *hold;       /* the invariant subspace held (n2 flags), or NULL */
+    const swim_cont_options *o;
     long rhs_calls;
 } problem;
 
@@ -27,6 +30,9 @@ typedef struct {
     double param, T;
     double *ys;
 } anchor;
+
+/* The caller asked the work to stop (swim_dynamics.interrupt): its value, else 0. */
+static int stop_asked(const problem *pb) { return pb->d->interrupt && *pb->d->interrupt ? *pb->d->interrupt : 0; }
 
 static void set_param(problem *pb, double v)
 {
@@ -43,7 +49,34 @@ static int solve_at(problem *pb, double v, const double *ys, double T, swim_peri
     return p->converged ? 0 : 1;
 }
 
-static void record(swim_cont_point *q, double v, const swim_periodic *p)
+/* How many of the complement's multipliers outside the unit circle belong to the directions across
+ * the held subspace: those among the eigenvalues of M's block of held rows and columns (M maps the
+ * subspace into itself, so that block's eigenvalues are the across directions' multipliers). The
+ * block itself also holds a Jordan pair at 1 split by ~sqrt of M's error (1 +- 4e-6): matched
+ * against the complement's multipliers, from which the exact 1s are out, those do not count. */
+static int outside_across(const swim_periodic *p, const signed char *hold)
+{
+    if (!hold || !p->have_floquet) return 0;
+    const int n2 = p->n2;
+    int idx[SWIM_FLOQUET_MAX], n = 0, out = 0;
+    for (int i = 0; i < n2; i++)
+        if (hold[i]) idx[n++] = i;
+    double A[SWIM_FLOQUET_MAX * SWIM_FLOQUET_MAX], re[SWIM_FLOQUET_MAX], im[SWIM_FLOQUET_MAX];
+    for (int a = 0; a < n; a++)
+        for (int b = 0; b < n; b++) A[a * n + b] = p->floquet.M[idx[a] * n2 + idx[b]];
+    if (n == 0 || swim_floquet_eigenvalues(A, n, re, im) != 0) return 0;
+    const swim_floquet *fl = &p->floquet;
+    for (int k = 0; k < fl->nc; k++) {
+        const double a = hypot(fl->cre[k], fl->cim[k]);
+        if (!(a > 1.0 + SWIM_CONT_OUTSIDE_TOL)) continue;
+        int found = 0;
+        for (int i = 0; i < n && !found; i++) found = hypot(re[i] - fl->cre[k], im[i] - fl->cim[k]) <= 1e-6 * a;
+        out += found;
+    }
+    return out;
+}
+
+static void record(swim_cont_point *q, double v, const swim_periodic *p, const signed char *hold)
 {
     memset(q, 0, sizeof *q);
     q->param = v;
@@ -58,6 +91,7 @@ static void record(swim_cont_point *q, double v, const swim_periodic *p)
     q->n2 = p->n2;
     memcpy(q->z, p->z, sizeof(double) * (size_t)p->n2);
     if (!p->have_floquet) return;
+    q->outside_across = outside_across(p, hold);
     const swim_floquet *fl = &p->floquet;
     q->nt = fl->nc;   /* the complement's multipliers: the exact 1s taken out (floquet.h) */
     for (int i = 0; i < fl->nc; i++) {
@@ -107,7 +141,7 @@ static int walk(problem *pb, const anchor *first, const double *targets, int n, 
     an[0].T = first->T;
     memcpy(an[0].ys, first->ys, sizeof(double) * N);
     int have_prev = 0, rc = 0;
-    for (int k = 0; k < n; k++) {
+    for (int k = 0; k < n && !stop_asked(pb); k++) {
         /* from the last anchor to targets[k], in halved steps when a point does not converge */
         double goal = targets[k];
         int halvings = 0, reached = 0, attempts = 0;
@@ -120,8 +154,15 @@ static int walk(problem *pb, const anchor *first, const double *targets, int n, 
             swim_periodic p;
             predict(&an[0], &an[1], have_prev, goal, N, ys, &T);
             const int s = solve_at(pb, goal, ys, T, &p);
+            if (stop_asked(pb)) {   /* this point's Newton was cut short: the points before it stand */
+                swim_periodic_free(&p);
+                goto end;
+            }
             if (s == 0) {
-                if (goal == targets[k]) record(&b->pt[b->n++], goal, &p);
+                if (goal == targets[k]) {
+                    record(&b->pt[b->n++], goal, &p, pb->hold);
+                    if (pb->o->progress) pb->o->progress(pb->o->progress_ctx, goal, p.period);
+                }
                 an[1].param = an[0].param;
                 an[1].T = an[0].T;
                 memcpy(an[1].ys, an[0].ys, sizeof(double) * N);
@@ -159,6 +200,9 @@ static int by_param(const void *a, const void *b)
  * outside the circle it shares. The bracket's final ends go to s. 0, or -1 out of memory. */
 static int bisect(problem *pb, swim_cont_point p, swim_cont_point q, swim_cont_special *s)
 {
+    /* which multipliers leave, judged at the branch's own points (near the special point the
+     * leaving one is too close to 1 to tell the across block's from its Jordan pair at 1) */
+    const int across = p.outside_across != q.outside_across;
     const int N = swim_dynamics_state_dim(pb->d);
     double *ys = calloc((size_t)N, sizeof(double));
     if (!ys) return -1;
@@ -175,7 +219,7 @@ static int bisect(problem *pb, swim_cont_point p, swim_cont_point q, swim_cont_s
             break;
         }
         swim_cont_point m;
-        record(&m, v, &o);
+        record(&m, v, &o, pb->hold);
         swim_periodic_free(&o);
         if (m.outside == p.outside) p = m;
         else q = m;
@@ -185,7 +229,10 @@ static int bisect(problem *pb, swim_cont_point p, swim_cont_point q, swim_cont_s
     s->hi = fmax(p.param, q.param);
     const swim_cont_point *out = p.outside > q.outside ? &p : &q;
     s->at = *out;
-    s->kind = out->complex_outside ? "Neimark-Sacker" : out->negative_real ? "period doubling" : "fold or branch point";
+    s->kind = across
+                  ? "branch point of orbits leaving the invariant subspace (multipliers across it leave the unit "
+                    "circle; the branch stays in the subspace)"
+              : out->complex_outside ? "Neimark-Sacker" : out->negative_real ? "period doubling" : "fold or branch point";
     free(ys);
     return 0;
 }
@@ -208,7 +255,8 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
 {
     memset(b, 0, sizeof *b);
     const double t0 = swim_clock_seconds();
-    problem pb = {d, strcmp(o->key, "energy") == 0, {NULL, NULL}, 0, NAN, &o->periodic, 0};
+    problem pb = {d, strcmp(o->key, "energy") == 0, {NULL, NULL}, 0, NAN, &o->periodic, NULL, o, 0};
+    swim_periodic_options held;   /* the options with the invariant subspace held */
     const int conservative = swim_periodic_conservative(d);
     if (pb.energy && !conservative) {
         swim_message(stderr, "swim continue: --param energy: %s has damping or forcing, so energy is not conserved and "
@@ -254,12 +302,33 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     if (swim_periodic_solve(d, sec, &o->periodic, &p0) != 0) goto done;
     have_p0 = 1;
     pb.rhs_calls += p0.rhs_calls;
+    if (p0.stopped) {   /* no point yet: an empty branch, said as stopped */
+        b->stopped = p0.stopped;
+        snprintf(b->ended[0], sizeof b->ended[0], "stopped by %s before the first orbit converged",
+                 swim_floquet_signal_name(p0.stopped));
+        rc = 0;
+        goto done;
+    }
     if (!p0.converged) {
         swim_message(stderr, "swim continue: %s: no periodic orbit to start from: %s (residual %.2g)", scene->path,
                      p0.why, p0.residual);
         goto done;
     }
     b->param0 = pb.energy ? p0.energy : saved[0];
+    /* the invariant subspace of the first orbit, held along the branch */
+    b->n2 = p0.n2;
+    for (int i = 0; i < p0.n2; i++) {
+        char name[20];
+        swim_coord_name(d->spec->free_index[i % (p0.n2 / 2)], name, sizeof name);
+        snprintf(b->znames[i], sizeof b->znames[i], "%s%s", i < p0.n2 / 2 ? "" : "d", name);
+    }
+    b->nhold = swim_periodic_invariant_zeros(&p0, b->hold);
+    if (b->nhold) {
+        held = o->periodic;
+        held.hold_zero = b->hold;
+        pb.hold = b->hold;
+        pb.po = &held;
+    }
     if (!pb.energy && conservative) pb.keep_energy = p0.energy;
     anchor_set(&first, b->param0, &p0, N);
     for (int k = 0; k < o->points; k++)
@@ -290,6 +359,13 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
         goto done;
     }
     qsort(b->pt, (size_t)b->n, sizeof *b->pt, by_param);
+    if ((b->stopped = stop_asked(&pb)) != 0) {   /* the points so far, no refinement of special points */
+        snprintf(b->ended[0], sizeof b->ended[0], "stopped by %s after %d of %d points",
+                 swim_floquet_signal_name(b->stopped), b->n, o->points);
+        b->ended[1][0] = '\0';
+        rc = 0;
+        goto done;
+    }
     if (classify(&pb, b) != 0) {
         swim_message(stderr, "swim continue: out of memory");
         goto done;
@@ -318,8 +394,12 @@ void swim_branch_csv(FILE *f, const swim_branch *b, const char *key)
      * energy reached) */
     /* displacement = |(dx, dy)|: dx and dy are in the body frame at the phase point, which may
      * slide along the orbit from point to point; their length does not */
-    fprintf(f, "%s,period,dx,dy,dtheta,energy,dy_per_time,max_abs_multiplier,stable,residual,iterations,displacement\n",
+    /* then the phase point (the shape state each orbit was solved at, by coordinate name), so that
+     * anyone can rerun an orbit and see whether the branch stays on its invariant subspace */
+    fprintf(f, "%s,period,dx,dy,dtheta,energy,dy_per_time,max_abs_multiplier,stable,residual,iterations,displacement",
             strcmp(key, "energy") == 0 ? "energy_target" : key);
+    for (int j = 0; j < b->n2; j++) fprintf(f, ",%s", b->znames[j]);
+    fprintf(f, "\n");
     for (int i = 0; i < b->n; i++) {
         const swim_cont_point *q = &b->pt[i];
         const double num[] = {q->param, q->period, q->dx, q->dy, q->dtheta, q->energy, q->dy / q->period, q->max_abs};
@@ -331,6 +411,10 @@ void swim_branch_csv(FILE *f, const swim_branch *b, const char *key)
         swim_number_print(f, q->residual);
         fprintf(f, ",%d,", q->iterations);
         swim_number_print(f, hypot(q->dx, q->dy));
+        for (int j = 0; j < b->n2; j++) {
+            fputc(',', f);
+            swim_number_print(f, j < q->n2 ? q->z[j] : NAN);
+        }
         fputc('\n', f);
     }
 }
@@ -354,8 +438,19 @@ void swim_branch_json(FILE *f, const swim_branch *b, const char *scene, const ch
     fprintf(f, ",\n  \"parameter\": ");
     swim_json_string(f, key);
     fprintf(f, ",\n  \"method\": \"natural-parameter continuation, secant predictor, Newton shooting corrector\"");
+    fprintf(f, ",\n  \"status\": \"%s\"", b->stopped ? "stopped" : b->ended[0][0] || b->ended[1][0] ? "ended early"
+                                                                   : "completed");
+    if (b->stopped) {
+        fprintf(f, ",\n  \"signal\": ");
+        swim_json_string(f, swim_floquet_signal_name(b->stopped));
+    }
     fprintf(f, ",\n  \"start_orbit_parameter\": ");
     swim_json_number(f, b->param0);
+    /* the entries held at 0 along the branch (the start orbit's invariant subspace), [] when none */
+    fprintf(f, ",\n  \"invariant_subspace\": {\"held_zero\": [");
+    for (int j = 0, k = 0; j < b->n2; j++)
+        if (b->hold[j]) fprintf(f, "%s\"%s\"", k++ ? ", " : "", b->znames[j]);
+    fprintf(f, "]}");
     fprintf(f, ",\n  \"points\": [");
     for (int i = 0; i < b->n; i++) {
         const swim_cont_point *q = &b->pt[i];

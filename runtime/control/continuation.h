@@ -13,6 +13,15 @@
  * side of the branch ends, saying why. No pseudo-arclength: a fold in the parameter ends the
  * branch there (reported as such).
  *
+ * The branch stays on the invariant subspace the first orbit lies in (a mirror symmetry's fixed
+ * set: entries of the shape state that are 0 on it, swim_periodic_invariant_zeros), held by one
+ * Newton row dz_i = 0 per such entry: a symmetric orbit of a reversible system has neutral
+ * directions across the subspace (a multiplier at 1 on the complement), and without the rows the
+ * corrector drifted along them, so the branch depended on the path (Example 3's librations left
+ * the mirror plane from E ~ 0.12). Where multipliers of the directions across the subspace leave
+ * the unit circle (M is block-triangular there: its across-block's eigenvalues) the special point
+ * is a branch point where orbits leaving the subspace branch off; the branch itself stays in it.
+ *
  * At each point: period, displacement and rotation per period, energy, the largest |multiplier|
  * on the complement of the exact 1s and the stability (control/floquet.h, SWIM_CONT_OUTSIDE_TOL). Between two points the number of
  * multipliers outside the unit circle may change: a special point, classified by where the
@@ -49,11 +58,15 @@ typedef struct {
     int nt;
     double z[SWIM_FLOQUET_MAX];    /* the shape state at the phase point (n2 entries) */
     int n2;
+    int outside_across;            /* of the multipliers outside: those of the directions across the
+                                    * invariant subspace (0 when none is held) */
 } swim_cont_point;
 
 typedef struct {
     double lo, hi;                 /* between these parameters */
-    const char *kind;              /* "period doubling", "Neimark-Sacker", "fold or branch point" */
+    const char *kind;              /* "period doubling", "Neimark-Sacker", "fold or branch point", or
+                                    * the branch point where orbits leaving the invariant subspace
+                                    * branch off */
     int bisections;                /* halvings of the bracket done */
     int refined;                   /* all SWIM_CONT_BISECTIONS done */
     char why[160];                 /* why refining stopped early ("" otherwise) */
@@ -65,6 +78,8 @@ typedef struct {
     double start, stop;
     int points;
     swim_periodic_options periodic;
+    void (*progress)(void *ctx, double param, double period);   /* after each point of the branch (NULL: none) */
+    void *progress_ctx;
 } swim_cont_options;
 
 typedef struct {
@@ -74,6 +89,12 @@ typedef struct {
     int nspecial;
     char ended[2][256];            /* why each side ended early ("" when it reached its end) */
     double param0;                 /* the scene's own orbit's parameter */
+    int stopped;                   /* d->interrupt's value when the caller stopped the work (a signal
+                                    * number for swim continue): the points so far are kept */
+    int n2;                        /* shape state entries of the phase points ... */
+    char znames[SWIM_FLOQUET_MAX][24];   /* ... and their names (velocities as dNAME) */
+    signed char hold[SWIM_FLOQUET_MAX];  /* the invariant subspace held: entries at 0 */
+    int nhold;
     long rhs_calls;
     double seconds;
 } swim_branch;

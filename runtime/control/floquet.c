@@ -1,8 +1,10 @@
 #include "control/floquet.h"
 
 #include <complex.h>
+#include <errno.h>
 #include <lapacke.h>
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -23,7 +25,7 @@
 
 
 typedef struct {
-    double t[2];
+    double t[SWIM_FLOQUET_MAX_CROSSINGS + 1];
     int count;
 } event_log;
 
@@ -42,7 +44,7 @@ static double section_zero(double t, const double *y, const double *yp, void *da
 static void on_event(const swim_ode_event_hit *hit, void *data)
 {
     event_log *log = data;
-    if (log->count < 2) log->t[log->count] = hit->t;
+    if (log->count <= SWIM_FLOQUET_MAX_CROSSINGS) log->t[log->count] = hit->t;
     log->count++;
 }
 
@@ -61,7 +63,24 @@ int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const ch
     char col[32];
     if (!colon || (size_t)(colon - spec) >= sizeof col) goto bad;
     snprintf(col, sizeof col, "%.*s", (int)(colon - spec), spec);
-    const char *kind = colon + 1;
+    char kind[8];
+    const char *colon2 = strchr(colon + 1, ':');
+    sec->count = 1;
+    if (colon2) {   /* :COUNT, the events the period spans */
+        char *end;
+        errno = 0;
+        const long c = strtol(colon2 + 1, &end, 10);
+        if (end == colon2 + 1 || *end || errno || c < 1 || c > SWIM_FLOQUET_MAX_CROSSINGS) {
+            swim_message(stderr, "swim %s: --%s: '%s': the count after the second ':' is the number of events the "
+                         "period spans, an integer 1..%d, got '%s'", cmd, option, spec, SWIM_FLOQUET_MAX_CROSSINGS,
+                         colon2 + 1);
+            return 2;
+        }
+        sec->count = (int)c;
+    }
+    const size_t klen = colon2 ? (size_t)(colon2 - colon - 1) : strlen(colon + 1);
+    if (klen >= sizeof kind) goto bad;
+    snprintf(kind, sizeof kind, "%.*s", (int)klen, colon + 1);
     if (strcmp(kind, "max") == 0) sec->kind = 'x';
     else if (strcmp(kind, "min") == 0) sec->kind = 'n';
     else if (strcmp(kind, "zero") == 0) sec->kind = 'z';
@@ -79,8 +98,8 @@ int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const ch
                  "(d + name)", cmd, option, col);
     return 2;
 bad:
-    swim_message(stderr, "swim %s: --%s: expected COLUMN:KIND (KIND max, min or zero), e.g. am1:max, got '%s'", cmd,
-                 option, spec);
+    swim_message(stderr, "swim %s: --%s: expected COLUMN:KIND[:COUNT] (KIND max, min or zero; COUNT the events the "
+                 "period spans, 1 by default), e.g. am1:max or bm2:max:2, got '%s'", cmd, option, spec);
     return 2;
 }
 
@@ -108,18 +127,23 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
     swim_ode *ode = NULL;
     int rc = swim_ode_create(s->integrator, &sys, &o, 0.0, y, &ode);
     const double dt = s->output_step;
-    for (double t = dt; rc == SWIM_ODE_OK && log.count < 2 && t < t_max + dt; t += dt)
+    const int want = sec->count + 1;
+    for (double t = dt; rc == SWIM_ODE_OK && log.count < want && t < t_max + dt; t += dt)
         rc = swim_ode_advance(ode, fmin(t, t_max), y);
-    if (rc != SWIM_ODE_OK)
+    const int stopped = d->interrupt && *d->interrupt;   /* the caller's to say */
+    if (rc != SWIM_ODE_OK && !stopped)
         swim_message(stderr, "swim %s: the run for the period failed: %s", cmd, swim_ode_strerror(rc));
-    else if (log.count < 2)
-        swim_message(stderr, "swim %s: fewer than two events of the section before t = %g: no period "
-                     "(raise %s or choose another section with %s)", cmd, t_max, t_max_from, section_option);
+    else if (log.count < want && !stopped) {
+        char many[16];
+        snprintf(many, sizeof many, want == 2 ? "two" : "%d", want);
+        swim_message(stderr, "swim %s: fewer than %s events of the section before t = %g: no period "
+                     "(raise %s or choose another section with %s)", cmd, many, t_max, t_max_from, section_option);
+    }
     swim_ode_free(ode);
     free(y);
-    if (rc != SWIM_ODE_OK || log.count < 2) return 1;
+    if (rc != SWIM_ODE_OK || log.count < want) return 1;
     *t1 = log.t[0];
-    *period = log.t[1] - log.t[0];
+    *period = log.t[sec->count] - log.t[0];
     return 0;
 }
 
@@ -198,6 +222,8 @@ static int eigenvalues(const double *M, int n, double *re, double *im)
     free(A);
     return rc;
 }
+
+int swim_floquet_eigenvalues(const double *M, int n, double *re, double *im) { return eigenvalues(M, n, re, im); }
 
 static double determinant(const double *M, int n)
 {
@@ -422,7 +448,8 @@ done:
     free(MtQ);
 }
 
-int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max, swim_floquet *fl)
+int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max,
+                         void (*on_period)(void *ctx, double t_first, double period), void *ctx, swim_floquet *fl)
 {
     memset(fl, 0, sizeof *fl);
     if (d->scene->stroke || !d->spec) {   /* a prescribed shape has no shape state to perturb */
@@ -438,10 +465,19 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
     } else {
         swim_dynamics_initial_state(d, full);
         swim_dynamics_pack(d, full, ys);
-        double t_first, period;
+        double t_first = NAN, period = NAN;
         if (swim_floquet_period(d, "floquet", sec, t_max, "--t-max", "--event", ys, &t_first, &period) == 0) {
+            if (on_period) on_period(ctx, t_first, period);
             rc = swim_floquet_at(d, ys, period, fl);   /* the monodromy based at t = 0 */
             fl->t_first = t_first;
+        }
+        if (rc != 0 && d->interrupt && *d->interrupt) {   /* stopped: what is known, said as such */
+            swim_floquet_free(fl);
+            memset(fl, 0, sizeof *fl);
+            fl->stopped = *d->interrupt;
+            fl->period = period;
+            fl->t_first = t_first;
+            rc = 0;
         }
     }
     free(full);
@@ -488,7 +524,8 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
         swim_ode_free(ode);
     }
     if (orc != SWIM_ODE_OK) {
-        swim_message(stderr, "swim floquet: the variational equations failed: %s", swim_ode_strerror(orc));
+        if (!(d->interrupt && *d->interrupt))   /* stopped: the caller's to say */
+            swim_message(stderr, "swim floquet: the variational equations failed: %s", swim_ode_strerror(orc));
         goto done;
     }
     double scale = d->scene->atol;
@@ -520,6 +557,11 @@ done:
     free(f); free(C); free(Y);
     fl->seconds = swim_clock_seconds() - t0;
     return rc;
+}
+
+const char *swim_floquet_signal_name(int sig)
+{
+    return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal";
 }
 
 void swim_floquet_free(swim_floquet *fl)
@@ -575,10 +617,18 @@ void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const
     swim_json_string(f, scene);
     fprintf(f, ",\n  \"section\": ");
     swim_json_string(f, section);
+    fprintf(f, ",\n  \"status\": \"%s\"", fl->stopped ? "stopped" : "computed");
     fprintf(f, ",\n  \"period\": ");
     swim_json_number(f, fl->period);
     fprintf(f, ",\n  \"first_event\": ");
     swim_json_number(f, fl->t_first);
+    if (fl->stopped) {   /* the monodromy was not finished: nothing more to say */
+        fprintf(f, ",\n  \"signal\": \"%s\",\n  \"periodic\": false,\n  \"seconds\": ",
+                swim_floquet_signal_name(fl->stopped));
+        swim_json_number(f, fl->seconds);
+        fprintf(f, "\n}\n");
+        return;
+    }
     /* the monodromy is the map over [0, T] from the scene's initial state, not from the first
      * event: a Floquet matrix based elsewhere on the orbit is similar, same multipliers */
     fprintf(f, ",\n  \"base\": \"t = 0 (the scene's initial state; the period is the time between the events at "

@@ -38,6 +38,9 @@
 #define SWIM_FLOQUET_CLOSURE_TOL (SWIM_FLOQUET_TOL * SWIM_FLOQUET_TOL)   /* relative closure */
 
 typedef struct {
+    int stopped;                   /* d->interrupt's value when the caller stopped the work (a signal
+                                    * number for swim floquet); then only period and t_first may be
+                                    * known (NAN otherwise) and nothing else was computed */
     double period, t_first;        /* T and the time of the first event */
     double closure;                /* max |x(T) - x(0)| over the shape state */
     double closure_rel;            /* closure / max(max |x(0)|, atol) */
@@ -90,16 +93,22 @@ typedef struct {
 extern const char *const swim_floquet_symmetry_names[SWIM_FLOQUET_NSYM];
 
 /* Event that defines the period: extremum (kind 'x' max, 'n' min) or rising zero ('z') of the
- * integrator-state component `index` of d's state (c or cdot of a carried coordinate). */
+ * integrator-state component `index` of d's state (c or cdot of a carried coordinate); the period
+ * spans `count` events after the first (COLUMN:KIND:COUNT, 1 by default): a libration of more
+ * than 90 degrees passes the maximum of a coordinate that goes as the sine of its angle twice. */
+#define SWIM_FLOQUET_MAX_CROSSINGS 16
 typedef struct {
     int index;
     char kind;
+    int count;
 } swim_floquet_section;
 
-/* Computes everything above; t_max bounds the search for two events. 0 (also for an orbit that
- * does not close: see periodic), or 1 after one line on stderr (no period found before t_max, an
- * integration failure, a scene without free shape dynamics). */
-int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max, swim_floquet *out);
+/* Computes everything above; t_max bounds the search for two events; on_period (may be NULL) is
+ * told the period once found. 0 (also for an orbit that does not close: see periodic; and when
+ * d->interrupt stopped the work: then fl->stopped), or 1 after one line on stderr (no period found
+ * before t_max, an integration failure, a scene without free shape dynamics). */
+int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max,
+                         void (*on_period)(void *ctx, double t_first, double period), void *ctx, swim_floquet *out);
 /* The same analysis of the map over [0, period] from the integrator state ys (a point of the
  * orbit, e.g. the phase point of control/periodic.h); t_first is left 0. 0 or 1 (said). */
 int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floquet *out);
@@ -108,7 +117,7 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
  * the section as text (len bytes). 0, or 2 after one line "swim CMD: --OPTION: ..." on stderr. */
 int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const char *option, const char *spec,
                                swim_floquet_section *sec, char *text, size_t len);
-/* T and the time t_first of the first of two successive events of the section from state ys0
+/* T and the time t_first of the first of count + 1 successive events of the section from state ys0
  * at t = 0, on the scene's integrator with its drift control (messages "swim CMD: ..."; with
  * fewer than two events before t_max the remedy names what sets t_max and the section, e.g.
  * "--t-max" and "--event"). 0 or 1. */
@@ -117,6 +126,11 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
                         double *period);
 void swim_floquet_free(swim_floquet *f);
 /* floquet.json and the table printed by swim floquet. */
+/* "SIGINT", "SIGTERM", "SIGHUP" for a stop flag holding that signal's number (swim periodic,
+ * continue and floquet report what stopped them), else "a signal". */
+const char *swim_floquet_signal_name(int sig);
+/* The eigenvalues of the n x n row-major matrix M into re, im. 0, or -1 (out of memory, LAPACK). */
+int swim_floquet_eigenvalues(const double *M, int n, double *re, double *im);
 void swim_floquet_json(FILE *f, const swim_floquet *fl, const char *scene, const char *section);
 void swim_floquet_table(FILE *f, const swim_floquet *fl);
 /* The "checks" object of floquet.json (flow, energy, reciprocal residuals, det M_t, ...). */

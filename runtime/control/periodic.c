@@ -18,6 +18,10 @@
 
 #define MAX_HALVINGS 8
 
+/* The caller asked the work to stop (swim_dynamics.interrupt: the right-hand side then refuses,
+ * so an integration under way ends at once): the value of the flag, else 0. */
+static int stop_asked(const swim_dynamics *d) { return d->interrupt && *d->interrupt ? *d->interrupt : 0; }
+
 /* The flow map: the integrator state ys at t = 0 carried to t = T by the scene's integrator and
  * drift control at rtol/atol (the rigid part and the work start from 0). 0, or 1 (said). */
 static int flow(swim_dynamics *d, const double *ys, double T, const swim_periodic_options *o, double *out,
@@ -43,7 +47,7 @@ static int flow(swim_dynamics *d, const double *ys, double T, const swim_periodi
         swim_ode_free(ode);
     }
     if (rc != SWIM_ODE_OK) {
-        if (loud)   /* a trial step of the line search that fails is only a step not taken */
+        if (loud && !stop_asked(d))   /* a trial step of the line search that fails is only a step not taken */
             swim_message(stderr, "swim %s: the integration over one period (T = %.10g) failed: %s", CMD(o), T,
                      swim_ode_strerror(rc));
         return 1;
@@ -85,13 +89,15 @@ int swim_periodic_conservative(const swim_dynamics *d)
 }
 
 /* The Newton step (u, dT) of the bordered system, least squares. 0, or -1. */
-static int newton_step(const swim_floquet *fl, const double *r, int with_energy, double energy_gap, double *u,
-                       double *dT)
+static int newton_step(const swim_floquet *fl, const double *r, int with_energy, double energy_gap,
+                       const signed char *hold, double *u, double *dT)
 {
-    int nsym = 0, sym[SWIM_FLOQUET_NSYM];
+    int nsym = 0, sym[SWIM_FLOQUET_NSYM], held[SWIM_FLOQUET_MAX], nheld = 0;
     for (int k = 0; k < SWIM_FLOQUET_NSYM; k++)   /* a symmetry's orbit of orbits: a phase condition for it too */
         if (fl->symmetry_residual[k] <= SWIM_FLOQUET_SYMMETRY_TOL) sym[nsym++] = k;
-    const int n2 = fl->n2, nt = fl->nt, m = n2 + 1 + with_energy + nsym, nc = nt + 1, ld = nc;
+    for (int i = 0; hold && i < fl->n2; i++)
+        if (hold[i]) held[nheld++] = i;
+    const int n2 = fl->n2, nt = fl->nt, m = n2 + 1 + with_energy + nsym + nheld, nc = nt + 1, ld = nc;
     const int rows = m > nc ? m : nc;
     double *A = calloc((size_t)rows * ld, sizeof(double)), *b = calloc((size_t)rows, sizeof(double));
     double *sv = malloc(sizeof(double) * (size_t)(m < nc ? m : nc));
@@ -116,6 +122,11 @@ static int newton_step(const swim_floquet *fl, const double *r, int with_energy,
             for (int q = 0; q < nsym; q++)
                 A[(n2 + 1 + with_energy + q) * ld + k] += fl->symmetry[sym[q]][j] * fl->B[j * nt + k];
         }
+    /* the invariant subspace: dz_i = 0 for each held entry (z_i is 0 and stays 0). Without these
+     * rows the least-squares step may move along the out-of-subspace directions a reversible
+     * orbit leaves neutral (a multiplier 1 on the complement), and a branch drifts off its family */
+    for (int q = 0; q < nheld; q++)
+        for (int k = 0; k < nt; k++) A[(n2 + 1 + with_energy + nsym + q) * ld + k] = fl->B[held[q] * nt + k];
     /* rcond 1e-6: M is accurate to ~1e-8, so the multipliers at 1 of a symmetry or a conserved
      * quantity the rows above do not fix split by ~1e-4 and leave singular values of that size;
      * cut, they do not throw the step along a direction the orbit does not determine */
@@ -160,12 +171,29 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
     const int N = swim_dynamics_state_dim(d);
     double *ys = malloc(sizeof(double) * N), *full = calloc((size_t)d->dim, sizeof(double));
     int rc = 1;
-    if (!ys || !full) swim_message(stderr, "swim %s: out of memory", CMD(o));
-    else if (guess(d, sec, o, ys, full, p) == 0) {
+    const int g = ys && full ? guess(d, sec, o, ys, full, p) : -1;
+    if (g < 0) swim_message(stderr, "swim %s: out of memory", CMD(o));
+    else if (g != 0 && stop_asked(d)) {   /* stopped before any iterate */
+        p->stopped = stop_asked(d);
+        p->why = "stopped by a signal while the guess was looked for";
+        p->n2 = 2 * d->spec->nfree;
+        p->period = p->residual = p->energy = p->energy_target = NAN;
+        p->dx = p->dy = p->dtheta = NAN;
+        p->history[0].residual = p->history[0].period = p->history[0].energy = NAN;
+        p->section_events = sec->count;
+        p->seconds = swim_clock_seconds() - t_start;
+        rc = 0;
+    } else if (g == 0) {
         const double t_guess = p->t_guess, period_guess = p->period_guess;
         const long calls = p->rhs_calls;
-        rc = swim_periodic_refine(d, ys, period_guess, NAN, o, p);
+        /* a conservative scene: the orbit of the guess's energy, held as a target (the bordered
+         * row E(z) - E_guess = 0), not its linearization grad E . dz = 0, along which Newton
+         * drifts to another member of the family (a libration at E = 0.3 became a rotation at
+         * 0.544) */
+        const double target = swim_periodic_conservative(d) ? energy_at(d, ys, full) : NAN;
+        rc = swim_periodic_refine(d, ys, period_guess, target, o, p);
         p->t_guess = t_guess;
+        p->section_events = sec->count;
         p->rhs_calls += calls;
         p->seconds = swim_clock_seconds() - t_start;   /* the guess's run included */
     }
@@ -185,6 +213,7 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
     p->conservative = swim_periodic_conservative(d);
     p->period_guess = T0;
     const int targeted = isfinite(energy_target) && p->conservative;
+    p->energy_target = targeted ? energy_target : NAN;
     double *ys = malloc(sizeof(double) * N), *yt = malloc(sizeof(double) * N), *work = malloc(sizeof(double) * N);
     double *full = calloc((size_t)d->dim, sizeof(double));
     double r[SWIM_FLOQUET_MAX], rt[SWIM_FLOQUET_MAX], u[SWIM_FLOQUET_MAX];
@@ -195,6 +224,8 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
     }
     memcpy(ys, ys0, sizeof(double) * N);
     ys[0] = ys[1] = ys[2] = ys[N - 1] = 0.0;
+    for (int i = 0; o->hold_zero && i < n2; i++)
+        if (o->hold_zero[i]) ys[3 + i] = 0.0;
     double T = T0, res;
     p->scale = d->scene->atol;
     for (int i = 0; i < n2; i++) p->scale = fmax(p->scale, fabs(ys[3 + i]));
@@ -202,15 +233,29 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
      * relative miss, so a step is taken for either */
     const double escale = targeted ? fmax(fabs(energy_target), 1e-300) : 1.0;
     double E = energy_at(d, ys, full);
-    if (residual(d, ys, T, o, p->scale, r, &res, work, &p->rhs_calls, 1)) goto done;
+    res = NAN;
+    if (residual(d, ys, T, o, p->scale, r, &res, work, &p->rhs_calls, 1) && !stop_asked(d)) goto done;
     double merit = targeted ? fmax(res, fabs(E - energy_target) / escale) : res;
     for (int it = 0;; it++) {
         swim_periodic_iteration *h = &p->history[it];
+        if (stop_asked(d)) {   /* the last iterate stands, not converged */
+            p->stopped = stop_asked(d);
+            p->iterations = it > 0 ? it - 1 : 0;
+            if (it == 0) {   /* the guess itself, its residual if it was computed */
+                h->residual = res;
+                h->merit = merit;
+                h->period = T;
+                h->energy = E;
+            }
+            p->why = "stopped by a signal before the residual reached the tolerance";
+            break;
+        }
         h->residual = res;
         h->merit = merit;
         h->period = T;
         h->energy = E;
         p->iterations = it;
+        if (o->progress) o->progress(o->progress_ctx, it, res, T);
         if (merit <= o->tol) {
             /* a rest state closes for every T: that is not the orbit asked for */
             double rhs_max = 0.0;
@@ -232,10 +277,14 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
             break;
         }
         swim_floquet fl;
-        if (swim_floquet_at(d, ys, T, &fl) != 0) goto done;
+        if (swim_floquet_at(d, ys, T, &fl) != 0) {
+            if (!stop_asked(d)) goto done;
+            continue;   /* said at the top */
+        }
         p->rhs_calls += fl.rhs_calls;
         double dT = 0.0;
-        const int step_rc = newton_step(&fl, r, p->conservative, targeted ? energy_target - E : 0.0, u, &dT);
+        const int step_rc = newton_step(&fl, r, p->conservative, targeted ? energy_target - E : 0.0, o->hold_zero, u,
+                                        &dT);
         double dz[SWIM_FLOQUET_MAX];
         for (int i = 0; i < n2; i++) {
             dz[i] = 0.0;
@@ -254,6 +303,8 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
             for (int i = 0; i < n2; i++) yt[3 + i] += lambda * dz[i];
             yt[0] = yt[1] = yt[2] = yt[N - 1] = 0.0;
             swim_dynamics_project(0.0, yt, d);   /* back onto the constraint manifold */
+            for (int i = 0; o->hold_zero && i < n2; i++)   /* the projection keeps them to rounding */
+                if (o->hold_zero[i]) yt[3 + i] = 0.0;
             const double Tt = T + lambda * dT;
             if (!(Tt > 0.0)) continue;
             if (residual(d, yt, Tt, o, p->scale, rt, &res_t, work, &p->rhs_calls, 0) != 0) continue;
@@ -272,13 +323,20 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
                 merit = merit_t;
             }
         }
+        if (!accepted && stop_asked(d)) continue;   /* the trials were cut short: said at the top */
         if (!accepted) {
             p->why = "no step along the Newton direction lowered the residual (at the tolerance of the flow map, "
                      "or no periodic orbit near the guess)";
             break;
         }
     }
-    if (!p->converged && !p->conservative) {   /* say what the scene makes likely */
+    if (!p->converged && targeted && fabs(E - energy_target) / escale > fmax(o->tol, res)) {
+        /* what keeps Newton from converging is the energy: a nearby orbit closes at another one */
+        snprintf(p->why_text, sizeof p->why_text, "the orbit left the energy it was asked to keep (E = %.12g, target "
+                 "%.12g): %s", E, energy_target, p->why ? p->why : "");
+        p->why = p->why_text;
+    }
+    if (!p->converged && !p->conservative && !p->stopped) {   /* say what the scene makes likely */
         snprintf(p->why_text, sizeof p->why_text, "%s; the scene has %s, which %s energy, so only a rest state "
                  "can close", p->why ? p->why : "", d->scene->forcing ? "forcing" : "damping",
                  d->scene->forcing ? "supplies" : "dissipates");
@@ -288,6 +346,11 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
     p->residual = res;
     for (int i = 0; i < n2; i++) p->z[i] = ys[3 + i];
     p->energy = energy_at(d, ys, full);
+    if (p->stopped) {   /* no more integrations: the displacement is unknown */
+        p->dx = p->dy = p->dtheta = NAN;
+        rc = 0;
+        goto done;
+    }
     if (flow(d, ys, T, o, work, &p->rhs_calls, 1)) goto done;
     p->dx = work[0];
     p->dy = work[1];
@@ -334,6 +397,31 @@ int swim_periodic_setup(swim_model_setup *m, const char *cmd, const char *path, 
     return rc;
 }
 
+int swim_periodic_invariant_zeros(const swim_periodic *p, signed char *hold)
+{
+    const int n2 = p->n2;
+    memset(hold, 0, (size_t)n2);
+    if (!p->converged || !p->have_floquet) return 0;
+    const swim_floquet *fl = &p->floquet;
+    double fmax_ = 0.0, mmax = 0.0;
+    for (int i = 0; i < n2; i++) fmax_ = fmax(fmax_, fabs(fl->flow[i]));
+    for (int i = 0; i < n2 * n2; i++) mmax = fmax(mmax, fabs(fl->M[i]));
+    int n = 0;
+    for (int i = 0; i < n2; i++) {
+        hold[i] = fabs(p->z[i]) <= 1e-10 * p->scale && fabs(fl->flow[i]) <= 1e-10 * fmax_;
+        n += hold[i];
+    }
+    /* invariance to first order along the whole orbit: M maps the subspace into itself */
+    for (int i = 0; i < n2 && n; i++)
+        for (int j = 0; j < n2; j++)
+            if (hold[i] && !hold[j] && fabs(fl->M[i * n2 + j]) > 1e-7 * mmax) {
+                memset(hold, 0, (size_t)n2);
+                return 0;
+            }
+    if (n == n2) memset(hold, 0, (size_t)n2);   /* a rest state, not a subspace */
+    return n == n2 ? 0 : n;
+}
+
 void swim_periodic_free(swim_periodic *p)
 {
     if (p->have_floquet) swim_floquet_free(&p->floquet);
@@ -347,6 +435,12 @@ void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d,
     swim_json_string(f, scene);
     fprintf(f, ",\n  \"section\": ");
     swim_json_string(f, section);
+    if (p->section_events > 0) fprintf(f, ",\n  \"section_events_per_period\": %d", p->section_events);
+    fprintf(f, ",\n  \"status\": \"%s\"", p->converged ? "converged" : p->stopped ? "stopped" : "not converged");
+    if (p->stopped) {
+        fprintf(f, ",\n  \"signal\": ");
+        swim_json_string(f, swim_floquet_signal_name(p->stopped));
+    }
     fprintf(f, ",\n  \"converged\": %s,\n  \"reason\": ", p->converged ? "true" : "false");
     if (p->why) swim_json_string(f, p->why);
     else fprintf(f, "null");
@@ -367,6 +461,8 @@ void swim_periodic_json(FILE *f, const swim_periodic *p, const swim_dynamics *d,
     fprintf(f, ",\n  \"energy\": ");
     swim_json_number(f, p->energy);
     fprintf(f, ",\n  \"energy_fixed\": %s", p->conservative ? "true" : "false");
+    fprintf(f, ",\n  \"energy_target\": ");   /* the guess's energy, held (conservative scenes) */
+    swim_json_number(f, p->energy_target);
     fprintf(f, ",\n  \"phase_point\": {");
     const int nf = p->n2 / 2;
     for (int i = 0; i < p->n2; i++) {

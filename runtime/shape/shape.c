@@ -136,14 +136,19 @@ static double jmin_impl(int modes, const double *x, double *theta, int sign_only
             Pi[q] = Pr[q] * wi[q] + Pi[q] * wr[q] + pi[m - 1];
             Pr[q] = nr;
         }
+    int qbest = 0;
     for (int q = 0; q < S; q++) {
         const double J = c1sq - (Pr[q] * Pr[q] + Pi[q] * Pi[q]);
         Js[q] = J;
-        if (!(J >= best)) best = J;   /* also catches NaN */
+        if (!(J >= best)) { best = J; qbest = q; }   /* also catches NaN */
     }
     if (isnan(best)) return NAN;
     if (sign_only && (best - margin > 0 || !(best > 0))) return best - margin > 0 ? best : fmin(best, 0.0);
-    double jmin = best, tmin = 0.0;
+    /* the angle goes with the value: a minimum lying on a sample (a mirror-symmetric shape has
+     * it at 0, pi/2, pi or 3pi/2) may refine to a value a rounding above the sample's, and then
+     * the sample -- its value and its angle -- is the answer (d/dt min J and the precise J near
+     * the barrier are taken at this angle) */
+    double jmin = best, tmin = qbest * h;
     for (int q = 0; q < S; q++) {
         const double Jq = Js[q], Jl = Js[(q + S - 1) % S], Jr = Js[(q + 1) % S];
         if (Jq > Jl || Jq > Jr || Jq > best + margin) continue;
@@ -154,7 +159,7 @@ static double jmin_impl(int modes, const double *x, double *theta, int sign_only
         if (curv > 0) t0 += fmax(-0.5, fmin(0.5, 0.5 * (Jl - Jr) / curv)) * h;
         double th;
         double J = refine(modes, c1sq, pr, pi, (q - 1) * h, (q + 1) * h, t0, &th);
-        if (J < jmin || (J == jmin && tmin == 0.0)) { jmin = J; tmin = th; }
+        if (J <= jmin) { jmin = J; tmin = th; }
     }
     if (theta) {
         tmin = fmod(tmin, TWO_PI);
