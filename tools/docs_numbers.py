@@ -10,8 +10,21 @@ NAME is one of BLOCKS below; each names its source file and the command that mak
 (`make bench-docs` -> build/bench/docs/*.json, `make test` -> build/test-logs/last-run). The
 block ends with a line saying that command, the date and the machine's load when it ran. A
 block whose source is missing is left as it is and named on stderr with the command to run.
-Usage: docs_numbers.py [--check] -- with --check nothing is written; exit 1 if a block would
-change or its source is missing."""
+Usage: docs_numbers.py [--check | --inventory] -- with --check nothing is written; exit 1 if a
+block would change or its source is missing. --inventory lists every timing figure of the prose
+outside the blocks (see timings_outside_blocks; tests/test_docs.py fails on any), exit 1 if any.
+
+What counts as a timing figure (TIMING): a number with a unit of time (ns, µs, ms, s, min, h,
+seconds, minutes, hours), of memory (kB, MB, MiB, GB) or of speed (members/s, runs/s), or a
+ratio N× in a sentence about time or speed (faster, slower, cheaper, time, CPU, wall, µs, ms,
+members/s). Not measurements, hence not counted:
+  - generated blocks, fenced code and `inline code` (commands and their option values,
+    `--t-max 2`, `12h`, output a command prints);
+  - bounds: a figure right after ≤, <, ≥ or > (targets, limits, deadlines: "≤ 5 µs per RHS");
+  - sizes: A × B (matrix, grid, image dimensions), "min J", "s of video" (the film's own time);
+  - the phrases of NOT_MEASURED below, each with its reason (settings and limits written out
+    in words rather than as code).
+Model time (t = 30, T = 20) is written without a unit and never matches."""
 import glob
 import json
 import os
@@ -173,6 +186,82 @@ def read_record(name):
         return None
 
 
+# A number (or range a–b, with ~ or ≈ before it) followed by a unit of time, memory or speed.
+TIMING = re.compile(
+    r"(?<![\w.^/])(?P<bound>[≤<≥>]\s?)?[~≈]?\s?(?P<num>\d+(?:[ .]\d+)*(?:\s?[–-]\s?\d+(?:\.\d+)?)?)"
+    r"(?:\s?(?P<fine>ns|µs|us|ms)(?![\w/])|\s(?P<coarse>s|seconds?|min|minutes?|h|hours?)(?![\w/])"
+    r"|\s?(?P<mem>kB|KB|MB|MiB|GB)\b|\s(?P<rate>members?/s|runs?/s)|\s?(?P<times>×))")
+TIME_WORDS = re.compile(r"faster|slower|cheaper|dearer|\btime\b|\bCPU\b|\bwall\b|µs|\bms\b|members/s|runs/s|speed",
+                        re.I)
+# Written-out settings and limits that look like measurements: (page, phrase, why it is no measurement).
+NOT_MEASURED = [
+    ("docs/trust.md", "over 1 MiB", "the scene-file size limit"),
+    ("docs/trust.md", "limited to **1 MiB**", "the scene-file size limit"),
+    ("docs/trust.md", "a 16 MB scene", "the size of the test's oversized input"),
+    ("docs/trust.md", "cut at 64 kB", "the file-size limit the test sets"),
+    ("docs/trust.md", "cut at 20 kB", "the file-size limit the test sets"),
+    ("docs/trust.md", "(60 s per target)", "make fuzz's setting"),
+    ("docs/families.md", "at most every 0.5 s", "the progress line's redraw interval, a setting"),
+    ("docs/families.md", "nap of 50 µs doubling to 2 ms", "rank 0's polling intervals, settings"),
+    ("docs/families.md", "fixed 100 µs nap", "a setting that was tried"),
+    ("docs/families.md", "at most 2 ms of latency", "follows from the 2 ms nap setting"),
+    ("docs/figures-and-animations.md", "10 fps × 1.2 s", "the test's animation settings"),
+]
+
+
+def strip_unmeasured(text):
+    """The prose of a page: without generated blocks, fenced code and inline code."""
+    text = re.sub(r"<!-- numbers: [a-z0-9_.]+ -->.*?<!-- /numbers -->", lambda m: "\n" * m.group(0).count("\n"),
+                  text, flags=re.S)
+    text = re.sub(r"```.*?```", lambda m: "\n" * m.group(0).count("\n"), text, flags=re.S)
+    return re.sub(r"`[^`\n]*`", "``", text)
+
+
+def timings_outside_blocks(text, rel=""):
+    """[(line number, figure, line)] of the timing figures in the prose of a page (see the module's
+    docstring for what counts)."""
+    out = []
+    allowed = [phrase for page, phrase, _ in NOT_MEASURED if page == rel]
+    for i, line in enumerate(strip_unmeasured(text).splitlines(), 1):
+        for m in TIMING.finditer(line):
+            if m.group("bound"):
+                continue
+            after = line[m.end():]
+            if m.group("times") and (re.match(r"\s?(\d|[a-zA-Z]\b)", after) or
+                                     not TIME_WORDS.search(sentence_around(line, m.start()))):
+                continue
+            if m.group("coarse") == "min" and after.startswith(" J"):
+                continue
+            if m.group("coarse") == "s" and after.startswith(" of video"):
+                continue
+            if any(phrase in line and line.find(phrase) <= m.start() < line.find(phrase) + len(phrase)
+                   for phrase in allowed):
+                continue
+            out.append((i, m.group(0).strip(), line))
+    return out
+
+
+def sentence_around(line, pos):
+    start = max(line.rfind(". ", 0, pos), line.rfind("|", 0, pos)) + 1
+    ends = [e for e in (line.find(". ", pos), line.find("|", pos)) if e >= 0]
+    return line[start:min(ends) if ends else len(line)]
+
+
+def inventory():
+    total = 0
+    for path in doc_files():
+        rel = os.path.relpath(path, ROOT)
+        with open(path, encoding="utf-8") as fh:
+            found = timings_outside_blocks(fh.read(), rel)
+        for n, fig, _ in found:
+            print("%s:%d: %s" % (rel, n, fig))
+        if found:
+            print("docs-numbers: %s: %d timing figures outside blocks" % (rel, len(found)), file=sys.stderr)
+        total += len(found)
+    print("docs-numbers: %d timing figures outside generated blocks" % total, file=sys.stderr)
+    return 1 if total else 0
+
+
 def doc_files():
     return [os.path.join(ROOT, "README.md")] + sorted(glob.glob(os.path.join(ROOT, "docs", "*.md")))
 
@@ -183,9 +272,11 @@ def blocks_in(text):
 
 
 def main(argv):
+    if argv == ["--inventory"]:
+        return inventory()
     check_only = argv == ["--check"]
     if argv and not check_only:
-        print("usage: docs_numbers.py [--check]", file=sys.stderr)
+        print("usage: docs_numbers.py [--check | --inventory]", file=sys.stderr)
         return 2
     missing, changed, unknown, done = [], [], [], 0
     records = {}
