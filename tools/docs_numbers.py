@@ -140,6 +140,31 @@ def tests_count(rec):
                                                   v["programs"], minutes(v["seconds"]), v["jobs"]))
 
 
+def rhs_rows(rec):
+    return {r["scene"]: r for r in rec["values"]["scenes"]}
+
+
+def ns(x):
+    return format(int(round(x)), ",").replace(",", " ")
+
+
+def rhs_cost_table(rec):
+    out = ["| scene | free | state | specialized (ns) | `--generic` (ns) | ratio |", "|---|---|---|---|---|---|"]
+    for r in rec["values"]["scenes"]:
+        out.append("| %s | %d | %d → %d | %s | %s | %.2g× |" % (
+            r["scene"], r["n_free"], r["state_generic"], r["state_specialized"], ns(r["ns_specialized"]),
+            ns(r["ns_generic"]), r["ns_generic"] / r["ns_specialized"]))
+    return ("Cost per RHS evaluation at the initial state (`build/tests/bench/bench_rhs`, its median of 7, "
+            "the median of %d runs of it):\n\n" % rec["values"]["runs"]) + "\n".join(out)
+
+
+def rhs_cost_barrier(rec):
+    r = rhs_rows(rec)
+    return ("Per RHS evaluation at the initial state, specialized kernel (`build/tests/bench/bench_rhs`, "
+            "median of %d runs of its median of 7): Example 7 %.2f µs, §5.2 (selfpropelled) %.2f µs."
+            % (rec["values"]["runs"], r["example7"]["ns_specialized"] / 1e3, r["selfpropelled"]["ns_specialized"] / 1e3))
+
+
 def minutes(s):
     return "%d min %02d s" % (s // 60, s % 60)
 
@@ -152,6 +177,8 @@ BLOCKS = {
     "lyapunov.verdicts": ("lyapunov.json", lyapunov_verdicts),
     "lyapunov.soft": ("lyapunov.json", lyapunov_soft),
     "tests": (None, tests_count),
+    "rhs_cost.table": ("rhs_cost.json", rhs_cost_table),
+    "rhs_cost.barrier": ("rhs_cost.json", rhs_cost_barrier),
 }
 COMMAND = {"tests": "make test"}
 

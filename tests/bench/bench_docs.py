@@ -11,6 +11,9 @@ generated blocks of README.md and docs/.
   lyapunov     swim run --lyapunov --t-end 20 of models/hard/soft_n10_a1.toml and
                soft_n10_a05.toml at rtol 1e-8 and 1e-10 (exponent, verdict, horizon, pass time),
                soft_n10_a1 over T = 10 and T = 3 (verdicts), and Example 3 over its own T.
+  rhs_cost     ns per right-hand side at the initial state of every paper scene, specialized
+               and generic kernel (build/tests/bench/bench_rhs, its medians of 7), the median
+               of 3 runs of it.
 
 Usage: bench_docs.py [NAME ...] (default: all). Timings on a shared machine are noisy: the load
 is recorded beside them."""
@@ -92,7 +95,34 @@ def lyapunov():
     return out
 
 
-MEASURE = {"member_cost": member_cost, "event_cost": event_cost, "lyapunov": lyapunov}
+RHS_SCENES = ["models/example%s.toml" % e for e in ("1", "2a", "2b", "2c", "3", "4", "5", "6", "7")] + [
+    "models/selfpropelled.toml"]
+
+
+def rhs_cost():
+    prog = os.environ.get("BENCH_RHS", os.path.join(ROOT, "build", "tests", "bench", "bench_rhs"))
+    env = dict(os.environ)
+    env.setdefault("SWIM_CACHE", os.path.join(ROOT, "build", "cache"))
+    runs = []
+    for _ in range(3):
+        p = subprocess.run([prog, *RHS_SCENES], capture_output=True, text=True, cwd=ROOT, env=env)
+        if p.returncode != 0:
+            raise RuntimeError("%s failed: %s" % (prog, p.stderr[-300:]))
+        lines = p.stdout.strip().splitlines()
+        head = lines[0].split(",")
+        runs.append([dict(zip(head, line.split(","))) for line in lines[1:]])
+    out = []
+    for i, scene in enumerate(RHS_SCENES):
+        rows = [r[i] for r in runs]
+        out.append({"scene": os.path.basename(scene)[:-5], "n_free": int(rows[0]["n_free"]),
+                    "state_generic": int(rows[0]["state_generic"]),
+                    "state_specialized": int(rows[0]["state_specialized"]),
+                    "ns_generic": statistics.median(float(r["ns_generic"]) for r in rows),
+                    "ns_specialized": statistics.median(float(r["ns_specialized"]) for r in rows)})
+    return {"runs": 3, "scenes": out}
+
+
+MEASURE = {"member_cost": member_cost, "event_cost": event_cost, "lyapunov": lyapunov, "rhs_cost": rhs_cost}
 
 
 def main(argv):
