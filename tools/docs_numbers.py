@@ -165,6 +165,34 @@ def rhs_cost_barrier(rec):
             % (rec["values"]["runs"], r["example7"]["ns_specialized"] / 1e3, r["selfpropelled"]["ns_specialized"] / 1e3))
 
 
+def sensitivity_table(rec):
+    v = rec["values"]
+    out = ["| case | exact (s, median of %d) | Jacobians | differences (s) | RHS evaluations | differences / exact "
+           "| final rows apart |" % v["runs"], "|---|---|---|---|---|---|---|"]
+    for r in v["rows"]:
+        out.append("| %s | %.3f | %s | %.3f | %s | %.1f× | %.1e |" % (
+            r["case"], r["exact_s"], ns(r["exact_jacobians"]), r["differences_s"], ns(r["differences_rhs"]),
+            r["ratio"], r["apart"]))
+    return "\n".join(out)
+
+
+def python_loop_table(rec):
+    rows = rec["values"]["rows"]
+    out = ["| way (Example 3, %d members, t_end = %g) | seconds (median of %d) | members/s | × `swim sweep --jobs 1` |"
+           % (rows[0]["members"], rows[0]["t_end"], rec["values"]["runs"]), "|---|---|---|---|"]
+    for r in rows:
+        out.append("| %s | %.3f | %.0f | %.1f× |" % (r["way"], r["seconds"], r["members_per_second"],
+                                                     r["ratio_to_swim_sweep"]))
+    return "\n".join(out)
+
+
+def python_loop_sentence(rec):
+    r = {x["way"]: x for x in rec["values"]["rows"]}["python loop (swim.run)"]
+    return ("A loop of %d short Example 3 runs in process made %.1f× the members/s of `swim sweep --jobs 1` "
+            "(medians of %d side by side, `tests/bench/bench_python_loop.py`)."
+            % (r["members"], r["ratio_to_swim_sweep"], rec["values"]["runs"]))
+
+
 def minutes(s):
     return "%d min %02d s" % (s // 60, s % 60)
 
@@ -179,6 +207,9 @@ BLOCKS = {
     "tests": (None, tests_count),
     "rhs_cost.table": ("rhs_cost.json", rhs_cost_table),
     "rhs_cost.barrier": ("rhs_cost.json", rhs_cost_barrier),
+    "sensitivity.table": ("sensitivity.json", sensitivity_table),
+    "python_loop.table": ("python_loop.json", python_loop_table),
+    "python_loop.sentence": ("python_loop.json", python_loop_sentence),
 }
 COMMAND = {"tests": "make test"}
 

@@ -122,7 +122,35 @@ def rhs_cost():
     return {"runs": 3, "scenes": out}
 
 
-MEASURE = {"member_cost": member_cost, "event_cost": event_cost, "lyapunov": lyapunov, "rhs_cost": rhs_cost}
+def script_rows(script, args, csv_path):
+    """Runs a bench script of tests/bench/ and returns the rows of the CSV it writes."""
+    import csv
+    env = dict(os.environ, SWIM_BIN=SWIM)
+    env.setdefault("SWIM_CACHE", os.path.join(ROOT, "build", "cache"))
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "tests", "bench", script), *args],
+                       capture_output=True, text=True, cwd=ROOT, env=env)
+    if p.returncode != 0:
+        raise RuntimeError("%s failed: %s" % (script, (p.stdout + p.stderr)[-300:]))
+    with open(csv_path) as fh:
+        return list(csv.DictReader(fh))
+
+
+def sensitivity():
+    out = os.path.join(OUT, "sensitivity")
+    rows = script_rows("bench_sensitivity.py", ["--out", out], os.path.join(out, "sensitivity.csv"))
+    return {"runs": 3, "rows": [{k: (v if k == "case" else float(v)) for k, v in r.items()} for r in rows]}
+
+
+def python_loop():
+    rows = script_rows("bench_python_loop.py", [], os.path.join(ROOT, "build", "bench", "python_loop.csv"))
+    return {"runs": 3, "rows": [{"way": r["way"], "members": int(r["members"]), "t_end": float(r["t_end"]),
+                                 "seconds": float(r["median_seconds"]),
+                                 "members_per_second": float(r["members_per_second"]),
+                                 "ratio_to_swim_sweep": float(r["ratio_to_swim_sweep"])} for r in rows]}
+
+
+MEASURE = {"member_cost": member_cost, "event_cost": event_cost, "lyapunov": lyapunov, "rhs_cost": rhs_cost,
+           "sensitivity": sensitivity, "python_loop": python_loop}
 
 
 def main(argv):
