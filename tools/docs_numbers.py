@@ -193,6 +193,35 @@ def python_loop_sentence(rec):
             % (r["members"], r["ratio_to_swim_sweep"], rec["values"]["runs"]))
 
 
+SWEEP_NAMES = {"--jobs 1": "`--jobs 1`", "--jobs 2": "`--jobs 2`"}
+
+
+def sweep_table(rec):
+    v = rec["values"]
+    out = ["| configuration (medians of %d) | members running at once | seconds | members/s | speed-up | "
+           "efficiency per core used | CPU ms per member (all processes) |" % v["runs"],
+           "|---|---|---|---|---|---|---|"]
+    for r in v["rows"]:
+        out.append("| %s | %d | %.2f | %.1f | %.2f | %.0f %% | %.1f |" % (
+            SWEEP_NAMES.get(r["configuration"], r["configuration"]), r["workers"], r["seconds"],
+            r["members_per_s"], r["speedup"], 100 * r["efficiency"], r["cpu_ms_per_member"]))
+    if v.get("member_ms"):
+        out.append("\nA member costs a median %.1f ms inside `swim run` (`wall_seconds` of its summary.json), "
+                   "%.1f ms end to end with `--jobs 1`." % (v["member_ms"], v["member_end_to_end_ms"]))
+    return "\n".join(out)
+
+
+def sweep_rank0(rec):
+    r0 = rec["values"].get("rank0")
+    if not r0:
+        return "(rank 0 not measured: bin/swim-mpi or mpirun missing when it ran)"
+    return ("Rank 0's own cost on trivial members (T = 0.01, 4 ranks, so members cost almost nothing and rank 0 "
+            "is as busy as it can be): **%.1f µs of rank 0's time per member** (receive, append + flush of the "
+            "row, send), i.e. %s members/s of dealing; with the CPU time of a T = 30 Example 1 member (the "
+            "table's `--jobs 1` row) one rank 0 can feed ~%s worker ranks before it becomes the bottleneck."
+            % (r0["us_per_member"], ns(r0["members_per_s"]), ns(r0["ranks_fed"])))
+
+
 def minutes(s):
     return "%d min %02d s" % (s // 60, s % 60)
 
@@ -209,6 +238,8 @@ BLOCKS = {
     "rhs_cost.barrier": ("rhs_cost.json", rhs_cost_barrier),
     "sensitivity.table": ("sensitivity.json", sensitivity_table),
     "python_loop.table": ("python_loop.json", python_loop_table),
+    "sweep.table": ("sweep.json", sweep_table),
+    "sweep.rank0": ("sweep.json", sweep_rank0),
     "python_loop.sentence": ("python_loop.json", python_loop_sentence),
 }
 COMMAND = {"tests": "make test"}

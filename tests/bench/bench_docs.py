@@ -122,8 +122,9 @@ def rhs_cost():
     return {"runs": 3, "scenes": out}
 
 
-def script_rows(script, args, csv_path):
-    """Runs a bench script of tests/bench/ and returns the rows of the CSV it writes."""
+def script_rows(script, args, csv_path, stdout=None):
+    """Runs a bench script of tests/bench/ and returns the rows of the CSV it writes (and its
+    standard output into the list stdout when given)."""
     import csv
     env = dict(os.environ, SWIM_BIN=SWIM)
     env.setdefault("SWIM_CACHE", os.path.join(ROOT, "build", "cache"))
@@ -131,6 +132,8 @@ def script_rows(script, args, csv_path):
                        capture_output=True, text=True, cwd=ROOT, env=env)
     if p.returncode != 0:
         raise RuntimeError("%s failed: %s" % (script, (p.stdout + p.stderr)[-300:]))
+    if stdout is not None:
+        stdout.append(p.stdout)
     with open(csv_path) as fh:
         return list(csv.DictReader(fh))
 
@@ -139,6 +142,25 @@ def sensitivity():
     out = os.path.join(OUT, "sensitivity")
     rows = script_rows("bench_sensitivity.py", ["--out", out], os.path.join(out, "sensitivity.csv"))
     return {"runs": 3, "rows": [{k: (v if k == "case" else float(v)) for k, v in r.items()} for r in rows]}
+
+
+def sweep():
+    import re
+    text = []
+    rows = script_rows("bench_sweep.py", [], os.path.join(ROOT, "build", "bench", "sweep.csv"), text)
+    m = re.search(r"member: median ([0-9.]+) ms inside swim run.*?; ([0-9.]+) ms per member end to end", text[0])
+    out = {"runs": int(os.environ.get("SWEEP_BENCH_REPS", "3")), "rows": [], "rank0": None,
+           "member_ms": float(m.group(1)) if m else None, "member_end_to_end_ms": float(m.group(2)) if m else None}
+    for r in rows:
+        if r["configuration"] == "rank0_us_per_member":
+            out["rank0"] = {"us_per_member": float(r["seconds"]), "members_per_s": float(r["members_per_s"]),
+                            "ranks_fed": float(r["efficiency_or_ranks_fed"])}
+        else:
+            out["rows"].append({"configuration": r["configuration"], "workers": int(r["workers"]),
+                                "seconds": float(r["seconds"]), "members_per_s": float(r["members_per_s"]),
+                                "speedup": float(r["speedup"]), "efficiency": float(r["efficiency_or_ranks_fed"]),
+                                "cpu_ms_per_member": 1e3 * float(r["cpu_seconds_per_member"])})
+    return out
 
 
 def python_loop():
@@ -150,7 +172,7 @@ def python_loop():
 
 
 MEASURE = {"member_cost": member_cost, "event_cost": event_cost, "lyapunov": lyapunov, "rhs_cost": rhs_cost,
-           "sensitivity": sensitivity, "python_loop": python_loop}
+           "sensitivity": sensitivity, "python_loop": python_loop, "sweep": sweep}
 
 
 def main(argv):
