@@ -222,6 +222,10 @@ def sweep_rank0(rec):
             % (r0["us_per_member"], ns(r0["members_per_s"]), ns(r0["ranks_fed"])))
 
 
+def jacobian_table(rec):
+    return rec["values"]["table"].rstrip("\n")
+
+
 def minutes(s):
     return "%d min %02d s" % (s // 60, s % 60)
 
@@ -239,6 +243,7 @@ BLOCKS = {
     "sensitivity.table": ("sensitivity.json", sensitivity_table),
     "python_loop.table": ("python_loop.json", python_loop_table),
     "sweep.table": ("sweep.json", sweep_table),
+    "jacobian.table": ("jacobian.json", jacobian_table),
     "sweep.rank0": ("sweep.json", sweep_rank0),
     "python_loop.sentence": ("python_loop.json", python_loop_sentence),
 }

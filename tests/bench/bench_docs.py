@@ -163,6 +163,13 @@ def sweep():
     return out
 
 
+def jacobian():
+    out = os.path.join(OUT, "jacobian")
+    script_rows("bench_jacobian.py", ["--out", out], os.path.join(out, "jacobian.csv"))
+    with open(os.path.join(out, "table.md"), encoding="utf-8") as fh:
+        return {"runs": 3, "table": fh.read()}
+
+
 def python_loop():
     rows = script_rows("bench_python_loop.py", [], os.path.join(ROOT, "build", "bench", "python_loop.csv"))
     return {"runs": 3, "rows": [{"way": r["way"], "members": int(r["members"]), "t_end": float(r["t_end"]),
@@ -172,7 +179,8 @@ def python_loop():
 
 
 MEASURE = {"member_cost": member_cost, "event_cost": event_cost, "lyapunov": lyapunov, "rhs_cost": rhs_cost,
-           "sensitivity": sensitivity, "python_loop": python_loop, "sweep": sweep}
+           "sensitivity": sensitivity, "python_loop": python_loop, "sweep": sweep,
+           "jacobian": jacobian}
 
 
 def main(argv):
