@@ -7,7 +7,12 @@ The Fig. 4.8 recipe (docs/integrators-and-events.md) runs as written. Measured n
 true: every generated block (<!-- numbers: NAME -->, rewritten by `make docs-numbers`) is one
 tools/docs_numbers.py knows and names an existing make target with its date and load (or says
 it is not generated yet and which command makes it), and the measurements listed in LISTED are
-quoted nowhere outside such blocks. The README's package list is the Makefile's DEB_PKGS.
+quoted nowhere outside such blocks; more generally no timing figure (a number with a unit of
+time, memory or speed, or a speed-up N×) stands in the prose outside a block: what counts and
+what does not (code, bounds such as targets and limits, sizes A × B, a short list of settings
+written in words) is tools/docs_numbers.py's TIMING and NOT_MEASURED, whose docstring states the
+rule; `python3 tools/docs_numbers.py --inventory` lists the offenders. The README's package
+list is the Makefile's DEB_PKGS.
 Prints "test_docs: P passed, F failed"."""
 
 import glob
@@ -311,6 +316,31 @@ def test_listed_measurements_only_in_blocks():
           "LISTED misses planted quotes")
     check(not any(p.search(outside_blocks("<!-- numbers: x -->\n" + planted + "\n<!-- /numbers -->"))
                   for _, p in LISTED), "a quote inside a block was flagged")
+
+
+def test_no_timing_figure_outside_blocks():
+    sys.path.insert(0, os.path.join(ROOT, "tools"))
+    import docs_numbers
+    for doc in DOCS:
+        rel = os.path.relpath(doc, ROOT)
+        for n, fig, line in docs_numbers.timings_outside_blocks(open(doc, encoding="utf-8").read(), rel):
+            check(False, "%s:%d quotes the timing %r outside a generated block (make it a block of `make "
+                  "docs-numbers` or say which command measures it): %s" % (rel, n, fig, line.strip()[:100]))
+    # every phrase of the list of settings still exists (a stale entry would hide nothing, or the wrong thing)
+    for page, phrase, _ in docs_numbers.NOT_MEASURED:
+        check(phrase in open(os.path.join(ROOT, page), encoding="utf-8").read(),
+              "NOT_MEASURED: %s no longer says %r" % (page, phrase))
+    # the rule on planted text: measurements are seen, settings, bounds, sizes and code are not
+    seen = [f for _, f, _ in docs_numbers.timings_outside_blocks(
+        "A member costs 17.6 ms, the sweep took 76 s (1.44× faster), 35–45 µs a row, ~55 000 members/s, "
+        "4.5 MB of memory, 2 min 3 s left.\n")]
+    check(seen == ["17.6 ms", "76 s", "1.44×", "35–45 µs", "~55 000 members/s", "4.5 MB", "2 min", "3 s"],
+          "the timing pattern found %s in the planted measurements" % seen)
+    quiet = docs_numbers.timings_outside_blocks(
+        "Targets: N = 20 ≤ 30 s; the 3×3 block and 121 × 68 matrix; min J at 2 min J; 20 s of video; "
+        "`--older-than 12h` and `--t-max 2`; exact 1s; drift cut 7–19× at equal tolerance; T = 30.\n"
+        "```\nreal 0.3 s\n```\n<!-- numbers: x -->\nintegration 4.7 ms\n<!-- /numbers -->\n")
+    check(quiet == [], "the timing pattern flags what is no measurement: %s" % [f for _, f, _ in quiet])
 
 
 def test_readme_packages_are_make_deps():

@@ -10,8 +10,21 @@ NAME is one of BLOCKS below; each names its source file and the command that mak
 (`make bench-docs` -> build/bench/docs/*.json, `make test` -> build/test-logs/last-run). The
 block ends with a line saying that command, the date and the machine's load when it ran. A
 block whose source is missing is left as it is and named on stderr with the command to run.
-Usage: docs_numbers.py [--check] -- with --check nothing is written; exit 1 if a block would
-change or its source is missing."""
+Usage: docs_numbers.py [--check | --inventory] -- with --check nothing is written; exit 1 if a
+block would change or its source is missing. --inventory lists every timing figure of the prose
+outside the blocks (see timings_outside_blocks; tests/test_docs.py fails on any), exit 1 if any.
+
+What counts as a timing figure (TIMING): a number with a unit of time (ns, µs, ms, s, min, h,
+seconds, minutes, hours), of memory (kB, MB, MiB, GB) or of speed (members/s, runs/s), or a
+ratio N× in a sentence about time or speed (faster, slower, cheaper, time, CPU, wall, µs, ms,
+members/s). Not measurements, hence not counted:
+  - generated blocks, fenced code and `inline code` (commands and their option values,
+    `--t-max 2`, `12h`, output a command prints);
+  - bounds: a figure right after ≤, <, ≥ or > (targets, limits, deadlines: "≤ 5 µs per RHS");
+  - sizes: A × B (matrix, grid, image dimensions), "min J", "s of video" (the film's own time);
+  - the phrases of NOT_MEASURED below, each with its reason (settings and limits written out
+    in words rather than as code).
+Model time (t = 30, T = 20) is written without a unit and never matches."""
 import glob
 import json
 import os
@@ -127,6 +140,92 @@ def tests_count(rec):
                                                   v["programs"], minutes(v["seconds"]), v["jobs"]))
 
 
+def rhs_rows(rec):
+    return {r["scene"]: r for r in rec["values"]["scenes"]}
+
+
+def ns(x):
+    return format(int(round(x)), ",").replace(",", " ")
+
+
+def rhs_cost_table(rec):
+    out = ["| scene | free | state | specialized (ns) | `--generic` (ns) | ratio |", "|---|---|---|---|---|---|"]
+    for r in rec["values"]["scenes"]:
+        out.append("| %s | %d | %d → %d | %s | %s | %.2g× |" % (
+            r["scene"], r["n_free"], r["state_generic"], r["state_specialized"], ns(r["ns_specialized"]),
+            ns(r["ns_generic"]), r["ns_generic"] / r["ns_specialized"]))
+    return ("Cost per RHS evaluation at the initial state (`build/tests/bench/bench_rhs`, its median of 7, "
+            "the median of %d runs of it):\n\n" % rec["values"]["runs"]) + "\n".join(out)
+
+
+def rhs_cost_barrier(rec):
+    r = rhs_rows(rec)
+    return ("Per RHS evaluation at the initial state, specialized kernel (`build/tests/bench/bench_rhs`, "
+            "median of %d runs of its median of 7): Example 7 %.2f µs, §5.2 (selfpropelled) %.2f µs."
+            % (rec["values"]["runs"], r["example7"]["ns_specialized"] / 1e3, r["selfpropelled"]["ns_specialized"] / 1e3))
+
+
+def sensitivity_table(rec):
+    v = rec["values"]
+    out = ["| case | exact (s, median of %d) | Jacobians | differences (s) | RHS evaluations | differences / exact "
+           "| final rows apart |" % v["runs"], "|---|---|---|---|---|---|---|"]
+    for r in v["rows"]:
+        out.append("| %s | %.3f | %s | %.3f | %s | %.1f× | %.1e |" % (
+            r["case"], r["exact_s"], ns(r["exact_jacobians"]), r["differences_s"], ns(r["differences_rhs"]),
+            r["ratio"], r["apart"]))
+    return "\n".join(out)
+
+
+def python_loop_table(rec):
+    rows = rec["values"]["rows"]
+    out = ["| way (Example 3, %d members, t_end = %g) | seconds (median of %d) | members/s | × `swim sweep --jobs 1` |"
+           % (rows[0]["members"], rows[0]["t_end"], rec["values"]["runs"]), "|---|---|---|---|"]
+    for r in rows:
+        out.append("| %s | %.3f | %.0f | %.1f× |" % (r["way"], r["seconds"], r["members_per_second"],
+                                                     r["ratio_to_swim_sweep"]))
+    return "\n".join(out)
+
+
+def python_loop_sentence(rec):
+    r = {x["way"]: x for x in rec["values"]["rows"]}["python loop (swim.run)"]
+    return ("A loop of %d short Example 3 runs in process made %.1f× the members/s of `swim sweep --jobs 1` "
+            "(medians of %d side by side, `tests/bench/bench_python_loop.py`)."
+            % (r["members"], r["ratio_to_swim_sweep"], rec["values"]["runs"]))
+
+
+SWEEP_NAMES = {"--jobs 1": "`--jobs 1`", "--jobs 2": "`--jobs 2`"}
+
+
+def sweep_table(rec):
+    v = rec["values"]
+    out = ["| configuration (medians of %d) | members running at once | seconds | members/s | speed-up | "
+           "efficiency per core used | CPU ms per member (all processes) |" % v["runs"],
+           "|---|---|---|---|---|---|---|"]
+    for r in v["rows"]:
+        out.append("| %s | %d | %.2f | %.1f | %.2f | %.0f %% | %.1f |" % (
+            SWEEP_NAMES.get(r["configuration"], r["configuration"]), r["workers"], r["seconds"],
+            r["members_per_s"], r["speedup"], 100 * r["efficiency"], r["cpu_ms_per_member"]))
+    if v.get("member_ms"):
+        out.append("\nA member costs a median %.1f ms inside `swim run` (`wall_seconds` of its summary.json), "
+                   "%.1f ms end to end with `--jobs 1`." % (v["member_ms"], v["member_end_to_end_ms"]))
+    return "\n".join(out)
+
+
+def sweep_rank0(rec):
+    r0 = rec["values"].get("rank0")
+    if not r0:
+        return "(rank 0 not measured: bin/swim-mpi or mpirun missing when it ran)"
+    return ("Rank 0's own cost on trivial members (T = 0.01, 4 ranks, so members cost almost nothing and rank 0 "
+            "is as busy as it can be): **%.1f µs of rank 0's time per member** (receive, append + flush of the "
+            "row, send), i.e. %s members/s of dealing; with the CPU time of a T = 30 Example 1 member (the "
+            "table's `--jobs 1` row) one rank 0 can feed ~%s worker ranks before it becomes the bottleneck."
+            % (r0["us_per_member"], ns(r0["members_per_s"]), ns(r0["ranks_fed"])))
+
+
+def jacobian_table(rec):
+    return rec["values"]["table"].rstrip("\n")
+
+
 def minutes(s):
     return "%d min %02d s" % (s // 60, s % 60)
 
@@ -139,6 +238,14 @@ BLOCKS = {
     "lyapunov.verdicts": ("lyapunov.json", lyapunov_verdicts),
     "lyapunov.soft": ("lyapunov.json", lyapunov_soft),
     "tests": (None, tests_count),
+    "rhs_cost.table": ("rhs_cost.json", rhs_cost_table),
+    "rhs_cost.barrier": ("rhs_cost.json", rhs_cost_barrier),
+    "sensitivity.table": ("sensitivity.json", sensitivity_table),
+    "python_loop.table": ("python_loop.json", python_loop_table),
+    "sweep.table": ("sweep.json", sweep_table),
+    "jacobian.table": ("jacobian.json", jacobian_table),
+    "sweep.rank0": ("sweep.json", sweep_rank0),
+    "python_loop.sentence": ("python_loop.json", python_loop_sentence),
 }
 COMMAND = {"tests": "make test"}
 
@@ -173,6 +280,82 @@ def read_record(name):
         return None
 
 
+# A number (or range a–b, with ~ or ≈ before it) followed by a unit of time, memory or speed.
+TIMING = re.compile(
+    r"(?<![\w.^/])(?P<bound>[≤<≥>]\s?)?[~≈]?\s?(?P<num>\d+(?:[ .]\d+)*(?:\s?[–-]\s?\d+(?:\.\d+)?)?)"
+    r"(?:\s?(?P<fine>ns|µs|us|ms)(?![\w/])|\s(?P<coarse>s|seconds?|min|minutes?|h|hours?)(?![\w/])"
+    r"|\s?(?P<mem>kB|KB|MB|MiB|GB)\b|\s(?P<rate>members?/s|runs?/s)|\s?(?P<times>×))")
+TIME_WORDS = re.compile(r"faster|slower|cheaper|dearer|\btime\b|\bCPU\b|\bwall\b|µs|\bms\b|members/s|runs/s|speed",
+                        re.I)
+# Written-out settings and limits that look like measurements: (page, phrase, why it is no measurement).
+NOT_MEASURED = [
+    ("docs/trust.md", "over 1 MiB", "the scene-file size limit"),
+    ("docs/trust.md", "limited to **1 MiB**", "the scene-file size limit"),
+    ("docs/trust.md", "a 16 MB scene", "the size of the test's oversized input"),
+    ("docs/trust.md", "cut at 64 kB", "the file-size limit the test sets"),
+    ("docs/trust.md", "cut at 20 kB", "the file-size limit the test sets"),
+    ("docs/trust.md", "(60 s per target)", "make fuzz's setting"),
+    ("docs/families.md", "at most every 0.5 s", "the progress line's redraw interval, a setting"),
+    ("docs/families.md", "nap of 50 µs doubling to 2 ms", "rank 0's polling intervals, settings"),
+    ("docs/families.md", "fixed 100 µs nap", "a setting that was tried"),
+    ("docs/families.md", "at most 2 ms of latency", "follows from the 2 ms nap setting"),
+    ("docs/figures-and-animations.md", "10 fps × 1.2 s", "the test's animation settings"),
+]
+
+
+def strip_unmeasured(text):
+    """The prose of a page: without generated blocks, fenced code and inline code."""
+    text = re.sub(r"<!-- numbers: [a-z0-9_.]+ -->.*?<!-- /numbers -->", lambda m: "\n" * m.group(0).count("\n"),
+                  text, flags=re.S)
+    text = re.sub(r"```.*?```", lambda m: "\n" * m.group(0).count("\n"), text, flags=re.S)
+    return re.sub(r"`[^`\n]*`", "``", text)
+
+
+def timings_outside_blocks(text, rel=""):
+    """[(line number, figure, line)] of the timing figures in the prose of a page (see the module's
+    docstring for what counts)."""
+    out = []
+    allowed = [phrase for page, phrase, _ in NOT_MEASURED if page == rel]
+    for i, line in enumerate(strip_unmeasured(text).splitlines(), 1):
+        for m in TIMING.finditer(line):
+            if m.group("bound"):
+                continue
+            after = line[m.end():]
+            if m.group("times") and (re.match(r"\s?(\d|[a-zA-Z]\b)", after) or
+                                     not TIME_WORDS.search(sentence_around(line, m.start()))):
+                continue
+            if m.group("coarse") == "min" and after.startswith(" J"):
+                continue
+            if m.group("coarse") == "s" and after.startswith(" of video"):
+                continue
+            if any(phrase in line and line.find(phrase) <= m.start() < line.find(phrase) + len(phrase)
+                   for phrase in allowed):
+                continue
+            out.append((i, m.group(0).strip(), line))
+    return out
+
+
+def sentence_around(line, pos):
+    start = max(line.rfind(". ", 0, pos), line.rfind("|", 0, pos)) + 1
+    ends = [e for e in (line.find(". ", pos), line.find("|", pos)) if e >= 0]
+    return line[start:min(ends) if ends else len(line)]
+
+
+def inventory():
+    total = 0
+    for path in doc_files():
+        rel = os.path.relpath(path, ROOT)
+        with open(path, encoding="utf-8") as fh:
+            found = timings_outside_blocks(fh.read(), rel)
+        for n, fig, _ in found:
+            print("%s:%d: %s" % (rel, n, fig))
+        if found:
+            print("docs-numbers: %s: %d timing figures outside blocks" % (rel, len(found)), file=sys.stderr)
+        total += len(found)
+    print("docs-numbers: %d timing figures outside generated blocks" % total, file=sys.stderr)
+    return 1 if total else 0
+
+
 def doc_files():
     return [os.path.join(ROOT, "README.md")] + sorted(glob.glob(os.path.join(ROOT, "docs", "*.md")))
 
@@ -183,9 +366,11 @@ def blocks_in(text):
 
 
 def main(argv):
+    if argv == ["--inventory"]:
+        return inventory()
     check_only = argv == ["--check"]
     if argv and not check_only:
-        print("usage: docs_numbers.py [--check]", file=sys.stderr)
+        print("usage: docs_numbers.py [--check | --inventory]", file=sys.stderr)
         return 2
     missing, changed, unknown, done = [], [], [], 0
     records = {}
