@@ -25,6 +25,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "capture.h"
 #include "check.h"
 #include "shape/barrier.h"
 #include "shape/shape.h"
@@ -326,19 +327,12 @@ static void check_failed_build_status(void)
         fclose(f);
     }
     chmod(script, 0700);
-    const char *py = getenv("SWIM_PYTHON"), *ca = getenv("SWIM_CACHE");
-    char *keep_py = py ? strdup(py) : NULL, *keep_ca = ca ? strdup(ca) : NULL;
-    setenv("SWIM_PYTHON", script, 1);
-    setenv("SWIM_CACHE", cache, 1);
+    const env_saved py = env_set("SWIM_PYTHON", script), ca = env_set("SWIM_CACHE", cache);
     swim_status st = {0};
     swim_compiled c;
     const int rc = swim_codegen_kernel(9, &c, 0, &st);
-    if (keep_py) setenv("SWIM_PYTHON", keep_py, 1);
-    else unsetenv("SWIM_PYTHON");
-    if (keep_ca) setenv("SWIM_CACHE", keep_ca, 1);
-    else unsetenv("SWIM_CACHE");
-    free(keep_py);
-    free(keep_ca);
+    env_restore(py);
+    env_restore(ca);
     char msg[512];
     swim_status_message(&st, msg, sizeof msg);
     CHECK(rc == -1 && st.failed && st.nlines == 1 && strncmp(msg, "generating the kernel for N = 9 failed (see ", 44) == 0 &&
