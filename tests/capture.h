@@ -1,10 +1,12 @@
-/* capture.h -- a test program's stdout and stderr sent to a file for a while, to check that a
- * library call printed nothing. */
+/* capture.h -- for a while: a test program's stdout and stderr sent to a file (to check that a
+ * library call printed nothing), an environment variable set to another value. */
 #ifndef SWIM_TEST_CAPTURE_H
 #define SWIM_TEST_CAPTURE_H
 
 #include <fcntl.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -37,6 +39,26 @@ static inline long long capture_end(capture_fds q)
     close(q.saved2);
     struct stat st;
     return stat(q.path, &st) == 0 ? (long long)st.st_size : -1;
+}
+
+typedef struct {
+    const char *name;
+    char *old;   /* its value before, NULL when it was not set */
+} env_saved;
+
+static inline env_saved env_set(const char *name, const char *value)
+{
+    const char *now = getenv(name);
+    env_saved e = {name, now ? strdup(now) : NULL};
+    setenv(name, value, 1);
+    return e;
+}
+
+static inline void env_restore(env_saved e)
+{
+    if (e.old) setenv(e.name, e.old, 1);
+    else unsetenv(e.name);
+    free(e.old);
 }
 
 #endif

@@ -14,12 +14,18 @@
  *   m_xx = rho_f pi b^2, m_yy = rho_f pi a^2, m_rot = rho_f pi (a^2 - b^2)^2 / 8 for semi-axes
  *   a (along x) and b (Lamb, Hydrodynamics, 6th ed. 1932, section 72; Newman, Marine
  *   Hydrodynamics, 1977, table 4.2), rotated with the ellipse.
+ * - A generator that fails: the status says which kernel and where its log is, keeps the end of
+ *   the log, and nothing else is filled.
  */
 #include <lapacke.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include "capture.h"
 #include "check.h"
 #include "shape/barrier.h"
 #include "shape/shape.h"
@@ -304,6 +310,41 @@ static void check_ellipse_added_mass(void)
     }
 }
 
+/* A generator that prints two lines and fails, in a cache of its own: the cause in the status
+ * (one line: which kernel, the log), the log's end in its detail. */
+static void check_failed_build_status(void)
+{
+    char dir[] = "/tmp/swim-kernels-fail-XXXXXX", script[96], cache[96];
+    if (!mkdtemp(dir)) {
+        CHECK(0, "a temporary folder");
+        return;
+    }
+    snprintf(script, sizeof script, "%s/python", dir);
+    snprintf(cache, sizeof cache, "%s/cache", dir);
+    FILE *f = fopen(script, "w");
+    if (f) {
+        fputs("#!/bin/sh\necho first words\necho the generator gave up here >&2\nexit 3\n", f);
+        fclose(f);
+    }
+    chmod(script, 0700);
+    const env_saved py = env_set("SWIM_PYTHON", script), ca = env_set("SWIM_CACHE", cache);
+    swim_status st = {0};
+    swim_compiled c;
+    const int rc = swim_codegen_kernel(9, &c, 0, &st);
+    env_restore(py);
+    env_restore(ca);
+    char msg[512];
+    swim_status_message(&st, msg, sizeof msg);
+    CHECK(rc == -1 && st.failed && st.nlines == 1 && strncmp(msg, "generating the kernel for N = 9 failed (see ", 44) == 0 &&
+          strstr(msg, "/build.log)"), "a failed generation: %d, %d lines, '%s'", rc, st.nlines, msg);
+    CHECK(strstr(st.detail, "first words\n") && strstr(st.detail, "the generator gave up here"),
+          "the status keeps the end of build.log: '%s'", st.detail);
+    CHECK(st.file[0] == '\0' && st.line == 0 && st.key[0] == '\0', "no file, line or key for a build");
+    char cmd[160];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0) fprintf(stderr, "cannot remove %s\n", dir);
+}
+
 int main(void)
 {
     srand(12345);
@@ -330,5 +371,6 @@ int main(void)
     check_near_boundary_quadrature();
     check_ellipse_added_mass();
     for (int e = 0; e < 3; e++) swim_compiled_close(&extra[e]);
+    check_failed_build_status();
     return check_report("test_kernels");
 }

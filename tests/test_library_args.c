@@ -285,10 +285,7 @@ static void test_no_cache_no_tmpdir(void)
     snprintf(printed, sizeof printed, "%s/printed", dir);
     FILE *f = fopen(cache, "w");
     if (f) fclose(f);
-    const char *old_cache = getenv("SWIM_CACHE"), *old_tmp = getenv("TMPDIR");
-    char *keep_cache = old_cache ? strdup(old_cache) : NULL, *keep_tmp = old_tmp ? strdup(old_tmp) : NULL;
-    setenv("SWIM_CACHE", cache, 1);
-    setenv("TMPDIR", tmp, 1);
+    const env_saved ca = env_set("SWIM_CACHE", cache), td = env_set("TMPDIR", tmp);
     const capture_fds q = capture_begin(printed);
     build_job one;
     inspect_n9(&one);
@@ -296,12 +293,8 @@ static void test_no_cache_no_tmpdir(void)
     swim_error em = SWIM_ERROR_INIT;
     const int mrc = swim_model_from_file(SCENE, NULL, 0, &m, &em);
     const long long bytes = capture_end(q);
-    if (keep_cache) setenv("SWIM_CACHE", keep_cache, 1);
-    else unsetenv("SWIM_CACHE");
-    if (keep_tmp) setenv("TMPDIR", keep_tmp, 1);
-    else unsetenv("TMPDIR");
-    free(keep_cache);
-    free(keep_tmp);
+    env_restore(ca);
+    env_restore(td);
     CHECK(bytes == 0, "no cache and no TMPDIR: %lld bytes printed", bytes);
     CHECK(one.rc == SWIM_EKERNEL && one.e.status == SWIM_EKERNEL && strstr(one.e.message, "no private folder") &&
           strstr(one.e.message, tmp), "swim_inspect(9) without a cache or TMPDIR: %d '%s'", one.rc, one.e.message);

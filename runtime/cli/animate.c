@@ -34,10 +34,7 @@ int swim_cmd_animate(int argc, char **argv)
     }
     swim_status missing = {0};
     const char *share = swim_share_dir(&missing), *python = swim_python();
-    if (!share) {
-        swim_status_print(&missing, stderr);
-        return 1;
-    }
+    if (swim_status_shown(&missing, !share)) return 1;
     /* The script calls back `swim flow`: tell it which binary this is. */
     char self[4096];
     ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);

@@ -72,10 +72,7 @@ static int check_ends(const char *scene, const swim_override *sets, int nsets, c
         snprintf(ov[nsets].text, sizeof ov[nsets].text, "--param %s (at %s = %.10g)", given, o->key, ends[e]);
         swim_scene s;
         swim_status st = SWIM_STATUS_STDERR;
-        if (swim_scene_load_with(scene, ov, nsets + 1, &s, &st) != 0) {
-            swim_status_print(&st, stderr);
-            return 2;
-        }
+        if (swim_status_shown(&st, swim_scene_load_with(scene, ov, nsets + 1, &s, &st))) return 2;
         swim_scene_free(&s);
     }
     return 0;

@@ -228,10 +228,7 @@ int swim_cmd_flow(int argc, char **argv)
     }
     fclose(probe);
     swim_status st = SWIM_STATUS_STDERR;
-    if (swim_scene_load(path, &s, &st)) {
-        swim_status_print(&st, stderr);
-        return 2;
-    }
+    if (swim_status_shown(&st, swim_scene_load(path, &s, &st))) return 2;
     table tb = {0, 0, NULL, NULL};
     snprintf(path, sizeof path, "%s/trajectory.csv", dir);
     if (read_trajectory(path, &s, &tb)) {

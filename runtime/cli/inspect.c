@@ -53,10 +53,7 @@ static int inspect_energy(long N, const double *x, double rho0, double rhof, con
     swim_status st = SWIM_STATUS_STDERR;
     int rc = swim_scene_parse(text, len, "swim inspect --energy", &s, &st);
     free(text);
-    if (rc != 0) {
-        swim_status_print(&st, stderr);
-        return 2;
-    }
+    if (swim_status_shown(&st, rc)) return 2;
     swim_compiled sys;
     memset(&sys, 0, sizeof sys);
     rc = 1;

@@ -177,10 +177,7 @@ static int plot(const char *dir)
 {
     swim_status missing = {0};
     const char *share = swim_share_dir(&missing), *python = swim_python();
-    if (!share) {
-        swim_status_print(&missing, stderr);
-        return 1;
-    }
+    if (swim_status_shown(&missing, !share)) return 1;
     char *script = swim_strprintf("%s/runtime/plot/plot_optimize.py", share);
     if (!script) return 1;
     fflush(stdout);
@@ -282,10 +279,8 @@ static int optimize_command(int argc, char **argv, char **text)
     p.quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     p.scene_path = pos[0];
     swim_status rst = SWIM_STATUS_STDERR;
-    if (!(*text = swim_scene_read(pos[0], &p.scene_len, &rst))) {   /* the one read of the file */
-        swim_status_print(&rst, stderr);
-        return 2;
-    }
+    *text = swim_scene_read(pos[0], &p.scene_len, &rst);   /* the one read of the file */
+    if (swim_status_shown(&rst, *text ? 0 : 2)) return 2;
     p.scene_text = *text;
     p.sets = sets;
     p.nsets = nsets;
@@ -307,10 +302,7 @@ static int optimize_command(int argc, char **argv, char **text)
                          p.hi[i], p.keys[i].text, o->value);
             }
             swim_status st = SWIM_STATUS_STDERR;
-            if (swim_scene_parse_with(p.scene_text, p.scene_len, pos[0], ov, k, &s, &st) != 0) {
-                swim_status_print(&st, stderr);
-                return 2;
-            }
+            if (swim_status_shown(&st, swim_scene_parse_with(p.scene_text, p.scene_len, pos[0], ov, k, &s, &st))) return 2;
             if (at < 2) swim_scene_free(&s);
         }
         const int forced = s.forced || s.stroke;   /* a stroke's work is the body's positive work */
@@ -322,10 +314,7 @@ static int optimize_command(int argc, char **argv, char **text)
             return 2;
         }
         swim_status st = SWIM_STATUS_STDERR;
-        if (p.method == SWIM_OPT_BFGS && swim_opt_check_gradient(&p, ov, k, &st) != 0) {
-            swim_status_print(&st, stderr);
-            return 2;
-        }
+        if (p.method == SWIM_OPT_BFGS && swim_status_shown(&st, swim_opt_check_gradient(&p, ov, k, &st))) return 2;
         if ((p.quantity == SWIM_Q_DISPLACEMENT_PER_WORK || p.quantity == SWIM_Q_FORCING_WORK) && !forced) {
             swim_message(stderr, "swim optimize: %s: %s needs a [forcing] law (the work of F(t)) or a [stroke] "
                          "(the positive work of the body)", pos[0], qname);

@@ -41,10 +41,7 @@ int swim_cmd_plot(int argc, char **argv)
     }
     swim_status missing = {0};
     const char *share = swim_share_dir(&missing), *python = swim_python();
-    if (!share) {
-        swim_status_print(&missing, stderr);
-        return 1;
-    }
+    if (swim_status_shown(&missing, !share)) return 1;
     /* a sweep folder (sweep.json) gets the family figures, a branch folder (branch.json) the
      * bifurcation diagram, a run folder the run's */
     char *probe = swim_path_join(argv[2], "sweep.json"), *bprobe = swim_path_join(argv[2], "branch.json");

@@ -82,9 +82,7 @@ int swim_run_settings_options(const swim_opt *opts, int nopts, swim_scene *s)
     }
     if (plain_options(opts, nopts, s)) return 2;
     swim_status st = SWIM_STATUS_STDERR;
-    if (swim_run_settings_check(s, &cli, &st) == 0) return 0;
-    swim_status_print(&st, stderr);
-    return 2;
+    return swim_status_shown(&st, swim_run_settings_check(s, &cli, &st)) ? 2 : 0;
 }
 
 int swim_run_settings_record(const swim_opt *opts, int nopts, const swim_scene *s, swim_override *out)

@@ -35,7 +35,8 @@ int swim_cmd_sweep(int argc, char **argv)
     static sweep_plan p;
     int rc = sweep_parse(&p, "sweep", argc, argv, 2);
     if (rc) return rc;
-    if ((rc = sweep_prepare(&p))) { sweep_free(&p); return rc; }
+    swim_status st = SWIM_STATUS_STDERR;
+    if ((rc = swim_status_shown(&st, sweep_prepare(&p, &st)))) { sweep_free(&p); return rc; }
     FILE *rows = sweep_open_rows(&p);
     if (!rows) { sweep_free(&p); return 1; }
     slots = p.jobs;
@@ -108,7 +109,9 @@ int swim_cmd_sweep(int argc, char **argv)
         stop_signal = -1;
     }
     const double seconds = swim_clock_seconds() - t0;
-    if (sweep_sort_rows(&p) != 0) stop_signal = -1;   /* rows in member order, as a reader expects */
+    swim_status_clear(&st);
+    /* rows in member order, as a reader expects */
+    if (swim_status_shown(&st, sweep_sort_rows(&p, &st))) stop_signal = -1;
     const int with_family = sweep_family_hdf5_due(&p);
     if (with_family && sweep_write_family_hdf5(&p) != 0) stop_signal = -1;
     const long finished = p.already + ran, all_failed = p.already_failed + failed;

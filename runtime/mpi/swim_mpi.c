@@ -117,7 +117,11 @@ static int deal(sweep_plan *p, int ranks)
         stop = 1;
     }
     double seconds = swim_clock_seconds() - t0;
-    if (sweep_sort_rows(p) != 0) stop = 1;   /* rows in member order, as a reader expects */
+    swim_status st = {0};
+    if (sweep_sort_rows(p, &st) != 0) {   /* rows in member order, as a reader expects */
+        swim_status_print(&st, stderr);
+        stop = 1;
+    }
     if (sweep_family_hdf5_due(p) && sweep_write_family_hdf5(p) != 0) stop = 1;
     const long finished = p->already + ran, all_failed = p->already_failed + failed;
     if (stop) {
@@ -170,7 +174,11 @@ int main(int argc, char **argv)
     } else {
         rc = parse(&p, rank, argc, argv);
         if (!rc) rc = member_program(&p);
-        if (!rc && rank == 0) rc = sweep_prepare(&p);
+        if (!rc && rank == 0) {
+            swim_status st = SWIM_STATUS_STDERR;
+            rc = sweep_prepare(&p, &st);
+            swim_status_print(&st, stderr);
+        }
     }
     /* Every rank learns whether the sweep is valid (rank 0 checked every member) before any runs. */
     int any = rc;

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stddef.h>
 #include <signal.h>
+#include <stdarg.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -188,16 +189,17 @@ static int check_member(const sweep_plan *p, long m, swim_scene *s, mode_kernels
     return rc;
 }
 
-/* Loads member m's scene (check_member): the cause of a refusal is shown with the member named
- * in front of it. 0, 2, or 1 (no kernel). */
-static int load_member(const sweep_plan *p, long m, swim_scene *s, mode_kernels *mk)
+/* Loads member m's scene (check_member): the cause of a refusal, with the member named in front
+ * of it, in st. 0, 2, or 1 (no kernel). */
+static int load_member(const sweep_plan *p, long m, swim_scene *s, mode_kernels *mk, swim_status *st)
 {
-    swim_status st = {0};   /* notices of a member's scene are not the sweep's */
-    int rc = check_member(p, m, s, mk, &st);
+    swim_status own = {0};   /* notices of a member's scene are not the sweep's */
+    int rc = check_member(p, m, s, mk, &own);
     if (rc != 0) {
-        char label[600], msg[SWIM_MESSAGE_MAX + 8];
+        char label[600], msg[SWIM_MESSAGE_MAX + 8], who[64];
         member_label(p, m, label, sizeof label);
-        swim_message(stderr, "swim %s: %s: %s", p->cmd, label, swim_status_message(&st, msg, sizeof msg));
+        snprintf(who, sizeof who, "swim %s", p->cmd);
+        swim_status_fail(st, who, own.file, own.line, own.key, "%s: %s", label, swim_status_message(&own, msg, sizeof msg));
     }
     return rc;
 }
@@ -251,6 +253,18 @@ static char *definition(const sweep_plan *p)
 }
 
 /* text replaces path atomically; 0, or -1 with errno set (the reason a message names). */
+/* A failure of the sweep's preparation: "swim CMD: message" in st. */
+static void fail(swim_status *st, const sweep_plan *p, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void fail(swim_status *st, const sweep_plan *p, const char *fmt, ...)
+{
+    char who[64];
+    snprintf(who, sizeof who, "swim %s", p->cmd);
+    va_list ap;
+    va_start(ap, fmt);
+    swim_status_vfail(st, who, NULL, 0, NULL, fmt, ap);
+    va_end(ap);
+}
+
 static int write_atomic(const char *path, const char *text)
 {
     return swim_replace_file(path, text, strlen(text));
@@ -261,7 +275,7 @@ static int write_atomic(const char *path, const char *text)
  * renamed away) and take each other's running members for crashed ones. The lock is the kernel's,
  * so a sweep killed by any signal releases it; the pid written into the file only names the
  * holder in the refusal. 0, or 2 (DIR in use) or 1 (the lock file cannot be had). */
-static int lock_dir(sweep_plan *p)
+static int lock_dir(sweep_plan *p, swim_status *st)
 {
     char path[SWIM_SWEEP_PATH + 64], holder[128] = "";
     snprintf(path, sizeof path, "%s/sweep.lock", p->dir);
@@ -269,7 +283,7 @@ static int lock_dir(sweep_plan *p)
     for (int attempt = 0;; attempt++) {
         fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
         if (fd < 0) {
-            swim_message(stderr, "swim %s: cannot open %s: %s", p->cmd, path, strerror(errno));
+            fail(st, p, "cannot open %s: %s", path, strerror(errno));
             return 1;
         }
         if (flock(fd, LOCK_EX | LOCK_NB) != 0) break;
@@ -285,10 +299,10 @@ static int lock_dir(sweep_plan *p)
         holder[n > 0 ? n : 0] = '\0';
         holder[strcspn(holder, "\n")] = '\0';
         if (busy)
-            swim_message(stderr, "swim %s: --out: '%s' is in use by another sweep (%s%s); wait for it to end or "
-                         "use another --out", p->cmd, p->dir, holder[0] ? "pid " : "its pid unknown", holder);
+            fail(st, p, "--out: '%s' is in use by another sweep (%s%s); wait for it to end or "
+                         "use another --out", p->dir, holder[0] ? "pid " : "its pid unknown", holder);
         else
-            swim_message(stderr, "swim %s: cannot lock %s: %s", p->cmd, path, strerror(errno));
+            fail(st, p, "cannot lock %s: %s", path, strerror(errno));
         close(fd);
         return busy ? 2 : 1;
     }
@@ -307,7 +321,7 @@ static int lock_dir(sweep_plan *p)
 /* DIR/scene.toml: the scene text every member runs. A new sweep writes it; a resumed one must
  * find there the text it read from the scene file now (an edited scene file would mix two
  * scenes in one family); a sweep directory from before this copy gets it. 0, 1 or 2. */
-static int setup_scene_copy(const sweep_plan *p, int resumed)
+static int setup_scene_copy(const sweep_plan *p, int resumed, swim_status *st)
 {
     char path[SWIM_SWEEP_PATH + 64];
     snprintf(path, sizeof path, "%s/scene.toml", p->dir);
@@ -317,14 +331,14 @@ static int setup_scene_copy(const sweep_plan *p, int resumed)
         const int same = n == p->scene_len && memcmp(old, p->scene_text, n) == 0;
         free(old);
         if (!same) {
-            swim_message(stderr, "swim %s: %s: the scene file changed since the sweep in %s began (%s holds the "
-                         "text its members ran); restore it or use another --out", p->cmd, p->scene, p->dir, path);
+            fail(st, p, "%s: the scene file changed since the sweep in %s began (%s holds the "
+                         "text its members ran); restore it or use another --out", p->scene, p->dir, path);
             return 2;
         }
         return 0;
     }
     if (swim_replace_file(path, p->scene_text, p->scene_len) != 0) {
-        swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, path, strerror(errno));
+        fail(st, p, "cannot write %s: %s", path, strerror(errno));
         return 1;
     }
     return 0;
@@ -332,26 +346,26 @@ static int setup_scene_copy(const sweep_plan *p, int resumed)
 
 /* A new sweep needs an empty (or absent) directory; an existing one must hold the same definition
  * and scene text. DIR is locked first. */
-static int setup_dir(sweep_plan *p)
+static int setup_dir(sweep_plan *p, swim_status *st)
 {
     char path[SWIM_SWEEP_PATH + 64];
     if (swim_mkdirs(p->dir) != 0) {
-        swim_message(stderr, "swim %s: --out: cannot create directory '%s': %s", p->cmd, p->dir, strerror(errno));
+        fail(st, p, "--out: cannot create directory '%s': %s", p->dir, strerror(errno));
         return 2;
     }
-    int rc = lock_dir(p);
+    int rc = lock_dir(p, st);
     if (rc) return rc;
     char *def = definition(p);
-    if (!def) { swim_message(stderr, "swim %s: out of memory", p->cmd); return 1; }
+    if (!def) { fail(st, p, "out of memory"); return 1; }
     snprintf(path, sizeof path, "%s/sweep.json", p->dir);
     char *old = read_file(path, NULL);
     if (old) {
-        if ((rc = setup_scene_copy(p, 1))) { free(old); free(def); return rc; }
+        if ((rc = setup_scene_copy(p, 1, st))) { free(old); free(def); return rc; }
         int same = strcmp(old, def) == 0;
         free(old);
         if (!same) {
-            swim_message(stderr, "swim %s: %s holds a different sweep (its sweep.json differs from this command's "
-                         "definition); use another --out", p->cmd, p->dir);
+            fail(st, p, "%s holds a different sweep (its sweep.json differs from this command's "
+                         "definition); use another --out", p->dir);
             free(def);
             return 2;
         }
@@ -363,19 +377,18 @@ static int setup_dir(sweep_plan *p)
     while (dh && (e = readdir(dh)))
         if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && strncmp(e->d_name, "sweep.json.tmp", 14) &&
             strcmp(e->d_name, "sweep.lock") && strncmp(e->d_name, "scene.toml", 10)) {
-            swim_message(stderr, "swim %s: --out: '%s' is not empty and holds no sweep.json (not a sweep directory)",
-                         p->cmd, p->dir);
+            fail(st, p, "--out: '%s' is not empty and holds no sweep.json (not a sweep directory)", p->dir);
             closedir(dh);
             free(def);
             return 2;
         }
     if (dh) closedir(dh);
     /* the scene copy first: a DIR with a sweep.json always has the text its members run */
-    if ((rc = setup_scene_copy(p, 0))) { free(def); return rc; }
+    if ((rc = setup_scene_copy(p, 0, st))) { free(def); return rc; }
     rc = write_atomic(path, def);
     free(def);
     if (rc) {
-        swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, path, strerror(errno));
+        fail(st, p, "cannot write %s: %s", path, strerror(errno));
         return 1;
     }
     return 0;
@@ -513,12 +526,13 @@ static void format_row(const sweep_plan *p, long m, const swim_summary *s, char 
 
 /* members.csv from the summaries of the finished members, in member order; with counts, the
  * plan's tally of members found finished is redone. */
-static int write_rows(const sweep_plan *p, long *already, long *already_failed, unsigned char *finished)
+static int write_rows(const sweep_plan *p, long *already, long *already_failed, unsigned char *finished,
+                      swim_status *st)
 {
     char path[SWIM_SWEEP_PATH + 64], row[2048];
     snprintf(path, sizeof path, "%s/members.csv.tmp", p->dir);
     FILE *f = fopen(path, "w");
-    if (!f) { swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, path, strerror(errno)); return 1; }
+    if (!f) { fail(st, p, "cannot write %s: %s", path, strerror(errno)); return 1; }
     csv_header(p, f);
     long done = 0, failed = 0;
     for (long m = 0; m < p->members; m++) {
@@ -540,15 +554,18 @@ static int write_rows(const sweep_plan *p, long *already, long *already_failed, 
     char final[SWIM_SWEEP_PATH + 64];
     snprintf(final, sizeof final, "%s/members.csv", p->dir);
     if (bad || rename(path, final) != 0) {
-        swim_message(stderr, "swim %s: cannot write %s: %s", p->cmd, final, strerror(errno));
+        fail(st, p, "cannot write %s: %s", final, strerror(errno));
         return 1;
     }
     return 0;
 }
 
-static int rebuild_rows(sweep_plan *p) { return write_rows(p, &p->already, &p->already_failed, p->finished); }
+static int rebuild_rows(sweep_plan *p, swim_status *st)
+{
+    return write_rows(p, &p->already, &p->already_failed, p->finished, st);
+}
 
-int sweep_sort_rows(const sweep_plan *p) { return write_rows(p, NULL, NULL, NULL); }
+int sweep_sort_rows(const sweep_plan *p, swim_status *st) { return write_rows(p, NULL, NULL, NULL, st); }
 
 /* "1 h 05 min", "3 min 20 s", "12 s": what a reader takes in at a glance. */
 static void duration_text(double s, char *out, size_t len)
@@ -594,58 +611,52 @@ void sweep_progress(const sweep_plan *p, long ran, long failed, double t0, sweep
  * generated before any member starts: members then only load them from the cache and none of
  * them races to generate one. rep[k] is a member of structure k. A structure without a kernel
  * stops the sweep before any member runs: each of its members would fail the same way. */
-static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys)
+static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys, swim_status *st)
 {
     const int verbose = p->quiet ? 0 : 1;
     for (int k = 0; k < nkeys; k++) {
         swim_scene s;
-        if (load_member(p, rep[k], &s, NULL)) return 2;
+        if (load_member(p, rep[k], &s, NULL, st)) return 2;
         swim_compiled kn, sc;
-        swim_status st = SWIM_STATUS_STDERR;   /* shown here until the command takes it */
-        int bad = swim_codegen_kernel(s.modes, &kn, verbose, &st) != 0;
+        int bad = swim_codegen_kernel(s.modes, &kn, verbose, st) != 0;
         if (!bad) {
             /* a prescribed stroke's members run on its laws' kernel (runtime/stroke) */
-            bad = s.stroke ? swim_codegen_stroke(&s, &sc, verbose, &st) : swim_codegen_scene(&s, p->generic, &sc, verbose, &st);
+            bad = s.stroke ? swim_codegen_stroke(&s, &sc, verbose, st) : swim_codegen_scene(&s, p->generic, &sc, verbose, st);
             if (!bad) swim_compiled_close(&sc);
             swim_compiled_close(&kn);
         }
         if (bad == -2) {   /* a stroke law the generator refuses: bad input */
             char where[640];
-            swim_message(stderr, "swim: %s: %s (member %ld)",
-                         swim_scene_stroke_where(&s, sc.refused_index, where, sizeof where), sc.refused, rep[k]);
+            swim_status_fail(st, "swim", s.path, 0, NULL, "%s: %s (member %ld)",
+                             swim_scene_stroke_where(&s, sc.refused_index, where, sizeof where), sc.refused, rep[k]);
             swim_scene_free(&s);
             return 2;
         }
         swim_scene_free(&s);
         if (bad) {
-            swim_status_print(&st, stderr);
-            swim_message(stderr, "swim %s: no kernel for the structure of member %ld, no member run", p->cmd, rep[k]);
+            fail(st, p, "no kernel for the structure of member %ld, no member run", rep[k]);
             return 1;
         }
     }
     return 0;
 }
 
-int sweep_prepare(sweep_plan *p)
+int sweep_prepare(sweep_plan *p, swim_status *st)
 {
     char **keys = NULL;
     long *rep = NULL;
     int nkeys = 0, cap = 0, rc = 0;
     free(p->scene_text);
-    swim_status st = {0};
-    if (!(p->scene_text = swim_scene_read(p->scene, &p->scene_len, &st))) {
-        swim_status_print(&st, stderr);
-        return 2;
-    }
+    if (!(p->scene_text = swim_scene_read(p->scene, &p->scene_len, st))) return 2;
     mode_kernels mk;
     memset(mk.open, 0, sizeof mk.open);
     for (long m = 0; m < p->members && !rc; m++) {
         swim_scene s;
-        if ((rc = load_member(p, m, &s, &mk))) break;
+        if ((rc = load_member(p, m, &s, &mk, st))) break;
         char *key = swim_codegen_scene_key(&s, p->generic);
         swim_scene_free(&s);
         if (!key) {
-            swim_message(stderr, "swim %s: out of memory", p->cmd);
+            fail(st, p, "out of memory");
             rc = 1;
             break;
         }
@@ -662,7 +673,7 @@ int sweep_prepare(sweep_plan *p)
             if (nk) keys = nk;
             if (nr) rep = nr;
             if (!nk || !nr) {
-                swim_message(stderr, "swim %s: out of memory", p->cmd);
+                fail(st, p, "out of memory");
                 free(key);
                 rc = 1;
                 break;
@@ -673,19 +684,19 @@ int sweep_prepare(sweep_plan *p)
     }
     mode_kernels_close(&mk);
     /* kernels before DIR: a law the generator refuses is bad input, refused before anything is written */
-    if (!rc) rc = generate_kernels(p, rep, nkeys);
-    if (!rc) rc = setup_dir(p);
+    if (!rc) rc = generate_kernels(p, rep, nkeys, st);
+    if (!rc) rc = setup_dir(p, st);
     char path[SWIM_SWEEP_PATH + 64];
     snprintf(path, sizeof path, "%s/members", p->dir);
     if (!rc && swim_mkdirs(path) != 0) {
-        swim_message(stderr, "swim %s: cannot create %s: %s", p->cmd, path, strerror(errno));
+        fail(st, p, "cannot create %s: %s", path, strerror(errno));
         rc = 1;
     }
     if (!rc && !(p->finished = calloc((size_t)p->members, 1))) {
-        swim_message(stderr, "swim %s: out of memory", p->cmd);
+        fail(st, p, "out of memory");
         rc = 1;
     }
-    if (!rc) rc = rebuild_rows(p);
+    if (!rc) rc = rebuild_rows(p, st);
     for (int k = 0; k < nkeys; k++) free(keys[k]);
     free(keys);
     free(rep);

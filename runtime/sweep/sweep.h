@@ -91,8 +91,8 @@ double sweep_value(const sweep_plan *p, long m, int v);
  * written, or compared with the ones there: a different definition or scene text is 2), the
  * finished members found and members.csv rebuilt from their summaries, the kernel of every
  * distinct structure (runtime/codegen) generated once. 0, 1 (I/O error or a structure without a
- * kernel, printed) or 2. */
-int sweep_prepare(sweep_plan *p);
+ * kernel) or 2, with the cause in st. */
+int sweep_prepare(sweep_plan *p, swim_status *st);
 
 /* Starts member m as a child process running DIR/scene.toml (stdout/stderr to its log.txt); its
  * pid, or -1. The child dies with the parent (PR_SET_PDEATHSIG), so a killed sweep leaves no
@@ -124,9 +124,9 @@ int sweep_member_summary(const sweep_plan *p, long m, swim_summary *s);
 void sweep_member_dir(const sweep_plan *p, long m, char *buf, size_t len);   /* DIR/members/ID */
 
 /* members.csv rewritten from the finished members' summaries in member-id order (rows were
- * appended in the order members finished): when the sweep ends, stopped or not. 0, or 1 after
- * one line naming the file on stderr. */
-int sweep_sort_rows(const sweep_plan *p);
+ * appended in the order members finished): when the sweep ends, stopped or not. 0, or 1 with the
+ * line naming the file in st. */
+int sweep_sort_rows(const sweep_plan *p, swim_status *st);
 
 /* Progress of a sweep as one line: "swim sweep: D / T members (F failed), R members/s, about
  * E left" where D counts the members finished before a resume, R is the rate of the members run
