@@ -54,6 +54,20 @@ def swim(*args, **kw):
     return subprocess.run([SWIM, *args], capture_output=True, text=True, cwd=ROOT, **kw)
 
 
+def signal_at_marker(args, marker, sig):
+    """Runs swim ARGS, sends sig once a line of stderr holds marker; (proc, stdout, stderr, seen)."""
+    proc = subprocess.Popen([SWIM, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    seen, err = False, []
+    for line in iter(proc.stderr.readline, ""):
+        err.append(line)
+        if marker in line:
+            seen = True
+            proc.send_signal(sig)
+            break
+    so, se = proc.communicate(timeout=600)
+    return proc, so, "".join(err) + se, seen
+
+
 def one_line(p):
     """Exactly one line on stderr (the form of every refusal)."""
     return len(p.stderr.strip().splitlines()) == 1

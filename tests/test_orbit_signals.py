@@ -17,38 +17,30 @@ import csv
 import json
 import os
 import signal
-import subprocess
 import sys
 
-from swimtest import ROOT, SWIM, TMP, check, main
+from swimtest import TMP, check, main, signal_at_marker
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
 
-def signal_at(args, marker, sig):
-    """Run swim ARGS, send sig once a stderr line holds marker; (process, stdout, stderr, seen)."""
-    proc = subprocess.Popen([SWIM, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
-    seen, err = False, []
-    for line in iter(proc.stderr.readline, ""):
-        err.append(line)
-        if marker in line:
-            seen = True
-            proc.send_signal(sig)
-            break
-    so, se = proc.communicate(timeout=600)
-    return proc, so, "".join(err) + se, seen
+def stopped(command, name, args, marker, sig, report):
+    """swim COMMAND ARGS --out TMP/COMMAND_NAME, sig at marker: checks that the work began and that
+    it ended with exit 1 naming the signal on stderr (and on stdout when it prints a report);
+    the JSON report (None when missing)."""
+    out = os.path.join(TMP, "%s_%s" % (command, name))
+    proc, so, se, seen = signal_at_marker([command, *args, "--out", out], marker, sig)
+    check(seen, "%s %s: the work began (%r)" % (command, name, se[-300:]))
+    check(proc.returncode == 1 and ("stopped by " + name) in se and (report is None or ("STOPPED by " + name) in so),
+          "%s %s: exit 1, the signal named (%d, %r, %r)" % (command, name, proc.returncode, so[-200:], se[-300:]))
+    path = os.path.join(out, report or "branch.json")
+    return (json.load(open(path)) if os.path.exists(path) else None), out
 
 
 def test_periodic_stopped():
     for sig in SIGNALS:
         name = signal.Signals(sig).name
-        out = os.path.join(TMP, "periodic_" + name)
-        proc, so, se, seen = signal_at(["periodic", "models/example7.toml", "--out", out], "Newton iterate 0", sig)
-        check(seen, "%s: the Newton iteration began (%r)" % (name, se[-300:]))
-        path = os.path.join(out, "periodic.json")
-        d = json.load(open(path)) if os.path.exists(path) else None
-        check(proc.returncode == 1 and ("stopped by " + name) in se and ("STOPPED by " + name) in so,
-              "%s: exit 1, the signal named (%d, %r, %r)" % (name, proc.returncode, so[-200:], se[-300:]))
+        d, _ = stopped("periodic", name, ["models/example7.toml"], "Newton iterate 0", sig, "periodic.json")
         check(d is not None and d["status"] == "stopped" and d["signal"] == name and d["converged"] is False,
               "%s: periodic.json says stopped by it, not converged (%r)" % (name, d and d["status"]))
         if d:
@@ -61,17 +53,10 @@ def test_periodic_stopped():
 def test_continue_stopped():
     for sig in SIGNALS:
         name = signal.Signals(sig).name
-        out = os.path.join(TMP, "continue_" + name)
-        proc, so, se, seen = signal_at(["continue", "tests/scenes/example3_libration.toml", "--guess-event", "bm2:max",
-                                        "--param", "energy=1e-6:0.47", "--max-points", "1000", "--out", out],
-                                       "point at", sig)
-        check(seen, "%s: the branch began (%r)" % (name, se[-300:]))
-        rows = list(csv.DictReader(open(os.path.join(out, "branch.csv")))) if os.path.exists(
-            os.path.join(out, "branch.csv")) else []
-        path = os.path.join(out, "branch.json")
-        b = json.load(open(path)) if os.path.exists(path) else None
-        check(proc.returncode == 1 and ("stopped by " + name) in se,
-              "%s: exit 1, the signal named (%d, %r)" % (name, proc.returncode, se[-300:]))
+        b, out = stopped("continue", name, ["tests/scenes/example3_libration.toml", "--guess-event", "bm2:max", "--param",
+                                            "energy=1e-6:0.47", "--max-points", "1000"], "point at", sig, None)
+        path = os.path.join(out, "branch.csv")
+        rows = list(csv.DictReader(open(path))) if os.path.exists(path) else []
         check(b is not None and b["status"] == "stopped" and b["signal"] == name and len(b["points"]) == len(rows)
               and 1 <= len(rows) < 1000, "%s: the %d points so far kept, branch.json says stopped (%r)"
               % (name, len(rows), b and (b["status"], b["ended_early"])))
@@ -82,13 +67,7 @@ def test_floquet_stopped():
     """soft_n20_a05's variational equations (84 x 85) take seconds after the period is found."""
     for sig in SIGNALS:
         name = signal.Signals(sig).name
-        out = os.path.join(TMP, "floquet_" + name)
-        proc, so, se, seen = signal_at(["floquet", "models/hard/soft_n20_a05.toml", "--out", out], "period T =", sig)
-        check(seen, "%s: the period was found (%r)" % (name, se[-300:]))
-        path = os.path.join(out, "floquet.json")
-        d = json.load(open(path)) if os.path.exists(path) else None
-        check(proc.returncode == 1 and ("stopped by " + name) in se and ("STOPPED by " + name) in so,
-              "%s: exit 1, the signal named (%d, %r, %r)" % (name, proc.returncode, so[-200:], se[-300:]))
+        d, _ = stopped("floquet", name, ["models/hard/soft_n20_a05.toml"], "period T =", sig, "floquet.json")
         check(d is not None and d["status"] == "stopped" and d["signal"] == name and d["periodic"] is False
               and d["period"] > 0 and "multipliers" not in json.dumps(d),
               "%s: floquet.json says stopped, keeps the period, claims no multipliers (%r)" % (name, d))

@@ -33,7 +33,7 @@ import time
 
 import h5py
 
-from swimtest import ROOT, SWIM, TMP, check, main
+from swimtest import ROOT, SWIM, TMP, check, main, signal_at_marker
 
 EX1 = "models/example1.toml"
 EX3 = "models/example3.toml"
@@ -132,20 +132,6 @@ def test_out_checked_first():
     p = swim("periodic", EX3, "--out", os.path.join(TMP, "new", "deeper"), "--quiet")
     check(p.returncode == 0 and os.path.isfile(os.path.join(TMP, "new", "deeper", "periodic.json")),
           "periodic into a new folder: written (%s)" % p.stderr)
-
-
-def signal_at_marker(args, marker, sig):
-    """Runs swim ARGS, sends sig once a line of stderr holds marker; (proc, stdout, stderr, seen)."""
-    proc = subprocess.Popen([SWIM, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
-    seen, err = False, []
-    for line in iter(proc.stderr.readline, ""):
-        err.append(line)
-        if marker in line:
-            seen = True
-            proc.send_signal(sig)
-            break
-    so, se = proc.communicate(timeout=600)
-    return proc, so, "".join(err) + se, seen
 
 
 def test_signal_in_lyapunov_pass():
