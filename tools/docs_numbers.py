@@ -27,7 +27,7 @@ members/s). Not measurements, hence not counted:
 Model time (t = 30, T = 20) is written without a unit and never matches. In a table, a column
 whose header names a unit of time or speed (TIME_HEADER: "(s)", "ns", "ms", "seconds", "wall s",
 "CPU", "time", "members/s", "speed-up") makes every cell of it with a digit a timing figure, and
-so does a row whose first cell names one ("integration ms")."""
+so does a row whose first cell names a unit of time ("integration ms"; a row of ratios is none)."""
 import glob
 import json
 import os
@@ -292,6 +292,7 @@ TIME_WORDS = re.compile(r"faster|slower|cheaper|dearer|\btime\b|\bCPU\b|\bwall\b
                         re.I)
 TIME_HEADER = re.compile(r"\((?:ns|µs|ms|s)\)|\b(?:ns|µs|ms)\b|seconds|\bwall s\b|\bs (?:median|max)\b|\btime\b"
                          r"|\bCPU\b|members/s|speed-up|\bRHS s\b|\bJacobian s\b", re.I)
+ROW_UNIT = re.compile(r"\((?:ns|µs|ms|s)\)|\b(?:ns|µs|ms)\b|seconds")
 TABLE_RULE = re.compile(r"^\|(?:\s*:?-+:?\s*\|)+\s*$")
 
 
@@ -310,7 +311,7 @@ def table_timings(lines):
         while j < len(lines) and lines[j].startswith("|"):
             row = cells(lines[j])
             # a row whose label names the unit ("integration ms") is timings across
-            mine = range(1, len(row)) if TIME_HEADER.search(row[0]) else cols
+            mine = range(1, len(row)) if ROW_UNIT.search(row[0]) else cols
             out += [(j + 1, row[k]) for k in mine if k < len(row) and re.search(r"\d", row[k])]
             j += 1
     return out
