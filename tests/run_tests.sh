@@ -104,8 +104,10 @@ for name in "${failed[@]+"${failed[@]}"}"; do
     grep -q -E '^[A-Za-z0-9_.-]+: [0-9]+ passed, [0-9]+ failed' "$logs/$name.log" || tail -n 20 "$logs/$name.log"
 done
 # this run's record for make docs-numbers (tools/docs_numbers.py): passed, failed, programs,
-# seconds, jobs, filter, date, load average at the start and at the end, cores
-printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$total_pass" "$total_fail" "${#progs[@]}" \
+# seconds, jobs, filter, date, load average at the start and at the end, cores. Only a run of
+# make test writes it (make sets TEST_FILTER, empty for the whole suite): a run of a few programs
+# named on the command line is not the suite's count.
+[ -n "${TEST_FILTER+set}" ] && printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$total_pass" "$total_fail" "${#progs[@]}" \
     "$(($(date +%s) - clock_start))" "$jobs" "$filter" "$(date -u '+%Y-%m-%d %H:%M UTC')" "$load_start" \
     "$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo 0)" "$(nproc 2>/dev/null || echo 1)" >"$logs/last-run"
 echo "tests: $total_pass passed, $total_fail failed"

@@ -24,7 +24,10 @@ members/s). Not measurements, hence not counted:
   - sizes: A × B (matrix, grid, image dimensions), "min J", "s of video" (the film's own time);
   - the phrases of NOT_MEASURED below, each with its reason (settings and limits written out
     in words rather than as code).
-Model time (t = 30, T = 20) is written without a unit and never matches."""
+Model time (t = 30, T = 20) is written without a unit and never matches. In a table, a column
+whose header names a unit of time or speed (TIME_HEADER: "(s)", "ns", "ms", "seconds", "wall s",
+"CPU", "time", "members/s", "speed-up") makes every cell of it with a digit a timing figure, and
+so does a row whose first cell names a unit of time ("integration ms"; a row of ratios is none)."""
 import glob
 import json
 import os
@@ -287,6 +290,33 @@ TIMING = re.compile(
     r"|\s?(?P<mem>kB|KB|MB|MiB|GB)\b|\s(?P<rate>members?/s|runs?/s)|\s?(?P<times>×))")
 TIME_WORDS = re.compile(r"faster|slower|cheaper|dearer|\btime\b|\bCPU\b|\bwall\b|µs|\bms\b|members/s|runs/s|speed",
                         re.I)
+TIME_HEADER = re.compile(r"\((?:ns|µs|ms|s)\)|\b(?:ns|µs|ms)\b|seconds|\bwall s\b|\bs (?:median|max)\b|\btime\b"
+                         r"|\bCPU\b|members/s|speed-up|\bRHS s\b|\bJacobian s\b", re.I)
+ROW_UNIT = re.compile(r"\((?:ns|µs|ms|s)\)|\b(?:ns|µs|ms)\b|seconds")
+TABLE_RULE = re.compile(r"^\|(?:\s*:?-+:?\s*\|)+\s*$")
+
+
+def cells(line):
+    return [c.strip() for c in line.strip().strip("|").split("|")]
+
+
+def table_timings(lines):
+    """[(line number, cell)] of the cells under a timing header (TIME_HEADER) in the tables of lines."""
+    out = []
+    for i in range(len(lines) - 1):
+        if not (lines[i].startswith("|") and TABLE_RULE.match(lines[i + 1])):
+            continue
+        cols = [k for k, h in enumerate(cells(lines[i])) if TIME_HEADER.search(h)]
+        j = i + 2
+        while j < len(lines) and lines[j].startswith("|"):
+            row = cells(lines[j])
+            # a row whose label names the unit ("integration ms") is timings across
+            mine = range(1, len(row)) if ROW_UNIT.search(row[0]) else cols
+            out += [(j + 1, row[k]) for k in mine if k < len(row) and re.search(r"\d", row[k])]
+            j += 1
+    return out
+
+
 # Written-out settings and limits that look like measurements: (page, phrase, why it is no measurement).
 NOT_MEASURED = [
     ("docs/trust.md", "over 1 MiB", "the scene-file size limit"),
@@ -316,7 +346,9 @@ def timings_outside_blocks(text, rel=""):
     docstring for what counts)."""
     out = []
     allowed = [phrase for page, phrase, _ in NOT_MEASURED if page == rel]
-    for i, line in enumerate(strip_unmeasured(text).splitlines(), 1):
+    lines = strip_unmeasured(text).splitlines()
+    out += [(n, cell, lines[n - 1]) for n, cell in table_timings(lines)]
+    for i, line in enumerate(lines, 1):
         for m in TIMING.finditer(line):
             if m.group("bound"):
                 continue
@@ -332,7 +364,7 @@ def timings_outside_blocks(text, rel=""):
                    for phrase in allowed):
                 continue
             out.append((i, m.group(0).strip(), line))
-    return out
+    return sorted(out)
 
 
 def sentence_around(line, pos):
