@@ -168,6 +168,31 @@ def rhs_cost_barrier(rec):
             % (rec["values"]["runs"], r["example7"]["ns_specialized"] / 1e3, r["selfpropelled"]["ns_specialized"] / 1e3))
 
 
+# FMA-equivalents of each part's arithmetic (docs/performance.md's count table; a division or a
+# square root counted as 8) and the peak they are set against: 8 FMA a cycle at 2.69 GHz
+PARTS_FMA = {"example7": {"barrier": 9700}, "selfpropelled": {"barrier": 5400}}
+KP_FMA, GAMMA_FMA, REST_FMA, PEAK_FMA_PER_NS = 6500, 1350, 1700, 21.5
+
+
+def rhs_parts_table(rec):
+    rows = {r["scene"]: r for r in rec["values"]["scenes"]}
+    names = [n for n in ("example7", "selfpropelled") if n in rows]
+    title = {"example7": "Example 7", "selfpropelled": "§5.2"}
+    out = ["| part (µs; × the arithmetic at the peak) | " + " | ".join(title[n] for n in names) + " |",
+           "|---" * (len(names) + 1) + "|"]
+
+    def cell(n, ns, fma):
+        return "%.2f" % (ns / 1e3) + ("" if fma is None else " (%.1f×)" % (ns / (fma / PEAK_FMA_PER_NS)))
+    parts = [("whole RHS", lambda r: r["ns_rhs"], lambda n: None),
+             ("barrier quadrature", lambda r: r["ns_barrier"], lambda n: PARTS_FMA[n]["barrier"]),
+             ("kernel K and P", lambda r: r["ns_kernel"] - r["ns_christoffel"], lambda n: KP_FMA),
+             ("Christoffel contraction ⟨Γ, v, v⟩", lambda r: r["ns_christoffel"], lambda n: GAMMA_FMA),
+             ("rest: forces, Cholesky factor, constrained solve, frame", lambda r: r["ns_rest"], lambda n: REST_FMA)]
+    for label, get, fma in parts:
+        out.append("| %s | " % label + " | ".join(cell(n, get(rows[n]), fma(n)) for n in names) + " |")
+    return "\n".join(out)
+
+
 def sensitivity_table(rec):
     v = rec["values"]
     out = ["| case | exact (s, median of %d) | Jacobians | differences (s) | RHS evaluations | differences / exact "
@@ -243,6 +268,7 @@ BLOCKS = {
     "tests": (None, tests_count),
     "rhs_cost.table": ("rhs_cost.json", rhs_cost_table),
     "rhs_cost.barrier": ("rhs_cost.json", rhs_cost_barrier),
+    "rhs_parts.table": ("rhs_parts.json", rhs_parts_table),
     "sensitivity.table": ("sensitivity.json", sensitivity_table),
     "python_loop.table": ("python_loop.json", python_loop_table),
     "sweep.table": ("sweep.json", sweep_table),

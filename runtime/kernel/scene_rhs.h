@@ -77,6 +77,28 @@ SWIM_INLINE void chol_solve(const double *L, int n, const double *b, double *a)
     }
 }
 
+/* a_r = K^-1 b_r for cnt right sides at once (cnt a constant at the call): each is solved with
+ * the operations of chol_solve in the same order, so the results are the same to the bit, but
+ * the cnt dependency chains of the substitutions (latency-bound, one division per row) overlap. */
+SWIM_INLINE void chol_solve_many(const double *L, int n, int cnt, const double *const *b, double *const *a)
+{
+    double z[3][NX > SWIM_SCENE_MAX_ROWS ? NX : SWIM_SCENE_MAX_ROWS];
+    for (int i = 0; i < n; i++) {
+        double s[3];
+        for (int r = 0; r < cnt; r++) s[r] = b[r][i];
+        for (int k = 0; k < i; k++)
+            for (int r = 0; r < cnt; r++) s[r] -= L[n * i + k] * z[r][k];
+        for (int r = 0; r < cnt; r++) z[r][i] = s[r] / L[n * i + i];
+    }
+    for (int i = n - 1; i >= 0; i--) {
+        double s[3];
+        for (int r = 0; r < cnt; r++) s[r] = z[r][i];
+        for (int k = i + 1; k < n; k++)
+            for (int r = 0; r < cnt; r++) s[r] -= L[n * k + i] * a[r][k];
+        for (int r = 0; r < cnt; r++) a[r][i] = s[r] / L[n * i + i];
+    }
+}
+
 /* The saddle-point system of (4.12) at one state, set up once and solved for the accelerations
  * and again, with other right sides, for each direction of the Jacobian (same K, same rows):
  *   K c'' = h + G^T lambda,  G c'' = s.
@@ -154,6 +176,14 @@ static int saddle_setup(const double *L, const double *x, const double *v,
     return 0;
 }
 
+static int saddle_setup_h(const double *L, const double *x, const double *v,
+                          const swim_scene_params *p, saddle_t *sd, const double *h, double *acc)
+{
+    const int rc = saddle_setup(L, x, v, p, sd);
+    if (rc == 0 && h) chol_solve(L, NX, h, acc);
+    return rc;
+}
+
 /* Given acc = K^-1 h: acc += K^-1 G^T lambda with (G K^-1 G^T) lambda = s - G acc (4.12). */
 static void saddle_correct(const saddle_t *sd, const double *s, double *acc, double *lam)
 {
@@ -174,8 +204,18 @@ static void saddle_correct(const saddle_t *sd, const double *s, double *acc, dou
 #else
 /* The same with locks by deletion: the rows are G1 (2.8) and G2 (2.14) on the free coordinates;
  * one that vanishes there holds trivially and is dropped (ERRATA C2). */
+static int saddle_setup_h(const double *L, const double *x, const double *v,
+                          const swim_scene_params *p, saddle_t *sd, const double *h, double *acc);
+
 static int saddle_setup(const double *L, const double *x, const double *v,
                         const swim_scene_params *p, saddle_t *sd)
+{
+    return saddle_setup_h(L, x, v, p, sd, NULL, NULL);
+}
+
+/* saddle_setup, and (h) acc = K^-1 h solved together with Z. */
+static int saddle_setup_h(const double *L, const double *x, const double *v,
+                          const swim_scene_params *p, saddle_t *sd, const double *h, double *acc)
 {
     (void)p;
     double curv = 0.0;
@@ -187,8 +227,10 @@ static int saddle_setup(const double *L, const double *x, const double *v,
         sd->lock[j] = -1;
         sd->which[j] = j;
     }
-    chol_solve(L, NX, sd->G[0], sd->Z[0]);
-    chol_solve(L, NX, sd->G[1], sd->Z[1]);
+    const double *rhs[3] = {sd->G[0], sd->G[1], h};
+    double *sol[3] = {sd->Z[0], sd->Z[1], acc};
+    if (h) chol_solve_many(L, NX, 3, rhs, sol);
+    else chol_solve_many(L, NX, 2, rhs, sol);
     for (int i = 0; i < 2; i++)
         for (int j = 0; j < 2; j++) {
             double a = 0.0;
@@ -240,9 +282,9 @@ static int accelerations(const double *L, const double *x, const double *v,
 {
     saddle_t sd;
     double lam[SWIM_SCENE_MAX_ROWS];
-    const int rc = saddle_setup(L, x, v, p, &sd);
+    const int rc = saddle_setup_h(L, x, v, p, &sd, f, acc);
     if (rc != 0) return rc;
-    saddle_solve(L, &sd, f, sd.r, acc, lam);
+    saddle_correct(&sd, sd.r, acc, lam);
     return 0;
 }
 

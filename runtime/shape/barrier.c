@@ -206,25 +206,6 @@ typedef struct {
     double Gr[64], Gi[64];
 } sums;
 
-/* h and J at nodes k = 0..m-1 whose cos(j theta_k), sin(j theta_k) are cs[j m + k], sn[j m + k]
- * (structure of arrays: every loop runs over the nodes and vectorizes). */
-static void node_values(const swim_barrier_quad *b, const double *cs, const double *sn, int m,
-                        const double *x, double *hr, double *hi, double *J)
-{
-    const double c1 = x[0] * x[0] + x[1] * x[1];
-    for (int k = 0; k < m; k++) hr[k] = hi[k] = 0.0;
-    for (int j = 0; j < b->N; j++) {
-        const double complex H = coef_h(x, j);
-        const double Hr = creal(H), Hi = cimag(H);
-        const double *c = cs + (size_t)j * m, *sj = sn + (size_t)j * m;
-        for (int k = 0; k < m; k++) {          /* H e^{-i j theta} */
-            hr[k] += Hr * c[k] + Hi * sj[k];
-            hi[k] += Hi * c[k] - Hr * sj[k];
-        }
-    }
-    for (int k = 0; k < m; k++) J[k] = c1 - hr[k] * hr[k] - hi[k] * hi[k];
-}
-
 /* Sums over the nodes in 8 interleaved partial sums (node k into lane k % 8, two vectors of 4),
  * added up in a fixed order at the end: without reassociation (no -ffast-math) a single running
  * sum is a serial chain of additions that the compiler cannot vectorize. Only the rounding of
@@ -242,6 +223,47 @@ static inline double total8(vec4 a, vec4 b, double tail)
 {
     const vec4 s = a + b;
     return ((s[0] + s[1]) + (s[2] + s[3])) + tail;
+}
+
+/* h and J at nodes k = 0..m-1 whose cos(j theta_k), sin(j theta_k) are cs[j m + k], sn[j m + k]
+ * (structure of arrays). Blocks of 8 nodes outside, j inside: h stays in registers over the sum
+ * instead of being loaded and stored once per j (the same operations per node, in the same order). */
+static void node_values(const swim_barrier_quad *b, const double *cs, const double *sn, int m,
+                        const double *x, double *hr, double *hi, double *J)
+{
+    const double c1 = x[0] * x[0] + x[1] * x[1];
+    const int N = b->N, mv = m - m % 8;
+    double Hr[64], Hi[64];
+    for (int j = 0; j < N; j++) {
+        const double complex H = coef_h(x, j);
+        Hr[j] = creal(H);
+        Hi[j] = cimag(H);
+    }
+    for (int k = 0; k < mv; k += 8) {
+        vec4 r0 = {0}, r1 = {0}, i0 = {0}, i1 = {0};
+        for (int j = 0; j < N; j++) {          /* H e^{-i j theta} */
+            const double *c = cs + (size_t)j * m + k, *sj = sn + (size_t)j * m + k;
+            const vec4 c0 = load4(c), c1v = load4(c + 4), s0 = load4(sj), s1 = load4(sj + 4);
+            r0 += Hr[j] * c0 + Hi[j] * s0;
+            r1 += Hr[j] * c1v + Hi[j] * s1;
+            i0 += Hi[j] * c0 - Hr[j] * s0;
+            i1 += Hi[j] * c1v - Hr[j] * s1;
+        }
+        memcpy(hr + k, &r0, sizeof r0);
+        memcpy(hr + k + 4, &r1, sizeof r1);
+        memcpy(hi + k, &i0, sizeof i0);
+        memcpy(hi + k + 4, &i1, sizeof i1);
+    }
+    for (int k = mv; k < m; k++) {
+        double r = 0.0, i = 0.0;
+        for (int j = 0; j < N; j++) {
+            r += Hr[j] * cs[(size_t)j * m + k] + Hi[j] * sn[(size_t)j * m + k];
+            i += Hi[j] * cs[(size_t)j * m + k] - Hr[j] * sn[(size_t)j * m + k];
+        }
+        hr[k] = r;
+        hi[k] = i;
+    }
+    for (int k = 0; k < m; k++) J[k] = c1 - hr[k] * hr[k] - hi[k] * hi[k];
 }
 
 /* f = w J^-alpha and g = w J^{-1-alpha} = f / J at n nodes (g holds J on entry; w NULL: 1). One
@@ -455,7 +477,10 @@ static void level_change(const double *g, const double *gp, int n, double W, dou
     *dW = fabs(W - Wp);
     *dg = 0.0;
     if (g)
-        for (int i = 0; i < n; i++) *dg = fmax(*dg, fabs(g[i] - gp[i]));
+        for (int i = 0; i < n; i++) {   /* maxima by comparison: fmax is a library call here */
+            const double e = fabs(g[i] - gp[i]);
+            if (e > *dg) *dg = e;
+        }
 }
 
 /* Error of the finest level predicted from the last two changes D1 (Q/2 -> Q) and D2 (Q -> 2Q).
@@ -485,7 +510,8 @@ static int settled(double D1, double D2, double scale)
 static double vmax(const double *g, int n)
 {
     double m = 0.0;
-    for (int i = 0; g && i < n; i++) m = fmax(m, fabs(g[i]));
+    for (int i = 0; g && i < n; i++)
+        if (fabs(g[i]) > m) m = fabs(g[i]);
     return m;
 }
 
@@ -538,13 +564,19 @@ static double peak_width(const swim_barrier_quad *b, double dstop)
         const double *c = b->scs + (size_t)p * M, *sn = b->ssn + (size_t)p * M;
         for (int k = 0; k < M; k++) J[k] += re * c[k] - im * sn[k];
     }
-    int deepest = -1;
-    for (int k = 0; k < M; k++)
-        if (deepest < 0 || J[k] < J[deepest]) deepest = k;
+    int deepest = 0;   /* the first of the smallest samples; its value kept in a register (a load
+                          per sample through the index was a serial chain) */
+    double jdeep = J[0];
+    for (int k = 1; k < M; k++)
+        if (J[k] < jdeep) {
+            jdeep = J[k];
+            deepest = k;
+        }
     for (int i = -1; i < M; i++) {
         const int k = i < 0 ? deepest : i;
         if (i == deepest) continue;
-        const double left = J[(k + M - 1) % M], right = J[(k + 1) % M];
+        /* neighbours on the circle without an integer division per sample (M is not a constant) */
+        const double left = J[k > 0 ? k - 1 : M - 1], right = J[k + 1 < M ? k + 1 : 0];
         if (!(J[k] < left && J[k] <= right)) continue;
         double th = TWO_PI * k / M, Jt, J1, J2;      /* Newton on J' from the sample */
         int converged = 0;

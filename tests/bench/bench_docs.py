@@ -14,6 +14,9 @@ generated blocks of README.md and docs/.
   rhs_cost     ns per right-hand side at the initial state of every paper scene, specialized
                and generic kernel (build/tests/bench/bench_rhs, its medians of 7), the median
                of 3 runs of it.
+  rhs_parts    the parts of a full-coordinate RHS (Example 7, §5.2): whole, barrier quadrature,
+               kernel K + P + Γ, Γ's contraction, the rest (build/tests/bench/bench_rhs_parts, its
+               medians of 7), the median of 3 runs of it.
 
 Usage: bench_docs.py [NAME ...] (default: all). Timings on a shared machine are noisy: the load
 is recorded beside them."""
@@ -122,6 +125,28 @@ def rhs_cost():
     return {"runs": 3, "scenes": out}
 
 
+def rhs_parts():
+    prog = os.path.join(ROOT, "build", "tests", "bench", "bench_rhs_parts")
+    env = dict(os.environ)
+    env.setdefault("SWIM_CACHE", os.path.join(ROOT, "build", "cache"))
+    runs = []
+    for _ in range(3):
+        p = subprocess.run([prog], capture_output=True, text=True, cwd=ROOT, env=env)
+        if p.returncode != 0:
+            raise RuntimeError("%s failed: %s" % (prog, p.stderr[-300:]))
+        lines = p.stdout.strip().splitlines()
+        head = lines[0].split(",")
+        runs.append([dict(zip(head, line.split(","))) for line in lines[1:]])
+    out = []
+    for i in range(len(runs[0])):
+        rows = [r[i] for r in runs]
+        rec = {"scene": os.path.basename(rows[0]["scene"])[:-5], "barrier_nodes": rows[0]["barrier_nodes"]}
+        for c in ("ns_rhs", "ns_barrier", "ns_kernel", "ns_christoffel", "ns_rest"):
+            rec[c] = statistics.median(float(r[c]) for r in rows)
+        out.append(rec)
+    return {"runs": 3, "scenes": out}
+
+
 def script_rows(script, args, csv_path, stdout=None):
     """Runs a bench script of tests/bench/ and returns the rows of the CSV it writes (and its
     standard output into the list stdout when given)."""
@@ -179,7 +204,7 @@ def python_loop():
 
 
 MEASURE = {"member_cost": member_cost, "event_cost": event_cost, "lyapunov": lyapunov, "rhs_cost": rhs_cost,
-           "sensitivity": sensitivity, "python_loop": python_loop, "sweep": sweep,
+           "rhs_parts": rhs_parts, "sensitivity": sensitivity, "python_loop": python_loop, "sweep": sweep,
            "jacobian": jacobian}
 
 
