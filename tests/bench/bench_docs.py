@@ -102,18 +102,24 @@ RHS_SCENES = ["models/example%s.toml" % e for e in ("1", "2a", "2b", "2c", "3", 
     "models/selfpropelled.toml"]
 
 
-def rhs_cost():
-    prog = os.environ.get("BENCH_RHS", os.path.join(ROOT, "build", "tests", "bench", "bench_rhs"))
+def csv_runs(prog, args, n=3):
+    """n runs of a bench program that prints CSV: for each run, its rows as dicts."""
     env = dict(os.environ)
     env.setdefault("SWIM_CACHE", os.path.join(ROOT, "build", "cache"))
     runs = []
-    for _ in range(3):
-        p = subprocess.run([prog, *RHS_SCENES], capture_output=True, text=True, cwd=ROOT, env=env)
+    for _ in range(n):
+        p = subprocess.run([prog, *args], capture_output=True, text=True, cwd=ROOT, env=env)
         if p.returncode != 0:
             raise RuntimeError("%s failed: %s" % (prog, p.stderr[-300:]))
         lines = p.stdout.strip().splitlines()
         head = lines[0].split(",")
         runs.append([dict(zip(head, line.split(","))) for line in lines[1:]])
+    return runs
+
+
+def rhs_cost():
+    prog = os.environ.get("BENCH_RHS", os.path.join(ROOT, "build", "tests", "bench", "bench_rhs"))
+    runs = csv_runs(prog, RHS_SCENES)
     out = []
     for i, scene in enumerate(RHS_SCENES):
         rows = [r[i] for r in runs]
@@ -126,17 +132,7 @@ def rhs_cost():
 
 
 def rhs_parts():
-    prog = os.path.join(ROOT, "build", "tests", "bench", "bench_rhs_parts")
-    env = dict(os.environ)
-    env.setdefault("SWIM_CACHE", os.path.join(ROOT, "build", "cache"))
-    runs = []
-    for _ in range(3):
-        p = subprocess.run([prog], capture_output=True, text=True, cwd=ROOT, env=env)
-        if p.returncode != 0:
-            raise RuntimeError("%s failed: %s" % (prog, p.stderr[-300:]))
-        lines = p.stdout.strip().splitlines()
-        head = lines[0].split(",")
-        runs.append([dict(zip(head, line.split(","))) for line in lines[1:]])
+    runs = csv_runs(os.path.join(ROOT, "build", "tests", "bench", "bench_rhs_parts"), [])
     out = []
     for i in range(len(runs[0])):
         rows = [r[i] for r in runs]
