@@ -9,9 +9,6 @@
 set -u
 cd "$(dirname "$0")/.."
 . tests/python_final_state.sh
-pass=0; fail=0
-ok() { pass=$((pass+1)); }
-bad() { echo "FAIL: $*"; fail=$((fail+1)); }
 top=$(mktemp -d /tmp/swim-py-XXXXXX)
 prefix="$top/pre fix'q"
 pkg="$prefix/lib/python3/dist-packages"

@@ -10,9 +10,6 @@
 set -u
 cd "$(dirname "$0")/.."
 . tests/python_final_state.sh
-pass=0; fail=0
-ok() { pass=$((pass+1)); }
-bad() { echo "FAIL: $*"; fail=$((fail+1)); }
 top=$(mktemp -d /tmp/swim-pip-XXXXXX)
 trap 'rm -rf "$top"' EXIT
 export SWIM_CACHE=${SWIM_CACHE:-$PWD/build/cache}
