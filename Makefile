@@ -40,7 +40,7 @@ PREFIX     ?= /usr/local
 # Debian packages a fresh machine lacks (checked by `make deps`). libjansson-dev: the JSON parser
 # that reads summaries back (runtime/driver/summary_read.c). python3-pip, -venv, -setuptools,
 # -wheel: `pip install ./python` offline into a virtual environment (tests/test_python_pip.sh).
-DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev libjansson-dev python3-sympy python3-numpy python3-matplotlib python3-pytest python3-pip python3-venv python3-setuptools python3-wheel strace jupyter-nbconvert python3-nbclient python3-ipykernel
+DEB_PKGS   := libgsl-dev liblapacke-dev libsundials-dev libjansson-dev python3-sympy python3-numpy python3-scipy python3-matplotlib python3-pytest python3-pip python3-venv python3-setuptools python3-wheel strace jupyter-nbconvert python3-nbclient python3-ipykernel
 # Installed on demand by the targets that need them (animations, the page and its browser test):
 # ffmpeg pulls ~90 packages and chromium ~280 MB, too much for a plain build.
 MEDIA_PKGS := ffmpeg chromium
@@ -254,7 +254,8 @@ fuzz: | $(DEPS_STAMP) $(FUZZ_STAMP)
 
 BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_latency.py tests/bench/bench_drift.py \
                  tests/bench/bench_step_checks.py tests/bench/bench_jacobian.py tests/bench/bench_python_loop.py \
-                 tests/bench/bench_sensitivity.py tests/bench/bench_materials.py tests/bench/bench_overhead.py
+                 tests/bench/bench_sensitivity.py tests/bench/bench_materials.py tests/bench/bench_overhead.py \
+                 tests/bench/peer/bench_peer.py
 
 bench: $(BIN)/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs $(BUILD)/tests/bench/bench_jacobian_cost
 	@bash tests/bench/run_bench.sh $(BENCH_SCRIPTS) $(BENCH_BINS)

@@ -35,6 +35,15 @@ def mode_of(i):
     return 1 if i < 2 else -(i // 2)
 
 
+def inv3(a):
+    """Inverse of a symmetric 3 x 3 matrix by cofactors (no LAPACK call for so small a system)."""
+    (p, q, r), (_, s, u), (_, _, v) = a.tolist()
+    c00, c01, c02 = s * v - u * u, r * u - q * v, q * u - r * s
+    det = p * c00 + q * c01 + r * c02
+    return np.array([[c00, c01, c02], [c01, p * v - r * r, q * r - p * u],
+                     [c02, q * r - p * u, p * s - q * q]]) / det
+
+
 def g_formula(x, v, N):
     """g_n (n = 1..N+1) of ERRATA A9 for shape x and generalised velocity v = (r*_1, r*_2, omega,
     c'), evaluated term by term (construction time only)."""
@@ -73,19 +82,18 @@ class Scene:
         self.kmode = np.array([mode_of(i) for i in range(nx)], float)
         self.Dw = rho0 * np.pi / (np.abs(self.kmode) + 1.0)       # body weights (2.11), A7
         nF = self.nF = N + 1
-        self.w = 4.0 * np.pi * rhof / np.arange(1, nF + 1)          # 4 pi rho_f / n (A9)
-        # Linear columns: L[n, v, l] with v over (r*_1, r*_2, c'_0 .. c'_{nx-1}) (omega removed).
-        lin_v = [0, 1] + list(range(3, 3 + nx))
-        self.L = np.zeros((nF, len(lin_v), nx), complex)
-        for iv, vv in enumerate(lin_v):
-            V = np.zeros(3 + nx)
-            V[vv] = 1.0
+        w = 4.0 * np.pi * rhof / np.arange(1, nF + 1)                # 4 pi rho_f / n (A9)
+        self.w2 = np.concatenate([w, w])     # G is kept real: rows Re g_1..g_nF, Im g_1..g_nF
+        nv = nx + 3
+        # Linear columns: L[n, v, l] = dg_n/dx_l for V = e_v, v != omega (omega's column is 0).
+        L = np.zeros((nF, nv, nx), complex)
+        for v in [0, 1] + list(range(3, nv)):
+            V = np.zeros(nv)
+            V[v] = 1.0
             for l in range(nx):
-                xl = np.zeros(nx)
-                xl[l] = 1.0
-                self.L[:, iv, l] = g_formula(xl, V, N)
+                L[:, v, l] = g_formula(np.eye(nx)[l], V, N)
         # Omega's column: g_n = x^T Q_n x with Q_n symmetric (polarisation of a quadratic form).
-        Vw = np.zeros(3 + nx)
+        Vw = np.zeros(nv)
         Vw[2] = 1.0
         diag = [g_formula(np.eye(nx)[l], Vw, N) for l in range(nx)]
         Q = np.zeros((nF, nx, nx), complex)
@@ -94,46 +102,49 @@ class Scene:
             for m in range(l + 1, nx):
                 q = 0.5 * (g_formula(np.eye(nx)[l] + np.eye(nx)[m], Vw, N) - diag[l] - diag[m])
                 Q[:, l, m] = Q[:, m, l] = q
-        self.Q2 = 2.0 * Q.reshape(nF * nx, nx)      # d(x^T Q x)/dx = 2 Q x
-        self.Lx = self.L.transpose(0, 2, 1).reshape(nF * nx, len(lin_v))   # for dg/dx at fixed V
-        self.Lc = self.L.reshape(nF * len(lin_v), nx)                       # for G(c)
+        Lr = np.concatenate([L.real, L.imag])                         # (2 nF, nv, nx)
+        Qr = np.concatenate([Q.real, Q.imag])                         # (2 nF, nx, nx)
+        self.Lc = Lr.reshape(2 * nF * nv, nx).copy()                  # G(c) = Lc x (+ omega's)
+        self.Lx = Lr.transpose(0, 2, 1).reshape(2 * nF * nx, nv).copy()   # dg/dx at fixed V
+        self.Q2 = 2.0 * Qr.reshape(2 * nF * nx, nx)                   # d(x^T Q x)/dx = 2 Q x
+        self.body = np.concatenate([[rho0 * np.pi, rho0 * np.pi, 0.0], self.Dw])
         # Constraints (C2): G1 = (k a_k, k b_k), G2 = (b_k, -a_k)/(|k|+1), on the free coordinates.
         f = self.free
+        self.all_free = len(f) == nx
         self.k_free = self.kmode[f]
         swap = np.zeros((nx, nx))
         for j in range(N + 1):
             swap[2 * j, 2 * j + 1] = 1.0 / (abs(mode_of(2 * j)) + 1)
             swap[2 * j + 1, 2 * j] = -1.0 / (abs(mode_of(2 * j)) + 1)
         self.G2full = swap[f]
-        # Barrier nodes (trapezoidal rule on [0, 2 pi), B2-B4): conj(z)^(m-1), m = 1..N.
+        # Barrier nodes (trapezoidal rule on [0, 2 pi), B2-B4), in real form:
+        # (Re h, Im h) = A (m a_-m, m b_-m) with h = sum m c_-m conj(z)^(m-1).
         if eps > 0:
             th = 2.0 * np.pi * np.arange(nodes) / nodes
             m = np.arange(1, N + 1)
-            self.Zc = np.exp(-1j * np.outer(th, m - 1))                  # (nodes, N)
-            self.Zt = np.conj(self.Zc).T.copy()                           # z^(m-1), (N, nodes)
-            self.m = m.astype(float)
+            Cs, Sn = np.cos(np.outer(th, m - 1)), np.sin(np.outer(th, m - 1))
+            self.A = np.block([[Cs, Sn], [-Sn, Cs]])                  # (2 nodes, 2 N)
+            self.At = self.A.T.copy()
+            self.m2 = np.concatenate([m, m]).astype(float)
+            self.nodes = nodes
             self.dth = 2.0 * np.pi / nodes
 
     # -- pieces --------------------------------------------------------------------------------
     def G(self, x):
-        """G(c): g = G V for V = (r*_1, r*_2, omega, c'), shape (N+1, 3+nx); and 2 Q x."""
-        nF, nx = self.nF, self.nx
-        lin = (self.Lc @ x).reshape(nF, nx + 2)
-        Qx2 = (self.Q2 @ x).reshape(nF, nx)
-        G = np.empty((nF, nx + 3), complex)
-        G[:, :2] = lin[:, :2]
+        """G(c) in real form: g = G V (rows Re g_n, then Im g_n) for V = (r*_1, r*_2, omega, c');
+        and 2 Q x (rows as G's, one column per coordinate)."""
+        n2 = 2 * self.nF
+        G = (self.Lc @ x).reshape(n2, self.nx + 3)
+        Qx2 = (self.Q2 @ x).reshape(n2, self.nx)
         G[:, 2] = 0.5 * (Qx2 @ x)
-        G[:, 3:] = lin[:, 2:]
         return G, Qx2
 
     def mass(self, x):
-        """Full mass matrix M(c) (3.14) of (r*_1, r*_2, omega, c), 2 Q x and G."""
+        """Full mass matrix M(c) (3.14) of (r*_1, r*_2, omega, c), G and 2 Q x."""
         G, Qx2 = self.G(x)
-        M = np.real(np.conj(G.T) @ (self.w[:, None] * G))
-        M[0, 0] += self.rho0 * np.pi
-        M[1, 1] += self.rho0 * np.pi
-        M[2, 2] += self.Dw @ (x * x)
-        M[3:, 3:] += np.diag(self.Dw)
+        M = G.T @ (self.w2[:, None] * G)
+        M[np.diag_indices_from(M)] += self.body
+        M[2, 2] += self.Dw @ (x * x)                 # I(c) (2.11)
         return M, G, Qx2
 
     def K(self, x):
@@ -142,10 +153,10 @@ class Scene:
         return Md - Nm.T @ np.linalg.solve(Mr, Nm)
 
     def J(self, x):
-        """J on the barrier's nodes (2.4, B2)."""
-        cm = x[2::2] + 1j * x[3::2]
-        h = self.Zc @ (self.m * cm)
-        return x[0] ** 2 + x[1] ** 2 - np.abs(h) ** 2, h
+        """J on the barrier's nodes (2.4, B2) and (Re h, Im h) stacked."""
+        H = self.A @ (self.m2 * np.concatenate([x[2::2], x[3::2]]))
+        n = self.nodes
+        return x[0] * x[0] + x[1] * x[1] - H[:n] ** 2 - H[n:] ** 2, H
 
     def W(self, x):
         """W1 + W2 (B1 with E2's 1/2, B2)."""
@@ -159,14 +170,19 @@ class Scene:
     def gradW(self, x):
         g = self.R * (x - self.cref)
         if self.eps > 0:
-            J, h = self.J(x)
-            wJ = self.dth * J ** (-1.0 - self.alpha)
+            J, H = self.J(x)
+            if self.alpha == 0.5:                    # J^-1.5 without a general power
+                wJ = self.dth / (J * np.sqrt(J))
+            else:
+                wJ = self.dth * J ** (-1.0 - self.alpha)
             s0 = np.sum(wJ)
             g[0] -= self.eps * x[0] * s0
             g[1] -= self.eps * x[1] * s0
-            t = self.Zt @ (h * wJ)                   # int z^(m-1) h J^(-1-alpha), m = 1..N
-            g[2::2] += self.eps * self.m * t.real
-            g[3::2] += self.eps * self.m * t.imag
+            # (Re, Im) of int z^(m-1) h J^(-1-alpha) dtheta, m = 1..N (B3)
+            t = self.eps * self.m2 * (self.At @ (H * np.concatenate([wJ, wJ])))
+            N = self.N
+            g[2::2] += t[:N]
+            g[3::2] += t[N:]
         return g
 
     def energies(self, x, xd):
@@ -175,7 +191,7 @@ class Scene:
         Mr, Nm = M[:3, :3], M[:3, 3:]
         V = np.concatenate([-np.linalg.solve(Mr, Nm @ xd), xd])
         g = G @ V
-        fluid = 0.5 * np.sum(self.w * np.abs(g) ** 2)
+        fluid = 0.5 * np.sum(self.w2 * g * g)
         shape = 0.5 * np.sum(self.Dw * xd * xd)
         rigid = 0.5 * (self.rho0 * np.pi * (V[0] ** 2 + V[1] ** 2) + (self.Dw @ (x * x)) * V[2] ** 2)
         return fluid, shape, rigid, self.W(x)
@@ -192,41 +208,45 @@ class Scene:
     # -- right-hand side ------------------------------------------------------------------------
     def accel(self, t, x, xd):
         """(c'' on all coordinates, q* = (r*_1, r*_2, omega))."""
-        nF, nx = self.nF, self.nx
+        nx = self.nx
+        n2 = 2 * self.nF
         M, G, Qx2 = self.mass(x)
         Mr, Nm = M[:3, :3], M[:3, 3:]
-        P = np.linalg.solve(Mr, Nm)                  # Mr^-1 N
+        P = inv3(Mr) @ Nm                            # Mr^-1 N
         K = M[3:, 3:] - Nm.T @ P
         qs = -P @ xd                                 # (3.21)
         V = np.concatenate([qs, xd])
         omega = qs[2]
-        Vlin = np.concatenate([V[:2], xd])
-        wg = self.w * (G @ V)                        # 4 pi rho_f/n g_n
-        # dg/dc at fixed V, and its contraction with c' (= Gdot V)
-        Jx = (self.Lx @ Vlin).reshape(nF, nx) + omega * Qx2
-        gdot = Jx @ xd
-        Gdot_lin = (self.Lc @ xd).reshape(nF, nx + 2)
-        Gdot = np.empty((nF, nx + 3), complex)
-        Gdot[:, :2] = Gdot_lin[:, :2]
+        wg = self.w2 * (G @ V)                       # 4 pi rho_f/n g_n
+        # dg/dc at fixed V (omega's column of Lx is 0), and Gdot V = (dg/dc) c'
+        Jx = (self.Lx @ V).reshape(n2, nx) + omega * Qx2
+        Gdot = (self.Lc @ xd).reshape(n2, nx + 3)
         Gdot[:, 2] = Qx2 @ xd
-        Gdot[:, 3:] = Gdot_lin[:, 2:]
-        MdotV = np.real(np.conj(Gdot.T) @ wg + np.conj(G.T) @ (self.w * gdot))
+        MdotV = Gdot.T @ wg + G.T @ (self.w2 * (Jx @ xd))
         MdotV[2] += 2.0 * (self.Dw @ (x * xd)) * omega
-        half_grad = np.real(np.conj(Jx.T) @ wg) + omega * omega * self.Dw * x
-        Gamma = MdotV[3:] - P.T @ MdotV[:3] - half_grad          # C1
+        # C1: Gamma = d/dt(K) c' - 1/2 grad_c(c'^T K c') = E^T Mdot V - 1/2 grad_c(V^T M V)
+        Gamma = MdotV[3:] - P.T @ MdotV[:3] - (Jx.T @ wg + (omega * omega) * self.Dw * x)
         rhs = -Gamma - self.gradW(x) - self.D * xd
         if self.forcing is not None:
             rhs = rhs + self.forcing(t)
         f = self.free
-        Kf = K[np.ix_(f, f)]
-        Gc = np.vstack([self.k_free * x[f], self.G2full @ x])   # (2, nfree)
-        quad = np.array([np.sum(self.k_free * xd[f] ** 2), 0.0])
-        cho = np.linalg.cholesky(Kf)
-        B = np.column_stack([rhs[f], Gc.T])
-        Y = np.linalg.solve(cho.T, np.linalg.solve(cho, B))      # Kf^-1 [rhs, G^T]
-        lam = np.linalg.solve(Gc @ Y[:, 1:], -(Gc @ Y[:, 0]) - quad)   # (4.12)
+        if self.all_free:
+            Kf, xf, vf, rf = K, x, xd, rhs
+        else:
+            Kf, xf, vf, rf = K[np.ix_(f, f)], x[f], xd[f], rhs[f]
+        Gc = np.vstack([self.k_free * xf, self.G2full @ x])     # (2, nfree)
+        Y = np.linalg.solve(Kf, np.column_stack([rf, Gc.T]))     # Kf^-1 [rhs, G^T]
+        S = Gc @ Y[:, 1:]
+        b = -(Gc @ Y[:, 0])
+        b[0] -= np.sum(self.k_free * vf * vf)                    # (DG1[c']) . c' (C2)
+        det = S[0, 0] * S[1, 1] - S[0, 1] * S[1, 0]              # (4.12), 2 x 2
+        l0 = (S[1, 1] * b[0] - S[0, 1] * b[1]) / det
+        l1 = (S[0, 0] * b[1] - S[1, 0] * b[0]) / det
+        af = Y[:, 0] + l0 * Y[:, 1] + l1 * Y[:, 2]
+        if self.all_free:
+            return af, qs
         xdd = np.zeros(nx)
-        xdd[f] = Y[:, 0] + Y[:, 1:] @ lam
+        xdd[f] = af
         return xdd, qs
 
     def rhs(self, t, y):
