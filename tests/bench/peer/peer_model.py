@@ -28,6 +28,7 @@ then a handful of small dense products.
 """
 
 import numpy as np
+from scipy.linalg.lapack import dposv
 
 
 def mode_of(i):
@@ -106,11 +107,15 @@ class Scene:
         Qr = np.concatenate([Q.real, Q.imag])                         # (2 nF, nx, nx)
         self.Lc = Lr.reshape(2 * nF * nv, nx).copy()                  # G(c) = Lc x (+ omega's)
         self.Lx = Lr.transpose(0, 2, 1).reshape(2 * nF * nx, nv).copy()   # dg/dx at fixed V
+        self.Ln = Lr.reshape(2 * nF, nv * nx).copy()                  # w^T L in one product
         self.Q2 = 2.0 * Qr.reshape(2 * nF * nx, nx)                   # d(x^T Q x)/dx = 2 Q x
-        self.body = np.concatenate([[rho0 * np.pi, rho0 * np.pi, 0.0], self.Dw])
+        self.sw = np.sqrt(self.w2)[:, None]
+        self.body = np.diag(np.concatenate([[rho0 * np.pi, rho0 * np.pi, 0.0], self.Dw]))
         # Constraints (C2): G1 = (k a_k, k b_k), G2 = (b_k, -a_k)/(|k|+1), on the free coordinates.
         f = self.free
         self.all_free = len(f) == nx
+        # contiguous free coordinates (Example 3's c_-1, c_-2) are a slice, not a gather
+        self.fsel = slice(f[0], f[-1] + 1) if np.all(np.diff(f) == 1) else f
         self.k_free = self.kmode[f]
         swap = np.zeros((nx, nx))
         for j in range(N + 1):
@@ -142,8 +147,8 @@ class Scene:
     def mass(self, x):
         """Full mass matrix M(c) (3.14) of (r*_1, r*_2, omega, c), G and 2 Q x."""
         G, Qx2 = self.G(x)
-        M = G.T @ (self.w2[:, None] * G)
-        M[np.diag_indices_from(M)] += self.body
+        Gs = self.sw * G
+        M = Gs.T @ Gs + self.body
         M[2, 2] += self.Dw @ (x * x)                 # I(c) (2.11)
         return M, G, Qx2
 
@@ -218,24 +223,30 @@ class Scene:
         V = np.concatenate([qs, xd])
         omega = qs[2]
         wg = self.w2 * (G @ V)                       # 4 pi rho_f/n g_n
-        # dg/dc at fixed V (omega's column of Lx is 0), and Gdot V = (dg/dc) c'
-        Jx = (self.Lx @ V).reshape(n2, nx) + omega * Qx2
+        # With T[n, v, l] = dG[n, v]/dx_l (omega's column apart): Gdot = T c' (+ omega's Q2x c'),
+        # dg/dx at fixed V = T V + omega Q2x, and A = wg^T T serves both contractions with wg.
+        A = (wg @ self.Ln).reshape(nx + 3, nx)
         Gdot = (self.Lc @ xd).reshape(n2, nx + 3)
-        Gdot[:, 2] = Qx2 @ xd
-        MdotV = Gdot.T @ wg + G.T @ (self.w2 * (Jx @ xd))
-        MdotV[2] += 2.0 * (self.Dw @ (x * xd)) * omega
+        q = Qx2 @ xd
+        gdot = Gdot @ V + omega * q                  # d/dt g at fixed V
+        MdotV = A @ xd + G.T @ (self.w2 * gdot)
+        MdotV[2] += wg @ q + 2.0 * (self.Dw @ (x * xd)) * omega
         # C1: Gamma = d/dt(K) c' - 1/2 grad_c(c'^T K c') = E^T Mdot V - 1/2 grad_c(V^T M V)
-        Gamma = MdotV[3:] - P.T @ MdotV[:3] - (Jx.T @ wg + (omega * omega) * self.Dw * x)
+        Gamma = MdotV[3:] - P.T @ MdotV[:3] - (V @ A + omega * (wg @ Qx2) + (omega * omega) * self.Dw * x)
         rhs = -Gamma - self.gradW(x) - self.D * xd
         if self.forcing is not None:
             rhs = rhs + self.forcing(t)
-        f = self.free
+        f = self.fsel
         if self.all_free:
             Kf, xf, vf, rf = K, x, xd, rhs
+        elif isinstance(f, slice):
+            Kf, xf, vf, rf = K[f, f], x[f], xd[f], rhs[f]
         else:
             Kf, xf, vf, rf = K[np.ix_(f, f)], x[f], xd[f], rhs[f]
         Gc = np.vstack([self.k_free * xf, self.G2full @ x])     # (2, nfree)
-        Y = np.linalg.solve(Kf, np.column_stack([rf, Gc.T]))     # Kf^-1 [rhs, G^T]
+        _, Y, info = dposv(Kf, np.column_stack([rf, Gc.T]))     # Kf^-1 [rhs, G^T], K > 0 (4.9)
+        if info != 0:
+            raise np.linalg.LinAlgError("K(c) is not positive definite (dposv info %d)" % info)
         S = Gc @ Y[:, 1:]
         b = -(Gc @ Y[:, 0])
         b[0] -= np.sum(self.k_free * vf * vf)                    # (DG1[c']) . c' (C2)
@@ -246,7 +257,7 @@ class Scene:
         if self.all_free:
             return af, qs
         xdd = np.zeros(nx)
-        xdd[f] = af
+        xdd[self.free] = af
         return xdd, qs
 
     def rhs(self, t, y):
