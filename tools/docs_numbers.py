@@ -251,6 +251,7 @@ def sweep_rank0(rec):
 
 
 def jacobian_table(rec):
+    """A table a bench script wrote as markdown (jacobian, peer)."""
     return rec["values"]["table"].rstrip("\n")
 
 
@@ -273,6 +274,7 @@ BLOCKS = {
     "python_loop.table": ("python_loop.json", python_loop_table),
     "sweep.table": ("sweep.json", sweep_table),
     "jacobian.table": ("jacobian.json", jacobian_table),
+    "peer.table": ("peer.json", jacobian_table),
     "sweep.rank0": ("sweep.json", sweep_rank0),
     "python_loop.sentence": ("python_loop.json", python_loop_sentence),
 }

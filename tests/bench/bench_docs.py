@@ -17,6 +17,9 @@ generated blocks of README.md and docs/.
   rhs_parts    the parts of a full-coordinate RHS (Example 7, §5.2): whole, barrier quadrature,
                kernel K + P + Γ, Γ's contraction, the rest (build/tests/bench/bench_rhs_parts, its
                medians of 7), the median of 3 runs of it.
+  peer         swim against the NumPy/SciPy implementation of the same model (DOP853, LSODA,
+               Radau) at matched error on Examples 3 and 7 (tests/bench/peer/bench_peer.py, its
+               medians of 3): its table.
 
 Usage: bench_docs.py [NAME ...] (default: all). Timings on a shared machine are noisy: the load
 is recorded beside them."""
@@ -199,9 +202,16 @@ def python_loop():
                                  "ratio_to_swim_sweep": float(r["ratio_to_swim_sweep"])} for r in rows]}
 
 
+def peer():
+    out = os.path.join(OUT, "peer")
+    script_rows(os.path.join("peer", "bench_peer.py"), ["--out", out], os.path.join(out, "peer.csv"))
+    with open(os.path.join(out, "table.md"), encoding="utf-8") as fh:
+        return {"runs": 3, "table": fh.read()}
+
+
 MEASURE = {"member_cost": member_cost, "event_cost": event_cost, "lyapunov": lyapunov, "rhs_cost": rhs_cost,
            "rhs_parts": rhs_parts, "sensitivity": sensitivity, "python_loop": python_loop, "sweep": sweep,
-           "jacobian": jacobian}
+           "jacobian": jacobian, "peer": peer}
 
 
 def main(argv):
