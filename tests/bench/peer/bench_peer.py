@@ -141,7 +141,8 @@ def table(all_rows, info, T, repeat, loads):
         def fmt(c):
             if c is None:
                 return "not reached"
-            return ("≤ " if c[1] == "bound" else "") + "%.3g ms" % (1e3 * c[0])
+            t = "%.3g s" % c[0] if c[0] >= 1 else "%.3g ms" % (1e3 * c[0])
+            return ("≤ " if c[1] == "bound" else "") + t
 
         for m in ["swim"] + PEER_METHODS:
             ratios = []

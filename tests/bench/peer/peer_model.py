@@ -106,7 +106,6 @@ class Scene:
         Lr = np.concatenate([L.real, L.imag])                         # (2 nF, nv, nx)
         Qr = np.concatenate([Q.real, Q.imag])                         # (2 nF, nx, nx)
         self.Lc = Lr.reshape(2 * nF * nv, nx).copy()                  # G(c) = Lc x (+ omega's)
-        self.Lx = Lr.transpose(0, 2, 1).reshape(2 * nF * nx, nv).copy()   # dg/dx at fixed V
         self.Ln = Lr.reshape(2 * nF, nv * nx).copy()                  # w^T L in one product
         self.Q2 = 2.0 * Qr.reshape(2 * nF * nx, nx)                   # d(x^T Q x)/dx = 2 Q x
         self.sw = np.sqrt(self.w2)[:, None]
@@ -277,7 +276,6 @@ class Scene:
 
 
 # -- scenes from swim's scene files -------------------------------------------------------------
-NAMES = None
 
 
 def coord_names(N):
