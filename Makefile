@@ -89,7 +89,7 @@ help:
 	@echo "make bench-sweep     sweep throughput: --jobs 1/2, MPI 2/4 ranks, rank 0's cost (~3 min)"
 	@echo "make paper-families  Figs 4.1, 4.2, 4.5, 4.6, 4.7 (sweeps + swim plot) into out/families/"
 	@echo "make bench-optimize  Nelder-Mead vs BFGS, multi-start and the tolerance check on Section 5.2 (~30 min)"
-	@echo "make bench-docs      the measurements README.md and docs/ quote (~5 min, build/bench/docs/)"
+	@echo "make bench-docs      the measurements README.md and docs/ quote (~7 min, build/bench/docs/)"
 	@echo "make docs-numbers    rewrite the docs' generated number blocks from them (and the last make test)"
 	@echo "make bench-drift     energy drift of the T = 1000 runs vs tolerance and step look-ahead (~30 s)"
 	@echo "make bench-hard      every hard scene at its own settings and at rtol 1e-10 (~30 min)"
@@ -281,7 +281,7 @@ paper-test: paper
 bench-accuracy: $(BIN)/swim
 	$(PYTHON) tests/bench/bench_accuracy.py
 
-# The measurements the docs quote (tests/bench/bench_docs.py, ~5 min, build/bench/docs/), and the
+# The measurements the docs quote (tests/bench/bench_docs.py, ~7 min, build/bench/docs/), and the
 # generated number blocks of README.md and docs/ rewritten from them and from the last make test.
 bench-docs: $(BIN)/swim $(BUILD)/tests/bench/bench_rhs $(BUILD)/tests/bench/bench_rhs_parts $(BUILD)/tests/bench/bench_jacobian_cost
 	SWIM_BIN=$(CURDIR)/$(BIN)/swim BENCH_RHS=$(CURDIR)/$(BUILD)/tests/bench/bench_rhs $(PYTHON) tests/bench/bench_docs.py

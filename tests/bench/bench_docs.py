@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The measurements the documentation quotes (make bench-docs, ~5 min): written to
+"""The measurements the documentation quotes (make bench-docs, ~7 min): written to
 build/bench/docs/NAME.json, each with the command that made it, the date and the machine's load
 average before and after, for `make docs-numbers` (tools/docs_numbers.py) to write into the
 generated blocks of README.md and docs/.
