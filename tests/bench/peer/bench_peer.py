@@ -18,8 +18,10 @@ Per scene, on T = 10 (Example 7's own t_end; Example 3's first third):
    peer's process time around solve_ivp (the same scope: no output grid).
 3. Ratio at matched error: each curve's CPU time at errors 1e-6, 1e-8 and 1e-10, interpolated
    log-log on its monotone envelope (bench_accuracy.cost_to_reach); the ratio peer/swim says how
-   many times faster swim is. Also each side's cost per RHS evaluation (swim: stats.ns_per_rhs;
-   the peer: CPU time / evaluations of its DOP853 runs).
+   many times faster swim is. Also the cost of one RHS on each side: swim's stats.ns_per_rhs
+   (median over its runs), the peer's right-hand side at the initial state (process time, median
+   of 7 x 1000 calls). peer.csv's ns_per_rhs is, for the peer, its CPU time per RHS evaluation
+   (the integrator's own work included).
 Writes DIR/peer.csv and DIR/table.md (default build/bench/peer/) and prints the table; the load
 average before and after is in the table. Timings on a shared machine are noisy: medians.
 Radau and LSODA estimate the Jacobian by finite differences (2 + 2*16 + 3 columns), as a SciPy
@@ -34,6 +36,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import timeit
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -102,6 +105,8 @@ def measure_scene(name, T, repeat, tols, tmp, log):
     agree = float(np.abs(swim_ref - ref).max())
     log("%s: T = %g, reference DOP853 1e-13 (%d RHS, %.1f s), swim abm 1e-13 differs by %.2e, "
         "initial states differ by %.1e" % (name, T, ref_nfev, ref_cpu, agree, start_diff))
+    calls = timeit.Timer(lambda: sc.rhs(0.0, y0), timer=time.process_time).repeat(7, 1000)
+    rhs_ns = 1e9 * statistics.median(calls) / 1000
     rows = []
     runs = [("swim", r) for r in tols["swim"]] + [(m, r) for m in PEER_METHODS for r in tols[m]]
     cpu = {k: [] for k in runs}
@@ -123,11 +128,11 @@ def measure_scene(name, T, repeat, tols, tmp, log):
                      "cpu_s": statistics.median(cpu[key]), "rhs_evals": nfev,
                      "ns_per_rhs": statistics.median([1e9 * c / nfev for c in cpu[key]])
                      if key[0] != "swim" else ns})
-    return rows, {"agree": agree, "start_diff": start_diff, "ref_nfev": ref_nfev}
+    return rows, {"agree": agree, "start_diff": start_diff, "ref_nfev": ref_nfev, "rhs_ns": rhs_ns}
 
 
 def table(all_rows, info, T, repeat, loads):
-    out = ["| scene | method | CPU at error 1e-6 | 1e-8 | 1e-10 | per RHS | swim faster ×"
+    out = ["| scene | method | CPU at error 1e-6 | 1e-8 | 1e-10 | one RHS | swim faster ×"
            " (1e-6 / 1e-8 / 1e-10) |", "|---|---|---|---|---|---|---|"]
     for name in info:
         rows = [r for r in all_rows if r["scene"] == name]
@@ -136,7 +141,8 @@ def table(all_rows, info, T, repeat, loads):
         for m in ["swim"] + PEER_METHODS:
             pts = [(r["cpu_s"], r["error"]) for r in rows if r["method"] == m]
             cost[m] = [cost_to_reach(pts, e) for e in TARGETS]
-            per_rhs[m] = statistics.median(r["ns_per_rhs"] for r in rows if r["method"] == m)
+            per_rhs[m] = (statistics.median(r["ns_per_rhs"] for r in rows if r["method"] == m)
+                          if m == "swim" else info[name]["rhs_ns"])
 
         def fmt(c):
             if c is None:
@@ -161,7 +167,9 @@ def table(all_rows, info, T, repeat, loads):
     notes = ["", "T = %g; error = max abs difference of (x, y, θ, c, c') at t = T from the peer's DOP853 at "
              "rtol 1e-13 (swim's abm at rtol 1e-13 differs from it by %s); CPU = median of %d runs (swim: "
              "`stats.integrate_seconds`; peer: process time of `solve_ivp`), interpolated log-log at the "
-             "error (≤: the loosest run is already below it, an upper bound); atol = rtol/100; \"—\": no ratio. Load average %.1f → %.1f "
+             "error (≤: the loosest run is already below it, an upper bound); atol = rtol/100; \"—\": no ratio. One RHS: "
+             "swim's `stats.ns_per_rhs` (median over its runs), the peer's at the initial state (median of 7 × 1000 "
+             "calls). Load average %.1f → %.1f "
              "on %d cores. Made by `make bench` (tests/bench/peer/bench_peer.py)."
              % (T, ", ".join("%.1e (%s)" % (v["agree"], k) for k, v in info.items()), repeat,
                 loads[0], loads[1], os.cpu_count())]
