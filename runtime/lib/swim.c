@@ -637,8 +637,8 @@ char *swim_sim_summary_json(const swim_sim *s)
     FILE *f = open_memstream(&buf, &len);
     if (!f) return NULL;
     const swim_summary_context x = {NULL, NULL, s->m->name, s->sets, s->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0, NULL, NULL};
-    swim_run_summary_json(f, s->run, &x);
-    if (fclose(f) != 0) {
+    const int bad = swim_run_summary_json(f, s->run, &x);
+    if (fclose(f) != 0 || bad) {
         free(buf);
         return NULL;
     }
