@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "driver/columns.h"
 #include "driver/run_internal.h"
 #include "io/clock.h"
 #include "io/message.h"
@@ -331,36 +332,25 @@ static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop
 
 /* ---- the rows ---------------------------------------------------------------------------- */
 
-int swim_run_state_columns(int n, const char **names, char storage[][24])
+/* A scene with an [elastic] energy law has the law's W after the diagnostics (only then: other
+ * scenes' columns are unchanged). */
+static double w_law(const swim_run_quantities *q) { return q->g->w_law; }
+static const swim_run_column law_column[] = {{"W_law", w_law}};
+
+/* The table of a scene run's columns (driver/columns.h): its parts and their count. */
+static int scene_parts(const swim_scene *s, swim_run_columns_part *parts)
 {
-    static const char *const head[] = {"t", "x", "y", "theta"};
-    int c = 0;
-    for (int i = 0; i < 4; i++) names[c++] = head[i];
-    for (int i = 0; i < n; i++) {
-        swim_coord_name(i, storage[i], 24);
-        names[c++] = storage[i];
-    }
-    for (int i = 0; i < n; i++) {
-        storage[n + i][0] = 'd';
-        swim_coord_name(i, storage[n + i] + 1, 23);
-        names[c++] = storage[n + i];
-    }
-    return c;
+    parts[0] = swim_run_diagnostics;
+    parts[1] = (swim_run_columns_part){law_column, 1};
+    return s->energy ? 2 : 1;
 }
 
 /* The columns of a scene run (swim_run_scene_kind.columns). */
 static int scene_columns(const swim_scene *s, const char **names, char storage[][24])
 {
-    static const char *const tail[] = {
-        "kinetic_fluid", "kinetic_shape", "kinetic_rigid", "potential", "energy",
-        "impulse_body_x", "impulse_body_y", "impulse_body_ang",
-        "impulse_fluid_rigid_x", "impulse_fluid_rigid_y", "impulse_fluid_rigid_ang",
-        "impulse_fluid_shape_x", "impulse_fluid_shape_y", "impulse_fluid_shape_ang",
-        "res_volume", "res_volume_rate", "res_angular", "res_locks", "jmin", "work", "w1", "w2"};
-    int c = swim_run_state_columns(s->n, names, storage);
-    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) names[c++] = tail[i];
-    if (s->energy) names[c++] = "W_law";   /* only with a law: other scenes' columns are unchanged */
-    return c;
+    swim_run_columns_part parts[2];
+    const int nparts = scene_parts(s, parts);
+    return swim_run_column_names(s->n, parts, nparts, names, storage);
 }
 
 /* Every attempted step, in absolute time, to the sink (--trace-steps). */
@@ -458,18 +448,10 @@ oom:
 
 static int row_values(const swim_scene *s, double t, const double *y, const swim_diag *g, double *v)
 {
-    int c = 0;
-    v[c++] = t;
-    for (int i = 0; i < 3 + 2 * s->n; i++) v[c++] = y[i];
-    const double tail[] = {
-        g->kinetic_fluid, g->kinetic_shape, g->kinetic_rigid, g->w1 + g->w2 + g->w_law, g->energy,
-        g->impulse_body[0], g->impulse_body[1], g->impulse_body[2],
-        g->impulse_fluid_rigid[0], g->impulse_fluid_rigid[1], g->impulse_fluid_rigid[2],
-        g->impulse_fluid_shape[0], g->impulse_fluid_shape[1], g->impulse_fluid_shape[2],
-        g->res_volume, g->res_volume_rate, g->res_angular, g->res_locks, g->jmin, g->work, g->w1, g->w2};
-    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) v[c++] = tail[i];
-    if (s->energy) v[c++] = g->w_law;
-    return c;
+    swim_run_columns_part parts[2];
+    const int nparts = scene_parts(s, parts);
+    const swim_run_quantities q = {g, NULL};
+    return swim_run_column_values(t, y, s->n, &q, parts, nparts, v);
 }
 
 static void track(run_report *r, double t, const swim_diag *g, int first)

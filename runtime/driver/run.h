@@ -175,10 +175,6 @@ const swim_run_kind *swim_run_kind_for(const swim_scene *s);
 /* The columns of trajectory.csv for scene s (swim_run_kind_for(s)->columns; a prescribed stroke
  * has three more): names[] (at most SWIM_RUN_MAX_COLUMNS) pointing into storage. The count. */
 int swim_run_columns(const swim_scene *s, const char **names, char storage[][24]);
-/* The leading columns, shared by dynamic runs and strokes: t, x, y, theta, the n shape
- * coordinates and their velocities ("d" + name) into names[0 .. 4 + 2n) (the coordinates' names
- * written into storage[0 .. 2n)). The count; a kind's own columns follow. */
-int swim_run_state_columns(int n, const char **names, char storage[][24]);
 
 /* The scene's integrator settings as swim_ode_options (defaults, then rtol, atol, the step
  * look-ahead): the one mapping every integration of a scene starts from. What a run adds on top

@@ -8,6 +8,8 @@
  * per-stroke report, and the positive work is sampled in between. */
 #include "driver/run.h"
 
+#include "driver/columns.h"
+
 #include <math.h>
 #include <signal.h>
 #include <stdarg.h>
@@ -67,19 +69,26 @@ struct swim_stroke_run {
 static int stop_requested(const swim_stroke_run *c) { return c->req.stop && *c->req.stop; }
 
 
-/* The columns of a stroke's trajectory.csv: those of a dynamic run and power, work_positive, phase_c1. */
+/* A stroke's own columns after the diagnostics, from the row's extra quantities (row_values). */
+enum { EXTRA_POWER, EXTRA_WORK_POSITIVE, EXTRA_PHASE_C1, EXTRAS };
+static double own_power(const swim_run_quantities *q) { return q->extra[EXTRA_POWER]; }
+static double own_work_positive(const swim_run_quantities *q) { return q->extra[EXTRA_WORK_POSITIVE]; }
+static double own_phase_c1(const swim_run_quantities *q) { return q->extra[EXTRA_PHASE_C1]; }
+static const swim_run_column stroke_own[] = {{"power", own_power}, {"work_positive", own_work_positive}, {"phase_c1", own_phase_c1}};
+
+/* The table of a stroke's columns: those of a dynamic run and power, work_positive, phase_c1. */
+static int stroke_parts(swim_run_columns_part *parts)
+{
+    parts[0] = swim_run_diagnostics;
+    parts[1] = (swim_run_columns_part){stroke_own, EXTRAS};
+    return 2;
+}
+
 static int stroke_columns(const swim_scene *s, const char **names, char storage[][24])
 {
-    static const char *const tail[] = {
-        "kinetic_fluid", "kinetic_shape", "kinetic_rigid", "potential", "energy",
-        "impulse_body_x", "impulse_body_y", "impulse_body_ang",
-        "impulse_fluid_rigid_x", "impulse_fluid_rigid_y", "impulse_fluid_rigid_ang",
-        "impulse_fluid_shape_x", "impulse_fluid_shape_y", "impulse_fluid_shape_ang",
-        "res_volume", "res_volume_rate", "res_angular", "res_locks", "jmin", "work", "w1", "w2",
-        "power", "work_positive", "phase_c1"};
-    int c = swim_run_state_columns(s->n, names, storage);
-    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) names[c++] = tail[i];
-    return c;
+    swim_run_columns_part parts[2];
+    const int nparts = stroke_parts(parts);
+    return swim_run_column_names(s->n, parts, nparts, names, storage);
 }
 
 
@@ -163,19 +172,20 @@ static int row_values(swim_stroke_run *c, double t, const double *y, double *ful
     double power = NAN;
     int rc = swim_stroke_full_state(&c->st, t, y, full, all ? &power : NULL);
     if (rc != 0) return rc;
-    int k = 0;
-    v[k++] = t;
-    for (int i = 0; i < 3 + 2 * s->n; i++) v[k++] = full[i];
-    if (!all) return 0;
+    if (!all) {   /* the state's columns only (events that need no diagnostics) */
+        v[0] = t;
+        for (int i = 0; i < 3 + 2 * s->n; i++) v[1 + i] = full[i];
+        return 0;
+    }
     if (swim_dynamics_diagnostics(&c->d, full, g) != 0) return SWIM_RHS_EMASS;
-    const double tail[] = {
-        g->kinetic_fluid, g->kinetic_shape, g->kinetic_rigid, g->w1 + g->w2, g->energy,
-        g->impulse_body[0], g->impulse_body[1], g->impulse_body[2],
-        g->impulse_fluid_rigid[0], g->impulse_fluid_rigid[1], g->impulse_fluid_rigid[2],
-        g->impulse_fluid_shape[0], g->impulse_fluid_shape[1], g->impulse_fluid_shape[2],
-        g->res_volume, g->res_volume_rate, g->res_angular, g->res_locks, g->jmin, g->work, g->w1, g->w2,
-        power, c->pw.total, s->stroke_complete_c1 ? y[SWIM_STROKE_PSI] : NAN};
-    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) v[k++] = tail[i];
+    double extra[EXTRAS];
+    extra[EXTRA_POWER] = power;
+    extra[EXTRA_WORK_POSITIVE] = c->pw.total;
+    extra[EXTRA_PHASE_C1] = s->stroke_complete_c1 ? y[SWIM_STROKE_PSI] : NAN;
+    swim_run_columns_part parts[2];
+    const int nparts = stroke_parts(parts);
+    const swim_run_quantities q = {g, extra};
+    swim_run_column_values(t, full, s->n, &q, parts, nparts, v);
     return 0;
 }
 

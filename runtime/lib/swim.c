@@ -33,6 +33,7 @@
 #include "scene/resolve.h"
 #include "scene/scene.h"
 #include "shape/shape.h"
+#include "sweep/sweep.h"
 
 #define MAX_SETS 64
 /* runtime/lib/module.mk passes VERSION's numbers and the SONAME's (test_library checks the same
@@ -643,6 +644,15 @@ char *swim_sim_summary_json(const swim_sim *s)
         return NULL;
     }
     return buf;
+}
+
+const char *swim_family_column(int i, const char **summary_path)
+{
+    int n;
+    const sweep_column *cols = sweep_columns(&n);
+    if (i < 0 || i >= n) return NULL;
+    if (summary_path) *summary_path = cols[i].path;
+    return cols[i].name;
 }
 
 char *swim_sim_events_csv(const swim_sim *s)

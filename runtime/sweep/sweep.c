@@ -438,17 +438,17 @@ static int stop_request(int sig)
 /* The columns of a member's row after id, the varied values, status and reason (members.csv,
  * family.h5), each a number of its summary: one list for every writer of the family table. */
 static const sweep_column columns[] = {
-    {"t_reached", offsetof(swim_summary, t_reached), 0},
-    {"x", offsetof(swim_summary, x), 0},
-    {"y", offsetof(swim_summary, y), 0},
-    {"theta", offsetof(swim_summary, theta), 0},
-    {"energy_drift_rel", offsetof(swim_summary, energy_drift_rel), 0},
-    {"energy_balance_abs", offsetof(swim_summary, energy_balance_abs), 0},
-    {"jmin", offsetof(swim_summary, jmin), 0},
-    {"steps", offsetof(swim_summary, steps), 1},
-    {"rhs_evaluations", offsetof(swim_summary, rhs_evaluations), 1},
-    {"integrate_seconds", offsetof(swim_summary, integrate_seconds), 0},
-    {"wall_seconds", offsetof(swim_summary, wall_seconds), 0},
+    {"t_reached", offsetof(swim_summary, t_reached), 0, "t_reached"},
+    {"x", offsetof(swim_summary, x), 0, "final_state.x"},
+    {"y", offsetof(swim_summary, y), 0, "final_state.y"},
+    {"theta", offsetof(swim_summary, theta), 0, "final_state.theta"},
+    {"energy_drift_rel", offsetof(swim_summary, energy_drift_rel), 0, "energy_drift_rel"},
+    {"energy_balance_abs", offsetof(swim_summary, energy_balance_abs), 0, "energy_drift_abs"},
+    {"jmin", offsetof(swim_summary, jmin), 0, "jmin"},
+    {"steps", offsetof(swim_summary, steps), 1, "stats.steps"},
+    {"rhs_evaluations", offsetof(swim_summary, rhs_evaluations), 1, "stats.rhs_evaluations"},
+    {"integrate_seconds", offsetof(swim_summary, integrate_seconds), 0, "stats.integrate_seconds"},
+    {"wall_seconds", offsetof(swim_summary, wall_seconds), 0, "stats.wall_seconds"},
 };
 
 const sweep_column *sweep_columns(int *count)
