@@ -851,17 +851,23 @@ int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char
             /* a whole summary but an abnormal exit: keep the summary, it says what happened */
         } else {
             char *text = NULL;
-            FILE *f = open_memstream(&text, &(size_t){0});
+            json_t *o = json_object();
+            int bad = !o;
+            if (o) {
+                bad |= swim_json_set(o, "scene", swim_json_str(p->scene));
+                bad |= swim_json_set(o, "status", swim_json_str("crashed"));
+                bad |= swim_json_set(o, "reason", swim_json_str(reason));
+            }
+            FILE *f = bad ? NULL : open_memstream(&text, &(size_t){0});
+            if (f) {
+                swim_json_write(f, o);
+                fclose(f);
+            }
+            json_decref(o);
             if (!f) {
                 swim_message(stderr, "swim %s: member %ld: out of memory", p->cmd, m);
                 return -1;
             }
-            fprintf(f, "{\n  \"scene\": ");
-            swim_json_string(f, p->scene);
-            fprintf(f, ",\n  \"status\": \"crashed\",\n  \"reason\": ");
-            swim_json_string(f, reason);
-            fprintf(f, "\n}\n");
-            fclose(f);
             if (write_atomic(path, text) != 0) {
                 /* the sweep's stderr, not the member's log: the disk that refused this may hold the log */
                 swim_message(stderr, "swim %s: member %ld (%s): cannot write %s: %s", p->cmd, m, reason, path, strerror(errno));
