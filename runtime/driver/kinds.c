@@ -50,8 +50,6 @@ const swim_run_result *swim_run_get_result(const swim_run *run) { return run->ki
 
 const swim_run_request *swim_run_get_request(const swim_run *run) { return &run->req; }
 
-const swim_run_kind *swim_run_get_kind(const swim_run *run) { return run->kind; }
-
 int swim_run_kind_summary(const swim_run *run, struct json_t *summary)
 {
     return run->kind->summary ? run->kind->summary(run->state, summary) : 0;

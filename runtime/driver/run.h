@@ -199,8 +199,7 @@ void swim_run_fail(swim_run *run, const char *reason);
 const swim_run_result *swim_run_get_result(const swim_run *run);
 /* The request the run was opened with (its scene, kernels, events). */
 const swim_run_request *swim_run_get_request(const swim_run *run);
-/* The run's kind, and its own entries of the summary into `summary` (0, or -1 when out of memory). */
-const swim_run_kind *swim_run_get_kind(const swim_run *run);
+/* The run's kind's own entries of the summary into `summary` (0, or -1 when out of memory). */
 int swim_run_kind_summary(const swim_run *run, struct json_t *summary);
 /* The state at time t (trajectory.csv's columns 1 .. 3 + 2n: x, y, theta, c, cdot) from the
  * interpolant of the last accepted step [*t_from, *t_to] (set whenever there is one), projected
