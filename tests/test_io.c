@@ -145,6 +145,52 @@ static void test_json_string(void)
     free(buf);
 }
 
+/* A document built with jansson and written by swim_json_write: summary.json's layout, numbers as
+ * the shortest text that reads back to the same double (NaN and infinities as null), integers
+ * exactly, a number given to a few digits as printf shows it, any bytes in strings made UTF-8, and
+ * the text read back by jansson to the same values. */
+static void test_json_write(void)
+{
+    json_t *o = json_object(), *ev = json_object();
+    int bad = 0;
+    bad |= swim_json_set(o, "s", swim_json_str("a\xff"));
+    bad |= swim_json_set(o, "none", swim_json_str(NULL));
+    bad |= swim_json_set(o, "x", swim_json_num(0.1));
+    bad |= swim_json_set(o, "t", swim_json_num(12.0));
+    bad |= swim_json_set(o, "nan", swim_json_num(NAN));
+    bad |= swim_json_set(o, "inf", swim_json_num(-INFINITY));
+    bad |= swim_json_set(o, "rtol", swim_json_fmt("%.3g", 1.23456e-8));
+    bad |= swim_json_set(o, "n", json_integer(9007199254740993LL));
+    const double v[2] = {1.5, NAN};
+    bad |= swim_json_set(o, "vec", swim_json_vec(v, 2));
+    bad |= swim_json_set(ev, "t", swim_json_num(2.0));
+    bad |= swim_json_set(ev, "on", json_true());
+    json_t *list = json_array();
+    json_array_append_new(list, ev);
+    bad |= swim_json_set(o, "events", list);
+    bad |= swim_json_set(o, "empty", json_array());
+    CHECK(!bad, "the document is built");
+    CHECK(swim_json_set(o, "lost", NULL) == -1, "a value that could not be made (NULL) is refused");
+    char *buf = NULL;
+    size_t n = 0;
+    FILE *m = open_memstream(&buf, &n);
+    swim_json_write(m, o);
+    fclose(m);
+    const char *want = "{\n  \"s\": \"a\\ufffd\",\n  \"none\": null,\n  \"x\": 0.1,\n  \"t\": 12,\n  \"nan\": null,\n"
+                       "  \"inf\": null,\n  \"rtol\": 1.23e-08,\n  \"n\": 9007199254740993,\n  \"vec\": [1.5, null],\n"
+                       "  \"events\": [\n    {\"t\": 2, \"on\": true}\n  ],\n  \"empty\": []\n}\n";
+    CHECK(buf && strcmp(buf, want) == 0, "the text:\n%s", buf);
+    json_error_t e;
+    json_t *back = buf ? json_loads(buf, JSON_REJECT_DUPLICATES, &e) : NULL;
+    CHECK(back && json_real_value(json_object_get(back, "x")) == 0.1 &&
+              json_integer_value(json_object_get(back, "n")) == 9007199254740993LL &&
+              json_number_value(json_object_get(back, "rtol")) == 1.23e-8 && json_is_null(json_object_get(back, "nan")),
+          "read back by jansson: the same values");
+    json_decref(back);
+    json_decref(o);
+    free(buf);
+}
+
 /* The one number format of CSV and JSON: the shortest text that reads back to the same double. */
 static void test_number_text(void)
 {
@@ -277,6 +323,7 @@ int main(void)
     test_message();
     test_status();
     test_json_string();
+    test_json_write();
     test_number_text();
     test_replace_and_paths(dir);
     test_csv_limit(dir);

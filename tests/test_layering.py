@@ -5,6 +5,7 @@
     cli/run_signals.h, nothing else of cli/;
   - the run driver (driver/) prints nothing and exits nowhere: lines leave through its sink;
   - no integrator is tested by name outside the integrator registry (ode/): capabilities decide;
+  - the driver's include graph has no cycle (a module: x.c with x.h and x_internal.h);
   - the command layer stays a command layer: runtime/cli/ at most 3 000 lines.
 Prints "test_layering: P passed, F failed"."""
 import glob
@@ -61,6 +62,60 @@ def test_no_integrator_named():
         check(not hits, "%s tests an integrator by name: %s" % (path, ", ".join(hits)))
         creates = re.findall(r'swim_ode_create\s*\(\s*"(%s)"' % names, text)
         check(not creates, "%s hard-codes integrator %s" % (path, ", ".join(creates)))
+
+
+def module_of(path):
+    """driver/run.c, driver/run.h and driver/run_internal.h are one module, driver/run."""
+    stem = os.path.splitext(path)[0]
+    return stem[:-len("_internal")] if stem.endswith("_internal") else stem
+
+
+def cycle(edges):
+    """A cycle of the directed graph {node: set(nodes)} as a list of nodes, or None."""
+    state, stack = {}, []
+
+    def visit(n):
+        state[n] = 1
+        stack.append(n)
+        for m in sorted(edges.get(n, ())):
+            if state.get(m) == 1:
+                return stack[stack.index(m):] + [m]
+            if m not in state:
+                found = visit(m)
+                if found:
+                    return found
+        stack.pop()
+        state[n] = 2
+        return None
+
+    for n in sorted(edges):
+        if n not in state:
+            found = visit(n)
+            if found:
+                return found
+    return None
+
+
+def test_driver_include_graph_has_no_cycle():
+    # the check itself: a cycle through a header and a source of another module is found
+    check(cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == ["a", "b", "c", "a"] and cycle({"a": {"b"}, "b": set()}) is None,
+          "the cycle finder finds a cycle and only a cycle")
+    edges = {}
+    for path, text in sources("driver"):
+        here = module_of(os.path.relpath(path, "runtime"))
+        for inc in re.findall(r'#include\s+"(driver/[^"]+)"', code_keep_strings(text)):
+            there = module_of(inc)
+            if there != here:
+                edges.setdefault(here, set()).add(there)
+    check(len(edges) >= 4, "the driver's modules and their includes are found (%d)" % len(edges))
+    found = cycle(edges)
+    check(found is None, "the driver's include graph has a cycle: %s" % " -> ".join(found or []))
+
+
+def code_keep_strings(text):
+    """The text without comments (include directives keep their quoted names)."""
+    text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
+    return re.sub(r"//[^\n]*", " ", text)
 
 
 def test_cli_is_small():

@@ -3,8 +3,10 @@
  * not one strict JSON object refused with its line and column. */
 #include "check.h"
 #include "driver/summary_read.h"
+#include "sweep/sweep.h"
 
 #include <errno.h>
+#include <jansson.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -152,9 +154,36 @@ static void test_file_and_long_reason(void)
     free(t);
 }
 
+/* The family table's columns (members.csv, family.h5, libswim's swim_family_column, Python's sweep
+ * rows) name where summary.json holds each value: that path gives what the reader put at the
+ * column's place in swim_summary, for every column, so the two cannot drift apart. */
+static void test_family_columns_paths(void)
+{
+    swim_summary s;
+    char err[256];
+    CHECK(swim_summary_read(NULL, RUN, &s, err, sizeof err) == 0, "the run's summary reads: %s", err);
+    json_t *root = json_loads(RUN, 0, NULL);
+    int n = 0;
+    const sweep_column *cols = sweep_columns(&n);
+    CHECK(root && n == 11, "the summary parses, and the table has its 11 columns (%d)", n);
+    for (int i = 0; root && i < n; i++) {
+        char path[64];
+        snprintf(path, sizeof path, "%s", cols[i].path);
+        json_t *v = root;
+        for (char *key = strtok(path, "."); key && v; key = strtok(NULL, ".")) v = json_object_get(v, key);
+        const char *at = (const char *)&s + cols[i].offset;
+        const double read = cols[i].integer ? (double)((const swim_summary_count *)at)->value
+                                            : ((const swim_summary_real *)at)->value;
+        CHECK(v && json_is_number(v) && json_number_value(v) == read, "%s at %s: %.17g, the reader's %.17g", cols[i].name,
+              cols[i].path, v ? json_number_value(v) : -1.0, read);
+    }
+    json_decref(root);
+}
+
 int main(void)
 {
     test_run_summary();
+    test_family_columns_paths();
     test_whole_and_stopped();
     test_refused();
     test_file_and_long_reason();

@@ -24,6 +24,7 @@ Python's builtins, keep working.
 """
 import csv
 import ctypes
+import functools
 import io
 import itertools
 import json
@@ -516,20 +517,27 @@ def _path(d, *path):
     return d
 
 
+@functools.lru_cache(maxsize=None)
+def _family_columns():
+    """members.csv's columns after id, the varied keys, status and reason, with where a member's
+    summary holds each (the library's table, swim_family_column: the one swim sweep writes)."""
+    cols, i, path = [], 0, ctypes.c_char_p()
+    while True:
+        name = _L.swim_family_column(i, ctypes.byref(path))
+        if name is None:
+            return tuple(cols)
+        cols.append((name.decode(), tuple(path.value.decode().split("."))))
+        i += 1
+
+
 def _member_row(i, values, r):
     """members.csv's row of a member (the same names and the same summary paths as swim sweep),
     with completed besides."""
     s = r.summary
     row = {"id": i}
     row.update(values)
-    row.update({"status": s.get("status"), "completed": r.completed, "reason": s.get("reason"),
-                "t_reached": s.get("t_reached"), "x": _path(s, "final_state", "x"),
-                "y": _path(s, "final_state", "y"), "theta": _path(s, "final_state", "theta"),
-                "energy_drift_rel": s.get("energy_drift_rel"), "energy_balance_abs": s.get("energy_drift_abs"),
-                "jmin": s.get("jmin"), "steps": _path(s, "stats", "steps"),
-                "rhs_evaluations": _path(s, "stats", "rhs_evaluations"),
-                "integrate_seconds": _path(s, "stats", "integrate_seconds"),
-                "wall_seconds": _path(s, "stats", "wall_seconds")})
+    row.update({"status": s.get("status"), "completed": r.completed, "reason": s.get("reason")})
+    row.update({name: _path(s, *path) for name, path in _family_columns()})
     return row
 
 

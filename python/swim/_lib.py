@@ -197,6 +197,7 @@ def _declare(lib):
         "swim_sim_summary_json": (c_void_p, [c_void_p]),
         "swim_sim_events_csv": (c_void_p, [c_void_p]),
         "swim_sim_free": (None, [c_void_p]),
+        "swim_family_column": (c_char_p, [c_int, ctypes.POINTER(c_char_p)]),
         "swim_sim_state_at": (c_int, [c_void_p, c_double, _PD, c_int, err]),
         "swim_sim_sensitivity": (c_int, [c_void_p, ctypes.POINTER(sets), ctypes.POINTER(c_int), ctypes.POINTER(_PD),
                                          ctypes.POINTER(ctypes.c_long)]),

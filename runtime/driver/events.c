@@ -338,26 +338,40 @@ static size_t sequence(const swim_run_events *ev, int i, size_t *idx)
     return m;
 }
 
-void swim_run_events_json(const swim_run_events *ev, FILE *f)
+/* {"x": dx, "y": dy, "theta": dtheta} */
+static json_t *displacement(double dx, double dy, double dtheta, int *bad)
 {
-    if (!ev)
-        return;
-    fprintf(f, ",\n  \"events\": [");
-    for (size_t r = 0; r < ev->nrec; r++) {
+    json_t *o = json_object();
+    if (!o) return NULL;
+    *bad |= swim_json_set(o, "x", swim_json_num(dx));
+    *bad |= swim_json_set(o, "y", swim_json_num(dy));
+    *bad |= swim_json_set(o, "theta", swim_json_num(dtheta));
+    return o;
+}
+
+int swim_run_events_summary(const swim_run_events *ev, json_t *summary)
+{
+    int bad = 0;
+    json_t *list = json_array();
+    for (size_t r = 0; list && r < ev->nrec; r++) {
         const record *e = &ev->rec[r];
         const spec *sp = &ev->specs[e->spec];
-        fprintf(f, "%s\n    {\"t\": %.17g, \"column\": ", r ? "," : "", e->t);
-        swim_json_string(f, sp->name);
-        fprintf(f, ", \"kind\": \"%s\", \"value\": ", kind_names[sp->kind]);
-        swim_json_number(f, e->value);
-        fprintf(f, ", \"direction\": \"%s\"}", e->rising ? "rising" : "falling");
+        json_t *o = json_object();
+        if (o) {
+            bad |= swim_json_set(o, "t", swim_json_num(e->t));
+            bad |= swim_json_set(o, "column", swim_json_str(sp->name));
+            bad |= swim_json_set(o, "kind", swim_json_str(kind_names[sp->kind]));
+            bad |= swim_json_set(o, "value", swim_json_num(e->value));
+            bad |= swim_json_set(o, "direction", swim_json_str(e->rising ? "rising" : "falling"));
+        }
+        bad |= !o || json_array_append_new(list, o) != 0;
     }
-    fprintf(f, "%s],\n  \"event_stop\": ", ev->nrec ? "\n  " : "");
-    swim_json_string(f, swim_run_events_stop_name(ev));
-    fprintf(f, ",\n  \"periodic\": [");
+    bad |= swim_json_set(summary, "events", list);
+    bad |= swim_json_set(summary, "event_stop", swim_json_str(swim_run_events_stop_name(ev)));
+    json_t *periodic = json_array();
     size_t *idx = malloc((ev->nrec + 1) * sizeof *idx);
-    int first = 1;
-    for (int i = 0; idx && i < ev->nspec; i++) {
+    bad |= !idx;
+    for (int i = 0; periodic && idx && i < ev->nspec; i++) {
         size_t m = sequence(ev, i, idx);
         if (m < 2)
             continue;
@@ -369,17 +383,24 @@ void swim_run_events_json(const swim_run_events *ev, FILE *f)
         }
         const record *a = &ev->rec[idx[0]], *b = &ev->rec[idx[m - 1]], *c = &ev->rec[idx[m - 2]];
         const double np = (double)(m - 1);
-        fprintf(f, "%s\n    {\"column\": ", first ? "" : ",");
-        swim_json_string(f, ev->specs[i].name);
-        fprintf(f, ", \"kind\": \"%s\", \"periods\": %zu, \"period\": %.17g, \"period_min\": %.17g, \"period_max\": %.17g,\n"
-                   "     \"displacement_per_period\": {\"x\": %.17g, \"y\": %.17g, \"theta\": %.17g},\n"
-                   "     \"displacement_last_period\": {\"x\": %.17g, \"y\": %.17g, \"theta\": %.17g}}",
-                kind_names[ev->specs[i].kind], m - 1, (b->t - a->t) / np, pmin, pmax, (b->x - a->x) / np,
-                (b->y - a->y) / np, (b->theta - a->theta) / np, b->x - c->x, b->y - c->y, b->theta - c->theta);
-        first = 0;
+        json_t *o = json_object();
+        if (o) {
+            bad |= swim_json_set(o, "column", swim_json_str(ev->specs[i].name));
+            bad |= swim_json_set(o, "kind", swim_json_str(kind_names[ev->specs[i].kind]));
+            bad |= swim_json_set(o, "periods", json_integer((json_int_t)(m - 1)));
+            bad |= swim_json_set(o, "period", swim_json_num((b->t - a->t) / np));
+            bad |= swim_json_set(o, "period_min", swim_json_num(pmin));
+            bad |= swim_json_set(o, "period_max", swim_json_num(pmax));
+            bad |= swim_json_set(o, "displacement_per_period",
+                                 displacement((b->x - a->x) / np, (b->y - a->y) / np, (b->theta - a->theta) / np, &bad));
+            bad |= swim_json_set(o, "displacement_last_period",
+                                 displacement(b->x - c->x, b->y - c->y, b->theta - c->theta, &bad));
+        }
+        bad |= !o || json_array_append_new(periodic, o) != 0;
     }
     free(idx);
-    fprintf(f, "%s]", first ? "" : "\n  ");
+    bad |= swim_json_set(summary, "periodic", periodic);
+    return bad ? -1 : 0;
 }
 
 static void fill_csv(FILE *f, void *ctx)

@@ -57,8 +57,10 @@ void swim_run_events_time_origin(swim_run_events *ev, double t0);
 /* Which event ended the run (after SWIM_ODE_TERMINATED): "COLUMN:KIND". */
 const char *swim_run_events_stop_name(const swim_run_events *ev);
 
-/* ",\n  "events": [...],\n  "periodic": [...]" for summary.json (nothing when ev is NULL). */
-void swim_run_events_json(const swim_run_events *ev, FILE *f);
+struct json_t;
+/* "events": [...], "event_stop": "COLUMN:KIND" or "", "periodic": [...] set into the summary
+ * object (driver/summary.h). 0; -1 when out of memory. */
+int swim_run_events_summary(const swim_run_events *ev, struct json_t *summary);
 
 /* events.csv (t,column,kind,value) written whole at `path`, atomically (swim_replace_file);
  * nothing when ev is NULL.  0, or -1 with errno set (nothing printed: the caller reports it). */

@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "driver/columns.h"
 #include "driver/run_internal.h"
 #include "io/clock.h"
 #include "io/message.h"
@@ -24,14 +25,14 @@
 #include "shape/barrier.h"
 #include "shape/shape.h"
 
-static double ode_time(const swim_run *c) { return c->d.t_origin + swim_ode_time(c->ode); }
+static double ode_time(const scene_run *c) { return c->d.t_origin + swim_ode_time(c->ode); }
 
 /* A stop was asked for (a signal, through req.stop). */
-static int stop_requested(const swim_run *c) { return c->req.stop && *c->req.stop; }
+static int stop_requested(const scene_run *c) { return c->req.stop && *c->req.stop; }
 
 /* A line for the user (printf-like), through the sink. */
-static void notice(swim_run *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void notice(swim_run *c, const char *fmt, ...)
+static void notice(scene_run *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void notice(scene_run *c, const char *fmt, ...)
 {
     if (!c->req.sink.notice) return;
     va_list ap;
@@ -53,7 +54,7 @@ static void notice(swim_run *c, const char *fmt, ...)
  * the run is unchanged: cutting them there too (from min J < 0.1 |c_1|^2 on) made the drift of
  * the soft scenes 3-7x larger, not smaller (abm's step control reacts to the changing weights). The
  * floor 40 u / rtol keeps abm's round-off test (2u max|y/w| < 1/2) satisfied ten times over. */
-static double barrier_tolerance(swim_run *c, const double *y, double h)
+static double barrier_tolerance(scene_run *c, const double *y, double h)
 {
     const swim_scene *s = c->s;
     const swim_scene_kernel *k = c->d.spec;
@@ -109,7 +110,7 @@ static double barrier_tolerance(swim_run *c, const double *y, double h)
 
 static double scaled_balance(double t, const double *u, double *noise, void *data)
 {
-    swim_run *c = data;
+    scene_run *c = data;
     if (!(c->bal_scale > 0)) {   /* before E0 is known, or E0 = 0 and no energy yet */
         *noise = 0.0;
         return 0.0;
@@ -151,7 +152,7 @@ static int absolute_interp(void *ctx, double t, double *y, double *yp)
 
 /* Where the next origin goes (0: stay, 1: move it to the step end, 2: drop it), from min J /
  * |c_1|^2 = j at the step end and the state u there. */
-static int shift_wanted(const swim_run *c, double j, const double *u)
+static int shift_wanted(const scene_run *c, double j, const double *u)
 {
     /* a restart costs abm a new start (order 1, a few rejected steps): above SHIFT_URGENT, where
      * the rounding of the shape costs little per step, not more often than every SHIFT_EVERY
@@ -177,7 +178,7 @@ static const double GL_X[4] = {-0.86113631159405258, -0.33998104358485626, 0.339
 static const double GL_W[4] = {0.34785484513745385, 0.65214515486254609, 0.65214515486254609, 0.34785484513745385};
 
 /* The power f(t) direction . cdot at the integrator state ys (absolute time t). */
-static double forcing_power(swim_run *c, double t, const double *ys)
+static double forcing_power(scene_run *c, double t, const double *ys)
 {
     const swim_scene *s = c->s;
     swim_dynamics_unpack(&c->d, ys, c->fw_full);
@@ -187,7 +188,7 @@ static double forcing_power(swim_run *c, double t, const double *ys)
 }
 
 /* int_a^b of the power (absolute times) on an interpolant in the integrator's time. -1 if it fails. */
-static int forcing_integral(swim_run *c, double a, double b, int (*interp)(void *, double, double *, double *),
+static int forcing_integral(scene_run *c, double a, double b, int (*interp)(void *, double, double *, double *),
                             void *ctx, double *out)
 {
     double sum = 0.0;
@@ -213,7 +214,7 @@ static int ode_interp(void *ctx, double tau, double *y, double *yp)
 }
 
 /* An accepted step [ta, tb] (integrator's time): the one before it is now wholly part of the run. */
-static void forcing_step(swim_run *c, const swim_ode_accepted *step)
+static void forcing_step(scene_run *c, const swim_ode_accepted *step)
 {
     c->fw_done += c->fw_pending;
     c->fw_ta = c->d.t_origin + step->ta;
@@ -222,7 +223,7 @@ static void forcing_step(swim_run *c, const swim_ode_accepted *step)
 }
 
 /* W_F at a row t (in the latest step, or at its end). */
-static void forcing_row(swim_run *c, double t)
+static void forcing_row(scene_run *c, double t)
 {
     double part = c->fw_pending;
     if (t < c->fw_tb && (!c->ode || forcing_integral(c, c->fw_ta, t, ode_interp, c->ode, &part) != 0)) c->fw_bad = 1;
@@ -230,7 +231,7 @@ static void forcing_row(swim_run *c, double t)
 }
 
 /* The stiff fallback restarts from the row at t: the work there is where it goes on from. */
-static void forcing_rewind(swim_run *c, double t)
+static void forcing_rewind(scene_run *c, double t)
 {
     c->fw_done = c->fw_at_row;
     c->fw_pending = 0.0;
@@ -253,7 +254,7 @@ static void forcing_rewind(swim_run *c, double t)
 
 /* The impact at full state y (model/bounce.h), along the barrier's gradient there, computed on
  * the diagnostics' quadrature (its warm start is not the right-hand side's). 0 or -1. */
-static int bounce_at(swim_run *c, const double *y, swim_bounce *b)
+static int bounce_at(scene_run *c, const double *y, swim_bounce *b)
 {
     const swim_scene *s = c->s;
     double grad[SWIM_NMAX], W;
@@ -265,7 +266,7 @@ static int bounce_at(swim_run *c, const double *y, swim_bounce *b)
 
 /* Whether the step end y, at min J / |c_1|^2 = j, is where a bounce becomes an impact; then its
  * change of cdot is left in c->impact_dv. */
-static int impact_wanted(swim_run *c, const double *y, double j)
+static int impact_wanted(scene_run *c, const double *y, double j)
 {
     const swim_scene *s = c->s;
     if (!(s->impact_depth > 0) || !(j < IMPACT_AT * s->rtol) || !c->d.diag_barrier) return 0;
@@ -286,7 +287,7 @@ static int impact_wanted(swim_run *c, const double *y, double j)
 
 /* Ends the integration at the step's end, keeping its state, for a restart of kind `pending`
  * (shift_pending: 1, 2 an origin, 3 an impact) that advance_to carries out. Returns 1. */
-static int stop_for(swim_run *c, const swim_ode_accepted *step, int pending, double *t_stop)
+static int stop_for(scene_run *c, const swim_ode_accepted *step, int pending, double *t_stop)
 {
     c->shift_pending = pending;
     c->shift_t = step->tb;
@@ -297,7 +298,7 @@ static int stop_for(swim_run *c, const swim_ode_accepted *step, int pending, dou
 
 static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop)
 {
-    swim_run *c = data;
+    scene_run *c = data;
     int rc;
     const double t0 = c->d.t_origin;
     c->last_ta = t0 + step->ta;   /* swim_run_state_at: the interpolant's interval */
@@ -331,42 +332,31 @@ static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop
 
 /* ---- the rows ---------------------------------------------------------------------------- */
 
-int swim_run_state_columns(int n, const char **names, char storage[][24])
+/* A scene with an [elastic] energy law has the law's W after the diagnostics (only then: other
+ * scenes' columns are unchanged). */
+static double w_law(const swim_run_quantities *q) { return q->g->w_law; }
+static const swim_run_column law_column[] = {{"W_law", w_law}};
+
+/* The table of a scene run's columns (driver/columns.h): its parts and their count. */
+static int scene_parts(const swim_scene *s, swim_run_columns_part *parts)
 {
-    static const char *const head[] = {"t", "x", "y", "theta"};
-    int c = 0;
-    for (int i = 0; i < 4; i++) names[c++] = head[i];
-    for (int i = 0; i < n; i++) {
-        swim_coord_name(i, storage[i], 24);
-        names[c++] = storage[i];
-    }
-    for (int i = 0; i < n; i++) {
-        storage[n + i][0] = 'd';
-        swim_coord_name(i, storage[n + i] + 1, 23);
-        names[c++] = storage[n + i];
-    }
-    return c;
+    parts[0] = swim_run_diagnostics;
+    parts[1] = (swim_run_columns_part){law_column, 1};
+    return s->energy ? 2 : 1;
 }
 
-int swim_run_columns(const swim_scene *s, const char **names, char storage[][24])
+/* The columns of a scene run (swim_run_scene_kind.columns). */
+static int scene_columns(const swim_scene *s, const char **names, char storage[][24])
 {
-    if (s->stroke_count > 0) return swim_stroke_run_columns(s, names, storage);
-    static const char *const tail[] = {
-        "kinetic_fluid", "kinetic_shape", "kinetic_rigid", "potential", "energy",
-        "impulse_body_x", "impulse_body_y", "impulse_body_ang",
-        "impulse_fluid_rigid_x", "impulse_fluid_rigid_y", "impulse_fluid_rigid_ang",
-        "impulse_fluid_shape_x", "impulse_fluid_shape_y", "impulse_fluid_shape_ang",
-        "res_volume", "res_volume_rate", "res_angular", "res_locks", "jmin", "work", "w1", "w2"};
-    int c = swim_run_state_columns(s->n, names, storage);
-    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) names[c++] = tail[i];
-    if (s->energy) names[c++] = "W_law";   /* only with a law: other scenes' columns are unchanged */
-    return c;
+    swim_run_columns_part parts[2];
+    const int nparts = scene_parts(s, parts);
+    return swim_run_column_names(s->n, parts, nparts, names, storage);
 }
 
 /* Every attempted step, in absolute time, to the sink (--trace-steps). */
 static void trace_step(const swim_ode_step *st, void *data)
 {
-    swim_run *c = data;
+    scene_run *c = data;
     swim_ode_step abs_st = *st;
     abs_st.t = c->d.t_origin + st->t;
     c->req.sink.step(c->req.sink.ctx, &abs_st, &c->d);
@@ -374,7 +364,7 @@ static void trace_step(const swim_ode_step *st, void *data)
 
 static int packed_row(void *p, double t, const double *ys, int all, double *row);
 
-static int prepare(swim_run *c)
+static int prepare(scene_run *c)
 {
     swim_scene *s = c->s;
     if (swim_dynamics_init(&c->d, s, c->kn->kernel) != 0) goto oom;
@@ -458,18 +448,10 @@ oom:
 
 static int row_values(const swim_scene *s, double t, const double *y, const swim_diag *g, double *v)
 {
-    int c = 0;
-    v[c++] = t;
-    for (int i = 0; i < 3 + 2 * s->n; i++) v[c++] = y[i];
-    const double tail[] = {
-        g->kinetic_fluid, g->kinetic_shape, g->kinetic_rigid, g->w1 + g->w2 + g->w_law, g->energy,
-        g->impulse_body[0], g->impulse_body[1], g->impulse_body[2],
-        g->impulse_fluid_rigid[0], g->impulse_fluid_rigid[1], g->impulse_fluid_rigid[2],
-        g->impulse_fluid_shape[0], g->impulse_fluid_shape[1], g->impulse_fluid_shape[2],
-        g->res_volume, g->res_volume_rate, g->res_angular, g->res_locks, g->jmin, g->work, g->w1, g->w2};
-    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) v[c++] = tail[i];
-    if (s->energy) v[c++] = g->w_law;
-    return c;
+    swim_run_columns_part parts[2];
+    const int nparts = scene_parts(s, parts);
+    const swim_run_quantities q = {g, NULL};
+    return swim_run_column_values(t, y, s->n, &q, parts, nparts, v);
 }
 
 static void track(run_report *r, double t, const swim_diag *g, int first)
@@ -522,8 +504,8 @@ static void accumulate_stats(swim_ode_stats *total, const swim_ode *ode)
 }
 
 /* Why the run ended (printf-like); `failed` sets the status. */
-static void end_run(swim_run *c, int failed, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static void end_run(swim_run *c, int failed, const char *fmt, ...)
+static void end_run(scene_run *c, int failed, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void end_run(scene_run *c, int failed, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -534,7 +516,7 @@ static void end_run(swim_run *c, int failed, const char *fmt, ...)
 }
 #define stop(c, ...) end_run((c), 1, __VA_ARGS__)
 
-static void stop_by_signal(swim_run *c, double t)
+static void stop_by_signal(scene_run *c, double t)
 {
     int sig = *c->req.stop;
     if (c->req.stop_by_caller) stop(c, "stopped by the caller at t = %.6g", t);
@@ -553,7 +535,7 @@ static const char *impact_hint(const swim_scene *s)
  * barrier the kinetic energy there could carry the shape (shape/barrier.h, swim_barrier_reach),
  * compared with the resolution of J = |c_1|^2 - |h|^2 in double precision. Empty when the reach
  * is resolvable (then the crossing is not explained by the barrier's weakness). */
-static void barrier_diagnosis(swim_run *c, char *buf, size_t len)
+static void barrier_diagnosis(scene_run *c, char *buf, size_t len)
 {
     buf[0] = '\0';
     const swim_scene *s = c->s;
@@ -617,7 +599,7 @@ static void barrier_diagnosis(swim_run *c, char *buf, size_t len)
 }
 
 /* The shape left D at t (4.1): the crossing of min J = 0, located at a step (see advance_to). */
-static void stop_left_D(swim_run *c, double t)
+static void stop_left_D(scene_run *c, double t)
 {
     char why[1024];
     barrier_diagnosis(c, why, sizeof why);
@@ -626,7 +608,7 @@ static void stop_left_D(swim_run *c, double t)
 }
 
 /* Why the integrator could not reach t. */
-static void stop_on_integrator(swim_run *c, int rc, double t)
+static void stop_on_integrator(scene_run *c, int rc, double t)
 {
     const swim_scene *s = c->s;
     if (stop_requested(c)) {
@@ -657,7 +639,7 @@ static void stop_on_integrator(swim_run *c, int rc, double t)
 }
 
 /* Restart from the last output row (exact state there) with the stiff fallback integrator. */
-static int switch_to_fallback(swim_run *c, double t_last, double t)
+static int switch_to_fallback(scene_run *c, double t_last, double t)
 {
     const swim_scene *s = c->s;
     double ts = ode_time(c);
@@ -695,7 +677,7 @@ static int switch_to_fallback(swim_run *c, double t_last, double t)
 
 /* The integrator stopped at shift_t (accept_step): close it, keeping its statistics, and take
  * the state it accepted there. */
-static void stop_at_shift(swim_run *c)
+static void stop_at_shift(scene_run *c)
 {
     accumulate_stats(&c->total, c->ode);
     swim_ode_free(c->ode);
@@ -706,7 +688,7 @@ static void stop_at_shift(swim_run *c)
 
 /* A new integrator `method` from c->ys at its time tau0 (absolute d.t_origin + tau0), on to
  * tout. An ODE status. */
-static int resume(swim_run *c, const char *method, double tau0, double tout)
+static int resume(scene_run *c, const char *method, double tau0, double tout)
 {
     barrier_tolerance(c, c->ys, 0.0);
     int rc = swim_ode_create(method, &c->sys, &c->o, tau0, c->ys, &c->ode);
@@ -716,7 +698,7 @@ static int resume(swim_run *c, const char *method, double tau0, double tout)
 
 /* The integrator stopped at shift_t (accept_step): start it again from the state there, relative
  * to the new origin (or to none), and go on to tout. An ODE status. */
-static int shift_origin(swim_run *c, double tout)
+static int shift_origin(scene_run *c, double tout)
 {
     const swim_scene *s = c->s;
     const int clear = c->shift_pending == 2;
@@ -742,7 +724,7 @@ static int shift_origin(swim_run *c, double tout)
 /* The integrator stopped at shift_t (accept_step) at the step end where a bounce becomes an
  * impact: start it again from the state there with the reflected cdot (model/bounce.h), at the
  * same origin and clock, and go on to tout. An ODE status. */
-static int take_impact(swim_run *c, double tout)
+static int take_impact(scene_run *c, double tout)
 {
     const swim_scene *s = c->s;
     stop_at_shift(c);
@@ -767,7 +749,7 @@ static int take_impact(swim_run *c, double tout)
 
 /* Advance to output time *t and leave the row's full state in c->y. A :stop event before *t
  * ends the run there: *t becomes the event time, whose row is the last. An ODE status. */
-static int advance_to(swim_run *c, double *t, double *t_last)
+static int advance_to(scene_run *c, double *t, double *t_last)
 {
     double ta = swim_clock_seconds();
     int rc = swim_ode_advance(c->ode, *t - c->d.t_origin, c->ys);
@@ -828,7 +810,7 @@ static int advance_to(swim_run *c, double *t, double *t_last)
 }
 
 /* Diagnostics, the CSV row and maybe a snapshot at t. 0, or -1 when the run must stop. */
-static int emit_row(swim_run *c, long k, long rows, long every, double t)
+static int emit_row(scene_run *c, long k, long rows, long every, double t)
 {
     swim_diag g;
     const double t_diag = swim_clock_seconds();
@@ -892,7 +874,7 @@ static void take_watch(run_report *r, swim_run_watch *w)
 /* The output loop: rows at k*output_step up to t_end, stopping at the first failure. */
 /* The output loop, one row at a time (swim_run_advance stops between rows): rows at
  * k*output_step up to t_end, stopping at the first failure. */
-static void start_loop(swim_run *c)
+static void start_loop(scene_run *c)
 {
     const swim_scene *s = c->s;
     c->loop_started = 1;
@@ -908,7 +890,7 @@ static void start_loop(swim_run *c)
 }
 
 /* The time of row k, or NAN past the last row. */
-static double row_time(const swim_run *c, long k)
+static double row_time(const scene_run *c, long k)
 {
     const swim_scene *s = c->s;
     double t = k <= c->nrows ? k * s->output_step : s->t_end;
@@ -919,7 +901,7 @@ static double row_time(const swim_run *c, long k)
 }
 
 /* Row c->k: 0, or 1 when the run has ended (its last row written, or a failure). */
-static int next_row(swim_run *c)
+static int next_row(scene_run *c)
 {
     const swim_scene *s = c->s;
     const long k = c->k;
@@ -951,7 +933,7 @@ static int next_row(swim_run *c)
     return 0;
 }
 
-static void finish_loop(swim_run *c)
+static void finish_loop(scene_run *c)
 {
     const swim_scene *s = c->s;
     if (c->r.status == 0 && !c->r.event_stop) end_run(c, 0, "reached t_end = %.6g", s->t_end);
@@ -960,7 +942,7 @@ static void finish_loop(swim_run *c)
 }
 
 /* Rows up to time t (every row at or before it); the run's end when it comes. */
-static void advance_rows(swim_run *c, double t)
+static void advance_rows(scene_run *c, double t)
 {
     if (!c->loop_started) start_loop(c);
     while (!c->loop_done) {
@@ -984,10 +966,10 @@ void swim_run_ode_options(const swim_scene *s, swim_ode_options *o)
     if (s->step_lookahead >= 0) o->lookahead = s->step_lookahead;
 }
 
-/* ---- the contract (driver/run.h) ---------------------------------------------------------- */
+/* ---- the scene kind (driver/run.h, swim_run_kind) ------------------------------------------- */
 
 /* The report and the features of the run into its public result. */
-static void fill_result(swim_run *c)
+static void fill_result(scene_run *c)
 {
     swim_run_result *res = &c->res;
     const run_report *r = &c->r;
@@ -1031,50 +1013,60 @@ static void fill_result(swim_run *c)
     res->energy = c->last_energy;
     res->work = c->last_work;
     res->forcing_work = !c->s->forced ? 0.0 : c->fw_on ? c->fw_at_row : NAN;
+    res->step_lookahead = c->o.lookahead;
 }
 
-int swim_run_open(const swim_run_request *req, swim_run **out, swim_status *st)
+/* What the summary says of the model and its kernel: fixed when the run opens. */
+static void describe(scene_run *c)
+{
+    const swim_scene *s = c->s;
+    swim_run_result *res = &c->res;
+    res->effects.elastic = s->elastic;
+    res->effects.barrier = s->barrier;
+    res->effects.damping = s->damped;
+    res->effects.forcing = s->forced;
+    res->effects.energy_law = s->energy_text;
+    res->compiled = c->spz;
+    res->kernel_kind = c->d.generic ? "generic" : "specialized";
+    res->state_dimension = swim_dynamics_state_dim(&c->d);
+    res->projection_change = s->projection_change;
+    res->impact_depth = s->impact_depth;
+    res->jacobian = c->sys.jacobian ? "exact" : "differences";   /* what the BDF methods use */
+}
+
+static void scene_free(void *p);
+
+static int scene_open(const swim_run_request *req, void **out, swim_status *st)
 {
     *out = NULL;
-    swim_run *c = calloc(1, sizeof *c);
+    scene_run *c = calloc(1, sizeof *c);
     if (!c) {
         swim_status_fail(st, NULL, NULL, 0, NULL, "out of memory");
         return 1;
     }
     c->req = *req;
-    if (req->scene->stroke_count > 0) {
-        const int rc = swim_stroke_run_open(req, &c->stroke, st);
-        if (rc) free(c);
-        else *out = c;
-        return rc;
-    }
     c->s = req->scene;
     c->kn = req->kernel;
     c->spz = req->system;
     c->events = req->events;
-    c->ncol = swim_run_columns(c->s, c->names, c->storage);
+    c->ncol = scene_columns(c->s, c->names, c->storage);
     if (prepare(c) != 0) {
-        swim_run_free(c);
+        scene_free(c);
         swim_status_fail(st, NULL, NULL, 0, NULL, "out of memory");
         return 1;
     }
+    /* the result before any row: the run's features, nothing found yet */
+    fill_result(c);
+    c->res.wall_seconds = 0.0;
+    c->res.forcing_work = 0.0;
+    describe(c);
     *out = c;
     return 0;
 }
 
-int swim_run_integrate(swim_run *c) { return swim_run_advance(c, INFINITY); }
-
-int swim_run_advance(swim_run *c, double t)
+static int scene_advance(void *p, double t)
 {
-    if (c->stroke) {   /* a stroke runs to its end in one call */
-        if (!c->res.is_stroke) {
-            swim_stroke_run_integrate(c->stroke);
-            c->res = *swim_stroke_run_result(c->stroke);
-            c->res.is_stroke = 1;
-            c->res.finished = 1;
-        }
-        return c->res.status;
-    }
+    scene_run *c = p;
     if (c->res.finished) return c->r.status;
     advance_rows(c, t);
     if (c->loop_done) {
@@ -1087,24 +1079,32 @@ int swim_run_advance(swim_run *c, double t)
     return c->r.status;
 }
 
-void swim_run_fail(swim_run *c, const char *reason)
+static void scene_fail(void *p, const char *reason)
 {
-    if (c->stroke) {
-        swim_stroke_run_fail(c->stroke, reason);
-        c->res.status = swim_stroke_run_result(c->stroke)->status;
-        c->res.reason = swim_stroke_run_result(c->stroke)->reason;
-        return;
-    }
+    scene_run *c = p;
     if (c->r.status == 0) stop(c, "%s", reason);
     c->res.status = c->r.status;
     c->res.reason = c->r.reason;
 }
 
-const swim_run_result *swim_run_get_result(const swim_run *c) { return &c->res; }
-
-int swim_run_state_at(swim_run *c, double t, double *state, double *t_from, double *t_to)
+static const swim_run_result *scene_result(void *p)
 {
-    if (c->stroke || !c->ode || !c->have_step || c->last_origin != c->d.t_origin) return -1;
+    scene_run *c = p;
+    const swim_dynamics *d = &c->d;
+    swim_run_result *res = &c->res;
+    res->projection_steps = d->projections;
+    res->projection_max_change = d->max_projection;
+    res->rhs_calls = d->rhs_calls;
+    res->rhs_seconds = swim_dynamics_rhs_seconds(d);
+    res->jacobian_calls = d->jac_calls;
+    res->jacobian_seconds = d->jac_seconds;
+    return res;
+}
+
+static int scene_state_at(void *p, double t, double *state, double *t_from, double *t_to)
+{
+    scene_run *c = p;
+    if (!c->ode || !c->have_step || c->last_origin != c->d.t_origin) return -1;
     *t_from = c->last_ta;
     *t_to = c->last_tb;
     if (!(t >= c->last_ta && t <= c->last_tb)) return 1;
@@ -1120,12 +1120,12 @@ int swim_run_state_at(swim_run *c, double t, double *state, double *t_from, doub
     return rc;
 }
 
-swim_dynamics *swim_run_dynamics(swim_run *c) { return c->stroke ? swim_stroke_run_dynamics(c->stroke) : &c->d; }
+static swim_dynamics *scene_dynamics(void *p) { return &((scene_run *)p)->d; }
 
-void swim_run_free(swim_run *c)
+static void scene_free(void *p)
 {
+    scene_run *c = p;
     if (!c) return;
-    swim_stroke_run_free(c->stroke);
     free(c->rowc.full);
     if (c->watch_ready) swim_run_watch_free(&c->watch);
     swim_ode_free(c->ode);
@@ -1144,3 +1144,8 @@ void swim_run_free(swim_run *c)
     free(c->r.reason);
     free(c);
 }
+
+const swim_run_kind swim_run_scene_kind = {
+    "scene", scene_columns, scene_open, scene_advance, scene_fail, scene_result, scene_state_at, scene_dynamics,
+    NULL, scene_free,
+};

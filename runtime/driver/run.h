@@ -8,7 +8,8 @@
  * boundary of D, bounces taken as impacts, the stiff fallback, events (driver/events.h) and why
  * the run stopped. It owns no path and prints nothing: rows, notices and progress leave through
  * a sink of callbacks (the caller writes files, or keeps arrays), and the result is a struct that
- * summary.h writes as summary.json.
+ * summary.h writes as summary.json. A scene with a [stroke] table runs as the other kind behind
+ * the same contract (swim_run_kind).
  *
  * Use: fill a swim_run_request (a validated scene and its kernels, which the caller obtains and
  * keeps open for the run's life), swim_run_open, swim_run_integrate, read swim_run_result (and the
@@ -113,18 +114,67 @@ typedef struct {
     int finished;                        /* the run has ended (swim_run_advance) */
     int is_stroke;                       /* a prescribed stroke: */
     swim_stroke_report stroke;
+    /* what the summary says of the model, the kernel and the integrator, whatever the kind */
+    int summary_brief;                   /* nothing run and nothing known yet: the summary holds the
+                                            scene, status, reason and rows only (a stroke before its call) */
+    struct {
+        int elastic, barrier, damping, forcing;   /* the effects the run's equations hold */
+        const char *energy_law;                   /* the [elastic] energy law, or NULL */
+    } effects;
+    const swim_compiled *compiled;       /* the scene's right-hand side or the stroke's laws */
+    const char *kernel_kind;             /* "specialized", "generic" or "stroke" */
+    int state_dimension;                 /* of the integrated state */
+    int step_lookahead;                  /* the integrator's step look-ahead used */
+    long projection_steps;               /* projections onto the constraints, and the largest change */
+    double projection_max_change;
+    double projection_change;            /* of the initial velocity (0: not projected) */
+    double impact_depth;                 /* run.impact_depth in force (0: none) */
+    /* the right-hand side and the Jacobian: calls and seconds, also of passes after the run on its
+     * dynamics (read when the result is asked for) */
+    long rhs_calls;
+    double rhs_seconds;
+    const char *jacobian;                /* "exact", "differences" or "none" */
+    long jacobian_calls;
+    double jacobian_seconds;
 } swim_run_result;
 
 typedef struct swim_run swim_run;
 
-/* The columns of trajectory.csv for scene s (a prescribed stroke has three more): names[] (at most SWIM_RUN_MAX_COLUMNS) pointing
- * into storage. The count. */
 #define SWIM_RUN_MAX_COLUMNS (8 + 4 * SWIM_NMAX + 64)
+
+struct json_t;
+
+/* A kind of run, in the manner of GSL's step types: a small table of functions, chosen once when
+ * the run opens (swim_run_kind_for). Two kinds: a scene run (swim_run_scene_kind, driver/run.c)
+ * and a prescribed stroke (swim_run_stroke_kind, driver/stroke_run.c, a scene with [stroke]).
+ * The functions below (swim_run_open ... swim_run_free, driver/kinds.c) call the run's kind. */
+typedef struct {
+    const char *name;
+    /* the columns of trajectory.csv for scene s: names[] pointing into storage; the count */
+    int (*columns)(const swim_scene *s, const char **names, char storage[][24]);
+    /* the run of req (copied): 0; 1 (out of memory) or 2 (bad input) with the cause in st */
+    int (*open)(const swim_run_request *req, void **state, swim_status *st);
+    /* rows up to time t (swim_run_advance); the result's status */
+    int (*advance)(void *state, double t);
+    void (*fail)(void *state, const char *reason);
+    /* the result so far (counters a pass after the run adds to on its dynamics read now) */
+    const swim_run_result *(*result)(void *state);
+    /* swim_run_state_at; NULL: the kind has no dense output */
+    int (*state_at)(void *state, double t, double *y, double *t_from, double *t_to);
+    swim_dynamics *(*dynamics)(void *state);
+    /* the kind's own entries of summary.json, set after the events (NULL: none): 0, or -1 */
+    int (*summary)(const void *state, struct json_t *summary);
+    void (*free)(void *state);
+} swim_run_kind;
+
+extern const swim_run_kind swim_run_scene_kind, swim_run_stroke_kind;
+
+/* The kind of run scene s makes. */
+const swim_run_kind *swim_run_kind_for(const swim_scene *s);
+
+/* The columns of trajectory.csv for scene s (swim_run_kind_for(s)->columns; a prescribed stroke
+ * has three more): names[] (at most SWIM_RUN_MAX_COLUMNS) pointing into storage. The count. */
 int swim_run_columns(const swim_scene *s, const char **names, char storage[][24]);
-/* The leading columns, shared by dynamic runs and strokes: t, x, y, theta, the n shape
- * coordinates and their velocities ("d" + name) into names[0 .. 4 + 2n) (the coordinates' names
- * written into storage[0 .. 2n)). The count; a kind's own columns follow. */
-int swim_run_state_columns(int n, const char **names, char storage[][24]);
 
 /* The scene's integrator settings as swim_ode_options (defaults, then rtol, atol, the step
  * look-ahead): the one mapping every integration of a scene starts from. What a run adds on top
@@ -147,6 +197,10 @@ int swim_run_advance(swim_run *run, double t);
 /* The output rows failed after the run (closing a file): the run is failed with this reason. */
 void swim_run_fail(swim_run *run, const char *reason);
 const swim_run_result *swim_run_get_result(const swim_run *run);
+/* The request the run was opened with (its scene, kernels, events). */
+const swim_run_request *swim_run_get_request(const swim_run *run);
+/* The run's kind's own entries of the summary into `summary` (0, or -1 when out of memory). */
+int swim_run_kind_summary(const swim_run *run, struct json_t *summary);
 /* The state at time t (trajectory.csv's columns 1 .. 3 + 2n: x, y, theta, c, cdot) from the
  * interpolant of the last accepted step [*t_from, *t_to] (set whenever there is one), projected
  * as a row is: a row's time gives the row's state bit for bit. 0; 1 when t is outside that step;

@@ -1,10 +1,9 @@
-/* run_internal.h -- the state of one run (driver/run.c), shared with the summary writer
- * (driver/summary.c) only. Not part of the driver's contract. */
+/* run_internal.h -- the state of one scene run (driver/run.c, the scene kind of driver/run.h).
+ * Not part of the driver's contract. */
 #ifndef SWIM_DRIVER_RUN_INTERNAL_H
 #define SWIM_DRIVER_RUN_INTERNAL_H
 
 #include "driver/run.h"
-#include "driver/stroke_run.h"
 #include "driver/watch.h"
 
 typedef struct {
@@ -30,9 +29,10 @@ typedef struct {
     double *full;
 } row_ctx;
 
-struct swim_run {
+typedef struct scene_run scene_run;
+
+struct scene_run {
     swim_run_request req;
-    swim_stroke_run *stroke;    /* a prescribed stroke: everything else below is unused */
     swim_scene *s;              /* req.scene */
     const swim_compiled *kn, *spz;   /* req.kernel, req.system */
     swim_run_events *events;    /* req.events */

@@ -6,7 +6,9 @@
  * allowable or leaves D is bad input (swim_run_open returns 2 with the line naming the time).
  * Rows fall at k*output_step and t_end; the state at the end of every stroke k*T is kept for the
  * per-stroke report, and the positive work is sampled in between. */
-#include "driver/stroke_run.h"
+#include "driver/run.h"
+
+#include "driver/columns.h"
 
 #include <math.h>
 #include <signal.h>
@@ -19,6 +21,7 @@
 #include "io/json.h"
 #include "io/message.h"
 #include "kernel/coords.h"
+#include "stroke/stroke.h"
 
 #define MAX_STROKES 100000    /* strokes reported one by one in the summary */
 
@@ -26,6 +29,8 @@
 typedef struct {
     double t0, t1, y0[SWIM_STROKE_DIM], y1[SWIM_STROKE_DIM], wpos0, wpos1;
 } stroke_record;
+
+typedef struct swim_stroke_run swim_stroke_run;
 
 struct swim_stroke_run {
     swim_run_request req;
@@ -64,19 +69,26 @@ struct swim_stroke_run {
 static int stop_requested(const swim_stroke_run *c) { return c->req.stop && *c->req.stop; }
 
 
-/* The columns of a stroke's trajectory.csv: those of a dynamic run and power, work_positive, phase_c1. */
-int swim_stroke_run_columns(const swim_scene *s, const char **names, char storage[][24])
+/* A stroke's own columns after the diagnostics, from the row's extra quantities (row_values). */
+enum { EXTRA_POWER, EXTRA_WORK_POSITIVE, EXTRA_PHASE_C1, EXTRAS };
+static double own_power(const swim_run_quantities *q) { return q->extra[EXTRA_POWER]; }
+static double own_work_positive(const swim_run_quantities *q) { return q->extra[EXTRA_WORK_POSITIVE]; }
+static double own_phase_c1(const swim_run_quantities *q) { return q->extra[EXTRA_PHASE_C1]; }
+static const swim_run_column stroke_own[] = {{"power", own_power}, {"work_positive", own_work_positive}, {"phase_c1", own_phase_c1}};
+
+/* The table of a stroke's columns: those of a dynamic run and power, work_positive, phase_c1. */
+static int stroke_parts(swim_run_columns_part *parts)
 {
-    static const char *const tail[] = {
-        "kinetic_fluid", "kinetic_shape", "kinetic_rigid", "potential", "energy",
-        "impulse_body_x", "impulse_body_y", "impulse_body_ang",
-        "impulse_fluid_rigid_x", "impulse_fluid_rigid_y", "impulse_fluid_rigid_ang",
-        "impulse_fluid_shape_x", "impulse_fluid_shape_y", "impulse_fluid_shape_ang",
-        "res_volume", "res_volume_rate", "res_angular", "res_locks", "jmin", "work", "w1", "w2",
-        "power", "work_positive", "phase_c1"};
-    int c = swim_run_state_columns(s->n, names, storage);
-    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) names[c++] = tail[i];
-    return c;
+    parts[0] = swim_run_diagnostics;
+    parts[1] = (swim_run_columns_part){stroke_own, EXTRAS};
+    return 2;
+}
+
+static int stroke_columns(const swim_scene *s, const char **names, char storage[][24])
+{
+    swim_run_columns_part parts[2];
+    const int nparts = stroke_parts(parts);
+    return swim_run_column_names(s->n, parts, nparts, names, storage);
 }
 
 
@@ -160,19 +172,20 @@ static int row_values(swim_stroke_run *c, double t, const double *y, double *ful
     double power = NAN;
     int rc = swim_stroke_full_state(&c->st, t, y, full, all ? &power : NULL);
     if (rc != 0) return rc;
-    int k = 0;
-    v[k++] = t;
-    for (int i = 0; i < 3 + 2 * s->n; i++) v[k++] = full[i];
-    if (!all) return 0;
+    if (!all) {   /* the state's columns only (events that need no diagnostics) */
+        v[0] = t;
+        for (int i = 0; i < 3 + 2 * s->n; i++) v[1 + i] = full[i];
+        return 0;
+    }
     if (swim_dynamics_diagnostics(&c->d, full, g) != 0) return SWIM_RHS_EMASS;
-    const double tail[] = {
-        g->kinetic_fluid, g->kinetic_shape, g->kinetic_rigid, g->w1 + g->w2, g->energy,
-        g->impulse_body[0], g->impulse_body[1], g->impulse_body[2],
-        g->impulse_fluid_rigid[0], g->impulse_fluid_rigid[1], g->impulse_fluid_rigid[2],
-        g->impulse_fluid_shape[0], g->impulse_fluid_shape[1], g->impulse_fluid_shape[2],
-        g->res_volume, g->res_volume_rate, g->res_angular, g->res_locks, g->jmin, g->work, g->w1, g->w2,
-        power, c->pw.total, s->stroke_complete_c1 ? y[SWIM_STROKE_PSI] : NAN};
-    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) v[k++] = tail[i];
+    double extra[EXTRAS];
+    extra[EXTRA_POWER] = power;
+    extra[EXTRA_WORK_POSITIVE] = c->pw.total;
+    extra[EXTRA_PHASE_C1] = s->stroke_complete_c1 ? y[SWIM_STROKE_PSI] : NAN;
+    swim_run_columns_part parts[2];
+    const int nparts = stroke_parts(parts);
+    const swim_run_quantities q = {g, extra};
+    swim_run_column_values(t, full, s->n, &q, parts, nparts, v);
     return 0;
 }
 
@@ -351,121 +364,73 @@ static void integrate(swim_stroke_run *c)
 /* ---- report ------------------------------------------------------------------------------- */
 
 /* The stroke object of the summary: laws, completion, period, per-stroke displacement and work. */
-
-static void stroke_json(FILE *f, const swim_stroke_run *c)
+static json_t *stroke_object(const swim_stroke_run *c, int *bad)
 {
     const swim_scene *s = c->s;
     char name[24];
-    fprintf(f, ",\n  \"stroke\": {\"laws\": {");
+    json_t *o = json_object(), *laws = json_object(), *list = json_array();
+    if (!o || !laws || !list) {
+        json_decref(o);
+        json_decref(laws);
+        json_decref(list);
+        return NULL;
+    }
     for (int k = 0; k < s->stroke_count; k++) {
         swim_coord_name(s->stroke_index[k], name, sizeof name);
-        fprintf(f, "%s\"%s\": ", k ? ", " : "", name);
-        swim_json_string(f, s->stroke_law[k]);
+        *bad |= swim_json_set(laws, name, swim_json_str(s->stroke_law[k]));
     }
-    fprintf(f, "},\n    \"completed_c1\": %s, \"completion\": ", s->stroke_complete_c1 ? "true" : "false");
-    if (s->stroke_complete_c1)
-        swim_json_string(f, "c1 completed: |c1| from the volume (2.5), its phase integrated from (2.14)");
-    else
-        fprintf(f, "null");
-    fprintf(f, ",\n    \"mu2\": %.17g, \"check_samples\": %d,\n    \"period\": ", c->st.mu2, SWIM_STROKE_CHECK_SAMPLES);
-    swim_json_number(f, c->period > 0 ? c->period : NAN);
-    fprintf(f, ", \"period_source\": \"%s\",\n    \"work\": ", c->period_source);
-    swim_json_number(f, c->y[SWIM_STROKE_WORK]);
-    fprintf(f, ", \"work_positive\": ");
-    swim_json_number(f, c->pw.total);
-    fprintf(f, ", \"power_max\": ");
-    swim_json_number(f, c->pmax);
-    fprintf(f, ", \"power_min\": ");
-    swim_json_number(f, c->pmin);
-    fprintf(f, ",\n    \"strokes\": [");
+    *bad |= swim_json_set(o, "laws", laws);
+    *bad |= swim_json_set(o, "completed_c1", json_boolean(s->stroke_complete_c1));
+    *bad |= swim_json_set(o, "completion", s->stroke_complete_c1 ? swim_json_str("c1 completed: |c1| from the volume "
+                                                                                 "(2.5), its phase integrated from (2.14)")
+                                                                  : json_null());
+    *bad |= swim_json_set(o, "mu2", swim_json_num(c->st.mu2));
+    *bad |= swim_json_set(o, "check_samples", json_integer(SWIM_STROKE_CHECK_SAMPLES));
+    *bad |= swim_json_set(o, "period", swim_json_num(c->period > 0 ? c->period : NAN));
+    *bad |= swim_json_set(o, "period_source", swim_json_str(c->period_source));
+    *bad |= swim_json_set(o, "work", swim_json_num(c->y[SWIM_STROKE_WORK]));
+    *bad |= swim_json_set(o, "work_positive", swim_json_num(c->pw.total));
+    *bad |= swim_json_set(o, "power_max", swim_json_num(c->pmax));
+    *bad |= swim_json_set(o, "power_min", swim_json_num(c->pmin));
     for (long j = 0; j < c->nstrokes; j++) {
         const stroke_record *r = &c->strokes[j];
         const double dx = r->y1[0] - r->y0[0], dy = r->y1[1] - r->y0[1], th = r->y0[2];
         /* the displacement in the body frame at the start of the stroke: R(theta)^T dr */
         const double bx = cos(th) * dx + sin(th) * dy, by = -sin(th) * dx + cos(th) * dy;
-        fprintf(f, "%s\n      {\"stroke\": %ld, \"t_start\": %.17g, \"t_end\": %.17g, \"dx\": %.17g, \"dy\": %.17g, "
-                "\"dtheta\": %.17g, \"distance\": %.17g, \"body_dx\": %.17g, \"body_dy\": %.17g, \"work\": %.17g, "
-                "\"work_positive\": %.17g}", j ? "," : "", j + 1, r->t0, r->t1, dx, dy, r->y1[2] - r->y0[2],
-                hypot(dx, dy), bx, by, r->y1[SWIM_STROKE_WORK] - r->y0[SWIM_STROKE_WORK],
-                r->wpos1 - r->wpos0);
+        json_t *e = json_object();
+        if (e) {
+            *bad |= swim_json_set(e, "stroke", json_integer(j + 1));
+            *bad |= swim_json_set(e, "t_start", swim_json_num(r->t0));
+            *bad |= swim_json_set(e, "t_end", swim_json_num(r->t1));
+            *bad |= swim_json_set(e, "dx", swim_json_num(dx));
+            *bad |= swim_json_set(e, "dy", swim_json_num(dy));
+            *bad |= swim_json_set(e, "dtheta", swim_json_num(r->y1[2] - r->y0[2]));
+            *bad |= swim_json_set(e, "distance", swim_json_num(hypot(dx, dy)));
+            *bad |= swim_json_set(e, "body_dx", swim_json_num(bx));
+            *bad |= swim_json_set(e, "body_dy", swim_json_num(by));
+            *bad |= swim_json_set(e, "work", swim_json_num(r->y1[SWIM_STROKE_WORK] - r->y0[SWIM_STROKE_WORK]));
+            *bad |= swim_json_set(e, "work_positive", swim_json_num(r->wpos1 - r->wpos0));
+        }
+        *bad |= !e || json_array_append_new(list, e) != 0;
     }
-    fprintf(f, "%s]}", c->nstrokes ? "\n    " : "");
+    *bad |= swim_json_set(o, "strokes", list);
+    return o;
 }
 
-void swim_stroke_summary_json(FILE *f, const swim_stroke_run *c, const swim_summary_context *x)
+/* The stroke's own entry of summary.json (swim_run_stroke_kind.summary). */
+static int stroke_summary(const void *p, json_t *summary)
 {
-    const swim_scene *s = c->s;
-    const double *y = c->full;
-    char name[24];
-    swim_ode_stats st;
-    memset(&st, 0, sizeof st);
-    if (c->ode) swim_ode_get_stats(c->ode, &st);
-    fprintf(f, "{\n  \"scene\": ");
-    swim_json_string(f, s->path);
-    fprintf(f, ",\n  \"title\": ");
-    swim_json_string(f, s->title);
-    fprintf(f, ",\n  \"out\": ");
-    swim_json_string(f, x->out ? x->out : "");
-    fprintf(f, ",\n  \"modes\": %d,\n  \"rho0\": %.17g,\n  \"rhof\": %.17g,\n  \"integrator\": ", s->modes, s->rho0, s->rhof);
-    swim_json_string(f, s->integrator);
-    fprintf(f, ",\n  \"integrator_switch_t\": null,\n  \"rtol\": %.3g,\n  \"atol\": %.3g,\n  \"step_lookahead\": %d,\n  \"free\": [",
-            s->rtol, s->atol, c->o.lookahead);
-    for (int i = 0, first = 1; i < s->n; i++)
-        if (s->free_mask[i]) {
-            swim_coord_name(i, name, sizeof name);
-            fprintf(f, "%s\"%s\"", first ? "" : ", ", name);
-            first = 0;
-        }
-    fprintf(f, "],\n  \"effects\": {\"elastic\": false, \"barrier\": false, \"damping\": false, \"forcing\": false},\n");
-    fprintf(f, "  \"kernel\": {\"kind\": \"stroke\", \"state_dimension\": %d, \"cache\": ", SWIM_STROKE_DIM);
-    swim_json_string(f, c->law->dir);
-    fprintf(f, ", \"from_cache\": %s, \"generate_seconds\": %.3f, \"compile_seconds\": %.3f},\n",
-            c->law->from_cache ? "true" : "false", c->law->generate_seconds, c->law->compile_seconds);
-    fprintf(f, "  \"projection\": {\"enabled\": false, \"steps\": 0, \"max_change\": 0},\n");
-    fprintf(f, "  \"status\": \"%s\",\n  \"reason\": ", c->status ? "failed" : "completed");
-    swim_json_string(f, c->reason ? c->reason : "out of memory");
-    fprintf(f, ",\n  \"t_end\": %.17g,\n  \"t_reached\": %.17g,\n  \"rows\": %ld,\n", s->t_end, c->t_reached, c->rows);
-    fprintf(f, "  \"initial_velocity_projected\": false,\n  \"projection_change\": 0,\n");
-    fprintf(f, "  \"final_state\": {\"t\": %.17g, \"x\": %.17g, \"y\": %.17g, \"theta\": %.17g, \"c\": ", c->t_reached,
-            y[0], y[1], y[2]);
-    swim_json_vector(f, y + 3, s->n);
-    fprintf(f, ", \"dc\": ");
-    swim_json_vector(f, y + 3 + s->n, s->n);
-    fprintf(f, "},\n  \"energy_initial\": ");
-    swim_json_number(f, c->e0);
-    fprintf(f, ",\n  \"energy_drift_abs\": ");
-    swim_json_number(f, c->drift_abs);
-    fprintf(f, ",\n  \"forcing_work\": null");   /* no forcing: the shape is prescribed (stroke.work_positive) */
-    fprintf(f, ",\n  \"energy_drift_rel\": ");
-    swim_json_number(f, c->emax > 0 ? c->drift_abs / c->emax : 0.0);
-    fprintf(f, ",\n  \"max_residuals\": {\"volume\": %.3g, \"volume_rate\": %.3g, \"angular\": %.3g, \"locks\": 0},\n",
-            c->res_volume, c->res_volume_rate, c->res_angular);
-    fprintf(f, "  \"jmin\": ");
-    swim_json_number(f, c->jmin);
-    fprintf(f, ",\n  \"jmin_t\": ");
-    swim_json_number(f, c->jmin_t);
-    fprintf(f, ",\n  \"left_D_t\": ");
-    swim_json_number(f, c->left_D_t);
-    /* the shape is prescribed: no stiff switch, and min J is checked on the rows and the
-     * allowability samples (swim_stroke_check), not by the per-step watch of swim run */
-    fprintf(f, ",\n  \"stiff_switch\": null,\n  \"step_checks\": {\"enabled\": false, \"steps\": 0, \"seconds\": 0}");
-    fprintf(f, ",\n  \"origin_shift\": {\"enabled\": false, \"restarts\": 0}");   /* no barrier in a stroke */
-    fprintf(f, ",\n  \"impacts\": {\"enabled\": false, \"impact_depth\": 0, \"count\": 0, \"first_t\": null, \"last_t\": null, "
-               "\"jmin_max\": null, \"turning_min\": null}");   /* the shape is prescribed */
-    fprintf(f, ",\n  \"energy_control\": {\"enabled\": false, \"tolerance\": 0, \"rejected_steps\": 0}");   /* (3.21) alone: no energy */
-    swim_run_events_json(c->events, f);
-    stroke_json(f, c);
-    const swim_run_timing t = {c->integrate_seconds, c->diagnostics_seconds, c->output_seconds, c->st.rhs_seconds,
-                               c->wall_seconds, c->st.rhs_calls, "none", 0, 0.0};
-    swim_summary_provenance_json(f, x, c->law);
-    swim_run_stats_json(f, &st, &t);
-    fprintf(f, "\n}\n");
+    int bad = 0;
+    bad |= swim_json_set(summary, "stroke", stroke_object(p, &bad));
+    return bad ? -1 : 0;
 }
 
 
 /* ---- the contract ------------------------------------------------------------------------- */
 
-int swim_stroke_run_open(const swim_run_request *req, swim_stroke_run **out, swim_status *st)
+static void stroke_free(void *p);
+
+static int stroke_open(const swim_run_request *req, void **out, swim_status *st)
 {
     *out = NULL;
     swim_stroke_run *c = calloc(1, sizeof *c);
@@ -478,21 +443,34 @@ int swim_stroke_run_open(const swim_run_request *req, swim_stroke_run **out, swi
     c->kn = req->kernel;
     c->law = req->system;
     c->events = req->events;
-    c->ncol = swim_stroke_run_columns(c->s, c->names, c->storage);
+    c->ncol = stroke_columns(c->s, c->names, c->storage);
     const int rc = prepare_stroke(c, st);
     if (rc) {
-        swim_stroke_run_free(c);
+        stroke_free(c);
         return rc;
     }
+    swim_run_result *r = &c->res;
+    r->summary_brief = 1;   /* until the one call: nothing run, nothing known */
+    r->compiled = c->law;   /* the model of a stroke: its laws alone, no effects, no projection */
+    r->kernel_kind = "stroke";
+    r->state_dimension = SWIM_STROKE_DIM;
+    r->jacobian = "none";
+    r->switch_t = -1.0;
     *out = c;
     return 0;
 }
 
-int swim_stroke_run_integrate(swim_stroke_run *c)
+/* A stroke runs to its end at the first call. */
+static int stroke_advance(void *p, double t_unused)
 {
+    swim_stroke_run *c = p;
+    if (c->res.finished) return c->res.status;
     integrate(c);
     c->wall_seconds = swim_clock_seconds() - c->t_start;
     swim_run_result *r = &c->res;
+    r->summary_brief = 0;
+    r->finished = 1;
+    r->is_stroke = 1;
     r->status = c->status;
     r->reason = c->reason;
     r->t_reached = c->t_reached;
@@ -535,22 +513,31 @@ int swim_stroke_run_integrate(swim_stroke_run *c)
     }
     k->work = c->y[SWIM_STROKE_WORK];
     k->work_positive = c->pw.total;
+    r->step_lookahead = c->o.lookahead;
     return c->status;
 }
 
-void swim_stroke_run_fail(swim_stroke_run *c, const char *reason)
+static void stroke_fail(void *p, const char *reason)
 {
+    swim_stroke_run *c = p;
     if (c->status == 0) end_run(c, 1, "%s", reason);
     c->res.status = c->status;
     c->res.reason = c->reason;
 }
 
-const swim_run_result *swim_stroke_run_result(const swim_stroke_run *c) { return &c->res; }
-
-swim_dynamics *swim_stroke_run_dynamics(swim_stroke_run *c) { return &c->d; }
-
-void swim_stroke_run_free(swim_stroke_run *c)
+static const swim_run_result *stroke_result(void *p)
 {
+    swim_stroke_run *c = p;
+    c->res.rhs_calls = c->st.rhs_calls;
+    c->res.rhs_seconds = c->st.rhs_seconds;
+    return &c->res;
+}
+
+static swim_dynamics *stroke_dynamics(void *p) { return &((swim_stroke_run *)p)->d; }
+
+static void stroke_free(void *p)
+{
+    swim_stroke_run *c = p;
     if (!c) return;
     swim_ode_free(c->ode);
     if (c->d_ready) swim_dynamics_free(&c->d);
@@ -559,3 +546,9 @@ void swim_stroke_run_free(swim_stroke_run *c)
     free(c->reason);
     free(c);
 }
+
+/* no dense output of the run's state: the stroke's state is (r, theta, psi, work) */
+const swim_run_kind swim_run_stroke_kind = {
+    "stroke", stroke_columns, stroke_open, stroke_advance, stroke_fail, stroke_result, NULL, stroke_dynamics,
+    stroke_summary, stroke_free,
+};

@@ -2,12 +2,15 @@
  * and what it was -- swim's version, the command line, the overrides, the kernel's cache key --
  * so that an output folder says how to make it again.
  *
- * The keys are the contract users script against (docs/outputs.md); a sweep reads them back with
+ * The summary is built as one JSON object (jansson) from the run's result, whatever its kind; a
+ * kind adds its own entries (a prescribed stroke its "stroke" object, swim_run_kind.summary). The
+ * keys are the contract users script against (docs/outputs.md); a sweep reads them back with
  * driver/summary_read.h.
  */
 #ifndef SWIM_DRIVER_SUMMARY_H
 #define SWIM_DRIVER_SUMMARY_H
 
+#include <jansson.h>
 #include <stdio.h>
 
 #include "driver/run.h"
@@ -31,27 +34,16 @@ typedef struct {
     const char *sens_method;         /* exact, or differences (some key had no exact partial) */
     long sens_jacobians, sens_rhs;   /* exact Jacobians and right-hand sides the augmented system took */
     double sens_seconds;             /* wall time of the sensitivity pass */
-    /* more entries of the caller's (one or more lines "  \"key\": value,\n"), after the
-     * sensitivities; may be NULL */
-    void (*more)(FILE *f, const void *ctx);
+    /* more entries of the caller's, set into the summary after the sensitivities (0, or -1 when
+     * out of memory); may be NULL */
+    int (*more)(json_t *summary, const void *ctx);
     const void *more_ctx;
 } swim_summary_context;
 
-/* The summary of a finished run (swim_run_integrate) as JSON text on f. */
-void swim_run_summary_json(FILE *f, const swim_run *run, const swim_summary_context *x);
-
-/* Where the time went and which Jacobian was used (the "stats" object, every kind of run). */
-typedef struct {
-    double integrate, diagnostics, output;   /* seconds: in the integrator, row diagnostics, the sink */
-    double rhs, wall;                         /* seconds in the right-hand side; of the whole run */
-    long rhs_calls;
-    const char *jacobian;                     /* "exact", "differences" or "none" */
-    long jacobian_calls;
-    double jacobian_seconds;
-} swim_run_timing;
-
-/* The parts every kind of run shares, for the writers of other kinds (strokes). */
-void swim_summary_provenance_json(FILE *f, const swim_summary_context *x, const swim_compiled *kernel);
-void swim_run_stats_json(FILE *f, const swim_ode_stats *st, const swim_run_timing *t);
+/* The summary of a run (finished, advanced part of the way, or not started) as a JSON object: a
+ * new reference, NULL when out of memory. */
+json_t *swim_run_summary(const swim_run *run, const swim_summary_context *x);
+/* The same as JSON text on f (io/json.h, swim_json_write). 0; -1 when out of memory (nothing written). */
+int swim_run_summary_json(FILE *f, const swim_run *run, const swim_summary_context *x);
 
 #endif

@@ -6,9 +6,9 @@
  * apart from reals) and every value is taken at its path in the tree, never by searching the text:
  * the total of accepted steps is stats.steps, not projection.steps or step_checks.steps.
  *
- * The summaries read are those of swim run (runtime/cli/run.c, and runtime/cli/stroke_run.c for a
- * [stroke] scene) and the one swim sweep writes for a member that died without one (scene, status
- * "crashed", reason). Keys read, by path:
+ * The summaries read are those of swim run (driver/summary.h, both kinds of run) and the one swim
+ * sweep writes for a member that died without one (scene, status "crashed", reason). Keys read, by
+ * path (sweep_columns names the same paths, tests/test_summary_read.c checks they agree):
  *
  *   status, reason                       strings
  *   t_reached, energy_drift_rel, jmin    numbers

@@ -40,8 +40,8 @@
 static const char *const sources[] = {
     "runtime/cli/args.c", "runtime/cli/run_settings.c",   /* simulate reads swim run's options with swim run's code */
     "runtime/codegen/structure.c", "runtime/control/sensitivity.c", "runtime/control/lyapunov.c",
-    "runtime/driver/events.c", "runtime/driver/watch.c", "runtime/driver/run.c", "runtime/driver/stroke_run.c",
-    "runtime/driver/summary.c",
+    "runtime/driver/columns.c", "runtime/driver/events.c", "runtime/driver/watch.c", "runtime/driver/kinds.c",
+    "runtime/driver/run.c", "runtime/driver/stroke_run.c", "runtime/driver/summary.c",
     "runtime/io/json.c", "runtime/io/csv.c", "runtime/io/files.c", "runtime/io/message.c", "runtime/io/status.c",
     "runtime/io/clock.c", "runtime/io/stdout_check.c",
     "runtime/model/dynamics.c", "runtime/model/flow.c", "runtime/model/bounce.c",
@@ -253,7 +253,8 @@ static char *makefile_text(const swim_scene *s, const swim_compiled *kn, int cvo
                "# fails where it would switch to a CVODE integrator (the stiff fallback), and is identical otherwise.\n"
                "CVODE      = %s\n", cvode ? "the scene's integrator or its stiff fallback is a CVODE one" :
                "not used by this scene", cvode ? "yes" : "no");
-    fprintf(f, "LDLIBS     = -lgsl -llapacke -llapack -lblas -lquadmath -ldl -lm\n\nSRCS := simulate.c");
+    /* jansson: summary.json is built as one JSON object (driver/summary.h) */
+    fprintf(f, "LDLIBS     = -lgsl -llapacke -llapack -lblas -ljansson -lquadmath -ldl -lm\n\nSRCS := simulate.c");
     for (size_t i = 0; i < sizeof sources / sizeof sources[0]; i++) fprintf(f, " \\\n        %s", sources[i]);
     fprintf(f, "\nifeq ($(CVODE),yes)\nSRCS     += %s\nCPPFLAGS += -I/usr/include/sundials\n"
                "LDLIBS   := -lsundials_cvode -lsundials_nvecserial $(LDLIBS)\nelse\nSRCS     += %s\nendif\n",

@@ -33,6 +33,7 @@
 #include "scene/resolve.h"
 #include "scene/scene.h"
 #include "shape/shape.h"
+#include "sweep/sweep.h"
 
 #define MAX_SETS 64
 /* runtime/lib/module.mk passes VERSION's numbers and the SONAME's (test_library checks the same
@@ -637,12 +638,21 @@ char *swim_sim_summary_json(const swim_sim *s)
     FILE *f = open_memstream(&buf, &len);
     if (!f) return NULL;
     const swim_summary_context x = {NULL, NULL, s->m->name, s->sets, s->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0, NULL, NULL};
-    swim_run_summary_json(f, s->run, &x);
-    if (fclose(f) != 0) {
+    const int bad = swim_run_summary_json(f, s->run, &x);
+    if (fclose(f) != 0 || bad) {
         free(buf);
         return NULL;
     }
     return buf;
+}
+
+const char *swim_family_column(int i, const char **summary_path)
+{
+    int n;
+    const sweep_column *cols = sweep_columns(&n);
+    if (i < 0 || i >= n) return NULL;
+    if (summary_path) *summary_path = cols[i].path;
+    return cols[i].name;
 }
 
 char *swim_sim_events_csv(const swim_sim *s)

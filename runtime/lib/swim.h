@@ -255,6 +255,11 @@ SWIM_API char *swim_sim_summary_json(const swim_sim *s);
  * NULL s). */
 SWIM_API char *swim_sim_events_csv(const swim_sim *s);
 SWIM_API void swim_sim_free(swim_sim *s);
+/* Column i of a family's table after id, the varied keys, status and reason (members.csv of
+ * `swim sweep`, family.h5): its name, and in *summary_path (may be NULL) where a member's
+ * summary.json holds its value (keys joined by dots, e.g. "final_state.x"). NULL past the last
+ * column. The strings are the library's. */
+SWIM_API const char *swim_family_column(int i, const char **summary_path);
 
 /* ---- the model's matrices at one shape (`swim inspect`) ----------------------------------- */
 

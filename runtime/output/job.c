@@ -361,70 +361,68 @@ static void run_lyapunov(swim_job *j, swim_status *st)
     free(path);
 }
 
-/* The "lyapunov" entry of summary.json (after the run's own fields). */
-static void lyapunov_json(FILE *f, const void *ctx)
+/* The "lyapunov" entry of summary.json (after the run's own fields). 0, or -1 when out of memory. */
+static int lyapunov_json(json_t *summary, const void *ctx)
 {
     const swim_job *j = ctx;
-    if (!j->lyap_status) return;
+    if (!j->lyap_status) return 0;
     const swim_lyapunov *l = &j->lyap;
-    fprintf(f, "  \"lyapunov\": {\"status\": \"%s\", \"exponent\": ", j->lyap_status);
-    swim_json_number(f, l->n > 0 ? l->exponent : NAN);
-    fprintf(f, ", \"exponent_second_half\": ");
-    swim_json_number(f, l->n > 0 ? l->exponent_half : NAN);
-    fprintf(f, ", \"verdict\": \"%s\", \"rate_first_half\": ", swim_lyapunov_verdict_name(l->verdict));
-    swim_json_number(f, l->rate_first);
-    fprintf(f, ", \"rate_second_half\": ");
-    swim_json_number(f, l->rate_second);
-    fprintf(f, ", \"agreement_tolerance\": ");
-    swim_json_number(f, SWIM_LYAPUNOV_AGREE);
-    fprintf(f, ", \"growth_power\": ");
-    swim_json_number(f, l->power);
-    fprintf(f, ", \"horizon_from_power\": ");
-    swim_json_number(f, l->horizon_power);
-    fprintf(f, ", \"t_end_needed\": ");
-    swim_json_number(f, l->t_end_needed);
-    fprintf(f, ", \"verdict_note\": \"sum ln r_k fitted by a line in t over each half (rate_first_half, "
-               "rate_second_half) and by a line in ln t over the second half (growth_power p: |w| ~ t^p); "
-               "converged: the rates agree within agreement_tolerance (relative), the second half grows by at "
-               "least %g e-folds and there are at least %d intervals: the exponent is a result; regular: else "
-               "p <= %g, the growth is a power of t, not exponential (regular motion), the exponent tends to 0 "
-               "and horizon_from_power extrapolates t^p to ln(separation / rtol); not_converged: neither, run "
-               "to t_end_needed\"", SWIM_LYAPUNOV_EFOLDS, SWIM_LYAPUNOV_MIN_SEGMENTS, SWIM_LYAPUNOV_POWER);
-    fprintf(f, ", \"interval\": ");
-    swim_json_number(f, l->interval);
-    fprintf(f, ", \"t_end\": ");
-    swim_json_number(f, l->t_end);
-    fprintf(f, ", \"rtol\": ");
-    swim_json_number(f, l->rtol);
-    fprintf(f, ", \"separation\": ");
-    swim_json_number(f, SWIM_LYAPUNOV_SEPARATION);
-    fprintf(f, ", \"horizon\": ");
-    swim_json_number(f, l->n > 0 && isfinite(l->horizon) ? l->horizon : NAN);
-    fprintf(f, ", \"horizon_from_exponent\": ");
-    swim_json_number(f, l->n > 0 && isfinite(l->horizon_mean) ? l->horizon_mean : NAN);
-    fprintf(f, ", \"horizon_note\": \"a run at this rtol follows the exact trajectory to a relative separation of "
-               "%g until the growth of a perturbation (the sum of log_growth) reaches ln(separation / rtol); beyond "
-               "it only quantities that do not depend on the particular trajectory (energy balance, time averages, "
-               "statistics over a family) are results; null: not within the run\"", SWIM_LYAPUNOV_SEPARATION);
-    if (l->reason[0]) {
-        fprintf(f, ", \"reason\": ");
-        swim_json_string(f, l->reason);
-    }
-    fprintf(f, ", \"rhs_evaluations\": %ld, \"seconds\": ", l->rhs_calls);
-    swim_json_number(f, l->seconds);
-    fprintf(f, ", \"file\": \"lyapunov.csv\"},\n");
+    json_t *o = json_object();
+    if (!o) return -1;
+    char *verdict_note = swim_strprintf(
+        "sum ln r_k fitted by a line in t over each half (rate_first_half, "
+        "rate_second_half) and by a line in ln t over the second half (growth_power p: |w| ~ t^p); "
+        "converged: the rates agree within agreement_tolerance (relative), the second half grows by at "
+        "least %g e-folds and there are at least %d intervals: the exponent is a result; regular: else "
+        "p <= %g, the growth is a power of t, not exponential (regular motion), the exponent tends to 0 "
+        "and horizon_from_power extrapolates t^p to ln(separation / rtol); not_converged: neither, run "
+        "to t_end_needed", SWIM_LYAPUNOV_EFOLDS, SWIM_LYAPUNOV_MIN_SEGMENTS, SWIM_LYAPUNOV_POWER);
+    char *horizon_note = swim_strprintf(
+        "a run at this rtol follows the exact trajectory to a relative separation of "
+        "%g until the growth of a perturbation (the sum of log_growth) reaches ln(separation / rtol); beyond "
+        "it only quantities that do not depend on the particular trajectory (energy balance, time averages, "
+        "statistics over a family) are results; null: not within the run", SWIM_LYAPUNOV_SEPARATION);
+    int bad = !verdict_note || !horizon_note;
+    bad |= swim_json_set(o, "status", swim_json_str(j->lyap_status));
+    bad |= swim_json_set(o, "exponent", swim_json_num(l->n > 0 ? l->exponent : NAN));
+    bad |= swim_json_set(o, "exponent_second_half", swim_json_num(l->n > 0 ? l->exponent_half : NAN));
+    bad |= swim_json_set(o, "verdict", swim_json_str(swim_lyapunov_verdict_name(l->verdict)));
+    bad |= swim_json_set(o, "rate_first_half", swim_json_num(l->rate_first));
+    bad |= swim_json_set(o, "rate_second_half", swim_json_num(l->rate_second));
+    bad |= swim_json_set(o, "agreement_tolerance", swim_json_num(SWIM_LYAPUNOV_AGREE));
+    bad |= swim_json_set(o, "growth_power", swim_json_num(l->power));
+    bad |= swim_json_set(o, "horizon_from_power", swim_json_num(l->horizon_power));
+    bad |= swim_json_set(o, "t_end_needed", swim_json_num(l->t_end_needed));
+    bad |= swim_json_set(o, "verdict_note", swim_json_str(verdict_note));
+    bad |= swim_json_set(o, "interval", swim_json_num(l->interval));
+    bad |= swim_json_set(o, "t_end", swim_json_num(l->t_end));
+    bad |= swim_json_set(o, "rtol", swim_json_num(l->rtol));
+    bad |= swim_json_set(o, "separation", swim_json_num(SWIM_LYAPUNOV_SEPARATION));
+    bad |= swim_json_set(o, "horizon", swim_json_num(l->n > 0 && isfinite(l->horizon) ? l->horizon : NAN));
+    bad |= swim_json_set(o, "horizon_from_exponent",
+                         swim_json_num(l->n > 0 && isfinite(l->horizon_mean) ? l->horizon_mean : NAN));
+    bad |= swim_json_set(o, "horizon_note", swim_json_str(horizon_note));
+    if (l->reason[0]) bad |= swim_json_set(o, "reason", swim_json_str(l->reason));
+    bad |= swim_json_set(o, "rhs_evaluations", json_integer(l->rhs_calls));
+    bad |= swim_json_set(o, "seconds", swim_json_num(l->seconds));
+    bad |= swim_json_set(o, "file", swim_json_str("lyapunov.csv"));
+    free(verdict_note);
+    free(horizon_note);
+    bad |= swim_json_set(summary, "lyapunov", o);
+    return bad ? -1 : 0;
 }
 
-static void fill_summary(FILE *f, void *ctx)
+static json_t *summary(const swim_job *j)
 {
-    const swim_job *j = ctx;
     const swim_summary_context x = {swim_folder_paths(j->folder)->dir, j->req.command,
                                     j->req.scene_name ? j->req.scene_name : j->req.scene_file,
                                     j->recorded, j->nrecorded, j->req.sensitivity != NULL, j->sens_status,
                                     j->sens_t, j->sens_rows, j->sens_t_last, j->sens_method,
                                     j->sens_jacobians, j->sens_rhs, j->sens_seconds, lyapunov_json, j};
-    swim_run_summary_json(f, j->run, &x);
+    return swim_run_summary(j->run, &x);
 }
+
+static void write_json(FILE *f, void *ctx) { swim_json_write(f, ctx); }
 
 int swim_job_run(swim_job *j, swim_status *st)
 {
@@ -433,7 +431,9 @@ int swim_job_run(swim_job *j, swim_status *st)
     if (j->req.sensitivity) run_sensitivity(j, st);
     if (j->req.lyapunov > 0) run_lyapunov(j, st);
     const swim_run_result *r = swim_run_get_result(j->run);
-    if (swim_folder_write_summary(j->folder, fill_summary, j) != 0) {
+    json_t *sum = summary(j);
+    if (!sum) errno = ENOMEM;   /* nothing written */
+    if (!sum || swim_folder_write_summary(j->folder, write_json, sum) != 0) {
         char who[64];
         snprintf(who, sizeof who, "swim %s", j->req.cmd);
         swim_status_fail(st, who, NULL, 0, NULL, "cannot write %s: %s (the run %s: %s)",
@@ -441,6 +441,7 @@ int swim_job_run(swim_job *j, swim_status *st)
                          r->reason ? r->reason : "out of memory");
         j->summary_failed = 1;
     }
+    json_decref(sum);
     return r->status || j->summary_failed ? 1 : 0;
 }
 

@@ -438,17 +438,17 @@ static int stop_request(int sig)
 /* The columns of a member's row after id, the varied values, status and reason (members.csv,
  * family.h5), each a number of its summary: one list for every writer of the family table. */
 static const sweep_column columns[] = {
-    {"t_reached", offsetof(swim_summary, t_reached), 0},
-    {"x", offsetof(swim_summary, x), 0},
-    {"y", offsetof(swim_summary, y), 0},
-    {"theta", offsetof(swim_summary, theta), 0},
-    {"energy_drift_rel", offsetof(swim_summary, energy_drift_rel), 0},
-    {"energy_balance_abs", offsetof(swim_summary, energy_balance_abs), 0},
-    {"jmin", offsetof(swim_summary, jmin), 0},
-    {"steps", offsetof(swim_summary, steps), 1},
-    {"rhs_evaluations", offsetof(swim_summary, rhs_evaluations), 1},
-    {"integrate_seconds", offsetof(swim_summary, integrate_seconds), 0},
-    {"wall_seconds", offsetof(swim_summary, wall_seconds), 0},
+    {"t_reached", offsetof(swim_summary, t_reached), 0, "t_reached"},
+    {"x", offsetof(swim_summary, x), 0, "final_state.x"},
+    {"y", offsetof(swim_summary, y), 0, "final_state.y"},
+    {"theta", offsetof(swim_summary, theta), 0, "final_state.theta"},
+    {"energy_drift_rel", offsetof(swim_summary, energy_drift_rel), 0, "energy_drift_rel"},
+    {"energy_balance_abs", offsetof(swim_summary, energy_balance_abs), 0, "energy_drift_abs"},
+    {"jmin", offsetof(swim_summary, jmin), 0, "jmin"},
+    {"steps", offsetof(swim_summary, steps), 1, "stats.steps"},
+    {"rhs_evaluations", offsetof(swim_summary, rhs_evaluations), 1, "stats.rhs_evaluations"},
+    {"integrate_seconds", offsetof(swim_summary, integrate_seconds), 0, "stats.integrate_seconds"},
+    {"wall_seconds", offsetof(swim_summary, wall_seconds), 0, "stats.wall_seconds"},
 };
 
 const sweep_column *sweep_columns(int *count)
@@ -851,17 +851,23 @@ int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char
             /* a whole summary but an abnormal exit: keep the summary, it says what happened */
         } else {
             char *text = NULL;
-            FILE *f = open_memstream(&text, &(size_t){0});
+            json_t *o = json_object();
+            int bad = !o;
+            if (o) {
+                bad |= swim_json_set(o, "scene", swim_json_str(p->scene));
+                bad |= swim_json_set(o, "status", swim_json_str("crashed"));
+                bad |= swim_json_set(o, "reason", swim_json_str(reason));
+            }
+            FILE *f = bad ? NULL : open_memstream(&text, &(size_t){0});
+            if (f) {
+                swim_json_write(f, o);
+                fclose(f);
+            }
+            json_decref(o);
             if (!f) {
                 swim_message(stderr, "swim %s: member %ld: out of memory", p->cmd, m);
                 return -1;
             }
-            fprintf(f, "{\n  \"scene\": ");
-            swim_json_string(f, p->scene);
-            fprintf(f, ",\n  \"status\": \"crashed\",\n  \"reason\": ");
-            swim_json_string(f, reason);
-            fprintf(f, "\n}\n");
-            fclose(f);
             if (write_atomic(path, text) != 0) {
                 /* the sweep's stderr, not the member's log: the disk that refused this may hold the log */
                 swim_message(stderr, "swim %s: member %ld (%s): cannot write %s: %s", p->cmd, m, reason, path, strerror(errno));

@@ -112,11 +112,13 @@ int sweep_append_row(FILE *f, const char *row);   /* write + flush; 0 or -1 (err
 
 /* A number of a member's summary in the family table: members.csv's column `name` (after id, the
  * varied keys, status and reason), at `offset` in swim_summary, a swim_summary_count when
- * integer, else a swim_summary_real. */
+ * integer, else a swim_summary_real; `path` is where summary.json holds it (keys joined by dots),
+ * which is how libswim's users read the same column (swim_family_column). */
 typedef struct {
     const char *name;
     size_t offset;
     int integer;
+    const char *path;
 } sweep_column;
 const sweep_column *sweep_columns(int *count);
 /* Member m's summary (the one reader): 1 if the member is finished, 0 if not (yet). */
