@@ -38,7 +38,7 @@ void swim_run_summary_json(FILE *f, const swim_run *c, const swim_summary_contex
     swim_json_string(f, r->used);
     fprintf(f, ",\n  \"integrator_switch_t\": ");
     swim_json_number(f, r->switch_t >= 0 ? r->switch_t : NAN);
-    fprintf(f, ",\n  \"rtol\": %.3g,\n  \"atol\": %.3g,\n  \"step_lookahead\": %d,\n  \"free\": [", s->rtol, s->atol, s->step_lookahead);
+    fprintf(f, ",\n  \"rtol\": %.3g,\n  \"atol\": %.3g,\n  \"step_lookahead\": %d,\n  \"free\": [", s->rtol, s->atol, c->o.lookahead);
     for (int i = 0, first = 1; i < s->n; i++)
         if (s->free_mask[i]) {
             swim_coord_name(i, name, sizeof name);
