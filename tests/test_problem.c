@@ -5,7 +5,10 @@
  *   - a structure key (model.modes), a value that changes the kernel's structure (a stiffness
  *     item made zero) and a bad value (rho0 = -1) are refused with a status naming the key, the
  *     problem as it was;
- *   - with SWIM_PROBLEM_RESOLVE the text with the overrides written in follows the values set. */
+ *   - with SWIM_PROBLEM_RESOLVE the text with the overrides written in follows the values set;
+ *   - a [parameters] value set in place is what the scene's compiled forcing law reads, and the
+ *     law is the one compiled when the problem was opened. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,6 +17,7 @@
 #include "check.h"
 #include "io/files.h"
 #include "problem/problem.h"
+#include "scene/expr.h"
 
 #define SCENE "models/example3.toml"
 
@@ -75,6 +79,25 @@ int main(void)
           p->nsets);
     rc = swim_problem_set(p, "run.rtol", "1e-9", &st);
     CHECK(rc == 0 && p->s->rtol == 1e-9 && p->nsets == 2, "a run setting: %d", rc);
+    swim_problem_close(p);
+
+    /* a parameter: the law compiled at the opening reads the value set */
+    const swim_problem_source law = {.path = "models/control/selfpropelled_params.toml"};
+    rc = swim_problem_open(p, &law, "test", 0, 0, &st);
+    CHECK(rc == 0 && p->s->forcing, "a scene with [parameters] and a forcing law: %d", rc);
+    if (rc == 0) {
+        const swim_expr *f = p->s->forcing;
+        const double before = swim_expr_eval(f, 1.3);
+        rc = swim_problem_set(p, "parameters.A", "3", &st);
+        const double after = swim_expr_eval(p->s->forcing, 1.3);
+        swim_scene ref;
+        swim_override_parse("parameters.A=3", &ov, why, sizeof why);
+        const int rrc = swim_scene_load_with(law.path, &ov, 1, &ref, &st);
+        CHECK(rc == 0 && p->s->forcing == f && after != before && rrc == 0 && after == swim_expr_eval(ref.forcing, 1.3),
+              "parameters.A = 3 in place: f(1.3) %.17g, read with the override %.17g (before %.17g)", after,
+              rrc == 0 ? swim_expr_eval(ref.forcing, 1.3) : NAN, before);
+        if (rrc == 0) swim_scene_free(&ref);
+    }
     swim_problem_close(p);
     free(p);
     free(text);

@@ -157,56 +157,54 @@ int swim_problem_apply(swim_problem *p, const swim_override *ov, int n, int flag
     }
     for (int j = 0; j < n; j++) sets[nsets++] = ov[j];
 
-    /* validated on a scene of its own (notices held back: the scene kept is read again below) */
+    /* read and checked on a scene of its own: the problem is as it was until all is well */
     swim_scene *s = calloc(1, sizeof *s);
-    swim_status quiet = {0};
-    if (st) quiet = *st;
-    quiet.note = NULL;
     char *resolved = NULL, *now = NULL;
     swim_compiled kn = {0}, spz = {0};
-    int rc = !s ? 1 : scene_read(p, sets, nsets, s, &quiet), restructured = 0, parsed = s && rc == 0;
-    if (!s) swim_status_fail(&quiet, "swim", p->name, 0, NULL, "%s: out of memory", p->name);
+    int rc = !s ? 1 : scene_read(p, sets, nsets, s, st), restructured = 0, parsed = s && rc == 0;
+    if (!s) swim_status_fail(st, "swim", p->name, 0, NULL, "%s: out of memory", p->name);
     if (rc == 0 && p->kernels) {
         /* against the structure the kernels were had for (a run may have written into p->s) */
         const char *was = p->structure;
         now = structure_of(s, p->generic);
         if (!now) {
-            swim_status_fail(&quiet, "swim", p->name, 0, NULL, "%s: out of memory", p->name);
+            swim_status_fail(st, "swim", p->name, 0, NULL, "%s: out of memory", p->name);
             rc = 1;
         } else if (strcmp(was, now) != 0 && !(flags & SWIM_PROBLEM_RESTRUCTURE)) {
             const swim_scene_key *row = n > 0 ? swim_scene_key_find(ov[n - 1].table, ov[n - 1].key) : NULL;
-            swim_status_fail(&quiet, "swim", p->name, 0, key, "%s: --set %s: the value changes the kernel's "
+            swim_status_fail(st, "swim", p->name, 0, key, "%s: --set %s: the value changes the kernel's "
                              "structure%s%s%s: it is given when the model is opened, not set in place", p->name,
                              n > 0 ? ov[n - 1].text : "", row ? " (" : "", row ? row->doc : "", row ? ")" : "");
             rc = 2;
         } else if (strcmp(was, now) != 0) {
             /* the kernels of the new structure, as a fresh run of this scene gets them */
-            rc = swim_codegen_for_scene(p->cmd + 5, s, p->generic, p->verbose, &kn, &spz, &quiet);
+            rc = swim_codegen_for_scene(p->cmd + 5, s, p->generic, p->verbose, &kn, &spz, st);
             restructured = rc == 0;
         } else if (s->stroke_count == 0) {
             /* the magnitude check opening the problem made with the kernel (codegen_for_scene's) */
-            rc = swim_scene_check_model(s, p->kn.kernel, &quiet);
+            rc = swim_scene_check_model(s, p->kn.kernel, st);
         }
     }
-    if (rc == 0) rc = resolve(p, sets, nsets, key, &resolved, &quiet);
-    if (parsed) swim_scene_free(s);
-    free(s);
+    if (rc == 0) rc = resolve(p, sets, nsets, key, &resolved, st);
     if (rc) {
         free(now);
-        if (st) {
-            quiet.note = st->note;
-            *st = quiet;
-        }
+        if (parsed) swim_scene_free(s);
+        free(s);
         swim_compiled_close(&spz);
         swim_compiled_close(&kn);
         free(sets);
         return rc;
     }
-    /* kept: read into the problem's scene where it is (the laws read its parameters in place),
-     * the dynamics following it */
+    /* kept, in place: the values move into the problem's scene, whose compiled laws read its
+     * parameters where they are; the dynamics follow it */
     dynamics_close(p);
-    swim_scene_free(p->s);
-    p->loaded = 0;
+    if (swim_scene_take_values(p->s, s) != 0) {   /* other laws (a new structure): the scene read again */
+        swim_status quiet = {0};   /* its notices were given by the read above */
+        swim_scene_free(p->s);
+        p->loaded = scene_read(p, sets, nsets, p->s, &quiet) == 0;
+    }
+    swim_scene_free(s);
+    free(s);
     if (restructured) {
         swim_compiled_close(&p->spz);
         swim_compiled_close(&p->kn);
@@ -224,8 +222,10 @@ int swim_problem_apply(swim_problem *p, const swim_override *ov, int n, int flag
         free(p->resolved);
         p->resolved = resolved;
     }
-    if (scene_read(p, p->sets, p->nsets, p->s, st)) return 1;   /* the text and values just read: memory */
-    p->loaded = 1;
+    if (!p->loaded) {   /* the text and values just read: memory */
+        swim_status_fail(st, "swim", p->name, 0, NULL, "%s: out of memory", p->name);
+        return 1;
+    }
     return p->kernels ? dynamics_open(p, st) : 0;
 }
 
