@@ -54,7 +54,7 @@ int swim_problem_read(swim_problem *p, const swim_problem_source *src, swim_stat
         swim_status_fail(st, "swim", name, 0, NULL, "%s: more than %d overrides", name, SWIM_PROBLEM_MAX_SETS);
         return 2;
     }
-    memcpy(p->sets, src->sets, sizeof *src->sets * (size_t)src->nsets);
+    if (src->nsets > 0) memcpy(p->sets, src->sets, sizeof *src->sets * (size_t)src->nsets);
     p->nsets = src->nsets;
     if (scene_read(p, p->sets, p->nsets, p->s, st)) return 2;
     p->loaded = 1;
