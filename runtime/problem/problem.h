@@ -12,13 +12,15 @@
  * kernel is made (a stroke refused, events checked) calls swim_problem_read, judges, then
  * swim_problem_kernels.
  *
- * Afterwards values are set through the key table (scene/keys.h) with swim_problem_set: the
- * scene's text is not read again and no kernel is looked up again. The key's row decides:
+ * Afterwards values are set through the key table (scene/keys.h) with swim_problem_set: no file
+ * is read and no kernel is looked up again. The key's row decides:
  *   - a structure key that is no run-time value (model.modes, shape.free, forcing.law,
  *     stroke.*, elastic.energy) is refused with a status naming it;
  *   - any other key is validated as `--set KEY=VALUE` on the command line is (the scene reader's
- *     checks and messages, on the text kept in memory), then kept when the kernel's structure is
- *     what it was; a value that changes it (a stiffness, damping or direction item made zero,
+ *     checks and messages, on the text kept in memory, into a scene of its own), then, when the
+ *     kernel's structure is what it was, moved into the problem's scene where it is
+ *     (swim_scene_take_values: the scene's compiled laws stay and read the new parameters); a
+ *     value that changes it (a stiffness, damping or direction item made zero,
  *     barrier.epsilon = 0) is refused, unless the caller allows a new structure
  *     (SWIM_PROBLEM_RESTRUCTURE: swim optimize, whose ranges may reach such a value, then gets
  *     the kernels of that structure exactly as a fresh run would);
