@@ -440,8 +440,7 @@ static int sim_open(swim_sim *s, swim_status *st)
 {
     const swim_model *m = s->m;
     if (swim_scene_parse_with(m->P.text, m->P.len, m->P.name, s->sets, s->nsets, &s->s, st) != 0) return SWIM_EINPUT;
-    s->loaded = 1;
-    if (swim_run_settings_check(&s->s, NULL, st) != 0) return SWIM_EINPUT;
+    s->loaded = 1;   /* the reader checked the run settings (swim_run_settings_check) */
     int rc = swim_run_events_parse(&s->s, s->o.events, s->o.nevents, m->names, m->ncol, &s->events, st);
     if (rc) {
         s->bad_events = rc == 2;
