@@ -6,7 +6,10 @@
   - the run driver (driver/) prints nothing and exits nowhere: lines leave through its sink;
   - no integrator is tested by name outside the integrator registry (ode/): capabilities decide;
   - the driver's include graph has no cycle (a module: x.c with x.h and x_internal.h);
-  - the command layer stays a command layer: runtime/cli/ at most 3 000 lines.
+  - the command layer stays a command layer: runtime/cli/ at most 3 000 lines;
+  - a problem is built in one place (docs/run-driver.md): problem/ sits below the driver and above
+    scene/, codegen/ and model/ (it includes none of the layers above it, and none below includes
+    it), and nothing else asks codegen for a scene's kernels (swim_codegen_for_scene).
 Prints "test_layering: P passed, F failed"."""
 import glob
 import os
@@ -124,6 +127,30 @@ def test_cli_is_small():
     # statuses the layers below now return instead of printing (io/status.h); the checks move
     # below cli/ with the settings struct of the typed engine, and the budget back to 3000
     check(0 < lines <= 3300, "runtime/cli/ has %d lines (at most 3300)" % lines)
+
+
+ABOVE_PROBLEM = ("cli", "mpi", "output", "sweep", "driver", "control", "lib", "export")
+BELOW_PROBLEM = ("scene", "codegen", "model", "ode", "shape", "stroke", "io", "kernel")
+
+
+def test_problem_in_its_layer():
+    files = list(sources("problem"))
+    check(len(files) >= 2, "runtime/problem/ is found (%d files)" % len(files))
+    for path, text in files:
+        ups = [h for h in re.findall(r'#include\s+"(\w+)/[^"]+"', text) if h in ABOVE_PROBLEM]
+        check(not ups, "%s includes a layer above it: %s" % (path, ", ".join(ups)))
+    for folder in BELOW_PROBLEM:
+        for path, text in sources(folder):
+            check('#include "problem/' not in text, "%s (below problem/) includes problem/" % path)
+
+
+def test_kernels_of_a_scene_in_one_place():
+    for path, text in sources():
+        # codegen/ defines it; export/kernels.c is its stand-in in an exported tree
+        if path.startswith(("runtime/codegen/", "runtime/problem/")) or path == "runtime/export/kernels.c":
+            continue
+        calls = re.findall(r"\bswim_codegen_for_scene\s*\(", code(text))
+        check(not calls, "%s asks for a scene's kernels itself (use problem/problem.h)" % path)
 
 
 if __name__ == "__main__":

@@ -10,7 +10,7 @@
 #include "cli/commands.h"
 #include "cli/run_signals.h"
 #include "control/continuation.h"
-#include "control/model_setup.h"
+#include "problem/problem.h"
 #include "io/files.h"
 #include "io/message.h"
 
@@ -59,7 +59,7 @@ static int check_ends(const char *scene, const swim_override *sets, int nsets, c
                       const char *given)
 {
     if (strcmp(o->key, "energy") == 0) return 0;
-    swim_override ov[SWIM_SETUP_MAX_SETS + 1];
+    swim_override ov[SWIM_PROBLEM_CLI_SETS + 1];
     memcpy(ov, sets, sizeof(swim_override) * (size_t)nsets);
     const double ends[2] = {o->start, o->stop};
     for (int e = 0; e < 2; e++) {
@@ -87,7 +87,7 @@ static void on_point(void *ctx, double param, double period)
 
 int swim_cmd_continue(int argc, char **argv)
 {
-    swim_override sets[SWIM_SETUP_MAX_SETS];
+    swim_override sets[SWIM_PROBLEM_CLI_SETS];
     int nsets = swim_args_take_sets("continue", &argc, argv, 2, sets, (int)(sizeof sets / sizeof sets[0]));
     if (nsets < 0) return 2;
     swim_opt opts[] = {
@@ -129,7 +129,7 @@ int swim_cmd_continue(int argc, char **argv)
         return 2;
     }
     char *csv = swim_path_join(dir, "branch.csv"), *json = swim_path_join(dir, "branch.json");
-    static swim_model_setup m;
+    static swim_problem m;
     char section[64];
     swim_floquet_section sec;
     int rc = csv && json ? swim_periodic_setup(&m, "continue", pos[0], sets, nsets,
@@ -141,7 +141,7 @@ int swim_cmd_continue(int argc, char **argv)
         free(dir); free(csv); free(json);
         return rc;
     }
-    o.periodic.t_max = m.s.t_end;
+    o.periodic.t_max = m.s->t_end;
     if (!swim_args_get(opts, nopts, "quiet")) o.progress = on_point;
     /* SIGINT, SIGTERM and SIGHUP alike stop the branch; the points so far are written (run_signals.h) */
     swim_branch b;
@@ -149,7 +149,7 @@ int swim_cmd_continue(int argc, char **argv)
     swim_run_stop = 0;
     m.d.interrupt = (volatile int *)&swim_run_stop;
     swim_run_signals_install(&sig);
-    rc = swim_continue(&m.d, &m.s, &sec, &o, &b);
+    rc = swim_continue(&m.d, m.s, &sec, &o, &b);
     swim_run_signals_restore(&sig);
     if (rc == 0) {
         out_job job = {&b, pos[0], key};
@@ -176,6 +176,6 @@ int swim_cmd_continue(int argc, char **argv)
     free(dir);
     free(csv);
     free(json);
-    swim_setup_close(&m);
+    swim_problem_close(&m);
     return rc;
 }

@@ -8,7 +8,7 @@
 #include "cli/commands.h"
 #include "cli/run_signals.h"
 #include "control/floquet.h"
-#include "control/model_setup.h"
+#include "problem/problem.h"
 #include "ode/ode.h"
 #include "io/files.h"
 #include "io/message.h"
@@ -36,7 +36,7 @@ static void on_period(void *ctx, double t_first, double period)
 
 int swim_cmd_floquet(int argc, char **argv)
 {
-    swim_override sets[SWIM_SETUP_MAX_SETS];
+    swim_override sets[SWIM_PROBLEM_CLI_SETS];
     int nsets = swim_args_take_sets("floquet", &argc, argv, 2, sets, (int)(sizeof sets / sizeof sets[0]));
     if (nsets < 0) return 2;
     swim_opt opts[] = {
@@ -61,38 +61,38 @@ int swim_cmd_floquet(int argc, char **argv)
     const int quiet = swim_args_get(opts, nopts, "quiet") != NULL;
     double t_max = 0.0;
     if (swim_args_bounded("floquet", opts, nopts, "t-max", &t_max)) return 2;
-    static swim_model_setup m;
+    static swim_problem m;
     swim_status st = SWIM_STATUS_STDERR;
-    int rc = swim_setup_load(&m, pos[0], sets, nsets, &st);
+    int rc = swim_problem_read(&m, &(swim_problem_source){.path = pos[0], .sets = sets, .nsets = nsets}, &st);
     swim_status_print(&st, stderr);
     swim_status_clear(&st);
-    if (rc == 0 && m.s.stroke) {
+    if (rc == 0 && m.s->stroke) {
         /* A prescribed stroke gives the shape as a function of time: there is no shape state to
          * perturb, so no monodromy and no multipliers (swim run reports its strokes instead). */
         swim_message(stderr, "swim floquet: %s: a prescribed stroke ([stroke]) has no free shape dynamics, so no "
                      "Floquet multipliers; swim run reports its period and displacement per stroke", pos[0]);
         rc = 2;
     }
-    if (rc == 0 && t_max > 0) rc = swim_args_steps_bounded("floquet", "t-max", t_max, m.s.output_step);
-    if (rc == 0) rc = swim_setup_kernels(&m, "floquet", swim_args_get(opts, nopts, "generic") != NULL, quiet, &st);
+    if (rc == 0 && t_max > 0) rc = swim_args_steps_bounded("floquet", "t-max", t_max, m.s->output_step);
+    if (rc == 0) rc = swim_problem_kernels(&m, "floquet", swim_args_get(opts, nopts, "generic") != NULL, quiet ? 0 : 1, &st);
     swim_status_print(&st, stderr);
     if (rc) {
-        swim_setup_close(&m);
+        swim_problem_close(&m);
         return rc;
     }
     /* the period is found from events of the scene's own integrator, which must locate them */
-    if (!(swim_ode_capabilities(m.s.integrator) & SWIM_ODE_CAP_EVENTS)) {
+    if (!(swim_ode_capabilities(m.s->integrator) & SWIM_ODE_CAP_EVENTS)) {
         swim_message(stderr, "swim floquet: %s: run.integrator = \"%s\" cannot locate the section's events (no dense "
-                     "output); use one of %s (e.g. --set run.integrator=abm)", pos[0], m.s.integrator,
+                     "output); use one of %s (e.g. --set run.integrator=abm)", pos[0], m.s->integrator,
                      swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
-        swim_setup_close(&m);
+        swim_problem_close(&m);
         return 2;
     }
     char section[64];
     swim_floquet_section sec;
     if ((rc = swim_floquet_parse_section(&m.d, "floquet", "event", swim_args_get(opts, nopts, "event"), &sec, section,
                                          sizeof section))) {
-        swim_setup_close(&m);
+        swim_problem_close(&m);
         return rc;
     }
     const char *out = swim_args_get(opts, nopts, "out");
@@ -101,7 +101,7 @@ int swim_cmd_floquet(int argc, char **argv)
     if (!json || swim_mkdirs(dir) != 0) {
         swim_message(stderr, "swim floquet: --out: cannot create %s", dir ? dir : "(out of memory)");
         free(dir); free(json);
-        swim_setup_close(&m);
+        swim_problem_close(&m);
         return 2;
     }
     /* SIGINT, SIGTERM and SIGHUP alike stop the work; floquet.json then says so (run_signals.h) */
@@ -110,7 +110,7 @@ int swim_cmd_floquet(int argc, char **argv)
     swim_run_stop = 0;
     m.d.interrupt = (volatile int *)&swim_run_stop;
     swim_run_signals_install(&sig);
-    rc = swim_floquet_compute(&m.d, &sec, t_max > 0 ? t_max : m.s.t_end, quiet ? NULL : on_period, NULL, &fl);
+    rc = swim_floquet_compute(&m.d, &sec, t_max > 0 ? t_max : m.s->t_end, quiet ? NULL : on_period, NULL, &fl);
     swim_run_signals_restore(&sig);
     if (rc == 0 && fl.stopped) {
         json_job job = {&fl, pos[0], section};
@@ -140,6 +140,6 @@ int swim_cmd_floquet(int argc, char **argv)
     swim_floquet_free(&fl);
     free(dir);
     free(json);
-    swim_setup_close(&m);
+    swim_problem_close(&m);
     return rc;
 }

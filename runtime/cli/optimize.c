@@ -13,7 +13,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/run_signals.h"
-#include "control/model_setup.h"
+#include "problem/problem.h"
 #include "control/optimize.h"
 #include "io/files.h"
 #include "io/json.h"

@@ -9,7 +9,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/run_signals.h"
-#include "control/model_setup.h"
+#include "problem/problem.h"
 #include "control/periodic.h"
 #include "io/files.h"
 #include "io/message.h"
@@ -57,7 +57,7 @@ static void report(const swim_periodic *p, const char *scene, const char *json)
 
 int swim_cmd_periodic(int argc, char **argv)
 {
-    swim_override sets[SWIM_SETUP_MAX_SETS];
+    swim_override sets[SWIM_PROBLEM_CLI_SETS];
     int nsets = swim_args_take_sets("periodic", &argc, argv, 2, sets, (int)(sizeof sets / sizeof sets[0]));
     if (nsets < 0) return 2;
     swim_opt opts[] = {
@@ -99,7 +99,7 @@ int swim_cmd_periodic(int argc, char **argv)
         return 2;
     }
     char *json = swim_path_join(dir, "periodic.json");
-    static swim_model_setup m;
+    static swim_problem m;
     char section[64];
     swim_floquet_section sec;
     int rc = json ? swim_periodic_setup(&m, "periodic", pos[0], sets, nsets, swim_args_get(opts, nopts, "generic") != NULL,
@@ -110,12 +110,12 @@ int swim_cmd_periodic(int argc, char **argv)
         free(json);
         return rc;
     }
-    if (o.t_max <= 0) o.t_max = m.s.t_end;
-    else if (swim_args_steps_bounded("periodic", "t-max", o.t_max, m.s.output_step)) rc = 2;
+    if (o.t_max <= 0) o.t_max = m.s->t_end;
+    else if (swim_args_steps_bounded("periodic", "t-max", o.t_max, m.s->output_step)) rc = 2;
     if (rc) {
         free(dir);
         free(json);
-        swim_setup_close(&m);
+        swim_problem_close(&m);
         return rc;
     }
     if (!quiet) o.progress = on_iterate;
@@ -150,6 +150,6 @@ int swim_cmd_periodic(int argc, char **argv)
     swim_periodic_free(&p);
     free(dir);
     free(json);
-    swim_setup_close(&m);
+    swim_problem_close(&m);
     return rc;
 }

@@ -16,6 +16,7 @@
 #include "io/json.h"
 #include "io/message.h"
 #include "ode/ode.h"
+#include "problem/problem.h"
 #include "scene/resolve.h"
 
 /* What the minimizer sees for a run that failed or values that were refused: worse than any
@@ -87,61 +88,67 @@ done:
 
 int swim_opt_check_gradient(const swim_opt_problem *p, const swim_override *ov, int nov, swim_status *st)
 {
-    swim_scene s;
-    swim_compiled kn, sys;
-    memset(&kn, 0, sizeof kn);
-    memset(&sys, 0, sizeof sys);
-    if (swim_scene_parse_with(p->scene_text, p->scene_len, p->scene_path, ov, nov, &s, st) != 0) return 2;
-    int rc = swim_codegen_for_scene("optimize", &s, 0, 0, &kn, &sys, st) ? 2 : 0;
-    swim_dynamics d;
+    swim_problem *P = malloc(sizeof *P);
+    if (!P) {
+        swim_status_fail(st, "swim optimize", NULL, 0, NULL, "out of memory");
+        return 2;
+    }
+    const swim_problem_source src = {.text = p->scene_text, .len = p->scene_len, .name = p->scene_path, .sets = ov,
+                                     .nsets = nov};
+    int rc = swim_problem_open(P, &src, "optimize", 0, 0, st) ? 2 : 0;
     swim_sens S;
-    if (rc == 0 && swim_dynamics_init(&d, &s, kn.kernel) == 0) {
-        swim_dynamics_use_scene_kernel(&d, sys.scene, 0);
-        if (swim_sens_init(&S, &d) == 0) {
-            for (int i = 0; i < p->nkeys && rc == 0; i++)
-                rc = swim_sens_add_key(&S, &s, "optimize: --vary", p->keys[i].text, st);
-            swim_sens_free(&S);
-        } else {
-            rc = 2;
-        }
-        swim_dynamics_free(&d);
+    if (rc == 0 && swim_sens_init(&S, &P->d) == 0) {
+        for (int i = 0; i < p->nkeys && rc == 0; i++)
+            rc = swim_sens_add_key(&S, P->s, "optimize: --vary", p->keys[i].text, st);
+        swim_sens_free(&S);
     } else {
         rc = 2;
     }
-    swim_compiled_close(&sys);
-    swim_compiled_close(&kn);
-    swim_scene_free(&s);
+    swim_problem_close(P);
+    free(P);
     return rc ? 2 : 0;
+}
+
+/* The problem of the evaluations (problem/problem.h) with the overrides ov: read from the scene's
+ * text and given its kernels at the first evaluation, the values set in place at the next ones
+ * (no kernel looked up again unless a value changes the kernel's structure, when the kernels of
+ * the new one are had as a fresh run would have them). 0, or the problem's code (2 refused, 1 no
+ * kernel or out of memory). */
+static int evaluation_problem(swim_opt_problem *p, const swim_override *ov, int nov, swim_status *st)
+{
+    if (p->problem) return swim_problem_apply(p->problem, ov, nov, 0, st);
+    if (!(p->problem = malloc(sizeof *p->problem))) return 1;
+    const swim_problem_source src = {.text = p->scene_text, .len = p->scene_len, .name = p->scene_path, .sets = ov,
+                                     .nsets = nov, .flags = SWIM_PROBLEM_RESTRUCTURE};
+    int rc = swim_problem_open(p->problem, &src, "optimize", 0, 0, st);
+    if (rc) {   /* the next evaluation reads it again (values refused here may be accepted there) */
+        swim_problem_close(p->problem);
+        free(p->problem);
+        p->problem = NULL;
+    }
+    return rc;
 }
 
 /* One run of the scene with the overrides ov, by the run driver (driver/run.h) exactly as swim run
  * makes it (same settings, restarts near the barrier, energy control, rows), so that `swim run` of
  * best.toml gives the value reported to the last bit; no rows are kept. Fills r, with the
  * gradient when want_grad. */
-static void integrate(const swim_opt_problem *p, const swim_override *ov, int nov, int want_grad,
-                      swim_eval_result *r)
+static void integrate(swim_opt_problem *p, const swim_override *ov, int nov, int want_grad, swim_eval_result *r)
 {
-    swim_scene s;
-    swim_compiled kn, sys;
-    memset(&kn, 0, sizeof kn);
-    memset(&sys, 0, sizeof sys);
     swim_run *run = NULL;
     r->status = 1;
     /* a refused value (outside D, a bound of the run settings) is not shown: the log row says
      * "refused" */
     swim_status st = {0};
-    if (swim_scene_parse_with(p->scene_text, p->scene_len, p->scene_path, ov, nov, &s, &st) != 0) {
-        r->status = 2;
-        snprintf(r->reason, sizeof r->reason, "values refused by the scene checks");
-        return;
-    }
-    int rc = swim_codegen_for_scene("optimize", &s, 0, 0, &kn, &sys, &st);
+    int rc = evaluation_problem(p, ov, nov, &st);
     if (rc) {
         r->status = rc == 2 ? 2 : 1;
         snprintf(r->reason, sizeof r->reason, rc == 2 ? "values refused by the scene checks" : "no kernel");
-        goto done;
+        return;
     }
-    const swim_run_request req = {&s, &kn, &sys, 0, NULL, (volatile sig_atomic_t *)p->interrupt, {NULL, NULL, NULL, NULL, NULL}, 0};
+    swim_scene *s = p->problem->s;
+    const swim_run_request req = {s, &p->problem->kn, &p->problem->spz, 0, NULL, (volatile sig_atomic_t *)p->interrupt,
+                                  {NULL, NULL, NULL, NULL, NULL}, 0};
     swim_status_clear(&st);
     rc = swim_run_open(&req, &run, &st);
     if (rc) {
@@ -163,7 +170,7 @@ static void integrate(const swim_opt_problem *p, const swim_override *ov, int no
     r->forcing_work = res->forcing_work;
     r->status = 0;
     if (want_grad) {
-        gradient(p, &s, run, r);
+        gradient(p, s, run, r);
         if (!r->have_grad) {   /* no gradient: the search cannot use this point */
             r->status = 1;
             snprintf(r->reason, sizeof r->reason, "the sensitivities failed");
@@ -171,9 +178,6 @@ static void integrate(const swim_opt_problem *p, const swim_override *ov, int no
     }
 done:
     swim_run_free(run);
-    swim_compiled_close(&sys);
-    swim_compiled_close(&kn);
-    swim_scene_free(&s);
 }
 
 static int all_overrides(const swim_opt_problem *p, const double *v, swim_override *ov)
@@ -507,6 +511,9 @@ int swim_opt_run(swim_opt_problem *p)
         p->converged = p->search_converged && !p->interrupted && p->tight_status == 0
                        && fabs(p->tight_change) <= p->value_tol;
     }
+    if (p->problem) swim_problem_close(p->problem);
+    free(p->problem);
+    p->problem = NULL;
     p->seconds = swim_clock_seconds() - t0;
     return p->best.status == 0 ? 0 : 1;
 }

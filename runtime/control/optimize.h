@@ -70,8 +70,8 @@ typedef struct {
 typedef struct {
     const char *scene_path;      /* names the scene in messages and in optimize.json */
     const char *scene_text;      /* the scene file's text, read once (swim_scene_read) by the caller:
-                                    every evaluation parses this, so the file is opened once and an
-                                    edit during the search changes nothing */
+                                    the evaluations' problem is made from it, so the file is opened
+                                    once and an edit during the search changes nothing */
     size_t scene_len;
     const swim_override *sets;   /* --set overrides, applied first */
     int nsets;
@@ -102,6 +102,8 @@ typedef struct {
     int tight_status;            /* 0 ran; else the run failed */
     double tight_q, tight_change, value_tol;
     double seconds;
+    struct swim_problem_s *problem;   /* the evaluations' scene, kernels and dynamics (problem/problem.h),
+                                         made at the first one, closed when the search ends */
 } swim_opt_problem;
 
 /* One run with values v[0..nkeys): 0, or the status (1 failed, 2 refused) with the reason. */

@@ -367,33 +367,33 @@ done:
     return rc;
 }
 
-int swim_periodic_setup(swim_model_setup *m, const char *cmd, const char *path, const swim_override *sets, int nsets,
+int swim_periodic_setup(swim_problem *m, const char *cmd, const char *path, const swim_override *sets, int nsets,
                         int generic, int quiet, const char *guess, swim_floquet_section *sec, char *text, size_t len)
 {
     swim_status st = SWIM_STATUS_STDERR;   /* shown here until the command takes it */
-    int rc = swim_setup_load(m, path, sets, nsets, &st);
+    int rc = swim_problem_read(m, &(swim_problem_source){.path = path, .sets = sets, .nsets = nsets}, &st);
     swim_status_print(&st, stderr);
     swim_status_clear(&st);
-    if (rc == 0 && m->s.stroke) {
+    if (rc == 0 && m->s->stroke) {
         swim_message(stderr, "swim %s: %s: a prescribed stroke ([stroke]) is periodic by its laws: there is no free "
                      "shape dynamics to solve for (swim run reports its period and displacement per stroke)", cmd, path);
         rc = 2;
     }
-    if (rc == 0 && m->s.forcing) {
+    if (rc == 0 && m->s->forcing) {
         swim_message(stderr, "swim %s: %s: [forcing] makes the equations depend on time; periodic orbits are looked "
                      "for in autonomous scenes only", cmd, path);
         rc = 2;
     }
-    if (rc == 0 && !(swim_ode_capabilities(m->s.integrator) & SWIM_ODE_CAP_EVENTS)) {
+    if (rc == 0 && !(swim_ode_capabilities(m->s->integrator) & SWIM_ODE_CAP_EVENTS)) {
         swim_message(stderr, "swim %s: %s: run.integrator = \"%s\" cannot locate the guess's events; use one "
-                     "of %s (e.g. --set run.integrator=abm)", cmd, path, m->s.integrator,
+                     "of %s (e.g. --set run.integrator=abm)", cmd, path, m->s->integrator,
                      swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
         rc = 2;
     }
-    if (rc == 0) rc = swim_setup_kernels(m, cmd, generic, quiet, &st);
+    if (rc == 0) rc = swim_problem_kernels(m, cmd, generic, quiet ? 0 : 1, &st);
     swim_status_print(&st, stderr);
     if (rc == 0) rc = swim_floquet_parse_section(&m->d, cmd, "guess-event", guess, sec, text, len);
-    if (rc) swim_setup_close(m);
+    if (rc) swim_problem_close(m);
     return rc;
 }
 

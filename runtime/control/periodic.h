@@ -35,7 +35,7 @@
 #include <stdio.h>
 
 #include "control/floquet.h"
-#include "control/model_setup.h"
+#include "problem/problem.h"
 #include "model/dynamics.h"
 
 #define SWIM_PERIODIC_MAX_ITER 40
@@ -102,7 +102,7 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
  * integrator that cannot locate the guess's events, its kernels, and the guess's section
  * (guess: COLUMN:KIND or NULL, as swim_floquet_parse_section; its text into text). 0, or 1 / 2
  * after one line "swim CMD: ..." on stderr, with m closed. */
-int swim_periodic_setup(swim_model_setup *m, const char *cmd, const char *path, const swim_override *sets, int nsets,
+int swim_periodic_setup(swim_problem *m, const char *cmd, const char *path, const swim_override *sets, int nsets,
                         int generic, int quiet, const char *guess, swim_floquet_section *sec, char *text, size_t len);
 /* No forcing and no damping on a moving coordinate: energy is conserved (1) or not (0). */
 int swim_periodic_conservative(const swim_dynamics *d);

@@ -391,15 +391,14 @@ static int prepare(scene_run *c)
     /* by default where the scene has a barrier: its long stays near the wall (10^4-10^5 steps) are
      * where the drift adds up; a smooth paper scene at rtol 1e-8 keeps ~1e-10 without it, and would
      * pay 30-40 % more steps for 1e-12 (any scene can ask for it) */
-    if (s->energy_control < 0) s->energy_control = s->barrier;
+    const int energy_control = s->energy_control < 0 ? s->barrier : s->energy_control;
     const unsigned caps = swim_ode_capabilities(s->integrator);
-    if (s->energy_control && (caps & SWIM_ODE_CAP_INVARIANT)) {
+    if (energy_control && (caps & SWIM_ODE_CAP_INVARIANT)) {
         o->invariant = scaled_balance;
         o->invariant_data = c;
         o->invariant_tol = ENERGY_CONTROL * s->rtol;   /* abm never asks for less than B's rounding */
         c->invariant_on = 1;
     }
-    s->step_lookahead = o->lookahead;   /* the summary records the value used */
     o->stiff_stop = (caps & SWIM_ODE_CAP_STIFFNESS) != 0;   /* stop and report (or switch) on stiffness */
     if (s->projection && (caps & SWIM_ODE_CAP_PROJECTION)) o->project = swim_dynamics_project;  /* drift control */
     if (c->req.sink.step && (caps & SWIM_ODE_CAP_STEP_TRACE)) {

@@ -62,8 +62,10 @@ typedef struct {
 } swim_run_sink;
 
 typedef struct {
-    swim_scene *scene;              /* validated (swim_scene_load_with); the driver records in it the
-                                       settings it resolves: energy_control, step_lookahead */
+    swim_scene *scene;              /* validated (problem/problem.h); the driver writes no run setting
+                                       into it (those it resolves, energy_control and step_lookahead,
+                                       are in the result and the summary); a stroke's run writes its
+                                       initial state (c0, dc0, a neutral rhof) into it */
     const swim_compiled *kernel;    /* the kernel of N modes (codegen) */
     const swim_compiled *system;    /* the scene's right-hand side (swim_codegen_scene) */
     int generic;                    /* the kernel of the generic structure was asked for */

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "codegen/codegen.h"
+#include "problem/problem.h"
 #include "driver/run.h"
 #include "io/files.h"
 #include "io/message.h"
@@ -46,7 +47,7 @@ static const char *const sources[] = {
     "runtime/io/clock.c", "runtime/io/stdout_check.c",
     "runtime/model/dynamics.c", "runtime/model/flow.c", "runtime/model/bounce.c",
     "runtime/ode/ode.c", "runtime/ode/events.c", "runtime/ode/abm.c", "runtime/ode/peers_gsl.c",
-    "runtime/output/folder.c", "runtime/output/job.c",
+    "runtime/output/folder.c", "runtime/output/job.c", "runtime/problem/problem.c",
     "runtime/scene/toml.c", "runtime/scene/scene.c", "runtime/scene/keys.c", "runtime/scene/expr.c",
     "runtime/scene/resolve.c", "runtime/scene/material.c",
     "runtime/shape/shape.c", "runtime/shape/constraints.c", "runtime/shape/barrier.c",
@@ -55,9 +56,9 @@ static const char *const sources[] = {
 };
 static const char *const extra[] = {"runtime/ode/peers_cvode.c", "runtime/export/no_cvode.c"};
 static const char *const header_dirs[] = {"cli", "codegen", "control", "driver", "io", "kernel", "model", "ode", "output",
-                                          "scene", "shape", "stroke"};
+                                          "problem", "scene", "shape", "stroke"};
 /* headers of those folders that belong to what the tree leaves out */
-static const char *const skip_headers[] = {"commands.h", "run_signals.h", "sweep_args.h", "summary_read.h", "floquet.h", "optimize.h", "model_setup.h", "periodic.h", "continuation.h"};
+static const char *const skip_headers[] = {"commands.h", "run_signals.h", "sweep_args.h", "summary_read.h", "floquet.h", "optimize.h", "periodic.h", "continuation.h"};
 
 typedef struct {
     const swim_export_request *req;
@@ -449,12 +450,22 @@ int swim_export(const swim_export_request *req, swim_export_result *res, swim_st
     memset(res, 0, sizeof *res);
     ctx c = {req, res, NULL, st, ""};
     snprintf(c.who, sizeof c.who, "swim %s", req->cmd);
-    swim_scene s;
-    if (swim_scene_load_with(req->scene_file, req->sets, req->nsets, &s, st)) return 2;
-    res->stroke = s.stroke_count > 0;
-    res->modes = s.modes;
+    swim_problem *P = calloc(1, sizeof *P);
+    if (!P) {
+        swim_status_fail(st, c.who, NULL, 0, NULL, "out of memory");
+        return 1;
+    }
+    const swim_problem_source src = {.path = req->scene_file, .sets = req->sets, .nsets = req->nsets};
+    if (swim_problem_read(P, &src, st)) {
+        swim_problem_close(P);
+        free(P);
+        return 2;
+    }
+    const swim_scene *s = P->s;
+    res->stroke = s->stroke_count > 0;
+    res->modes = s->modes;
     /* peers_cvode.c is the only user of SUNDIALS; a stroke runs its own integrator without fallback */
-    res->cvode = is_cvode(s.integrator) || (!res->stroke && s.stiff_fallback[0] && is_cvode(s.stiff_fallback));
+    res->cvode = is_cvode(s->integrator) || (!res->stroke && s->stiff_fallback[0] && is_cvode(s->stiff_fallback));
     char probe[4200];
     int rc = 0;
     if (!(c.share = swim_share_dir(st))) rc = 1;
@@ -467,18 +478,17 @@ int swim_export(const swim_export_request *req, swim_export_result *res, swim_st
         }
     }
     if (!rc) rc = check_out(&c);
-    swim_compiled kn = {0}, sys = {0};
-    if (!rc) rc = swim_codegen_for_scene(req->cmd, &s, 0, req->verbose, &kn, &sys, st);
+    if (!rc) rc = swim_problem_kernels(P, req->cmd, 0, req->verbose, st);
+    const swim_compiled *kn = &P->kn, *sys = &P->spz;
     /* the tree copies the scene kernel's source from its cache entry: checked before any of it
      * is written */
-    if (!rc && !sys.dir[0]) {
+    if (!rc && !sys->dir[0]) {
         swim_status_fail(c.st, c.who, NULL, 0, NULL, "%s: the scene kernel was built in a private folder, now removed (the "
-                         "cache is not usable): set SWIM_CACHE to a folder of your own", s.path);
+                         "cache is not usable): set SWIM_CACHE to a folder of your own", s->path);
         rc = 1;
     }
-    if (!rc) rc = write_tree(&c, &s, &kn, &sys);
-    swim_compiled_close(&sys);
-    swim_compiled_close(&kn);
-    swim_scene_free(&s);
+    if (!rc) rc = write_tree(&c, s, kn, sys);
+    swim_problem_close(P);
+    free(P);
     return rc;
 }

@@ -29,6 +29,7 @@
 #include "io/message.h"
 #include "io/version.h"
 #include "kernel/swim_kernel.h"
+#include "problem/problem.h"
 #include "scene/keys.h"
 #include "scene/resolve.h"
 #include "scene/scene.h"
@@ -48,13 +49,8 @@
 _Static_assert(SWIM_LIB_MAX_EVENTS == SWIM_RUN_MAX_EVENTS, "the library's event bound is the driver's");
 
 struct swim_model {
-    char *text, *name, *resolved;
-    size_t len;
-    swim_override sets[MAX_SETS];
-    int nsets;
-    swim_scene *s;               /* as validated, for the columns, the kernels and swim_model_set;
-                                    on the heap: a loaded scene is never moved (scene.h) */
-    swim_compiled kn, sys;
+    swim_problem P;              /* the text, its overrides, the validated scene, the kernels; never
+                                    moved (a loaded scene is not, scene.h) */
     const char *names[SWIM_RUN_MAX_COLUMNS];
     char storage[2 * SWIM_NMAX][24];
     int ncol;
@@ -225,46 +221,33 @@ static int string_list(swim_error *err, const char *function, const char *name, 
 
 /* ---- models --------------------------------------------------------------------------------- */
 
-static void scene_drop(swim_scene *s)
-{
-    if (!s) return;
-    swim_scene_free(s);
-    free(s);
-}
-
-static int model_open(swim_model *m, const char *const *sets, int nsets, swim_status *st)
+/* The model: the problem (problem/problem.h) of its text and overrides, opened as swim run opens
+ * one, with the text kept with the overrides written in (swim_model_scene_text). */
+static int model_open(swim_model *m, const char *text, size_t len, const char *name, const char *const *sets,
+                      int nsets, swim_status *st)
 {
     if (nsets > MAX_SETS) {
-        swim_status_fail(st, "swim", m->name, 0, "nsets", "%s: more than %d overrides", m->name, MAX_SETS);
+        swim_status_fail(st, "swim", name, 0, "nsets", "%s: more than %d overrides", name, MAX_SETS);
         return SWIM_EINPUT;
     }
+    swim_override ov[MAX_SETS];
     for (int i = 0; i < nsets; i++) {
         char why[256], key[128];
-        if (swim_override_parse(sets[i], &m->sets[i], why, sizeof why) != 0) {
+        if (swim_override_parse(sets[i], &ov[i], why, sizeof why) != 0) {
             /* the key of the override that does not parse: what precedes '=' */
             const size_t n = strcspn(sets[i], "=");
             snprintf(key, sizeof key, "%.*s", (int)(n < sizeof key ? n : sizeof key - 1), sets[i]);
-            swim_status_fail(st, "swim", m->name, 0, key, "%s: --set: %s", m->name, why);
+            swim_status_fail(st, "swim", name, 0, key, "%s: --set: %s", name, why);
             return SWIM_EINPUT;
         }
     }
-    m->nsets = nsets;
-    if (!(m->s = calloc(1, sizeof *m->s))) return SWIM_ENOMEM;
-    if (swim_scene_parse_with(m->text, m->len, m->name, m->sets, m->nsets, m->s, st) != 0) {
-        free(m->s);
-        m->s = NULL;
-        return SWIM_EINPUT;
-    }
-    if (swim_run_settings_check(m->s, NULL, st) != 0) return SWIM_EINPUT;
-    size_t outlen;
-    char why[512];
-    if (nsets > 0 && swim_scene_resolve(m->text, m->len, m->name, m->sets, m->nsets, &m->resolved, &outlen, why, sizeof why) != 0) {
-        swim_status_fail(st, "swim", m->name, 0, NULL, "%s: %s", m->name, why);
-        return SWIM_EINPUT;
-    }
-    const int rc = swim_codegen_for_scene("library", m->s, 0, 0, &m->kn, &m->sys, st);
+    const swim_problem_source src = {.text = text, .len = len, .name = name, .sets = ov, .nsets = nsets,
+                                     .flags = SWIM_PROBLEM_RESOLVE};
+    int rc = swim_problem_read(&m->P, &src, st);
+    if (rc) return rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
+    rc = swim_problem_kernels(&m->P, "library", 0, 0, st);
     if (rc) return rc == 2 ? SWIM_EINPUT : SWIM_EKERNEL;
-    m->ncol = swim_run_columns(m->s, m->names, m->storage);
+    m->ncol = swim_run_columns(m->P.s, m->names, m->storage);
     return SWIM_OK;
 }
 
@@ -273,15 +256,14 @@ static int model_new(char *text, size_t len, const char *name, const char *const
 {
     *out = NULL;
     swim_model *m = calloc(1, sizeof *m);
-    if (!m || !text || !(m->name = strdup(name))) {
+    if (!m || !text) {
         free(text);
-        if (m) free(m);
+        free(m);
         return failed(err, NULL, SWIM_ENOMEM, "out of memory");
     }
-    m->text = text;
-    m->len = len;
     swim_status st = {0};
-    const int rc = model_open(m, sets, nsets, &st);
+    const int rc = model_open(m, text, len, name, sets, nsets, &st);
+    free(text);
     if (rc) {
         failed(err, &st, rc, "the scene could not be read");
         swim_model_free(m);
@@ -327,7 +309,7 @@ int swim_model_columns(const swim_model *m, const char *const **names)
     return m->ncol;
 }
 
-const char *swim_model_scene_text(const swim_model *m) { return !m ? NULL : m->resolved ? m->resolved : m->text; }
+const char *swim_model_scene_text(const swim_model *m) { return !m ? NULL : m->P.resolved ? m->P.resolved : m->P.text; }
 
 /* One run-time key set in place (swim.h): the override list with it, validated as opening the
  * model with it would validate it, then kept when the kernel's structure is what it was. */
@@ -337,82 +319,24 @@ static int model_set(swim_model *m, const char *key, const char *value, swim_err
     if (!key) return bad_arg(err, "key", "key is NULL");
     if (!value) return bad_arg(err, "value", "value is NULL");
     swim_override ov;
-    char text[sizeof ov.text], why[256];
+    char text[sizeof ov.text];
     if (snprintf(text, sizeof text, "%s=%s", key, value) >= (int)sizeof text)
         return bad_arg(err, "key", "%s=%s: longer than the %zu characters of an override", key, value, sizeof text - 1);
-    if (swim_override_parse(text, &ov, why, sizeof why) != 0) {
-        bad_arg(err, key, "%s: --set: %s", m->name, why);
-        snprintf(err->file, sizeof err->file, "%s", m->name);
-        return SWIM_EINPUT;
-    }
-    const swim_scene_key *row = swim_scene_key_find(ov.table, ov.key);
-    if (row && (row->flags & SWIM_KEY_STRUCTURE) && !(row->flags & SWIM_KEY_RUNTIME)) {
-        bad_arg(err, key, "%s: --set %s: %s.%s is a structure key (%s): it is given when the model is opened, "
-                "not set in place", m->name, text, ov.table, ov.key, row->doc);
-        snprintf(err->file, sizeof err->file, "%s", m->name);
-        return SWIM_EINPUT;
-    }
-    /* the model's overrides with this one in place of any that set the same value */
-    swim_override sets[MAX_SETS];
-    int nsets = 0;
-    for (int i = 0; i < m->nsets; i++)
-        if (!(swim_override_same_target(&m->sets[i], &ov) && m->sets[i].index == ov.index)) sets[nsets++] = m->sets[i];
-    if (nsets == MAX_SETS) return bad_arg(err, key, "%s: more than %d overrides", m->name, MAX_SETS);
-    sets[nsets++] = ov;
-
     swim_status st = {0};
-    swim_scene *s = calloc(1, sizeof *s);
-    if (!s) return failed(err, NULL, SWIM_ENOMEM, "out of memory");
-    if (swim_scene_parse_with(m->text, m->len, m->name, sets, nsets, s, &st) != 0) {
-        free(s);
-        return failed(err, &st, SWIM_EINPUT, "the value was refused");
-    }
-    int rc = swim_run_settings_check(s, NULL, &st) != 0 ? SWIM_EINPUT : SWIM_OK;
-    if (!rc) {
-        char *was = swim_codegen_scene_key(m->s, 0), *now = swim_codegen_scene_key(s, 0);
-        if (!was || !now) rc = SWIM_ENOMEM;
-        else if (strcmp(was, now) != 0) {
-            swim_status_fail(&st, "swim", m->name, 0, key, "%s: --set %s: the value changes the kernel's structure%s%s%s: "
-                             "it is given when the model is opened, not set in place", m->name, text,
-                             row ? " (" : "", row ? row->doc : "", row ? ")" : "");
-            rc = SWIM_EINPUT;
-        }
-        free(was);
-        free(now);
-    }
-    /* the magnitude check opening the model makes with the kernel (codegen_for_scene's) */
-    if (!rc && s->stroke_count == 0 && swim_scene_check_model(s, m->kn.kernel, &st) != 0) rc = SWIM_EINPUT;
-    char *resolved = NULL;
-    size_t outlen;
-    if (!rc && swim_scene_resolve(m->text, m->len, m->name, sets, nsets, &resolved, &outlen, why, sizeof why) != 0) {
-        swim_status_fail(&st, "swim", m->name, 0, key, "%s: %s", m->name, why);
-        rc = SWIM_EINPUT;
-    }
+    const int rc = swim_problem_set(&m->P, key, value, &st);
     if (rc) {
-        scene_drop(s);
-        failed(err, &st, rc, rc == SWIM_ENOMEM ? "out of memory" : "the value was refused");
+        failed(err, &st, rc == 1 ? SWIM_ENOMEM : SWIM_EINPUT, rc == 1 ? "out of memory" : "the value was refused");
         if (!err->key[0]) snprintf(err->key, sizeof err->key, "%s", key);
-        if (!err->file[0]) snprintf(err->file, sizeof err->file, "%s", m->name);
-        return rc;
+        if (!err->file[0]) snprintf(err->file, sizeof err->file, "%s", m->P.name);
+        return err->status;
     }
-    scene_drop(m->s);
-    m->s = s;
-    memcpy(m->sets, sets, sizeof sets[0] * (size_t)nsets);
-    m->nsets = nsets;
-    free(m->resolved);
-    m->resolved = resolved;
     return SWIM_OK;
 }
 
 void swim_model_free(swim_model *m)
 {
     if (!m) return;
-    swim_compiled_close(&m->sys);
-    swim_compiled_close(&m->kn);
-    scene_drop(m->s);
-    free(m->text);
-    free(m->name);
-    free(m->resolved);
+    swim_problem_close(&m->P);
     free(m);
 }
 
@@ -442,15 +366,15 @@ static int sim_check_analyses(swim_sim *s, swim_status *st)
 {
     const char *keys = s->o.sensitivity;
     if ((keys || s->o.lyapunov != 0) && s->s.stroke_count > 0) {
-        swim_status_fail(st, "swim", s->m->name, 0, keys ? "sensitivity" : "lyapunov", "%s: --%s: not available on a "
+        swim_status_fail(st, "swim", s->m->P.name, 0, keys ? "sensitivity" : "lyapunov", "%s: --%s: not available on a "
                          "prescribed stroke: the variational equations are those of free shape dynamics only",
-                         s->m->name, keys ? "sensitivity" : "lyapunov");
+                         s->m->P.name, keys ? "sensitivity" : "lyapunov");
         s->bad_option = 1;
         return SWIM_EINPUT;
     }
     if (s->o.lyapunov != 0 && !(s->o.lyapunov > 0 && s->s.t_end / s->o.lyapunov <= SWIM_LYAPUNOV_MAX_SEGMENTS)) {
-        swim_status_fail(st, "swim", s->m->name, 0, "lyapunov", "%s: lyapunov: the interval %g must be > 0 and give at "
-                         "most %d renormalizations over t_end = %g", s->m->name, s->o.lyapunov,
+        swim_status_fail(st, "swim", s->m->P.name, 0, "lyapunov", "%s: lyapunov: the interval %g must be > 0 and give at "
+                         "most %d renormalizations over t_end = %g", s->m->P.name, s->o.lyapunov,
                          SWIM_LYAPUNOV_MAX_SEGMENTS, s->s.t_end);
         s->bad_option = 2;
         return SWIM_EINPUT;
@@ -516,9 +440,8 @@ static void sim_analyses(swim_sim *s)
 static int sim_open(swim_sim *s, swim_status *st)
 {
     const swim_model *m = s->m;
-    if (swim_scene_parse_with(m->text, m->len, m->name, s->sets, s->nsets, &s->s, st) != 0) return SWIM_EINPUT;
-    s->loaded = 1;
-    if (swim_run_settings_check(&s->s, NULL, st) != 0) return SWIM_EINPUT;
+    if (swim_scene_parse_with(m->P.text, m->P.len, m->P.name, s->sets, s->nsets, &s->s, st) != 0) return SWIM_EINPUT;
+    s->loaded = 1;   /* the reader checked the run settings (swim_run_settings_check) */
     int rc = swim_run_events_parse(&s->s, s->o.events, s->o.nevents, m->names, m->ncol, &s->events, st);
     if (rc) {
         s->bad_events = rc == 2;
@@ -526,7 +449,7 @@ static int sim_open(swim_sim *s, swim_status *st)
     }
     if (s->o.on_event && s->events) swim_run_events_listen(s->events, sim_event, s);
     /* the caller's stop flag is a flag, not a signal number (any nonzero value stops the run) */
-    const swim_run_request req = {&s->s, &m->kn, &m->sys, 0, s->events, (volatile sig_atomic_t *)s->o.stop,
+    const swim_run_request req = {&s->s, &m->P.kn, &m->P.spz, 0, s->events, (volatile sig_atomic_t *)s->o.stop,
                                   {sink_row, NULL, NULL, NULL, s}, 1};
     rc = swim_run_open(&req, &s->run, st);
     if (rc) return rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
@@ -546,21 +469,21 @@ static int swim_sim_create_(const swim_model *m, const swim_sim_options *o, swim
     if (string_list(err, "swim_sim_create", "events", "nevents", opts.events, opts.nevents)) return SWIM_EINPUT;
     *out = NULL;
     swim_sim *s = calloc(1, sizeof *s);
-    if (!s || !(s->sets = malloc(sizeof *s->sets * (size_t)(m->nsets > 0 ? m->nsets : 1)))) {
+    if (!s || !(s->sets = malloc(sizeof *s->sets * (size_t)(m->P.nsets > 0 ? m->P.nsets : 1)))) {
         free(s);
         return failed(err, NULL, SWIM_ENOMEM, "out of memory");
     }
     s->m = m;
     s->o = opts;
-    s->nsets = m->nsets;
-    memcpy(s->sets, m->sets, sizeof *s->sets * (size_t)m->nsets);
+    s->nsets = m->P.nsets;
+    memcpy(s->sets, m->P.sets, sizeof *s->sets * (size_t)m->P.nsets);
     swim_status st = {0};
     const int rc = sim_open(s, &st);
     if (rc) {
         failed(err, &st, rc, "the simulation could not be set up");
         if (err && s->bad_events) {   /* an event of the options or of the scene: the model's file */
             if (!err->key[0]) snprintf(err->key, sizeof err->key, "events");
-            if (!err->file[0]) snprintf(err->file, sizeof err->file, "%s", m->name);
+            if (!err->file[0]) snprintf(err->file, sizeof err->file, "%s", m->P.name);
         }
         if (err && s->bad_option && !err->key[0])
             snprintf(err->key, sizeof err->key, "%s", s->bad_option == 1 ? "sensitivity" : "lyapunov");
@@ -637,7 +560,7 @@ char *swim_sim_summary_json(const swim_sim *s)
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);
     if (!f) return NULL;
-    const swim_summary_context x = {NULL, NULL, s->m->name, s->sets, s->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0, NULL, NULL};
+    const swim_summary_context x = {NULL, NULL, s->m->P.name, s->sets, s->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0, NULL, NULL};
     const int bad = swim_run_summary_json(f, s->run, &x);
     if (fclose(f) != 0 || bad) {
         free(buf);

@@ -15,17 +15,18 @@
 #include "io/files.h"
 #include "io/json.h"
 #include "io/message.h"
+#include "problem/problem.h"
 #include "scene/resolve.h"
 
 struct swim_job {
     swim_run_job req;
-    swim_scene s;
+    swim_scene s;                /* the problem's scene (P.s) */
+    swim_problem P;              /* the scene with the overrides, its kernels and dynamics */
     int stroke;                  /* the scene has a [stroke] table */
     swim_override recorded[2 * SWIM_JOB_MAX_SETS];   /* DIR/scene.toml: the overrides and the adjustments */
     int nrecorded;
     char *resolved;              /* the scene with them written in (NULL without any) */
     swim_run_events *events;
-    swim_compiled kn, spz;       /* the kernel of N modes; the scene's right-hand side or stroke laws */
     swim_folder *folder;
     swim_run *run;
     const char *sens_status, *sens_method;
@@ -70,7 +71,8 @@ static int read_scene(swim_job *j, swim_status *st)
     swim_scene *s = &j->s;
     char who[64];
     snprintf(who, sizeof who, "swim %s", r->cmd);
-    if (swim_scene_load_with(r->scene_file, r->sets, r->nsets, s, st)) return 2;
+    const swim_problem_source src = {.path = r->scene_file, .sets = r->sets, .nsets = r->nsets, .into = s};
+    if (swim_problem_read(&j->P, &src, st)) return 2;
     char *name = r->scene_name ? strdup(r->scene_name) : NULL;
     if (r->scene_name && !name) {
         swim_status_fail(st, who, NULL, 0, NULL, "out of memory");
@@ -110,14 +112,10 @@ static int read_scene(swim_job *j, swim_status *st)
     }
     for (int k = 0; k < nadj; k++) j->recorded[j->nrecorded++] = adjusted[k];
     if (j->nrecorded == 0) return 0;
-    size_t len = 0, outlen = 0;
-    char *text = swim_read_file(r->scene_file, SWIM_SCENE_MAX_BYTES, &len), why[512];
-    if (!text) {
-        swim_status_fail(st, "swim", r->scene_file, 0, NULL, "%s: cannot read: %s", r->scene_file, strerror(errno));
-        return 2;
-    }
-    const int rc = swim_scene_resolve(text, len, r->scene_name ? r->scene_name : r->scene_file, j->recorded, j->nrecorded, &j->resolved, &outlen, why, sizeof why);
-    free(text);
+    size_t outlen = 0;
+    char why[512];
+    const int rc = swim_scene_resolve(j->P.text, j->P.len, r->scene_name ? r->scene_name : r->scene_file, j->recorded,
+                                      j->nrecorded, &j->resolved, &outlen, why, sizeof why);
     if (rc != 0) {
         swim_status_fail(st, who, r->scene_file, 0, NULL, "%s: cannot write the overrides into the output's scene.toml: %s",
                          r->scene_file, why);
@@ -128,19 +126,15 @@ static int read_scene(swim_job *j, swim_status *st)
 
 static int acquire_kernels(swim_job *j, swim_status *st)
 {
-    return swim_codegen_for_scene(j->req.cmd, &j->s, j->req.generic, j->req.quiet ? 0 : 1, &j->kn, &j->spz, st);
+    return swim_problem_kernels(&j->P, j->req.cmd, j->req.generic, j->req.quiet ? 0 : 1, st);
 }
 
-/* --sensitivity: the keys resolved on a dynamics of their own, before any output (exit 2). */
+/* --sensitivity: the keys resolved on the problem's dynamics, before any output (exit 2). */
 static int check_sensitivity(swim_job *j, swim_status *st)
 {
-    swim_dynamics d;
     swim_sens S;
-    if (swim_dynamics_init(&d, &j->s, j->kn.kernel) != 0) return 1;
-    swim_dynamics_use_scene_kernel(&d, j->spz.scene, j->req.generic);
-    int rc = swim_sens_init(&S, &d) != 0 ? 1 : swim_sens_add_list(&S, &j->s, j->req.cmd, j->req.sensitivity, st);
+    int rc = swim_sens_init(&S, &j->P.d) != 0 ? 1 : swim_sens_add_list(&S, &j->s, j->req.cmd, j->req.sensitivity, st);
     swim_sens_free(&S);
-    swim_dynamics_free(&d);
     return rc;
 }
 
@@ -191,12 +185,12 @@ static void sink_progress(void *ctx, double t, double t_end)
 /* The run (whose opening checks a stroke on its whole interval), then the folder. */
 static int open_run(swim_job *j, swim_status *st)
 {
-    if (!j->req.quiet && j->spz.from_cache && !j->stroke && j->req.notice) {
-        char *line = swim_strprintf("swim: scene kernel from cache %s", j->spz.dir);
+    if (!j->req.quiet && j->P.spz.from_cache && !j->stroke && j->req.notice) {
+        char *line = swim_strprintf("swim: scene kernel from cache %s", j->P.spz.dir);
         if (line) j->req.notice(j->req.ctx, line);
         free(line);
     }
-    const swim_run_request rr = {&j->s, &j->kn, &j->spz, j->req.generic, j->events, j->req.stop,
+    const swim_run_request rr = {&j->s, &j->P.kn, &j->P.spz, j->req.generic, j->events, j->req.stop,
                                  {sink_row, j->req.trace ? sink_step : NULL, sink_notice, sink_progress, j}, 0};
     int rc = swim_run_open(&rr, &j->run, st);
     if (rc) return rc;
@@ -465,11 +459,9 @@ void swim_job_free(swim_job *j)
     swim_run_free(j->run);
     swim_folder_free(j->folder);
     swim_run_events_free(j->events);
-    swim_compiled_close(&j->spz);   /* after everything that may still point into the kernels */
-    swim_compiled_close(&j->kn);
     free(j->resolved);
     swim_lyapunov_free(&j->lyap);
-    swim_scene_free(&j->s);
+    swim_problem_close(&j->P);   /* after everything that may still point into the kernels */
     free(j);
 }
 

@@ -929,6 +929,34 @@ int swim_override_conflict(const swim_override *ov, int n, int *earlier)
     return -1;
 }
 
+static int same_text(const char *a, const char *b) { return (!a && !b) || (a && b && strcmp(a, b) == 0); }
+
+int swim_scene_take_values(swim_scene *s, swim_scene *from)
+{
+    /* the laws compiled for s read s's own arrays (param_values, energy_vars): they stay with s */
+    int same = s->stroke_count == from->stroke_count && s->nparams == from->nparams &&
+               same_text(s->forcing_text, from->forcing_text) && same_text(s->energy_text, from->energy_text);
+    for (int k = 0; same && k < s->stroke_count; k++)
+        same = s->stroke_index[k] == from->stroke_index[k] && same_text(s->stroke_law[k], from->stroke_law[k]);
+    for (int i = 0; same && i < s->nparams; i++) same = strcmp(s->param_names[i], from->param_names[i]) == 0;
+    if (!same) return -1;
+    const swim_scene was = *s;
+    *s = *from;
+    *from = was;
+    swim_expr *e = s->forcing;   /* each scene its own compiled laws back */
+    s->forcing = from->forcing;
+    from->forcing = e;
+    e = s->energy;
+    s->energy = from->energy;
+    from->energy = e;
+    for (int k = 0; k < s->stroke_count; k++) {
+        e = s->stroke_expr[k];
+        s->stroke_expr[k] = from->stroke_expr[k];
+        from->stroke_expr[k] = e;
+    }
+    return 0;
+}
+
 void swim_scene_free(swim_scene *s)
 {
     for (int k = 0; k < s->stroke_count; k++) {

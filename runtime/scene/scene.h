@@ -142,6 +142,11 @@ char *swim_scene_read(const char *path, size_t *len, swim_status *st);
  * it in messages. */
 int swim_scene_parse(const char *text, size_t len, const char *path, swim_scene *scene, swim_status *st);
 void swim_scene_free(swim_scene *scene);
+/* The values of `from` (a scene read from the same text, with other overrides) moved into
+ * `scene` where it is: scene keeps its own compiled laws, which read its parameters in place and
+ * now see the new values; from gets scene's former values (free it after). 0, or -1 when the two
+ * differ in their laws or parameter names (their structure), and nothing is moved. */
+int swim_scene_take_values(swim_scene *scene, swim_scene *from);
 
 /* The one check of the run settings, whatever set them: the row cap and the tolerance bounds
  * above, and the laws on the run's interval [0, t_end], before any kernel is asked for. A law is
