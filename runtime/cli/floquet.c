@@ -63,9 +63,7 @@ int swim_cmd_floquet(int argc, char **argv)
     if (swim_args_bounded("floquet", opts, nopts, "t-max", &t_max)) return 2;
     static swim_model_setup m;
     swim_status st = SWIM_STATUS_STDERR;
-    int rc = swim_setup_load(&m, pos[0], sets, nsets, &st);
-    swim_status_print(&st, stderr);
-    swim_status_clear(&st);
+    int rc = swim_status_shown(&st, swim_setup_load(&m, pos[0], sets, nsets, &st));
     if (rc == 0 && m.s.stroke) {
         /* A prescribed stroke gives the shape as a function of time: there is no shape state to
          * perturb, so no monodromy and no multipliers (swim run reports its strokes instead). */
@@ -74,8 +72,9 @@ int swim_cmd_floquet(int argc, char **argv)
         rc = 2;
     }
     if (rc == 0 && t_max > 0) rc = swim_args_steps_bounded("floquet", "t-max", t_max, m.s.output_step);
-    if (rc == 0) rc = swim_setup_kernels(&m, "floquet", swim_args_get(opts, nopts, "generic") != NULL, quiet, &st);
-    swim_status_print(&st, stderr);
+    if (rc == 0)
+        rc = swim_status_shown(&st, swim_setup_kernels(&m, "floquet", swim_args_get(opts, nopts, "generic") != NULL,
+                                                       quiet, &st));
     if (rc) {
         swim_setup_close(&m);
         return rc;
@@ -90,8 +89,8 @@ int swim_cmd_floquet(int argc, char **argv)
     }
     char section[64];
     swim_floquet_section sec;
-    if ((rc = swim_floquet_parse_section(&m.d, "floquet", "event", swim_args_get(opts, nopts, "event"), &sec, section,
-                                         sizeof section))) {
+    if ((rc = swim_status_shown(&st, swim_floquet_parse_section(&m.d, "floquet", "event", swim_args_get(opts, nopts,
+                                                                "event"), &sec, section, sizeof section, &st)))) {
         swim_setup_close(&m);
         return rc;
     }
@@ -110,8 +109,9 @@ int swim_cmd_floquet(int argc, char **argv)
     swim_run_stop = 0;
     m.d.interrupt = (volatile int *)&swim_run_stop;
     swim_run_signals_install(&sig);
-    rc = swim_floquet_compute(&m.d, &sec, t_max > 0 ? t_max : m.s.t_end, quiet ? NULL : on_period, NULL, &fl);
+    rc = swim_floquet_compute(&m.d, &sec, t_max > 0 ? t_max : m.s.t_end, quiet ? NULL : on_period, NULL, &fl, &st);
     swim_run_signals_restore(&sig);
+    swim_status_shown(&st, rc);
     if (rc == 0 && fl.stopped) {
         json_job job = {&fl, pos[0], section};
         const int written = swim_replace_file_with(json, fill, &job) == 0;

@@ -99,11 +99,12 @@ typedef struct {
     double seconds;
 } swim_branch;
 
-/* 0 (points computed; some may be missing: see ended), 1 after one line on stderr (no first
- * orbit, an unknown key, out of memory), 2 bad input (energy of a scene that is not
- * conservative, a key the right-hand side does not read). */
+/* 0 (points computed; some may be missing: see ended), 1 (no first orbit, out of memory), 2 bad
+ * input (energy of a scene that is not conservative, a key the right-hand side does not read),
+ * the cause in st ("swim continue: ..."). A point whose integration fails along the branch is
+ * not a failure of the branch: its cause goes to st's note. */
 int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_section *sec, const swim_cont_options *o,
-                  swim_branch *out);
+                  swim_branch *out, swim_status *st);
 void swim_branch_free(swim_branch *b);
 void swim_branch_csv(FILE *f, const swim_branch *b, const char *key);
 void swim_branch_json(FILE *f, const swim_branch *b, const char *scene, const char *key);

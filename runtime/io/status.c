@@ -62,6 +62,11 @@ void swim_status_note(const swim_status *st, const char *fmt, ...)
     free(text);
 }
 
+void swim_status_notes_from(const swim_status *to, const swim_status *from)
+{
+    for (int i = 0; to && to->note && from && i < from->nlines; i++) to->note(to->note_ctx, from->lines[i].text);
+}
+
 const char *swim_status_message(const swim_status *st, char *buf, size_t n)
 {
     const char *m = st && st->nlines ? st->lines[0].text + st->who_len : "";
