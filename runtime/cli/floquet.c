@@ -64,13 +64,7 @@ int swim_cmd_floquet(int argc, char **argv)
     static swim_model_setup m;
     swim_status st = SWIM_STATUS_STDERR;
     int rc = swim_status_shown(&st, swim_setup_load(&m, pos[0], sets, nsets, &st));
-    if (rc == 0 && m.s.stroke) {
-        /* A prescribed stroke gives the shape as a function of time: there is no shape state to
-         * perturb, so no monodromy and no multipliers (swim run reports its strokes instead). */
-        swim_message(stderr, "swim floquet: %s: a prescribed stroke ([stroke]) has no free shape dynamics, so no "
-                     "Floquet multipliers; swim run reports its period and displacement per stroke", pos[0]);
-        rc = 2;
-    }
+    if (rc == 0) rc = swim_status_shown(&st, swim_floquet_check(&m.s, pos[0], SWIM_FLOQUET_NO_STROKE, &st));
     if (rc == 0 && t_max > 0) rc = swim_args_steps_bounded("floquet", "t-max", t_max, m.s.output_step);
     if (rc == 0)
         rc = swim_status_shown(&st, swim_setup_kernels(&m, "floquet", swim_args_get(opts, nopts, "generic") != NULL,
@@ -79,11 +73,7 @@ int swim_cmd_floquet(int argc, char **argv)
         swim_setup_close(&m);
         return rc;
     }
-    /* the period is found from events of the scene's own integrator, which must locate them */
-    if (!(swim_ode_capabilities(m.s.integrator) & SWIM_ODE_CAP_EVENTS)) {
-        swim_message(stderr, "swim floquet: %s: run.integrator = \"%s\" cannot locate the section's events (no dense "
-                     "output); use one of %s (e.g. --set run.integrator=abm)", pos[0], m.s.integrator,
-                     swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
+    if (swim_status_shown(&st, swim_floquet_check(&m.s, pos[0], SWIM_FLOQUET_EVENTS, &st))) {
         swim_setup_close(&m);
         return 2;
     }

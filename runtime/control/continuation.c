@@ -399,27 +399,41 @@ void swim_branch_csv(FILE *f, const swim_branch *b, const char *key)
      * slide along the orbit from point to point; their length does not */
     /* then the phase point (the shape state each orbit was solved at, by coordinate name), so that
      * anyone can rerun an orbit and see whether the branch stays on its invariant subspace */
-    fprintf(f, "%s,period,dx,dy,dtheta,energy,dy_per_time,max_abs_multiplier,stable,residual,iterations,displacement",
-            strcmp(key, "energy") == 0 ? "energy_target" : key);
-    for (int j = 0; j < b->n2; j++) fprintf(f, ",%s", b->znames[j]);
+    const int ncol = swim_branch_columns(b);
+    for (int j = 0; j < ncol; j++) fprintf(f, "%s%s", j ? "," : "", swim_branch_column(b, key, j));
     fprintf(f, "\n");
+    double v[SWIM_BRANCH_FIXED_COLUMNS + SWIM_FLOQUET_MAX];
     for (int i = 0; i < b->n; i++) {
-        const swim_cont_point *q = &b->pt[i];
-        const double num[] = {q->param, q->period, q->dx, q->dy, q->dtheta, q->energy, q->dy / q->period, q->max_abs};
-        for (size_t c = 0; c < sizeof num / sizeof num[0]; c++) {
+        swim_branch_row(b, i, v);
+        for (int c = 0; c < ncol; c++) {
             if (c) fputc(',', f);
-            swim_number_print(f, num[c]);
-        }
-        fprintf(f, ",%s,", q->stable ? "yes" : "no");
-        swim_number_print(f, q->residual);
-        fprintf(f, ",%d,", q->iterations);
-        swim_number_print(f, hypot(q->dx, q->dy));
-        for (int j = 0; j < b->n2; j++) {
-            fputc(',', f);
-            swim_number_print(f, j < q->n2 ? q->z[j] : NAN);
+            if (c == 8) fputs(v[c] != 0 ? "yes" : "no", f);
+            else if (c == 10) fprintf(f, "%d", (int)v[c]);
+            else swim_number_print(f, v[c]);
         }
         fputc('\n', f);
     }
+}
+
+int swim_branch_columns(const swim_branch *b) { return SWIM_BRANCH_FIXED_COLUMNS + b->n2; }
+
+const char *swim_branch_column(const swim_branch *b, const char *key, int j)
+{
+    static const char *const fixed[SWIM_BRANCH_FIXED_COLUMNS] = {
+        NULL, "period", "dx", "dy", "dtheta", "energy", "dy_per_time", "max_abs_multiplier", "stable", "residual",
+        "iterations", "displacement"};
+    if (j == 0) return strcmp(key, "energy") == 0 ? "energy_target" : key;
+    return j < SWIM_BRANCH_FIXED_COLUMNS ? fixed[j] : b->znames[j - SWIM_BRANCH_FIXED_COLUMNS];
+}
+
+void swim_branch_row(const swim_branch *b, int i, double *v)
+{
+    const swim_cont_point *q = &b->pt[i];
+    const double fixed[SWIM_BRANCH_FIXED_COLUMNS] = {
+        q->param, q->period, q->dx, q->dy, q->dtheta, q->energy, q->dy / q->period, q->max_abs, q->stable ? 1 : 0,
+        q->residual, q->iterations, hypot(q->dx, q->dy)};
+    memcpy(v, fixed, sizeof fixed);
+    for (int j = 0; j < b->n2; j++) v[SWIM_BRANCH_FIXED_COLUMNS + j] = j < q->n2 ? q->z[j] : NAN;
 }
 
 /* A point's multipliers as [[re, im], ...] (the caller writes the brackets around). */

@@ -59,6 +59,25 @@ static void on_event(const swim_ode_event_hit *hit, void *data)
     log->count++;
 }
 
+int swim_floquet_check(const swim_scene *s, const char *path, int what, swim_status *st)
+{
+    if ((what & SWIM_FLOQUET_NO_STROKE) && s->stroke) {
+        /* A prescribed stroke gives the shape as a function of time: there is no shape state to
+         * perturb, so no monodromy and no multipliers (swim run reports its strokes instead). */
+        swim_floquet_fail(st, "floquet", path, "stroke", "%s: a prescribed stroke ([stroke]) has no free shape dynamics, "
+                          "so no Floquet multipliers; swim run reports its period and displacement per stroke", path);
+        return 2;
+    }
+    /* the period is found from events of the scene's own integrator, which must locate them */
+    if ((what & SWIM_FLOQUET_EVENTS) && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
+        swim_floquet_fail(st, "floquet", path, "run.integrator", "%s: run.integrator = \"%s\" cannot locate the "
+                          "section's events (no dense output); use one of %s (e.g. --set run.integrator=abm)", path,
+                          s->integrator, swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
+        return 2;
+    }
+    return 0;
+}
+
 int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const char *option, const char *spec,
                                swim_floquet_section *sec, char *text, size_t len, swim_status *st)
 {

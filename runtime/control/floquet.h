@@ -127,6 +127,12 @@ int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const ch
 int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_section *sec, double t_max,
                         const char *t_max_from, const char *section_option, const double *ys0, double *t_first,
                         double *period, swim_status *st);
+/* What swim floquet refuses in a scene (of file path), the checks in what: SWIM_FLOQUET_NO_STROKE a
+ * prescribed stroke (no shape state to perturb), SWIM_FLOQUET_EVENTS an integrator that cannot
+ * locate the section's events. 0, or 2 with the cause in st. */
+#define SWIM_FLOQUET_NO_STROKE 1
+#define SWIM_FLOQUET_EVENTS 2
+int swim_floquet_check(const swim_scene *s, const char *path, int what, swim_status *st);
 /* A failure of command CMD's analysis into st: "swim CMD: message", with its file and key (NULL:
  * none), as the orbit commands show it. */
 void swim_floquet_fail(swim_status *st, const char *cmd, const char *file, const char *key, const char *fmt, ...)
