@@ -763,8 +763,9 @@ struct swim_orbit {
  * the commands): 0 is the default and passes. */
 static int option_bounded(swim_error *err, const char *cmd, const char *option, const char *arg, double v)
 {
-    const swim_scene_key *k = swim_scene_key_find(cmd, option);
-    if (v == 0 || !k || (isfinite(v) && v >= k->lo && v <= k->hi)) return SWIM_OK;
+    const swim_scene_key *k = swim_command_option(cmd, option);
+    if (v == 0 || !k || (isfinite(v) && v >= k->lo && (v < k->hi || (k->kind == SWIM_KEY_INTEGER && v == k->hi))))
+        return SWIM_OK;
     return bad_arg(err, arg, "%s must be %s (got %g)", arg, k->expect, v);
 }
 
