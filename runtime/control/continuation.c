@@ -262,7 +262,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     swim_periodic_options held;   /* the options with the invariant subspace held */
     const int conservative = swim_periodic_conservative(d);
     if (pb.energy && !conservative) {
-        swim_floquet_fail(st, "continue", scene->path, "param", "--param energy: %s has damping or forcing, so energy "
+        swim_status_fail_cmd(st, "continue", scene->path, "param", "--param energy: %s has damping or forcing, so energy "
                           "is not conserved and orbits do not come in a family by energy; continue in a scene key "
                           "instead", scene->path);
         return 2;
@@ -272,14 +272,14 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     double saved[2] = {0, 0};
     if (!pb.energy) {   /* the key's numbers in the scene, as --sensitivity finds them */
         if (swim_sens_init(&S, d) != 0) {
-            swim_floquet_fail(st, "continue", NULL, NULL, "out of memory");
+            swim_status_fail_cmd(st, "continue", NULL, NULL, "out of memory");
             return 1;
         }
         have_sens = 1;
         const int krc = swim_sens_add_key(&S, scene, "continue: --param", o->key, st);
         if (krc != 0 || S.keys[0].nvalue == 0) {
             if (krc == 0)
-                swim_floquet_fail(st, "continue", NULL, "param", "--param %s: an initial value, not a parameter of the "
+                swim_status_fail_cmd(st, "continue", NULL, "param", "--param %s: an initial value, not a parameter of the "
                                   "equations", o->key);
             swim_sens_free(&S);
             return 2;
@@ -298,7 +298,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     swim_periodic p0;
     int have_p0 = 0;
     if (!targets || !b->pt || !first.ys) {
-        swim_floquet_fail(st, "continue", NULL, NULL, "out of memory");
+        swim_status_fail_cmd(st, "continue", NULL, NULL, "out of memory");
         goto done;
     }
     /* the first point: the scene's own orbit */
@@ -313,7 +313,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
         goto done;
     }
     if (!p0.converged) {
-        swim_floquet_fail(st, "continue", scene->path, NULL, "%s: no periodic orbit to start from: %s (residual %.2g)",
+        swim_status_fail_cmd(st, "continue", scene->path, NULL, "%s: no periodic orbit to start from: %s (residual %.2g)",
                           scene->path, p0.why, p0.residual);
         goto done;
     }
@@ -341,7 +341,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     int nup = 0, ndown = 0;
     if (!up || !down) {
         free(up); free(down);
-        swim_floquet_fail(st, "continue", NULL, NULL, "out of memory");
+        swim_status_fail_cmd(st, "continue", NULL, NULL, "out of memory");
         goto done;
     }
     for (int k = 0; k < o->points; k++)
@@ -358,7 +358,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     free(up);
     free(down);
     if (w1 || w2) {
-        swim_floquet_fail(st, "continue", NULL, NULL, "out of memory");
+        swim_status_fail_cmd(st, "continue", NULL, NULL, "out of memory");
         goto done;
     }
     qsort(b->pt, (size_t)b->n, sizeof *b->pt, by_param);
@@ -370,7 +370,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
         goto done;
     }
     if (classify(&pb, b) != 0) {
-        swim_floquet_fail(st, "continue", NULL, NULL, "out of memory");
+        swim_status_fail_cmd(st, "continue", NULL, NULL, "out of memory");
         goto done;
     }
     rc = 0;

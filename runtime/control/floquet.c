@@ -5,7 +5,6 @@
 #include <lapacke.h>
 #include <math.h>
 #include <signal.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -24,15 +23,6 @@
  * unit circle" from a genuine instability without calling that splitting unstable. */
 #define FLOQUET_TOL SWIM_FLOQUET_TOL
 
-void swim_floquet_fail(swim_status *st, const char *cmd, const char *file, const char *key, const char *fmt, ...)
-{
-    char who[64];
-    snprintf(who, sizeof who, "swim %s", cmd);
-    va_list ap;
-    va_start(ap, fmt);
-    swim_status_vfail(st, who, file, 0, key, fmt, ap);
-    va_end(ap);
-}
 
 
 typedef struct {
@@ -64,13 +54,13 @@ int swim_floquet_check(const swim_scene *s, const char *path, int what, swim_sta
     if ((what & SWIM_FLOQUET_NO_STROKE) && s->stroke) {
         /* A prescribed stroke gives the shape as a function of time: there is no shape state to
          * perturb, so no monodromy and no multipliers (swim run reports its strokes instead). */
-        swim_floquet_fail(st, "floquet", path, "stroke", "%s: a prescribed stroke ([stroke]) has no free shape dynamics, "
+        swim_status_fail_cmd(st, "floquet", path, "stroke", "%s: a prescribed stroke ([stroke]) has no free shape dynamics, "
                           "so no Floquet multipliers; swim run reports its period and displacement per stroke", path);
         return 2;
     }
     /* the period is found from events of the scene's own integrator, which must locate them */
     if ((what & SWIM_FLOQUET_EVENTS) && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
-        swim_floquet_fail(st, "floquet", path, "run.integrator", "%s: run.integrator = \"%s\" cannot locate the "
+        swim_status_fail_cmd(st, "floquet", path, "run.integrator", "%s: run.integrator = \"%s\" cannot locate the "
                           "section's events (no dense output); use one of %s (e.g. --set run.integrator=abm)", path,
                           s->integrator, swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
         return 2;
@@ -101,7 +91,7 @@ int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const ch
         errno = 0;
         const long c = strtol(colon2 + 1, &end, 10);
         if (end == colon2 + 1 || *end || errno || c < 1 || c > SWIM_FLOQUET_MAX_CROSSINGS) {
-            swim_floquet_fail(st, cmd, NULL, option, "--%s: '%s': the count after the second ':' is the number of "
+            swim_status_fail_cmd(st, cmd, NULL, option, "--%s: '%s': the count after the second ':' is the number of "
                               "events the period spans, an integer 1..%d, got '%s'", option, spec,
                               SWIM_FLOQUET_MAX_CROSSINGS, colon2 + 1);
             return 2;
@@ -124,11 +114,11 @@ int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const ch
             return 0;
         }
     }
-    swim_floquet_fail(st, cmd, NULL, option, "--%s: '%s' is not a moving coordinate of the scene or its velocity "
+    swim_status_fail_cmd(st, cmd, NULL, option, "--%s: '%s' is not a moving coordinate of the scene or its velocity "
                       "(d + name)", option, col);
     return 2;
 bad:
-    swim_floquet_fail(st, cmd, NULL, option, "--%s: expected COLUMN:KIND[:COUNT] (KIND max, min or zero; COUNT the "
+    swim_status_fail_cmd(st, cmd, NULL, option, "--%s: expected COLUMN:KIND[:COUNT] (KIND max, min or zero; COUNT the "
                       "events the period spans, 1 by default), e.g. am1:max or bm2:max:2, got '%s'", option, spec);
     return 2;
 }
@@ -141,7 +131,7 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
     const int n = swim_dynamics_state_dim(d);
     double *y = malloc(sizeof(double) * n);
     if (!y) {
-        swim_floquet_fail(st, cmd, NULL, NULL, "out of memory");
+        swim_status_fail_cmd(st, cmd, NULL, NULL, "out of memory");
         return 1;
     }
     memcpy(y, ys0, sizeof(double) * n);
@@ -165,11 +155,11 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
         rc = swim_ode_advance(ode, fmin(t, t_max), y);
     const int stopped = d->interrupt && *d->interrupt;   /* the caller's to say */
     if (rc != SWIM_ODE_OK && !stopped)
-        swim_floquet_fail(st, cmd, NULL, NULL, "the run for the period failed: %s", swim_ode_strerror(rc));
+        swim_status_fail_cmd(st, cmd, NULL, NULL, "the run for the period failed: %s", swim_ode_strerror(rc));
     else if (log.count < want && !stopped) {
         char many[16];
         snprintf(many, sizeof many, want == 2 ? "two" : "%d", want);
-        swim_floquet_fail(st, cmd, NULL, NULL, "fewer than %s events of the section before t = %g: no period "
+        swim_status_fail_cmd(st, cmd, NULL, NULL, "fewer than %s events of the section before t = %g: no period "
                           "(raise %s or choose another section with %s)", many, t_max, t_max_from, section_option);
     }
     swim_ode_free(ode);
@@ -487,7 +477,7 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
 {
     memset(fl, 0, sizeof *fl);
     if (d->scene->stroke || !d->spec) {   /* a prescribed shape has no shape state to perturb */
-        swim_floquet_fail(st, "floquet", d->scene->path, NULL, "%s: a prescribed stroke has no free shape dynamics",
+        swim_status_fail_cmd(st, "floquet", d->scene->path, NULL, "%s: a prescribed stroke has no free shape dynamics",
                           d->scene->path);
         return 1;
     }
@@ -496,7 +486,7 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
     double *full = calloc((size_t)d->dim, sizeof(double)), *ys = malloc(sizeof(double) * N);
     int rc = 1;
     if (!full || !ys) {
-        swim_floquet_fail(st, "floquet", NULL, NULL, "out of memory");
+        swim_status_fail_cmd(st, "floquet", NULL, NULL, "out of memory");
     } else {
         swim_dynamics_initial_state(d, full);
         swim_dynamics_pack(d, full, ys);
@@ -560,7 +550,7 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
     }
     if (orc != SWIM_ODE_OK) {
         if (!(d->interrupt && *d->interrupt))   /* stopped: the caller's to say */
-            swim_floquet_fail(st, "floquet", NULL, NULL, "the variational equations failed: %s", swim_ode_strerror(orc));
+            swim_status_fail_cmd(st, "floquet", NULL, NULL, "the variational equations failed: %s", swim_ode_strerror(orc));
         goto done;
     }
     double scale = d->scene->atol;
@@ -573,7 +563,7 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
     fl->periodic = fl->closure_rel <= SWIM_FLOQUET_CLOSURE_TOL;
     if (eigenvalues(fl->M, n2, fl->re, fl->im) != 0) goto oom;
     if (swim_dynamics_rhs(0.0, ys, f, d) != 0 || energy_gradient(d, ys, fl->grad_energy) != 0) {
-        swim_floquet_fail(st, "floquet", NULL, NULL, "the right-hand side or the energy failed at the initial state");
+        swim_status_fail_cmd(st, "floquet", NULL, NULL, "the right-hand side or the energy failed at the initial state");
         goto done;
     }
     memcpy(fl->flow, f + 3, sizeof(double) * n2);
@@ -586,7 +576,7 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
     rc = 0;
     goto done;
 oom:
-    swim_floquet_fail(st, "floquet", NULL, NULL, "out of memory");
+    swim_status_fail_cmd(st, "floquet", NULL, NULL, "out of memory");
 done:
     if (have_sens) swim_sens_free(&S);
     free(f); free(C); free(Y);

@@ -133,10 +133,6 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
 #define SWIM_FLOQUET_NO_STROKE 1
 #define SWIM_FLOQUET_EVENTS 2
 int swim_floquet_check(const swim_scene *s, const char *path, int what, swim_status *st);
-/* A failure of command CMD's analysis into st: "swim CMD: message", with its file and key (NULL:
- * none), as the orbit commands show it. */
-void swim_floquet_fail(swim_status *st, const char *cmd, const char *file, const char *key, const char *fmt, ...)
-    __attribute__((format(printf, 5, 6)));
 void swim_floquet_free(swim_floquet *f);
 /* floquet.json and the table printed by swim floquet. */
 /* "SIGINT", "SIGTERM", "SIGHUP" for a stop flag holding that signal's number (swim periodic,

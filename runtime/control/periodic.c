@@ -49,7 +49,7 @@ static int flow(swim_dynamics *d, const double *ys, double T, const swim_periodi
     }
     if (rc != SWIM_ODE_OK) {
         if (!stop_asked(d))   /* a trial step of the line search that fails is only a step not taken (st NULL) */
-            swim_floquet_fail(st, CMD(o), NULL, NULL, "the integration over one period (T = %.10g) failed: %s", T,
+            swim_status_fail_cmd(st, CMD(o), NULL, NULL, "the integration over one period (T = %.10g) failed: %s", T,
                               swim_ode_strerror(rc));
         return 1;
     }
@@ -166,7 +166,7 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
     memset(p, 0, sizeof *p);
     const double t_start = swim_clock_seconds();
     if (d->scene->stroke || !d->spec) {
-        swim_floquet_fail(st, CMD(o), d->scene->path, NULL, "%s: a prescribed stroke has no free shape dynamics",
+        swim_status_fail_cmd(st, CMD(o), d->scene->path, NULL, "%s: a prescribed stroke has no free shape dynamics",
                           d->scene->path);
         return 1;
     }
@@ -174,7 +174,7 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
     double *ys = malloc(sizeof(double) * N), *full = calloc((size_t)d->dim, sizeof(double));
     int rc = 1;
     const int g = ys && full ? guess(d, sec, o, ys, full, p, st) : -1;
-    if (g < 0) swim_floquet_fail(st, CMD(o), NULL, NULL, "out of memory");
+    if (g < 0) swim_status_fail_cmd(st, CMD(o), NULL, NULL, "out of memory");
     else if (g != 0 && stop_asked(d)) {   /* stopped before any iterate */
         p->stopped = stop_asked(d);
         p->why = "stopped by a signal while the guess was looked for";
@@ -221,7 +221,7 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
     double r[SWIM_FLOQUET_MAX], rt[SWIM_FLOQUET_MAX], u[SWIM_FLOQUET_MAX];
     int rc = 1;
     if (!ys || !yt || !work || !full) {
-        swim_floquet_fail(st, CMD(o), NULL, NULL, "out of memory");
+        swim_status_fail_cmd(st, CMD(o), NULL, NULL, "out of memory");
         goto done;
     }
     memcpy(ys, ys0, sizeof(double) * N);
@@ -372,18 +372,18 @@ done:
 int swim_periodic_check(const swim_scene *s, const char *cmd, const char *path, swim_status *st)
 {
     if (s->stroke) {
-        swim_floquet_fail(st, cmd, path, "stroke", "%s: a prescribed stroke ([stroke]) is periodic by its laws: there "
+        swim_status_fail_cmd(st, cmd, path, "stroke", "%s: a prescribed stroke ([stroke]) is periodic by its laws: there "
                           "is no free shape dynamics to solve for (swim run reports its period and displacement per "
                           "stroke)", path);
         return 2;
     }
     if (s->forcing) {
-        swim_floquet_fail(st, cmd, path, "forcing", "%s: [forcing] makes the equations depend on time; periodic orbits "
+        swim_status_fail_cmd(st, cmd, path, "forcing", "%s: [forcing] makes the equations depend on time; periodic orbits "
                           "are looked for in autonomous scenes only", path);
         return 2;
     }
     if (!(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
-        swim_floquet_fail(st, cmd, path, "run.integrator", "%s: run.integrator = \"%s\" cannot locate the guess's "
+        swim_status_fail_cmd(st, cmd, path, "run.integrator", "%s: run.integrator = \"%s\" cannot locate the guess's "
                           "events; use one of %s (e.g. --set run.integrator=abm)", path, s->integrator,
                           swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
         return 2;

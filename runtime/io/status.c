@@ -51,6 +51,16 @@ void swim_status_fail(swim_status *st, const char *who, const char *file, int li
     va_end(ap);
 }
 
+void swim_status_fail_cmd(swim_status *st, const char *cmd, const char *file, const char *key, const char *fmt, ...)
+{
+    char who[64];
+    snprintf(who, sizeof who, "swim %s", cmd);
+    va_list ap;
+    va_start(ap, fmt);
+    swim_status_vfail(st, who, file, 0, key, fmt, ap);
+    va_end(ap);
+}
+
 void swim_status_note(const swim_status *st, const char *fmt, ...)
 {
     if (!st || !st->note) return;

@@ -867,7 +867,7 @@ static int orbit_run(const swim_model *m, const swim_orbit_options *theirs, char
             snprintf(text, sizeof text, "%s=%.17g", o.param, e ? o.end : o.start);
             swim_scene check;
             if (swim_override_parse(text, &ov[m->nsets], why, sizeof why) != 0) {
-                swim_floquet_fail(&st, "continue", m->name, "param", "--param %s: %s", o.param, why);
+                swim_status_fail_cmd(&st, "continue", m->name, "param", "--param %s: %s", o.param, why);
                 rc = SWIM_EINPUT;
             } else if (swim_scene_parse_with(m->text, m->len, m->name, ov, m->nsets + 1, &check, &st) != 0) {
                 rc = SWIM_EINPUT;
