@@ -200,9 +200,27 @@ class swim_branch_result(_Sized):
                 ("seconds", ctypes.c_double)]
 
 
+class swim_member(_Sized):
+    _fields_ = [("size", ctypes.c_size_t),
+                ("completed", ctypes.c_int),
+                ("status", ctypes.c_char * 32),
+                ("reason", ctypes.c_char * 1024),
+                ("t_reached", ctypes.c_double),
+                ("x", ctypes.c_double),
+                ("y", ctypes.c_double),
+                ("theta", ctypes.c_double),
+                ("energy_drift_rel", ctypes.c_double),
+                ("energy_balance_abs", ctypes.c_double),
+                ("jmin", ctypes.c_double),
+                ("steps", ctypes.c_longlong),
+                ("rhs_evaluations", ctypes.c_longlong),
+                ("integrate_seconds", ctypes.c_double),
+                ("wall_seconds", ctypes.c_double)]
+
+
 # The mirrors checked against the library at load, by swim.h's names.
 MIRRORS = (swim_error, swim_sim_options, swim_result, swim_inspection, swim_event, swim_lyapunov_result,
-           swim_orbit_options, swim_periodic_result, swim_floquet_result, swim_branch_result)
+           swim_orbit_options, swim_periodic_result, swim_floquet_result, swim_branch_result, swim_member)
 
 
 def size_mismatches(lib, mirrors=None):
@@ -298,6 +316,7 @@ def _declare(lib):
         "swim_orbit_json": (c_void_p, [c_void_p]),
         "swim_orbit_csv": (c_void_p, [c_void_p]),
         "swim_orbit_free": (None, [c_void_p]),
+        "swim_model_run_member": (c_int, [c_void_p, sets, c_int, sets, c_int, ctypes.POINTER(swim_member), err]),
     }
     for name, (restype, argtypes) in protos.items():
         fn = getattr(lib, name)

@@ -28,6 +28,7 @@
 #include "driver/events.h"
 #include "driver/run.h"
 #include "driver/summary.h"
+#include "driver/summary_read.h"
 #include "io/files.h"
 #include "io/message.h"
 #include "io/version.h"
@@ -137,6 +138,7 @@ const char *swim_strerror(int status)
 #define PERIODIC_V1 FIRST_LAYOUT(swim_periodic_result, seconds)
 #define FLOQUET_V1 FIRST_LAYOUT(swim_floquet_result, seconds)
 #define BRANCH_V1 FIRST_LAYOUT(swim_branch_result, seconds)
+#define MEMBER_V1 FIRST_LAYOUT(swim_member, wall_seconds)
 
 size_t swim_struct_size(const char *name)
 {
@@ -152,7 +154,8 @@ size_t swim_struct_size(const char *name)
                  {"swim_orbit_options", sizeof(swim_orbit_options)},
                  {"swim_periodic_result", sizeof(swim_periodic_result)},
                  {"swim_floquet_result", sizeof(swim_floquet_result)},
-                 {"swim_branch_result", sizeof(swim_branch_result)}};
+                 {"swim_branch_result", sizeof(swim_branch_result)},
+                 {"swim_member", sizeof(swim_member)}};
     for (size_t i = 0; name && i < sizeof sizes / sizeof sizes[0]; i++)
         if (strcmp(name, sizes[i].name) == 0) return sizes[i].size;
     return 0;
@@ -728,6 +731,62 @@ void swim_sim_free(swim_sim *s)
     if (s->loaded) swim_scene_free(&s->s);
     free(s->sets);
     free(s);
+}
+
+/* ---- a member of a family ---------------------------------------------------------------------- */
+
+static double real_of(const swim_summary_real *r) { return r->set ? r->value : NAN; }
+
+static long long count_of(const swim_summary_count *c) { return c->set ? c->value : -1; }
+
+static int run_member(swim_model *m, const char *const *sets, int nsets, const char *const *events, int nevents,
+                      swim_member *theirs, swim_error *err)
+{
+    if (!m) return bad_arg(err, "model", "model is NULL");
+    if (!theirs) return bad_arg(err, "out", "out is NULL");
+    if (theirs->size < MEMBER_V1) return too_small(err, "swim_member", theirs->size, MEMBER_V1);
+    if (string_list(err, "swim_model_from_file", "sets", "nsets", sets, nsets)) return SWIM_EINPUT;
+    for (int i = 0; i < nsets; i++) {
+        char key[256];
+        const char *eq = strchr(sets[i], '=');
+        if (!eq || (size_t)(eq - sets[i]) >= sizeof key)
+            return bad_arg(err, "sets", "sets[%d] = '%s' is not KEY=VALUE", i, sets[i]);
+        snprintf(key, sizeof key, "%.*s", (int)(eq - sets[i]), sets[i]);
+        const int rc = model_set(m, key, eq + 1, err);
+        if (rc) return rc;
+    }
+    swim_sim_options o = SWIM_SIM_OPTIONS_INIT;
+    o.events = events;
+    o.nevents = nevents;
+    swim_sim *s = NULL;
+    int rc = swim_sim_create_(m, &o, &s, err);
+    if (rc) return rc;
+    swim_error ran = SWIM_ERROR_INIT;   /* a failed run is a member's row, not the call's failure */
+    sim_advance(s, INFINITY, &ran);
+    char *json = text_of(fill_summary, s), why[256];
+    swim_summary sum;
+    memset(&sum, 0, sizeof sum);
+    rc = json && swim_summary_read(m->name, json, &sum, why, sizeof why) == SWIM_SUMMARY_OK ? SWIM_OK : SWIM_ENOMEM;
+    const swim_run_result *r = swim_run_get_result(s->run);
+    swim_member out = {sizeof out, r->finished && r->status == 0, "", "", real_of(&sum.t_reached), real_of(&sum.x),
+                       real_of(&sum.y), real_of(&sum.theta), real_of(&sum.energy_drift_rel),
+                       real_of(&sum.energy_balance_abs), real_of(&sum.jmin), count_of(&sum.steps),
+                       count_of(&sum.rhs_evaluations), real_of(&sum.integrate_seconds), real_of(&sum.wall_seconds)};
+    free(json);
+    swim_sim_free(s);
+    if (rc) return failed(err, NULL, rc, "out of memory");
+    snprintf(out.status, sizeof out.status, "%s", sum.status);
+    snprintf(out.reason, sizeof out.reason, "%s", sum.reason);
+    give(theirs, &out, sizeof out);
+    return SWIM_OK;
+}
+
+int swim_model_run_member(swim_model *m, const char *const *sets, int nsets, const char *const *events, int nevents,
+                          swim_member *out, swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return SWIM_EINPUT;
+    return error_give(err, &e, run_member(m, sets, nsets, events, nevents, out, &e));
 }
 
 /* ---- orbits: periodic, floquet, continuation ------------------------------------------------ */

@@ -99,7 +99,8 @@ SWIM_API const char *swim_version(void);
 SWIM_API const char *swim_strerror(int status);
 /* sizeof the library's struct of that name ("swim_error", "swim_sim_options", "swim_result",
  * "swim_inspection", "swim_event", "swim_lyapunov_result", "swim_orbit_options",
- * "swim_periodic_result", "swim_floquet_result", "swim_branch_result"), 0 for another name or NULL: for bindings that mirror the structs (Python
+ * "swim_periodic_result", "swim_floquet_result", "swim_branch_result", "swim_member"), 0 for another
+ * name or NULL: for bindings that mirror the structs (Python
  * checks its mirrors against these at import). */
 SWIM_API size_t swim_struct_size(const char *name);
 
@@ -256,6 +257,33 @@ SWIM_API char *swim_sim_summary_json(const swim_sim *s);
  * NULL s). */
 SWIM_API char *swim_sim_events_csv(const swim_sim *s);
 SWIM_API void swim_sim_free(swim_sim *s);
+
+/* ---- a member of a family in one call -------------------------------------------------------- */
+
+/* members.csv's numbers of a run (swim sweep's columns after the id and the varied keys), read
+ * from the run's summary.json as swim sweep reads its members' summaries. */
+typedef struct {
+    size_t size;                      /* sizeof(swim_member), set by the caller (SWIM_MEMBER_INIT) */
+    int completed;                    /* the run reached t_end or a :stop event */
+    char status[32];                  /* summary.json's status: "completed", "failed" */
+    char reason[1024];                /* its reason ("" when absent; cut at a character boundary) */
+    double t_reached, x, y, theta;    /* NaN where the summary has none (null) */
+    double energy_drift_rel, energy_balance_abs, jmin;
+    long long steps, rhs_evaluations; /* -1 where the summary has none */
+    double integrate_seconds, wall_seconds;
+} swim_member;
+#define SWIM_MEMBER_INIT SWIM_SIZED_INIT_(swim_member)
+
+/* One member of a family, in one call: the run-time keys sets[0..nsets) ("KEY=VALUE") set in m
+ * in place, in order, as swim_model_set sets them; a simulation of m with the extra events (as
+ * swim_sim_options.events), run to its end without rows; its members.csv numbers into *out. The
+ * same run, bit for bit, as swim_model_set for each key, then swim_sim_create and swim_sim_run
+ * (what a binding would do in several calls, here without returning to the caller in between:
+ * Python's swim.sweep runs its members on threads with one call each). SWIM_OK when the run was
+ * made, completed or failed (out->completed, out->status and out->reason say which); a key
+ * refused is SWIM_EINPUT naming it (the keys before it stay set); a bad event SWIM_EINPUT. */
+SWIM_API int swim_model_run_member(swim_model *m, const char *const *sets, int nsets, const char *const *events,
+                                   int nevents, swim_member *out, swim_error *err);
 
 /* ---- periodic orbits, Floquet multipliers, continuation (`swim periodic`, `floquet`, `continue`) --
  *
