@@ -263,8 +263,8 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     const int conservative = swim_periodic_conservative(d);
     if (pb.energy && !conservative) {
         swim_status_fail_cmd(st, "continue", scene->path, "param", "--param energy: %s has damping or forcing, so energy "
-                          "is not conserved and orbits do not come in a family by energy; continue in a scene key "
-                          "instead", scene->path);
+                             "is not conserved and orbits do not come in a family by energy; continue in a scene key "
+                             "instead", scene->path);
         return 2;
     }
     swim_sens S;
@@ -280,7 +280,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
         if (krc != 0 || S.keys[0].nvalue == 0) {
             if (krc == 0)
                 swim_status_fail_cmd(st, "continue", NULL, "param", "--param %s: an initial value, not a parameter of the "
-                                  "equations", o->key);
+                                     "equations", o->key);
             swim_sens_free(&S);
             return 2;
         }
@@ -314,7 +314,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     }
     if (!p0.converged) {
         swim_status_fail_cmd(st, "continue", scene->path, NULL, "%s: no periodic orbit to start from: %s (residual %.2g)",
-                          scene->path, p0.why, p0.residual);
+                             scene->path, p0.why, p0.residual);
         goto done;
     }
     b->param0 = pb.energy ? p0.energy : saved[0];

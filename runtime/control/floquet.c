@@ -54,15 +54,16 @@ int swim_floquet_check(const swim_scene *s, const char *path, int what, swim_sta
     if ((what & SWIM_FLOQUET_NO_STROKE) && s->stroke) {
         /* A prescribed stroke gives the shape as a function of time: there is no shape state to
          * perturb, so no monodromy and no multipliers (swim run reports its strokes instead). */
-        swim_status_fail_cmd(st, "floquet", path, "stroke", "%s: a prescribed stroke ([stroke]) has no free shape dynamics, "
-                          "so no Floquet multipliers; swim run reports its period and displacement per stroke", path);
+        swim_status_fail_cmd(st, "floquet", path, "stroke", "%s: a prescribed stroke ([stroke]) has no free shape "
+                             "dynamics, so no Floquet multipliers; swim run reports its period and displacement per "
+                             "stroke", path);
         return 2;
     }
     /* the period is found from events of the scene's own integrator, which must locate them */
     if ((what & SWIM_FLOQUET_EVENTS) && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
         swim_status_fail_cmd(st, "floquet", path, "run.integrator", "%s: run.integrator = \"%s\" cannot locate the "
-                          "section's events (no dense output); use one of %s (e.g. --set run.integrator=abm)", path,
-                          s->integrator, swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
+                             "section's events (no dense output); use one of %s (e.g. --set run.integrator=abm)", path,
+                             s->integrator, swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
         return 2;
     }
     return 0;
@@ -92,8 +93,8 @@ int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const ch
         const long c = strtol(colon2 + 1, &end, 10);
         if (end == colon2 + 1 || *end || errno || c < 1 || c > SWIM_FLOQUET_MAX_CROSSINGS) {
             swim_status_fail_cmd(st, cmd, NULL, option, "--%s: '%s': the count after the second ':' is the number of "
-                              "events the period spans, an integer 1..%d, got '%s'", option, spec,
-                              SWIM_FLOQUET_MAX_CROSSINGS, colon2 + 1);
+                                 "events the period spans, an integer 1..%d, got '%s'", option, spec,
+                                 SWIM_FLOQUET_MAX_CROSSINGS, colon2 + 1);
             return 2;
         }
         sec->count = (int)c;
@@ -115,11 +116,11 @@ int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const ch
         }
     }
     swim_status_fail_cmd(st, cmd, NULL, option, "--%s: '%s' is not a moving coordinate of the scene or its velocity "
-                      "(d + name)", option, col);
+                         "(d + name)", option, col);
     return 2;
 bad:
     swim_status_fail_cmd(st, cmd, NULL, option, "--%s: expected COLUMN:KIND[:COUNT] (KIND max, min or zero; COUNT the "
-                      "events the period spans, 1 by default), e.g. am1:max or bm2:max:2, got '%s'", option, spec);
+                         "events the period spans, 1 by default), e.g. am1:max or bm2:max:2, got '%s'", option, spec);
     return 2;
 }
 
@@ -160,7 +161,7 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
         char many[16];
         snprintf(many, sizeof many, want == 2 ? "two" : "%d", want);
         swim_status_fail_cmd(st, cmd, NULL, NULL, "fewer than %s events of the section before t = %g: no period "
-                          "(raise %s or choose another section with %s)", many, t_max, t_max_from, section_option);
+                             "(raise %s or choose another section with %s)", many, t_max, t_max_from, section_option);
     }
     swim_ode_free(ode);
     free(y);
@@ -478,7 +479,7 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
     memset(fl, 0, sizeof *fl);
     if (d->scene->stroke || !d->spec) {   /* a prescribed shape has no shape state to perturb */
         swim_status_fail_cmd(st, "floquet", d->scene->path, NULL, "%s: a prescribed stroke has no free shape dynamics",
-                          d->scene->path);
+                             d->scene->path);
         return 1;
     }
     const double t0 = swim_clock_seconds();

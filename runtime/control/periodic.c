@@ -50,7 +50,7 @@ static int flow(swim_dynamics *d, const double *ys, double T, const swim_periodi
     if (rc != SWIM_ODE_OK) {
         if (!stop_asked(d))   /* a trial step of the line search that fails is only a step not taken (st NULL) */
             swim_status_fail_cmd(st, CMD(o), NULL, NULL, "the integration over one period (T = %.10g) failed: %s", T,
-                              swim_ode_strerror(rc));
+                                 swim_ode_strerror(rc));
         return 1;
     }
     return 0;
@@ -167,7 +167,7 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
     const double t_start = swim_clock_seconds();
     if (d->scene->stroke || !d->spec) {
         swim_status_fail_cmd(st, CMD(o), d->scene->path, NULL, "%s: a prescribed stroke has no free shape dynamics",
-                          d->scene->path);
+                             d->scene->path);
         return 1;
     }
     const int N = swim_dynamics_state_dim(d);
@@ -373,19 +373,19 @@ int swim_periodic_check(const swim_scene *s, const char *cmd, const char *path, 
 {
     if (s->stroke) {
         swim_status_fail_cmd(st, cmd, path, "stroke", "%s: a prescribed stroke ([stroke]) is periodic by its laws: there "
-                          "is no free shape dynamics to solve for (swim run reports its period and displacement per "
-                          "stroke)", path);
+                             "is no free shape dynamics to solve for (swim run reports its period and displacement per "
+                             "stroke)", path);
         return 2;
     }
     if (s->forcing) {
         swim_status_fail_cmd(st, cmd, path, "forcing", "%s: [forcing] makes the equations depend on time; periodic orbits "
-                          "are looked for in autonomous scenes only", path);
+                             "are looked for in autonomous scenes only", path);
         return 2;
     }
     if (!(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
         swim_status_fail_cmd(st, cmd, path, "run.integrator", "%s: run.integrator = \"%s\" cannot locate the guess's "
-                          "events; use one of %s (e.g. --set run.integrator=abm)", path, s->integrator,
-                          swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
+                             "events; use one of %s (e.g. --set run.integrator=abm)", path, s->integrator,
+                             swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
         return 2;
     }
     return 0;
