@@ -3,7 +3,8 @@
   - no file below cli/ includes a cli/ header or calls a command (swim_cmd_*); mpi/ is a program's
     front end and may read its command line with cli/sweep_args.h and take the program's signal policy from
     cli/run_signals.h, nothing else of cli/;
-  - the run driver (driver/) prints nothing and exits nowhere: lines leave through its sink;
+  - the run driver (driver/) prints nothing and exits nowhere: lines leave through its sink; the
+    analyses (control/) and the sweep (sweep/) print nothing either: statuses and callbacks;
   - no integrator is tested by name outside the integrator registry (ode/): capabilities decide;
   - the driver's include graph has no cycle (a module: x.c with x.h and x_internal.h);
   - the command layer stays a command layer: runtime/cli/ at most 3 000 lines;
@@ -54,6 +55,21 @@ def test_driver_prints_nothing():
         for pat in (r"\bswim_message\s*\(", r"\bprintf\s*\(", r"\bputs\s*\(", r"\bexit\s*\(", r"\bstderr\b",
                     r"\bstdout\b", r"\babort\s*\("):
             check(not re.search(pat, c), "%s: %s" % (path, pat))
+
+
+def test_analyses_and_sweep_print_nothing():
+    # control/ (the analyses: orbits, sensitivities, optimize) and sweep/ fill statuses and hand
+    # notices and progress to their caller; the commands print. sweep/ checks the command's report
+    # on stdout (flush and close) and writes a member's refusal into that member's log file.
+    for folder in ("control", "sweep"):
+        for path, text in sources(folder):
+            c = code(text)
+            pats = [r"\bstderr\b", r"\bprintf\s*\(", r"\bputs\s*\(", r"\bexit\s*\(", r"\babort\s*\(",
+                    r"\bswim_message\s*\(\s*std(err|out)\b", r"\bfprintf\s*\(\s*std(err|out)\b"]
+            if folder == "control":
+                pats += [r"\bstdout\b", r"\bswim_message\s*\("]
+            for pat in pats:
+                check(not re.search(pat, c), "%s: %s" % (path, pat))
 
 
 def test_no_integrator_named():

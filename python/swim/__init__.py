@@ -541,6 +541,21 @@ def _member_row(i, values, r):
     return row
 
 
+def _row_of_member(i, values, c):
+    """_member_row from libswim's swim_member (the summary's numbers, read in C): null as None."""
+    num = lambda v: None if v != v else v
+    count = lambda v: None if v < 0 else v
+    row = {"id": i}
+    row.update(values)
+    row.update({"status": c.status.decode("utf-8", "replace") or None, "completed": bool(c.completed),
+                "reason": c.reason.decode("utf-8", "replace") or None, "t_reached": num(c.t_reached),
+                "x": num(c.x), "y": num(c.y), "theta": num(c.theta), "energy_drift_rel": num(c.energy_drift_rel),
+                "energy_balance_abs": num(c.energy_balance_abs), "jmin": num(c.jmin), "steps": count(c.steps),
+                "rhs_evaluations": count(c.rhs_evaluations), "integrate_seconds": num(c.integrate_seconds),
+                "wall_seconds": num(c.wall_seconds)})
+    return row
+
+
 def sweep(scene, vary, overrides=None, zipped=None, integrator=None, rtol=None, atol=None, t_end=None,
           output_step=None, events=None, results=False, threads=1, *, set=None, zip=None):
     """Run a family of a scene in this process, as `swim sweep` would: one member after another, or
@@ -627,7 +642,37 @@ def sweep(scene, vary, overrides=None, zipped=None, integrator=None, rtol=None, 
             return e
         return None
 
+    ev = _c_strings(list(events or []), "events", scene if isinstance(scene, str) else None)
+    nev = len(events or [])
+
+    def member_in_one_call(i, values):
+        """The member on the thread's model in one call of libswim (swim_model_run_member: its keys
+        set, the run, the summary's numbers; the GIL released throughout), or None when the thread
+        has no model yet or its keys cannot be set in place."""
+        m = getattr(local, "model", None)
+        if m is None and spare:
+            m = local.model = spare.pop()
+        if m is None or not getattr(local, "settable", True):
+            return None
+        sets = _overrides(scene, values)
+        arr = _c_strings(sets, lambda kv: kv.split("=", 1)[0], m.name)
+        c, err = _lib.swim_member(), _lib.swim_error()
+        rc = _L.swim_model_run_member(m.ptr, arr, len(sets), ev, nev, ctypes.byref(c), ctypes.byref(err))
+        if rc == EINPUT and err.key.decode() in values:   # a structure key: a model of its own (below)
+            local.settable = False
+            return None
+        if rc != OK:
+            row = {"id": i}
+            row.update(values)
+            row.update({"status": "failed", "completed": False, "reason": _error(err).message})
+            return row
+        return _row_of_member(i, values, c)
+
     def member(i, values):
+        if not results:
+            row = member_in_one_call(i, values)
+            if row is not None:
+                return row
         try:
             m, own = model_for(i, values)
             try:

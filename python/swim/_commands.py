@@ -1,11 +1,13 @@
 """swim.periodic, swim.floquet, swim.continuation and swim.optimize: the commands of the same names
-run in a temporary folder, their files read back as Python numbers and numpy arrays.
+as Python objects with their files' numbers.
 
-libswim has no entry for these analyses yet (their C code keeps its own integration loops), so
-each call runs the command-line program `swim` (bin/swim of the checkout this package belongs
-to, or of the PREFIX libswim was loaded from, or the first `swim` on PATH; $SWIM_BIN overrides)
-with --quiet and --out in a temporary folder that is removed afterwards. The numbers are those of
-the command's files, parsed as Python parses JSON and CSV (the same doubles)."""
+periodic, floquet and continuation call libswim (swim_periodic_orbit, swim_floquet_multipliers,
+swim_continuation) in this process: the JSON the command would write comes from the same C
+writer, and the arrays (monodromy, multipliers, the branch table) from the result structs.
+optimize has no C entry yet: it runs the command-line program `swim` (bin/swim of the checkout
+this package belongs to, or of the PREFIX libswim was loaded from, or the first `swim` on PATH;
+$SWIM_BIN overrides) with --quiet and --out in a temporary folder that is removed afterwards, its
+files parsed as Python parses JSON and CSV (the same doubles)."""
 import csv
 import json
 import os
@@ -15,7 +17,9 @@ import tempfile
 
 import numpy as np
 
-from . import EFAILED, EINPUT, Error, SceneError, _L, _overrides, _value_text
+import ctypes
+
+from . import EFAILED, EINPUT, OK, Error, SceneError, _L, _c_text, _lib, _overrides, _value_text
 
 
 def _program():
@@ -165,40 +169,102 @@ def _command(cmd, scene, args, overrides, files):
         return got
 
 
+def _orbit(kind, take, scene, overrides, section=None, tol=None, max_iter=None, t_max=None, param=None, start=None,
+           stop=None, points=None):
+    """One analysis of libswim (swim_periodic_orbit, swim_floquet_multipliers, swim_continuation) on
+    the scene with its overrides: (the command's JSON as json.loads reads it, take(the result
+    struct), which copies what it needs: the struct's arrays live with the C result, freed here).
+    The GIL is released while it computes (ctypes)."""
+    from . import Model, _error, _take_text
+    o = _lib.swim_orbit_options()
+    if section is not None:
+        o.section = _c_text(section, "section")
+    o.tol = 0.0 if tol is None else float(tol)
+    o.max_iter = 0 if max_iter is None else int(max_iter)
+    o.t_max = 0.0 if t_max is None else float(t_max)
+    if param is not None:
+        o.param = _c_text(param, "param")
+        o.start, o.end = float(start), float(stop)
+        o.points = 0 if points is None else int(points)
+    entry, result, get = {"periodic": (_L.swim_periodic_orbit, _lib.swim_periodic_result, _L.swim_orbit_periodic),
+                          "floquet": (_L.swim_floquet_multipliers, _lib.swim_floquet_result, _L.swim_orbit_floquet),
+                          "continue": (_L.swim_continuation, _lib.swim_branch_result, _L.swim_orbit_branch)}[kind]
+    with Model(scene, overrides) as m:
+        ptr, err = ctypes.c_void_p(), _lib.swim_error()
+        if entry(m.ptr, ctypes.byref(o), ctypes.byref(ptr), ctypes.byref(err)) != OK:
+            raise _error(err)
+        try:
+            data = json.loads(_take_text(_L.swim_orbit_json(ptr)))
+            r = result()
+            get(ptr, ctypes.byref(r))
+            return data, take(r)
+        finally:
+            _L.swim_orbit_free(ptr)
+
+
+def _array(p, *shape):
+    n = int(np.prod(shape))
+    return np.ctypeslib.as_array(p, shape=(n,)).reshape(shape).copy() if p and n else np.empty(shape)
+
+
+def _complex(re, im, n):
+    return _array(re, n) + 1j * _array(im, n) if n else np.empty(0, dtype=complex)
+
+
 def periodic(scene, overrides=None, guess_event=None, tol=None, max_iter=None, t_max=None, *, set=None):
     """A periodic orbit of the shape dynamics by Newton shooting, as `swim periodic` (docs/control.md):
-    a Periodic with periodic.json's numbers (.converged, .period, .phase_point, .floquet, ...).
+    a Periodic with periodic.json's numbers (.converged, .period, .phase_point, .floquet, ...), and
+    from the C result .monodromy (n x n) and .multipliers (the tangent ones, complex) when the orbit
+    converged.
 
     overrides (alias set)  {KEY: value} as --set; guess_event "COLUMN:KIND"; tol, max_iter, t_max
-    the command's --tol, --max-iter, --t-max. Runs the program `swim` in a temporary folder (no
-    C entry yet). Bad input raises SceneError; an orbit not found is a Periodic with converged
-    False and the reason."""
-    args = _opts(("--guess-event", guess_event), ("--tol", tol), ("--max-iter", max_iter), ("--t-max", t_max))
-    got = _command("periodic", scene, args, overrides if set is None else set, [("periodic.json", "json")])
-    return Periodic(got["periodic.json"], exit_status=got["exit_status"])
+    the command's --tol, --max-iter, --t-max. libswim's swim_periodic_orbit, in this process. Bad
+    input raises SceneError; an orbit not found is a Periodic with converged False and the
+    reason (exit_status 1, as the command's)."""
+    def take(c):
+        more = {"exit_status": 0 if c.converged else 1}
+        if c.have_floquet:
+            more["monodromy"] = _array(c.monodromy, c.n, c.n)
+            more["multipliers"] = _complex(c.multipliers_re, c.multipliers_im, c.tangent_dimension)
+        return more
+
+    data, more = _orbit("periodic", take, scene, overrides if set is None else set, guess_event, tol, max_iter, t_max)
+    return Periodic(data, **more)
 
 
 def floquet(scene, overrides=None, event=None, t_max=None, *, set=None):
     """The monodromy matrix and Floquet multipliers of a periodic stroke, as `swim floquet`: a Floquet
     with floquet.json's numbers (.monodromy a 2-D array, the multipliers complex arrays, .periodic,
-    .stable, ...). event "COLUMN:KIND" and t_max as the command's --event and --t-max. Runs the
-    program `swim` in a temporary folder (no C entry yet)."""
-    args = _opts(("--event", event), ("--t-max", t_max))
-    got = _command("floquet", scene, args, overrides if set is None else set, [("floquet.json", "json")])
-    return Floquet(got["floquet.json"], exit_status=got["exit_status"])
+    .stable, ...). event "COLUMN:KIND" and t_max as the command's --event and --t-max. libswim's
+    swim_floquet_multipliers, in this process; .monodromy and .multipliers (of M, complex) come
+    from its C result."""
+    def take(c):
+        more = {"exit_status": 1 if c.stopped or not c.periodic else 0}
+        if not c.stopped:
+            more["monodromy"] = _array(c.monodromy, c.n, c.n)
+            more["multipliers"] = _complex(c.multipliers_re, c.multipliers_im, c.n)
+        return more
+
+    data, more = _orbit("floquet", take, scene, overrides if set is None else set, event, None, None, t_max)
+    return Floquet(data, **more)
 
 
 def continuation(scene, param, start, stop, max_points=None, guess_event=None, tol=None, overrides=None, *, set=None):
     """A branch of periodic orbits in `param` ("energy" or a run-time key such as "model.rho0") from
     start to stop, as `swim continue --param PARAM=START:STOP`: a Continuation with branch.json's
-    numbers and branch.csv as .table (a float64 array per column) and .columns. Runs the program
-    `swim` in a temporary folder (no C entry yet)."""
-    args = ["--param", "%s=%s:%s" % (param, _value_text(param, start), _value_text(param, stop))]
-    args += _opts(("--max-points", max_points), ("--guess-event", guess_event), ("--tol", tol))
-    got = _command("continue", scene, args, overrides if set is None else set,
-                   [("branch.json", "json"), ("branch.csv", "csv")])
-    columns, table = got.get("branch.csv", ((), {}))
-    return Continuation(got["branch.json"], table=table, columns=columns, exit_status=got["exit_status"])
+    numbers and branch.csv as .table (a float64 array per column; "stable" as the words yes/no) and
+    .columns. libswim's swim_continuation, in this process; the table is its C array."""
+    def take(c):
+        columns = tuple(c.names[j].decode() for j in range(c.columns))
+        rows = _array(c.table, c.points, c.columns) if c.points else np.empty((0, c.columns))
+        table = {name: rows[:, j].copy() for j, name in enumerate(columns)}
+        if "stable" in table:
+            table["stable"] = np.array(["yes" if v else "no" for v in table["stable"]], dtype=object)
+        return {"table": table, "columns": columns, "exit_status": 1 if c.stopped or c.ended else 0}
+
+    data, more = _orbit("continue", take, scene, overrides if set is None else set, guess_event, tol, None, None,
+                        param, start, stop, max_points)
+    return Continuation(data, **more)
 
 
 def optimize(scene, vary, maximize=None, minimize=None, method=None, starts=None, max_iter=None, tol=None,

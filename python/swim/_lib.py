@@ -115,8 +115,112 @@ class swim_lyapunov_result(_Sized):
                 ("reason", ctypes.c_char_p)]
 
 
+class swim_orbit_options(_Sized):
+    _fields_ = [("size", ctypes.c_size_t),
+                ("section", ctypes.c_char_p),
+                ("tol", ctypes.c_double),
+                ("max_iter", ctypes.c_int),
+                ("t_max", ctypes.c_double),
+                ("stop", ctypes.POINTER(ctypes.c_int)),
+                ("param", ctypes.c_char_p),
+                ("start", ctypes.c_double),
+                ("end", ctypes.c_double),
+                ("points", ctypes.c_int)]
+
+
+_NAMES = ctypes.POINTER(ctypes.c_char_p)
+
+
+class swim_periodic_result(_Sized):
+    _fields_ = [("size", ctypes.c_size_t),
+                ("converged", ctypes.c_int),
+                ("stopped", ctypes.c_int),
+                ("reason", ctypes.c_char_p),
+                ("iterations", ctypes.c_int),
+                ("period", ctypes.c_double),
+                ("residual", ctypes.c_double),
+                ("state_scale", ctypes.c_double),
+                ("dx", ctypes.c_double),
+                ("dy", ctypes.c_double),
+                ("dtheta", ctypes.c_double),
+                ("energy", ctypes.c_double),
+                ("energy_target", ctypes.c_double),
+                ("t_guess", ctypes.c_double),
+                ("period_guess", ctypes.c_double),
+                ("n", ctypes.c_int),
+                ("names", _NAMES),
+                ("phase_point", _PD),
+                ("have_floquet", ctypes.c_int),
+                ("monodromy", _PD),
+                ("tangent_dimension", ctypes.c_int),
+                ("multipliers_re", _PD),
+                ("multipliers_im", _PD),
+                ("stable", ctypes.c_int),
+                ("rhs_evaluations", ctypes.c_long),
+                ("seconds", ctypes.c_double)]
+
+
+class swim_floquet_result(_Sized):
+    _fields_ = [("size", ctypes.c_size_t),
+                ("stopped", ctypes.c_int),
+                ("period", ctypes.c_double),
+                ("t_first", ctypes.c_double),
+                ("closure", ctypes.c_double),
+                ("closure_relative", ctypes.c_double),
+                ("periodic", ctypes.c_int),
+                ("stable", ctypes.c_int),
+                ("n", ctypes.c_int),
+                ("monodromy", _PD),
+                ("multipliers_re", _PD),
+                ("multipliers_im", _PD),
+                ("tangent_dimension", ctypes.c_int),
+                ("tangent_re", _PD),
+                ("tangent_im", _PD),
+                ("complement_dimension", ctypes.c_int),
+                ("complement_re", _PD),
+                ("complement_im", _PD),
+                ("rhs_evaluations", ctypes.c_long),
+                ("seconds", ctypes.c_double)]
+
+
+class swim_branch_result(_Sized):
+    _fields_ = [("size", ctypes.c_size_t),
+                ("stopped", ctypes.c_int),
+                ("points", ctypes.c_int),
+                ("columns", ctypes.c_int),
+                ("names", _NAMES),
+                ("table", _PD),
+                ("start_parameter", ctypes.c_double),
+                ("ended", ctypes.c_char_p),
+                ("special_points", ctypes.c_int),
+                ("special_lo", _PD),
+                ("special_hi", _PD),
+                ("special_kind", _NAMES),
+                ("rhs_evaluations", ctypes.c_long),
+                ("seconds", ctypes.c_double)]
+
+
+class swim_member(_Sized):
+    _fields_ = [("size", ctypes.c_size_t),
+                ("completed", ctypes.c_int),
+                ("status", ctypes.c_char * 32),
+                ("reason", ctypes.c_char * 1024),
+                ("t_reached", ctypes.c_double),
+                ("x", ctypes.c_double),
+                ("y", ctypes.c_double),
+                ("theta", ctypes.c_double),
+                ("energy_drift_rel", ctypes.c_double),
+                ("energy_balance_abs", ctypes.c_double),
+                ("jmin", ctypes.c_double),
+                ("steps", ctypes.c_longlong),
+                ("rhs_evaluations", ctypes.c_longlong),
+                ("integrate_seconds", ctypes.c_double),
+                ("wall_seconds", ctypes.c_double)]
+
+
 # The mirrors checked against the library at load, by swim.h's names.
-MIRRORS = (swim_error, swim_sim_options, swim_result, swim_inspection, swim_event, swim_lyapunov_result)
+MIRRORS = (swim_error, swim_sim_options, swim_result, swim_inspection, swim_event, swim_lyapunov_result,
+           swim_orbit_options, swim_periodic_result, swim_floquet_result, swim_branch_result, swim_member)
 
 
 def size_mismatches(lib, mirrors=None):
@@ -204,6 +308,16 @@ def _declare(lib):
         "swim_sim_lyapunov": (c_int, [c_void_p, ctypes.POINTER(swim_lyapunov_result)]),
         "swim_inspect": (c_int, [c_int, _PD, _PD, c_double, c_double, ctypes.POINTER(swim_inspection), err]),
         "swim_free": (None, [c_void_p]),
+        "swim_periodic_orbit": (c_int, [c_void_p, ctypes.POINTER(swim_orbit_options), pp, err]),
+        "swim_floquet_multipliers": (c_int, [c_void_p, ctypes.POINTER(swim_orbit_options), pp, err]),
+        "swim_continuation": (c_int, [c_void_p, ctypes.POINTER(swim_orbit_options), pp, err]),
+        "swim_orbit_periodic": (c_int, [c_void_p, ctypes.POINTER(swim_periodic_result)]),
+        "swim_orbit_floquet": (c_int, [c_void_p, ctypes.POINTER(swim_floquet_result)]),
+        "swim_orbit_branch": (c_int, [c_void_p, ctypes.POINTER(swim_branch_result)]),
+        "swim_orbit_json": (c_void_p, [c_void_p]),
+        "swim_orbit_csv": (c_void_p, [c_void_p]),
+        "swim_orbit_free": (None, [c_void_p]),
+        "swim_model_run_member": (c_int, [c_void_p, sets, c_int, sets, c_int, ctypes.POINTER(swim_member), err]),
     }
     for name, (restype, argtypes) in protos.items():
         fn = getattr(lib, name)

@@ -174,9 +174,13 @@ def test_periodic_and_floquet_are_the_commands_files(tmp_path):
     tangent = want["floquet"]["multipliers_tangent"]
     assert p.floquet["multipliers_tangent"].tolist() == [complex(m["re"], m["im"]) for m in tangent]
     assert p.phase_point == want["phase_point"]
+    # the C result's arrays (libswim's swim_orbit_periodic) are the file's numbers
+    assert p.monodromy.tolist() == want["floquet"]["monodromy"] and p.exit_status == 0
+    assert p.multipliers.tolist() == [complex(m["re"], m["im"]) for m in tangent]
     want, _ = cli_json(tmp_path, "floquet", EX3, "floquet.json", "--event", "am1:max")
     f = swim.floquet(EX3, event="am1:max")
     assert untimed(f.json) == untimed(want) and f.monodromy.tolist() == want["monodromy"]
+    assert f.multipliers.tolist() == [complex(m["re"], m["im"]) for m in want["multipliers_full"]]
     with pytest.raises(swim.SceneError):
         swim.periodic(EX3, overrides={"model.rho0": -1})
 

@@ -132,10 +132,12 @@ int swim_cmd_continue(int argc, char **argv)
     static swim_problem m;
     char section[64];
     swim_floquet_section sec;
-    int rc = csv && json ? swim_periodic_setup(&m, "continue", pos[0], sets, nsets,
-                                               swim_args_get(opts, nopts, "generic") != NULL,
-                                               swim_args_get(opts, nopts, "quiet") != NULL,
-                                               swim_args_get(opts, nopts, "guess-event"), &sec, section, sizeof section)
+    swim_status st = SWIM_STATUS_STDERR;
+    int rc = csv && json ? swim_status_shown(&st, swim_periodic_setup(&m, "continue", pos[0], sets, nsets,
+                                                                      swim_args_get(opts, nopts, "generic") != NULL,
+                                                                      swim_args_get(opts, nopts, "quiet") != NULL,
+                                                                      swim_args_get(opts, nopts, "guess-event"), &sec,
+                                                                      section, sizeof section, &st))
                          : (swim_message(stderr, "swim continue: out of memory"), 1);
     if (rc) {
         free(dir); free(csv); free(json);
@@ -149,8 +151,9 @@ int swim_cmd_continue(int argc, char **argv)
     swim_run_stop = 0;
     m.d.interrupt = (volatile int *)&swim_run_stop;
     swim_run_signals_install(&sig);
-    rc = swim_continue(&m.d, m.s, &sec, &o, &b);
+    rc = swim_continue(&m.d, m.s, &sec, &o, &b, &st);
     swim_run_signals_restore(&sig);
+    swim_status_shown(&st, rc);
     if (rc == 0) {
         out_job job = {&b, pos[0], key};
         const char *failed = swim_mkdirs(dir) != 0 ? dir : swim_replace_file_with(csv, fill_csv, &job) != 0 ? csv

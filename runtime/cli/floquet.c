@@ -63,35 +63,24 @@ int swim_cmd_floquet(int argc, char **argv)
     if (swim_args_bounded("floquet", opts, nopts, "t-max", &t_max)) return 2;
     static swim_problem m;
     swim_status st = SWIM_STATUS_STDERR;
-    int rc = swim_problem_read(&m, &(swim_problem_source){.path = pos[0], .sets = sets, .nsets = nsets}, &st);
-    swim_status_print(&st, stderr);
-    swim_status_clear(&st);
-    if (rc == 0 && m.s->stroke) {
-        /* A prescribed stroke gives the shape as a function of time: there is no shape state to
-         * perturb, so no monodromy and no multipliers (swim run reports its strokes instead). */
-        swim_message(stderr, "swim floquet: %s: a prescribed stroke ([stroke]) has no free shape dynamics, so no "
-                     "Floquet multipliers; swim run reports its period and displacement per stroke", pos[0]);
-        rc = 2;
-    }
+    int rc = swim_status_shown(&st, swim_problem_read(&m, &(swim_problem_source){.path = pos[0], .sets = sets, .nsets = nsets}, &st));
+    if (rc == 0) rc = swim_status_shown(&st, swim_floquet_check(m.s, pos[0], SWIM_FLOQUET_NO_STROKE, &st));
     if (rc == 0 && t_max > 0) rc = swim_args_steps_bounded("floquet", "t-max", t_max, m.s->output_step);
-    if (rc == 0) rc = swim_problem_kernels(&m, "floquet", swim_args_get(opts, nopts, "generic") != NULL, quiet ? 0 : 1, &st);
-    swim_status_print(&st, stderr);
+    if (rc == 0)
+        rc = swim_status_shown(&st, swim_problem_kernels(&m, "floquet", swim_args_get(opts, nopts, "generic") != NULL,
+                                                         quiet ? 0 : 1, &st));
     if (rc) {
         swim_problem_close(&m);
         return rc;
     }
-    /* the period is found from events of the scene's own integrator, which must locate them */
-    if (!(swim_ode_capabilities(m.s->integrator) & SWIM_ODE_CAP_EVENTS)) {
-        swim_message(stderr, "swim floquet: %s: run.integrator = \"%s\" cannot locate the section's events (no dense "
-                     "output); use one of %s (e.g. --set run.integrator=abm)", pos[0], m.s->integrator,
-                     swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
+    if (swim_status_shown(&st, swim_floquet_check(m.s, pos[0], SWIM_FLOQUET_EVENTS, &st))) {
         swim_problem_close(&m);
         return 2;
     }
     char section[64];
     swim_floquet_section sec;
-    if ((rc = swim_floquet_parse_section(&m.d, "floquet", "event", swim_args_get(opts, nopts, "event"), &sec, section,
-                                         sizeof section))) {
+    if ((rc = swim_status_shown(&st, swim_floquet_parse_section(&m.d, "floquet", "event", swim_args_get(opts, nopts,
+                                                                "event"), &sec, section, sizeof section, &st)))) {
         swim_problem_close(&m);
         return rc;
     }
@@ -110,8 +99,9 @@ int swim_cmd_floquet(int argc, char **argv)
     swim_run_stop = 0;
     m.d.interrupt = (volatile int *)&swim_run_stop;
     swim_run_signals_install(&sig);
-    rc = swim_floquet_compute(&m.d, &sec, t_max > 0 ? t_max : m.s->t_end, quiet ? NULL : on_period, NULL, &fl);
+    rc = swim_floquet_compute(&m.d, &sec, t_max > 0 ? t_max : m.s->t_end, quiet ? NULL : on_period, NULL, &fl, &st);
     swim_run_signals_restore(&sig);
+    swim_status_shown(&st, rc);
     if (rc == 0 && fl.stopped) {
         json_job job = {&fl, pos[0], section};
         const int written = swim_replace_file_with(json, fill, &job) == 0;

@@ -102,8 +102,11 @@ int swim_cmd_periodic(int argc, char **argv)
     static swim_problem m;
     char section[64];
     swim_floquet_section sec;
-    int rc = json ? swim_periodic_setup(&m, "periodic", pos[0], sets, nsets, swim_args_get(opts, nopts, "generic") != NULL,
-                                        quiet, swim_args_get(opts, nopts, "guess-event"), &sec, section, sizeof section)
+    swim_status st = SWIM_STATUS_STDERR;
+    int rc = json ? swim_status_shown(&st, swim_periodic_setup(&m, "periodic", pos[0], sets, nsets,
+                                                               swim_args_get(opts, nopts, "generic") != NULL, quiet,
+                                                               swim_args_get(opts, nopts, "guess-event"), &sec, section,
+                                                               sizeof section, &st))
                   : (swim_message(stderr, "swim periodic: out of memory"), 1);
     if (rc) {
         free(dir);
@@ -125,8 +128,9 @@ int swim_cmd_periodic(int argc, char **argv)
     swim_run_stop = 0;
     m.d.interrupt = (volatile int *)&swim_run_stop;
     swim_run_signals_install(&sig);
-    rc = swim_periodic_solve(&m.d, &sec, &o, &p);
+    rc = swim_periodic_solve(&m.d, &sec, &o, &p, &st);
     swim_run_signals_restore(&sig);
+    swim_status_shown(&st, rc);
     if (rc == 0) {   /* converged or not, the history is kept */
         json_job job = {&p, &m.d, pos[0], section};
         const int written = swim_mkdirs(dir) == 0 && swim_replace_file_with(json, fill, &job) == 0;

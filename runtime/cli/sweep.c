@@ -37,8 +37,8 @@ int swim_cmd_sweep(int argc, char **argv)
     if (rc) return rc;
     swim_status st = SWIM_STATUS_STDERR;
     if ((rc = swim_status_shown(&st, sweep_prepare(&p, &st)))) { sweep_free(&p); return rc; }
-    FILE *rows = sweep_open_rows(&p);
-    if (!rows) { sweep_free(&p); return 1; }
+    FILE *rows = sweep_open_rows(&p, &st);
+    if (!rows) { swim_status_print(&st, stderr); sweep_free(&p); return 1; }
     slots = p.jobs;
     running_pids = calloc((size_t)slots, sizeof *running_pids);
     long *ids = calloc((size_t)slots, sizeof *ids);
@@ -85,7 +85,9 @@ int swim_cmd_sweep(int argc, char **argv)
         if (slot == slots) continue;
         running_pids[slot] = 0;
         running--;
-        int bad = 0, got = sweep_collect(&p, ids[slot], status, stop_signal != 0, row, sizeof row, &bad);
+        swim_status_clear(&st);
+        int bad = 0, got = sweep_collect(&p, ids[slot], status, stop_signal != 0, row, sizeof row, &bad, &st);
+        if (got < 0) swim_status_print(&st, stderr);
         if (got > 0) {
             if (sweep_append_row(rows, row) != 0) {
                 swim_message(stderr, "swim sweep: cannot append to %s/members.csv: %s", p.dir, strerror(errno));
@@ -98,7 +100,9 @@ int swim_cmd_sweep(int argc, char **argv)
         } else {
             stop_signal = -1;   /* named on stderr; the next members would meet the same disk */
         }
-        sweep_progress(&p, ran, failed, t0, &progress);
+        char line[256];
+        const int due = sweep_progress(&p, ran, failed, t0, &progress, line, sizeof line);
+        if (due) fprintf(stderr, due == 2 ? "\r%s\033[K" : "%s\n", line);
     }
     if (progress.drawn) fputc('\n', stderr);
     sigaction(SIGINT, &old_int, NULL);
@@ -113,7 +117,7 @@ int swim_cmd_sweep(int argc, char **argv)
     /* rows in member order, as a reader expects */
     if (swim_status_shown(&st, sweep_sort_rows(&p, &st))) stop_signal = -1;
     const int with_family = sweep_family_hdf5_due(&p);
-    if (with_family && sweep_write_family_hdf5(&p) != 0) stop_signal = -1;
+    if (with_family && swim_status_shown(&st, sweep_write_family_hdf5(&p, &st))) stop_signal = -1;
     const long finished = p.already + ran, all_failed = p.already_failed + failed;
     if (stop_signal) {
         swim_message(stderr, "swim sweep: %s: stopped%s after %ld of %ld members (%ld failed); run the same command "
@@ -133,7 +137,8 @@ int swim_cmd_sweep(int argc, char **argv)
         swim_message(stderr, "swim sweep: %ld members were stopped by a signal sent to them (not recorded); run the "
                      "same command again to rerun them", interrupted);
     /* The report is the result of the command: a report that could not be written is a failure. */
-    if (sweep_finish_stdout(&p, 1) != 0) rc = 1;
+    swim_status_clear(&st);
+    if (swim_status_shown(&st, sweep_finish_stdout(&p, 1, &st))) rc = 1;
     free(running_pids);
     free(ids);
     sweep_free(&p);

@@ -23,6 +23,7 @@ typedef struct {
     const signed char *hold;       /* the invariant subspace held (n2 flags), or NULL */
     const swim_cont_options *o;
     long rhs_calls;
+    swim_status *st;               /* the caller's: a point that fails is told to its note */
 } problem;
 
 /* A solved point: its integrator state and period, for the predictor. */
@@ -43,8 +44,10 @@ static void set_param(problem *pb, double v)
 static int solve_at(problem *pb, double v, const double *ys, double T, swim_periodic *p)
 {
     if (!pb->energy) set_param(pb, v);
-    const int rc = swim_periodic_refine(pb->d, ys, T, pb->energy ? v : pb->keep_energy, pb->po, p);
+    swim_status why = {0};   /* the branch goes on past a point that fails: its cause is a notice */
+    const int rc = swim_periodic_refine(pb->d, ys, T, pb->energy ? v : pb->keep_energy, pb->po, p, &why);
     pb->rhs_calls += p->rhs_calls;
+    swim_status_notes_from(pb->st, &why);
     if (rc != 0) return -1;
     return p->converged ? 0 : 1;
 }
@@ -251,16 +254,17 @@ static int classify(problem *pb, swim_branch *b)
 }
 
 int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_section *sec, const swim_cont_options *o,
-                  swim_branch *b)
+                  swim_branch *b, swim_status *st)
 {
     memset(b, 0, sizeof *b);
     const double t0 = swim_clock_seconds();
-    problem pb = {d, strcmp(o->key, "energy") == 0, {NULL, NULL}, 0, NAN, &o->periodic, NULL, o, 0};
+    problem pb = {d, strcmp(o->key, "energy") == 0, {NULL, NULL}, 0, NAN, &o->periodic, NULL, o, 0, st};
     swim_periodic_options held;   /* the options with the invariant subspace held */
     const int conservative = swim_periodic_conservative(d);
     if (pb.energy && !conservative) {
-        swim_message(stderr, "swim continue: --param energy: %s has damping or forcing, so energy is not conserved and "
-                     "orbits do not come in a family by energy; continue in a scene key instead", scene->path);
+        swim_status_fail_cmd(st, "continue", scene->path, "param", "--param energy: %s has damping or forcing, so energy "
+                             "is not conserved and orbits do not come in a family by energy; continue in a scene key "
+                             "instead", scene->path);
         return 2;
     }
     swim_sens S;
@@ -268,16 +272,15 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     double saved[2] = {0, 0};
     if (!pb.energy) {   /* the key's numbers in the scene, as --sensitivity finds them */
         if (swim_sens_init(&S, d) != 0) {
-            swim_message(stderr, "swim continue: out of memory");
+            swim_status_fail_cmd(st, "continue", NULL, NULL, "out of memory");
             return 1;
         }
         have_sens = 1;
-        swim_status st = {0};
-        const int krc = swim_sens_add_key(&S, scene, "continue: --param", o->key, &st);
-        swim_status_print(&st, stderr);   /* shown here until the command takes it */
+        const int krc = swim_sens_add_key(&S, scene, "continue: --param", o->key, st);
         if (krc != 0 || S.keys[0].nvalue == 0) {
             if (krc == 0)
-                swim_message(stderr, "swim continue: --param %s: an initial value, not a parameter of the equations", o->key);
+                swim_status_fail_cmd(st, "continue", NULL, "param", "--param %s: an initial value, not a parameter of the "
+                                     "equations", o->key);
             swim_sens_free(&S);
             return 2;
         }
@@ -295,11 +298,11 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     swim_periodic p0;
     int have_p0 = 0;
     if (!targets || !b->pt || !first.ys) {
-        swim_message(stderr, "swim continue: out of memory");
+        swim_status_fail_cmd(st, "continue", NULL, NULL, "out of memory");
         goto done;
     }
     /* the first point: the scene's own orbit */
-    if (swim_periodic_solve(d, sec, &o->periodic, &p0) != 0) goto done;
+    if (swim_periodic_solve(d, sec, &o->periodic, &p0, st) != 0) goto done;
     have_p0 = 1;
     pb.rhs_calls += p0.rhs_calls;
     if (p0.stopped) {   /* no point yet: an empty branch, said as stopped */
@@ -310,8 +313,8 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
         goto done;
     }
     if (!p0.converged) {
-        swim_message(stderr, "swim continue: %s: no periodic orbit to start from: %s (residual %.2g)", scene->path,
-                     p0.why, p0.residual);
+        swim_status_fail_cmd(st, "continue", scene->path, NULL, "%s: no periodic orbit to start from: %s (residual %.2g)",
+                             scene->path, p0.why, p0.residual);
         goto done;
     }
     b->param0 = pb.energy ? p0.energy : saved[0];
@@ -338,7 +341,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     int nup = 0, ndown = 0;
     if (!up || !down) {
         free(up); free(down);
-        swim_message(stderr, "swim continue: out of memory");
+        swim_status_fail_cmd(st, "continue", NULL, NULL, "out of memory");
         goto done;
     }
     for (int k = 0; k < o->points; k++)
@@ -355,7 +358,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
     free(up);
     free(down);
     if (w1 || w2) {
-        swim_message(stderr, "swim continue: out of memory");
+        swim_status_fail_cmd(st, "continue", NULL, NULL, "out of memory");
         goto done;
     }
     qsort(b->pt, (size_t)b->n, sizeof *b->pt, by_param);
@@ -367,7 +370,7 @@ int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_sectio
         goto done;
     }
     if (classify(&pb, b) != 0) {
-        swim_message(stderr, "swim continue: out of memory");
+        swim_status_fail_cmd(st, "continue", NULL, NULL, "out of memory");
         goto done;
     }
     rc = 0;
@@ -396,27 +399,41 @@ void swim_branch_csv(FILE *f, const swim_branch *b, const char *key)
      * slide along the orbit from point to point; their length does not */
     /* then the phase point (the shape state each orbit was solved at, by coordinate name), so that
      * anyone can rerun an orbit and see whether the branch stays on its invariant subspace */
-    fprintf(f, "%s,period,dx,dy,dtheta,energy,dy_per_time,max_abs_multiplier,stable,residual,iterations,displacement",
-            strcmp(key, "energy") == 0 ? "energy_target" : key);
-    for (int j = 0; j < b->n2; j++) fprintf(f, ",%s", b->znames[j]);
+    const int ncol = swim_branch_columns(b);
+    for (int j = 0; j < ncol; j++) fprintf(f, "%s%s", j ? "," : "", swim_branch_column(b, key, j));
     fprintf(f, "\n");
+    double v[SWIM_BRANCH_FIXED_COLUMNS + SWIM_FLOQUET_MAX];
     for (int i = 0; i < b->n; i++) {
-        const swim_cont_point *q = &b->pt[i];
-        const double num[] = {q->param, q->period, q->dx, q->dy, q->dtheta, q->energy, q->dy / q->period, q->max_abs};
-        for (size_t c = 0; c < sizeof num / sizeof num[0]; c++) {
+        swim_branch_row(b, i, v);
+        for (int c = 0; c < ncol; c++) {
             if (c) fputc(',', f);
-            swim_number_print(f, num[c]);
-        }
-        fprintf(f, ",%s,", q->stable ? "yes" : "no");
-        swim_number_print(f, q->residual);
-        fprintf(f, ",%d,", q->iterations);
-        swim_number_print(f, hypot(q->dx, q->dy));
-        for (int j = 0; j < b->n2; j++) {
-            fputc(',', f);
-            swim_number_print(f, j < q->n2 ? q->z[j] : NAN);
+            if (c == 8) fputs(v[c] != 0 ? "yes" : "no", f);
+            else if (c == 10) fprintf(f, "%d", (int)v[c]);
+            else swim_number_print(f, v[c]);
         }
         fputc('\n', f);
     }
+}
+
+int swim_branch_columns(const swim_branch *b) { return SWIM_BRANCH_FIXED_COLUMNS + b->n2; }
+
+const char *swim_branch_column(const swim_branch *b, const char *key, int j)
+{
+    static const char *const fixed[SWIM_BRANCH_FIXED_COLUMNS] = {
+        NULL, "period", "dx", "dy", "dtheta", "energy", "dy_per_time", "max_abs_multiplier", "stable", "residual",
+        "iterations", "displacement"};
+    if (j == 0) return strcmp(key, "energy") == 0 ? "energy_target" : key;
+    return j < SWIM_BRANCH_FIXED_COLUMNS ? fixed[j] : b->znames[j - SWIM_BRANCH_FIXED_COLUMNS];
+}
+
+void swim_branch_row(const swim_branch *b, int i, double *v)
+{
+    const swim_cont_point *q = &b->pt[i];
+    const double fixed[SWIM_BRANCH_FIXED_COLUMNS] = {
+        q->param, q->period, q->dx, q->dy, q->dtheta, q->energy, q->dy / q->period, q->max_abs, q->stable ? 1 : 0,
+        q->residual, q->iterations, hypot(q->dx, q->dy)};
+    memcpy(v, fixed, sizeof fixed);
+    for (int j = 0; j < b->n2; j++) v[SWIM_BRANCH_FIXED_COLUMNS + j] = j < q->n2 ? q->z[j] : NAN;
 }
 
 /* A point's multipliers as [[re, im], ...] (the caller writes the brackets around). */

@@ -99,12 +99,21 @@ typedef struct {
     double seconds;
 } swim_branch;
 
-/* 0 (points computed; some may be missing: see ended), 1 after one line on stderr (no first
- * orbit, an unknown key, out of memory), 2 bad input (energy of a scene that is not
- * conservative, a key the right-hand side does not read). */
+/* 0 (points computed; some may be missing: see ended), 1 (no first orbit, out of memory), 2 bad
+ * input (energy of a scene that is not conservative, a key the right-hand side does not read),
+ * the cause in st ("swim continue: ..."). A point whose integration fails along the branch is
+ * not a failure of the branch: its cause goes to st's note. */
 int swim_continue(swim_dynamics *d, swim_scene *scene, const swim_floquet_section *sec, const swim_cont_options *o,
-                  swim_branch *out);
+                  swim_branch *out, swim_status *st);
 void swim_branch_free(swim_branch *b);
+/* branch.csv's columns: the parameter (named key, energy_target for the energy), period, dx, dy,
+ * dtheta, energy, dy_per_time, max_abs_multiplier, stable, residual, iterations, displacement,
+ * then the phase point's entries (b->znames). Their count; column j's name. */
+#define SWIM_BRANCH_FIXED_COLUMNS 12
+int swim_branch_columns(const swim_branch *b);
+const char *swim_branch_column(const swim_branch *b, const char *key, int j);
+/* Row i of branch.csv as numbers, swim_branch_columns(b) of them (stable 1 or 0). */
+void swim_branch_row(const swim_branch *b, int i, double *values);
 void swim_branch_csv(FILE *f, const swim_branch *b, const char *key);
 void swim_branch_json(FILE *f, const swim_branch *b, const char *scene, const char *key);
 

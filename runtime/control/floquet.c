@@ -24,6 +24,7 @@
 #define FLOQUET_TOL SWIM_FLOQUET_TOL
 
 
+
 typedef struct {
     double t[SWIM_FLOQUET_MAX_CROSSINGS + 1];
     int count;
@@ -48,8 +49,28 @@ static void on_event(const swim_ode_event_hit *hit, void *data)
     log->count++;
 }
 
+int swim_floquet_check(const swim_scene *s, const char *path, int what, swim_status *st)
+{
+    if ((what & SWIM_FLOQUET_NO_STROKE) && s->stroke) {
+        /* A prescribed stroke gives the shape as a function of time: there is no shape state to
+         * perturb, so no monodromy and no multipliers (swim run reports its strokes instead). */
+        swim_status_fail_cmd(st, "floquet", path, "stroke", "%s: a prescribed stroke ([stroke]) has no free shape "
+                             "dynamics, so no Floquet multipliers; swim run reports its period and displacement per "
+                             "stroke", path);
+        return 2;
+    }
+    /* the period is found from events of the scene's own integrator, which must locate them */
+    if ((what & SWIM_FLOQUET_EVENTS) && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
+        swim_status_fail_cmd(st, "floquet", path, "run.integrator", "%s: run.integrator = \"%s\" cannot locate the "
+                             "section's events (no dense output); use one of %s (e.g. --set run.integrator=abm)", path,
+                             s->integrator, swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
+        return 2;
+    }
+    return 0;
+}
+
 int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const char *option, const char *spec,
-                               swim_floquet_section *sec, char *text, size_t len)
+                               swim_floquet_section *sec, char *text, size_t len, swim_status *st)
 {
     char dflt[40];
     if (!spec) {   /* the first moving coordinate's maximum */
@@ -71,9 +92,9 @@ int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const ch
         errno = 0;
         const long c = strtol(colon2 + 1, &end, 10);
         if (end == colon2 + 1 || *end || errno || c < 1 || c > SWIM_FLOQUET_MAX_CROSSINGS) {
-            swim_message(stderr, "swim %s: --%s: '%s': the count after the second ':' is the number of events the "
-                         "period spans, an integer 1..%d, got '%s'", cmd, option, spec, SWIM_FLOQUET_MAX_CROSSINGS,
-                         colon2 + 1);
+            swim_status_fail_cmd(st, cmd, NULL, option, "--%s: '%s': the count after the second ':' is the number of "
+                                 "events the period spans, an integer 1..%d, got '%s'", option, spec,
+                                 SWIM_FLOQUET_MAX_CROSSINGS, colon2 + 1);
             return 2;
         }
         sec->count = (int)c;
@@ -94,23 +115,26 @@ int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const ch
             return 0;
         }
     }
-    swim_message(stderr, "swim %s: --%s: '%s' is not a moving coordinate of the scene or its velocity "
-                 "(d + name)", cmd, option, col);
+    swim_status_fail_cmd(st, cmd, NULL, option, "--%s: '%s' is not a moving coordinate of the scene or its velocity "
+                         "(d + name)", option, col);
     return 2;
 bad:
-    swim_message(stderr, "swim %s: --%s: expected COLUMN:KIND[:COUNT] (KIND max, min or zero; COUNT the events the "
-                 "period spans, 1 by default), e.g. am1:max or bm2:max:2, got '%s'", cmd, option, spec);
+    swim_status_fail_cmd(st, cmd, NULL, option, "--%s: expected COLUMN:KIND[:COUNT] (KIND max, min or zero; COUNT the "
+                         "events the period spans, 1 by default), e.g. am1:max or bm2:max:2, got '%s'", option, spec);
     return 2;
 }
 
 int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_section *sec, double t_max,
                         const char *t_max_from, const char *section_option, const double *ys0, double *t1,
-                        double *period)
+                        double *period, swim_status *st)
 {
     const swim_scene *s = d->scene;
     const int n = swim_dynamics_state_dim(d);
     double *y = malloc(sizeof(double) * n);
-    if (!y) return 1;
+    if (!y) {
+        swim_status_fail_cmd(st, cmd, NULL, NULL, "out of memory");
+        return 1;
+    }
     memcpy(y, ys0, sizeof(double) * n);
     int index = sec->index;
     event_log log = {{0, 0}, 0};
@@ -132,12 +156,12 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
         rc = swim_ode_advance(ode, fmin(t, t_max), y);
     const int stopped = d->interrupt && *d->interrupt;   /* the caller's to say */
     if (rc != SWIM_ODE_OK && !stopped)
-        swim_message(stderr, "swim %s: the run for the period failed: %s", cmd, swim_ode_strerror(rc));
+        swim_status_fail_cmd(st, cmd, NULL, NULL, "the run for the period failed: %s", swim_ode_strerror(rc));
     else if (log.count < want && !stopped) {
         char many[16];
         snprintf(many, sizeof many, want == 2 ? "two" : "%d", want);
-        swim_message(stderr, "swim %s: fewer than %s events of the section before t = %g: no period "
-                     "(raise %s or choose another section with %s)", cmd, many, t_max, t_max_from, section_option);
+        swim_status_fail_cmd(st, cmd, NULL, NULL, "fewer than %s events of the section before t = %g: no period "
+                             "(raise %s or choose another section with %s)", many, t_max, t_max_from, section_option);
     }
     swim_ode_free(ode);
     free(y);
@@ -449,11 +473,13 @@ done:
 }
 
 int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max,
-                         void (*on_period)(void *ctx, double t_first, double period), void *ctx, swim_floquet *fl)
+                         void (*on_period)(void *ctx, double t_first, double period), void *ctx, swim_floquet *fl,
+                         swim_status *st)
 {
     memset(fl, 0, sizeof *fl);
     if (d->scene->stroke || !d->spec) {   /* a prescribed shape has no shape state to perturb */
-        swim_message(stderr, "swim floquet: %s: a prescribed stroke has no free shape dynamics", d->scene->path);
+        swim_status_fail_cmd(st, "floquet", d->scene->path, NULL, "%s: a prescribed stroke has no free shape dynamics",
+                             d->scene->path);
         return 1;
     }
     const double t0 = swim_clock_seconds();
@@ -461,14 +487,14 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
     double *full = calloc((size_t)d->dim, sizeof(double)), *ys = malloc(sizeof(double) * N);
     int rc = 1;
     if (!full || !ys) {
-        swim_message(stderr, "swim floquet: out of memory");
+        swim_status_fail_cmd(st, "floquet", NULL, NULL, "out of memory");
     } else {
         swim_dynamics_initial_state(d, full);
         swim_dynamics_pack(d, full, ys);
         double t_first = NAN, period = NAN;
-        if (swim_floquet_period(d, "floquet", sec, t_max, "--t-max", "--event", ys, &t_first, &period) == 0) {
+        if (swim_floquet_period(d, "floquet", sec, t_max, "--t-max", "--event", ys, &t_first, &period, st) == 0) {
             if (on_period) on_period(ctx, t_first, period);
-            rc = swim_floquet_at(d, ys, period, fl);   /* the monodromy based at t = 0 */
+            rc = swim_floquet_at(d, ys, period, fl, st);   /* the monodromy based at t = 0 */
             fl->t_first = t_first;
         }
         if (rc != 0 && d->interrupt && *d->interrupt) {   /* stopped: what is known, said as such */
@@ -486,7 +512,7 @@ int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, doub
     return rc;
 }
 
-int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floquet *fl)
+int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floquet *fl, swim_status *st)
 {
     memset(fl, 0, sizeof *fl);
     const double t0 = swim_clock_seconds();
@@ -525,7 +551,7 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
     }
     if (orc != SWIM_ODE_OK) {
         if (!(d->interrupt && *d->interrupt))   /* stopped: the caller's to say */
-            swim_message(stderr, "swim floquet: the variational equations failed: %s", swim_ode_strerror(orc));
+            swim_status_fail_cmd(st, "floquet", NULL, NULL, "the variational equations failed: %s", swim_ode_strerror(orc));
         goto done;
     }
     double scale = d->scene->atol;
@@ -538,7 +564,7 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
     fl->periodic = fl->closure_rel <= SWIM_FLOQUET_CLOSURE_TOL;
     if (eigenvalues(fl->M, n2, fl->re, fl->im) != 0) goto oom;
     if (swim_dynamics_rhs(0.0, ys, f, d) != 0 || energy_gradient(d, ys, fl->grad_energy) != 0) {
-        swim_message(stderr, "swim floquet: the right-hand side or the energy failed at the initial state");
+        swim_status_fail_cmd(st, "floquet", NULL, NULL, "the right-hand side or the energy failed at the initial state");
         goto done;
     }
     memcpy(fl->flow, f + 3, sizeof(double) * n2);
@@ -551,7 +577,7 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
     rc = 0;
     goto done;
 oom:
-    swim_message(stderr, "swim floquet: out of memory");
+    swim_status_fail_cmd(st, "floquet", NULL, NULL, "out of memory");
 done:
     if (have_sens) swim_sens_free(&S);
     free(f); free(C); free(Y);

@@ -30,6 +30,7 @@
 
 #include <stdio.h>
 
+#include "io/status.h"
 #include "model/dynamics.h"
 
 #define SWIM_FLOQUET_MAX (2 * SWIM_NMAX)
@@ -105,25 +106,33 @@ typedef struct {
 
 /* Computes everything above; t_max bounds the search for two events; on_period (may be NULL) is
  * told the period once found. 0 (also for an orbit that does not close: see periodic; and when
- * d->interrupt stopped the work: then fl->stopped), or 1 after one line on stderr (no period found
- * before t_max, an integration failure, a scene without free shape dynamics). */
+ * d->interrupt stopped the work: then fl->stopped), or 1 with the cause in st ("swim floquet: ...":
+ * no period found before t_max, an integration failure, a scene without free shape dynamics). */
 int swim_floquet_compute(swim_dynamics *d, const swim_floquet_section *sec, double t_max,
-                         void (*on_period)(void *ctx, double t_first, double period), void *ctx, swim_floquet *out);
+                         void (*on_period)(void *ctx, double t_first, double period), void *ctx, swim_floquet *out,
+                         swim_status *st);
 /* The same analysis of the map over [0, period] from the integrator state ys (a point of the
- * orbit, e.g. the phase point of control/periodic.h); t_first is left 0. 0 or 1 (said). */
-int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floquet *out);
+ * orbit, e.g. the phase point of control/periodic.h); t_first is left 0. 0 or 1 (the cause in st,
+ * as "swim floquet: ..."; nothing when d->interrupt stopped the integration). */
+int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floquet *out, swim_status *st);
 /* COLUMN:KIND (spec; NULL: the first moving coordinate's max) with COLUMN a carried coordinate
  * or its velocity (d + name), KIND max, min or zero: the integrator-state index and kind, and
- * the section as text (len bytes). 0, or 2 after one line "swim CMD: --OPTION: ..." on stderr. */
+ * the section as text (len bytes). 0, or 2 with "swim CMD: --OPTION: ..." in st (key OPTION). */
 int swim_floquet_parse_section(const swim_dynamics *d, const char *cmd, const char *option, const char *spec,
-                               swim_floquet_section *sec, char *text, size_t len);
+                               swim_floquet_section *sec, char *text, size_t len, swim_status *st);
 /* T and the time t_first of the first of count + 1 successive events of the section from state ys0
  * at t = 0, on the scene's integrator with its drift control (messages "swim CMD: ..."; with
  * fewer than two events before t_max the remedy names what sets t_max and the section, e.g.
- * "--t-max" and "--event"). 0 or 1. */
+ * "--t-max" and "--event"). 0, or 1 with the cause in st (nothing when d->interrupt stopped it). */
 int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_section *sec, double t_max,
                         const char *t_max_from, const char *section_option, const double *ys0, double *t_first,
-                        double *period);
+                        double *period, swim_status *st);
+/* What swim floquet refuses in a scene (of file path), the checks in what: SWIM_FLOQUET_NO_STROKE a
+ * prescribed stroke (no shape state to perturb), SWIM_FLOQUET_EVENTS an integrator that cannot
+ * locate the section's events. 0, or 2 with the cause in st. */
+#define SWIM_FLOQUET_NO_STROKE 1
+#define SWIM_FLOQUET_EVENTS 2
+int swim_floquet_check(const swim_scene *s, const char *path, int what, swim_status *st);
 void swim_floquet_free(swim_floquet *f);
 /* floquet.json and the table printed by swim floquet. */
 /* "SIGINT", "SIGTERM", "SIGHUP" for a stop flag holding that signal's number (swim periodic,

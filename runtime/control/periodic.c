@@ -23,9 +23,10 @@
 static int stop_asked(const swim_dynamics *d) { return d->interrupt && *d->interrupt ? *d->interrupt : 0; }
 
 /* The flow map: the integrator state ys at t = 0 carried to t = T by the scene's integrator and
- * drift control at rtol/atol (the rigid part and the work start from 0). 0, or 1 (said). */
+ * drift control at rtol/atol (the rigid part and the work start from 0). 0, or 1 with the cause in st
+ * (NULL: not said). */
 static int flow(swim_dynamics *d, const double *ys, double T, const swim_periodic_options *o, double *out,
-                long *rhs_calls, int loud)
+                long *rhs_calls, swim_status *st)
 {
     const swim_scene *s = d->scene;
     const int N = swim_dynamics_state_dim(d);
@@ -47,9 +48,9 @@ static int flow(swim_dynamics *d, const double *ys, double T, const swim_periodi
         swim_ode_free(ode);
     }
     if (rc != SWIM_ODE_OK) {
-        if (loud && !stop_asked(d))   /* a trial step of the line search that fails is only a step not taken */
-            swim_message(stderr, "swim %s: the integration over one period (T = %.10g) failed: %s", CMD(o), T,
-                     swim_ode_strerror(rc));
+        if (!stop_asked(d))   /* a trial step of the line search that fails is only a step not taken (st NULL) */
+            swim_status_fail_cmd(st, CMD(o), NULL, NULL, "the integration over one period (T = %.10g) failed: %s", T,
+                                 swim_ode_strerror(rc));
         return 1;
     }
     return 0;
@@ -57,10 +58,10 @@ static int flow(swim_dynamics *d, const double *ys, double T, const swim_periodi
 
 /* r = phi_T(z) - z on the shape state, and max |r| / scale. */
 static int residual(swim_dynamics *d, const double *ys, double T, const swim_periodic_options *o, double scale,
-                    double *r, double *rel, double *work, long *rhs_calls, int loud)
+                    double *r, double *rel, double *work, long *rhs_calls, swim_status *st)
 {
     const int n2 = 2 * d->spec->nfree;
-    if (flow(d, ys, T, o, work, rhs_calls, loud)) return 1;
+    if (flow(d, ys, T, o, work, rhs_calls, st)) return 1;
     double m = 0.0;
     for (int i = 0; i < n2; i++) {
         r[i] = work[3 + i] - ys[3 + i];
@@ -142,37 +143,38 @@ static int newton_step(const swim_floquet *fl, const double *r, int with_energy,
 
 /* The guess: the state at the first event of the section and the time to the next. */
 static int guess(swim_dynamics *d, const swim_floquet_section *sec, const swim_periodic_options *o, double *ys,
-                 double *full, swim_periodic *p)
+                 double *full, swim_periodic *p, swim_status *st)
 {
     const int N = swim_dynamics_state_dim(d);
     swim_dynamics_initial_state(d, full);
     swim_dynamics_pack(d, full, ys);
     if (swim_floquet_period(d, CMD(o), sec, o->t_max, o->t_max_from ? o->t_max_from : "--t-max", "--guess-event", ys,
-                            &p->t_guess, &p->period_guess)) return 1;
+                            &p->t_guess, &p->period_guess, st)) return 1;
     double *y1 = malloc(sizeof(double) * N);
     if (!y1) return 1;
     /* the state at the event, on the same map as the shooting (the event time is the
      * interpolant's; the phase condition takes up what its error leaves) */
-    int rc = flow(d, ys, p->t_guess, o, y1, &p->rhs_calls, 1);
+    int rc = flow(d, ys, p->t_guess, o, y1, &p->rhs_calls, st);
     if (rc == 0) memcpy(ys, y1, sizeof(double) * N);
     free(y1);
     return rc;
 }
 
 int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const swim_periodic_options *o,
-                        swim_periodic *p)
+                        swim_periodic *p, swim_status *st)
 {
     memset(p, 0, sizeof *p);
     const double t_start = swim_clock_seconds();
     if (d->scene->stroke || !d->spec) {
-        swim_message(stderr, "swim %s: %s: a prescribed stroke has no free shape dynamics", CMD(o), d->scene->path);
+        swim_status_fail_cmd(st, CMD(o), d->scene->path, NULL, "%s: a prescribed stroke has no free shape dynamics",
+                             d->scene->path);
         return 1;
     }
     const int N = swim_dynamics_state_dim(d);
     double *ys = malloc(sizeof(double) * N), *full = calloc((size_t)d->dim, sizeof(double));
     int rc = 1;
-    const int g = ys && full ? guess(d, sec, o, ys, full, p) : -1;
-    if (g < 0) swim_message(stderr, "swim %s: out of memory", CMD(o));
+    const int g = ys && full ? guess(d, sec, o, ys, full, p, st) : -1;
+    if (g < 0) swim_status_fail_cmd(st, CMD(o), NULL, NULL, "out of memory");
     else if (g != 0 && stop_asked(d)) {   /* stopped before any iterate */
         p->stopped = stop_asked(d);
         p->why = "stopped by a signal while the guess was looked for";
@@ -191,7 +193,7 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
          * drifts to another member of the family (a libration at E = 0.3 became a rotation at
          * 0.544) */
         const double target = swim_periodic_conservative(d) ? energy_at(d, ys, full) : NAN;
-        rc = swim_periodic_refine(d, ys, period_guess, target, o, p);
+        rc = swim_periodic_refine(d, ys, period_guess, target, o, p, st);
         p->t_guess = t_guess;
         p->section_events = sec->count;
         p->rhs_calls += calls;
@@ -203,7 +205,7 @@ int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const
 }
 
 int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double energy_target,
-                         const swim_periodic_options *o, swim_periodic *p)
+                         const swim_periodic_options *o, swim_periodic *p, swim_status *st)
 {
     memset(p, 0, sizeof *p);
     const double t0 = swim_clock_seconds();
@@ -219,7 +221,7 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
     double r[SWIM_FLOQUET_MAX], rt[SWIM_FLOQUET_MAX], u[SWIM_FLOQUET_MAX];
     int rc = 1;
     if (!ys || !yt || !work || !full) {
-        swim_message(stderr, "swim %s: out of memory", CMD(o));
+        swim_status_fail_cmd(st, CMD(o), NULL, NULL, "out of memory");
         goto done;
     }
     memcpy(ys, ys0, sizeof(double) * N);
@@ -234,7 +236,7 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
     const double escale = targeted ? fmax(fabs(energy_target), 1e-300) : 1.0;
     double E = energy_at(d, ys, full);
     res = NAN;
-    if (residual(d, ys, T, o, p->scale, r, &res, work, &p->rhs_calls, 1) && !stop_asked(d)) goto done;
+    if (residual(d, ys, T, o, p->scale, r, &res, work, &p->rhs_calls, st) && !stop_asked(d)) goto done;
     double merit = targeted ? fmax(res, fabs(E - energy_target) / escale) : res;
     for (int it = 0;; it++) {
         swim_periodic_iteration *h = &p->history[it];
@@ -277,7 +279,7 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
             break;
         }
         swim_floquet fl;
-        if (swim_floquet_at(d, ys, T, &fl) != 0) {
+        if (swim_floquet_at(d, ys, T, &fl, st) != 0) {
             if (!stop_asked(d)) goto done;
             continue;   /* said at the top */
         }
@@ -307,7 +309,7 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
                 if (o->hold_zero[i]) yt[3 + i] = 0.0;
             const double Tt = T + lambda * dT;
             if (!(Tt > 0.0)) continue;
-            if (residual(d, yt, Tt, o, p->scale, rt, &res_t, work, &p->rhs_calls, 0) != 0) continue;
+            if (residual(d, yt, Tt, o, p->scale, rt, &res_t, work, &p->rhs_calls, NULL) != 0) continue;
             const double Et = energy_at(d, yt, full);
             const double merit_t = targeted ? fmax(res_t, fabs(Et - energy_target) / escale) : res_t;
             if (merit_t < merit) {
@@ -351,12 +353,12 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
         rc = 0;
         goto done;
     }
-    if (flow(d, ys, T, o, work, &p->rhs_calls, 1)) goto done;
+    if (flow(d, ys, T, o, work, &p->rhs_calls, st)) goto done;
     p->dx = work[0];
     p->dy = work[1];
     p->dtheta = work[2];
     if (p->converged) {
-        if (swim_floquet_at(d, ys, T, &p->floquet) != 0) goto done;
+        if (swim_floquet_at(d, ys, T, &p->floquet, st) != 0) goto done;
         p->have_floquet = 1;
         p->rhs_calls += p->floquet.rhs_calls;
     }
@@ -367,32 +369,36 @@ done:
     return rc;
 }
 
-int swim_periodic_setup(swim_problem *m, const char *cmd, const char *path, const swim_override *sets, int nsets,
-                        int generic, int quiet, const char *guess, swim_floquet_section *sec, char *text, size_t len)
+int swim_periodic_check(const swim_scene *s, const char *cmd, const char *path, swim_status *st)
 {
-    swim_status st = SWIM_STATUS_STDERR;   /* shown here until the command takes it */
-    int rc = swim_problem_read(m, &(swim_problem_source){.path = path, .sets = sets, .nsets = nsets}, &st);
-    swim_status_print(&st, stderr);
-    swim_status_clear(&st);
-    if (rc == 0 && m->s->stroke) {
-        swim_message(stderr, "swim %s: %s: a prescribed stroke ([stroke]) is periodic by its laws: there is no free "
-                     "shape dynamics to solve for (swim run reports its period and displacement per stroke)", cmd, path);
-        rc = 2;
+    if (s->stroke) {
+        swim_status_fail_cmd(st, cmd, path, "stroke", "%s: a prescribed stroke ([stroke]) is periodic by its laws: there "
+                             "is no free shape dynamics to solve for (swim run reports its period and displacement per "
+                             "stroke)", path);
+        return 2;
     }
-    if (rc == 0 && m->s->forcing) {
-        swim_message(stderr, "swim %s: %s: [forcing] makes the equations depend on time; periodic orbits are looked "
-                     "for in autonomous scenes only", cmd, path);
-        rc = 2;
+    if (s->forcing) {
+        swim_status_fail_cmd(st, cmd, path, "forcing", "%s: [forcing] makes the equations depend on time; periodic orbits "
+                             "are looked for in autonomous scenes only", path);
+        return 2;
     }
-    if (rc == 0 && !(swim_ode_capabilities(m->s->integrator) & SWIM_ODE_CAP_EVENTS)) {
-        swim_message(stderr, "swim %s: %s: run.integrator = \"%s\" cannot locate the guess's events; use one "
-                     "of %s (e.g. --set run.integrator=abm)", cmd, path, m->s->integrator,
-                     swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
-        rc = 2;
+    if (!(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
+        swim_status_fail_cmd(st, cmd, path, "run.integrator", "%s: run.integrator = \"%s\" cannot locate the guess's "
+                             "events; use one of %s (e.g. --set run.integrator=abm)", path, s->integrator,
+                             swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
+        return 2;
     }
-    if (rc == 0) rc = swim_problem_kernels(m, cmd, generic, quiet ? 0 : 1, &st);
-    swim_status_print(&st, stderr);
-    if (rc == 0) rc = swim_floquet_parse_section(&m->d, cmd, "guess-event", guess, sec, text, len);
+    return 0;
+}
+
+int swim_periodic_setup(swim_problem *m, const char *cmd, const char *path, const swim_override *sets, int nsets,
+                        int generic, int quiet, const char *guess, swim_floquet_section *sec, char *text, size_t len,
+                        swim_status *st)
+{
+    int rc = swim_problem_read(m, &(swim_problem_source){.path = path, .sets = sets, .nsets = nsets}, st);
+    if (rc == 0) rc = swim_periodic_check(m->s, cmd, path, st);
+    if (rc == 0) rc = swim_problem_kernels(m, cmd, generic, quiet ? 0 : 1, st);
+    if (rc == 0) rc = swim_floquet_parse_section(&m->d, cmd, "guess-event", guess, sec, text, len, st);
     if (rc) swim_problem_close(m);
     return rc;
 }

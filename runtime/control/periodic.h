@@ -93,24 +93,29 @@ typedef struct {
 } swim_periodic;
 
 /* The orbit of d's scene from the guess of section sec. 0 (converged or not: see converged and
- * why), or 1 after one line on stderr (no guess: fewer than two events; an integration or
- * allocation failure). */
+ * why), or 1 with the cause in st, "swim CMD: ..." (no guess: fewer than two events; an
+ * integration or allocation failure). */
 int swim_periodic_solve(swim_dynamics *d, const swim_floquet_section *sec, const swim_periodic_options *o,
-                        swim_periodic *out);
+                        swim_periodic *out, swim_status *st);
 /* A scene made ready for orbits (swim periodic, swim continue): read with its overrides, refused
  * in one line when it has no free autonomous shape dynamics (a [stroke], a [forcing] law) or an
  * integrator that cannot locate the guess's events, its kernels, and the guess's section
  * (guess: COLUMN:KIND or NULL, as swim_floquet_parse_section; its text into text). 0, or 1 / 2
- * after one line "swim CMD: ..." on stderr, with m closed. */
+ * with the cause in st ("swim CMD: ..."), with m closed; kernel notices go to st's note. */
 int swim_periodic_setup(swim_problem *m, const char *cmd, const char *path, const swim_override *sets, int nsets,
-                        int generic, int quiet, const char *guess, swim_floquet_section *sec, char *text, size_t len);
+                        int generic, int quiet, const char *guess, swim_floquet_section *sec, char *text, size_t len,
+                        swim_status *st);
+/* The scene s (of file path) has free autonomous shape dynamics whose events its integrator
+ * locates: 0, or 2 with the cause in st (a [stroke], a [forcing] law, an integrator without
+ * events). */
+int swim_periodic_check(const swim_scene *s, const char *cmd, const char *path, swim_status *st);
 /* No forcing and no damping on a moving coordinate: energy is conserved (1) or not (0). */
 int swim_periodic_conservative(const swim_dynamics *d);
 /* Newton from the integrator state ys0 (its shape part; the rest is set to 0) and period T0:
  * with energy_target finite (a conservative scene) the orbit of that energy, otherwise the one
  * through ys0's energy. Same results and status as swim_periodic_solve (t_guess is 0). */
 int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double energy_target,
-                         const swim_periodic_options *o, swim_periodic *out);
+                         const swim_periodic_options *o, swim_periodic *out, swim_status *st);
 /* The invariant subspace a converged orbit p lies in, as the entries of the shape state that are 0
  * on it: each such entry is 0 at the phase point (to 1e-10 of the state's scale), so is its rate
  * there (the flow f), and the monodromy does not feed the other entries into it (|M_ij| <= 1e-7

@@ -51,6 +51,16 @@ void swim_status_fail(swim_status *st, const char *who, const char *file, int li
     va_end(ap);
 }
 
+void swim_status_fail_cmd(swim_status *st, const char *cmd, const char *file, const char *key, const char *fmt, ...)
+{
+    char who[64];
+    snprintf(who, sizeof who, "swim %s", cmd);
+    va_list ap;
+    va_start(ap, fmt);
+    swim_status_vfail(st, who, file, 0, key, fmt, ap);
+    va_end(ap);
+}
+
 void swim_status_note(const swim_status *st, const char *fmt, ...)
 {
     if (!st || !st->note) return;
@@ -60,6 +70,11 @@ void swim_status_note(const swim_status *st, const char *fmt, ...)
     va_end(ap);
     st->note(st->note_ctx, text ? text : fmt);
     free(text);
+}
+
+void swim_status_notes_from(const swim_status *to, const swim_status *from)
+{
+    for (int i = 0; to && to->note && from && i < from->nlines; i++) to->note(to->note_ctx, from->lines[i].text);
 }
 
 const char *swim_status_message(const swim_status *st, char *buf, size_t n)

@@ -53,8 +53,15 @@ void swim_status_fail(swim_status *st, const char *who, const char *file, int li
 void swim_status_vfail(swim_status *st, const char *who, const char *file, int line, const char *key,
                        const char *fmt, va_list ap);
 
+/* swim_status_fail with WHO "swim CMD" (the line a command CMD shows): "swim CMD: message". */
+void swim_status_fail_cmd(swim_status *st, const char *cmd, const char *file, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 5, 6)));
+
 /* A notice: to st's note callback, if any (the text as swim_message would show it, unquoted). */
 void swim_status_note(const swim_status *st, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Each line of from as a notice of to (st's note callback): a failure the caller goes on past. */
+void swim_status_notes_from(const swim_status *to, const swim_status *from);
 
 /* The cause without "WHO: ", at most n - 1 bytes ("" when nothing failed). */
 const char *swim_status_message(const swim_status *st, char *buf, size_t n);

@@ -20,14 +20,19 @@
 #include <string.h>
 
 #include "codegen/codegen.h"
+#include "control/continuation.h"
+#include "control/floquet.h"
 #include "control/lyapunov.h"
+#include "control/periodic.h"
 #include "control/sensitivity.h"
 #include "driver/events.h"
 #include "driver/run.h"
 #include "driver/summary.h"
+#include "driver/summary_read.h"
 #include "io/files.h"
 #include "io/message.h"
 #include "io/version.h"
+#include "kernel/coords.h"
 #include "kernel/swim_kernel.h"
 #include "problem/problem.h"
 #include "scene/keys.h"
@@ -126,6 +131,11 @@ const char *swim_strerror(int status)
 #define RESULT_V1 FIRST_LAYOUT(swim_result, rhs_evaluations)
 #define INSPECTION_V1 FIRST_LAYOUT(swim_inspection, christoffel)
 #define LYAPUNOV_V1 FIRST_LAYOUT(swim_lyapunov_result, reason)
+#define ORBIT_OPTIONS_V1 FIRST_LAYOUT(swim_orbit_options, points)
+#define PERIODIC_V1 FIRST_LAYOUT(swim_periodic_result, seconds)
+#define FLOQUET_V1 FIRST_LAYOUT(swim_floquet_result, seconds)
+#define BRANCH_V1 FIRST_LAYOUT(swim_branch_result, seconds)
+#define MEMBER_V1 FIRST_LAYOUT(swim_member, wall_seconds)
 
 size_t swim_struct_size(const char *name)
 {
@@ -137,7 +147,12 @@ size_t swim_struct_size(const char *name)
                  {"swim_result", sizeof(swim_result)},
                  {"swim_inspection", sizeof(swim_inspection)},
                  {"swim_event", sizeof(swim_event)},
-                 {"swim_lyapunov_result", sizeof(swim_lyapunov_result)}};
+                 {"swim_lyapunov_result", sizeof(swim_lyapunov_result)},
+                 {"swim_orbit_options", sizeof(swim_orbit_options)},
+                 {"swim_periodic_result", sizeof(swim_periodic_result)},
+                 {"swim_floquet_result", sizeof(swim_floquet_result)},
+                 {"swim_branch_result", sizeof(swim_branch_result)},
+                 {"swim_member", sizeof(swim_member)}};
     for (size_t i = 0; name && i < sizeof sizes / sizeof sizes[0]; i++)
         if (strcmp(name, sizes[i].name) == 0) return sizes[i].size;
     return 0;
@@ -553,15 +568,14 @@ int swim_sim_state(const swim_sim *s, double *y, int len)
     return n;
 }
 
-char *swim_sim_summary_json(const swim_sim *s)
+/* What fill writes, as a malloc'd string (NULL out of memory). */
+static char *text_of(int (*fill)(FILE *f, const void *ctx), const void *ctx)
 {
-    if (!s) return NULL;
     char *buf = NULL;
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);
     if (!f) return NULL;
-    const swim_summary_context x = {NULL, NULL, s->m->P.name, s->sets, s->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0, NULL, NULL};
-    const int bad = swim_run_summary_json(f, s->run, &x);
+    const int bad = fill(f, ctx);
     if (fclose(f) != 0 || bad) {
         free(buf);
         return NULL;
@@ -578,20 +592,22 @@ const char *swim_family_column(int i, const char **summary_path)
     return cols[i].name;
 }
 
-char *swim_sim_events_csv(const swim_sim *s)
+static int fill_summary(FILE *f, const void *ctx)
 {
-    if (!s) return NULL;
-    char *buf = NULL;
-    size_t len = 0;
-    FILE *f = open_memstream(&buf, &len);
-    if (!f) return NULL;
-    swim_run_events_csv(s->events, f);
-    if (fclose(f) != 0) {
-        free(buf);
-        return NULL;
-    }
-    return buf;
+    const swim_sim *s = ctx;
+    const swim_summary_context x = {NULL, NULL, s->m->P.name, s->sets, s->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0, NULL, NULL};
+    return swim_run_summary_json(f, s->run, &x);
 }
+
+static int fill_events(FILE *f, const void *ctx)
+{
+    swim_run_events_csv(((const swim_sim *)ctx)->events, f);
+    return 0;
+}
+
+char *swim_sim_summary_json(const swim_sim *s) { return s ? text_of(fill_summary, s) : NULL; }
+
+char *swim_sim_events_csv(const swim_sim *s) { return s ? text_of(fill_events, s) : NULL; }
 
 int swim_sim_sensitivity(const swim_sim *s, const char *const **names, int *ncol, const double **values, long *nrows)
 {
@@ -652,6 +668,325 @@ void swim_sim_free(swim_sim *s)
     if (s->loaded) swim_scene_free(&s->s);
     free(s->sets);
     free(s);
+}
+
+/* ---- a member of a family ---------------------------------------------------------------------- */
+
+static double real_of(const swim_summary_real *r) { return r->set ? r->value : NAN; }
+
+static long long count_of(const swim_summary_count *c) { return c->set ? c->value : -1; }
+
+static int run_member(swim_model *m, const char *const *sets, int nsets, const char *const *events, int nevents,
+                      swim_member *theirs, swim_error *err)
+{
+    if (!m) return bad_arg(err, "model", "model is NULL");
+    if (!theirs) return bad_arg(err, "out", "out is NULL");
+    if (theirs->size < MEMBER_V1) return too_small(err, "swim_member", theirs->size, MEMBER_V1);
+    if (string_list(err, "swim_model_from_file", "sets", "nsets", sets, nsets)) return SWIM_EINPUT;
+    for (int i = 0; i < nsets; i++) {
+        char key[256];
+        const char *eq = strchr(sets[i], '=');
+        if (!eq || (size_t)(eq - sets[i]) >= sizeof key)
+            return bad_arg(err, "sets", "sets[%d] = '%s' is not KEY=VALUE", i, sets[i]);
+        snprintf(key, sizeof key, "%.*s", (int)(eq - sets[i]), sets[i]);
+        const int rc = model_set(m, key, eq + 1, err);
+        if (rc) return rc;
+    }
+    swim_sim_options o = SWIM_SIM_OPTIONS_INIT;
+    o.events = events;
+    o.nevents = nevents;
+    swim_sim *s = NULL;
+    int rc = swim_sim_create_(m, &o, &s, err);
+    if (rc) return rc;
+    swim_error ran = SWIM_ERROR_INIT;   /* a failed run is a member's row, not the call's failure */
+    sim_advance(s, INFINITY, &ran);
+    char *json = text_of(fill_summary, s), why[256];
+    swim_summary sum;
+    memset(&sum, 0, sizeof sum);
+    rc = json && swim_summary_read(m->P.name, json, &sum, why, sizeof why) == SWIM_SUMMARY_OK ? SWIM_OK : SWIM_ENOMEM;
+    const swim_run_result *r = swim_run_get_result(s->run);
+    swim_member out = {sizeof out, r->finished && r->status == 0, "", "", real_of(&sum.t_reached), real_of(&sum.x),
+                       real_of(&sum.y), real_of(&sum.theta), real_of(&sum.energy_drift_rel),
+                       real_of(&sum.energy_balance_abs), real_of(&sum.jmin), count_of(&sum.steps),
+                       count_of(&sum.rhs_evaluations), real_of(&sum.integrate_seconds), real_of(&sum.wall_seconds)};
+    free(json);
+    swim_sim_free(s);
+    if (rc) return failed(err, NULL, rc, "out of memory");
+    snprintf(out.status, sizeof out.status, "%s", sum.status);
+    snprintf(out.reason, sizeof out.reason, "%s", sum.reason);
+    give(theirs, &out, sizeof out);
+    return SWIM_OK;
+}
+
+int swim_model_run_member(swim_model *m, const char *const *sets, int nsets, const char *const *events, int nevents,
+                          swim_member *out, swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return SWIM_EINPUT;
+    return error_give(err, &e, run_member(m, sets, nsets, events, nevents, out, &e));
+}
+
+/* ---- orbits: periodic, floquet, continuation ------------------------------------------------ */
+
+/* The scene of a model made ready for an orbit analysis, as swim periodic / floquet / continue
+ * make it (control/periodic.c, floquet.c): its own copy of the scene (continuation sets its key
+ * in place), the model's kernels, the dynamics and the section. */
+typedef struct {
+    swim_scene s;
+    swim_dynamics d;
+    int loaded, dyn;
+    swim_floquet_section sec;
+    char section[64];
+} orbit_problem;
+
+struct swim_orbit {
+    char kind;                       /* 'p' periodic, 'f' floquet, 'b' branch */
+    char *json, *csv;                /* the command's files */
+    swim_periodic p;
+    swim_floquet fl;
+    swim_branch b;
+    int n;                           /* shape state entries, and their names */
+    char name_store[SWIM_FLOQUET_MAX][24];
+    const char *names[SWIM_BRANCH_FIXED_COLUMNS + SWIM_FLOQUET_MAX];
+    double *re, *im;                 /* periodic: the tangent multipliers */
+    double *table;                   /* branch.csv's numbers */
+    double special_lo[64], special_hi[64];
+    const char *special_kind[64];
+    char *key;                       /* the branch's parameter */
+};
+
+/* An option of command cmd within the bounds of its command-line option (scene/keys.c's rows of
+ * the commands): 0 is the default and passes. */
+static int option_bounded(swim_error *err, const char *cmd, const char *option, const char *arg, double v)
+{
+    const swim_scene_key *k = swim_command_option(cmd, option);
+    if (v == 0 || !k || (isfinite(v) && v >= k->lo && (v < k->hi || (k->kind == SWIM_KEY_INTEGER && v == k->hi))))
+        return SWIM_OK;
+    return bad_arg(err, arg, "%s must be %s (got %g)", arg, k->expect, v);
+}
+
+static void orbit_close(orbit_problem *op)
+{
+    if (op->dyn) swim_dynamics_free(&op->d);
+    if (op->loaded) swim_scene_free(&op->s);
+    op->dyn = op->loaded = 0;
+}
+
+/* cmd "periodic", "floquet" or "continue": the scene checked as that command checks it. */
+static int orbit_open(const swim_model *m, const swim_orbit_options *o, const char *cmd, orbit_problem *op,
+                      swim_status *st)
+{
+    memset(op, 0, sizeof *op);
+    if (swim_scene_parse_with(m->P.text, m->P.len, m->P.name, m->P.sets, m->P.nsets, &op->s, st) != 0) return SWIM_EINPUT;
+    op->loaded = 1;
+    const int floquet = strcmp(cmd, "floquet") == 0;
+    if (floquet ? swim_floquet_check(&op->s, m->P.name, SWIM_FLOQUET_NO_STROKE | SWIM_FLOQUET_EVENTS, st)
+                : swim_periodic_check(&op->s, cmd, m->P.name, st))
+        return SWIM_EINPUT;
+    if (swim_dynamics_init(&op->d, &op->s, m->P.kn.kernel) != 0) return SWIM_ENOMEM;
+    op->dyn = 1;
+    swim_dynamics_use_scene_kernel(&op->d, m->P.spz.scene, 0);
+    op->d.interrupt = o->stop;
+    return swim_floquet_parse_section(&op->d, cmd, floquet ? "event" : "guess-event", o->section, &op->sec,
+                                      op->section, sizeof op->section, st) ? SWIM_EINPUT : SWIM_OK;
+}
+
+static void orbit_names(swim_orbit *a, const swim_dynamics *d, int n2)
+{
+    a->n = n2;
+    for (int i = 0; i < n2; i++) {
+        char name[20];
+        swim_coord_name(d->spec->free_index[i % (n2 / 2)], name, sizeof name);
+        snprintf(a->name_store[i], sizeof a->name_store[i], "%s%s", i < n2 / 2 ? "" : "d", name);
+        a->names[i] = a->name_store[i];
+    }
+}
+
+typedef struct {
+    const swim_orbit *a;
+    const swim_dynamics *d;
+    const char *scene, *section;
+} orbit_files;
+
+static void fill_orbit_json(FILE *f, const void *ctx)
+{
+    const orbit_files *x = ctx;
+    const swim_orbit *a = x->a;
+    if (a->kind == 'p') swim_periodic_json(f, &a->p, x->d, x->scene, x->section);
+    else if (a->kind == 'f') swim_floquet_json(f, &a->fl, x->scene, x->section);
+    else swim_branch_json(f, &a->b, x->scene, a->key);
+}
+
+static void fill_orbit_csv(FILE *f, const void *ctx)
+{
+    const swim_orbit *a = ((const orbit_files *)ctx)->a;
+    swim_branch_csv(f, &a->b, a->key);
+}
+
+/* The analysis of kind (periodic, floquet, continue) on m into *out. */
+static int orbit_run(const swim_model *m, const swim_orbit_options *theirs, char kind, swim_orbit **out,
+                     swim_error *err)
+{
+    if (!out) return bad_arg(err, "out", "out is NULL");
+    *out = NULL;
+    if (!m) return bad_arg(err, "model", "model is NULL");
+    if (!theirs) return bad_arg(err, "options", "options is NULL");
+    if (theirs->size < ORBIT_OPTIONS_V1)
+        return too_small(err, "swim_orbit_options", theirs->size, ORBIT_OPTIONS_V1);
+    swim_orbit_options o = {0};
+    memcpy(&o, theirs, theirs->size < sizeof o ? theirs->size : sizeof o);
+    const char *cmd = kind == 'p' ? "periodic" : kind == 'f' ? "floquet" : "continue";
+    if (option_bounded(err, cmd, "tol", "tol", o.tol) || option_bounded(err, "periodic", "max-iter", "max_iter", o.max_iter) ||
+        option_bounded(err, kind == 'f' ? "floquet" : "periodic", "t-max", "t_max", o.t_max))
+        return SWIM_EINPUT;
+    if (kind == 'b') {
+        if (!o.param || !o.param[0]) return bad_arg(err, "param", "param is NULL or empty: give \"energy\" or a run-time key");
+        if (!isfinite(o.start) || !isfinite(o.end) || o.start == o.end)
+            return bad_arg(err, "start", "start and end must be finite numbers, start != end (got %g and %g)", o.start, o.end);
+        if (option_bounded(err, "continue", "max-points", "points", o.points)) return SWIM_EINPUT;
+    }
+    swim_orbit *a = calloc(1, sizeof *a);
+    if (!a || (kind == 'b' && !(a->key = strdup(o.param)))) {
+        free(a);
+        return refuse(err, SWIM_ENOMEM, "", "out of memory");
+    }
+    a->kind = kind;
+    swim_status st = {0};
+    orbit_problem op;
+    int rc = orbit_open(m, &o, cmd, &op, &st);
+    if (rc == SWIM_OK && kind == 'b' && strcmp(o.param, "energy") != 0) {
+        /* both ends as overrides of the scene, refused as swim continue refuses them before any work */
+        for (int e = 0; e < 2 && rc == SWIM_OK; e++) {
+            swim_override ov[MAX_SETS + 1];
+            char text[200], why[256];
+            memcpy(ov, m->P.sets, sizeof ov[0] * (size_t)m->P.nsets);
+            snprintf(text, sizeof text, "%s=%.17g", o.param, e ? o.end : o.start);
+            swim_scene check;
+            if (swim_override_parse(text, &ov[m->P.nsets], why, sizeof why) != 0) {
+                swim_status_fail_cmd(&st, "continue", m->P.name, "param", "--param %s: %s", o.param, why);
+                rc = SWIM_EINPUT;
+            } else if (swim_scene_parse_with(m->P.text, m->P.len, m->P.name, ov, m->P.nsets + 1, &check, &st) != 0) {
+                rc = SWIM_EINPUT;
+            } else {
+                swim_scene_free(&check);
+            }
+        }
+    }
+    int arc = 0;
+    if (rc == SWIM_OK) {
+        const double t_max = o.t_max > 0 ? o.t_max : op.s.t_end;
+        swim_periodic_options po = {o.tol > 0 ? o.tol : 1e-11, o.max_iter > 0 ? o.max_iter : 20, 1e-12, 1e-14, t_max,
+                                    cmd, "swim_orbit_options.t_max", NULL, NULL, NULL};
+        if (kind == 'p') {
+            arc = swim_periodic_solve(&op.d, &op.sec, &po, &a->p, &st);
+        } else if (kind == 'f') {
+            arc = swim_floquet_compute(&op.d, &op.sec, t_max, NULL, NULL, &a->fl, &st);
+        } else {
+            po.t_max = op.s.t_end;
+            po.t_max_from = "run.t_end";
+            const swim_cont_options co = {a->key, o.start, o.end, o.points > 0 ? o.points : 11, po, NULL, NULL};
+            arc = swim_continue(&op.d, &op.s, &op.sec, &co, &a->b, &st);
+        }
+        rc = arc == 0 ? SWIM_OK : arc == 2 ? SWIM_EINPUT : SWIM_EFAILED;
+    }
+    if (rc == SWIM_OK) {
+        const int n2 = 2 * op.d.spec->nfree;
+        orbit_names(a, &op.d, n2);
+        const orbit_files x = {a, &op.d, m->P.name, op.section};
+        a->json = text_of(fill_orbit_json, &x);
+        if (kind == 'b') a->csv = text_of(fill_orbit_csv, &x);
+        if (kind == 'p' && a->p.have_floquet) {
+            a->re = malloc(sizeof(double) * SWIM_FLOQUET_MAX);
+            a->im = malloc(sizeof(double) * SWIM_FLOQUET_MAX);
+            if (a->re && a->im) {
+                memcpy(a->re, a->p.floquet.tre, sizeof a->p.floquet.tre);
+                memcpy(a->im, a->p.floquet.tim, sizeof a->p.floquet.tim);
+            }
+        }
+        if (kind == 'b') {
+            const int ncol = swim_branch_columns(&a->b);
+            a->table = malloc(sizeof(double) * (size_t)ncol * (size_t)(a->b.n > 0 ? a->b.n : 1));
+            for (int i = 0; a->table && i < a->b.n; i++) swim_branch_row(&a->b, i, a->table + (size_t)i * ncol);
+            for (int j = 0; j < ncol; j++) a->names[j] = swim_branch_column(&a->b, a->key, j);
+            for (int i = 0; i < a->b.nspecial; i++) {
+                a->special_lo[i] = a->b.special[i].lo;
+                a->special_hi[i] = a->b.special[i].hi;
+                a->special_kind[i] = a->b.special[i].kind;
+            }
+        }
+        if (!a->json || (kind == 'b' && (!a->csv || !a->table)) || (kind == 'p' && a->p.have_floquet && (!a->re || !a->im)))
+            rc = SWIM_ENOMEM;
+    }
+    orbit_close(&op);
+    if (rc != SWIM_OK) {
+        swim_orbit_free(a);
+        return failed(err, &st, rc, rc == SWIM_ENOMEM ? "out of memory" : "the analysis failed");
+    }
+    *out = a;
+    return SWIM_OK;
+}
+
+int swim_orbit_periodic(const swim_orbit *a, swim_periodic_result *theirs)
+{
+    if (!a || !theirs || a->kind != 'p' || theirs->size < PERIODIC_V1) return SWIM_EINPUT;
+    const swim_periodic *p = &a->p;
+    const swim_floquet *fl = &p->floquet;
+    const int have = p->have_floquet;
+    const swim_periodic_result r = {
+        sizeof r, p->converged, p->stopped, p->why ? p->why : "", p->iterations, p->period, p->residual, p->scale,
+        p->dx, p->dy, p->dtheta, p->energy, p->energy_target, p->t_guess, p->period_guess, a->n, a->names, p->z,
+        have, have ? fl->M : NULL, have ? fl->nt : 0, have ? a->re : NULL, have ? a->im : NULL, have && fl->stable,
+        p->rhs_calls, p->seconds};
+    give(theirs, &r, sizeof r);
+    return SWIM_OK;
+}
+
+int swim_orbit_floquet(const swim_orbit *a, swim_floquet_result *theirs)
+{
+    if (!a || !theirs || a->kind != 'f' || theirs->size < FLOQUET_V1) return SWIM_EINPUT;
+    const swim_floquet *fl = &a->fl;
+    const swim_floquet_result r = {
+        sizeof r, fl->stopped, fl->period, fl->t_first, fl->closure, fl->closure_rel, fl->periodic,
+        fl->periodic && fl->stable, fl->n2, fl->M, fl->re, fl->im, fl->nt, fl->tre, fl->tim, fl->nc, fl->cre, fl->cim,
+        fl->rhs_calls, fl->seconds};
+    give(theirs, &r, sizeof r);
+    return SWIM_OK;
+}
+
+int swim_orbit_branch(const swim_orbit *a, swim_branch_result *theirs)
+{
+    if (!a || !theirs || a->kind != 'b' || theirs->size < BRANCH_V1) return SWIM_EINPUT;
+    const swim_branch *b = &a->b;
+    const char *ended = b->ended[0][0] ? b->ended[0] : b->ended[1];
+    const swim_branch_result r = {
+        sizeof r, b->stopped, b->n, swim_branch_columns(b), a->names, a->table, b->param0, ended, b->nspecial,
+        a->special_lo, a->special_hi, a->special_kind, b->rhs_calls, b->seconds};
+    give(theirs, &r, sizeof r);
+    return SWIM_OK;
+}
+
+static char *copy_text(const char *t)
+{
+    return t ? strdup(t) : NULL;
+}
+
+char *swim_orbit_json(const swim_orbit *a) { return a ? copy_text(a->json) : NULL; }
+
+char *swim_orbit_csv(const swim_orbit *a) { return a ? copy_text(a->csv) : NULL; }
+
+void swim_orbit_free(swim_orbit *a)
+{
+    if (!a) return;
+    if (a->kind == 'p') swim_periodic_free(&a->p);
+    else if (a->kind == 'f') swim_floquet_free(&a->fl);
+    else swim_branch_free(&a->b);
+    free(a->json);
+    free(a->csv);
+    free(a->re);
+    free(a->im);
+    free(a->table);
+    free(a->key);
+    free(a);
 }
 
 /* ---- inspection ----------------------------------------------------------------------------- */
@@ -774,4 +1109,25 @@ int swim_inspect(int modes, const double *shape, const double *velocity, double 
     swim_error e;
     if (!error_begin(err, &e)) return SWIM_EINPUT;
     return error_give(err, &e, swim_inspect_(modes, shape, velocity, rho0, rhof, out, &e));
+}
+
+int swim_periodic_orbit(const swim_model *m, const swim_orbit_options *o, swim_orbit **out, swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return SWIM_EINPUT;
+    return error_give(err, &e, orbit_run(m, o, 'p', out, &e));
+}
+
+int swim_floquet_multipliers(const swim_model *m, const swim_orbit_options *o, swim_orbit **out, swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return SWIM_EINPUT;
+    return error_give(err, &e, orbit_run(m, o, 'f', out, &e));
+}
+
+int swim_continuation(const swim_model *m, const swim_orbit_options *o, swim_orbit **out, swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return SWIM_EINPUT;
+    return error_give(err, &e, orbit_run(m, o, 'b', out, &e));
 }

@@ -98,7 +98,9 @@ SWIM_API const char *swim_version(void);
  * as swim_model_columns returns; "unknown status" for any other number). A static string. */
 SWIM_API const char *swim_strerror(int status);
 /* sizeof the library's struct of that name ("swim_error", "swim_sim_options", "swim_result",
- * "swim_inspection", "swim_event", "swim_lyapunov_result"), 0 for another name or NULL: for bindings that mirror the structs (Python
+ * "swim_inspection", "swim_event", "swim_lyapunov_result", "swim_orbit_options",
+ * "swim_periodic_result", "swim_floquet_result", "swim_branch_result", "swim_member"), 0 for another
+ * name or NULL: for bindings that mirror the structs (Python
  * checks its mirrors against these at import). */
 SWIM_API size_t swim_struct_size(const char *name);
 
@@ -260,6 +262,147 @@ SWIM_API void swim_sim_free(swim_sim *s);
  * summary.json holds its value (keys joined by dots, e.g. "final_state.x"). NULL past the last
  * column. The strings are the library's. */
 SWIM_API const char *swim_family_column(int i, const char **summary_path);
+
+/* ---- a member of a family in one call -------------------------------------------------------- */
+
+/* members.csv's numbers of a run (swim sweep's columns after the id and the varied keys), read
+ * from the run's summary.json as swim sweep reads its members' summaries. */
+typedef struct {
+    size_t size;                      /* sizeof(swim_member), set by the caller (SWIM_MEMBER_INIT) */
+    int completed;                    /* the run reached t_end or a :stop event */
+    char status[32];                  /* summary.json's status: "completed", "failed" */
+    char reason[1024];                /* its reason ("" when absent; cut at a character boundary) */
+    double t_reached, x, y, theta;    /* NaN where the summary has none (null) */
+    double energy_drift_rel, energy_balance_abs, jmin;
+    long long steps, rhs_evaluations; /* -1 where the summary has none */
+    double integrate_seconds, wall_seconds;
+} swim_member;
+#define SWIM_MEMBER_INIT SWIM_SIZED_INIT_(swim_member)
+
+/* One member of a family, in one call: the run-time keys sets[0..nsets) ("KEY=VALUE") set in m
+ * in place, in order, as swim_model_set sets them; a simulation of m with the extra events (as
+ * swim_sim_options.events), run to its end without rows; its members.csv numbers into *out. The
+ * same run, bit for bit, as swim_model_set for each key, then swim_sim_create and swim_sim_run
+ * (what a binding would do in several calls, here without returning to the caller in between:
+ * Python's swim.sweep runs its members on threads with one call each). SWIM_OK when the run was
+ * made, completed or failed (out->completed, out->status and out->reason say which); a key
+ * refused is SWIM_EINPUT naming it (the keys before it stay set); a bad event SWIM_EINPUT. */
+SWIM_API int swim_model_run_member(swim_model *m, const char *const *sets, int nsets, const char *const *events,
+                                   int nevents, swim_member *out, swim_error *err);
+
+/* ---- periodic orbits, Floquet multipliers, continuation (`swim periodic`, `floquet`, `continue`) --
+ *
+ * The analyses of docs/control.md on a model (its scene with its overrides, docs/control.md has
+ * the methods), computed as the commands compute them: the same numbers as periodic.json,
+ * floquet.json and branch.csv / branch.json, nothing printed and no file written. A result is an
+ * object whose arrays the result structs point into (valid while it lives); the JSON (and CSV)
+ * the command would write come from swim_orbit_json / swim_orbit_csv. A scene the command refuses
+ * (a prescribed stroke, [forcing] for periodic orbits, an integrator without events, a section that
+ * is not a moving coordinate, ...) is SWIM_EINPUT with the command's message; no period found or
+ * an integration that fails before any result is SWIM_EFAILED. An orbit that does not converge, a
+ * branch that ends early or a run stopped by the flag is SWIM_OK with the result saying so (the
+ * command writes its file and exits 1). Not while another thread sets a key of the model. */
+
+typedef struct {
+    size_t size;                      /* sizeof(swim_orbit_options), set by the caller (SWIM_ORBIT_OPTIONS_INIT) */
+    const char *section;              /* "COLUMN:KIND[:COUNT]": the guess's section (periodic, continuation: the
+                                         commands' --guess-event) or the period's (floquet: --event); NULL: the
+                                         first moving coordinate's max */
+    double tol;                       /* Newton's tolerance, in (0, 1); 0: 1e-11 (--tol) */
+    int max_iter;                     /* Newton iterations 1..40; 0: 20 (swim periodic --max-iter) */
+    double t_max;                     /* how long to look for the section's events; 0: run.t_end (--t-max;
+                                         continuation: always run.t_end, as swim continue) */
+    volatile int *stop;               /* a flag: nonzero stops the work, keeping what it has (stopped says so) */
+    /* continuation only (swim continue --param PARAM=START:END --max-points POINTS) */
+    const char *param;                /* "energy" or a run-time key ("model.rho0", "elastic.stiffness[4]") */
+    double start, end;                /* finite, start != end */
+    int points;                       /* 2..1000; 0: 11 */
+} swim_orbit_options;
+#define SWIM_ORBIT_OPTIONS_INIT SWIM_SIZED_INIT_(swim_orbit_options)
+
+typedef struct swim_orbit swim_orbit;
+
+/* A periodic orbit by Newton shooting (swim periodic). */
+SWIM_API int swim_periodic_orbit(const swim_model *m, const swim_orbit_options *o, swim_orbit **out, swim_error *err);
+/* The monodromy matrix and multipliers of the orbit through the scene's initial state over the
+ * time between two events of the section (swim floquet). */
+SWIM_API int swim_floquet_multipliers(const swim_model *m, const swim_orbit_options *o, swim_orbit **out, swim_error *err);
+/* A branch of periodic orbits in o->param from o->start to o->end (swim continue). */
+SWIM_API int swim_continuation(const swim_model *m, const swim_orbit_options *o, swim_orbit **out, swim_error *err);
+
+/* periodic.json's numbers (swim_periodic_orbit). */
+typedef struct {
+    size_t size;                      /* sizeof(swim_periodic_result), set by the caller (SWIM_PERIODIC_RESULT_INIT) */
+    int converged;
+    int stopped;                      /* the stop flag's value when it stopped the work, else 0 */
+    const char *reason;               /* why not converged ("" when converged) */
+    int iterations;                   /* Newton iterations */
+    double period, residual, state_scale;
+    double dx, dy, dtheta;            /* per period, in the body frame at the phase point */
+    double energy, energy_target;     /* energy_target: the energy held (NaN: none) */
+    double t_guess, period_guess;     /* the guess: its first event and period */
+    int n;                            /* entries of the shape state (carried coordinates, then their velocities) */
+    const char *const *names;         /* their names, phase_point's keys ("am1", ..., "dam1", ...) */
+    const double *phase_point;        /* n */
+    int have_floquet;                 /* the multipliers below were computed (converged orbits) */
+    const double *monodromy;          /* n x n, row-major (NULL without Floquet data) */
+    int tangent_dimension;            /* multipliers on the constraint manifold ... */
+    const double *multipliers_re, *multipliers_im;   /* ... floquet.multipliers_tangent */
+    int stable;
+    long rhs_evaluations;
+    double seconds;
+} swim_periodic_result;
+#define SWIM_PERIODIC_RESULT_INIT SWIM_SIZED_INIT_(swim_periodic_result)
+
+/* floquet.json's numbers (swim_floquet_multipliers). */
+typedef struct {
+    size_t size;                      /* sizeof(swim_floquet_result), set by the caller (SWIM_FLOQUET_RESULT_INIT) */
+    int stopped;                      /* the stop flag's value when it stopped the work (then only the period
+                                         may be known), else 0 */
+    double period, t_first;           /* T and the time of the first event */
+    double closure, closure_relative;
+    int periodic;                     /* the orbit closes (closure_relative <= 1e-6) */
+    int stable;                       /* periodic and every multiplier on the complement |lambda| = 1 to 1e-3 */
+    int n;                            /* entries of the shape state: M is n x n */
+    const double *monodromy;          /* n x n, row-major */
+    const double *multipliers_re, *multipliers_im;   /* n: of M (multipliers_full) */
+    int tangent_dimension;
+    const double *tangent_re, *tangent_im;           /* multipliers_tangent */
+    int complement_dimension;
+    const double *complement_re, *complement_im;     /* checks.multipliers_complement */
+    long rhs_evaluations;
+    double seconds;
+} swim_floquet_result;
+#define SWIM_FLOQUET_RESULT_INIT SWIM_SIZED_INIT_(swim_floquet_result)
+
+/* branch.csv's table and branch.json's summary (swim_continuation). */
+typedef struct {
+    size_t size;                      /* sizeof(swim_branch_result), set by the caller (SWIM_BRANCH_RESULT_INIT) */
+    int stopped;                      /* the stop flag's value when it stopped the branch, else 0 */
+    int points;                       /* rows of the table, sorted by the parameter */
+    int columns;                      /* branch.csv's columns ... */
+    const char *const *names;         /* ... and their names (the header) */
+    const double *table;              /* points x columns, row-major: branch.csv's numbers ("stable" 1 or 0) */
+    double start_parameter;           /* the scene's own orbit's parameter */
+    const char *ended;                /* why the branch ended early ("" when it reached both ends) */
+    int special_points;               /* where the count of multipliers outside the unit circle changes: */
+    const double *special_lo, *special_hi;           /* between these parameters */
+    const char *const *special_kind;  /* "period doubling", "Neimark-Sacker", ... */
+    long rhs_evaluations;
+    double seconds;
+} swim_branch_result;
+#define SWIM_BRANCH_RESULT_INIT SWIM_SIZED_INIT_(swim_branch_result)
+
+/* The result as far as out->size holds: SWIM_OK, or SWIM_EINPUT for a NULL argument, a size
+ * below the struct's first layout or a result of another analysis. */
+SWIM_API int swim_orbit_periodic(const swim_orbit *a, swim_periodic_result *out);
+SWIM_API int swim_orbit_floquet(const swim_orbit *a, swim_floquet_result *out);
+SWIM_API int swim_orbit_branch(const swim_orbit *a, swim_branch_result *out);
+/* periodic.json, floquet.json or branch.json as the command writes it; branch.csv (NULL for the
+ * others). Malloc'd text: free it with swim_free (NULL for a NULL a). */
+SWIM_API char *swim_orbit_json(const swim_orbit *a);
+SWIM_API char *swim_orbit_csv(const swim_orbit *a);
+SWIM_API void swim_orbit_free(swim_orbit *a);
 
 /* ---- the model's matrices at one shape (`swim inspect`) ----------------------------------- */
 

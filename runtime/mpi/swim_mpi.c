@@ -68,8 +68,9 @@ static int parse(sweep_plan *p, int rank, int argc, char **argv)
 
 static int deal(sweep_plan *p, int ranks)
 {
-    FILE *rows = sweep_open_rows(p);
-    if (!rows) return 1;
+    swim_status st = {0};
+    FILE *rows = sweep_open_rows(p, &st);
+    if (!rows) return swim_status_print(&st, stderr), 1;
     long next = 0, ran = 0, failed = 0, handled = 0;
     int stop = 0;   /* a row or a summary could not be written (named on stderr): deal no more */
     int active = ranks - 1;
@@ -103,7 +104,9 @@ static int deal(sweep_plan *p, int ranks)
                 stop = 1;   /* the worker named the file and the reason */
             }
             handled++;
-            sweep_progress(p, ran, failed, t0, &progress);
+            char line[256];
+            const int due = sweep_progress(p, ran, failed, t0, &progress, line, sizeof line);
+            if (due) fprintf(stderr, due == 2 ? "\r%s\033[K" : "%s\n", line);
         }
         while (next < p->members && p->finished[next]) next++;
         long give = next < p->members && !stop ? next++ : -1;
@@ -117,12 +120,16 @@ static int deal(sweep_plan *p, int ranks)
         stop = 1;
     }
     double seconds = swim_clock_seconds() - t0;
-    swim_status st = {0};
+    swim_status_clear(&st);
     if (sweep_sort_rows(p, &st) != 0) {   /* rows in member order, as a reader expects */
         swim_status_print(&st, stderr);
         stop = 1;
     }
-    if (sweep_family_hdf5_due(p) && sweep_write_family_hdf5(p) != 0) stop = 1;
+    swim_status_clear(&st);
+    if (sweep_family_hdf5_due(p) && sweep_write_family_hdf5(p, &st) != 0) {
+        swim_status_print(&st, stderr);
+        stop = 1;
+    }
     const long finished = p->already + ran, all_failed = p->already_failed + failed;
     if (stop) {
         swim_message(stderr, "swim-mpi: %s: stopped after %ld of %ld members (%ld failed); run the same command "
@@ -134,7 +141,8 @@ static int deal(sweep_plan *p, int ranks)
            ranks - 1, p->already ? "; the others were finished before" : "");
     printf("  rank 0: %ld results handled, %.6f s busy (%.2f us per member)\n", handled, busy,
            handled ? 1e6 * busy / handled : 0.0);
-    if (sweep_finish_stdout(p, 0) != 0) return 1;
+    swim_status_clear(&st);
+    if (sweep_finish_stdout(p, 0, &st) != 0) return swim_status_print(&st, stderr), 1;
     return all_failed || finished < p->members ? 1 : 0;
 }
 
@@ -149,8 +157,10 @@ static void work(sweep_plan *p)
         if (m < 0) return;
         int status = 0, bad = 0, finished = 0;
         pid_t pid = sweep_spawn(p, m);
+        swim_status st = {0};
         if (pid > 0 && waitpid(pid, &status, 0) == pid)
-            finished = sweep_collect(p, m, status, 0, row, sizeof row, &bad);
+            finished = sweep_collect(p, m, status, 0, row, sizeof row, &bad, &st);
+        if (finished < 0) swim_status_print(&st, stderr);
         snprintf(msg, sizeof msg, "%ld %d %d %s", m, finished, bad, finished > 0 ? row : "");
     }
 }

@@ -380,7 +380,7 @@ int sweep_family_hdf5_due(const sweep_plan *p)
     return p->format_hdf5 || access(path, F_OK) == 0;
 }
 
-int sweep_write_family_hdf5(const sweep_plan *p)
+int sweep_write_family_hdf5(const sweep_plan *p, swim_status *st)
 {
     char path[SWIM_SWEEP_PATH + 64], tmp[SWIM_SWEEP_PATH + 64], why[SWIM_SWEEP_PATH + 256] = "";
     snprintf(path, sizeof path, "%s/family.h5", p->dir);
@@ -403,7 +403,7 @@ int sweep_write_family_hdf5(const sweep_plan *p)
     remove(tmp);
     /* an earlier family.h5 would say fewer members than members.csv now has: it goes too */
     const int stale = remove(path) == 0;
-    swim_message(stderr, "swim %s: cannot write %s: %s%s", p->cmd, path, why,
-                 stale ? " (the earlier family.h5 is removed: it would not match members.csv)" : "");
+    swim_status_fail_cmd(st, p->cmd, NULL, NULL, "cannot write %s: %s%s", path, why,
+                         stale ? " (the earlier family.h5 is removed: it would not match members.csv)" : "");
     return 1;
 }

@@ -28,8 +28,8 @@
 /* 1 when the sweep's end writes family.h5: --format hdf5, or a family.h5 already in DIR (made by
  * an earlier run of the sweep with --format hdf5, which this run resumes). */
 int sweep_family_hdf5_due(const sweep_plan *p);
-/* 0, or 1 after one line naming the file and the reason on stderr. */
-int sweep_write_family_hdf5(const sweep_plan *p);
+/* 0, or 1 with one line naming the file and the reason in st. */
+int sweep_write_family_hdf5(const sweep_plan *p, swim_status *st);
 /* 0 when the HDF5 library (opened at run time, not linked) can be loaded with every function
  * the writer uses, else -1 with the reason in why: said before any member runs. */
 int sweep_family_hdf5_ready(char *why, size_t len);

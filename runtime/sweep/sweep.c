@@ -589,20 +589,19 @@ void sweep_progress_line(const sweep_plan *p, long ran, long failed, double seco
     }
 }
 
-void sweep_progress(const sweep_plan *p, long ran, long failed, double t0, sweep_progress_state *st)
+int sweep_progress(const sweep_plan *p, long ran, long failed, double t0, sweep_progress_state *st, char *line,
+                   size_t len)
 {
-    if (p->quiet) return;
+    if (p->quiet) return 0;
     const double t = swim_clock_seconds();
     const int on_terminal = isatty(STDERR_FILENO);
     const long decile = p->members > 0 ? 10 * (p->already + ran) / p->members : 10;
-    if (on_terminal ? t - st->last < 0.5 : t - st->last < p->progress_every && decile == st->decile) return;
-    char line[256];
-    sweep_progress_line(p, ran, failed, t - t0, line, sizeof line);
-    if (on_terminal) fprintf(stderr, "\r%s\033[K", line);
-    else fprintf(stderr, "%s\n", line);
+    if (on_terminal ? t - st->last < 0.5 : t - st->last < p->progress_every && decile == st->decile) return 0;
+    sweep_progress_line(p, ran, failed, t - t0, line, len);
     st->last = t;
     st->decile = decile;
     st->drawn |= on_terminal;
+    return on_terminal ? 2 : 1;
 }
 
 /* ---------------------------------------------------------------- prepare */
@@ -738,9 +737,15 @@ static int run_member(const sweep_plan *p, const char *scene, const char *dir, c
     const swim_run_job job = {.cmd = "run", .scene_file = scene, .sets = ov, .nsets = nov, .adjust = member_adjust,
                               .adjust_ctx = (void *)p, .out = dir, .quiet = 1, .generic = p->generic,
                               .summary_only = !p->keep_trajectories, .command = command};
-    swim_status st = SWIM_STATUS_STDERR;
+    swim_status st = {0};
     const int rc = swim_job_execute(&job, &st);
-    swim_status_print(&st, stderr);   /* the member's refusal: its log's line */
+    if (st.failed) {   /* the member's refusal: its log's line (the log is the child's stderr) */
+        FILE *log = fdopen(dup(STDERR_FILENO), "w");
+        if (log) {
+            swim_status_print(&st, log);
+            fclose(log);
+        }
+    }
     free(command);
     return rc;
 }
@@ -808,7 +813,12 @@ pid_t sweep_spawn(const sweep_plan *p, long m)
         _exit(rc);
     }
     execv(p->exe, (char *const *)args);
-    swim_message(stderr, "swim %s: cannot start %s: %s", p->cmd, p->exe, strerror(errno));
+    const int why = errno;
+    FILE *log = fdopen(dup(STDERR_FILENO), "w");   /* the member's log.txt */
+    if (log) {
+        swim_message(log, "swim %s: cannot start %s: %s", p->cmd, p->exe, strerror(why));
+        fclose(log);
+    }
     _exit(127);
 }
 
@@ -828,7 +838,8 @@ static void last_log_line(const char *dir, char *out, size_t len)
     free(text);
 }
 
-int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char *row, size_t len, int *failed)
+int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char *row, size_t len, int *failed,
+                  swim_status *st)
 {
     char dir[SWIM_SWEEP_PATH + 64], path[SWIM_SWEEP_PATH + 128];
     member_dir(p, m, dir, sizeof dir);
@@ -865,12 +876,12 @@ int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char
             }
             json_decref(o);
             if (!f) {
-                swim_message(stderr, "swim %s: member %ld: out of memory", p->cmd, m);
+                swim_status_fail_cmd(st, p->cmd, NULL, NULL, "member %ld: out of memory", m);
                 return -1;
             }
             if (write_atomic(path, text) != 0) {
                 /* the sweep's stderr, not the member's log: the disk that refused this may hold the log */
-                swim_message(stderr, "swim %s: member %ld (%s): cannot write %s: %s", p->cmd, m, reason, path, strerror(errno));
+                swim_status_fail_cmd(st, p->cmd, NULL, NULL, "member %ld (%s): cannot write %s: %s", m, reason, path, strerror(errno));
                 free(text);
                 return -1;
             }
@@ -883,12 +894,12 @@ int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char
     return 1;
 }
 
-FILE *sweep_open_rows(const sweep_plan *p)
+FILE *sweep_open_rows(const sweep_plan *p, swim_status *st)
 {
     char path[SWIM_SWEEP_PATH + 64];
     snprintf(path, sizeof path, "%s/members.csv", p->dir);
     FILE *f = fopen(path, "a");
-    if (!f) swim_message(stderr, "swim %s: cannot append to %s: %s", p->cmd, path, strerror(errno));
+    if (!f) swim_status_fail_cmd(st, p->cmd, NULL, NULL, "cannot append to %s: %s", path, strerror(errno));
     return f;
 }
 
@@ -898,7 +909,7 @@ int sweep_append_row(FILE *f, const char *row)
     return 0;
 }
 
-int sweep_finish_stdout(const sweep_plan *p, int close_it)
+int sweep_finish_stdout(const sweep_plan *p, int close_it, swim_status *st)
 {
     int bad = fflush(stdout) != 0 || ferror(stdout);
     int err = bad ? errno : 0;
@@ -907,6 +918,6 @@ int sweep_finish_stdout(const sweep_plan *p, int close_it)
         err = errno;
     }
     if (!bad) return 0;
-    swim_message(stderr, "swim %s: cannot write the report to stdout: %s", p->cmd, err ? strerror(err) : "write error");
+    swim_status_fail_cmd(st, p->cmd, NULL, NULL, "cannot write the report to stdout: %s", err ? strerror(err) : "write error");
     return -1;
 }

@@ -94,20 +94,20 @@ double sweep_value(const sweep_plan *p, long m, int v);
  * kernel) or 2, with the cause in st. */
 int sweep_prepare(sweep_plan *p, swim_status *st);
 
-/* Starts member m as a child process running DIR/scene.toml (stdout/stderr to its log.txt); its
- * pid, or -1. The child dies with the parent (PR_SET_PDEATHSIG), so a killed sweep leaves no
+/* Starts member m as a child process running DIR/scene.toml (stdout/stderr to its log.txt, where
+ * the member's refusal or a failed exec is written); its pid, or -1. The child dies with the parent (PR_SET_PDEATHSIG), so a killed sweep leaves no
  * member running, and does not hold DIR's lock. */
 pid_t sweep_spawn(const sweep_plan *p, long m);
 /* After the child of member m exited with wait status `status`: writes a "crashed" summary if it
  * left none and was not interrupted (by a signal someone sent, or `interrupted`: the sweep is
  * stopping), and formats the member's members.csv row (with '\n') into row. Returns 1 if the
  * member is finished (row valid) and sets *failed, 0 if it must be rerun, -1 if its crashed
- * summary could not be written (one line naming the file and strerror on stderr). */
+ * summary could not be written (one line naming the file and strerror in st). */
 int sweep_collect(const sweep_plan *p, long m, int status, int interrupted, char *row, size_t len,
-                  int *failed);
+                  int *failed, swim_status *st);
 
-/* members.csv: opened for appending after sweep_prepare rebuilt it. */
-FILE *sweep_open_rows(const sweep_plan *p);
+/* members.csv: opened for appending after sweep_prepare rebuilt it; NULL with the cause in st. */
+FILE *sweep_open_rows(const sweep_plan *p, swim_status *st);
 int sweep_append_row(FILE *f, const char *row);   /* write + flush; 0 or -1 (errno) */
 
 /* A number of a member's summary in the family table: members.csv's column `name` (after id, the
@@ -136,21 +136,23 @@ int sweep_sort_rows(const sweep_plan *p, swim_status *st);
  * nothing has finished yet). */
 void sweep_progress_line(const sweep_plan *p, long ran, long failed, double seconds, char *line, size_t len);
 
-/* The progress line on stderr (not with --quiet), called as members finish: on a terminal
- * redrawn in place at most every 0.5 s; otherwise a line every --progress seconds or whenever
- * another tenth of the members is done, whichever comes first (so a short family in a log still
- * shows its progress). */
+/* The progress line for stderr (not with --quiet), called as members finish: 0 when none is due,
+ * else the line (without newline) in line and 1 (print it as a line) or 2 (stderr is a terminal:
+ * redraw it in place, "\r" LINE "\033[K"). On a terminal one is due at most every 0.5 s;
+ * otherwise every --progress seconds or whenever another tenth of the members is done, whichever
+ * comes first (so a short family in a log still shows its progress). */
 typedef struct {
     double last;   /* when the line was last drawn (swim_clock_seconds; the sweep's start at first) */
     long decile;   /* tenths of the members done then */
     int drawn;     /* a terminal line is open: the caller ends it with a newline */
 } sweep_progress_state;
-void sweep_progress(const sweep_plan *p, long ran, long failed, double t0, sweep_progress_state *st);
+int sweep_progress(const sweep_plan *p, long ran, long failed, double t0, sweep_progress_state *st, char *line,
+                   size_t len);
 
 /* The end of the sweep's report on stdout: flushed and checked (a full disk, /dev/full, a closed
- * pipe), and closed when close_it. 0, or -1 after one line "swim CMD: cannot write the report to
- * stdout: REASON" on stderr: the caller's exit status is then 1, never that of a reported sweep. */
-int sweep_finish_stdout(const sweep_plan *p, int close_it);
+ * pipe), and closed when close_it. 0, or -1 with the line "swim CMD: cannot write the report to
+ * stdout: REASON" in st: the caller's exit status is then 1, never that of a reported sweep. */
+int sweep_finish_stdout(const sweep_plan *p, int close_it, swim_status *st);
 
 void sweep_free(sweep_plan *p);
 
