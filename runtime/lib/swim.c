@@ -808,19 +808,21 @@ typedef struct {
     const char *scene, *section;
 } orbit_files;
 
-static void fill_orbit_json(FILE *f, const void *ctx)
+static int fill_orbit_json(FILE *f, const void *ctx)
 {
     const orbit_files *x = ctx;
     const swim_orbit *a = x->a;
     if (a->kind == 'p') swim_periodic_json(f, &a->p, x->d, x->scene, x->section);
     else if (a->kind == 'f') swim_floquet_json(f, &a->fl, x->scene, x->section);
     else swim_branch_json(f, &a->b, x->scene, a->key);
+    return 0;
 }
 
-static void fill_orbit_csv(FILE *f, const void *ctx)
+static int fill_orbit_csv(FILE *f, const void *ctx)
 {
     const swim_orbit *a = ((const orbit_files *)ctx)->a;
     swim_branch_csv(f, &a->b, a->key);
+    return 0;
 }
 
 /* The analysis of kind (periodic, floquet, continue) on m into *out. */
