@@ -378,11 +378,13 @@ static int difference_column(swim_sens *S, int k, double t, const double *Y, dou
 int swim_sens_rhs(double t, const double *Y, double *dY, void *params)
 {
     swim_sens *S = params;
-    int rc = swim_dynamics_rhs(t, Y, dY, S->d);
-    if (rc == 0) rc = exact_columns(S, t, Y, dY);
+    /* the columns first, the state's own right-hand side last: what that call leaves in the
+     * dynamics (the balance test's by-products) is then the state's, as in a run without them */
+    int rc = exact_columns(S, t, Y, dY);
     for (int k = 0; k < S->nkeys && rc == 0; k++)
         if (!S->keys[k].exact) rc = difference_column(S, k, t, Y, dY);
-    return rc;
+    const int rs = swim_dynamics_rhs(t, Y, dY, S->d);
+    return rs != 0 ? rs : rc;
 }
 
 double swim_sens_energy(swim_sens *S, const double *Y, int k)
@@ -511,6 +513,56 @@ int swim_sens_final(swim_sens *S, const char *integrator, double t_end, double *
     return orc == SWIM_ODE_OK ? 0 : 1;
 }
 
+void swim_sens_names_free(char **names, int ncol)
+{
+    if (names)
+        for (int c = 0; c < ncol; c++) free(names[c]);
+    free(names);
+}
+
+int swim_sens_names(const swim_sens *S, int nkeys, char ***out, int *ncol_out)
+{
+    static const char *const what[] = {"dx", "dy", "dtheta", "denergy", "dwork"};
+    const int n = S->dim, nf = (n - 4) / 2, nhead = 1 + 5 * nkeys;
+    const int ncol = nhead + 2 * nf * nkeys;
+    char **names = calloc((size_t)ncol, sizeof *names);
+    *out = NULL;
+    *ncol_out = ncol;
+    if (!names) return -1;
+    names[0] = strdup("t");
+    for (int k = 0; k < nkeys; k++)
+        for (int w = 0; w < 5; w++)
+            names[1 + 5 * k + w] = swim_strprintf("%s/d%s", what[w], S->keys[k].name);
+    for (int k = 0; k < nkeys; k++)   /* the full state: carried coordinates, then velocities */
+        for (int c = 0; c < 2 * nf; c++) {
+            char name[24];
+            swim_coord_name(S->d->spec->free_index[c % nf], name, sizeof name);
+            names[nhead + 2 * nf * k + c] = swim_strprintf("d%s%s/d%s", c < nf ? "" : "d", name, S->keys[k].name);
+        }
+    for (int c = 0; c < ncol; c++)
+        if (!names[c]) {
+            swim_sens_names_free(names, ncol);
+            return -1;
+        }
+    *out = names;
+    return 0;
+}
+
+void swim_sens_row(swim_sens *S, int nkeys, double t, const double *Y, double *row)
+{
+    const int n = S->dim, nf = (n - 4) / 2, nhead = 1 + 5 * nkeys;
+    row[0] = t;
+    for (int j = 0; j < nkeys; j++) {
+        const double *sj = Y + (size_t)(j + 1) * n;
+        row[1 + 5 * j] = sj[0];
+        row[2 + 5 * j] = sj[1];
+        row[3 + 5 * j] = sj[2];
+        row[4 + 5 * j] = swim_sens_energy(S, Y, j);
+        row[5 + 5 * j] = sj[n - 1];
+        for (int c = 0; c < 2 * nf; c++) row[nhead + 2 * nf * j + c] = sj[3 + c];
+    }
+}
+
 /* The rows of swim_sens_write_run to a sink: row(ctx, names, ncol, values) for each, nonzero
  * when it could not be kept (the cause in st). `where` names the rows' destination in the line of a
  * failure. */
@@ -519,28 +571,16 @@ typedef int (*sens_row_fn)(void *ctx, const char *const *names, int ncol, const 
 static int sens_rows(swim_sens *S, const char *integrator, double t_end, sens_row_fn sink, void *ctx,
                      const char *where, double *seconds, long *rhs_calls, swim_status *status)
 {
-    static const char *const what[] = {"dx", "dy", "dtheta", "denergy", "dwork"};
     const swim_scene *s = S->d->scene;
-    const int n = S->dim, nf = (n - 4) / 2, nhead = 1 + 5 * S->nkeys;
-    const int ncol = nhead + 2 * nf * S->nkeys, N = swim_sens_dimension(S);
+    const int N = swim_sens_dimension(S);
     const double t0 = swim_clock_seconds();
-    char **names = calloc((size_t)ncol, sizeof *names);
+    char **names = NULL;
+    int ncol = 0;
+    const int nrc = swim_sens_names(S, S->nkeys, &names, &ncol);
     double *Y = malloc(sizeof(double) * N), *row = malloc(sizeof(double) * ncol), *atolv = NULL;
     int rc = 1;
     swim_ode *ode = NULL;
-    if (!names || !Y || !row) goto oom;
-    names[0] = strdup("t");
-    for (int k = 0; k < S->nkeys; k++)
-        for (int w = 0; w < 5; w++)
-            names[1 + 5 * k + w] = swim_strprintf("%s/d%s", what[w], S->keys[k].name);
-    for (int k = 0; k < S->nkeys; k++)   /* the full state: carried coordinates, then velocities */
-        for (int c = 0; c < 2 * nf; c++) {
-            char name[24];
-            swim_coord_name(S->d->spec->free_index[c % nf], name, sizeof name);
-            names[nhead + 2 * nf * k + c] = swim_strprintf("d%s%s/d%s", c < nf ? "" : "d", name, S->keys[k].name);
-        }
-    for (int c = 0; c < ncol; c++)
-        if (!names[c]) goto oom;
+    if (nrc != 0 || !Y || !row) goto oom;
     if (sink(ctx, (const char *const *)names, ncol, NULL, status) != 0) goto done;   /* the header */
     int orc = open_augmented(S, integrator, Y, &atolv, &ode);
     if (orc < 0) goto oom;
@@ -554,16 +594,7 @@ static int sens_rows(swim_sens *S, const char *integrator, double t_end, sens_ro
         if (k > rows && (rows * s->output_step >= t_end * (1 - 1e-12))) break;
         if (k > rows + 1) break;
         if (k > 0 && (orc = swim_ode_advance(ode, t, Y)) != SWIM_ODE_OK) break;
-        row[0] = t;
-        for (int j = 0; j < S->nkeys; j++) {
-            const double *sj = Y + (size_t)(j + 1) * n;
-            row[1 + 5 * j] = sj[0];
-            row[2 + 5 * j] = sj[1];
-            row[3 + 5 * j] = sj[2];
-            row[4 + 5 * j] = swim_sens_energy(S, Y, j);
-            row[5 + 5 * j] = sj[n - 1];
-            for (int c = 0; c < 2 * nf; c++) row[nhead + 2 * nf * j + c] = sj[3 + c];
-        }
+        swim_sens_row(S, S->nkeys, t, Y, row);
         if (sink(ctx, (const char *const *)names, ncol, row, status) != 0) goto done;
         S->rows++;
         S->t_last = t;
@@ -585,9 +616,8 @@ done:
         if (rhs_calls) *rhs_calls = st.rhs_evals;
         swim_ode_free(ode);
     }
-    if (names)
-        for (int c = 0; c < ncol; c++) free(names[c]);
-    free(names); free(Y); free(row); free(atolv);
+    swim_sens_names_free(names, ncol);
+    free(Y); free(row); free(atolv);
     if (seconds) *seconds = swim_clock_seconds() - t0;
     return rc;
 }
@@ -622,28 +652,31 @@ int swim_sens_write_run(swim_sens *S, const char *integrator, const char *csv_pa
     return rc;
 }
 
-/* The rows in memory (swim_sens_table). */
-static int table_row(void *ctx, const char *const *names, int ncol, const double *row, swim_status *st)
+int swim_sens_table_add(swim_sens_table *T, const char *const *names, int ncol, const double *row)
 {
-    swim_sens_table *T = ctx;
     if (!row) {
-        if (!(T->names = calloc((size_t)ncol, sizeof *T->names))) goto oom;
+        if (!(T->names = calloc((size_t)ncol, sizeof *T->names))) return -1;
         T->ncol = ncol;
         for (int c = 0; c < ncol; c++)
-            if (!(T->names[c] = strdup(names[c]))) goto oom;
+            if (!(T->names[c] = strdup(names[c]))) return -1;
         return 0;
     }
     if (T->nrows == T->cap) {
         const long cap = T->cap ? 2 * T->cap : 64;
         double *v = realloc(T->values, sizeof(double) * (size_t)cap * (size_t)ncol);
-        if (!v) goto oom;
+        if (!v) return -1;
         T->values = v;
         T->cap = cap;
     }
     memcpy(T->values + (size_t)T->nrows * (size_t)ncol, row, sizeof(double) * (size_t)ncol);
     T->nrows++;
     return 0;
-oom:
+}
+
+/* The rows in memory (swim_sens_table). */
+static int table_row(void *ctx, const char *const *names, int ncol, const double *row, swim_status *st)
+{
+    if (swim_sens_table_add(ctx, names, ncol, row) == 0) return 0;
     swim_status_fail(st, "swim", NULL, 0, NULL, "out of memory computing sensitivities");
     return 1;
 }

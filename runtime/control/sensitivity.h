@@ -95,6 +95,15 @@ int swim_sens_rhs(double t, const double *Y, double *dY, void *params);
  * W1 + W2), differentiated along (s_k, 1) like the right-hand side. NAN when a diagnostic fails. */
 double swim_sens_energy(swim_sens *S, const double *Y, int k);
 
+/* sensitivity.csv's columns for the first nkeys keys (the rows below): *names (ncol of them, freed
+ * with swim_sens_names_free). 0, or -1 out of memory. */
+int swim_sens_names(const swim_sens *S, int nkeys, char ***names, int *ncol);
+void swim_sens_names_free(char **names, int ncol);
+/* The row of sensitivity.csv at time t from the augmented state Y (the state relative to the
+ * dynamics' origin, as the integrator carries it): t, then for each of the first nkeys keys dx, dy,
+ * dtheta, denergy, dwork, then their full-state columns. */
+void swim_sens_row(swim_sens *S, int nkeys, double t, const double *Y, double *row);
+
 /* Integrates the augmented system with `integrator` (rtol, atol of the scene) from 0 to t_end
  * (where the trajectory ended: the scene's t_end or an earlier stop) and writes
  * one row per output time (k * output_step up to t_end, and t_end) to csv_path: t, then for each key
@@ -118,6 +127,8 @@ typedef struct {
 int swim_sens_rows_table(swim_sens *S, const char *integrator, double t_end, swim_sens_table *T, double *seconds,
                          long *rhs_calls, swim_status *st);
 void swim_sens_table_free(swim_sens_table *T);
+/* The header (row NULL: the names copied) or a row (ncol numbers) appended to T. 0, or -1 out of memory. */
+int swim_sens_table_add(swim_sens_table *T, const char *const *names, int ncol, const double *row);
 /* The same integration without rows: Y (swim_sens_dimension entries) gets the augmented state at
  * t_end. 0, or 1 with the cause in st. */
 int swim_sens_final(swim_sens *S, const char *integrator, double t_end, double *Y, long *rhs_calls, swim_status *st);
