@@ -405,7 +405,7 @@ double swim_sens_energy(swim_sens *S, const double *Y, int k)
         swim_diag g;
         if (!fullbuf) { rc = -1; break; }
         swim_dynamics_unpack(S->d, S->yp, fullbuf);
-        rc = swim_dynamics_diagnostics(S->d, fullbuf, &g);
+        rc = swim_dynamics_diagnostics_aside(S->d, fullbuf, &g);   /* the run's own rows keep their warm starts */
         E[side] = g.energy;
         free(fullbuf);
     }

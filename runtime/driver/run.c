@@ -1266,6 +1266,9 @@ int swim_run_set_variational(swim_run *c, const swim_run_variational *v, swim_st
         return 2;
     }
     const int n = c->sdim, m = c->sdim + (int)v->dim;
+    /* their Jacobians between the state's evaluations, and the diagnostics of their rows, must
+     * not move the warm starts of the run's own (model/dynamics.h) */
+    if (swim_dynamics_set_aside(&c->d) != 0) goto oom;
     if (grow(&c->ys, n, m, 0.0) || grow(&c->ys_last, n, m, 0.0) || grow(&c->ys_row, n, m, 0.0) ||
         grow(&c->ys_shift, n, m, 0.0) || grow(&c->atolv, n, m, s->atol) || grow(&c->tol_scale, n, m, 1.0) ||
         grow(&c->fw_ys, n, m, 0.0) || !(c->var_buf = calloc((size_t)m, sizeof(double))))
