@@ -346,19 +346,26 @@ static void finish_sensitivity(swim_job *j, swim_status *st)
 
 /* DIR/lyapunov.csv after the run: the largest Lyapunov exponent over [0, t_reached] and the
  * predictability horizon at the run's rtol (control/lyapunov.h) from the growth of the tangent
- * vector the run carried. One that fails is said in the summary; it does not fail the run. */
+ * vector the run carried. One that fails is said in the summary; it does not fail the run. A run
+ * that stopped (a signal, a failure) keeps the intervals up to its last row. */
 static void finish_lyapunov(swim_job *j, swim_status *st)
 {
     const swim_run_result *r = swim_run_get_result(j->run);
-    if (r->status != 0 || r->impacts || !(r->t_reached > 0)) {
+    if (r->impacts || !(r->t_reached > 0)) {
         j->lyap_status = "skipped";
-        swim_status_note(st, "swim %s: no lyapunov.csv: %s", j->req.cmd, r->status != 0 ? "the run did not complete"
-                         : r->impacts ? "the run took impacts, across which the variational equations do not hold"
-                                      : "the run has no time span");
+        swim_status_note(st, "swim %s: no lyapunov.csv: %s", j->req.cmd,
+                         r->impacts ? "the run took impacts, across which the variational equations do not hold"
+                                    : "the run has no time span");
         return;
     }
     char *path = swim_strprintf("%s/lyapunov.csv", swim_folder_paths(j->folder)->dir);
     const int rc = path ? swim_analyses_lyapunov(&j->an, j->run, j->req.lyapunov, j->s.rtol, &j->lyap) : -1;
+    const int sig = j->req.stop ? *j->req.stop : 0;
+    if (rc == 0 && r->status != 0 && j->lyap.status == 0) {
+        j->lyap.status = 1;
+        snprintf(j->lyap.reason, sizeof j->lyap.reason, "%s: lyapunov.csv holds its %d intervals up to t = %.6g",
+                 sig ? "the run was stopped" : "the run did not complete", j->lyap.n, j->lyap.t_end);
+    }
     if (rc != 0) {
         j->lyap_status = "failed";
         snprintf(j->lyap.reason, sizeof j->lyap.reason, "out of memory");
@@ -366,7 +373,7 @@ static void finish_lyapunov(swim_job *j, swim_status *st)
         j->lyap_status = "failed";
         snprintf(j->lyap.reason, sizeof j->lyap.reason, "cannot write lyapunov.csv: %s", strerror(errno));
     } else {
-        j->lyap_status = j->lyap.status == 0 ? "written" : "failed";
+        j->lyap_status = j->lyap.status == 0 ? "written" : sig ? "interrupted" : "failed";
         if (j->lyap.status == 0 && j->req.lyapunov_done) j->req.lyapunov_done(j->req.ctx, path, &j->lyap);
     }
     if (j->lyap.status != 0 || rc != 0) swim_status_note(st, "swim %s: lyapunov.csv: %s", j->req.cmd, j->lyap.reason);
