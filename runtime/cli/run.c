@@ -19,7 +19,7 @@
 #include "io/clock.h"
 #include "io/message.h"
 #include "io/stdout_check.h"
-#include "control/lyapunov.h"
+#include "model/lyapunov.h"
 #include "output/job.h"
 
 typedef struct {

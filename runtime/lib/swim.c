@@ -20,8 +20,7 @@
 #include <string.h>
 
 #include "codegen/codegen.h"
-#include "control/analyses.h"
-#include "control/sensitivity.h"
+#include "driver/analyses.h"
 #include "driver/events.h"
 #include "driver/run.h"
 #include "driver/summary.h"
@@ -479,7 +478,7 @@ static int sens_table_row(void *ctx, const char *const *names, int ncol, const d
 }
 
 /* The options' analyses ride on the run's own integration, as `swim run`'s (output/job.c,
- * control/analyses.h): attached before it starts. */
+ * driver/analyses.h): attached before it starts. */
 static int sim_attach_analyses(swim_sim *s, swim_status *st)
 {
     if (!s->sens_keys && !(s->o.lyapunov > 0)) return SWIM_OK;

@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "codegen/codegen.h"
-#include "control/analyses.h"
+#include "driver/analyses.h"
 #include "driver/events.h"
 #include "driver/summary.h"
 #include "io/clock.h"
@@ -152,7 +152,7 @@ static int check_sensitivity(swim_job *j, swim_status *st)
     return rc;
 }
 
-/* What --sensitivity and --lyapunov ask of the run (control/analyses.h). */
+/* What --sensitivity and --lyapunov ask of the run (driver/analyses.h). */
 static swim_analyses_request analyses_request(swim_job *j);
 
 /* The integrator carries them on the run's steps as asked, or the run is refused before any
@@ -282,7 +282,7 @@ static swim_analyses_request analyses_request(swim_job *j)
 }
 
 /* --sensitivity and --lyapunov: the state's variational equations ride on the run's own
- * integration (control/analyses.h); sensitivity.csv gets a row at each row of the trajectory.
+ * integration (driver/analyses.h); sensitivity.csv gets a row at each row of the trajectory.
  * The keys were checked before any output (check_sensitivity). */
 static int attach_variational(swim_job *j, swim_status *st)
 {
@@ -344,8 +344,25 @@ static void finish_sensitivity(swim_job *j, swim_status *st)
     }
 }
 
+/* DIR/lyapunov.csv: t, ln growth of the interval, running exponent. 0, or -1 (errno). */
+static int lyapunov_csv(const swim_lyapunov *l, const char *path)
+{
+    static const char *const names[] = {"t", "log_growth", "exponent"};
+    swim_csv csv = {0};
+    if (swim_csv_open(&csv, path, names, 3) != 0) return -1;
+    double sum = 0.0;
+    int rc = 0;
+    for (int k = 0; k < l->n && rc == 0; k++) {
+        sum += l->log_growth[k];
+        const double row[3] = {l->t[k], l->log_growth[k], sum / l->t[k]};
+        rc = swim_csv_row(&csv, row);
+    }
+    if (swim_csv_close(&csv) != 0) rc = -1;
+    return rc;
+}
+
 /* DIR/lyapunov.csv after the run: the largest Lyapunov exponent over [0, t_reached] and the
- * predictability horizon at the run's rtol (control/lyapunov.h) from the growth of the tangent
+ * predictability horizon at the run's rtol (model/lyapunov.h) from the growth of the tangent
  * vector the run carried. One that fails is said in the summary; it does not fail the run. A run
  * that stopped (a signal, a failure) keeps the intervals up to its last row. */
 static void finish_lyapunov(swim_job *j, swim_status *st)
@@ -369,7 +386,7 @@ static void finish_lyapunov(swim_job *j, swim_status *st)
     if (rc != 0) {
         j->lyap_status = "failed";
         snprintf(j->lyap.reason, sizeof j->lyap.reason, "out of memory");
-    } else if (swim_lyapunov_csv(&j->lyap, path) != 0) {
+    } else if (lyapunov_csv(&j->lyap, path) != 0) {
         j->lyap_status = "failed";
         snprintf(j->lyap.reason, sizeof j->lyap.reason, "cannot write lyapunov.csv: %s", strerror(errno));
     } else {

@@ -20,7 +20,7 @@
 #include "driver/run.h"
 #include "output/folder.h"
 
-struct swim_lyapunov_s;   /* control/lyapunov.h */
+struct swim_lyapunov_s;   /* model/lyapunov.h */
 #include "scene/scene.h"
 
 #define SWIM_JOB_MAX_SETS 64

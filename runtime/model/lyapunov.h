@@ -1,7 +1,7 @@
 /* lyapunov.h -- the largest Lyapunov exponent of a run and its predictability horizon.
  *
  * One tangent vector w of the shape state is carried along the trajectory by the exact
- * variational equations (control/sensitivity.h: w' = J w with the kernel's exact Jacobian),
+ * variational equations (model/sensitivity.h: w' = J w with the kernel's exact Jacobian),
  * from a fixed pseudo-random start. Every `interval` of time the integration stops, the growth
  * r_k = |w| over the shape state (c, cdot of the carried coordinates; x, y, theta and the work
  * are not part of the dynamics' own state) is taken and w is scaled back to 1 (Benettin's
@@ -19,14 +19,14 @@
  * particular one (the energy balance, time averages, statistics over a family) is a result.
  * INFINITY when the growth never gets there.
  *
- * The tangent vector rides on the run's own integration (driver/run.h, swim_run_variational: on
+ * The tangent vector rides on the run's own integration (driver/analyses.h, driver/run.h: on
  * the state's steps, outside the error test, through the origin shifts near the barrier); its
  * length is taken on the interpolant at the marks and renormalized by a power of two at the next
  * step boundary, exactly, without stopping the state's steps. Runs that took impacts are not
  * differentiable there and are refused by the caller (as for sensitivities).
  */
-#ifndef SWIM_CONTROL_LYAPUNOV_H
-#define SWIM_CONTROL_LYAPUNOV_H
+#ifndef SWIM_MODEL_LYAPUNOV_H
+#define SWIM_MODEL_LYAPUNOV_H
 
 #include <stdio.h>
 
@@ -87,7 +87,5 @@ int swim_lyapunov_from_marks(swim_lyapunov *l, double interval, double rtol, con
 void swim_lyapunov_free(swim_lyapunov *l);
 /* "converged", "regular" or "not_converged" (the summary's words). */
 const char *swim_lyapunov_verdict_name(swim_lyapunov_verdict v);
-/* DIR/lyapunov.csv: t, ln growth of the segment, running exponent. 0, or -1 (errno). */
-int swim_lyapunov_csv(const swim_lyapunov *l, const char *path);
 
 #endif

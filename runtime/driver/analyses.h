@@ -1,5 +1,5 @@
 /* analyses.h -- the analyses of a run that ride on its own integration: sensitivities
- * (control/sensitivity.h) and the Lyapunov tangent vector (control/lyapunov.h), attached to a run
+ * (model/sensitivity.h) and the Lyapunov tangent vector (model/lyapunov.h), attached to a run
  * (driver/run.h, swim_run_variational) before it starts. One integration gives the trajectory,
  * the sensitivity rows (one per trajectory row) and the tangent vector's growth; by default
  * neither is in the error control, so the trajectory is bit for bit the one without them.
@@ -7,13 +7,13 @@
  *
  * Ownership: a swim_analyses borrows the run and the scene and owns the rest.
  */
-#ifndef SWIM_CONTROL_ANALYSES_H
-#define SWIM_CONTROL_ANALYSES_H
+#ifndef SWIM_DRIVER_ANALYSES_H
+#define SWIM_DRIVER_ANALYSES_H
 
 #include <stddef.h>
 
-#include "control/lyapunov.h"
-#include "control/sensitivity.h"
+#include "model/lyapunov.h"
+#include "model/sensitivity.h"
 #include "driver/run.h"
 
 /* Where the sensitivity rows go: once with row = NULL for the header (names, ncol), then a row per

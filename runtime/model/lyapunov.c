@@ -1,12 +1,11 @@
 /* lyapunov.c -- the exponent, horizon and verdict of Benettin's method from the growth of the
- * tangent vector the run carries (control/lyapunov.h). */
-#include "control/lyapunov.h"
+ * tangent vector the run carries (model/lyapunov.h). */
+#include "model/lyapunov.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "io/csv.h"
 
 /* A fixed pseudo-random unit vector on the shape state (the same start at every tolerance). */
 static void start_vector(double *w, int n, int from, int count)
@@ -154,20 +153,4 @@ void swim_lyapunov_free(swim_lyapunov *l)
     free(l->t);
     free(l->log_growth);
     l->t = l->log_growth = NULL;
-}
-
-int swim_lyapunov_csv(const swim_lyapunov *l, const char *path)
-{
-    static const char *const names[] = {"t", "log_growth", "exponent"};
-    swim_csv csv = {0};
-    if (swim_csv_open(&csv, path, names, 3) != 0) return -1;
-    double sum = 0.0;
-    int rc = 0;
-    for (int k = 0; k < l->n && rc == 0; k++) {
-        sum += l->log_growth[k];
-        const double row[3] = {l->t[k], l->log_growth[k], sum / l->t[k]};
-        rc = swim_csv_row(&csv, row);
-    }
-    if (swim_csv_close(&csv) != 0) rc = -1;
-    return rc;
 }

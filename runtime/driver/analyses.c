@@ -1,6 +1,6 @@
 /* analyses.c -- sensitivities and the Lyapunov tangent vector on the run's own steps
- * (control/analyses.h). */
-#include "control/analyses.h"
+ * (driver/analyses.h). */
+#include "driver/analyses.h"
 
 #include <stdio.h>
 #include <stdlib.h>
