@@ -130,9 +130,10 @@ void swim_run_summary_json(FILE *f, const swim_run *c, const swim_summary_contex
     fprintf(f, ",\n  \"energy_control\": {\"enabled\": %s, \"tolerance\": %.3g, \"rejected_steps\": %ld}",
             c->invariant_on ? "true" : "false", c->invariant_on ? c->o.invariant_tol : 0.0, c->total.rejected_invariant);
     swim_run_events_json(c->events, f);   /* "events", "event_stop", "periodic" (with events) */
-    /* which Jacobian the BDF methods used: the kernel's exact one (calls, time) or differences */
+    /* which Jacobian the BDF methods use for the state: the kernel's exact one or differences (the calls and
+     * time count the variational equations' Jacobians too) */
     const swim_run_timing t = {r->integrate_seconds, r->diagnostics_seconds, r->output_seconds, swim_dynamics_rhs_seconds(d), wall_s,
-                               d->rhs_calls, c->sys.jacobian ? "exact" : "differences", d->jac_calls, d->jac_seconds};
+                               d->rhs_calls, c->sys_state.jacobian ? "exact" : "differences", d->jac_calls, d->jac_seconds};
     swim_summary_provenance_json(f, x, sp);
     swim_run_stats_json(f, st, &t);
     fprintf(f, "\n}\n");
