@@ -70,7 +70,7 @@ include python/rules.mk
 TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 
-.PHONY: FORCE asan-tests all deps deps-media paper paper-test help install test sanitize fuzz bench bench-docs docs-numbers bench-accuracy bench-drift bench-optimize bench-hard bench-soft generate generate-all run readme-figures clean
+.PHONY: FORCE asan-tests all deps deps-media paper paper-test help install test sanitize fuzz bench bench-docs docs-numbers bench-accuracy bench-drift bench-variational bench-optimize bench-hard bench-soft generate generate-all run readme-figures clean
 all: $(BIN)/swim
 
 help:
@@ -91,6 +91,7 @@ help:
 	@echo "make bench-optimize  Nelder-Mead vs BFGS, multi-start and the tolerance check on Section 5.2 (~30 min)"
 	@echo "make bench-docs      the measurements README.md and docs/ quote (~7 min, build/bench/docs/)"
 	@echo "make docs-numbers    rewrite the docs' generated number blocks from them (and the last make test)"
+	@echo "make bench-variational  sensitivities and Lyapunov in a run: cost, before/after (~1 min)"
 	@echo "make bench-drift     energy drift of the T = 1000 runs vs tolerance and step look-ahead (~30 s)"
 	@echo "make bench-hard      every hard scene at its own settings and at rtol 1e-10 (~30 min)"
 	@echo "make bench-soft      perturbed families of the soft hard scenes: completion, energy, time (~20 min)"
@@ -254,7 +255,7 @@ fuzz: | $(DEPS_STAMP) $(FUZZ_STAMP)
 
 BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_latency.py tests/bench/bench_drift.py \
                  tests/bench/bench_step_checks.py tests/bench/bench_jacobian.py tests/bench/bench_python_loop.py \
-                 tests/bench/bench_sensitivity.py tests/bench/bench_materials.py tests/bench/bench_overhead.py \
+                 tests/bench/bench_sensitivity.py tests/bench/bench_variational.py tests/bench/bench_materials.py tests/bench/bench_overhead.py \
                  tests/bench/peer/bench_peer.py
 
 bench: $(BIN)/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs $(BUILD)/tests/bench/bench_jacobian_cost
@@ -291,6 +292,11 @@ docs-numbers:
 
 bench-drift: $(BIN)/swim
 	$(PYTHON) tests/bench/bench_drift.py
+
+# The variational equations' cost in a run, before/after side by side when build/bench/swim-before
+# exists: build/bench/variational/table.md (~1 min).
+bench-variational: $(BIN)/swim
+	$(PYTHON) tests/bench/bench_variational.py
 
 # Nelder-Mead against BFGS on Section 5.2: build/bench/optimize/table.md.
 bench-optimize: $(BIN)/swim

@@ -900,7 +900,7 @@ static void test_registry(void)
     static const char *const want[] = {"abm", "rk8pd", "msadams", "rkf45", "msbdf", "cvode-adams", "cvode-bdf"};
     static const unsigned caps[] = {
         SWIM_ODE_CAP_PROJECTION | SWIM_ODE_CAP_STEP_TRACE | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_STIFFNESS |
-            SWIM_ODE_CAP_WEIGHTS | SWIM_ODE_CAP_INVARIANT,
+            SWIM_ODE_CAP_WEIGHTS | SWIM_ODE_CAP_INVARIANT | SWIM_ODE_CAP_ERROR_DIM | SWIM_ODE_CAP_RESCALE,
         0, 0, 0, SWIM_ODE_CAP_JACOBIAN | SWIM_ODE_CAP_IMPLICIT, SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_SUNDIALS,
         SWIM_ODE_CAP_PROJECTION | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_JACOBIAN | SWIM_ODE_CAP_IMPLICIT |
             SWIM_ODE_CAP_SUNDIALS};
@@ -920,7 +920,7 @@ static void test_registry(void)
     double y0[2] = { 1.0, 0.0 };
     swim_ode_event ev = { ev_y0, NULL, 0, 0 };
     for (i = 0; i < 7; i++) {
-        for (int opt = 0; opt < 6; opt++) {
+        for (int opt = 0; opt < 7; opt++) {
             static const double scale[2] = {1.0, 1.0};
             swim_ode_options o;
             swim_ode_options_default(&o);
@@ -932,6 +932,7 @@ static void test_registry(void)
             case 3: o.stiff_stop = 1; need = SWIM_ODE_CAP_STIFFNESS; break;
             case 4: o.tol_scale = scale; need = SWIM_ODE_CAP_WEIGHTS; break;
             case 5: o.invariant = zero_balance; o.invariant_tol = 1e-8; need = SWIM_ODE_CAP_INVARIANT; break;
+            case 6: o.error_dim = 1; need = SWIM_ODE_CAP_ERROR_DIM; break;
             }
             swim_ode *s = NULL;
             int rc = swim_ode_create(want[i], &sys, &o, 0.0, y0, &s);
@@ -1293,6 +1294,87 @@ static void test_invariant(void)
           "balance test that never binds: the same solution bit for bit");
 }
 
+/* Arenstorf's orbit (4 components) with two more, w' = (8 + y_0) w: linear, homogeneous, read by
+ * no state equation, and growing fast enough to dominate any error test they are part of. */
+static int aren_tangent_rhs(double t, const double *y, double *f, void *p)
+{
+    int rc = arenstorf_rhs(t, y, f, p);
+    f[4] = (8.0 + y[0]) * y[4];
+    f[5] = (8.0 + y[0]) * y[5] - y[4];
+    return rc;
+}
+
+typedef struct {
+    swim_ode *ode;
+    long scaled;
+    int exponent;   /* what the rescalings took out: w = 2^exponent times the carried one */
+} rescale_ctx;
+
+/* w back to |w_0| in [1/2, 1) after every accepted step, by a power of two */
+static int rescale_every_step(const swim_ode_accepted *st, void *data, double *t_stop)
+{
+    (void)t_stop;
+    rescale_ctx *c = data;
+    int e;
+    frexp(st->y_end[4], &e);
+    if (swim_ode_scale(c->ode, 4, 2, ldexp(1.0, -e)) == SWIM_ODE_OK) {
+        c->scaled++;
+        c->exponent += e;
+    }
+    return 0;
+}
+
+/* error_dim: the state alone in the error control gives the state's run bit for bit (same steps,
+ * same numbers); the extra components in it change the steps. swim_ode_scale by a power of two
+ * in every accepted step: the extra components come out as the unscaled ones times that factor,
+ * bit for bit, and the state is untouched. */
+static void test_error_dim_and_rescale(void)
+{
+    const double y0[6] = {0.994, 0.0, 0.0, -2.00158510637908252240537862224, 1.0, 0.5};
+    const double touts[3] = {1.0, 5.0, AREN_T};
+    swim_ode_system plain = {arenstorf_rhs, 4, NULL, NULL}, aug = {aren_tangent_rhs, 6, NULL, NULL};
+    double yp[3][4], ya[3][6], yall[3][6], ys[3][6];
+    swim_ode_stats sp, sa, sall, ss;
+    int rescaled_by = 0;
+    for (int run = 0; run < 4; run++) {
+        swim_ode_options o;
+        swim_ode_options_default(&o);
+        o.rtol = 1e-10;
+        o.atol = 1e-12;
+        o.error_dim = run == 1 || run == 3 ? 4 : 0;
+        rescale_ctx rc = {NULL, 0, 0};
+        if (run == 3) {
+            o.on_accept = rescale_every_step;
+            o.on_accept_data = &rc;
+        }
+        swim_ode *s = NULL;
+        int st = swim_ode_create("abm", run == 0 ? &plain : &aug, &o, 0.0, y0, &s);
+        CHECK(st == SWIM_ODE_OK, "run %d created (%d)", run, st);
+        if (st) return;
+        rc.ode = s;
+        double *out[4] = {NULL, NULL, NULL, NULL};
+        for (int k = 0; k < 3 && st == SWIM_ODE_OK; k++) {
+            out[0] = yp[k]; out[1] = ya[k]; out[2] = yall[k]; out[3] = ys[k];
+            st = swim_ode_advance(s, touts[k], out[run]);
+        }
+        CHECK(st == SWIM_ODE_OK, "run %d reaches the end (%d)", run, st);
+        if (run == 3) rescaled_by = rc.exponent;
+        swim_ode_get_stats(s, run == 0 ? &sp : run == 1 ? &sa : run == 2 ? &sall : &ss);
+        if (run == 3) CHECK(rc.scaled == ss.steps, "every step rescaled (%ld of %ld)", rc.scaled, ss.steps);
+        swim_ode_free(s);
+    }
+    CHECK(sa.steps == sp.steps && sa.rejected == sp.rejected && sa.rhs_evals == sp.rhs_evals,
+          "error_dim = 4: the state's steps (%ld/%ld/%ld vs %ld/%ld/%ld)", sa.steps, sa.rejected, sa.rhs_evals,
+          sp.steps, sp.rejected, sp.rhs_evals);
+    CHECK(memcmp(ya[0], yp[0], sizeof yp[0]) == 0 && memcmp(ya[1], yp[1], sizeof yp[1]) == 0 &&
+          memcmp(ya[2], yp[2], sizeof yp[2]) == 0, "error_dim = 4: the state bit for bit");
+    CHECK(sall.steps > sp.steps, "in the error test the growing components cost steps (%ld vs %ld)", sall.steps, sp.steps);
+    CHECK(memcmp(ys[2], yp[2], sizeof yp[2]) == 0 && ss.steps == sp.steps, "rescaling leaves the state alone");
+    CHECK(rescaled_by > 100 && fabs(ys[2][4]) < 2.0 && ldexp(ys[2][4], rescaled_by) == ya[2][4] &&
+          ldexp(ys[2][5], rescaled_by) == ya[2][5],
+          "rescaled by powers of two (2^-%d in all): w = %.17g, unscaled %.17g", rescaled_by, ys[2][4], ya[2][4]);
+}
+
 int main(void)
 {
     test_harmonic();
@@ -1314,5 +1396,6 @@ int main(void)
     test_events();
     test_user_jacobian();
     test_invariant();
+    test_error_dim_and_rescale();
     return check_report("test_ode");
 }

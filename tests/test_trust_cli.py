@@ -9,8 +9,9 @@
 3. Messages name only options the user gave (continue/optimize keys, continue's remedy).
 4. swim periodic/continue --out: a file, a folder where periodic.json goes: refused before the
    Newton work; nothing named as written that was not.
-5. Stop signals: SIGTERM during the Lyapunov pass and SIGINT during the sensitivity pass fail
-   the run naming the signal (the status of a stopped run), the rows computed kept; swim optimize
+5. Stop signals: SIGTERM during a run carrying the Lyapunov vector and SIGINT during one carrying
+   sensitivities fail the run naming the signal (the status of a stopped run), the rows computed
+   kept; swim optimize
    keeps best.toml and optimize.json on SIGHUP; swim sweep stops on SIGHUP keeping its rows. Each
    signal is sent after a progress marker (a file's content), never after a sleep.
 6. swim sweep --format hdf5 when family.h5 cannot be written (a file-size limit: the disk is
@@ -33,7 +34,7 @@ import time
 
 import h5py
 
-from swimtest import ROOT, SWIM, TMP, check, main, signal_at_marker
+from swimtest import ROOT, SWIM, TMP, check, main, wait_rows
 
 EX1 = "models/example1.toml"
 EX3 = "models/example3.toml"
@@ -134,33 +135,49 @@ def test_out_checked_first():
           "periodic into a new folder: written (%s)" % p.stderr)
 
 
-def test_signal_in_lyapunov_pass():
+def signal_once_integrating(args, out, sig):
+    """swim ARGS, the signal sent once trajectory.csv has rows (the run integrates, its handlers are
+    installed); (proc, stdout, stderr, sent)."""
+    proc = subprocess.Popen([SWIM, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    sent = wait_rows(proc, out, rows=2) and proc.poll() is None
+    if sent:
+        proc.send_signal(sig)
+    so, se = proc.communicate(timeout=600)
+    return proc, so, se, sent
+
+
+def test_signal_while_carrying_lyapunov():
+    # the tangent vector rides on the run's integration: a signal stops both; 10^6 intervals keep
+    # the run going long after its first rows
     out = os.path.join(TMP, "lyap_sig")
-    # the pass's notice says it has begun; 10^6 renormalizations keep it going long after
-    proc, so, se, seen = signal_at_marker(["run", EX3, "--out", out, "--t-end", "3", "--lyapunov",
-                                           "--lyapunov-interval", "3e-6"], "the Lyapunov pass", signal.SIGTERM)
-    check(seen, "the pass began (%r)" % se)
+    proc, so, se, sent = signal_once_integrating(["run", EX3, "--out", out, "--t-end", "3", "--lyapunov",
+                                                  "--lyapunov-interval", "3e-6"], out, signal.SIGTERM)
+    check(sent, "the run was integrating when SIGTERM came (%r)" % se[-200:])
     s = json.load(open(os.path.join(out, "summary.json")))
-    check(proc.returncode == 1, "exit 1 after SIGTERM in the Lyapunov pass, not 0 (%d)" % proc.returncode)
-    check(s["status"] == "failed" and s["reason"].startswith("terminated by SIGTERM during the Lyapunov pass"),
+    check(proc.returncode == 1, "exit 1 after SIGTERM with --lyapunov, not 0 (%d)" % proc.returncode)
+    check(s["status"] == "failed" and s["reason"].startswith("terminated by SIGTERM"),
           "the summary names the signal as a stopped run's: %r" % s["reason"])
-    check("FAILED (terminated by SIGTERM during the Lyapunov pass" in so and "completed" not in so.split("\n")[0],
+    check("FAILED (terminated by SIGTERM" in so and "completed" not in so.split("\n")[0],
           "the report says FAILED and names the signal: %r" % so[:300])
     lyap = os.path.join(out, "lyapunov.csv")
-    rows = sum(1 for _ in open(lyap)) - 1 if os.path.exists(lyap) else -1
-    check(s["lyapunov"]["status"] == "interrupted" and rows >= 0 and "%d renormalizations" % rows in s["reason"],
-          "lyapunov.csv keeps the %d renormalizations done, as the reason says (%r)" % (rows, s["reason"]))
+    rows = list(csv.reader(open(lyap)))[1:] if os.path.exists(lyap) else None
+    check(s["lyapunov"]["status"] == "interrupted" and rows is not None and len(rows) >= 1
+          and float(rows[-1][0]) == s["lyapunov"]["t_end"] and "%d intervals" % len(rows) in s["lyapunov"]["reason"],
+          "lyapunov.csv keeps the intervals done, up to the last row, as the entry says (%r)" % s["lyapunov"])
 
 
-def test_signal_in_sensitivity_pass():
+def test_signal_while_carrying_sensitivities():
     out = os.path.join(TMP, "sens_sig")
-    proc, so, se, seen = signal_at_marker(["run", EX3, "--out", out, "--t-end", "400", "--sensitivity", "model.rho0"],
-                                          "the sensitivities (sensitivity.csv)", signal.SIGINT)
-    check(seen, "the pass began (%r)" % se)
+    proc, so, se, sent = signal_once_integrating(["run", EX3, "--out", out, "--t-end", "400", "--sensitivity",
+                                                  "model.rho0"], out, signal.SIGINT)
+    check(sent, "the run was integrating when SIGINT came (%r)" % se[-200:])
     s = json.load(open(os.path.join(out, "summary.json")))
-    check(proc.returncode == 1 and s["reason"].startswith("interrupted (SIGINT) during the sensitivities"),
-          "SIGINT in the sensitivity pass: exit 1, named (%d, %r)" % (proc.returncode, s["reason"]))
-    check(os.path.exists(os.path.join(out, "sensitivity.csv")), "the sensitivity rows computed are kept")
+    check(proc.returncode == 1 and s["reason"].startswith("interrupted (SIGINT)"),
+          "SIGINT with --sensitivity: exit 1, named (%d, %r)" % (proc.returncode, s["reason"]))
+    path = os.path.join(out, "sensitivity.csv")
+    rows = sum(1 for _ in open(path)) - 1 if os.path.exists(path) else -1
+    check(rows >= 1 and s["sensitivity"]["status"] == "interrupted" and s["sensitivity"]["rows"] == rows,
+          "the sensitivity rows computed are kept and counted (%d, %r)" % (rows, s["sensitivity"]))
 
 
 def test_optimize_keeps_results_on_sighup():

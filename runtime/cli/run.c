@@ -19,7 +19,7 @@
 #include "io/clock.h"
 #include "io/message.h"
 #include "io/stdout_check.h"
-#include "control/lyapunov.h"
+#include "model/lyapunov.h"
 #include "output/job.h"
 
 typedef struct {
@@ -113,8 +113,9 @@ static int read_options(int argc, char **argv, run_cmd *c)
         {"lyapunov", 0, NULL, NULL, "also DIR/lyapunov.csv: the largest Lyapunov exponent by the exact variational "
                                     "equations and, in summary.json, the predictability horizon at the run's rtol"},
         {"lyapunov-interval", 1, NULL, "T", "with --lyapunov: renormalize the tangent vector every T (> 0, default 1)"},
-        {"sensitivity-steps", 1, NULL, "all|state", "with --sensitivity: the sensitivities in the error test (all, "
-                                                    "default) or riding on the state's steps (state)"}};
+        {"sensitivity-steps", 1, NULL, "all|state", "with --sensitivity: the sensitivities riding on the state's steps, "
+                                                    "outside the error test (state, default: trajectory.csv as without them), "
+                                                    "or in the error test too (all: the steps, and the trajectory, change)"}};
     c->nopts = (int)(sizeof opts / sizeof opts[0]);
     memcpy(c->opts, opts, sizeof opts);
     swim_run_settings_key_options(c->opts, &c->nopts, (int)(sizeof c->opts / sizeof c->opts[0]));
@@ -164,7 +165,7 @@ static int read_options(int argc, char **argv, run_cmd *c)
         }
     }
     j->sensitivity = c->sensitivity;
-    j->sens_state_steps = v && strcmp(v, "state") == 0;
+    j->sens_state_steps = !(v && strcmp(v, "all") == 0);
     j->sens_differences = m && strcmp(m, "differences") == 0;
     const char *li = swim_args_get(c->opts, c->nopts, "lyapunov-interval");
     if (li && !swim_args_get(c->opts, c->nopts, "lyapunov")) {

@@ -2,7 +2,7 @@
  *
  * The parameter is the energy of a conservative scene (the family of orbits by energy), or a
  * scene key the right-hand side reads at run time (elastic.stiffness[4], model.rho0,
- * parameters.A, ...: the keys of --sensitivity, control/sensitivity.h, whose numbers are set
+ * parameters.A, ...: the keys of --sensitivity, model/sensitivity.h, whose numbers are set
  * in place between points). Natural-parameter continuation: the orbit of the scene
  * (control/periodic.h, swim_periodic_solve) is the first point; the requested values
  * START .. STOP (count points, both ends included) are visited outwards from it on each side,

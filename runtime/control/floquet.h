@@ -3,7 +3,7 @@
  * The period T is the time between two successive events of one state column (the events
  * machinery of ode/ode.h on the integrator's interpolant, with the run's drift control on), so
  * the shape state x = (c_carried, cdot_carried) returns to x(0) at T. The monodromy matrix
- * M = dx(T)/dx(0) comes from the variational equations (control/sensitivity.h) with the 2n
+ * M = dx(T)/dx(0) comes from the variational equations (model/sensitivity.h) with the 2n
  * columns e_i. The rigid position r and the orientation theta do not enter the shape equations
  * (they are cyclic, (3.21)): their multipliers are trivially 1 and they are left out.
  *

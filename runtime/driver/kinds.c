@@ -62,6 +62,21 @@ int swim_run_state_at(swim_run *run, double t, double *state, double *t_from, do
 
 swim_dynamics *swim_run_dynamics(swim_run *run) { return run->kind->dynamics(run->state); }
 
+int swim_run_set_variational(swim_run *run, const swim_run_variational *v, swim_status *st)
+{
+    if (!run->kind->set_variational) {
+        swim_status_fail(st, NULL, NULL, 0, NULL, "variational equations: a prescribed stroke has none");
+        return 2;
+    }
+    return run->kind->set_variational(run->state, v, st);
+}
+
+const swim_run_var_result *swim_run_get_var_result(swim_run *run)
+{
+    static const swim_run_var_result none;   /* nothing carried (immutable) */
+    return run->kind->var_result ? run->kind->var_result(run->state) : &none;
+}
+
 void swim_run_free(swim_run *run)
 {
     if (!run) return;

@@ -292,14 +292,101 @@ static int stop_for(scene_run *c, const swim_ode_accepted *step, int pending, do
     c->shift_pending = pending;
     c->shift_t = step->tb;
     *t_stop = step->tb;
-    memcpy(c->ys_shift, step->y_end, sizeof(double) * (size_t)c->sdim);
+    memcpy(c->ys_shift, step->y_end, sizeof(double) * c->sys.dimension);
     return 1;
+}
+
+/* ---- the tangent vector's renormalization ------------------------------------------------ */
+
+/* |w| over its norm components in the integrator's augmented state Y. */
+static double tangent_norm(const scene_run *c, const double *Y)
+{
+    const double *w = Y + c->sdim + c->var.norm_from;
+    double s = 0.0;
+    for (size_t i = 0; i < c->var.norm_count; i++) s += w[i] * w[i];
+    return sqrt(s);
+}
+
+/* A mark: ln |w(t)| of the unscaled w is ln |w| + what the renormalizations took out. */
+static void tangent_mark(scene_run *c, double t, double r)
+{
+    if (c->lyap_reason[0]) return;
+    if (!(r > 0) || !isfinite(r)) {
+        snprintf(c->lyap_reason, sizeof c->lyap_reason, "the tangent vector %s at t = %.6g",
+                 r > 0 ? "overflowed" : "vanished", t);
+        return;
+    }
+    if (c->lyap_n == c->lyap_cap) {
+        const long cap = c->lyap_cap ? 2 * c->lyap_cap : 256;
+        double *a = realloc(c->lyap_t, sizeof(double) * (size_t)cap), *b = a ? realloc(c->lyap_g, sizeof(double) * (size_t)cap) : NULL;
+        if (a) c->lyap_t = a;
+        if (b) c->lyap_g = b;
+        if (!a || !b) {
+            snprintf(c->lyap_reason, sizeof c->lyap_reason, "out of memory");
+            return;
+        }
+        c->lyap_cap = cap;
+    }
+    c->lyap_t[c->lyap_n] = t;
+    c->lyap_g[c->lyap_n++] = log(r) + c->lyap_scale;
+}
+
+/* The marks k * interval (before t_end; the last row is the last mark) inside the accepted step,
+ * on its interpolant; then w back to |w| in [1/2, 1) by a power of two (exact): the integration
+ * goes on as from the scaled start, which for linear homogeneous equations is the same solution
+ * scaled (Benettin's renormalization without stopping the state's steps). */
+static void tangent_step(scene_run *c, const swim_ode_accepted *step)
+{
+    const double iv = c->var.interval, t0 = c->d.t_origin;
+    double r = NAN;
+    for (;;) {
+        const double tm = (double)(c->lyap_n + 1) * iv;
+        if (c->lyap_reason[0] || !(tm < c->s->t_end - 1e-9 * iv) || !(tm <= t0 + step->tb)) break;
+        const double tau = fmin(fmax(tm - t0, step->ta), step->tb);
+        const double *Y = tau == step->tb && step->y_end ? step->y_end
+                        : step->interp(step->ctx, tau, c->var_buf, NULL) == 0 ? c->var_buf : NULL;
+        r = Y ? tangent_norm(c, Y) : NAN;
+        tangent_mark(c, tm, r);
+    }
+    if (isnan(r) || c->lyap_reason[0] || !(swim_ode_capabilities(swim_ode_method_name(c->ode)) & SWIM_ODE_CAP_RESCALE))
+        return;
+    int e;
+    frexp(r, &e);
+    if (e != 0 && swim_ode_scale(c->ode, (size_t)c->sdim + c->var.tangent_from, c->var.tangent_count, ldexp(1.0, -e)) == SWIM_ODE_OK)
+        c->lyap_scale += e * 0.69314718055994530942;   /* ln 2 */
+}
+
+/* The augmented system's right-hand side and projection (params: the run): the caller's
+ * right-hand side, and the state's projection (the columns are not projected). */
+static int var_rhs(double t, const double *y, double *dydt, void *params)
+{
+    const scene_run *c = params;
+    return c->var.rhs(t, y, dydt, c->var.ctx);
+}
+
+static int var_project(double t, double *y, void *params)
+{
+    scene_run *c = params;
+    return swim_dynamics_project(t, y, &c->d);
+}
+
+/* The variational equations stop (the trajectory goes on): at the last row, for `why`. */
+static void var_stop(scene_run *c, const char *why)
+{
+    if (!c->var_on) return;
+    c->var_on = 0;
+    c->var_t = c->t_last;
+    snprintf(c->var_reason, sizeof c->var_reason, "%s", why);
+    c->sys = c->sys_state;   /* the next integrator (a restart) carries the state alone */
+    c->o.error_dim = 0;
+    if (c->o.project == var_project) c->o.project = swim_dynamics_project;
 }
 
 static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop)
 {
     scene_run *c = data;
     int rc;
+    if (c->var_on && c->var.interval > 0) tangent_step(c, step);
     const double t0 = c->d.t_origin;
     c->last_ta = t0 + step->ta;   /* swim_run_state_at: the interpolant's interval */
     c->last_tb = t0 + step->tb;
@@ -372,6 +459,7 @@ static int prepare(scene_run *c)
     c->d.interrupt = (volatile int *)c->req.stop;
     swim_dynamics_use_scene_kernel(&c->d, c->spz->scene, c->req.generic);
     c->sdim = swim_dynamics_state_dim(&c->d);
+    c->ndim = c->sdim;
     c->y = calloc((size_t)c->d.dim, sizeof(double));
     c->row = calloc((size_t)c->ncol, sizeof(double));
     c->ys = calloc((size_t)c->sdim, sizeof(double));
@@ -385,6 +473,7 @@ static int prepare(scene_run *c)
     c->sys = (swim_ode_system){swim_dynamics_rhs, (size_t)c->sdim, &c->d, NULL};
     if (s->jacobian_exact && c->spz->scene->jacobian)   /* [run] jacobian: BDF methods use it */
         c->sys.jacobian = swim_dynamics_jacobian;
+    c->sys_state = c->sys;
     swim_ode_options *o = &c->o;
     swim_run_ode_options(s, o);
     swim_dynamics_track_balance(&c->d, 1);   /* the step checks and the balance test read it */
@@ -543,7 +632,7 @@ static void barrier_diagnosis(scene_run *c, char *buf, size_t len)
      * last row inside D */
     double *full = malloc(sizeof(double) * (size_t)c->d.dim);
     if (!full) return;
-    double *ys = malloc(sizeof(double) * (size_t)c->sdim), j0 = NAN;
+    double *ys = malloc(sizeof(double) * (size_t)c->ndim), j0 = NAN;
     int have = ys && c->ode && swim_ode_dense(c->ode, swim_ode_time(c->ode), ys, NULL) == SWIM_ODE_OK;
     if (have) {
         swim_dynamics_unpack(&c->d, ys, full);
@@ -653,7 +742,11 @@ static int switch_to_fallback(scene_run *c, double t_last, double t)
     if (c->watch_ready) swim_run_watch_rewind(&c->watch, t_last);
     if (c->fw_on) forcing_rewind(c, t_last);
     snprintf(c->r.used, sizeof c->r.used, "%s+%s", s->integrator, s->stiff_fallback);
-    memcpy(c->ys, c->ys_last, sizeof(double) * c->sdim);
+    memcpy(c->ys, c->ys_last, sizeof(double) * c->ndim);
+    if (c->var_on && c->var.interval > 0) {   /* the tangent vector as it was at the row */
+        while (c->lyap_n > 0 && c->lyap_t[c->lyap_n - 1] > t_last) c->lyap_n--;
+        c->lyap_scale = c->lyap_scale_row;
+    }
     if (c->d.origin || c->d.t_origin != 0.0) {
         /* the fallback carries the absolute state, the row's (c->y, projected), in absolute time */
         swim_dynamics_set_origin(&c->d, NULL);
@@ -670,6 +763,13 @@ static int switch_to_fallback(scene_run *c, double t_last, double t)
     if (!(caps & SWIM_ODE_CAP_WEIGHTS)) c->o.tol_scale = NULL;   /* the cut near the barrier is abm's */
     if (!(caps & SWIM_ODE_CAP_INVARIANT)) c->o.invariant = NULL;
     if (!(caps & SWIM_ODE_CAP_STEP_TRACE)) c->o.on_step = NULL;
+    if (c->var_on && c->o.error_dim && !(caps & SWIM_ODE_CAP_ERROR_DIM)) {
+        /* it would put them into its error control, and the trajectory would change with them */
+        char why[200];
+        snprintf(why, sizeof why, "the stiff fallback %s at t = %.6g cannot leave them out of its error control",
+                 s->stiff_fallback, t_last);
+        var_stop(c, why);
+    }
     int rc = swim_ode_create(s->stiff_fallback, &c->sys, &c->o, t_last, c->ys, &c->ode);
     return rc == SWIM_ODE_OK ? swim_ode_advance(c->ode, t, c->ys) : rc;
 }
@@ -681,7 +781,7 @@ static void stop_at_shift(scene_run *c)
     accumulate_stats(&c->total, c->ode);
     swim_ode_free(c->ode);
     c->ode = NULL;
-    memcpy(c->ys, c->ys_shift, sizeof(double) * (size_t)c->sdim);
+    memcpy(c->ys, c->ys_shift, sizeof(double) * (size_t)c->ndim);
     c->shift_pending = 0;
 }
 
@@ -712,7 +812,7 @@ static int shift_origin(scene_run *c, double tout)
     c->steps_since_shift = 0;
     /* abm weighs errors by rtol |y_i| + atol; with u = y - origin small that is rtol |u_i| + atol_i */
     if (c->d.origin) {
-        for (int i = 0; i < c->sdim; i++) c->atolv[i] = s->atol + s->rtol * fabs(c->d.origin[i]);
+        for (int i = 0; i < c->ndim; i++) c->atolv[i] = s->atol + (i < c->sdim ? s->rtol * fabs(c->d.origin[i]) : 0.0);
         c->o.atol_vec = c->atolv;
     } else {
         c->o.atol_vec = NULL;
@@ -730,6 +830,8 @@ static int take_impact(scene_run *c, double tout)
     const swim_scene_kernel *k = c->d.spec;
     for (int f = 0; f < k->nfree; f++) c->ys[3 + k->nfree + f] += c->impact_dv[k->free_index[f]];
     const double t = c->d.t_origin + c->shift_t;
+    /* the variational equations would need the impact's jump (a saltation matrix) */
+    var_stop(c, "an impact (a bounce off the barrier taken as a jump of cdot)");
     if (c->impacts++ == 0) {
         c->impact_first_t = t;
         c->impact_j_max = c->impact_j;
@@ -796,12 +898,13 @@ static int advance_to(scene_run *c, double *t, double *t_last)
     const double *row = c->ys;
     if (c->o.project && c->ode) {
         memcpy(c->ys_row, c->ys, sizeof(double) * c->sdim);
-        c->o.project(tr, c->ys_row, &c->d);
+        c->o.project(tr, c->ys_row, c->sys.params);
         row = c->ys_row;
     }
     swim_dynamics_unpack(&c->d, row, c->y);
     c->row_jmin = c->d.origin ? swim_dynamics_jmin(&c->d, row, NULL) : NAN;
-    memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
+    memcpy(c->ys_last, c->ys, sizeof(double) * c->ndim);
+    c->lyap_scale_row = c->lyap_scale;
     *t_last = tr;
     if (c->fw_on) forcing_row(c, tr);
     if (c->watch_ready) swim_run_watch_mark(&c->watch);   /* where a stiff fallback would restart */
@@ -836,8 +939,11 @@ static int emit_row(scene_run *c, long k, long rows, long every, double t)
         c->nsnap++;
     }
     char why[1024] = "";
-    const int rc = c->req.sink.row ? c->req.sink.row(c->req.sink.ctx, &row, why, sizeof why) : 0;
+    int rc = c->req.sink.row ? c->req.sink.row(c->req.sink.ctx, &row, why, sizeof why) : 0;
     if (rc == 0 || rc == SWIM_RUN_ROW_STOP) c->r.rows++;   /* kept (with --summary-only: computed) */
+    if (rc == 0 && c->var_on && c->var.row && c->var.row(c->var.row_ctx, t, c->ys, why, sizeof why) != 0)
+        rc = SWIM_RUN_ROW_FAILED;
+    if (rc == 0 && c->var_on) c->var_t = t;
     c->r.output_seconds += swim_clock_seconds() - t_out;
     if (rc != 0) {
         stop(c, "%s (at t = %.6g)", why[0] ? why : "an output could not be written", t);
@@ -935,6 +1041,15 @@ static int next_row(scene_run *c)
 static void finish_loop(scene_run *c)
 {
     const swim_scene *s = c->s;
+    if (c->ndim > c->sdim && c->var.interval > 0) {
+        /* marks beyond the last row (in its step) are not the run's; the last row is the last mark */
+        const double tl = c->var_on ? c->t_last : c->var_t;
+        while (c->lyap_n > 0 && c->lyap_t[c->lyap_n - 1] > tl) c->lyap_n--;
+        if (c->var_on && tl > 0 && (c->lyap_n == 0 || c->lyap_t[c->lyap_n - 1] < tl)) {
+            c->lyap_scale = c->lyap_scale_row;
+            tangent_mark(c, tl, tangent_norm(c, c->ys_last));
+        }
+    }
     if (c->r.status == 0 && !c->r.event_stop) end_run(c, 0, "reached t_end = %.6g", s->t_end);
     if (c->ode) accumulate_stats(&c->total, c->ode);
     if (c->watch_ready) take_watch(&c->r, &c->watch);
@@ -1030,7 +1145,7 @@ static void describe(scene_run *c)
     res->state_dimension = swim_dynamics_state_dim(&c->d);
     res->projection_change = s->projection_change;
     res->impact_depth = s->impact_depth;
-    res->jacobian = c->sys.jacobian ? "exact" : "differences";   /* what the BDF methods use */
+    res->jacobian = c->sys_state.jacobian ? "exact" : "differences";   /* what the BDF methods use */
 }
 
 static void scene_free(void *p);
@@ -1107,10 +1222,10 @@ static int scene_state_at(void *p, double t, double *state, double *t_from, doub
     *t_from = c->last_ta;
     *t_to = c->last_tb;
     if (!(t >= c->last_ta && t <= c->last_tb)) return 1;
-    double *ys = malloc(sizeof(double) * (size_t)c->sdim), *full = malloc(sizeof(double) * (size_t)c->d.dim);
+    double *ys = malloc(sizeof(double) * (size_t)c->ndim), *full = malloc(sizeof(double) * (size_t)c->d.dim);
     int rc = !ys || !full ? -1 : swim_ode_dense(c->ode, t - c->d.t_origin, ys, NULL) == SWIM_ODE_OK ? 0 : -1;
     if (rc == 0) {   /* as a row is made (advance_to): the interpolant projected, then unpacked */
-        if (c->o.project) c->o.project(t, ys, &c->d);
+        if (c->o.project) c->o.project(t, ys, c->sys.params);
         swim_dynamics_unpack(&c->d, ys, full);
         memcpy(state, full, sizeof(double) * (size_t)(3 + 2 * c->s->n));
     }
@@ -1120,6 +1235,80 @@ static int scene_state_at(void *p, double t, double *state, double *t_from, doub
 }
 
 static swim_dynamics *scene_dynamics(void *p) { return &((scene_run *)p)->d; }
+
+/* *p (n doubles) grown to m, the new entries `fill`. 0 or -1. */
+static int grow(double **p, int n, int m, double fill)
+{
+    if (!*p) return 0;
+    double *q = realloc(*p, sizeof(double) * (size_t)m);
+    if (!q) return -1;
+    for (int i = n; i < m; i++) q[i] = fill;
+    *p = q;
+    return 0;
+}
+
+static int scene_set_variational(void *p, const swim_run_variational *v, swim_status *st)
+{
+    scene_run *c = p;
+    if (c->loop_started || c->ndim > c->sdim || v->dim == 0 || !v->rhs) {
+        swim_status_fail(st, NULL, NULL, 0, NULL, "variational equations: attach them once, before the run");
+        return 2;
+    }
+    const swim_scene *s = c->s;
+    const unsigned caps = swim_ode_capabilities(s->integrator);
+    const unsigned need = (v->error_control ? 0u : SWIM_ODE_CAP_ERROR_DIM) |
+                          (v->interval > 0 ? SWIM_ODE_CAP_ERROR_DIM | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_RESCALE : 0u);
+    if ((caps & need) != need) {
+        swim_status_fail(st, NULL, NULL, 0, NULL, "integrator %s cannot carry %s on the run's steps outside its error "
+                         "control; use one of: %s", s->integrator,
+                         v->interval > 0 ? "the Lyapunov tangent vector" : "the sensitivities", swim_ode_method_list_with(need));
+        return 2;
+    }
+    const int n = c->sdim, m = c->sdim + (int)v->dim;
+    /* their Jacobians between the state's evaluations, and the diagnostics of their rows, must
+     * not move the warm starts of the run's own (model/dynamics.h) */
+    if (swim_dynamics_set_aside(&c->d) != 0) goto oom;
+    if (grow(&c->ys, n, m, 0.0) || grow(&c->ys_last, n, m, 0.0) || grow(&c->ys_row, n, m, 0.0) ||
+        grow(&c->ys_shift, n, m, 0.0) || grow(&c->atolv, n, m, s->atol) || grow(&c->tol_scale, n, m, 1.0) ||
+        grow(&c->fw_ys, n, m, 0.0) || !(c->var_buf = calloc((size_t)m, sizeof(double))))
+        goto oom;
+    if (c->watch_ready) {   /* its buffer takes the interpolant's whole vector */
+        swim_run_watch_free(&c->watch);
+        c->watch_ready = 0;
+        if (swim_run_watch_init(&c->watch, &c->d, m, 1) != 0) goto oom;
+        c->watch_ready = 1;
+    }
+    memcpy(c->ys + n, v->y0, sizeof(double) * v->dim);
+    memcpy(c->ys_last + n, v->y0, sizeof(double) * v->dim);
+    c->var = *v;
+    c->var.y0 = NULL;
+    c->ndim = m;
+    c->var_on = 1;
+    c->sys = (swim_ode_system){var_rhs, (size_t)m, c, NULL};
+    if (c->o.project) c->o.project = var_project;
+    /* the state's error control alone, or with the sensitivities (the tangent vector is never in it) */
+    const size_t controlled = v->error_control ? (v->interval > 0 ? v->tangent_from : v->dim) : 0;
+    c->o.error_dim = (size_t)n + controlled < (size_t)m ? (size_t)n + controlled : 0;
+    if (c->o.tol_scale) c->o.tol_scale = c->tol_scale;
+    return 0;
+oom:
+    swim_status_fail(st, NULL, NULL, 0, NULL, "out of memory");
+    return 1;
+}
+
+static const swim_run_var_result *scene_var_result(void *p)
+{
+    scene_run *c = p;
+    swim_run_var_result *r = &c->var_res;
+    r->carried = c->var_on;
+    r->t_stop = c->var_on ? c->t_last : c->var_t;
+    r->reason = c->var_reason;
+    r->marks = c->lyap_n;
+    r->t = c->lyap_t;
+    r->log_norm = c->lyap_g;
+    r->tangent_reason = c->lyap_reason;
+    return r;
+}
 
 static void scene_free(void *p)
 {
@@ -1140,11 +1329,14 @@ static void scene_free(void *p)
     free(c->atolv);
     free(c->fw_full);
     free(c->fw_ys);
+    free(c->var_buf);
+    free(c->lyap_t);
+    free(c->lyap_g);
     free(c->r.reason);
     free(c);
 }
 
 const swim_run_kind swim_run_scene_kind = {
     "scene", scene_columns, scene_open, scene_advance, scene_fail, scene_result, scene_state_at, scene_dynamics,
-    NULL, scene_free,
+    NULL, scene_set_variational, scene_var_result, scene_free,
 };

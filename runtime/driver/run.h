@@ -166,6 +166,10 @@ typedef struct {
     swim_dynamics *(*dynamics)(void *state);
     /* the kind's own entries of summary.json, set after the events (NULL: none): 0, or -1 */
     int (*summary)(const void *state, struct json_t *summary);
+    /* swim_run_set_variational and swim_run_get_var_result (NULL: the kind has no variational
+     * equations: a prescribed stroke's shape is a given function of time) */
+    int (*set_variational)(void *state, const struct swim_run_variational *v, swim_status *st);
+    const struct swim_run_var_result *(*var_result)(void *state);
     void (*free)(void *state);
 } swim_run_kind;
 
@@ -209,6 +213,52 @@ int swim_run_kind_summary(const swim_run *run, struct json_t *summary);
  * -1 when there is no such step (a prescribed stroke, an integrator without dense output, no
  * step yet, a restart since) or out of memory. */
 int swim_run_state_at(swim_run *run, double t, double *state, double *t_from, double *t_to);
+/* Variational equations on the run's own steps: `dim` components after the state (sensitivity
+ * columns dy/dp, a tangent vector w) integrated with it, by the same integrator on the same steps,
+ * through the driver's restarts near the barrier (an origin shift is a constant: the columns go
+ * on unchanged) and the stiff fallback. Out of the error control by default (CVODES's errconS =
+ * false; SWIM_ODE_CAP_ERROR_DIM), so that the state, and every row, is bit for bit the run
+ * without them. What they stop at (an impact, a fallback that cannot carry them) is in
+ * swim_run_var_result; the trajectory goes on. */ 
+typedef struct swim_run_variational {
+    size_t dim;                 /* components after the state */
+    /* the whole augmented right-hand side (state, then the dim others), params = ctx: its state
+     * part is swim_dynamics_rhs on swim_run_dynamics(run) at the same (t, y), called last (the
+     * balance test reuses what that call left) */
+    swim_ode_func rhs;
+    void *ctx;
+    const double *y0;           /* the dim components at t = 0 (copied) */
+    int error_control;          /* 1: in the error test too (the steps, and the trajectory, differ) */
+    /* At every row: the integrator's augmented state there (relative to the driver's origin, as
+     * swim_dynamics_unpack reads it). 0, or nonzero with `why` when it could not be kept (the run
+     * stops, failed). NULL: none. */
+    int (*row)(void *ctx, double t, const double *Y, char *why, size_t len);
+    void *row_ctx;
+    /* A tangent vector (w' = J w, linear and homogeneous) in components [tangent_from,
+     * tangent_from + tangent_count) of the dim, renormalized by Benettin's method: |w| over
+     * [norm_from, norm_from + norm_count) of them (absolute offsets into the dim) is taken on
+     * the interpolant at every multiple of interval (and at the last row), and w is scaled by a
+     * power of two at the next step boundary (exact, swim_ode_scale). 0 = no tangent vector. */
+    double interval;
+    size_t tangent_from, tangent_count, norm_from, norm_count;
+} swim_run_variational;
+
+typedef struct swim_run_var_result {
+    int carried;                /* they were carried to the run's last row */
+    double t_stop;              /* else: the last row they hold */
+    const char *reason;         /* ... and why they stopped there ("" when carried) */
+    /* the tangent vector: ln |w| at the marks (t[k] increasing; w has |w| = 1 at t = 0), up to
+     * the last row; tangent_reason non-empty when it vanished or overflowed */
+    long marks;
+    const double *t, *log_norm;
+    const char *tangent_reason;
+} swim_run_var_result;
+
+/* Attach them before the first swim_run_advance (not to a prescribed stroke). 0; 2 when the
+ * integrator cannot carry them as asked (the cause in st); 1 out of memory. */
+int swim_run_set_variational(swim_run *run, const swim_run_variational *v, swim_status *st);
+const swim_run_var_result *swim_run_get_var_result(swim_run *run);
+
 /* The run's dynamics (the scene's model at its kernels): for work after the run, sensitivities. */
 swim_dynamics *swim_run_dynamics(swim_run *run);
 void swim_run_free(swim_run *run);

@@ -88,6 +88,20 @@ struct scene_run {
     /* the last accepted step, absolute times (swim_run_state_at), and the origin it was taken in */
     double last_ta, last_tb, last_origin;
     int have_step;
+    /* variational equations on the run's steps (swim_run_set_variational) */
+    int ndim;                   /* the integrator's dimension: sdim, + var.dim with them */
+    int var_on;                 /* attached and still carried */
+    swim_run_variational var;
+    swim_ode_system sys_state;  /* the state alone (for a fallback that cannot carry them) */
+    char var_reason[200];       /* why they stopped ("" while carried) */
+    double var_t;               /* ... at the last row they hold */
+    double *var_buf;            /* ndim: the interpolant at a mark */
+    double lyap_scale;          /* ln of what the renormalizations took out of w so far */
+    double lyap_scale_row;      /* ... at the last row (ys_last) */
+    double *lyap_t, *lyap_g;    /* the marks: time, ln |w| */
+    long lyap_n, lyap_cap;
+    char lyap_reason[160];
+    swim_run_var_result var_res;
 };
 
 #endif

@@ -550,5 +550,5 @@ static void stroke_free(void *p)
 /* no dense output of the run's state: the stroke's state is (r, theta, psi, work) */
 const swim_run_kind swim_run_stroke_kind = {
     "stroke", stroke_columns, stroke_open, stroke_advance, stroke_fail, stroke_result, NULL, stroke_dynamics,
-    stroke_summary, stroke_free,
+    stroke_summary, NULL, NULL, stroke_free,
 };

@@ -22,9 +22,8 @@
 #include "codegen/codegen.h"
 #include "control/continuation.h"
 #include "control/floquet.h"
-#include "control/lyapunov.h"
 #include "control/periodic.h"
-#include "control/sensitivity.h"
+#include "driver/analyses.h"
 #include "driver/events.h"
 #include "driver/run.h"
 #include "driver/summary.h"
@@ -77,6 +76,8 @@ struct swim_sim {
     int analysed;                /* the analyses after the run were done (sim_analyses) */
     char *sens_keys;             /* the options' sensitivity (a copy), NULL: none */
     swim_sens_table sens;        /* its rows */
+    swim_analyses an;            /* the sensitivities and the tangent vector on the run's steps */
+    int an_ready;
     int sens_ok;
     swim_lyapunov lyap;          /* the Lyapunov pass (o.lyapunov > 0) */
     int lyap_done;
@@ -407,43 +408,61 @@ static int sim_check_analyses(swim_sim *s, swim_status *st)
     return rc == 0 ? SWIM_OK : rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
 }
 
-/* The options' analyses once the run ended, as `swim run` does them after the trajectory
- * (output/job.c): from t = 0 to where it ended, on the run's dynamics; a sensitivity pass that
- * fails fails the run, a Lyapunov pass does not. */
+/* The sensitivity rows into the table (swim_analyses_sink). */
+static int sens_table_row(void *ctx, const char *const *names, int ncol, const double *row, char *why, size_t len)
+{
+    swim_sim *s = ctx;
+    if (swim_sens_table_add(&s->sens, names, ncol, row) == 0) return 0;
+    snprintf(why, len, "out of memory keeping the sensitivities");
+    return 1;
+}
+
+/* The options' analyses ride on the run's own integration, as `swim run`'s (output/job.c,
+ * driver/analyses.h): attached before it starts. */
+static int sim_attach_analyses(swim_sim *s, swim_status *st)
+{
+    if (!s->sens_keys && !(s->o.lyapunov > 0)) return SWIM_OK;
+    const swim_analyses_request ar = {s->sens_keys, 0, 0, s->o.lyapunov > 0 ? s->o.lyapunov : 0.0, sens_table_row, s};
+    int rc = swim_analyses_check(s->s.integrator, &ar, "swim", st);
+    if (rc) {
+        s->bad_option = s->sens_keys ? 1 : 2;
+        return SWIM_EINPUT;
+    }
+    s->an_ready = 1;
+    swim_status sst = {0};   /* the keys were checked when the simulation opened */
+    rc = swim_analyses_attach(&s->an, s->run, &s->s, "library", &ar, &sst);
+    return rc == 0 ? SWIM_OK : rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
+}
+
+/* The options' analyses once the run ended, as `swim run` finishes them (output/job.c): the rows
+ * came with the run's; sensitivities that stopped before the run did fail it, a Lyapunov result
+ * that could not be had does not. */
 static void sim_analyses(swim_sim *s)
 {
     const swim_run_result *r = swim_run_get_result(s->run);
     if (s->analysed || !r->finished) return;
     s->analysed = 1;
-    if (s->sens_keys && r->status == 0) {
-        swim_sens S;
-        char why[256];
+    const swim_run_var_result *v = s->an_ready ? swim_run_get_var_result(s->run) : NULL;
+    if (s->sens_keys && r->status == 0 && v) {
+        char why[512];
         if (r->impacts) {   /* the variational equations would need the impact's jump (a saltation matrix) */
             snprintf(why, sizeof why, "no sensitivities: the run took %ld bounce(s) off the barrier as impacts, "
                      "across which sensitivities are not computed; set run.impact_depth = 0 to follow them", r->impacts);
             swim_run_fail(s->run, why);
-        } else if (swim_sens_init(&S, swim_run_dynamics(s->run)) != 0) {
-            swim_run_fail(s->run, "out of memory");
+        } else if (!v->carried) {
+            snprintf(why, sizeof why, "the sensitivities stopped at t = %.6g: %s", v->t_stop, v->reason);
+            swim_run_fail(s->run, why);
         } else {
-            swim_status sst = {0};   /* the keys were checked when the simulation opened */
-            int rc = swim_sens_add_list(&S, &s->s, "library", s->sens_keys, &sst);
-            if (rc == 0) rc = swim_sens_rows_table(&S, s->s.integrator, r->t_reached, &s->sens, NULL, NULL, &sst);
-            s->sens_ok = rc == 0 && !(s->o.stop && *s->o.stop);
-            if (!s->sens_ok) {
-                snprintf(why, sizeof why, "the sensitivities stopped before t = %.6g", r->t_reached);
-                swim_run_fail(s->run, why);
-            }
-            swim_sens_free(&S);
+            s->sens_ok = !(s->o.stop && *s->o.stop);
         }
     }
     if (s->o.lyapunov > 0) {
         r = swim_run_get_result(s->run);
-        if (r->status != 0 || r->impacts || !(r->t_reached > 0))
+        if (r->status != 0 || r->impacts || !(r->t_reached > 0) || !v)
             snprintf(s->lyap_reason, sizeof s->lyap_reason, "%s", r->status != 0 ? "the run did not complete"
                      : r->impacts ? "the run took impacts, across which the variational equations do not hold"
                                   : "the run has no time span");
-        else if (swim_lyapunov_compute(swim_run_dynamics(s->run), s->s.integrator, r->t_reached, s->o.lyapunov,
-                                       &s->lyap) != 0)
+        else if (swim_analyses_lyapunov(&s->an, s->run, s->o.lyapunov, s->s.rtol, &s->lyap) != 0)
             snprintf(s->lyap_reason, sizeof s->lyap_reason, "out of memory");
         else if (s->lyap.status != 0)
             snprintf(s->lyap_reason, sizeof s->lyap_reason, "%s", s->lyap.reason);
@@ -468,7 +487,8 @@ static int sim_open(swim_sim *s, swim_status *st)
                                   {sink_row, NULL, NULL, NULL, s}, 1};
     rc = swim_run_open(&req, &s->run, st);
     if (rc) return rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
-    return sim_check_analyses(s, st);
+    rc = sim_check_analyses(s, st);
+    return rc == SWIM_OK ? sim_attach_analyses(s, st) : rc;
 }
 
 static int swim_sim_create_(const swim_model *m, const swim_sim_options *o, swim_sim **out, swim_error *err)
@@ -660,6 +680,7 @@ int swim_sim_state_at(swim_sim *s, double t, double *y, int len, swim_error *err
 void swim_sim_free(swim_sim *s)
 {
     if (!s) return;
+    if (s->an_ready) swim_analyses_free(&s->an);
     swim_sens_table_free(&s->sens);
     swim_lyapunov_free(&s->lyap);
     free(s->sens_keys);

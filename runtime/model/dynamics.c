@@ -53,6 +53,9 @@ void swim_dynamics_free(swim_dynamics *d)
     free(d->K); free(d->P); free(d->G); free(d->proj); free(d->gbar);
     swim_barrier_quad_free(d->barrier);
     swim_barrier_quad_free(d->diag_barrier);
+    swim_barrier_quad_free(d->aside_barrier);
+    swim_barrier_quad_free(d->aside_diag);
+    d->aside_barrier = d->aside_diag = NULL;
     free(d->origin);
     free(d->hi);
     d->K = d->P = d->G = d->proj = d->gbar = d->origin = d->hi = NULL;
@@ -381,11 +384,33 @@ int swim_dynamics_jacobian_params(swim_dynamics *d, double t, const double *y, d
     int rc;
     if (d->interrupt && *d->interrupt) rc = -SWIM_DYN_EINTERRUPT;
     else if (!d->spec->jacobian_params) rc = -SWIM_DYN_ENAN;   /* a kernel without one: run.c does not ask */
-    else rc = d->spec->jacobian_params(d->t_origin + t, split_state(d, y), J, np, param, dp, &d->spec_params);
+    else {
+        swim_barrier_quad *own = d->barrier;   /* the Jacobian's barrier calls on the quadrature aside */
+        if (d->aside_barrier) d->barrier = d->aside_barrier;
+        rc = d->spec->jacobian_params(d->t_origin + t, split_state(d, y), J, np, param, dp, &d->spec_params);
+        d->barrier = own;
+    }
     d->lo_valid = 0;
     if (rc < 0 && rc != -SWIM_DYN_EINTERRUPT) rc = -SWIM_DYN_ENAN;
     d->jac_seconds += swim_clock_seconds() - t0;
     d->jac_calls++;
+    return rc;
+}
+
+int swim_dynamics_set_aside(swim_dynamics *d)
+{
+    if (!d->scene->barrier || d->aside_barrier) return 0;
+    d->aside_barrier = swim_barrier_quad_new(d->scene->modes);
+    d->aside_diag = swim_barrier_quad_new(d->scene->modes);
+    return d->aside_barrier && d->aside_diag ? 0 : -1;
+}
+
+int swim_dynamics_diagnostics_aside(swim_dynamics *d, const double *y, swim_diag *o)
+{
+    swim_barrier_quad *own = d->diag_barrier;
+    if (d->aside_diag) d->diag_barrier = d->aside_diag;
+    const int rc = swim_dynamics_diagnostics(d, y, o);
+    d->diag_barrier = own;
     return rc;
 }
 

@@ -66,6 +66,8 @@ typedef struct {
     int w2_valid;
     double w2_last, w2_x[2 * (SWIM_KERNEL_MAX_MODES + 1)];
     long jac_calls;              /* exact Jacobians (swim_dynamics_jacobian) */
+    /* Quadratures of W2 for evaluations aside from the run's own (swim_dynamics_set_aside), or NULL */
+    swim_barrier_quad *aside_barrier, *aside_diag;
     double jac_seconds;
     /* Origin of the integrator state (swim_dynamics_set_origin), or NULL. */
     double *origin;              /* packed, state_dim entries (owned) */
@@ -156,6 +158,14 @@ int swim_dynamics_jacobian(double t, const double *y, double *J, void *params);
  * dimension. Same return values as swim_dynamics_jacobian. */
 int swim_dynamics_jacobian_params(swim_dynamics *d, double t, const double *y, double *J, int np,
                                   const swim_param *param, double *dp);
+/* The barrier's quadrature keeps the roots of its last call as the start of the next (a warm
+ * start), so the right-hand side's and the diagnostics' last bits depend on what was evaluated
+ * before them. Evaluations aside from a run's own -- the variational equations' Jacobians between
+ * its right-hand sides, the sensitivities' energy diagnostics between its rows -- get quadratures
+ * of their own: after this call swim_dynamics_jacobian_params and swim_dynamics_diagnostics_aside
+ * use them, and the run's evaluations are bit for bit those without the others. 0, or -1 out of
+ * memory. Nothing changes without a barrier. */
+int swim_dynamics_set_aside(swim_dynamics *d);
 
 typedef struct {
     double kinetic_fluid, kinetic_shape, kinetic_rigid, w1, w2, energy, work;
@@ -176,5 +186,7 @@ double swim_dynamics_w2(swim_dynamics *d, const double *c);
 
 /* Diagnostics at state y; c0 is the initial shape (for the lock and volume residuals). */
 int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *out);
+/* The same, on the quadrature aside (swim_dynamics_set_aside) when there is one. */
+int swim_dynamics_diagnostics_aside(swim_dynamics *d, const double *y, swim_diag *out);
 
 #endif

@@ -72,6 +72,7 @@
 struct abm {
     /* problem and options (fixed after abm_create) */
     size_t n;                    /* dimension */
+    size_t m;                    /* the error control looks at components 0 .. m-1 (swim_ode_options.error_dim) */
     swim_ode_func f;             /* right-hand side */
     void *par;                   /* its params (borrowed) */
     double rtol, atol;           /* scalar tolerances */
@@ -201,6 +202,7 @@ int abm_create(const swim_ode_system *sys, const swim_ode_options *opt, double t
         memcpy(a->atolv, opt->atol_vec, n * sizeof(double));
     }
     a->n = n;
+    a->m = opt->error_dim > 0 && opt->error_dim < n ? opt->error_dim : n;
     a->f = sys->function;
     a->par = sys->params;
     a->rtol = opt->rtol;
@@ -237,10 +239,11 @@ int abm_create(const swim_ode_system *sys, const swim_ode_options *opt, double t
     return SWIM_ODE_OK;
 }
 
-/* Weights a->rw = 1/(rtol|y_n| + atol_i) for the weighted max norm. */
+/* Weights a->rw = 1/(rtol|y_n| + atol_i) for the weighted max norm, of the components under
+ * error control (the others have none: no norm reads them). */
 static double set_weights(abm *a)
 {
-    const size_t n = a->n;
+    const size_t n = a->m;
     const double rt = a->rtol, at = a->atol;
     const double *restrict y = a->y, *restrict av = a->atolv;
     double *restrict rw = a->rw;
@@ -291,7 +294,7 @@ static int start(abm *a, double tout)
         return SWIM_ODE_ERHS;
     set_weights(a);
     double s = 0.0;
-    for (size_t l = 0; l < n; l++) {
+    for (size_t l = 0; l < a->m; l++) {
         double q = fabs(a->phi[n + l] * a->rw[l]);
         s = MAXD(s, q);
     }
@@ -519,14 +522,14 @@ static void next_time(abm *a)
  * coordinates, constants) would loosen the test on the others by sqrt(n / active). */
 static void estimate_errors(const abm *a, abm_estimate *e)
 {
-    const size_t n = a->n;
+    const size_t n = a->n, m = a->m;
     const int k = a->k;
     const double *phin = a->phin;
     double sk = 0.0, skm1 = 0.0, skm2 = 0.0;
     const double *restrict c1 = phin + n, *restrict ck = phin + k * n, *restrict ckm1 = phin + (k - 1) * n;
     const double *restrict fpv = a->fp, *restrict rwv = a->rw;
     if (k >= 3) {
-        for (size_t l = 0; l < n; l++) {
+        for (size_t l = 0; l < m; l++) {
             double d = fpv[l] - c1[l], r = rwv[l];
             double q0 = fabs(d * r), q1 = fabs((ck[l] + d) * r), q2 = fabs((ckm1[l] + d) * r);
             sk = MAXD(sk, q0);
@@ -534,7 +537,7 @@ static void estimate_errors(const abm *a, abm_estimate *e)
             skm2 = MAXD(skm2, q2);
         }
     } else {
-        for (size_t l = 0; l < n; l++) {
+        for (size_t l = 0; l < m; l++) {
             double d = fpv[l] - c1[l], r = rwv[l];
             double q0 = fabs(d * r), q1 = fabs((ck[l] + d) * r);
             sk = MAXD(sk, q0);
@@ -548,7 +551,7 @@ static void estimate_errors(const abm *a, abm_estimate *e)
     if (e->want_rho) {
         const double *restrict rpv = a->rwp;
         double s = 0.0;
-        for (size_t l = 0; l < n; l++)
+        for (size_t l = 0; l < m; l++)
             s = MAXD(s, fabs((fpv[l] - c1[l]) * rpv[l]));
         e->sk_last = s;
     }
@@ -674,12 +677,15 @@ static double update_differences(abm *a, int want_up)
     for (size_t l = 0; l < n; l++)
         ek1[l] = fpv[l] - c1[l];
     if (want_up) {
-        for (size_t l = 0; l < n; l++) {
+        const size_t m = a->m;
+        for (size_t l = 0; l < m; l++) {
             double d = ek1[l] - ok1[l];
             ek2[l] = d;
             d = fabs(d * rwv[l]);
             sk2 = MAXD(sk2, d);
         }
+        for (size_t l = m; l < n; l++)   /* outside the error control: the table only */
+            ek2[l] = ek1[l] - ok1[l];
     }
     size_t l = 0;
     for (; l + 4 <= n; l += 4) {
@@ -1003,6 +1009,20 @@ double abm_time(const abm *a) { return a->t; }
 int abm_rhs_status(const abm *a) { return a->rhs_status; }
 const double *abm_state(const abm *a) { return a->y; }
 double abm_next_h(const abm *a) { return a->h; }
+
+void abm_scale(abm *a, size_t from, size_t count, double factor)
+{
+    const size_t n = a->n;
+    for (size_t l = from; l < from + count && l < n; l++) {
+        a->y[l] *= factor;
+        a->yc[l] *= factor;
+        a->fp[l] *= factor;
+        for (int i = 0; i < NROW; i++) {
+            a->phi[i * n + l] *= factor;
+            a->phin[i * n + l] *= factor;
+        }
+    }
+}
 
 size_t abm_snapshot(const abm *a, double *buf)
 {

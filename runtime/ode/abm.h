@@ -47,5 +47,8 @@ const double *abm_state(const abm *a);
 size_t abm_snapshot(const abm *a, double *buf);
 /* Proposed size of the next step. */
 double abm_next_h(const abm *a);
+/* swim_ode_scale: components [from, from + count) of y, its carries and the difference tables
+ * times factor. */
+void abm_scale(abm *a, size_t from, size_t count, double factor);
 
 #endif

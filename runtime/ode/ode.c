@@ -38,10 +38,12 @@ static int abm_create_(const ode_method *m, const swim_ode_system *sys, const sw
 #define CAP_IMPL SWIM_ODE_CAP_IMPLICIT
 #define CAP_W SWIM_ODE_CAP_WEIGHTS
 #define CAP_INV SWIM_ODE_CAP_INVARIANT
+#define CAP_EDIM SWIM_ODE_CAP_ERROR_DIM
+#define CAP_RESC SWIM_ODE_CAP_RESCALE
 
 /* The one list of integrators: every message, option check and peer constructor uses it. */
 static const ode_method registry[] = {
-    {"abm", CAP_PROJ | CAP_TRACE | CAP_EV | CAP_STIFF | CAP_W | CAP_INV, 0, abm_create_},
+    {"abm", CAP_PROJ | CAP_TRACE | CAP_EV | CAP_STIFF | CAP_W | CAP_INV | CAP_EDIM | CAP_RESC, 0, abm_create_},
     {"rk8pd", 0, ODE_GSL_RK8PD, swim_ode_gsl_create},
     {"msadams", 0, ODE_GSL_MSADAMS, swim_ode_gsl_create},
     {"rkf45", 0, ODE_GSL_RKF45, swim_ode_gsl_create},
@@ -164,7 +166,8 @@ static int check_capabilities(const ode_method *m, const swim_ode_options *o)
         (o->nevents > 0 && !(m->caps & SWIM_ODE_CAP_EVENTS)) ||
         (o->stiff_stop && !(m->caps & SWIM_ODE_CAP_STIFFNESS)) ||
         (o->tol_scale && !(m->caps & SWIM_ODE_CAP_WEIGHTS)) ||
-        (o->invariant && !(m->caps & SWIM_ODE_CAP_INVARIANT)))
+        (o->invariant && !(m->caps & SWIM_ODE_CAP_INVARIANT)) ||
+        (o->error_dim > 0 && !(m->caps & SWIM_ODE_CAP_ERROR_DIM)))
         return SWIM_ODE_EUNSUPPORTED;
     return SWIM_ODE_OK;
 }
@@ -190,8 +193,11 @@ int swim_ode_create(const char *method, const swim_ode_system *sys, const swim_o
     size_t n = sys->dimension;
     if ((o.nevents > 0 && (!o.events || !o.on_event)) || !(o.event_tol >= 0) ||
         !valid_pos(o.rtol) || !valid_pos(o.atol) || !valid_pos(o.hmax) || !valid_pos(o.h0) ||
-        isnan(o.tstop) || o.tstop <= t0 || o.max_steps < 0 || o.lookahead < 0 || o.lookahead > 12)
+        isnan(o.tstop) || o.tstop <= t0 || o.max_steps < 0 || o.lookahead < 0 || o.lookahead > 12 ||
+        o.error_dim > n)
         return SWIM_ODE_EBADARG;
+    if (o.error_dim == n)
+        o.error_dim = 0;   /* all of them: no capability needed */
     int atol_pos = o.atol > 0;
     if (o.atol_vec) {
         atol_pos = 1;
@@ -344,6 +350,16 @@ int swim_ode_dense(swim_ode *s, double t, double *y, double *yp)
     if (!s->be->dense)
         return SWIM_ODE_EUNSUPPORTED;
     return s->be->dense(s->impl, t, y, yp) ? SWIM_ODE_EFAIL : SWIM_ODE_OK;
+}
+
+int swim_ode_scale(swim_ode *s, size_t from, size_t count, double factor)
+{
+    if (!s || from > s->n || count > s->n - from || !isfinite(factor))
+        return SWIM_ODE_EBADARG;
+    if (!(s->method->caps & SWIM_ODE_CAP_RESCALE) || s->be != &abm_backend)
+        return SWIM_ODE_EUNSUPPORTED;
+    abm_scale(s->impl, from, count, factor);
+    return SWIM_ODE_OK;
 }
 
 void swim_ode_free(swim_ode *s)

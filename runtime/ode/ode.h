@@ -13,14 +13,14 @@
  * (projection, step report, events, stiffness stop) makes swim_ode_create()
  * return SWIM_ODE_EUNSUPPORTED instead of being ignored:
  *
- *   name         projection  step trace  events  user Jacobian  stiffness diagnostic  implicit  live weights  balance test
- *   abm              x           x         x          -               x                -          x             x
- *   rk8pd            -           -         -          -               -                -          -             -
- *   msadams          -           -         -          -               -                -          -             -
- *   rkf45            -           -         -          -               -                -          -             -
- *   msbdf            -           -         -          x               -                x          -             -
- *   cvode-adams      -           -         x          -               -                -          -             -
- *   cvode-bdf        x           -         x          x               -                x          -             -
+ *   name         projection  step trace  events  user Jacobian  stiffness diagnostic  implicit  live weights  balance test  error dim  rescale
+ *   abm              x           x         x          -               x                -          x             x            x          x
+ *   rk8pd            -           -         -          -               -                -          -             -            -          -
+ *   msadams          -           -         -          -               -                -          -             -            -          -
+ *   rkf45            -           -         -          -               -                -          -             -            -          -
+ *   msbdf            -           -         -          x               -                x          -             -            -          -
+ *   cvode-adams      -           -         x          -               -                -          -             -            -          -
+ *   cvode-bdf        x           -         x          x               -                x          -             -            -          -
  *
  * A Jacobian in the system is information, not a request: integrators without
  * SWIM_ODE_CAP_JACOBIAN need none and do not call it.  The GSL steppers have no
@@ -208,6 +208,15 @@ typedef struct {
      * reported terminal (a caller that decides at the event whether the integration ends there,
      * as a terminal event would). Not copied: the caller's int. NULL = never. */
     const volatile int *event_stop;
+    /* SWIM_ODE_CAP_ERROR_DIM: the error control looks at the first error_dim components only
+     * (0 = all): every norm, error estimate, order and step-size choice, round-off and stiffness
+     * test. The other components are integrated on the same steps by the same formulas (CVODES's
+     * errconS = false), so the first error_dim components come out bit for bit as without them
+     * when their right-hand side does not depend on the others (a state with its variational
+     * equations). abm only: its norms run over the first error_dim components. The GSL steppers'
+     * control and CVODE's weights cannot leave components out (a zero error weight in CVODE
+     * also makes its difference-quotient Jacobian divide by it), so they refuse it. */
+    size_t error_dim;
 } swim_ode_options;
 
 /* rtol = 1e-6, atol = 1e-9, no hmax, automatic h0, tstop = INFINITY,
@@ -262,7 +271,12 @@ enum {
     SWIM_ODE_CAP_INVARIANT = 128,
     /* implemented over SUNDIALS CVODE: a program built from a subset of the runtime (swim
      * export) links libsundials when its scene may use it */
-    SWIM_ODE_CAP_SUNDIALS = 256
+    SWIM_ODE_CAP_SUNDIALS = 256,
+    /* error control over the first components only: swim_ode_options.error_dim */
+    SWIM_ODE_CAP_ERROR_DIM = 512,
+    /* swim_ode_scale: a block of components that obeys a linear homogeneous equation scaled in
+     * place with its history */
+    SWIM_ODE_CAP_RESCALE = 1024
 };
 
 /* The registry.  swim_ode_methods(): NULL-terminated list of names, in the order
@@ -303,6 +317,14 @@ int swim_ode_rhs_status(const swim_ode *s);
  * extrapolates its polynomial beyond the step; CVODE accepts t within its last step only.
  * SWIM_ODE_OK, SWIM_ODE_EUNSUPPORTED (no dense output: the GSL steppers) or SWIM_ODE_EFAIL. */
 int swim_ode_dense(swim_ode *s, double t, double *y, double *yp);
+/* SWIM_ODE_CAP_RESCALE: multiply components [from, from + count) of the solution and of
+ * everything the method keeps of their past (abm: y, its carries and the difference table) by
+ * factor. For components whose equations are linear and homogeneous in themselves and that no
+ * other component's equation reads (a tangent vector w' = J(t, y) w), that is the solution from
+ * the scaled start, so the integration goes on unchanged; a power of two makes it exact in
+ * floating point. Call it between steps (e.g. from on_accept). The error control must not look
+ * at them (error_dim). SWIM_ODE_OK, SWIM_ODE_EUNSUPPORTED or SWIM_ODE_EBADARG. */
+int swim_ode_scale(swim_ode *s, size_t from, size_t count, double factor);
 const char *swim_ode_method_name(const swim_ode *s);
 void swim_ode_free(swim_ode *s);
 const char *swim_ode_strerror(int status);

@@ -8,10 +8,11 @@
 #include <string.h>
 
 #include "codegen/codegen.h"
-#include "control/lyapunov.h"
-#include "control/sensitivity.h"
+#include "driver/analyses.h"
 #include "driver/events.h"
 #include "driver/summary.h"
+#include "io/clock.h"
+#include "io/csv.h"
 #include "io/files.h"
 #include "io/json.h"
 #include "io/message.h"
@@ -36,6 +37,13 @@ struct swim_job {
     long sens_rows;
     swim_lyapunov lyap;
     const char *lyap_status;     /* written, failed, skipped (NULL: not asked for) */
+    /* the variational equations on the run's own steps: the --sensitivity keys, then the
+     * Lyapunov tangent vector (one more column) */
+    swim_analyses an;
+    int an_ready;
+    char *sens_path;
+    swim_csv sens_csv;
+    int sens_csv_open;
     int summary_failed;
 };
 
@@ -138,6 +146,19 @@ static int check_sensitivity(swim_job *j, swim_status *st)
     return rc;
 }
 
+/* What --sensitivity and --lyapunov ask of the run (driver/analyses.h). */
+static swim_analyses_request analyses_request(swim_job *j);
+
+/* The integrator carries them on the run's steps as asked, or the run is refused before any
+ * output (exit 2). */
+static int check_variational(swim_job *j, swim_status *st)
+{
+    char who[64];
+    snprintf(who, sizeof who, "swim %s", j->req.cmd);
+    const swim_analyses_request ar = analyses_request(j);
+    return ar.keys || ar.lyapunov > 0 ? swim_analyses_check(j->s.integrator, &ar, who, st) : 0;
+}
+
 static swim_folder_request folder_request(const swim_job *j, const char **names, char storage[][24])
 {
     const int ncol = swim_run_columns(&j->s, names, storage);
@@ -202,6 +223,8 @@ static int open_run(swim_job *j, swim_status *st)
     return rc;
 }
 
+static int attach_variational(swim_job *j, swim_status *st);
+
 int swim_job_open(const swim_run_job *req, swim_job **out, swim_status *st)
 {
     *out = NULL;
@@ -215,7 +238,9 @@ int swim_job_open(const swim_run_job *req, swim_job **out, swim_status *st)
     if (rc == 0) rc = preflight(j, st);
     if (rc == 0) rc = acquire_kernels(j, st);
     if (rc == 0 && req->sensitivity) rc = check_sensitivity(j, st);
+    if (rc == 0 && !j->stroke) rc = check_variational(j, st);
     if (rc == 0) rc = open_run(j, st);
+    if (rc == 0) rc = attach_variational(j, st);
     if (rc) {
         swim_job_free(j);
         return rc;
@@ -226,132 +251,143 @@ int swim_job_open(const swim_run_job *req, swim_job **out, swim_status *st)
 
 /* ---- the run ------------------------------------------------------------------------------- */
 
-/* How a stop request is named in a run's reason: the words the driver uses for a run stopped
- * while it integrates (driver/run.c), so that the summary reads as a stopped run's. */
-static const char *stopped_by(int sig)
+/* sensitivity.csv: the header, then a row at each row of the run (swim_analyses_sink). */
+static int sens_csv_row(void *ctx, const char *const *names, int ncol, const double *row, char *why, size_t len)
 {
-    return sig == SIGINT ? "interrupted (SIGINT)" : sig == SIGTERM ? "terminated by SIGTERM"
-           : sig == SIGHUP ? "terminated by SIGHUP" : "terminated by a signal";
+    swim_job *j = ctx;
+    if (!row) {
+        if (swim_csv_open(&j->sens_csv, j->sens_path, names, ncol) == 0) {
+            j->sens_csv_open = 1;
+            return 0;
+        }
+        snprintf(why, len, "%s: cannot write: %s", j->sens_path, strerror(errno));
+        return 1;
+    }
+    if (swim_csv_row(&j->sens_csv, row) == 0) return 0;
+    snprintf(why, len, "%s: write failed at t = %.6g: %s", j->sens_path, row[0], strerror(errno));
+    return 1;
 }
 
-/* The line that says a pass after the trajectory begins (not with --quiet): it may take as long
- * as the run, and a user (or a test) sees where the time goes. */
-static void pass_notice(const swim_job *j, const char *what, double step, double t_end)
+static swim_analyses_request analyses_request(swim_job *j)
 {
-    if (j->req.quiet || !j->req.notice) return;
-    char line[320];
-    snprintf(line, sizeof line, "swim %s: %s %g up to t = %g", j->req.cmd, what, step, t_end);
-    j->req.notice(j->req.ctx, line);
+    const swim_run_job *r = &j->req;
+    return (swim_analyses_request){r->sensitivity, r->sens_differences, !r->sens_state_steps,
+                                   r->lyapunov > 0 ? r->lyapunov : 0.0, sens_csv_row, j};
 }
 
-/* DIR/sensitivity.csv after the trajectory, before the summary: a second integration, of the state
- * with its variational equations, by the same integrator at the same tolerances, up to where the
- * trajectory ended (t_end or a stopping event). Skipped when the trajectory failed or was
- * interrupted; a sensitivity pass that does not finish fails the run, so that the summary and the
- * exit status say so. */
-static void run_sensitivity(swim_job *j, swim_status *st)
+/* --sensitivity and --lyapunov: the state's variational equations ride on the run's own
+ * integration (driver/analyses.h); sensitivity.csv gets a row at each row of the trajectory.
+ * The keys were checked before any output (check_sensitivity). */
+static int attach_variational(swim_job *j, swim_status *st)
+{
+    const swim_analyses_request ar = analyses_request(j);
+    if (j->stroke || (!ar.keys && !(ar.lyapunov > 0))) return 0;
+    if (ar.keys && !(j->sens_path = swim_strprintf("%s/sensitivity.csv", swim_folder_paths(j->folder)->dir))) {
+        swim_status_fail(st, NULL, NULL, 0, NULL, "swim %s: out of memory", j->req.cmd);
+        return 1;
+    }
+    j->an_ready = 1;
+    const int rc = swim_analyses_attach(&j->an, j->run, &j->s, j->req.cmd, &ar, st);
+    if (rc == 0 && ar.keys) j->sens_method = swim_sens_exact(&j->an.S) ? "exact" : "differences";
+    return rc;
+}
+
+/* DIR/sensitivity.csv, written row by row with the trajectory, closed: its outcome. A run that did
+ * not complete keeps the rows up to where it stopped; sensitivities that stopped before the run
+ * did (an impact, a stiff fallback that cannot carry them) fail the run, so that the summary and
+ * the exit status say so. */
+static void finish_sensitivity(swim_job *j, swim_status *st)
 {
     const swim_run_result *r = swim_run_get_result(j->run);
-    j->sens_t = r->t_reached;
-    char why[256];
-    if (r->status != 0) {
-        j->sens_status = "skipped";
-        swim_status_note(st, "swim %s: no sensitivity.csv: the run did not complete", j->req.cmd);
-        return;
+    const swim_run_var_result *v = swim_run_get_var_result(j->run);
+    char why[512];
+    if (j->sens_csv_open && swim_csv_close(&j->sens_csv) != 0 && r->status == 0) {
+        snprintf(why, sizeof why, "%s: cannot write: %s", j->sens_path, strerror(errno));
+        swim_run_fail(j->run, why);
     }
+    j->sens_csv_open = 0;
+    j->sens_jacobians = j->an.S.jac_calls;
+    j->sens_rhs = r->stats.rhs_evals + j->an.S.rhs_calls;   /* the run's evaluations carry the columns */
+    j->sens_seconds = j->an.row_seconds + swim_run_dynamics(j->run)->jac_seconds;
+    j->sens_rows = j->an.rows;
+    j->sens_t_last = j->an.rows > 0 ? j->an.t_last : NAN;
+    j->sens_t = r->status == 0 ? r->t_reached : j->s.t_end;
+    const int sig = j->req.stop ? *j->req.stop : 0;
     if (r->impacts) {   /* the variational equations would need the impact's jump (a saltation matrix) */
         j->sens_status = "failed";
+        if (j->sens_path) remove(j->sens_path);
+        j->sens_rows = 0;
         snprintf(why, sizeof why, "no sensitivity.csv: the run took %ld bounce(s) off the barrier as impacts, "
                  "across which sensitivities are not computed; set run.impact_depth = 0 to follow them", r->impacts);
         swim_run_fail(j->run, why);
-        return;
-    }
-    swim_sens S;
-    char *path = swim_strprintf("%s/sensitivity.csv", swim_folder_paths(j->folder)->dir);
-    int rc = !path || swim_sens_init(&S, swim_run_dynamics(j->run)) != 0 ? 1
-             : swim_sens_add_list(&S, &j->s, j->req.cmd, j->req.sensitivity, st);
-    double sec = 0.0;
-    long evals = 0;
-    S.error_control = !j->req.sens_state_steps;
-    if (rc == 0 && j->req.sens_differences) swim_sens_use_differences(&S);
-    if (rc == 0) {
-        pass_notice(j, "the sensitivities (sensitivity.csv): the state and its variational equations again, rows "
-                    "every", j->s.output_step, j->sens_t);
-        rc = swim_sens_write_run(&S, j->s.integrator, path, j->sens_t, &sec, &evals, st) ? 1 : 0;
-        j->sens_rows = S.rows;
-        j->sens_t_last = S.t_last;
-        j->sens_method = swim_sens_exact(&S) ? "exact" : "differences";
-        j->sens_jacobians = S.jac_calls;
-        j->sens_rhs = evals + S.rhs_calls;
-        j->sens_seconds = sec;
-    }
-    const int sig = j->req.stop ? *j->req.stop : 0;
-    if (sig) {   /* stopped, even if the pass got to its end: the run is not "completed" */
+    } else if (sig) {   /* the run says how it was stopped; the rows up to there are kept */
         j->sens_status = "interrupted";
-        snprintf(why, sizeof why, "%s during the sensitivities: sensitivity.csv holds the rows up to t = %.6g",
-                 stopped_by(sig), j->sens_rows > 0 ? j->sens_t_last : 0.0);
-        swim_run_fail(j->run, why);
-    } else if (rc == 0) {
-        j->sens_status = "written";
-        if (j->req.sens_done) j->req.sens_done(j->req.ctx, S.nkeys, path, j->sens_t, sec, evals);
-    } else {
+    } else if (r->status != 0) {
         j->sens_status = "failed";
-        snprintf(why, sizeof why, "sensitivity.csv is incomplete: the sensitivities stopped before t = %.6g", j->sens_t);
+        swim_status_note(st, "swim %s: sensitivity.csv holds the rows up to t = %.6g: the run did not complete",
+                         j->req.cmd, j->sens_rows > 0 ? j->sens_t_last : 0.0);
+    } else if (!v->carried) {
+        j->sens_status = "failed";
+        snprintf(why, sizeof why, "sensitivity.csv is incomplete: the sensitivities stopped at t = %.6g: %s",
+                 v->t_stop, v->reason);
         swim_run_fail(j->run, why);
+    } else {
+        j->sens_status = "written";
+        if (j->req.sens_done)
+            j->req.sens_done(j->req.ctx, j->an.nsens, j->sens_path, j->sens_t, j->sens_seconds, j->sens_rhs);
     }
-    if (path) swim_sens_free(&S);
-    free(path);
 }
 
-/* DIR/lyapunov.csv after the trajectory (and the sensitivities): the largest Lyapunov exponent
- * over [0, t_reached] and the predictability horizon at the run's rtol (control/lyapunov.h). A
- * pass that fails is said in the summary; it does not fail the run. A stop request (signal)
- * during the pass does: the segments done are written, and the run's reason names the signal. */
-static void run_lyapunov(swim_job *j, swim_status *st)
+/* DIR/lyapunov.csv: t, ln growth of the interval, running exponent. 0, or -1 (errno). */
+static int lyapunov_csv(const swim_lyapunov *l, const char *path)
+{
+    static const char *const names[] = {"t", "log_growth", "exponent"};
+    swim_csv csv = {0};
+    if (swim_csv_open(&csv, path, names, 3) != 0) return -1;
+    double sum = 0.0;
+    int rc = 0;
+    for (int k = 0; k < l->n && rc == 0; k++) {
+        sum += l->log_growth[k];
+        const double row[3] = {l->t[k], l->log_growth[k], sum / l->t[k]};
+        rc = swim_csv_row(&csv, row);
+    }
+    if (swim_csv_close(&csv) != 0) rc = -1;
+    return rc;
+}
+
+/* DIR/lyapunov.csv after the run: the largest Lyapunov exponent over [0, t_reached] and the
+ * predictability horizon at the run's rtol (model/lyapunov.h) from the growth of the tangent
+ * vector the run carried. One that fails is said in the summary; it does not fail the run. A run
+ * that stopped (a signal, a failure) keeps the intervals up to its last row. */
+static void finish_lyapunov(swim_job *j, swim_status *st)
 {
     const swim_run_result *r = swim_run_get_result(j->run);
-    const int sig0 = j->req.stop ? *j->req.stop : 0;
-    if (sig0 && r->status == 0) {   /* asked to stop before the pass began */
-        j->lyap_status = "interrupted";
-        char why[160];
-        snprintf(why, sizeof why, "%s before the Lyapunov pass: no lyapunov.csv", stopped_by(sig0));
-        swim_run_fail(j->run, why);
-        return;
-    }
-    if (r->status != 0 || r->impacts || !(r->t_reached > 0)) {
+    if (r->impacts || !(r->t_reached > 0)) {
         j->lyap_status = "skipped";
-        swim_status_note(st, "swim %s: no lyapunov.csv: %s", j->req.cmd, r->status != 0 ? "the run did not complete"
-                         : r->impacts ? "the run took impacts, across which the variational equations do not hold"
-                                      : "the run has no time span");
+        swim_status_note(st, "swim %s: no lyapunov.csv: %s", j->req.cmd,
+                         r->impacts ? "the run took impacts, across which the variational equations do not hold"
+                                    : "the run has no time span");
         return;
     }
     char *path = swim_strprintf("%s/lyapunov.csv", swim_folder_paths(j->folder)->dir);
-    pass_notice(j, "the Lyapunov pass (lyapunov.csv): the variational equations again from t = 0, renormalized every",
-                j->req.lyapunov, r->t_reached);
-    const int rc = path ? swim_lyapunov_compute(swim_run_dynamics(j->run), j->s.integrator, r->t_reached,
-                                                j->req.lyapunov, &j->lyap) : -1;
+    const int rc = path ? swim_analyses_lyapunov(&j->an, j->run, j->req.lyapunov, j->s.rtol, &j->lyap) : -1;
+    const int sig = j->req.stop ? *j->req.stop : 0;
+    if (rc == 0 && r->status != 0 && j->lyap.status == 0) {
+        j->lyap.status = 1;
+        snprintf(j->lyap.reason, sizeof j->lyap.reason, "%s: lyapunov.csv holds its %d intervals up to t = %.6g",
+                 sig ? "the run was stopped" : "the run did not complete", j->lyap.n, j->lyap.t_end);
+    }
     if (rc != 0) {
         j->lyap_status = "failed";
         snprintf(j->lyap.reason, sizeof j->lyap.reason, "out of memory");
-    } else if (swim_lyapunov_csv(&j->lyap, path) != 0) {
+    } else if (lyapunov_csv(&j->lyap, path) != 0) {
         j->lyap_status = "failed";
         snprintf(j->lyap.reason, sizeof j->lyap.reason, "cannot write lyapunov.csv: %s", strerror(errno));
     } else {
-        j->lyap_status = j->lyap.status == 0 ? "written" : "failed";
-        if (j->lyap.status == 0 && !(j->req.stop && *j->req.stop) && j->req.lyapunov_done)
-            j->req.lyapunov_done(j->req.ctx, path, &j->lyap);
+        j->lyap_status = j->lyap.status == 0 ? "written" : sig ? "interrupted" : "failed";
+        if (j->lyap.status == 0 && j->req.lyapunov_done) j->req.lyapunov_done(j->req.ctx, path, &j->lyap);
     }
-    const int sig = j->req.stop ? *j->req.stop : 0;
-    if (sig && rc == 0) {
-        char why[256];
-        snprintf(why, sizeof why, "%s during the Lyapunov pass: lyapunov.csv holds its %d renormalizations up to "
-                 "t = %.6g", stopped_by(sig), j->lyap.n, j->lyap.t_end);
-        j->lyap_status = "interrupted";
-        snprintf(j->lyap.reason, sizeof j->lyap.reason, "%s", stopped_by(sig));
-        swim_run_fail(j->run, why);
-    } else if (j->lyap.status != 0 || rc != 0) {
-        swim_status_note(st, "swim %s: lyapunov.csv: %s", j->req.cmd, j->lyap.reason);
-    }
+    if (j->lyap.status != 0 || rc != 0) swim_status_note(st, "swim %s: lyapunov.csv: %s", j->req.cmd, j->lyap.reason);
     free(path);
 }
 
@@ -422,8 +458,8 @@ int swim_job_run(swim_job *j, swim_status *st)
 {
     swim_run_integrate(j->run);
     if (swim_folder_finish(j->folder, j->events) != 0) swim_run_fail(j->run, swim_folder_error(j->folder));
-    if (j->req.sensitivity) run_sensitivity(j, st);
-    if (j->req.lyapunov > 0) run_lyapunov(j, st);
+    if (j->req.sensitivity && !j->stroke) finish_sensitivity(j, st);
+    if (j->req.lyapunov > 0 && !j->stroke) finish_lyapunov(j, st);
     const swim_run_result *r = swim_run_get_result(j->run);
     json_t *sum = summary(j);
     if (!sum) errno = ENOMEM;   /* nothing written */
@@ -456,6 +492,9 @@ const char *swim_job_output_error(const swim_job *j)
 void swim_job_free(swim_job *j)
 {
     if (!j) return;
+    if (j->sens_csv_open) swim_csv_close(&j->sens_csv);
+    free(j->sens_path);
+    if (j->an_ready) swim_analyses_free(&j->an);
     swim_run_free(j->run);
     swim_folder_free(j->folder);
     swim_run_events_free(j->events);

@@ -20,7 +20,7 @@
 #include "driver/run.h"
 #include "output/folder.h"
 
-struct swim_lyapunov_s;   /* control/lyapunov.h */
+struct swim_lyapunov_s;   /* model/lyapunov.h */
 #include "scene/scene.h"
 
 #define SWIM_JOB_MAX_SETS 64
@@ -47,7 +47,7 @@ typedef struct {
     const char *const *events;          /* --event specifications, besides the scene's */
     int nevents;
     const char *sensitivity;            /* KEY[,KEY...]: DIR/sensitivity.csv (dynamic scenes) */
-    int sens_state_steps;               /* the sensitivities without an error test of their own */
+    int sens_state_steps;               /* the sensitivities without an error test of their own (the default) */
     int sens_differences;               /* every key by difference quotients (for comparison) */
     double lyapunov;                    /* > 0: DIR/lyapunov.csv, renormalized at this interval */
     const char *command;                /* the command line, for the summary (may be NULL) */

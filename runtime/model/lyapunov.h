@@ -1,7 +1,7 @@
 /* lyapunov.h -- the largest Lyapunov exponent of a run and its predictability horizon.
  *
  * One tangent vector w of the shape state is carried along the trajectory by the exact
- * variational equations (control/sensitivity.h: w' = J w with the kernel's exact Jacobian),
+ * variational equations (model/sensitivity.h: w' = J w with the kernel's exact Jacobian),
  * from a fixed pseudo-random start. Every `interval` of time the integration stops, the growth
  * r_k = |w| over the shape state (c, cdot of the carried coordinates; x, y, theta and the work
  * are not part of the dynamics' own state) is taken and w is scaled back to 1 (Benettin's
@@ -19,13 +19,14 @@
  * particular one (the energy balance, time averages, statistics over a family) is a result.
  * INFINITY when the growth never gets there.
  *
- * The pass is an integration of its own from t = 0 on the run's dynamics, at the run's settings
- * (the tangent vector outside the error test: it rides on the state's steps), without the
- * driver's origin shifts near the barrier; runs that took impacts are not
+ * The tangent vector rides on the run's own integration (driver/analyses.h, driver/run.h: on
+ * the state's steps, outside the error test, through the origin shifts near the barrier); its
+ * length is taken on the interpolant at the marks and renormalized by a power of two at the next
+ * step boundary, exactly, without stopping the state's steps. Runs that took impacts are not
  * differentiable there and are refused by the caller (as for sensitivities).
  */
-#ifndef SWIM_CONTROL_LYAPUNOV_H
-#define SWIM_CONTROL_LYAPUNOV_H
+#ifndef SWIM_MODEL_LYAPUNOV_H
+#define SWIM_MODEL_LYAPUNOV_H
 
 #include <stdio.h>
 
@@ -36,7 +37,7 @@
  * interval below t_end / 10^6 is refused before the run rather than asking for 10^9 rows. */
 #define SWIM_LYAPUNOV_MAX_SEGMENTS 1000000
 
-/* The verdict on the growth (swim_lyapunov_compute sets it from the segments).
+/* The verdict on the growth (swim_lyapunov_from_marks sets it from the segments).
  * G(t) = sum ln r_k is fitted by least squares with a line in t over each half of the segments
  * (rates a1, a2) and with a line in ln t over the second half (power p: |w| ~ t^p).
  *   converged: |a1 - a2| <= SWIM_LYAPUNOV_AGREE * max(|a1|, |a2|), the second half grows (or shrinks)
@@ -75,14 +76,16 @@ typedef struct swim_lyapunov_s {
     char reason[160];
 } swim_lyapunov;
 
-/* The pass from t = 0 to t_end (> 0) on `integrator` with renormalization every `interval`
- * (> 0). 0 (status 0, or 1 with the reason and the segments up to there), or -1 out of memory. */
-int swim_lyapunov_compute(swim_dynamics *d, const char *integrator, double t_end, double interval,
-                          swim_lyapunov *out);
+/* The pseudo-random start: w (n entries) zero but for components [from, from + count), a unit
+ * vector there. */
+void swim_lyapunov_start(double *w, int n, int from, int count);
+/* The results from the growth the run measured (driver/run.h, swim_run_var_result): ln |w| at the
+ * marks t[0 .. marks) (t[k] = (k+1) interval, the last where the run ended); rhs_calls, seconds,
+ * status and reason are the caller's. 0, or -1 out of memory. */
+int swim_lyapunov_from_marks(swim_lyapunov *l, double interval, double rtol, const double *t, const double *log_norm,
+                             long marks);
 void swim_lyapunov_free(swim_lyapunov *l);
 /* "converged", "regular" or "not_converged" (the summary's words). */
 const char *swim_lyapunov_verdict_name(swim_lyapunov_verdict v);
-/* DIR/lyapunov.csv: t, ln growth of the segment, running exponent. 0, or -1 (errno). */
-int swim_lyapunov_csv(const swim_lyapunov *l, const char *path);
 
 #endif

@@ -1,14 +1,11 @@
-/* lyapunov.c -- Benettin's method on the exact variational equations (control/lyapunov.h). */
-#include "control/lyapunov.h"
+/* lyapunov.c -- the exponent, horizon and verdict of Benettin's method from the growth of the
+ * tangent vector the run carries (model/lyapunov.h). */
+#include "model/lyapunov.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "control/sensitivity.h"
-#include "io/clock.h"
-#include "io/csv.h"
-#include "ode/ode.h"
 
 /* A fixed pseudo-random unit vector on the shape state (the same start at every tolerance). */
 static void start_vector(double *w, int n, int from, int count)
@@ -25,13 +22,6 @@ static void start_vector(double *w, int n, int from, int count)
     }
     norm = sqrt(norm);
     for (int i = from; i < from + count; i++) w[i] /= norm;
-}
-
-static double shape_norm(const double *w, int from, int count)
-{
-    double s = 0.0;
-    for (int i = from; i < from + count; i++) s += w[i] * w[i];
-    return sqrt(s);
 }
 
 /* Least-squares slope of y against x over [from, to) (points with x > 0 only when logx). */
@@ -110,56 +100,30 @@ const char *swim_lyapunov_verdict_name(swim_lyapunov_verdict v)
     return v == SWIM_LYAP_CONVERGED ? "converged" : v == SWIM_LYAP_REGULAR ? "regular" : "not_converged";
 }
 
-int swim_lyapunov_compute(swim_dynamics *d, const char *integrator, double t_end, double interval,
-                          swim_lyapunov *l)
+void swim_lyapunov_start(double *w, int n, int from, int count) { start_vector(w, n, from, count); }
+
+int swim_lyapunov_from_marks(swim_lyapunov *l, double interval, double rtol, const double *t, const double *log_norm,
+                             long marks)
 {
-    memset(l, 0, sizeof *l);
-    const double t0c = swim_clock_seconds();
     l->interval = interval;
-    l->rtol = d->scene->rtol;
-    const int segments = (int)ceil(t_end / interval - 1e-9);
-    swim_sens S;
-    if (swim_sens_init(&S, d) != 0) return -1;
-    /* the tangent vector rides on the state's steps: its direction converges to the fastest
-     * one whatever the error made along the way, and a growth rate needs no more (half the cost) */
-    S.error_control = 0;
-    const int n = S.dim, nf = (n - 4) / 2;
-    double *Y = NULL, *full = calloc((size_t)d->dim, sizeof(double));
-    l->t = malloc(sizeof(double) * (size_t)(segments > 0 ? segments : 1));
-    l->log_growth = malloc(sizeof(double) * (size_t)(segments > 0 ? segments : 1));
-    int rc = -1;
-    if (!full || !l->t || !l->log_growth || swim_sens_add_state(&S, 3, "w") != 0) goto done;
-    if (!(Y = malloc(sizeof(double) * (size_t)swim_sens_dimension(&S)))) goto done;
-    /* from t = 0 in absolute state and time: a run on d may have left an origin behind */
-    if ((d->origin || d->t_origin != 0.0) && swim_dynamics_set_origin(d, NULL) != 0) goto done;
-    d->t_origin = 0.0;
-    swim_dynamics_initial_state(d, full);
-    swim_dynamics_pack(d, full, Y);
-    start_vector(Y + n, n, 3, 2 * nf);
-    double t = 0.0, sum = 0.0;
-    rc = 0;
-    for (int k = 0; k < segments; k++) {
-        const double t1 = k == segments - 1 ? t_end : (k + 1) * interval;
-        const int orc = swim_sens_advance(&S, integrator, t, Y, t1, &l->rhs_calls);
-        if (orc < 0) {
-            rc = -1;
-            break;
-        }
-        const double r = shape_norm(Y + n, 3, 2 * nf);
-        if (orc != SWIM_ODE_OK || !(r > 0) || !isfinite(r)) {
-            l->status = 1;
-            snprintf(l->reason, sizeof l->reason, "the variational equations stopped in [%.6g, %.6g]: %s", t, t1,
-                     orc != SWIM_ODE_OK ? swim_ode_strerror(orc) : "the tangent vector vanished or overflowed");
-            break;
-        }
-        for (int i = 0; i < n; i++) Y[n + i] /= r;   /* back to unit length: the growth is in the log */
-        l->t[l->n] = t1;
-        l->log_growth[l->n++] = log(r);
-        sum += log(r);
-        t = t1;
+    l->rtol = rtol;
+    l->n = 0;
+    free(l->t);
+    free(l->log_growth);
+    l->t = malloc(sizeof(double) * (size_t)(marks > 0 ? marks : 1));
+    l->log_growth = malloc(sizeof(double) * (size_t)(marks > 0 ? marks : 1));
+    if (!l->t || !l->log_growth) return -1;
+    /* segment k: the growth between marks k-1 and k (|w| = 1 at t = 0) */
+    double sum = 0.0, prev = 0.0;
+    for (long k = 0; k < marks; k++) {
+        l->t[l->n] = t[k];
+        l->log_growth[l->n++] = log_norm[k] - prev;
+        prev = log_norm[k];
     }
-    l->t_end = t;
-    l->exponent = t > 0 ? sum / t : NAN;
+    sum = prev;
+    const double tend = l->n > 0 ? l->t[l->n - 1] : 0.0;
+    l->t_end = tend;
+    l->exponent = tend > 0 ? sum / tend : NAN;
     if (l->n >= 2) {   /* the second half alone: the running exponent should have settled */
         const int h = l->n / 2;
         double s2 = 0.0;
@@ -181,12 +145,7 @@ int swim_lyapunov_compute(swim_dynamics *d, const char *integrator, double t_end
         }
     }
     assess(l, need);
-done:
-    swim_sens_free(&S);
-    free(Y);
-    free(full);
-    l->seconds = swim_clock_seconds() - t0c;
-    return rc;
+    return 0;
 }
 
 void swim_lyapunov_free(swim_lyapunov *l)
@@ -194,20 +153,4 @@ void swim_lyapunov_free(swim_lyapunov *l)
     free(l->t);
     free(l->log_growth);
     l->t = l->log_growth = NULL;
-}
-
-int swim_lyapunov_csv(const swim_lyapunov *l, const char *path)
-{
-    static const char *const names[] = {"t", "log_growth", "exponent"};
-    swim_csv csv = {0};
-    if (swim_csv_open(&csv, path, names, 3) != 0) return -1;
-    double sum = 0.0;
-    int rc = 0;
-    for (int k = 0; k < l->n && rc == 0; k++) {
-        sum += l->log_growth[k];
-        const double row[3] = {l->t[k], l->log_growth[k], sum / l->t[k]};
-        rc = swim_csv_row(&csv, row);
-    }
-    if (swim_csv_close(&csv) != 0) rc = -1;
-    return rc;
 }
