@@ -145,6 +145,8 @@ typedef struct swim_run swim_run;
 #define SWIM_RUN_MAX_COLUMNS (8 + 4 * SWIM_NMAX + 64)
 
 struct json_t;
+struct swim_run_variational;
+struct swim_run_var_result;
 
 /* A kind of run, in the manner of GSL's step types: a small table of functions, chosen once when
  * the run opens (swim_run_kind_for). Two kinds: a scene run (swim_run_scene_kind, driver/run.c)
