@@ -17,12 +17,16 @@ from .cprint import KernelPrinter, emit_assignments
 from .law import parameter_symbols, parse
 from .material import material_source
 from .model import SwimmerModel
-from .template import (INCLUDE_ASSEMBLY, INCLUDE_LAW_FUNCTIONS, INCLUDE_SCENE_RHS,
+from .template import (INCLUDE_ASSEMBLY, INCLUDE_LAW_FUNCTIONS, INCLUDE_SCENE_RHS, INCLUDE_SPARSE_DATA,
                        KERNEL_HEAD, QUICK_OPTIMIZATION_BEGIN, QUICK_OPTIMIZATION_END, SCENE_JACOBIAN_PIECES,
                        SCENE_PIECES,
                        SYMBOLIC_CORE, SYMBOLIC_DERIV, SYMBOLIC_JACOBIAN, TABLE)
 
 QUICK_ABOVE = 16   # coordinates carried above which the SymPy code is compiled at -O1
+# Mode counts above which S and its derivatives are emitted as a table of monomials evaluated by
+# the loops of kernel/sparse_data.h rather than as straight-line code. N <= 7 (every scene of the
+# paper, the kernels linked into bin/swim) keeps the straight-line code and its bits.
+TABLE_ABOVE = 7
 
 
 def _symbolic(m, text):
@@ -80,6 +84,7 @@ class _Emitter:
                 names[s] = "%s[%d]" % (prefix, i)
         self.names = names
         self.pr = KernelPrinter(names)
+        self.tabled = m.N > TABLE_ABOVE
 
     def body(self, assignments, indent="    ", unused=("x",)):
         lines = emit_assignments(assignments, self.pr, indent=indent)
@@ -91,32 +96,93 @@ class _Emitter:
         m = self.m
         R, P = m.nrows, m.ncols
         S = m.S()
-        D = m.directional_dS(self.v)
-        G = m.bilinear_gradient(self.w, self.X)
         Isum = m.inertia_sum()
         gI = emit_assignments([("grad[%d]" % i, e) for i, e in enumerate(m.gradient(Isum))],
                               self.pr, indent="        ")
         I_body = "\n".join(emit_assignments([("I", Isum)], self.pr) + ["    if (grad) {"] + gI
                            + ["    }"])
+        if self.tabled:
+            bodies = dict(S_body="    sparse_boundary_data(x, S);",
+                          D_body="    sparse_boundary_data_dir(x, v, D);",
+                          G_body="    sparse_boundary_data_bigrad(x, w, X, g);")
+        else:
+            D = m.directional_dS(self.v)
+            G = m.bilinear_gradient(self.w, self.X)
+            bodies = dict(
+                S_body=self.body([("S[%d][%d]" % (r, c), S[r][c])
+                                  for r in range(R) for c in range(P) if S[r][c] != 0]),
+                D_body=self.body([("D[%d][%d]" % (r, c), D[r][c])
+                                  for r in range(R) for c in range(P) if D[r][c] != 0],
+                                 unused=("x", "v")),
+                G_body=self.body([("g[%d]" % i, G[i]) for i in range(m.n)],
+                                 unused=("x", "w", "X")))
         d = dict(
             N=m.N, n=m.n, nfull=m.nfull, R=R, P=P,
             columns=", ".join(coord_name(i) for i in m.free),
-            S_body=self.body([("S[%d][%d]" % (r, c), S[r][c])
-                              for r in range(R) for c in range(P) if S[r][c] != 0]),
-            D_body=self.body([("D[%d][%d]" % (r, c), D[r][c])
-                              for r in range(R) for c in range(P) if D[r][c] != 0],
-                             unused=("x", "v")),
-            G_body=self.body([("g[%d]" % i, G[i]) for i in range(m.n)],
-                             unused=("x", "w", "X")),
             I_body=I_body,
             bodyw=", ".join(repr(float(c)) for c in m.body_shape_weights()),
             weights=", ".join("%d.0" % m.weight(r) for r in range(R)))
+        d.update(bodies)
         d.update(extra)
         return d
+
+    def dS_keys(self):
+        """The sorted keys (r, row, col) of the first partials of S, from its monomials (the
+        keys of m.dS(), without differentiating), and for each term of S_monomials the index of
+        its d/dx_i and d/dx_k among them (-1: locked, or the 1 of a linear term)."""
+        m = self.m
+        keys = set()
+        for row, col, terms in m.S_monomials():
+            for _, i, k in terms:
+                for r, _ in m.monomial_partials(i, k):
+                    keys.add((r, row, col))
+        keys = sorted(keys)
+        at = {key: n for n, key in enumerate(keys)}
+        ki, kk = [], []
+        for row, col, terms in m.S_monomials():
+            for _, i, k in terms:
+                r_i = m.free_position(m.x[i])
+                r_k = None if k is None else m.free_position(m.x[k])
+                ki.append(-1 if r_i is None else at[(r_i, row, col)])
+                kk.append(-1 if r_k is None else at[(r_k, row, col)])
+        return keys, ki, kk
+
+    def tables(self, partials=False):
+        """The monomial table of S and the include of kernel/sparse_data.h (tabled kernels)."""
+        if not self.tabled:
+            return ""
+        m = self.m
+        mono = m.S_monomials()
+        at, start, c, i, k = [], [0], [], [], []
+        for row, col, terms in mono:
+            at.append(row * m.ncols + col)
+            for coef, ti, tk in terms:
+                c.append(KernelPrinter._double(coef.p, coef.q))
+                i.append(ti)
+                k.append(m.nfull if tk is None else tk)
+            start.append(len(c))
+        pos = [m.free_position(m.x[j]) for j in range(m.nfull)]
+        pos = [-1 if p is None else p for p in pos] + [-1]
+        text = ["/* ---- S as a table of monomials (kernel/sparse_data.h) ----------------------------- */",
+                "#define SD_NE %d" % len(at), "#define SD_NT %d" % len(c),
+                "static const int sd_at[SD_NE] = {%s};" % _table(at),
+                "static const int sd_start[SD_NE + 1] = {%s};" % _table(start),
+                "static const double sd_c[SD_NT] = {%s};" % ", ".join(c),
+                "static const int sd_i[SD_NT] = {%s};" % _table(i),
+                "static const int sd_k[SD_NT] = {%s};" % _table(k),
+                "static const int sd_pos[NFULL + 1] = {%s};" % _table(pos)]
+        if partials:
+            keys, ki, kk = self.dS_keys()
+            text += ["#define SWIM_SPARSE_PARTIALS", "#define SD_NKEYS %d" % len(keys),
+                     "static const int sd_ki[SD_NT] = {%s};" % _table(ki),
+                     "static const int sd_kk[SD_NT] = {%s};" % _table(kk)]
+        return "\n".join(text) + "\n" + INCLUDE_SPARSE_DATA + "\n"
 
     def deriv_subs(self):
         m = self.m
         R, P = m.nrows, m.ncols
+        if self.tabled:
+            return "    sparse_boundary_data_deriv(x, dS);"
         return self.body([("dS[%d]" % ((r * R + row) * P + col), e)
                           for (r, row, col), e in sorted(m.dS().items())])
 
@@ -144,7 +210,7 @@ def kernel_source(modes, command):
                options=options("SWIM_KERNEL_JACOBIAN", "SWIM_KERNEL_FULL",
                                "SWIM_KERNEL_NAME swim_kernel_n%d" % modes))
     d.update(e.jacobian_subs(), dS_body=e.deriv_subs())
-    return (KERNEL_HEAD.substitute(d)
+    return (KERNEL_HEAD.substitute(d) + e.tables()
             + _symbolic(m, "".join(t.substitute(d) for t in (SYMBOLIC_CORE, SYMBOLIC_DERIV,
                                                               SYMBOLIC_JACOBIAN)))
             + INCLUDE_ASSEMBLY)
@@ -391,9 +457,9 @@ def _scene_jacobian_subs(e, m):
         if not c.is_number:
             raise ValueError("the inertia sum is not quadratic")
     return dict(
-        nds=len(dS), ds_row=_table([key[1] for key, _ in dS]),
-        ds_col=_table([key[2] for key, _ in dS]), ds_start=_table(start),
-        ds_body=e.body([("val[%d]" % i, ex) for i, (_, ex) in enumerate(dS)]),
+        nds=len(keys), ds_row=_table([key[1] for key in keys]),
+        ds_col=_table([key[2] for key in keys]), ds_start=_table(start),
+        ds_body=ds_body,
         na2=len(d2), a2_row=_table([key[0] for key, _ in d2]),
         a2_r=_table([key[2] for key, _ in d2]), a2_s=_table([key[3] for key, _ in d2]),
         a2_val=_table([float(c) for _, c in d2], "%r"),
@@ -437,7 +503,8 @@ def scene_kernel_source(structure, command):
         material = ("/* ---- the energy law \"%s\" (%s) ---- */\n"
                     % (c_comment(energy["law"]), how)) + material + "\n"
         d["options"] += options("SWIM_SCENE_MATERIAL")
-    text = (KERNEL_HEAD.substitute(d) + _symbolic(m, SYMBOLIC_CORE.substitute(d))
+    text = (KERNEL_HEAD.substitute(d) + e.tables(partials=True)
+            + _symbolic(m, SYMBOLIC_CORE.substitute(d))
             + INCLUDE_ASSEMBLY)
     if law is not None:
         text += INCLUDE_LAW_FUNCTIONS

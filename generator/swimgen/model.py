@@ -64,6 +64,7 @@ class SwimmerModel:
         self._S = None
         self._rows = None
         self._dS = None
+        self._mono = None
 
     # -- shape coefficients -------------------------------------------------------------
     def index(self, k):
@@ -231,3 +232,64 @@ class SwimmerModel:
             re_h += m * (a * cs[m - 1] + b * sn[m - 1])
             im_h += m * (b * cs[m - 1] - a * sn[m - 1])
         return self.a(1) ** 2 + self.b(1) ** 2 - re_h ** 2 - im_h ** 2
+
+    # -- S as a table of monomials (large kernels: emit.py, kernel/sparse_data.h) -----------
+    def S_monomials(self):
+        """S as a sparse polynomial table: a list of (row, col, terms) for the non-zero entries,
+        terms = [(coefficient, i, k)] meaning coefficient * x_i * x_k, k = None for a linear
+        term (every entry is linear in x except alpha's, which are quadratic: section 3.2)."""
+        if self._mono is not None:
+            return self._mono
+        out = []
+        for row, entries in enumerate(self.S()):
+            for col, e in enumerate(entries):
+                if e == 0:
+                    continue
+                terms = []
+                for term in sp.Add.make_args(e):
+                    c, rest = term.as_coeff_Mul()
+                    idx = []
+                    for f in sp.Mul.make_args(rest):
+                        if f.is_Pow and f.exp == 2 and f.base in self.x:
+                            idx += [self.x.index(f.base)] * 2
+                        elif f in self.x:
+                            idx.append(self.x.index(f))
+                        elif f != 1:
+                            raise ValueError("S[%d][%d] is not a polynomial of degree <= 2 in x"
+                                             % (row, col))
+                    if not c.is_Rational or not 1 <= len(idx) <= 2:
+                        raise ValueError("S[%d][%d] is not a homogeneous polynomial of degree 1 "
+                                         "or 2 in x" % (row, col))
+                    terms.append((c, idx[0], idx[1] if len(idx) == 2 else None))
+                out.append((row, col, terms))
+        self._mono = out
+        return out
+
+    def monomial_partials(self, i, k):
+        """The first partials of x_i x_k (k = None: of x_i) with respect to the free
+        coordinates: [(r, j)] meaning d/dx_free[r] = x_j (j = None: 1), locked ones left out."""
+        out = []
+        ri = self.free_position(self.x[i])
+        if k is None:
+            return [(ri, None)] if ri is not None else []
+        rk = self.free_position(self.x[k])
+        if ri is not None:
+            out.append((ri, k))
+        if rk is not None:
+            out.append((rk, i))   # i == k: twice, d/dx_i x_i^2 = 2 x_i
+        return out
+
+    def second_dS_monomials(self):
+        """second_dS() from S_monomials(), without differentiating expressions:
+        dict (row, col, r, s) -> constant, non-zeros only."""
+        out = {}
+        for row, col, terms in self.S_monomials():
+            for c, i, k in terms:
+                if k is None:
+                    continue
+                ri, rk = self.free_position(self.x[i]), self.free_position(self.x[k])
+                if ri is None or rk is None:
+                    continue
+                for key in ((row, col, ri, rk), (row, col, rk, ri)):
+                    out[key] = out.get(key, 0) + c
+        return {key: c for key, c in out.items() if c != 0}
