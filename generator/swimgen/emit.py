@@ -69,7 +69,8 @@ def c_comment(text):
 class _Emitter:
     """Symbols, printer and the substitutions shared by every piece of one kernel."""
 
-    def __init__(self, m):
+    def __init__(self, m, tabled=None):
+        """tabled: S by its table of monomials (default: above TABLE_ABOVE modes)."""
         self.m = m
         self.v = sp.symbols("v0:%d" % m.n, real=True)
         self.w = sp.symbols("w0:%d" % m.nrows, real=True)
@@ -84,7 +85,7 @@ class _Emitter:
                 names[s] = "%s[%d]" % (prefix, i)
         self.names = names
         self.pr = KernelPrinter(names)
-        self.tabled = m.N > TABLE_ABOVE
+        self.tabled = m.N > TABLE_ABOVE if tabled is None else tabled
 
     def body(self, assignments, indent="    ", unused=("x",)):
         lines = emit_assignments(assignments, self.pr, indent=indent)
@@ -201,9 +202,10 @@ def options(*lines):
     return "".join("#define %s\n" % l for l in lines)
 
 
-def kernel_source(modes, command):
+def kernel_source(modes, command, tabled=None):
+    """The kernel of N modes; tabled=True/False forces either emission of S (tests compare them)."""
     m = SwimmerModel(modes)
-    e = _Emitter(m)
+    e = _Emitter(m, tabled)
     d = e.subs(filename="swim_kernel_n%d.c" % modes,
                what="mass matrices, reduced mass matrix and Christoffel symbol for N = %d." % modes,
                banner=banner(command),
@@ -441,14 +443,23 @@ def _table(values, fmt="%d"):
 def _scene_jacobian_subs(e, m):
     """The sparse derivative tables the exact Jacobian of kernel/scene_rhs.h reads: the first
     partials of S (values at x, pattern fixed), the second partials (constants: only the alpha
-    column is not linear, model.py) and the Hessian of the inertia sum (constant)."""
-    dS = sorted(m.dS().items())
+    column is not linear, model.py) and the Hessian of the inertia sum (constant). A tabled
+    kernel takes the same keys from its monomials and computes the values by a loop
+    (kernel/sparse_data.h)."""
+    if e.tabled:
+        keys = e.dS_keys()[0]
+        ds_body = "    sparse_boundary_data_partials(x, val);"
+        d2 = sorted(m.second_dS_monomials().items())
+    else:
+        dS = sorted(m.dS().items())
+        keys = [key for key, _ in dS]
+        ds_body = e.body([("val[%d]" % i, ex) for i, (_, ex) in enumerate(dS)])
+        d2 = sorted(m.second_dS().items())
     start, k = [], 0
     for r in range(m.n + 1):
-        while k < len(dS) and dS[k][0][0] < r:
+        while k < len(keys) and keys[k][0] < r:
             k += 1
         start.append(k)
-    d2 = sorted(m.second_dS().items())
     for (row, col, r, s), c in d2:
         if col != 2 or not c.is_number:
             raise ValueError("S has a non-constant second derivative outside the alpha column")
