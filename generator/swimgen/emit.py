@@ -129,54 +129,79 @@ class _Emitter:
 
     def dS_keys(self):
         """The sorted keys (r, row, col) of the first partials of S, from its monomials (the
-        keys of m.dS(), without differentiating), and for each term of S_monomials the index of
-        its d/dx_i and d/dx_k among them (-1: locked, or the 1 of a linear term)."""
+        keys of m.dS(), without differentiating)."""
         m = self.m
         keys = set()
         for row, col, terms in m.S_monomials():
             for _, i, k in terms:
                 for r, _ in m.monomial_partials(i, k):
                     keys.add((r, row, col))
-        keys = sorted(keys)
-        at = {key: n for n, key in enumerate(keys)}
-        ki, kk = [], []
-        for row, col, terms in m.S_monomials():
-            for _, i, k in terms:
-                r_i = m.free_position(m.x[i])
-                r_k = None if k is None else m.free_position(m.x[k])
-                ki.append(-1 if r_i is None else at[(r_i, row, col)])
-                kk.append(-1 if r_k is None else at[(r_k, row, col)])
-        return keys, ki, kk
+        return sorted(keys)
 
     def tables(self, partials=False):
-        """The monomial table of S and the include of kernel/sparse_data.h (tabled kernels)."""
+        """The monomial table of S (kernel/sparse_data.h says how it is read) and the include of
+        kernel/sparse_data.h, for tabled kernels; with partials, the keys of the first partials
+        that scene_rhs.h's sparse table (dS_row, dS_col, dS_start) lists."""
         if not self.tabled:
             return ""
         m = self.m
-        mono = m.S_monomials()
-        at, start, c, i, k = [], [0], [], [], []
-        for row, col, terms in mono:
-            at.append(row * m.ncols + col)
-            for coef, ti, tk in terms:
-                c.append(KernelPrinter._double(coef.p, coef.q))
-                i.append(ti)
-                k.append(m.nfull if tk is None else tk)
-            start.append(len(c))
-        pos = [m.free_position(m.x[j]) for j in range(m.nfull)]
-        pos = [-1 if p is None else p for p in pos] + [-1]
+        P = m.ncols
+        key = {k: n for n, k in enumerate(self.dS_keys())} if partials else {}
+
+        def pos(i):
+            return None if i is None else m.free_position(m.x[i])
+
+        def number(c):
+            return KernelPrinter._double(c.p, c.q)
+
+        lin, quad = [], []   # (at, [terms]) with linear / quadratic terms only
+        for row, col, terms in m.S_monomials():
+            ln = [(c, i) for c, i, k in terms if k is None]
+            qd = [(c, i, k) for c, i, k in terms if k is not None]
+            if ln:
+                lin.append((row, col, ln))
+            if qd:
+                quad.append((row, col, qd))
+        width = max([len(t) for _, _, t in lin] + [1])
+        pad = (sp.Integer(0), m.nfull)
+        lc = [[number((t + [pad] * width)[w][0]) for _, _, t in lin] for w in range(width)]
+        li = [[(t + [pad] * width)[w][1] for _, _, t in lin] for w in range(width)]
+        lk = [[key.get((pos(i), row, col), -1) if i < m.nfull else -1
+               for row, col, t in lin for i in [(t + [pad] * width)[w][1]]] for w in range(width)]
+        qat, qstart, qc, qi, qk, qki, qkk = [], [0], [], [], [], [], []
+        for row, col, t in quad:
+            qat.append(row * P + col)
+            for c, i, k in t:
+                qc.append(number(c))
+                qi.append(i)
+                qk.append(k)
+                qki.append(key.get((pos(i), row, col), -1))
+                qkk.append(key.get((pos(k), row, col), -1))
+            qstart.append(len(qc))
+        p_all = [pos(i) for i in range(m.nfull)]
+        p_all = [-1 if p is None else p for p in p_all] + [-1]
+
+        def rows(values, fmt="%d"):
+            return "{%s}" % ", ".join("{%s}" % _table(v, fmt) for v in values)
+
         text = ["/* ---- S as a table of monomials (kernel/sparse_data.h) ----------------------------- */",
-                "#define SD_NE %d" % len(at), "#define SD_NT %d" % len(c),
-                "static const int sd_at[SD_NE] = {%s};" % _table(at),
-                "static const int sd_start[SD_NE + 1] = {%s};" % _table(start),
-                "static const double sd_c[SD_NT] = {%s};" % ", ".join(c),
-                "static const int sd_i[SD_NT] = {%s};" % _table(i),
-                "static const int sd_k[SD_NT] = {%s};" % _table(k),
-                "static const int sd_pos[NFULL + 1] = {%s};" % _table(pos)]
+                "#define SD_NL %d" % max(len(lin), 1), "#define SD_W %d" % width,
+                "#define SD_NQE %d" % len(quad), "#define SD_NQ %d" % len(qc),
+                "static const int sl_at[SD_NL] = {%s};" % _table([r * P + c for r, c, _ in lin]),
+                "static const double sl_c[SD_W][SD_NL] = {%s};"
+                % ", ".join("{%s}" % (", ".join(c) or "0.0") for c in lc),
+                "static const int sl_i[SD_W][SD_NL] = %s;" % rows(li),
+                "static const int sq_at[SD_NQE > 0 ? SD_NQE : 1] = {%s};" % _table(qat),
+                "static const int sq_start[SD_NQE + 1] = {%s};" % _table(qstart),
+                "static const double sq_c[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % (", ".join(qc) or "0.0"),
+                "static const int sq_i[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qi),
+                "static const int sq_k[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qk),
+                "static const int sd_pos[NFULL + 1] = {%s};" % _table(p_all)]
         if partials:
-            keys, ki, kk = self.dS_keys()
-            text += ["#define SWIM_SPARSE_PARTIALS", "#define SD_NKEYS %d" % len(keys),
-                     "static const int sd_ki[SD_NT] = {%s};" % _table(ki),
-                     "static const int sd_kk[SD_NT] = {%s};" % _table(kk)]
+            text += ["#define SWIM_SPARSE_PARTIALS", "#define SD_NKEYS %d" % len(key),
+                     "static const int sl_key[SD_W][SD_NL] = %s;" % rows(lk),
+                     "static const int sq_ki[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qki),
+                     "static const int sq_kk[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qkk)]
         return "\n".join(text) + "\n" + INCLUDE_SPARSE_DATA + "\n"
 
     def deriv_subs(self):
@@ -447,7 +472,7 @@ def _scene_jacobian_subs(e, m):
     kernel takes the same keys from its monomials and computes the values by a loop
     (kernel/sparse_data.h)."""
     if e.tabled:
-        keys = e.dS_keys()[0]
+        keys = e.dS_keys()
         ds_body = "    sparse_boundary_data_partials(x, val);"
         d2 = sorted(m.second_dS_monomials().items())
     else:

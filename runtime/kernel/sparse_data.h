@@ -2,24 +2,30 @@
  * over a generated table of monomials (included by a generated kernel, not linked).
  *
  * Every entry of S is a short polynomial in x: linear in the mu and nu columns (two terms),
- * quadratic in the alpha column (generator/swimgen/model.py). Printed as straight-line C, their
- * derivatives and contractions grow to tens of thousands of statements at N = 32, which take the
- * compiler most of a kernel's first use; as a table they are data, compiled in no time, and each
- * function below is one pass over it. Kernels of N <= 7 keep the straight-line code
+ * quadratic in the alpha column (generator/swimgen/model.py). Printed as straight-line C, S, its
+ * derivatives and their contractions grow to tens of thousands of statements at N = 32, which
+ * took the compiler most of a kernel's first use; as a table they are data, compiled in no time,
+ * and each function below is one pass over it. Kernels of N <= 7 keep the straight-line code
  * (generator/swimgen/emit.py, TABLE_ABOVE).
  *
- * The generated file defines, before including this file, besides NFULL, NX, NR, NP:
- *   SD_NE, sd_at[SD_NE], sd_start[SD_NE + 1]   the non-zero entries of S (flat index row * NP +
- *                            col) and where their terms start;
- *   SD_NT, sd_c[SD_NT], sd_i[SD_NT], sd_k[SD_NT]   term t is sd_c[t] * xo[sd_i[t]] * xo[sd_k[t]],
- *                            where xo is x followed by a 1 (index NFULL: a linear term);
- *   sd_pos[NFULL + 1]        the velocity position of each coordinate, -1 when it is locked;
- *   with SWIM_SPARSE_PARTIALS: SD_NKEYS (NDS) and sd_ki[SD_NT], sd_kk[SD_NT]   the index, in
- *                            the sorted first partials of scene_rhs.h (dS_row, dS_col, dS_start),
- *                            of d/dx_i and of d/dx_k of term t, -1 when that coordinate is locked
- *                            (or is the 1).
- * It defines the bodies the symbolic wrappers call: sparse_boundary_data, _dir, _bigrad, and
- * sparse_boundary_data_deriv (SWIM_KERNEL_FULL) or sparse_boundary_data_partials.
+ * The generated file defines, before including this file, besides NFULL, NX, NR, NP (xo is x
+ * followed by a 1 at index NFULL):
+ *   SD_NL, SD_W, sl_at[SD_NL], sl_c[SD_W][SD_NL], sl_i[SD_W][SD_NL]   the linear terms: entry
+ *                            S[sl_at[e] / NP][sl_at[e] % NP] has the terms sl_c[w][e] * x[sl_i[w][e]],
+ *                            w < SD_W, padded with coefficient 0 at index NFULL (a fixed count
+ *                            per entry: the loop has no data-dependent branch);
+ *   SD_NQE, SD_NQ, sq_at[SD_NQE], sq_start[SD_NQE + 1], sq_c[SD_NQ], sq_i[SD_NQ], sq_k[SD_NQ]
+ *                            the quadratic terms, entry by entry: sq_c[t] * x[sq_i[t]] * x[sq_k[t]];
+ *   sd_pos[NFULL + 1]        the velocity position of each coordinate, -1 when it is locked (and
+ *                            for the 1);
+ *   with SWIM_SPARSE_PARTIALS: SD_NKEYS (NDS), sl_key[SD_W][SD_NL], sq_ki[SD_NQ], sq_kk[SD_NQ]
+ *                            the index, in the sorted first partials of scene_rhs.h (dS_row,
+ *                            dS_col, dS_start), of the derivative of a linear term and of the
+ *                            derivatives in x_i and x_k of a quadratic one, -1 when that
+ *                            coordinate is locked (or is padding).
+ * It defines what the symbolic wrappers call: sparse_boundary_data, sparse_boundary_data_dir,
+ * sparse_boundary_data_bigrad, and sparse_boundary_data_deriv (SWIM_KERNEL_FULL) or
+ * sparse_boundary_data_partials (SWIM_SPARSE_PARTIALS).
  */
 #ifndef SWIM_KERNEL_SPARSE_DATA_H
 #define SWIM_KERNEL_SPARSE_DATA_H
@@ -32,52 +38,61 @@ static void sparse_extend(const double *x, double *xo)
     xo[NFULL] = 1.0;
 }
 
-/* S = sum over terms; S is cleared by the caller. */
+/* The entries of a polynomial table at xo (S) or its directional derivative (yo: the direction
+ * on the carried coordinates, 0 elsewhere): out is cleared by the caller. */
+static void sparse_eval(const double *xo, const double *yo, double *out)
+{
+    const double *lin = yo ? yo : xo;   /* a linear term's derivative along y is its value at y */
+    for (int e = 0; e < SD_NL; e++) {
+        double acc = 0.0;
+        for (int w = 0; w < SD_W; w++) acc += sl_c[w][e] * lin[sl_i[w][e]];
+        out[sl_at[e]] = acc;
+    }
+    for (int e = 0; e < SD_NQE; e++) {
+        double acc = 0.0;
+        if (yo)   /* product rule: d(x_i x_k)[y] = y_i x_k + x_i y_k */
+            for (int t = sq_start[e]; t < sq_start[e + 1]; t++)
+                acc += sq_c[t] * (yo[sq_i[t]] * xo[sq_k[t]] + xo[sq_i[t]] * yo[sq_k[t]]);
+        else
+            for (int t = sq_start[e]; t < sq_start[e + 1]; t++)
+                acc += sq_c[t] * xo[sq_i[t]] * xo[sq_k[t]];
+        out[sq_at[e]] += acc;
+    }
+}
+
 static void sparse_boundary_data(const double *x, double S[NR][NP])
 {
     double xo[NFULL + 1];
     sparse_extend(x, xo);
-    double *s = &S[0][0];
-    for (int e = 0; e < SD_NE; e++) {
-        double acc = 0.0;
-        for (int t = sd_start[e]; t < sd_start[e + 1]; t++)
-            acc += sd_c[t] * xo[sd_i[t]] * xo[sd_k[t]];
-        s[sd_at[e]] = acc;
-    }
+    sparse_eval(xo, NULL, &S[0][0]);
 }
 
-/* D_v S: the product rule on each term, d(x_i x_k)[v] = y_i x_k + x_i y_k with y = v on the
- * carried coordinates, 0 on the locked ones and on the 1. D is cleared by the caller. */
+/* D_v S; D is cleared by the caller. */
 static void sparse_boundary_data_dir(const double *x, const double *v, double D[NR][NP])
 {
     double xo[NFULL + 1], yo[NFULL + 1];
     sparse_extend(x, xo);
     for (int i = 0; i <= NFULL; i++) yo[i] = sd_pos[i] >= 0 ? v[sd_pos[i]] : 0.0;
-    double *d = &D[0][0];
-    for (int e = 0; e < SD_NE; e++) {
-        double acc = 0.0;
-        for (int t = sd_start[e]; t < sd_start[e + 1]; t++) {
-            const int i = sd_i[t], k = sd_k[t];
-            acc += sd_c[t] * (yo[i] * xo[k] + xo[i] * yo[k]);
-        }
-        d[sd_at[e]] = acc;
-    }
+    sparse_eval(xo, yo, &D[0][0]);
 }
 
-/* g_r = sum_{row,col} w_row X_col dS[row][col]/dx_r: each term scatters into the gradient of its
- * two factors (the 1 and the locked coordinates collect what is then dropped). */
+/* g_r = sum_{row,col} w_row X_col dS[row][col]/dx_r: each term adds to the gradient of its
+ * factors (the padding and the locked coordinates collect what is then dropped). */
 static void sparse_boundary_data_bigrad(const double *x, const double *w, const double *X, double *g)
 {
     double xo[NFULL + 1], gf[NFULL + 1];
     sparse_extend(x, xo);
     memset(gf, 0, sizeof gf);
-    for (int e = 0; e < SD_NE; e++) {
-        const double wx = w[sd_at[e] / NP] * X[sd_at[e] % NP];
-        for (int t = sd_start[e]; t < sd_start[e + 1]; t++) {
-            const int i = sd_i[t], k = sd_k[t];
-            const double cw = sd_c[t] * wx;
-            gf[i] += cw * xo[k];
-            gf[k] += cw * xo[i];
+    for (int e = 0; e < SD_NL; e++) {
+        const double wx = w[sl_at[e] / NP] * X[sl_at[e] % NP];
+        for (int k = 0; k < SD_W; k++) gf[sl_i[k][e]] += sl_c[k][e] * wx;
+    }
+    for (int e = 0; e < SD_NQE; e++) {
+        const double wx = w[sq_at[e] / NP] * X[sq_at[e] % NP];
+        for (int t = sq_start[e]; t < sq_start[e + 1]; t++) {
+            const double cw = sq_c[t] * wx;
+            gf[sq_i[t]] += cw * xo[sq_k[t]];
+            gf[sq_k[t]] += cw * xo[sq_i[t]];
         }
     }
     for (int i = 0; i < NFULL; i++)
@@ -90,11 +105,14 @@ static void sparse_boundary_data_deriv(const double *x, double *dS)
 {
     double xo[NFULL + 1];
     sparse_extend(x, xo);
-    for (int e = 0; e < SD_NE; e++)
-        for (int t = sd_start[e]; t < sd_start[e + 1]; t++) {
-            const int i = sd_i[t], k = sd_k[t];
-            if (sd_pos[i] >= 0) dS[(size_t)sd_pos[i] * NR * NP + sd_at[e]] += sd_c[t] * xo[k];
-            if (sd_pos[k] >= 0) dS[(size_t)sd_pos[k] * NR * NP + sd_at[e]] += sd_c[t] * xo[i];
+    for (int e = 0; e < SD_NL; e++)
+        for (int k = 0; k < SD_W; k++)
+            if (sd_pos[sl_i[k][e]] >= 0) dS[(size_t)sd_pos[sl_i[k][e]] * NR * NP + sl_at[e]] += sl_c[k][e];
+    for (int e = 0; e < SD_NQE; e++)
+        for (int t = sq_start[e]; t < sq_start[e + 1]; t++) {
+            const int i = sq_i[t], k = sq_k[t];
+            if (sd_pos[i] >= 0) dS[(size_t)sd_pos[i] * NR * NP + sq_at[e]] += sq_c[t] * xo[k];
+            if (sd_pos[k] >= 0) dS[(size_t)sd_pos[k] * NR * NP + sq_at[e]] += sq_c[t] * xo[i];
         }
 }
 #endif
@@ -106,9 +124,12 @@ static void sparse_boundary_data_partials(const double *x, double *val)
     double xo[NFULL + 1];
     sparse_extend(x, xo);
     memset(val, 0, sizeof(double) * SD_NKEYS);
-    for (int t = 0; t < SD_NT; t++) {
-        if (sd_ki[t] >= 0) val[sd_ki[t]] += sd_c[t] * xo[sd_k[t]];
-        if (sd_kk[t] >= 0) val[sd_kk[t]] += sd_c[t] * xo[sd_i[t]];
+    for (int e = 0; e < SD_NL; e++)
+        for (int k = 0; k < SD_W; k++)
+            if (sl_key[k][e] >= 0) val[sl_key[k][e]] += sl_c[k][e];
+    for (int t = 0; t < SD_NQ; t++) {
+        if (sq_ki[t] >= 0) val[sq_ki[t]] += sq_c[t] * xo[sq_k[t]];
+        if (sq_kk[t] >= 0) val[sq_kk[t]] += sq_c[t] * xo[sq_i[t]];
     }
 }
 #endif
