@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
-"""Kernels above N = 7 evaluate S and its derivatives from a table of monomials
-(runtime/kernel/sparse_data.h); N <= 7 prints them as straight-line C. Both emissions of the
-kernel of N = 9 modes are generated, compiled and loaded side by side, and every function of
-the kernel (mass, mass_deriv, reduced with <Gamma, v, v>, reduced_deriv, jacobian_circle,
-inertia, boundary_data) must agree at random shapes to round-off (1e-13 relative to each
-output's largest entry; the two differ only in the order of the sums). The emitted text must
-also show the table (and no straight-line S) exactly when asked for.
+"""Kernels above N = 7 take S and its derivatives from a table of monomials: the first partials
+by the loops of runtime/kernel/sparse_data.h, and S, D_v S and the bigradient either by those
+loops too (the kernel of N modes) or printed from the table as one statement per entry (scene
+kernels); N <= 7 keeps SymPy's straight-line code. The three emissions of the kernel of N = 9
+modes are generated, compiled and loaded side by side, and every function of the kernel (mass,
+mass_deriv, reduced with <Gamma, v, v>, reduced_deriv, jacobian_circle, inertia, boundary_data)
+must agree at random shapes to round-off (1e-13 relative to each output's largest entry; they
+differ only in the order of the sums). The emitted text must show the table exactly when asked
+for.
 (Scene kernels above N = 7 are checked against the independent loop reference by
 tests/test_rhs.c and tests/test_jacobian.c.)
 Prints "test_sparse_kernel: P passed, F failed".
@@ -43,9 +45,9 @@ class Kernel(ctypes.Structure):
                 ("boundary_data", ctypes.CFUNCTYPE(None, D, D))]
 
 
-def build(tabled):
-    name = "tabled" if tabled else "straight"
-    text = kernel_source(N, "tests/test_sparse_kernel.py", tabled=tabled)
+def build(tabled, loops=True):
+    name = ("loops" if loops else "printed") if tabled else "straight"
+    text = kernel_source(N, "tests/test_sparse_kernel.py", tabled=tabled, loops=loops)
     src = os.path.join(TMP, "%s.c" % name)
     with open(src, "w") as fh:
         fh.write(text)
@@ -105,13 +107,21 @@ def test_emission():
     check("sparse_data.h" not in straight and "S[0][0] = " in straight,
           "the straight-line kernel prints S")
     check(kernel_source(N, "t") == tabled, "N = %d is tabled by default" % N)
+    printed = kernel_source(N, "t", tabled=True, loops=False)
+    check("kernel/sparse_data.h" in printed and "sparse_boundary_data(x, S);" not in printed
+          and "S[0][0] = " in printed and "SWIM_SPARSE_LOOPS" not in printed,
+          "the printed tabled kernel prints S and includes sparse_data.h for its partials")
     check("sparse_data.h" not in kernel_source(7, "t"), "N = 7 keeps the straight-line code")
 
 
 def test_agree():
-    import math
     _, a = build(False)
-    _, b = build(True)
+    for loops in (True, False):
+        agree(a, build(True, loops)[1], "loops" if loops else "printed")
+
+
+def agree(a, b, what):
+    import math
     rng = random.Random(7)
     worst = {}
     for trial in range(6):
@@ -126,8 +136,9 @@ def test_agree():
         for key in oa:
             worst[key] = max(worst.get(key, 0.0), rel(ob[key], oa[key]))
     for key, r in sorted(worst.items()):
-        print("  N = %d %-6s tabled vs straight-line: max relative difference %.1e" % (N, key, r))
-        check(r <= 1e-13, "%s agrees to round-off (%.1e)" % (key, r))
+        print("  N = %d %-6s tabled (%s) vs SymPy's straight-line: max relative difference %.1e"
+              % (N, key, what, r))
+        check(r <= 1e-13, "%s (%s) agrees to round-off (%.1e)" % (key, what, r))
     check(worst["K"] > 0 or worst["gvv"] > 0 or worst["S"] == 0,
           "the comparison ran on computed values")
 

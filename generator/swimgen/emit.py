@@ -69,9 +69,12 @@ def c_comment(text):
 class _Emitter:
     """Symbols, printer and the substitutions shared by every piece of one kernel."""
 
-    def __init__(self, m, tabled=None):
-        """tabled: S by its table of monomials (default: above TABLE_ABOVE modes)."""
+    def __init__(self, m, tabled=None, loops=False):
+        """tabled: S from its table of monomials (default: above TABLE_ABOVE modes), its first
+        partials by the loops of kernel/sparse_data.h; loops: S, D_v S and the bigradient by those
+        loops too (they compile in no time; the statements monomial_bodies prints run faster)."""
         self.m = m
+        self.loops = loops
         self.v = sp.symbols("v0:%d" % m.n, real=True)
         self.w = sp.symbols("w0:%d" % m.nrows, real=True)
         self.X = sp.symbols("X0:%d" % m.ncols, real=True)
@@ -102,10 +105,12 @@ class _Emitter:
                               self.pr, indent="        ")
         I_body = "\n".join(emit_assignments([("I", Isum)], self.pr) + ["    if (grad) {"] + gI
                            + ["    }"])
-        if self.tabled:
+        if self.tabled and self.loops:
             bodies = dict(S_body="    sparse_boundary_data(x, S);",
                           D_body="    sparse_boundary_data_dir(x, v, D);",
                           G_body="    sparse_boundary_data_bigrad(x, w, X, g);")
+        elif self.tabled:
+            bodies = self.monomial_bodies()
         else:
             D = m.directional_dS(self.v)
             G = m.bilinear_gradient(self.w, self.X)
@@ -137,6 +142,57 @@ class _Emitter:
                 for r, _ in m.monomial_partials(i, k):
                     keys.add((r, row, col))
         return sorted(keys)
+
+    def monomial_bodies(self):
+        """S, D_v S and the bigradient of a tabled kernel printed straight from the monomials of
+        S: one statement per entry (per coordinate for the bigradient), no SymPy expression and
+        no cse (the compiler's own CSE finds the few shared products), so that a large kernel
+        is printed in a fraction of a second and compiles in a few."""
+        m = self.m
+        P = m.ncols
+
+        def pos(i):
+            return m.free_position(m.x[i])
+
+        def term(c, factors):
+            text = "*".join(factors)
+            if c == 1:
+                return "+", text
+            if c == -1:
+                return "-", text
+            a = KernelPrinter._double(abs(c.p), c.q)
+            return ("+" if c > 0 else "-"), "%s*%s" % (a, text)
+
+        def total(terms):
+            out = ""
+            for sign, text in terms:
+                out += ("-" if sign == "-" else "") + text if not out else " %s %s" % (sign, text)
+            return out
+
+        S_lines, D_lines, grad = [], [], [[] for _ in range(m.n)]
+        for row, col, terms in m.S_monomials():
+            at = "[%d][%d]" % (row, col)
+            s_terms, d_terms = [], []
+            wx = ["w[%d]" % row, "X[%d]" % col]
+            for c, i, k in terms:
+                if k is None:
+                    s_terms.append(term(c, ["x[%d]" % i]))
+                    if pos(i) is not None:
+                        d_terms.append(term(c, ["v[%d]" % pos(i)]))
+                        grad[pos(i)].append(term(c, wx))
+                    continue
+                s_terms.append(term(c, ["x[%d]" % i, "x[%d]" % k]))
+                for a, b in ((i, k), (k, i)):   # d(x_a x_b) = dx_a x_b + x_a dx_b
+                    if pos(a) is not None:
+                        d_terms.append(term(c, ["v[%d]" % pos(a), "x[%d]" % b]))
+                        grad[pos(a)].append(term(c, wx + ["x[%d]" % b]))
+            S_lines.append("    S%s = %s;" % (at, total(s_terms)))
+            if d_terms:
+                D_lines.append("    D%s = %s;" % (at, total(d_terms)))
+        G_lines = ["    g[%d] = %s;" % (r, total(t) if t else "0.0") for r, t in enumerate(grad)]
+        return dict(S_body="\n".join(S_lines),
+                    D_body="\n".join(D_lines) if D_lines else "    (void)x;\n    (void)v;",
+                    G_body="\n".join(G_lines) if G_lines else "    (void)x;\n    (void)w;\n    (void)X;")
 
     def tables(self, partials=False):
         """The monomial table of S (kernel/sparse_data.h says how it is read) and the include of
@@ -197,6 +253,8 @@ class _Emitter:
                 "static const int sq_i[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qi),
                 "static const int sq_k[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qk),
                 "static const int sd_pos[NFULL + 1] = {%s};" % _table(p_all)]
+        if self.loops:
+            text.append("#define SWIM_SPARSE_LOOPS")
         if partials:
             text += ["#define SWIM_SPARSE_PARTIALS", "#define SD_NKEYS %d" % len(key),
                      "static const int sl_key[SD_W][SD_NL] = %s;" % rows(lk),
@@ -227,10 +285,12 @@ def options(*lines):
     return "".join("#define %s\n" % l for l in lines)
 
 
-def kernel_source(modes, command, tabled=None):
-    """The kernel of N modes; tabled=True/False forces either emission of S (tests compare them)."""
+def kernel_source(modes, command, tabled=None, loops=True):
+    """The kernel of N modes (diagnostics and `swim inspect`, not the integration: above N = 7 its
+    S is evaluated by loops, which compile fastest); tabled and loops force one emission of S
+    (tests compare them)."""
     m = SwimmerModel(modes)
-    e = _Emitter(m, tabled)
+    e = _Emitter(m, tabled, loops)
     d = e.subs(filename="swim_kernel_n%d.c" % modes,
                what="mass matrices, reduced mass matrix and Christoffel symbol for N = %d." % modes,
                banner=banner(command),

@@ -60,6 +60,8 @@ class SwimmerModel:
         self.n = len(self.free)           # velocity coordinates carried by the kernel
         self.ncols = 3 + self.n           # columns of S: rigid velocities, then free coordinates
         self.x = sp.symbols("x0:%d" % self.nfull, real=True)
+        self._xi = {s: i for i, s in enumerate(self.x)}   # a dict: tuple.index compares with ==
+        self._free_at = {i: r for r, i in enumerate(self.free)}
         self.ks = [1] + [-m for m in range(1, modes + 1)]
         self._S = None
         self._rows = None
@@ -135,8 +137,7 @@ class SwimmerModel:
 
     def free_position(self, sym):
         """Position in the velocity vector of the coordinate `sym`, or None if it is locked."""
-        i = self.x.index(sym)
-        return self.free.index(i) if i in self.free else None
+        return self._free_at.get(self._xi[sym])
 
     def dS(self):
         """Exact partial derivatives with respect to the free coordinates:
@@ -149,7 +150,7 @@ class SwimmerModel:
                     e = S[row][col]
                     if e == 0:
                         continue
-                    for sym in sorted(e.free_symbols, key=self.x.index):
+                    for sym in sorted(e.free_symbols, key=self._xi.__getitem__):
                         r = self.free_position(sym)
                         if r is None:
                             continue
@@ -165,7 +166,7 @@ class SwimmerModel:
         Every column but alpha is linear in x and alpha is quadratic, so these are constants."""
         out = {}
         for (r, row, col), d in self.dS().items():
-            for sym in sorted(d.free_symbols, key=self.x.index):
+            for sym in sorted(d.free_symbols, key=self._xi.__getitem__):
                 s = self.free_position(sym)
                 if s is None:
                     continue
@@ -250,10 +251,10 @@ class SwimmerModel:
                     c, rest = term.as_coeff_Mul()
                     idx = []
                     for f in sp.Mul.make_args(rest):
-                        if f.is_Pow and f.exp == 2 and f.base in self.x:
-                            idx += [self.x.index(f.base)] * 2
-                        elif f in self.x:
-                            idx.append(self.x.index(f))
+                        if f.is_Pow and f.exp == 2 and f.base in self._xi:
+                            idx += [self._xi[f.base]] * 2
+                        elif f in self._xi:
+                            idx.append(self._xi[f])
                         elif f != 1:
                             raise ValueError("S[%d][%d] is not a polynomial of degree <= 2 in x"
                                              % (row, col))

@@ -2,11 +2,11 @@
  * over a generated table of monomials (included by a generated kernel, not linked).
  *
  * Every entry of S is a short polynomial in x: linear in the mu and nu columns (two terms),
- * quadratic in the alpha column (generator/swimgen/model.py). Printed as straight-line C, S, its
- * derivatives and their contractions grow to tens of thousands of statements at N = 32, which
- * took the compiler most of a kernel's first use; as a table they are data, compiled in no time,
- * and each function below is one pass over it. Kernels of N <= 7 keep the straight-line code
- * (generator/swimgen/emit.py, TABLE_ABOVE).
+ * quadratic in the alpha column (generator/swimgen/model.py). Printed by SymPy as straight-line C
+ * (with cse), S, its derivatives and their contractions grow to tens of thousands of statements
+ * at N = 32, which took the generator and the compiler most of a kernel's first use; as a table
+ * they are data, printed and compiled in no time, and each function below is one pass over it.
+ * Kernels of N <= 7 keep SymPy's straight-line code (generator/swimgen/emit.py, TABLE_ABOVE).
  *
  * The generated file defines, before including this file, besides NFULL, NX, NR, NP (xo is x
  * followed by a 1 at index NFULL):
@@ -23,9 +23,12 @@
  *                            dS_col, dS_start), of the derivative of a linear term and of the
  *                            derivatives in x_i and x_k of a quadratic one, -1 when that
  *                            coordinate is locked (or is padding).
- * It defines what the symbolic wrappers call: sparse_boundary_data, sparse_boundary_data_dir,
- * sparse_boundary_data_bigrad, and sparse_boundary_data_deriv (SWIM_KERNEL_FULL) or
- * sparse_boundary_data_partials (SWIM_SPARSE_PARTIALS).
+ * It defines what the symbolic wrappers call: with SWIM_SPARSE_LOOPS (the kernel of N modes,
+ * which serves diagnostics, not the integration) sparse_boundary_data, sparse_boundary_data_dir
+ * and sparse_boundary_data_bigrad (a scene kernel prints these as one statement per entry,
+ * still without SymPy: faster to run, a few seconds to compile at N = 32); and
+ * sparse_boundary_data_deriv (SWIM_KERNEL_FULL) or sparse_boundary_data_partials
+ * (SWIM_SPARSE_PARTIALS).
  */
 #ifndef SWIM_KERNEL_SPARSE_DATA_H
 #define SWIM_KERNEL_SPARSE_DATA_H
@@ -38,6 +41,7 @@ static void sparse_extend(const double *x, double *xo)
     xo[NFULL] = 1.0;
 }
 
+#ifdef SWIM_SPARSE_LOOPS
 /* The entries of a polynomial table at xo (S) or its directional derivative (yo: the direction
  * on the carried coordinates, 0 elsewhere): out is cleared by the caller. */
 static void sparse_eval(const double *xo, const double *yo, double *out)
@@ -98,6 +102,8 @@ static void sparse_boundary_data_bigrad(const double *x, const double *w, const 
     for (int i = 0; i < NFULL; i++)
         if (sd_pos[i] >= 0) g[sd_pos[i]] = gf[i];
 }
+
+#endif
 
 #ifdef SWIM_KERNEL_FULL
 /* dS[r][row][col] = dS[row][col]/dx_r; the caller clears dS. */
