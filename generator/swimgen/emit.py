@@ -27,6 +27,14 @@ QUICK_ABOVE = 16   # coordinates carried above which the SymPy code is compiled 
 # the loops of kernel/sparse_data.h rather than as straight-line code. N <= 7 (every scene of the
 # paper, the kernels linked into bin/swim) keeps the straight-line code and its bits.
 TABLE_ABOVE = 7
+CHUNK = 32   # statements per function of monomial_bodies
+NOINLINE = """\
+#if defined(__GNUC__)
+#define SWIM_NOINLINE __attribute__((noinline))
+#else
+#define SWIM_NOINLINE
+#endif
+"""
 
 
 def _symbolic(m, text):
@@ -89,6 +97,7 @@ class _Emitter:
         self.names = names
         self.pr = KernelPrinter(names)
         self.tabled = m.N > TABLE_ABOVE if tabled is None else tabled
+        self.helpers = ""   # functions the bodies call (monomial_bodies)
 
     def body(self, assignments, indent="    ", unused=("x",)):
         lines = emit_assignments(assignments, self.pr, indent=indent)
@@ -144,12 +153,13 @@ class _Emitter:
         return sorted(keys)
 
     def monomial_bodies(self):
-        """S, D_v S and the bigradient of a tabled kernel printed straight from the monomials of
-        S: one statement per entry (per coordinate for the bigradient), no SymPy expression and
-        no cse (the compiler's own CSE finds the few shared products), so that a large kernel
-        is printed in a fraction of a second and compiles in a few."""
+        """S and D_v S of a tabled scene kernel printed straight from the monomials of S: one
+        statement per entry, no SymPy expression and no cse (the compiler's own CSE finds the few
+        shared products), so that a large kernel is printed in a fraction of a second and
+        compiles in a few; they run faster than loops over the table. The bigradient, whose
+        printed form took most of the compiler's time (N = 32: about 4 of 6.5 s), is a loop of
+        kernel/sparse_data.h."""
         m = self.m
-        P = m.ncols
 
         def pos(i):
             return m.free_position(m.x[i])
@@ -169,30 +179,42 @@ class _Emitter:
                 out += ("-" if sign == "-" else "") + text if not out else " %s %s" % (sign, text)
             return out
 
-        S_lines, D_lines, grad = [], [], [[] for _ in range(m.n)]
+        S_lines, D_lines = [], []
         for row, col, terms in m.S_monomials():
             at = "[%d][%d]" % (row, col)
             s_terms, d_terms = [], []
-            wx = ["w[%d]" % row, "X[%d]" % col]
             for c, i, k in terms:
                 if k is None:
                     s_terms.append(term(c, ["x[%d]" % i]))
                     if pos(i) is not None:
                         d_terms.append(term(c, ["v[%d]" % pos(i)]))
-                        grad[pos(i)].append(term(c, wx))
                     continue
                 s_terms.append(term(c, ["x[%d]" % i, "x[%d]" % k]))
                 for a, b in ((i, k), (k, i)):   # d(x_a x_b) = dx_a x_b + x_a dx_b
                     if pos(a) is not None:
                         d_terms.append(term(c, ["v[%d]" % pos(a), "x[%d]" % b]))
-                        grad[pos(a)].append(term(c, wx + ["x[%d]" % b]))
             S_lines.append("    S%s = %s;" % (at, total(s_terms)))
             if d_terms:
                 D_lines.append("    D%s = %s;" % (at, total(d_terms)))
-        G_lines = ["    g[%d] = %s;" % (r, total(t) if t else "0.0") for r, t in enumerate(grad)]
-        return dict(S_body="\n".join(S_lines),
-                    D_body="\n".join(D_lines) if D_lines else "    (void)x;\n    (void)v;",
-                    G_body="\n".join(G_lines) if G_lines else "    (void)x;\n    (void)w;\n    (void)X;")
+        helpers = []
+
+        def chunked(name, params, args, lines):
+            """The statements as functions of at most CHUNK statements each, called in order:
+            the compiler's time grows faster than the length of one function."""
+            calls = []
+            for n, first in enumerate(range(0, len(lines), CHUNK)):
+                helpers.append("static SWIM_NOINLINE void %s_%d(%s)\n{\n%s\n}\n"
+                               % (name, n, params, "\n".join(lines[first:first + CHUNK])))
+                calls.append("    %s_%d(%s);" % (name, n, args))
+            return "\n".join(calls)
+
+        bodies = dict(
+            S_body=chunked("boundary_data_part", "const double *x, double S[NR][NP]", "x, S", S_lines),
+            D_body=(chunked("boundary_data_dir_part", "const double *x, const double *v, double D[NR][NP]",
+                            "x, v, D", D_lines) if D_lines else "    (void)x;\n    (void)v;"),
+            G_body="    sparse_boundary_data_bigrad(x, w, X, g);")
+        self.helpers = NOINLINE + "\n".join(helpers) + "\n"
+        return bodies
 
     def tables(self, partials=False):
         """The monomial table of S (kernel/sparse_data.h says how it is read) and the include of
@@ -234,6 +256,15 @@ class _Emitter:
                 qki.append(key.get((pos(i), row, col), -1))
                 qkk.append(key.get((pos(k), row, col), -1))
             qstart.append(len(qc))
+        grad = [[] for _ in range(m.n)]   # the terms of the first partials by coordinate
+        for row, col, terms in m.S_monomials():
+            for c, i, k in terms:
+                for r, other in m.monomial_partials(i, k):
+                    grad[r].append((number(c), row * P + col, m.nfull if other is None else other))
+        gstart = [0]
+        for t in grad:
+            gstart.append(gstart[-1] + len(t))
+        gflat = [t for ts in grad for t in ts]
         p_all = [pos(i) for i in range(m.nfull)]
         p_all = [-1 if p is None else p for p in p_all] + [-1]
 
@@ -252,7 +283,12 @@ class _Emitter:
                 "static const double sq_c[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % (", ".join(qc) or "0.0"),
                 "static const int sq_i[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qi),
                 "static const int sq_k[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qk),
-                "static const int sd_pos[NFULL + 1] = {%s};" % _table(p_all)]
+                "static const int sd_pos[NFULL + 1] = {%s};" % _table(p_all),
+                "static const int sg_start[NX + 1] = {%s};" % _table(gstart),
+                "static const double sg_c[%d] = {%s};" % (max(len(gflat), 1),
+                                                          ", ".join(t[0] for t in gflat) or "0.0"),
+                "static const int sg_at[%d] = {%s};" % (max(len(gflat), 1), _table([t[1] for t in gflat])),
+                "static const int sg_k[%d] = {%s};" % (max(len(gflat), 1), _table([t[2] for t in gflat]))]
         if self.loops:
             text.append("#define SWIM_SPARSE_LOOPS")
         if partials:
@@ -298,7 +334,7 @@ def kernel_source(modes, command, tabled=None, loops=True):
                                "SWIM_KERNEL_NAME swim_kernel_n%d" % modes))
     d.update(e.jacobian_subs(), dS_body=e.deriv_subs())
     return (KERNEL_HEAD.substitute(d) + e.tables()
-            + _symbolic(m, "".join(t.substitute(d) for t in (SYMBOLIC_CORE, SYMBOLIC_DERIV,
+            + _symbolic(m, e.helpers + "".join(t.substitute(d) for t in (SYMBOLIC_CORE, SYMBOLIC_DERIV,
                                                               SYMBOLIC_JACOBIAN)))
             + INCLUDE_ASSEMBLY)
 
@@ -600,7 +636,7 @@ def scene_kernel_source(structure, command):
                     % (c_comment(energy["law"]), how)) + material + "\n"
         d["options"] += options("SWIM_SCENE_MATERIAL")
     text = (KERNEL_HEAD.substitute(d) + e.tables(partials=True)
-            + _symbolic(m, SYMBOLIC_CORE.substitute(d))
+            + _symbolic(m, e.helpers + SYMBOLIC_CORE.substitute(d))
             + INCLUDE_ASSEMBLY)
     if law is not None:
         text += INCLUDE_LAW_FUNCTIONS

@@ -16,6 +16,9 @@
  *                            per entry: the loop has no data-dependent branch);
  *   SD_NQE, SD_NQ, sq_at[SD_NQE], sq_start[SD_NQE + 1], sq_c[SD_NQ], sq_i[SD_NQ], sq_k[SD_NQ]
  *                            the quadratic terms, entry by entry: sq_c[t] * x[sq_i[t]] * x[sq_k[t]];
+ *   sg_start[NX + 1], sg_c[], sg_at[], sg_k[]   the first partials term by term, coordinate by
+ *                            coordinate: d S.flat[sg_at[t]] / dx_r has the term sg_c[t] * xo[sg_k[t]]
+ *                            for sg_start[r] <= t < sg_start[r + 1];
  *   sd_pos[NFULL + 1]        the velocity position of each coordinate, -1 when it is locked (and
  *                            for the 1);
  *   with SWIM_SPARSE_PARTIALS: SD_NKEYS (NDS), sl_key[SD_W][SD_NL], sq_ki[SD_NQ], sq_kk[SD_NQ]
@@ -23,10 +26,11 @@
  *                            dS_col, dS_start), of the derivative of a linear term and of the
  *                            derivatives in x_i and x_k of a quadratic one, -1 when that
  *                            coordinate is locked (or is padding).
- * It defines what the symbolic wrappers call: with SWIM_SPARSE_LOOPS (the kernel of N modes,
- * which serves diagnostics, not the integration) sparse_boundary_data, sparse_boundary_data_dir
- * and sparse_boundary_data_bigrad (a scene kernel prints these as one statement per entry,
- * still without SymPy: faster to run, a few seconds to compile at N = 32); and
+ * It defines what the symbolic wrappers call: sparse_boundary_data_bigrad; with
+ * SWIM_SPARSE_LOOPS (the kernel of N modes, which serves diagnostics, not the integration)
+ * sparse_boundary_data and sparse_boundary_data_dir (a scene kernel prints these two as one
+ * statement per entry, still without SymPy: faster to run, compiled in a few seconds at N = 32;
+ * printed, the bigradient would be most of the compiler's time); and
  * sparse_boundary_data_deriv (SWIM_KERNEL_FULL) or sparse_boundary_data_partials
  * (SWIM_SPARSE_PARTIALS).
  */
@@ -80,30 +84,27 @@ static void sparse_boundary_data_dir(const double *x, const double *v, double D[
     sparse_eval(xo, yo, &D[0][0]);
 }
 
-/* g_r = sum_{row,col} w_row X_col dS[row][col]/dx_r: each term adds to the gradient of its
- * factors (the padding and the locked coordinates collect what is then dropped). */
+#endif
+
+/* g_r = sum_{row,col} w_row X_col dS[row][col]/dx_r, coordinate by coordinate from the terms of
+ * the first partials (sg_*), two sums in turn so that the additions do not wait on each other. */
 static void sparse_boundary_data_bigrad(const double *x, const double *w, const double *X, double *g)
 {
-    double xo[NFULL + 1], gf[NFULL + 1];
+    double xo[NFULL + 1], wx[NR * NP];
     sparse_extend(x, xo);
-    memset(gf, 0, sizeof gf);
-    for (int e = 0; e < SD_NL; e++) {
-        const double wx = w[sl_at[e] / NP] * X[sl_at[e] % NP];
-        for (int k = 0; k < SD_W; k++) gf[sl_i[k][e]] += sl_c[k][e] * wx;
-    }
-    for (int e = 0; e < SD_NQE; e++) {
-        const double wx = w[sq_at[e] / NP] * X[sq_at[e] % NP];
-        for (int t = sq_start[e]; t < sq_start[e + 1]; t++) {
-            const double cw = sq_c[t] * wx;
-            gf[sq_i[t]] += cw * xo[sq_k[t]];
-            gf[sq_k[t]] += cw * xo[sq_i[t]];
+    for (int r = 0; r < NR; r++)
+        for (int q = 0; q < NP; q++) wx[r * NP + q] = w[r] * X[q];
+    for (int r = 0; r < NX; r++) {
+        double a0 = 0.0, a1 = 0.0;
+        int t = sg_start[r];
+        for (; t + 1 < sg_start[r + 1]; t += 2) {
+            a0 += sg_c[t] * wx[sg_at[t]] * xo[sg_k[t]];
+            a1 += sg_c[t + 1] * wx[sg_at[t + 1]] * xo[sg_k[t + 1]];
         }
+        if (t < sg_start[r + 1]) a0 += sg_c[t] * wx[sg_at[t]] * xo[sg_k[t]];
+        g[r] = a0 + a1;
     }
-    for (int i = 0; i < NFULL; i++)
-        if (sd_pos[i] >= 0) g[sd_pos[i]] = gf[i];
 }
-
-#endif
 
 #ifdef SWIM_KERNEL_FULL
 /* dS[r][row][col] = dS[row][col]/dx_r; the caller clears dS. */
