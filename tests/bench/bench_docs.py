@@ -17,6 +17,8 @@ generated blocks of README.md and docs/.
   rhs_parts    the parts of a full-coordinate RHS (Example 7, §5.2): whole, barrier quadrature,
                kernel K + P + Γ, Γ's contraction, the rest (build/tests/bench/bench_rhs_parts, its
                medians of 7), the median of 3 runs of it.
+  first_use    first use of a new structure at N = 10, 20, 32 against the straight-line
+               generator it replaced (tests/bench/bench_first_use.py: medians of 3, the base once).
 
 Usage: bench_docs.py [NAME ...] (default: all). Timings on a shared machine are noisy: the load
 is recorded beside them."""
@@ -199,9 +201,14 @@ def python_loop():
                                  "ratio_to_swim_sweep": float(r["ratio_to_swim_sweep"])} for r in rows]}
 
 
+def first_use():
+    rows = script_rows("bench_first_use.py", [], os.path.join(ROOT, "build", "bench", "first_use.csv"))
+    return {"rows": [{k: (v if k == "version" else float(v)) for k, v in r.items()} for r in rows]}
+
+
 MEASURE = {"member_cost": member_cost, "event_cost": event_cost, "lyapunov": lyapunov, "rhs_cost": rhs_cost,
            "rhs_parts": rhs_parts, "sensitivity": sensitivity, "python_loop": python_loop, "sweep": sweep,
-           "jacobian": jacobian}
+           "jacobian": jacobian, "first_use": first_use}
 
 
 def main(argv):
