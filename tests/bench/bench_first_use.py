@@ -167,7 +167,7 @@ def first_use(N, name, share, reps):
         env["SWIM_CACHE"] = cache = fresh_cache(name)
         t0 = time.perf_counter()
         p = subprocess.run([SWIM, "run", path, "--out", os.path.join(OUT, "run-" + name),
-                            "--set", "run.t_end=0.001", "--quiet"], capture_output=True, text=True,
+                            "--set", "run.t_end=0.001"], capture_output=True, text=True,
                            env=env, cwd=ROOT)
         walls.append(time.perf_counter() - t0)
         if p.returncode != 0:
