@@ -274,17 +274,18 @@ class _Emitter:
         text = ["/* ---- S as a table of monomials (kernel/sparse_data.h) ----------------------------- */",
                 "#define SD_NL %d" % max(len(lin), 1), "#define SD_W %d" % width,
                 "#define SD_NQE %d" % len(quad), "#define SD_NQ %d" % len(qc),
-                "static const int sl_at[SD_NL] = {%s};" % _table([r * P + c for r, c, _ in lin]),
                 "static const double sl_c[SD_W][SD_NL] = {%s};"
                 % ", ".join("{%s}" % (", ".join(c) or "0.0") for c in lc),
-                "static const int sl_i[SD_W][SD_NL] = %s;" % rows(li),
-                "static const int sq_at[SD_NQE > 0 ? SD_NQE : 1] = {%s};" % _table(qat),
-                "static const int sq_start[SD_NQE + 1] = {%s};" % _table(qstart),
                 "static const double sq_c[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % (", ".join(qc) or "0.0"),
                 "static const int sq_i[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qi),
-                "static const int sq_k[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qk),
-                "static const int sd_pos[NFULL + 1] = {%s};" % _table(p_all),
-                "static const int sg_start[NX + 1] = {%s};" % _table(gstart),
+                "static const int sq_k[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qk)]
+        if self.loops or not partials:   # what the loops of S, D_v S and dS read (not partials)
+            text += ["static const int sl_at[SD_NL] = {%s};" % _table([r * P + c for r, c, _ in lin]),
+                     "static const int sl_i[SD_W][SD_NL] = %s;" % rows(li),
+                     "static const int sq_at[SD_NQE > 0 ? SD_NQE : 1] = {%s};" % _table(qat),
+                     "static const int sq_start[SD_NQE + 1] = {%s};" % _table(qstart),
+                     "static const int sd_pos[NFULL + 1] = {%s};" % _table(p_all)]
+        text += ["static const int sg_start[NX + 1] = {%s};" % _table(gstart),
                 "static const double sg_c[%d] = {%s};" % (max(len(gflat), 1),
                                                           ", ".join(t[0] for t in gflat) or "0.0"),
                 "static const int sg_at[%d] = {%s};" % (max(len(gflat), 1), _table([t[1] for t in gflat])),
