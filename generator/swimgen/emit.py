@@ -16,7 +16,7 @@ import sympy as sp
 from .cprint import KernelPrinter, emit_assignments
 from .law import parameter_symbols, parse
 from .material import material_source
-from .model import SwimmerModel
+from .model import SwimmerModel, diff
 from .template import (INCLUDE_ASSEMBLY, INCLUDE_LAW_FUNCTIONS, INCLUDE_SCENE_RHS, INCLUDE_SPARSE_DATA,
                        KERNEL_HEAD, QUICK_OPTIMIZATION_BEGIN, QUICK_OPTIMIZATION_END, SCENE_JACOBIAN_PIECES,
                        SCENE_PIECES,
@@ -419,12 +419,12 @@ def _scene_forces_jac(e, m, structure):
     for k, fk in enumerate(f):
         for s in range(m.n):
             for arr, sym in (("Fx", xs[s]), ("Fv", e.v[s])):
-                d = sp.diff(fk, sym)
+                d = diff(fk, sym)
                 if d != 0:
                     out.append(("%s[%d][%d]" % (arr, k, s), d))
     for s in range(m.n):
         for arr, sym in (("px", xs[s]), ("pv", e.v[s])):
-            d = sp.diff(power, sym)
+            d = diff(power, sym)
             if d != 0:
                 out.append(("%s[%d]" % (arr, s), d))
     lines = emit_assignments(out, KernelPrinter(names))
@@ -464,9 +464,9 @@ def _scene_forces_dp(e, m, structure):
             sym = by_name.get("p->%s[%d]" % (arr, i))
             if sym is None:
                 continue
-            out = [("dF[%d]" % k, sp.diff(fk, sym)) for k, fk in enumerate(f)]
+            out = [("dF[%d]" % k, diff(fk, sym)) for k, fk in enumerate(f)]
             out = [(lhs, d) for lhs, d in out if d != 0]
-            dp = sp.diff(power, sym)
+            dp = diff(power, sym)
             if dp != 0:
                 out.append(("*dpow", dp))
             if out:
@@ -483,9 +483,9 @@ def _scene_forces_dp(e, m, structure):
             dlaw = _without_derivatives(sp.diff(expr, theta[name]))
             dsym = sp.Symbol("dlaw", real=True)
             names[dsym] = "dlaw"
-            out = [("dF[%d]" % j, sp.diff(fj, ft) * dsym) for j, fj in enumerate(f)]
+            out = [("dF[%d]" % j, diff(fj, ft) * dsym) for j, fj in enumerate(f)]
             out = [(lhs, d) for lhs, d in out if d != 0]
-            dp = sp.diff(power, ft) * dsym
+            dp = diff(power, ft) * dsym
             if dp != 0:
                 out.append(("*dpow", dp))
             if out and dlaw != 0:
@@ -544,14 +544,14 @@ def _scene_constraints_jac(e, m):
                 (m.coord(i + 1) if i % 2 == 0 else -m.coord(i - 1)) / ak)
         for j, gj in enumerate(rows):
             for s in range(m.n):
-                d = sp.diff(gj, xs[s])
+                d = diff(gj, xs[s])
                 if d != 0:
                     out.append(("Gx[%d][%d][%d]" % (j, f, s), d))
         curv += k * e.v[f] ** 2
     for s in range(m.n):
-        if sp.diff(curv, xs[s]) != 0:
+        if diff(curv, xs[s]) != 0:
             raise ValueError("curv depends on x: scene_constraints_jac assumes it does not")
-        d = sp.diff(curv, e.v[s])
+        d = diff(curv, e.v[s])
         if d != 0:
             out.append(("cv[%d]" % s, d))
     lines = emit_assignments(out, e.pr)

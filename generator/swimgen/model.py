@@ -42,6 +42,14 @@ def _diff_polynomial(e, sym):
     return sp.Add(*out)
 
 
+def diff(e, sym):
+    """sp.diff(e, sym), with the common case of a symbol e does not contain answered without
+    SymPy's machinery (the same zero; the kernels' Jacobian tables ask O(n^2) such questions)."""
+    if sym not in e.free_symbols:
+        return sp.Integer(0)
+    return sp.diff(e, sym)
+
+
 class SwimmerModel:
     """Symbols and exact expressions for one mode count N."""
 
@@ -201,7 +209,7 @@ class SwimmerModel:
 
     def gradient(self, expr):
         """Partial derivatives of expr with respect to the free coordinates."""
-        return [sp.diff(expr, self.x[i]) for i in self.free]
+        return [diff(expr, self.x[i]) for i in self.free]
 
     def hessian(self, expr):
         """Second partial derivatives of expr with respect to the free coordinates:
@@ -209,7 +217,7 @@ class SwimmerModel:
         out = {}
         for r, dr in enumerate(self.gradient(expr)):
             for s, i in enumerate(self.free):
-                d2 = sp.diff(dr, self.x[i])
+                d2 = diff(dr, self.x[i])
                 if d2 != 0:
                     out[(r, s)] = d2
         return out
