@@ -256,7 +256,7 @@ fuzz: | $(DEPS_STAMP) $(FUZZ_STAMP)
 BENCH_SCRIPTS := tests/bench/bench_kernels.sh tests/bench/bench_scenes.py tests/bench/bench_latency.py tests/bench/bench_drift.py \
                  tests/bench/bench_step_checks.py tests/bench/bench_jacobian.py tests/bench/bench_python_loop.py \
                  tests/bench/bench_sensitivity.py tests/bench/bench_variational.py tests/bench/bench_materials.py tests/bench/bench_overhead.py \
-                 tests/bench/peer/bench_peer.py
+                 tests/bench/peer/bench_peer.py tests/bench/bench_first_use.py
 
 bench: $(BIN)/swim $(BENCH_BINS) $(BUILD)/tests/bench/bench_rhs $(BUILD)/tests/bench/bench_jacobian_cost
 	@bash tests/bench/run_bench.sh $(BENCH_SCRIPTS) $(BENCH_BINS)

@@ -259,6 +259,27 @@ def minutes(s):
     return "%d min %02d s" % (s // 60, s % 60)
 
 
+def first_use_table(rec):
+    rows = rec["values"]["rows"]
+    out = ["| N | generator | first use (s) | generating (s) | compiling (s) | generator MB | compiler MB "
+           "| kernels' .so kB | ns per RHS | `--generic` ns per RHS |", "|---" * 10 + "|"]
+    for r in rows:
+        out.append("| %d | %s | %.1f | %.1f | %.1f | %.0f | %.0f | %.0f | %.0f | %.0f |" % (
+            r["N"], r["version"], r["first_use_s"], r["gen_s"], r["cc_s"], r["gen_mb"], r["cc_mb"],
+            r["so_kb"], r["ns_rhs"], r["ns_rhs_generic"]))
+    return "\n".join(out)
+
+
+def first_use_profile(rec):
+    rows = rec["values"]["rows"]
+    out = ["| N | generator | import (s) | SymPy's cse (s) | printing (s) | deriving, the rest (s) |",
+           "|---" * 6 + "|"]
+    for r in rows:
+        out.append("| %d | %s | %.2f | %.2f | %.2f | %.2f |" % (
+            r["N"], r["version"], r["gen_import_s"], r["gen_cse_s"], r["gen_print_s"], r["gen_derive_s"]))
+    return "\n".join(out)
+
+
 BLOCKS = {
     "member_cost.table": ("member_cost.json", member_cost_table),
     "member_cost.sentence": ("member_cost.json", member_cost_sentence),
@@ -277,6 +298,8 @@ BLOCKS = {
     "peer.table": ("peer.json", jacobian_table),
     "sweep.rank0": ("sweep.json", sweep_rank0),
     "python_loop.sentence": ("python_loop.json", python_loop_sentence),
+    "first_use.table": ("first_use.json", first_use_table),
+    "first_use.profile": ("first_use.json", first_use_profile),
 }
 COMMAND = {"tests": "make test"}
 

@@ -16,13 +16,25 @@ import sympy as sp
 from .cprint import KernelPrinter, emit_assignments
 from .law import parameter_symbols, parse
 from .material import material_source
-from .model import SwimmerModel
-from .template import (INCLUDE_ASSEMBLY, INCLUDE_LAW_FUNCTIONS, INCLUDE_SCENE_RHS,
+from .model import SwimmerModel, diff
+from .template import (INCLUDE_ASSEMBLY, INCLUDE_LAW_FUNCTIONS, INCLUDE_SCENE_RHS, INCLUDE_SPARSE_DATA,
                        KERNEL_HEAD, QUICK_OPTIMIZATION_BEGIN, QUICK_OPTIMIZATION_END, SCENE_JACOBIAN_PIECES,
                        SCENE_PIECES,
                        SYMBOLIC_CORE, SYMBOLIC_DERIV, SYMBOLIC_JACOBIAN, TABLE)
 
 QUICK_ABOVE = 16   # coordinates carried above which the SymPy code is compiled at -O1
+# Mode counts above which S and its derivatives are emitted as a table of monomials evaluated by
+# the loops of kernel/sparse_data.h rather than as straight-line code. N <= 7 (every scene of the
+# paper, the kernels linked into bin/swim) keeps the straight-line code and its bits.
+TABLE_ABOVE = 7
+CHUNK = 32   # statements per function of monomial_bodies
+NOINLINE = """\
+#if defined(__GNUC__)
+#define SWIM_NOINLINE __attribute__((noinline))
+#else
+#define SWIM_NOINLINE
+#endif
+"""
 
 
 def _symbolic(m, text):
@@ -65,8 +77,12 @@ def c_comment(text):
 class _Emitter:
     """Symbols, printer and the substitutions shared by every piece of one kernel."""
 
-    def __init__(self, m):
+    def __init__(self, m, tabled=None, loops=False):
+        """tabled: S from its table of monomials (default: above TABLE_ABOVE modes), its first
+        partials by the loops of kernel/sparse_data.h; loops: S, D_v S and the bigradient by those
+        loops too (they compile in no time; the statements monomial_bodies prints run faster)."""
         self.m = m
+        self.loops = loops
         self.v = sp.symbols("v0:%d" % m.n, real=True)
         self.w = sp.symbols("w0:%d" % m.nrows, real=True)
         self.X = sp.symbols("X0:%d" % m.ncols, real=True)
@@ -80,6 +96,8 @@ class _Emitter:
                 names[s] = "%s[%d]" % (prefix, i)
         self.names = names
         self.pr = KernelPrinter(names)
+        self.tabled = m.N > TABLE_ABOVE if tabled is None else tabled
+        self.helpers = ""   # functions the bodies call (monomial_bodies)
 
     def body(self, assignments, indent="    ", unused=("x",)):
         lines = emit_assignments(assignments, self.pr, indent=indent)
@@ -91,32 +109,201 @@ class _Emitter:
         m = self.m
         R, P = m.nrows, m.ncols
         S = m.S()
-        D = m.directional_dS(self.v)
-        G = m.bilinear_gradient(self.w, self.X)
         Isum = m.inertia_sum()
         gI = emit_assignments([("grad[%d]" % i, e) for i, e in enumerate(m.gradient(Isum))],
                               self.pr, indent="        ")
         I_body = "\n".join(emit_assignments([("I", Isum)], self.pr) + ["    if (grad) {"] + gI
                            + ["    }"])
+        if self.tabled and self.loops:
+            bodies = dict(S_body="    sparse_boundary_data(x, S);",
+                          D_body="    sparse_boundary_data_dir(x, v, D);",
+                          G_body="    sparse_boundary_data_bigrad(x, w, X, g);")
+        elif self.tabled:
+            bodies = self.monomial_bodies()
+        else:
+            D = m.directional_dS(self.v)
+            G = m.bilinear_gradient(self.w, self.X)
+            bodies = dict(
+                S_body=self.body([("S[%d][%d]" % (r, c), S[r][c])
+                                  for r in range(R) for c in range(P) if S[r][c] != 0]),
+                D_body=self.body([("D[%d][%d]" % (r, c), D[r][c])
+                                  for r in range(R) for c in range(P) if D[r][c] != 0],
+                                 unused=("x", "v")),
+                G_body=self.body([("g[%d]" % i, G[i]) for i in range(m.n)],
+                                 unused=("x", "w", "X")))
         d = dict(
             N=m.N, n=m.n, nfull=m.nfull, R=R, P=P,
             columns=", ".join(coord_name(i) for i in m.free),
-            S_body=self.body([("S[%d][%d]" % (r, c), S[r][c])
-                              for r in range(R) for c in range(P) if S[r][c] != 0]),
-            D_body=self.body([("D[%d][%d]" % (r, c), D[r][c])
-                              for r in range(R) for c in range(P) if D[r][c] != 0],
-                             unused=("x", "v")),
-            G_body=self.body([("g[%d]" % i, G[i]) for i in range(m.n)],
-                             unused=("x", "w", "X")),
             I_body=I_body,
             bodyw=", ".join(repr(float(c)) for c in m.body_shape_weights()),
             weights=", ".join("%d.0" % m.weight(r) for r in range(R)))
+        d.update(bodies)
         d.update(extra)
         return d
+
+    def dS_keys(self):
+        """The sorted keys (r, row, col) of the first partials of S, from its monomials (the
+        keys of m.dS(), without differentiating)."""
+        m = self.m
+        keys = set()
+        for row, col, terms in m.S_monomials():
+            for _, i, k in terms:
+                for r, _ in m.monomial_partials(i, k):
+                    keys.add((r, row, col))
+        return sorted(keys)
+
+    def monomial_bodies(self):
+        """S and D_v S of a tabled scene kernel printed straight from the monomials of S: one
+        statement per entry, no SymPy expression and no cse (the compiler's own CSE finds the few
+        shared products), so that a large kernel is printed in a fraction of a second and
+        compiles in a few; they run faster than loops over the table. The bigradient, whose
+        printed form took most of the compiler's time (N = 32: about 4 of 6.5 s), is a loop of
+        kernel/sparse_data.h."""
+        m = self.m
+
+        def pos(i):
+            return m.free_position(m.x[i])
+
+        def term(c, factors):
+            text = "*".join(factors)
+            if c == 1:
+                return "+", text
+            if c == -1:
+                return "-", text
+            a = KernelPrinter._double(abs(c.p), c.q)
+            return ("+" if c > 0 else "-"), "%s*%s" % (a, text)
+
+        def total(terms):
+            out = ""
+            for sign, text in terms:
+                out += ("-" if sign == "-" else "") + text if not out else " %s %s" % (sign, text)
+            return out
+
+        S_lines, D_lines = [], []
+        for row, col, terms in m.S_monomials():
+            at = "[%d][%d]" % (row, col)
+            s_terms, d_terms = [], []
+            for c, i, k in terms:
+                if k is None:
+                    s_terms.append(term(c, ["x[%d]" % i]))
+                    if pos(i) is not None:
+                        d_terms.append(term(c, ["v[%d]" % pos(i)]))
+                    continue
+                s_terms.append(term(c, ["x[%d]" % i, "x[%d]" % k]))
+                for a, b in ((i, k), (k, i)):   # d(x_a x_b) = dx_a x_b + x_a dx_b
+                    if pos(a) is not None:
+                        d_terms.append(term(c, ["v[%d]" % pos(a), "x[%d]" % b]))
+            S_lines.append("    S%s = %s;" % (at, total(s_terms)))
+            if d_terms:
+                D_lines.append("    D%s = %s;" % (at, total(d_terms)))
+        helpers = []
+
+        def chunked(name, params, args, lines):
+            """The statements as functions of at most CHUNK statements each, called in order:
+            the compiler's time grows faster than the length of one function."""
+            calls = []
+            for n, first in enumerate(range(0, len(lines), CHUNK)):
+                helpers.append("static SWIM_NOINLINE void %s_%d(%s)\n{\n%s\n}\n"
+                               % (name, n, params, "\n".join(lines[first:first + CHUNK])))
+                calls.append("    %s_%d(%s);" % (name, n, args))
+            return "\n".join(calls)
+
+        bodies = dict(
+            S_body=chunked("boundary_data_part", "const double *x, double S[NR][NP]", "x, S", S_lines),
+            D_body=(chunked("boundary_data_dir_part", "const double *x, const double *v, double D[NR][NP]",
+                            "x, v, D", D_lines) if D_lines else "    (void)x;\n    (void)v;"),
+            G_body="    sparse_boundary_data_bigrad(x, w, X, g);")
+        self.helpers = NOINLINE + "\n".join(helpers) + "\n"
+        return bodies
+
+    def tables(self, partials=False):
+        """The monomial table of S (kernel/sparse_data.h says how it is read) and the include of
+        kernel/sparse_data.h, for tabled kernels; with partials, the keys of the first partials
+        that scene_rhs.h's sparse table (dS_row, dS_col, dS_start) lists."""
+        if not self.tabled:
+            return ""
+        m = self.m
+        P = m.ncols
+        key = {k: n for n, k in enumerate(self.dS_keys())} if partials else {}
+
+        def pos(i):
+            return None if i is None else m.free_position(m.x[i])
+
+        def number(c):
+            return KernelPrinter._double(c.p, c.q)
+
+        lin, quad = [], []   # (at, [terms]) with linear / quadratic terms only
+        for row, col, terms in m.S_monomials():
+            ln = [(c, i) for c, i, k in terms if k is None]
+            qd = [(c, i, k) for c, i, k in terms if k is not None]
+            if ln:
+                lin.append((row, col, ln))
+            if qd:
+                quad.append((row, col, qd))
+        width = max([len(t) for _, _, t in lin] + [1])
+        pad = (sp.Integer(0), m.nfull)
+        lc = [[number((t + [pad] * width)[w][0]) for _, _, t in lin] for w in range(width)]
+        li = [[(t + [pad] * width)[w][1] for _, _, t in lin] for w in range(width)]
+        lk = [[key.get((pos(i), row, col), -1) if i < m.nfull else -1
+               for row, col, t in lin for i in [(t + [pad] * width)[w][1]]] for w in range(width)]
+        qat, qstart, qc, qi, qk, qki, qkk = [], [0], [], [], [], [], []
+        for row, col, t in quad:
+            qat.append(row * P + col)
+            for c, i, k in t:
+                qc.append(number(c))
+                qi.append(i)
+                qk.append(k)
+                qki.append(key.get((pos(i), row, col), -1))
+                qkk.append(key.get((pos(k), row, col), -1))
+            qstart.append(len(qc))
+        grad = [[] for _ in range(m.n)]   # the terms of the first partials by coordinate
+        for row, col, terms in m.S_monomials():
+            for c, i, k in terms:
+                for r, other in m.monomial_partials(i, k):
+                    grad[r].append((number(c), row * P + col, m.nfull if other is None else other))
+        gstart = [0]
+        for t in grad:
+            gstart.append(gstart[-1] + len(t))
+        gflat = [t for ts in grad for t in ts]
+        p_all = [pos(i) for i in range(m.nfull)]
+        p_all = [-1 if p is None else p for p in p_all] + [-1]
+
+        def rows(values, fmt="%d"):
+            return "{%s}" % ", ".join("{%s}" % _table(v, fmt) for v in values)
+
+        text = ["/* ---- S as a table of monomials (kernel/sparse_data.h) ----------------------------- */",
+                "#define SD_NL %d" % max(len(lin), 1), "#define SD_W %d" % width,
+                "#define SD_NQE %d" % len(quad), "#define SD_NQ %d" % len(qc),
+                "static const double sl_c[SD_W][SD_NL] = {%s};"
+                % ", ".join("{%s}" % (", ".join(c) or "0.0") for c in lc),
+                "static const double sq_c[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % (", ".join(qc) or "0.0"),
+                "static const int sq_i[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qi),
+                "static const int sq_k[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qk)]
+        if self.loops or not partials:   # what the loops of S, D_v S and dS read (not partials)
+            text += ["static const int sl_at[SD_NL] = {%s};" % _table([r * P + c for r, c, _ in lin]),
+                     "static const int sl_i[SD_W][SD_NL] = %s;" % rows(li),
+                     "static const int sq_at[SD_NQE > 0 ? SD_NQE : 1] = {%s};" % _table(qat),
+                     "static const int sq_start[SD_NQE + 1] = {%s};" % _table(qstart),
+                     "static const int sd_pos[NFULL + 1] = {%s};" % _table(p_all)]
+        text += ["static const int sg_start[NX + 1] = {%s};" % _table(gstart),
+                "static const double sg_c[%d] = {%s};" % (max(len(gflat), 1),
+                                                          ", ".join(t[0] for t in gflat) or "0.0"),
+                "static const int sg_at[%d] = {%s};" % (max(len(gflat), 1), _table([t[1] for t in gflat])),
+                "static const int sg_k[%d] = {%s};" % (max(len(gflat), 1), _table([t[2] for t in gflat]))]
+        if self.loops:
+            text.append("#define SWIM_SPARSE_LOOPS")
+        if partials:
+            text += ["#define SWIM_SPARSE_PARTIALS", "#define SD_NKEYS %d" % len(key),
+                     "static const int sl_key[SD_W][SD_NL] = %s;" % rows(lk),
+                     "static const int sq_ki[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qki),
+                     "static const int sq_kk[SD_NQ > 0 ? SD_NQ : 1] = {%s};" % _table(qkk)]
+        return "\n".join(text) + "\n" + INCLUDE_SPARSE_DATA + "\n"
 
     def deriv_subs(self):
         m = self.m
         R, P = m.nrows, m.ncols
+        if self.tabled:
+            return "    sparse_boundary_data_deriv(x, dS);"
         return self.body([("dS[%d]" % ((r * R + row) * P + col), e)
                           for (r, row, col), e in sorted(m.dS().items())])
 
@@ -135,17 +322,20 @@ def options(*lines):
     return "".join("#define %s\n" % l for l in lines)
 
 
-def kernel_source(modes, command):
+def kernel_source(modes, command, tabled=None, loops=True):
+    """The kernel of N modes (diagnostics and `swim inspect`, not the integration: above N = 7 its
+    S is evaluated by loops, which compile fastest); tabled and loops force one emission of S
+    (tests compare them)."""
     m = SwimmerModel(modes)
-    e = _Emitter(m)
+    e = _Emitter(m, tabled, loops)
     d = e.subs(filename="swim_kernel_n%d.c" % modes,
                what="mass matrices, reduced mass matrix and Christoffel symbol for N = %d." % modes,
                banner=banner(command),
                options=options("SWIM_KERNEL_JACOBIAN", "SWIM_KERNEL_FULL",
                                "SWIM_KERNEL_NAME swim_kernel_n%d" % modes))
     d.update(e.jacobian_subs(), dS_body=e.deriv_subs())
-    return (KERNEL_HEAD.substitute(d)
-            + _symbolic(m, "".join(t.substitute(d) for t in (SYMBOLIC_CORE, SYMBOLIC_DERIV,
+    return (KERNEL_HEAD.substitute(d) + e.tables()
+            + _symbolic(m, e.helpers + "".join(t.substitute(d) for t in (SYMBOLIC_CORE, SYMBOLIC_DERIV,
                                                               SYMBOLIC_JACOBIAN)))
             + INCLUDE_ASSEMBLY)
 
@@ -229,12 +419,12 @@ def _scene_forces_jac(e, m, structure):
     for k, fk in enumerate(f):
         for s in range(m.n):
             for arr, sym in (("Fx", xs[s]), ("Fv", e.v[s])):
-                d = sp.diff(fk, sym)
+                d = diff(fk, sym)
                 if d != 0:
                     out.append(("%s[%d][%d]" % (arr, k, s), d))
     for s in range(m.n):
         for arr, sym in (("px", xs[s]), ("pv", e.v[s])):
-            d = sp.diff(power, sym)
+            d = diff(power, sym)
             if d != 0:
                 out.append(("%s[%d]" % (arr, s), d))
     lines = emit_assignments(out, KernelPrinter(names))
@@ -274,9 +464,9 @@ def _scene_forces_dp(e, m, structure):
             sym = by_name.get("p->%s[%d]" % (arr, i))
             if sym is None:
                 continue
-            out = [("dF[%d]" % k, sp.diff(fk, sym)) for k, fk in enumerate(f)]
+            out = [("dF[%d]" % k, diff(fk, sym)) for k, fk in enumerate(f)]
             out = [(lhs, d) for lhs, d in out if d != 0]
-            dp = sp.diff(power, sym)
+            dp = diff(power, sym)
             if dp != 0:
                 out.append(("*dpow", dp))
             if out:
@@ -293,9 +483,9 @@ def _scene_forces_dp(e, m, structure):
             dlaw = _without_derivatives(sp.diff(expr, theta[name]))
             dsym = sp.Symbol("dlaw", real=True)
             names[dsym] = "dlaw"
-            out = [("dF[%d]" % j, sp.diff(fj, ft) * dsym) for j, fj in enumerate(f)]
+            out = [("dF[%d]" % j, diff(fj, ft) * dsym) for j, fj in enumerate(f)]
             out = [(lhs, d) for lhs, d in out if d != 0]
-            dp = sp.diff(power, ft) * dsym
+            dp = diff(power, ft) * dsym
             if dp != 0:
                 out.append(("*dpow", dp))
             if out and dlaw != 0:
@@ -354,14 +544,14 @@ def _scene_constraints_jac(e, m):
                 (m.coord(i + 1) if i % 2 == 0 else -m.coord(i - 1)) / ak)
         for j, gj in enumerate(rows):
             for s in range(m.n):
-                d = sp.diff(gj, xs[s])
+                d = diff(gj, xs[s])
                 if d != 0:
                     out.append(("Gx[%d][%d][%d]" % (j, f, s), d))
         curv += k * e.v[f] ** 2
     for s in range(m.n):
-        if sp.diff(curv, xs[s]) != 0:
+        if diff(curv, xs[s]) != 0:
             raise ValueError("curv depends on x: scene_constraints_jac assumes it does not")
-        d = sp.diff(curv, e.v[s])
+        d = diff(curv, e.v[s])
         if d != 0:
             out.append(("cv[%d]" % s, d))
     lines = emit_assignments(out, e.pr)
@@ -375,14 +565,23 @@ def _table(values, fmt="%d"):
 def _scene_jacobian_subs(e, m):
     """The sparse derivative tables the exact Jacobian of kernel/scene_rhs.h reads: the first
     partials of S (values at x, pattern fixed), the second partials (constants: only the alpha
-    column is not linear, model.py) and the Hessian of the inertia sum (constant)."""
-    dS = sorted(m.dS().items())
+    column is not linear, model.py) and the Hessian of the inertia sum (constant). A tabled
+    kernel takes the same keys from its monomials and computes the values by a loop
+    (kernel/sparse_data.h)."""
+    if e.tabled:
+        keys = e.dS_keys()
+        ds_body = "    sparse_boundary_data_partials(x, val);"
+        d2 = sorted(m.second_dS_monomials().items())
+    else:
+        dS = sorted(m.dS().items())
+        keys = [key for key, _ in dS]
+        ds_body = e.body([("val[%d]" % i, ex) for i, (_, ex) in enumerate(dS)])
+        d2 = sorted(m.second_dS().items())
     start, k = [], 0
     for r in range(m.n + 1):
-        while k < len(dS) and dS[k][0][0] < r:
+        while k < len(keys) and keys[k][0] < r:
             k += 1
         start.append(k)
-    d2 = sorted(m.second_dS().items())
     for (row, col, r, s), c in d2:
         if col != 2 or not c.is_number:
             raise ValueError("S has a non-constant second derivative outside the alpha column")
@@ -391,9 +590,9 @@ def _scene_jacobian_subs(e, m):
         if not c.is_number:
             raise ValueError("the inertia sum is not quadratic")
     return dict(
-        nds=len(dS), ds_row=_table([key[1] for key, _ in dS]),
-        ds_col=_table([key[2] for key, _ in dS]), ds_start=_table(start),
-        ds_body=e.body([("val[%d]" % i, ex) for i, (_, ex) in enumerate(dS)]),
+        nds=len(keys), ds_row=_table([key[1] for key in keys]),
+        ds_col=_table([key[2] for key in keys]), ds_start=_table(start),
+        ds_body=ds_body,
         na2=len(d2), a2_row=_table([key[0] for key, _ in d2]),
         a2_r=_table([key[2] for key, _ in d2]), a2_s=_table([key[3] for key, _ in d2]),
         a2_val=_table([float(c) for _, c in d2], "%r"),
@@ -437,7 +636,8 @@ def scene_kernel_source(structure, command):
         material = ("/* ---- the energy law \"%s\" (%s) ---- */\n"
                     % (c_comment(energy["law"]), how)) + material + "\n"
         d["options"] += options("SWIM_SCENE_MATERIAL")
-    text = (KERNEL_HEAD.substitute(d) + _symbolic(m, SYMBOLIC_CORE.substitute(d))
+    text = (KERNEL_HEAD.substitute(d) + e.tables(partials=True)
+            + _symbolic(m, e.helpers + SYMBOLIC_CORE.substitute(d))
             + INCLUDE_ASSEMBLY)
     if law is not None:
         text += INCLUDE_LAW_FUNCTIONS

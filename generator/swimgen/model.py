@@ -42,6 +42,14 @@ def _diff_polynomial(e, sym):
     return sp.Add(*out)
 
 
+def diff(e, sym):
+    """sp.diff(e, sym), with the common case of a symbol e does not contain answered without
+    SymPy's machinery (the same zero; the kernels' Jacobian tables ask O(n^2) such questions)."""
+    if sym not in e.free_symbols:
+        return sp.Integer(0)
+    return sp.diff(e, sym)
+
+
 class SwimmerModel:
     """Symbols and exact expressions for one mode count N."""
 
@@ -60,10 +68,13 @@ class SwimmerModel:
         self.n = len(self.free)           # velocity coordinates carried by the kernel
         self.ncols = 3 + self.n           # columns of S: rigid velocities, then free coordinates
         self.x = sp.symbols("x0:%d" % self.nfull, real=True)
+        self._xi = {s: i for i, s in enumerate(self.x)}   # a dict: tuple.index compares with ==
+        self._free_at = {i: r for r, i in enumerate(self.free)}
         self.ks = [1] + [-m for m in range(1, modes + 1)]
         self._S = None
         self._rows = None
         self._dS = None
+        self._mono = None
 
     # -- shape coefficients -------------------------------------------------------------
     def index(self, k):
@@ -134,8 +145,7 @@ class SwimmerModel:
 
     def free_position(self, sym):
         """Position in the velocity vector of the coordinate `sym`, or None if it is locked."""
-        i = self.x.index(sym)
-        return self.free.index(i) if i in self.free else None
+        return self._free_at.get(self._xi[sym])
 
     def dS(self):
         """Exact partial derivatives with respect to the free coordinates:
@@ -148,7 +158,7 @@ class SwimmerModel:
                     e = S[row][col]
                     if e == 0:
                         continue
-                    for sym in sorted(e.free_symbols, key=self.x.index):
+                    for sym in sorted(e.free_symbols, key=self._xi.__getitem__):
                         r = self.free_position(sym)
                         if r is None:
                             continue
@@ -164,7 +174,7 @@ class SwimmerModel:
         Every column but alpha is linear in x and alpha is quadratic, so these are constants."""
         out = {}
         for (r, row, col), d in self.dS().items():
-            for sym in sorted(d.free_symbols, key=self.x.index):
+            for sym in sorted(d.free_symbols, key=self._xi.__getitem__):
                 s = self.free_position(sym)
                 if s is None:
                     continue
@@ -199,7 +209,7 @@ class SwimmerModel:
 
     def gradient(self, expr):
         """Partial derivatives of expr with respect to the free coordinates."""
-        return [sp.diff(expr, self.x[i]) for i in self.free]
+        return [diff(expr, self.x[i]) for i in self.free]
 
     def hessian(self, expr):
         """Second partial derivatives of expr with respect to the free coordinates:
@@ -207,7 +217,7 @@ class SwimmerModel:
         out = {}
         for r, dr in enumerate(self.gradient(expr)):
             for s, i in enumerate(self.free):
-                d2 = sp.diff(dr, self.x[i])
+                d2 = diff(dr, self.x[i])
                 if d2 != 0:
                     out[(r, s)] = d2
         return out
@@ -231,3 +241,64 @@ class SwimmerModel:
             re_h += m * (a * cs[m - 1] + b * sn[m - 1])
             im_h += m * (b * cs[m - 1] - a * sn[m - 1])
         return self.a(1) ** 2 + self.b(1) ** 2 - re_h ** 2 - im_h ** 2
+
+    # -- S as a table of monomials (large kernels: emit.py, kernel/sparse_data.h) -----------
+    def S_monomials(self):
+        """S as a sparse polynomial table: a list of (row, col, terms) for the non-zero entries,
+        terms = [(coefficient, i, k)] meaning coefficient * x_i * x_k, k = None for a linear
+        term (every entry is linear in x except alpha's, which are quadratic: section 3.2)."""
+        if self._mono is not None:
+            return self._mono
+        out = []
+        for row, entries in enumerate(self.S()):
+            for col, e in enumerate(entries):
+                if e == 0:
+                    continue
+                terms = []
+                for term in sp.Add.make_args(e):
+                    c, rest = term.as_coeff_Mul()
+                    idx = []
+                    for f in sp.Mul.make_args(rest):
+                        if f.is_Pow and f.exp == 2 and f.base in self._xi:
+                            idx += [self._xi[f.base]] * 2
+                        elif f in self._xi:
+                            idx.append(self._xi[f])
+                        elif f != 1:
+                            raise ValueError("S[%d][%d] is not a polynomial of degree <= 2 in x"
+                                             % (row, col))
+                    if not c.is_Rational or not 1 <= len(idx) <= 2:
+                        raise ValueError("S[%d][%d] is not a homogeneous polynomial of degree 1 "
+                                         "or 2 in x" % (row, col))
+                    terms.append((c, idx[0], idx[1] if len(idx) == 2 else None))
+                out.append((row, col, terms))
+        self._mono = out
+        return out
+
+    def monomial_partials(self, i, k):
+        """The first partials of x_i x_k (k = None: of x_i) with respect to the free
+        coordinates: [(r, j)] meaning d/dx_free[r] = x_j (j = None: 1), locked ones left out."""
+        out = []
+        ri = self.free_position(self.x[i])
+        if k is None:
+            return [(ri, None)] if ri is not None else []
+        rk = self.free_position(self.x[k])
+        if ri is not None:
+            out.append((ri, k))
+        if rk is not None:
+            out.append((rk, i))   # i == k: twice, d/dx_i x_i^2 = 2 x_i
+        return out
+
+    def second_dS_monomials(self):
+        """second_dS() from S_monomials(), without differentiating expressions:
+        dict (row, col, r, s) -> constant, non-zeros only."""
+        out = {}
+        for row, col, terms in self.S_monomials():
+            for c, i, k in terms:
+                if k is None:
+                    continue
+                ri, rk = self.free_position(self.x[i]), self.free_position(self.x[k])
+                if ri is None or rk is None:
+                    continue
+                for key in ((row, col, ri, rk), (row, col, rk, ri)):
+                    out[key] = out.get(key, 0) + c
+        return {key: c for key, c in out.items() if c != 0}

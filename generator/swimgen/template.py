@@ -195,6 +195,7 @@ $constraint_jac_body
 
 INCLUDE_ASSEMBLY = '#include "kernel/assembly.h"\n'
 INCLUDE_SCENE_RHS = '#include "kernel/scene_rhs.h"\n'
+INCLUDE_SPARSE_DATA = '#include "kernel/sparse_data.h"\n'
 INCLUDE_LAW_FUNCTIONS = '#include "kernel/law_functions.h"\n'
 
 # Straight-line SymPy code of large kernels: GCC's -O3 spends most of its time on it for no gain

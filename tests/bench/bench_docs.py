@@ -20,6 +20,8 @@ generated blocks of README.md and docs/.
   peer         swim against the NumPy/SciPy implementation of the same model (DOP853, LSODA,
                Radau) at matched error on Examples 3 and 7 (tests/bench/peer/bench_peer.py, its
                medians of 3): its table.
+  first_use    first use of a new structure at N = 10, 20, 32 against the straight-line
+               generator it replaced (tests/bench/bench_first_use.py: medians of 3, the base once).
 
 Usage: bench_docs.py [NAME ...] (default: all). Timings on a shared machine are noisy: the load
 is recorded beside them."""
@@ -209,9 +211,14 @@ def peer():
         return {"runs": 3, "table": fh.read()}
 
 
+def first_use():
+    rows = script_rows("bench_first_use.py", [], os.path.join(ROOT, "build", "bench", "first_use.csv"))
+    return {"rows": [{k: (v if k == "version" else float(v)) for k, v in r.items()} for r in rows]}
+
+
 MEASURE = {"member_cost": member_cost, "event_cost": event_cost, "lyapunov": lyapunov, "rhs_cost": rhs_cost,
            "rhs_parts": rhs_parts, "sensitivity": sensitivity, "python_loop": python_loop, "sweep": sweep,
-           "jacobian": jacobian, "peer": peer}
+           "jacobian": jacobian, "peer": peer, "first_use": first_use}
 
 
 def main(argv):
