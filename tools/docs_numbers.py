@@ -91,7 +91,7 @@ def event_cost(rec):
 def lyapunov_table(rec):
     v = rec["values"]
     out = ["| scene (T = 20) | λ at rtol 1e-8 | λ at rtol 1e-10 (difference) | verdict (1e-8) | "
-           "horizon at 1e-8 (from λ) | pass time (1e-8) |", "|---|---|---|---|---|---|"]
+           "horizon at 1e-8 (from λ) | run time with the vector (1e-8) |", "|---|---|---|---|---|---|"]
     for name, what in (("soft_n10_a1", "soft_n10_a1 (α = 1, damping 0.01)"), ("soft_n10_a05", "soft_n10_a05 (α = ½)")):
         a, b = v.get(name + "@1e-8"), v.get(name + "@1e-10")
         if not a or not b:
