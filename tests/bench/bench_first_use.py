@@ -14,9 +14,10 @@ kernel of N modes and the scene kernel). Printed per N and per generator:
   profile     the generator of the kernel of N modes alone, in-process: seconds of import,
               of SymPy's cse, of printing, and of the rest (deriving, building expressions);
   ns/RHS      the scene's right-hand side, specialized and --generic kernels
-              (build/tests/bench/bench_rhs at the initial state, median of 3 runs of its
-              median of 7), and the same for Example 7 (N = 7: code identical in both, a
-              check of the noise).
+              (build/tests/bench/bench_rhs at the initial state, median of 5 runs of its
+              median of 7, BENCH_FIRST_USE_RHS_RUNS; the runs alternate between the two
+              generators' kernels so both see the same load), and the same for Example 7
+              (N = 7: code identical in both, a check of the noise).
 The base is the generator and runtime/kernel/ of BENCH_FIRST_USE_BASE (default 96c5de6, the
 last straight-line generator), taken by `git archive` and used through SWIM_SHARE; the cache
 key hashes those folders, so the two never share a kernel. Writes build/bench/first_use.csv
@@ -40,6 +41,7 @@ MODES = [int(m) for m in os.environ.get("BENCH_FIRST_USE_MODES", "10 20 32").spl
 REPS = int(os.environ.get("BENCH_FIRST_USE_REPS", "3"))
 BASE_REPS = int(os.environ.get("BENCH_FIRST_USE_BASE_REPS", "1"))
 BASE = os.environ.get("BENCH_FIRST_USE_BASE", "96c5de6")
+RHS_RUNS = int(os.environ.get("BENCH_FIRST_USE_RHS_RUNS", "5"))
 PYTHON = os.environ.get("SWIM_PYTHON", "/usr/bin/python3")
 CC = os.environ.get("SWIM_CC", "cc")
 # the compiler's flags for each kind of kernel (runtime/codegen/codegen.c: SWIM_KERNEL_CFLAGS,
@@ -147,23 +149,34 @@ def profile(share, N):
 
 
 def rhs(path, env):
-    """Median of 3 runs of bench_rhs: (ns specialized, ns generic)."""
-    spec, gen = [], []
-    for _ in range(3):
-        p = subprocess.run([BENCH_RHS, path], capture_output=True, text=True, env=env, check=True)
-        row = p.stdout.strip().splitlines()[-1].split(",")
-        gen.append(float(row[5]))
-        spec.append(float(row[6]))
-    return statistics.median(spec), statistics.median(gen)
+    """One run of bench_rhs: (ns specialized, ns generic), each its median of 7."""
+    p = subprocess.run([BENCH_RHS, path], capture_output=True, text=True, env=env, check=True)
+    row = p.stdout.strip().splitlines()[-1].split(",")
+    return float(row[6]), float(row[5])
+
+
+def rhs_side_by_side(path, envs, runs=RHS_RUNS):
+    """The RHS of the scene at path under each environment (one per generator), bench_rhs runs
+    alternating between them so that both see the same load: per environment, the medians of
+    `runs` runs of (ns specialized, ns generic)."""
+    got = [([], []) for _ in envs]
+    for _ in range(runs):
+        for (spec, gen), env in zip(got, envs):
+            s, g = rhs(path, env)
+            spec.append(s)
+            gen.append(g)
+    return [(statistics.median(spec), statistics.median(gen)) for spec, gen in got]
 
 
 def first_use(N, name, share, reps):
+    """First use at N modes with the generator in `share`: the row (its ns per RHS measured
+    later, side by side) and the environment whose cache holds its kernels."""
     path = scene(N)
     walls, gens, ccs = [], [], []
     env = dict(os.environ)
     if share != ROOT:
         env["SWIM_SHARE"] = share
-    for _ in range(reps):
+    for _ in range(max(reps, 1)):
         env["SWIM_CACHE"] = cache = fresh_cache(name)
         t0 = time.perf_counter()
         p = subprocess.run([SWIM, "run", path, "--out", os.path.join(OUT, "run-" + name),
@@ -176,12 +189,11 @@ def first_use(N, name, share, reps):
         gens.append(sum(float(g) for g, _ in found))
         ccs.append(sum(float(c) for _, c in found))
     gen_mb, cc_mb, so_kb = memory(cache, share, N)
-    ns_spec, ns_gen = rhs(path, env)
     imp, cse, printing, derive = profile(share, N)
-    return dict(N=N, version=name, reps=reps, first_use_s=statistics.median(walls),
+    return dict(N=N, version=name, reps=max(reps, 1), first_use_s=statistics.median(walls),
                 gen_import_s=imp, gen_cse_s=cse, gen_print_s=printing, gen_derive_s=derive,
                 gen_s=statistics.median(gens), cc_s=statistics.median(ccs), gen_mb=gen_mb,
-                cc_mb=cc_mb, so_kb=so_kb, ns_rhs=ns_spec, ns_rhs_generic=ns_gen)
+                cc_mb=cc_mb, so_kb=so_kb), path, env
 
 
 def main():
@@ -197,14 +209,19 @@ def main():
     load0 = os.getloadavg()[0]
     rows = []
     for N in MODES:
+        pair, envs = [], []
         for name, share, reps in (("this tree", ROOT, REPS), ("base " + BASE, base, BASE_REPS)):
-            rows.append(first_use(N, name.split()[0], share, reps))
-            rows[-1]["version"] = name
-    env = dict(os.environ, SWIM_CACHE=fresh_cache("example7"))
+            row, path, env = first_use(N, name.split()[0], share, reps)
+            row["version"] = name
+            pair.append(row)
+            envs.append(env)
+        for row, (ns_spec, ns_gen) in zip(pair, rhs_side_by_side(path, envs)):
+            row.update(ns_rhs=ns_spec, ns_rhs_generic=ns_gen)
+        rows += pair
     ex7 = os.path.join(ROOT, "models", "example7.toml")
-    ex7_new = rhs(ex7, env)
-    env.update(SWIM_SHARE=base, SWIM_CACHE=fresh_cache("example7-base"))
-    ex7_base = rhs(ex7, env)
+    ex7_envs = [dict(os.environ, SWIM_CACHE=fresh_cache("example7")),
+                dict(os.environ, SWIM_SHARE=base, SWIM_CACHE=fresh_cache("example7-base"))]
+    ex7_new, ex7_base = rhs_side_by_side(ex7, ex7_envs)
     load1 = os.getloadavg()[0]
     keys = list(rows[0].keys())
     with open(os.path.join(ROOT, "build", "bench", "first_use.csv"), "w", newline="") as fh:
@@ -228,8 +245,8 @@ def main():
     print("Example 7 (N = 7, the same code in both): ns/RHS %.0f (generic %.0f) this tree, "
           "%.0f (%.0f) base" % (ex7_new + ex7_base))
     print("(first s: median wall of `swim run`, both kernels generated and compiled; gen s, cc s: "
-          "what swim reports, medians; MB: peak RSS; ns/RHS: median of 3 bench_rhs runs; "
-          "written to build/bench/first_use.csv)")
+          "what swim reports, medians; MB: peak RSS; ns/RHS: median of %d bench_rhs runs alternating "
+          "between the generators; written to build/bench/first_use.csv)" % RHS_RUNS)
     return 0
 
 
