@@ -1072,12 +1072,12 @@ static void advance_rows(scene_run *c, double t)
  * a dynamic scene's initial state, which needs the kernel (a stroke's runs on the stroke's own
  * initial state, when its run opens). 0; 1 when no kernel could be had; 2 for a law the generator
  * refuses or numbers that overflow. */
-void swim_run_ode_options(const swim_scene *s, swim_ode_options *o)
+void swim_run_ode_options(const swim_run_settings *set, swim_ode_options *o)
 {
     swim_ode_options_default(o);
-    o->rtol = s->rtol;
-    o->atol = s->atol;
-    if (s->step_lookahead >= 0) o->lookahead = s->step_lookahead;
+    o->rtol = set->rtol;
+    o->atol = set->atol;
+    if (set->step_lookahead >= 0) o->lookahead = set->step_lookahead;
 }
 
 /* ---- the scene kind (driver/run.h, swim_run_kind) ------------------------------------------- */

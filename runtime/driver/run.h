@@ -188,7 +188,7 @@ int swim_run_columns(const swim_scene *s, const char **names, char storage[][24]
  * look-ahead): the one mapping every integration of a scene starts from. What a run adds on top
  * (projection, events, the checks at every step, the error weights and the balance test near the
  * barrier) depends on the integrator's capabilities and is the driver's. */
-void swim_run_ode_options(const swim_scene *s, swim_ode_options *o);
+void swim_run_ode_options(const swim_run_settings *set, swim_ode_options *o);
 
 /* The run of req (copied; what it points to is borrowed): a dynamic run, or a prescribed stroke
  * when the scene has a [stroke] table (req->system then holds its laws, swim_codegen_stroke).
