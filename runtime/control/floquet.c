@@ -142,8 +142,7 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
                          sec->kind == 'x' ? -1 : +1, 0};
     swim_ode_system sys = {swim_dynamics_rhs, (size_t)n, d, NULL};
     swim_ode_options o;
-    swim_run_ode_options(&s->run, &o);   /* the scene's integrator, as swim run has it */
-    if (s->run.projection && (swim_ode_capabilities(s->run.integrator) & SWIM_ODE_CAP_PROJECTION)) o.project = swim_dynamics_project;
+    swim_run_ode_options_projected(&s->run, &o);   /* the scene's integrator, as swim run has it */
     o.events = &ev;
     o.nevents = 1;
     o.on_event = on_event;

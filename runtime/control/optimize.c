@@ -148,7 +148,7 @@ static void integrate(swim_opt_problem *p, const swim_override *ov, int nov, int
     }
     swim_scene *s = p->problem->s;
     const swim_run_request req = {s, &p->problem->kn, &p->problem->spz, 0, NULL, (volatile sig_atomic_t *)p->interrupt,
-                                  {NULL, NULL, NULL, NULL, NULL}, 0};
+                                  {NULL, NULL, NULL, NULL, NULL}, 0, NULL};
     swim_status_clear(&st);
     rc = swim_run_open(&req, &run, &st);
     if (rc) {

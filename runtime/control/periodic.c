@@ -34,10 +34,9 @@ static int flow(swim_dynamics *d, const double *ys, double T, const swim_periodi
     out[0] = out[1] = out[2] = out[N - 1] = 0.0;
     swim_ode_system sys = {swim_dynamics_rhs, (size_t)N, d, NULL};
     swim_ode_options opt;
-    swim_run_ode_options(&s->run, &opt);
+    swim_run_ode_options_projected(&s->run, &opt);
     opt.rtol = o->rtol;
     opt.atol = o->atol;
-    if (s->run.projection && (swim_ode_capabilities(s->run.integrator) & SWIM_ODE_CAP_PROJECTION)) opt.project = swim_dynamics_project;
     swim_ode *ode = NULL;
     int rc = swim_ode_create(s->run.integrator, &sys, &opt, 0.0, out, &ode);
     if (rc == SWIM_ODE_OK) rc = swim_ode_advance(ode, T, out);

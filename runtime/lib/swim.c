@@ -476,7 +476,7 @@ static int sim_open(swim_sim *s, swim_status *st)
     const swim_model *m = s->m;
     if (swim_scene_parse_with(m->P.text, m->P.len, m->P.name, s->sets, s->nsets, &s->s, st) != 0) return SWIM_EINPUT;
     s->loaded = 1;   /* the reader checked the run settings (swim_run_settings_check) */
-    int rc = swim_run_events_parse(&s->s, s->o.events, s->o.nevents, m->names, m->ncol, &s->events, st);
+    int rc = swim_run_events_parse(&s->s, &s->s.run, s->o.events, s->o.nevents, m->names, m->ncol, &s->events, st);
     if (rc) {
         s->bad_events = rc == 2;
         return rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
@@ -484,7 +484,7 @@ static int sim_open(swim_sim *s, swim_status *st)
     if (s->o.on_event && s->events) swim_run_events_listen(s->events, sim_event, s);
     /* the caller's stop flag is a flag, not a signal number (any nonzero value stops the run) */
     const swim_run_request req = {&s->s, &m->P.kn, &m->P.spz, 0, s->events, (volatile sig_atomic_t *)s->o.stop,
-                                  {sink_row, NULL, NULL, NULL, s}, 1};
+                                  {sink_row, NULL, NULL, NULL, s}, 1, NULL};
     rc = swim_run_open(&req, &s->run, st);
     if (rc) return rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
     rc = sim_check_analyses(s, st);

@@ -129,6 +129,16 @@ const swim_scene_key *swim_command_options(int *count)
     return command_options;
 }
 
+void *swim_run_settings_field(swim_run_settings *set, const swim_scene_key *k)
+{
+    return (char *)set + (k->offset - offsetof(swim_scene, run));
+}
+
+const void *swim_run_settings_field_const(const swim_run_settings *set, const swim_scene_key *k)
+{
+    return (const char *)set + (k->offset - offsetof(swim_scene, run));
+}
+
 const swim_scene_key *swim_scene_keys(int *count)
 {
     *count = (int)(sizeof keys / sizeof keys[0]);

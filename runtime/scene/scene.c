@@ -666,7 +666,7 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
         }
         s->events_line = line;
     }
-    if (swim_run_settings_check(s, NULL, c->st)) return 2;
+    if (swim_run_settings_check(s, &s->run, NULL, c->st)) return 2;
     c->table = "shape";
     return check_initial_velocity(c, shape, s);
 }
@@ -1031,22 +1031,22 @@ static double first_nonfinite(const swim_expr *e, double step, long count, doubl
  * most 10^6 of them), where an isolated singularity such as 1/(t-1) typically sits. */
 #define LAW_SAMPLES 65536
 #define LAW_ROW_SAMPLES 1000000L
-static double law_finite_until(const swim_scene *s, const swim_expr *e)
+static double law_finite_until(const swim_run_settings *set, const swim_expr *e)
 {
-    long rows = (long)fmin(floor(s->run.t_end / s->run.output_step), (double)LAW_ROW_SAMPLES);
-    return fmin(first_nonfinite(e, s->run.t_end / LAW_SAMPLES, LAW_SAMPLES, s->run.t_end),
-                first_nonfinite(e, s->run.output_step, rows, s->run.t_end));
+    long rows = (long)fmin(floor(set->t_end / set->output_step), (double)LAW_ROW_SAMPLES);
+    return fmin(first_nonfinite(e, set->t_end / LAW_SAMPLES, LAW_SAMPLES, set->t_end),
+                first_nonfinite(e, set->output_step, rows, set->t_end));
 }
 
 /* A stroke law must be defined on the whole run (its kernel has no other law to follow, and
  * the generator refuses a part that is never finite): at t = 0 and at every sample. 0, or 2
  * after one line naming the file, the key and the law. */
-static int check_stroke_laws(const swim_scene *s, swim_status *st)
+static int check_stroke_laws(const swim_scene *s, const swim_run_settings *set, swim_status *st)
 {
     for (int k = 0; k < s->stroke_count; k++) {
         char key[24], why[160];
         swim_coord_name(s->stroke_index[k], key, sizeof key);
-        double t = swim_expr_defined(s->stroke_expr[k], 0.0, NULL, 0) ? law_finite_until(s, s->stroke_expr[k]) : 0.0;
+        double t = swim_expr_defined(s->stroke_expr[k], 0.0, NULL, 0) ? law_finite_until(set, s->stroke_expr[k]) : 0.0;
         if (isfinite(t)) {
             swim_expr_defined(s->stroke_expr[k], t, why, sizeof why);
             char full[32];
@@ -1059,32 +1059,32 @@ static int check_stroke_laws(const swim_scene *s, swim_status *st)
     return 0;
 }
 
-int swim_run_settings_check(swim_scene *s, const swim_run_overrides *cli, swim_status *st)
+int swim_run_settings_check(const swim_scene *s, swim_run_settings *set, const swim_run_overrides *cli, swim_status *st)
 {
     /* With both t_end and output_step from the scene, a row-count problem is output_step's
      * (its line is the one to change); with one from the command line, it is that option's. */
     int rows_key = cli && cli->given[SWIM_SET_T_END] && !cli->given[SWIM_SET_OUTPUT_STEP] ? SWIM_SET_T_END
                                                                                         : SWIM_SET_OUTPUT_STEP;
-    if (!(s->run.t_end > 0)) return setting_error(s, cli, st, SWIM_SET_T_END, "must be > 0, got %g", s->run.t_end);
-    if (!(s->run.output_step > 0)) return setting_error(s, cli, st, SWIM_SET_OUTPUT_STEP, "must be > 0, got %g", s->run.output_step);
-    if (!(s->run.t_end / s->run.output_step <= SWIM_ROWS_MAX))
+    if (!(set->t_end > 0)) return setting_error(s, cli, st, SWIM_SET_T_END, "must be > 0, got %g", set->t_end);
+    if (!(set->output_step > 0)) return setting_error(s, cli, st, SWIM_SET_OUTPUT_STEP, "must be > 0, got %g", set->output_step);
+    if (!(set->t_end / set->output_step <= SWIM_ROWS_MAX))
         return setting_error(s, cli, st, rows_key, "output_step %g gives more than 10^7 rows for t_end = %g",
-                             s->run.output_step, s->run.t_end);
-    if (!(s->run.rtol > 0)) return setting_error(s, cli, st, SWIM_SET_RTOL, "must be > 0, got %g", s->run.rtol);
-    if (!(s->run.rtol >= SWIM_RTOL_MIN && s->run.rtol <= SWIM_RTOL_MAX))
+                             set->output_step, set->t_end);
+    if (!(set->rtol > 0)) return setting_error(s, cli, st, SWIM_SET_RTOL, "must be > 0, got %g", set->rtol);
+    if (!(set->rtol >= SWIM_RTOL_MIN && set->rtol <= SWIM_RTOL_MAX))
         return setting_error(s, cli, st, SWIM_SET_RTOL, "%g is outside [%.2g, %g]: below 100 unit roundoffs the error "
                              "test cannot be met in double precision, above %g it bounds nothing",
-                             s->run.rtol, SWIM_RTOL_MIN, SWIM_RTOL_MAX, SWIM_RTOL_MAX);
-    if (!(s->run.atol > 0)) return setting_error(s, cli, st, SWIM_SET_ATOL, "must be > 0, got %g", s->run.atol);
-    if (!(s->run.atol <= SWIM_ATOL_MAX))
-        return setting_error(s, cli, st, SWIM_SET_ATOL, "%g is above %g: the states are of order 1", s->run.atol, SWIM_ATOL_MAX);
-    s->run.forcing_finite_until = INFINITY;
+                             set->rtol, SWIM_RTOL_MIN, SWIM_RTOL_MAX, SWIM_RTOL_MAX);
+    if (!(set->atol > 0)) return setting_error(s, cli, st, SWIM_SET_ATOL, "must be > 0, got %g", set->atol);
+    if (!(set->atol <= SWIM_ATOL_MAX))
+        return setting_error(s, cli, st, SWIM_SET_ATOL, "%g is above %g: the states are of order 1", set->atol, SWIM_ATOL_MAX);
+    set->forcing_finite_until = INFINITY;
     if (s->forcing) {
         char why[160];
         if (!swim_expr_defined(s->forcing, 0.0, why, sizeof why))
             return setting_error(s, NULL, st, SWIM_SET_LAW, "\"%s\" is not finite at t = 0, the start of the run: %s",
                                  s->forcing_text, why);
-        s->run.forcing_finite_until = law_finite_until(s, s->forcing);
+        set->forcing_finite_until = law_finite_until(set, s->forcing);
     }
-    return s->stroke ? check_stroke_laws(s, st) : 0;
+    return s->stroke ? check_stroke_laws(s, set, st) : 0;
 }

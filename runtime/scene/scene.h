@@ -133,15 +133,16 @@ void swim_scene_free(swim_scene *scene);
  * differ in their laws or parameter names (their structure), and nothing is moved. */
 int swim_scene_take_values(swim_scene *scene, swim_scene *from);
 
-/* The one check of the run settings, whatever set them: the row cap and the tolerance bounds
- * above, and the laws on the run's interval [0, t_end], before any kernel is asked for. A law is
- * finite at t when every part of it is (swim_expr_defined: step(sqrt(-1)) is not). The forcing
- * law not finite at t0 is an error; the first sampled time where it is not finite later is
- * recorded in forcing_finite_until (the run stops there). A stroke law not finite at t0 or at
- * any sample is an error naming its key (stroke.am1). 0, or 2 with st naming the scene key
+/* The one check of the run settings `set` of scene s (its own [run], as the reader checks it,
+ * or the settings a command resolved from it), whatever set them: the row cap and the tolerance
+ * bounds above, and the laws on the run's interval [0, t_end], before any kernel is asked for. A
+ * law is finite at t when every part of it is (swim_expr_defined: step(sqrt(-1)) is not). The
+ * forcing law not finite at t0 is an error; the first sampled time where it is not finite later
+ * is recorded in set->forcing_finite_until (the run stops there). A stroke law not finite at t0
+ * or at any sample is an error naming its key (stroke.am1). 0, or 2 with st naming the scene key
  * (FILE:LINE: run.rtol: ...) or, for a setting in `cli`, the option (swim run: --rtol: ...).
  * cli may be NULL. */
-int swim_run_settings_check(swim_scene *scene, const swim_run_overrides *cli, swim_status *st);
+int swim_run_settings_check(const swim_scene *s, swim_run_settings *set, const swim_run_overrides *cli, swim_status *st);
 
 /* The model's numbers at a state must leave room for the products the right-hand side forms
  * (K v, v^T K v, the constrained solve of (4.12)): every entry of Mr, N, Md, K, <Gamma, v, v>

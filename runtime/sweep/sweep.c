@@ -706,18 +706,19 @@ int sweep_prepare(sweep_plan *p, swim_status *st)
 
 /* The sweep's run options over a member's scene (as swim run's --integrator and --no-projection),
  * recorded for its DIR/scene.toml. */
-static int member_adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx, swim_status *st)
+static int member_adjust(const swim_scene *s, swim_run_settings *set, swim_override *recorded, int *nrecorded,
+                         void *ctx, swim_status *st)
 {
     const sweep_plan *p = ctx;
     char text[64];
     *nrecorded = 0;
     if (p->integrator[0]) {
-        snprintf(s->run.integrator, sizeof s->run.integrator, "%s", p->integrator);
+        snprintf(set->integrator, sizeof set->integrator, "%s", p->integrator);
         snprintf(text, sizeof text, "run.integrator=%s", p->integrator);
         if (swim_override_parse(text, &recorded[*nrecorded], NULL, 0) == 0) (*nrecorded)++;
     }
     if (p->no_projection && s->stroke_count == 0) {
-        s->run.projection = 0;
+        set->projection = 0;
         if (swim_override_parse("run.projection=false", &recorded[*nrecorded], NULL, 0) == 0) (*nrecorded)++;
     }
     if (p->no_projection && s->stroke_count > 0) {
@@ -725,7 +726,7 @@ static int member_adjust(swim_scene *s, swim_override *recorded, int *nrecorded,
                          "[stroke]: only (3.21) is integrated)", s->path);
         return 2;
     }
-    return swim_run_settings_check(s, NULL, st) != 0 ? 2 : 0;
+    return swim_run_settings_check(s, set, NULL, st) != 0 ? 2 : 0;
 }
 
 /* Member m in this process (the forked child): a job of the run layer (output/job.h), with the

@@ -33,7 +33,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     s.forcing = lawlen ? swim_expr_compile(law, err, sizeof err) : NULL;
     s.forcing_text = law;
     s.forced = s.forcing != NULL;
-    int rc = swim_run_settings_check(&s, (data[sizeof v] & 0x80) ? NULL : &cli, NULL);
+    int rc = swim_run_settings_check(&s, &s.run, (data[sizeof v] & 0x80) ? NULL : &cli, NULL);
     if (rc != 0 && rc != 2) abort();
     if (rc == 0) {
         if (!(s.run.t_end > 0) || !(s.run.output_step > 0) || !(s.run.t_end / s.run.output_step <= SWIM_ROWS_MAX)) abort();
