@@ -25,6 +25,7 @@
 #include "io/message.h"
 #include "driver/summary_read.h"
 #include "output/job.h"
+#include "problem/problem.h"
 #include "scene/scene.h"
 
 /* ------------------------------------------------------------------ specs */
@@ -168,33 +169,36 @@ static void mode_kernels_close(mode_kernels *mk)
     memset(mk->open, 0, sizeof mk->open);
 }
 
-/* A member's scene as swim run checks it: the scene reader on the text read once (the file may
- * have changed since), then, with mk, the magnitude check of its model (swim_scene_check_model:
- * a density of 1e308 passes the reader but overflows the mass matrices). 0 or 2, or 1 when no
- * kernel of its N could be had. */
-static int check_member(const sweep_plan *p, long m, swim_scene *s, mode_kernels *mk, swim_status *st)
+/* A member's scene as swim run reads it: a problem (problem/problem.h) on the text read once
+ * (the file may have changed since) with the member's overrides, then, with mk, the magnitude
+ * check of its model (swim_scene_check_model: a density of 1e308 passes the reader but overflows
+ * the mass matrices). 0 with P open (close it after), or 2, or 1 when no kernel of its N could be
+ * had or out of memory (P then closed). */
+static int check_member(const sweep_plan *p, long m, swim_problem *P, mode_kernels *mk, swim_status *st)
 {
     swim_override ov[SWEEP_MAX_SETS + SWEEP_MAX_VARY];
-    int nov = member_overrides(p, m, ov);
-    int rc = swim_scene_parse_with(p->scene_text, p->scene_len, p->scene, ov, nov, s, st);
-    if (rc || !mk) return rc;
-    const int n = s->modes;
-    if (n < 1 || n > SWIM_KERNEL_MAX_MODES) return 0;   /* the reader refuses these */
-    if (!mk->open[n]) {
-        if (swim_codegen_kernel(n, &mk->kn[n], 0, st) != 0) rc = 1;
-        else mk->open[n] = 1;
+    const int nov = member_overrides(p, m, ov);
+    const swim_problem_source src = {.text = p->scene_text, .len = p->scene_len, .name = p->scene, .sets = ov,
+                                     .nsets = nov};
+    int rc = swim_problem_read(P, &src, st);
+    const int n = P->s->modes;
+    if (!rc && mk && n >= 1 && n <= SWIM_KERNEL_MAX_MODES) {   /* the reader refuses other N */
+        if (!mk->open[n]) {
+            if (swim_codegen_kernel(n, &mk->kn[n], 0, st) != 0) rc = 1;
+            else mk->open[n] = 1;
+        }
+        if (!rc) rc = swim_scene_check_model(P->s, mk->kn[n].kernel, st);
     }
-    if (!rc) rc = swim_scene_check_model(s, mk->kn[n].kernel, st);
-    if (rc) swim_scene_free(s);
+    if (rc) swim_problem_close(P);
     return rc;
 }
 
 /* Loads member m's scene (check_member): the cause of a refusal, with the member named in front
  * of it, in st. 0, 2, or 1 (no kernel). */
-static int load_member(const sweep_plan *p, long m, swim_scene *s, mode_kernels *mk, swim_status *st)
+static int load_member(const sweep_plan *p, long m, swim_problem *P, mode_kernels *mk, swim_status *st)
 {
     swim_status own = {0};   /* notices of a member's scene are not the sweep's */
-    int rc = check_member(p, m, s, mk, &own);
+    int rc = check_member(p, m, P, mk, &own);
     if (rc != 0) {
         char label[600], msg[SWIM_MESSAGE_MAX + 8], who[64];
         member_label(p, m, label, sizeof label);
@@ -614,24 +618,25 @@ static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys, swi
 {
     const int verbose = p->quiet ? 0 : 1;
     for (int k = 0; k < nkeys; k++) {
-        swim_scene s;
-        if (load_member(p, rep[k], &s, NULL, st)) return 2;
+        swim_problem P;
+        if (load_member(p, rep[k], &P, NULL, st)) return 2;
+        const swim_scene *s = P.s;
         swim_compiled kn, sc;
-        int bad = swim_codegen_kernel(s.modes, &kn, verbose, st) != 0;
+        int bad = swim_codegen_kernel(s->modes, &kn, verbose, st) != 0;
         if (!bad) {
             /* a prescribed stroke's members run on its laws' kernel (runtime/stroke) */
-            bad = s.stroke ? swim_codegen_stroke(&s, &sc, verbose, st) : swim_codegen_scene(&s, p->generic, &sc, verbose, st);
+            bad = s->stroke ? swim_codegen_stroke(s, &sc, verbose, st) : swim_codegen_scene(s, p->generic, &sc, verbose, st);
             if (!bad) swim_compiled_close(&sc);
             swim_compiled_close(&kn);
         }
         if (bad == -2) {   /* a stroke law the generator refuses: bad input */
             char where[640];
-            swim_status_fail(st, "swim", s.path, 0, NULL, "%s: %s (member %ld)",
-                             swim_scene_stroke_where(&s, sc.refused_index, where, sizeof where), sc.refused, rep[k]);
-            swim_scene_free(&s);
+            swim_status_fail(st, "swim", s->path, 0, NULL, "%s: %s (member %ld)",
+                             swim_scene_stroke_where(s, sc.refused_index, where, sizeof where), sc.refused, rep[k]);
+            swim_problem_close(&P);
             return 2;
         }
-        swim_scene_free(&s);
+        swim_problem_close(&P);
         if (bad) {
             fail(st, p, "no kernel for the structure of member %ld, no member run", rep[k]);
             return 1;
@@ -650,10 +655,10 @@ int sweep_prepare(sweep_plan *p, swim_status *st)
     mode_kernels mk;
     memset(mk.open, 0, sizeof mk.open);
     for (long m = 0; m < p->members && !rc; m++) {
-        swim_scene s;
-        if ((rc = load_member(p, m, &s, &mk, st))) break;
-        char *key = swim_codegen_scene_key(&s, p->generic);
-        swim_scene_free(&s);
+        swim_problem P;
+        if ((rc = load_member(p, m, &P, &mk, st))) break;
+        char *key = swim_codegen_scene_key(P.s, p->generic);
+        swim_problem_close(&P);
         if (!key) {
             fail(st, p, "out of memory");
             rc = 1;
