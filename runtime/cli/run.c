@@ -57,7 +57,8 @@ static int take_sensitivity_options(int *argc, char **argv, char **out)
 }
 
 /* The run options over the read scene (checked with their option's names), and their record. */
-static int adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx, swim_status *st)
+static int adjust(const swim_scene *s, swim_run_settings *set, swim_override *recorded, int *nrecorded, void *ctx,
+                  swim_status *st)
 {
     (void)st;   /* the options' refusals are this command's own lines */
     run_cmd *c = ctx;
@@ -76,9 +77,8 @@ static int adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *
                      "only (3.21) is integrated)", c->job.scene_file);
         return 2;
     }
-    if (swim_run_settings_options(c->opts, c->nopts, s) != 0) return 2;
-    if (swim_args_get(c->opts, c->nopts, "no-projection")) s->projection = 0;
-    *nrecorded = swim_run_settings_record(c->opts, c->nopts, s, recorded);
+    if (swim_run_settings_options(c->opts, c->nopts, s, set) != 0) return 2;
+    *nrecorded = swim_run_settings_record(c->opts, c->nopts, set, recorded);
     return 0;
 }
 
@@ -233,11 +233,11 @@ static void on_sensitivities(void *ctx, int nkeys, const char *path, double t, d
 
 /* ---- report ------------------------------------------------------------------------------- */
 
-static void report_stroke(const swim_scene *s, const swim_run_result *r)
+static void report_stroke(const swim_run_settings *set, const swim_run_result *r)
 {
     const swim_stroke_report *k = &r->stroke;
     printf("  prescribed stroke: %d laws%s; (3.21) integrated with %s, rtol %.3g: %ld RHS evaluations\n", k->laws,
-           k->completed_c1 ? ", c1 completed from the volume (2.5) and (2.14)" : "", s->integrator, s->rtol, k->rhs_calls);
+           k->completed_c1 ? ", c1 completed from the volume (2.5) and (2.14)" : "", set->integrator, set->rtol, k->rhs_calls);
     if (k->period > 0)
         printf("  period %.10g (%s), %ld strokes; per stroke: first displacement (%.6g, %.6g), dtheta %.6g, "
                "positive work %.6g\n", k->period, k->period_source, k->strokes, k->first_dx, k->first_dy,
@@ -250,12 +250,12 @@ static void report_stroke(const swim_scene *s, const swim_run_result *r)
 
 static void report_dynamics(run_cmd *c, swim_job *job, const swim_run_result *r)
 {
-    const swim_scene *s = swim_job_scene(job);
+    const swim_run_settings *set = swim_job_settings(job);
     const swim_dynamics *d = swim_job_dynamics(job);
     const swim_ode_stats *st = &r->stats;
     printf("  %s kernel (state dimension %d)\n", d->generic ? "generic" : "specialized", swim_dynamics_state_dim(d));
     swim_message(stdout, "  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)",
-                 r->used, s->rtol, st->steps, st->rhs_evals, st->rejected, swim_clock_seconds() - c->t_start, swim_dynamics_rhs_seconds(d));
+                 r->used, set->rtol, st->steps, st->rhs_evals, st->rejected, swim_clock_seconds() - c->t_start, swim_dynamics_rhs_seconds(d));
     printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g at t = %.6g\n",
            r->drift_abs, r->e0, r->res_volume, r->res_angular, r->res_locks, r->jmin, r->jmin_t);
     if (r->impacts)   /* min J above is over the computed steps, not the turning points of the impacts */
@@ -284,7 +284,7 @@ static int report(run_cmd *c, swim_job *job, int status)
     swim_message(stdout, c->job.summary_only ? "%s: %s (%s); %ld rows computed, summary in %s" : "%s: %s (%s); %ld rows in %s",
                  s->path, status ? "FAILED" : "completed", r->reason ? r->reason : "out of memory", r->rows,
                  c->job.summary_only ? p->summary_path : p->csv_path);
-    if (r->is_stroke) report_stroke(s, r);
+    if (r->is_stroke) report_stroke(swim_job_settings(job), r);
     else report_dynamics(c, job, r);
     printf("  final position x = %.6g, y = %.6g, theta = %.6g\n", r->final_state[0], r->final_state[1], r->final_state[2]);
     if (swim_stdout_check("run") != 0) return 1;

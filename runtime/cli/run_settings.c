@@ -19,7 +19,7 @@ static int number_option(const swim_opt *opts, int nopts, const char *name, doub
 }
 
 /* The options of the plain keys (scene/keys.h): each parsed and bounded as its row says. 0 or 2. */
-static int plain_options(const swim_opt *opts, int nopts, swim_scene *s)
+static int plain_options(const swim_opt *opts, int nopts, swim_run_settings *set)
 {
     int count;
     const swim_scene_key *keys = swim_scene_keys(&count);
@@ -27,7 +27,7 @@ static int plain_options(const swim_opt *opts, int nopts, swim_scene *s)
         const swim_scene_key *k = &keys[i];
         const char *v = k->option && (k->flags & SWIM_KEY_PLAIN) ? swim_args_get(opts, nopts, k->option) : NULL;
         if (!v) continue;
-        void *field = (char *)s + k->offset;
+        void *field = swim_run_settings_field(set, k);
         long p;
         double x;
         int found = -1;
@@ -64,13 +64,14 @@ static int plain_options(const swim_opt *opts, int nopts, swim_scene *s)
     return 0;
 }
 
-int swim_run_settings_options(const swim_opt *opts, int nopts, swim_scene *s)
+int swim_run_settings_options(const swim_opt *opts, int nopts, const swim_scene *s, swim_run_settings *set)
 {
     swim_run_overrides cli = {{0}};
-    if (number_option(opts, nopts, "t-end", &s->t_end, &cli.given[SWIM_SET_T_END]) ||
-        number_option(opts, nopts, "output-step", &s->output_step, &cli.given[SWIM_SET_OUTPUT_STEP]) ||
-        number_option(opts, nopts, "rtol", &s->rtol, &cli.given[SWIM_SET_RTOL]) ||
-        number_option(opts, nopts, "atol", &s->atol, &cli.given[SWIM_SET_ATOL]))
+    *set = s->run;
+    if (number_option(opts, nopts, "t-end", &set->t_end, &cli.given[SWIM_SET_T_END]) ||
+        number_option(opts, nopts, "output-step", &set->output_step, &cli.given[SWIM_SET_OUTPUT_STEP]) ||
+        number_option(opts, nopts, "rtol", &set->rtol, &cli.given[SWIM_SET_RTOL]) ||
+        number_option(opts, nopts, "atol", &set->atol, &cli.given[SWIM_SET_ATOL]))
         return 2;
     const char *v;
     if ((v = swim_args_get(opts, nopts, "integrator"))) {
@@ -78,18 +79,19 @@ int swim_run_settings_options(const swim_opt *opts, int nopts, swim_scene *s)
             swim_message(stderr, "swim run: --integrator: unknown integrator '%s' (%s)", v, swim_ode_method_list());
             return 2;
         }
-        snprintf(s->integrator, sizeof s->integrator, "%s", v);   /* a known name: it fits */
+        snprintf(set->integrator, sizeof set->integrator, "%s", v);   /* a known name: it fits */
     }
-    if (plain_options(opts, nopts, s)) return 2;
+    if (plain_options(opts, nopts, set)) return 2;
+    if (swim_args_get(opts, nopts, "no-projection")) set->projection = 0;
     swim_status st = SWIM_STATUS_STDERR;
-    return swim_status_shown(&st, swim_run_settings_check(s, &cli, &st)) ? 2 : 0;
+    return swim_status_shown(&st, swim_run_settings_check(s, set, &cli, &st)) ? 2 : 0;
 }
 
-int swim_run_settings_record(const swim_opt *opts, int nopts, const swim_scene *s, swim_override *out)
+int swim_run_settings_record(const swim_opt *opts, int nopts, const swim_run_settings *set, swim_override *out)
 {
     static const char *const numeric[][2] = {{"t-end", "run.t_end"}, {"output-step", "run.output_step"},
                                              {"rtol", "run.rtol"}, {"atol", "run.atol"}};
-    const double values[] = {s->t_end, s->output_step, s->rtol, s->atol};
+    const double values[] = {set->t_end, set->output_step, set->rtol, set->atol};
     char text[160];
     int n = 0;
     for (int i = 0; i < 4; i++)
@@ -98,7 +100,7 @@ int swim_run_settings_record(const swim_opt *opts, int nopts, const swim_scene *
             if (swim_override_parse(text, &out[n], NULL, 0) == 0) n++;
         }
     if (swim_args_get(opts, nopts, "integrator")) {
-        snprintf(text, sizeof text, "run.integrator=%s", s->integrator);
+        snprintf(text, sizeof text, "run.integrator=%s", set->integrator);
         if (swim_override_parse(text, &out[n], NULL, 0) == 0) n++;
     }
     int count;
@@ -106,7 +108,7 @@ int swim_run_settings_record(const swim_opt *opts, int nopts, const swim_scene *
     for (int i = 0; i < count; i++) {   /* the plain keys' options, as their rows spell the value */
         const swim_scene_key *k = &keys[i];
         if (!k->option || !(k->flags & SWIM_KEY_PLAIN) || !swim_args_get(opts, nopts, k->option)) continue;
-        const void *field = (const char *)s + k->offset;
+        const void *field = swim_run_settings_field_const(set, k);
         if (k->kind == SWIM_KEY_NUMBER) snprintf(text, sizeof text, "run.%s=%.17g", k->key, *(const double *)field);
         else if (k->kind == SWIM_KEY_BOOL) snprintf(text, sizeof text, "run.%s=%s", k->key, *(const int *)field ? "true" : "false");
         else if (k->kind == SWIM_KEY_CHOICE) snprintf(text, sizeof text, "run.%s=%s", k->key, k->words[*(const int *)field]);

@@ -23,11 +23,11 @@ typedef struct swim_run_events swim_run_events;
 typedef int (*swim_run_row_func)(void *ctx, double t, const double *ys, int all, double *row);
 
 /* Collects the scene's [events] list and the extra specifications extra[0..nextra) (--event),
- * checks them against the columns (names[0..ncol), names[0] = "t") and the integrator's
- * capabilities.  0 with *out (NULL when there are no events); 2 (bad input) or 1 (out of memory)
+ * checks them against the columns (names[0..ncol), names[0] = "t") and the capabilities of
+ * the integrators of the run's settings `set` (resolved, driver/run.h).  0 with *out (NULL when there are no events); 2 (bad input) or 1 (out of memory)
  * with the cause in st. Prints nothing. */
-int swim_run_events_parse(const swim_scene *s, const char *const *extra, int nextra, const char *const *names,
-                          int ncol, swim_run_events **out, swim_status *st);
+int swim_run_events_parse(const swim_scene *s, const swim_run_settings *set, const char *const *extra, int nextra,
+                          const char *const *names, int ncol, swim_run_events **out, swim_status *st);
 
 /* Registers the events in o (o->events, o->on_event); row(ctx, ...) gives the columns, the
  * first nstate of which (after t) are state columns; state_dim is the integrator's state

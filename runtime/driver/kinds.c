@@ -31,7 +31,8 @@ int swim_run_open(const swim_run_request *req, swim_run **out, swim_status *st)
     }
     run->kind = swim_run_kind_for(req->scene);
     run->req = *req;
-    const int rc = run->kind->open(req, &run->state, st);
+    if (!run->req.settings) run->req.settings = &req->scene->run;   /* as read, checked by the reader */
+    const int rc = run->kind->open(&run->req, &run->state, st);
     if (rc) {
         free(run);
         return rc;

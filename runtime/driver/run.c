@@ -80,9 +80,9 @@ static double barrier_tolerance(scene_run *c, const double *y, double h)
             umax = fmax(umax, fabs(y[3 + i]));
             vmax = fmax(vmax, fabs(x[s->n + k->free_index[i]]));
         }
-        const double want = s->rtol * j0 / g1, floor_s = 40.0 * 1.11e-16 / s->rtol;
+        const double want = c->set->rtol * j0 / g1, floor_s = 40.0 * 1.11e-16 / c->set->rtol;
         for (int i = 0; i < k->nfree; i++) {
-            const double allowed = s->rtol * fabs(x[k->free_index[i]]) + s->atol;
+            const double allowed = c->set->rtol * fabs(x[k->free_index[i]]) + c->set->atol;
             /* with an origin abm rounds u, not the shape: the floor follows the largest |u| (and
              * what one more step can add to it) instead of the shape itself */
             const double floor_i = c->d.origin ? 40.0 * 1.11e-16 * (umax + h * vmax) / allowed : floor_s;
@@ -269,7 +269,7 @@ static int bounce_at(scene_run *c, const double *y, swim_bounce *b)
 static int impact_wanted(scene_run *c, const double *y, double j)
 {
     const swim_scene *s = c->s;
-    if (!(s->impact_depth > 0) || !(j < IMPACT_AT * s->rtol) || !c->d.diag_barrier) return 0;
+    if (!(c->set->impact_depth > 0) || !(j < IMPACT_AT * c->set->rtol) || !c->d.diag_barrier) return 0;
     double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
     swim_dynamics_unpack(&c->d, y, full);
     const double j0 = c->watch_ready && c->watch.end_y == y ? c->watch.end_j   /* just computed at this step end */
@@ -278,7 +278,7 @@ static int impact_wanted(scene_run *c, const double *y, double j)
     if (!(j0 > 0) || bounce_at(c, full, &b) != 0 || !(b.rate > 0)) return 0;
     const double reach = swim_barrier_reach(c->d.diag_barrier, full + 3, s->epsilon, s->alpha, b.normal_kinetic, NULL);
     const double c1 = full[3] * full[3] + full[4] * full[4];
-    if (!(reach > 0) || !(reach < s->impact_depth * c1) || !(reach < IMPACT_DEEPER * j0)) return 0;
+    if (!(reach > 0) || !(reach < c->set->impact_depth * c1) || !(reach < IMPACT_DEEPER * j0)) return 0;
     memcpy(c->impact_dv, b.dv, sizeof(double) * (size_t)s->n);
     c->impact_j = j0 / c1;
     c->impact_reach = reach / c1;
@@ -341,7 +341,7 @@ static void tangent_step(scene_run *c, const swim_ode_accepted *step)
     double r = NAN;
     for (;;) {
         const double tm = (double)(c->lyap_n + 1) * iv;
-        if (c->lyap_reason[0] || !(tm < c->s->t_end - 1e-9 * iv) || !(tm <= t0 + step->tb)) break;
+        if (c->lyap_reason[0] || !(tm < c->set->t_end - 1e-9 * iv) || !(tm <= t0 + step->tb)) break;
         const double tau = fmin(fmax(tm - t0, step->ta), step->tb);
         const double *Y = tau == step->tb && step->y_end ? step->y_end
                         : step->interp(step->ctx, tau, c->var_buf, NULL) == 0 ? c->var_buf : NULL;
@@ -471,25 +471,24 @@ static int prepare(scene_run *c)
     swim_dynamics_pack(&c->d, c->y, c->ys);
     memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
     c->sys = (swim_ode_system){swim_dynamics_rhs, (size_t)c->sdim, &c->d, NULL};
-    if (s->jacobian_exact && c->spz->scene->jacobian)   /* [run] jacobian: BDF methods use it */
+    if (c->set->jacobian_exact && c->spz->scene->jacobian)   /* [run] jacobian: BDF methods use it */
         c->sys.jacobian = swim_dynamics_jacobian;
     c->sys_state = c->sys;
     swim_ode_options *o = &c->o;
-    swim_run_ode_options(s, o);
+    swim_run_ode_options_projected(c->set, o);
     swim_dynamics_track_balance(&c->d, 1);   /* the step checks and the balance test read it */
     /* by default where the scene has a barrier: its long stays near the wall (10^4-10^5 steps) are
      * where the drift adds up; a smooth paper scene at rtol 1e-8 keeps ~1e-10 without it, and would
      * pay 30-40 % more steps for 1e-12 (any scene can ask for it) */
-    const int energy_control = s->energy_control < 0 ? s->barrier : s->energy_control;
-    const unsigned caps = swim_ode_capabilities(s->integrator);
+    const int energy_control = c->set->energy_control < 0 ? s->barrier : c->set->energy_control;
+    const unsigned caps = swim_ode_capabilities(c->set->integrator);
     if (energy_control && (caps & SWIM_ODE_CAP_INVARIANT)) {
         o->invariant = scaled_balance;
         o->invariant_data = c;
-        o->invariant_tol = ENERGY_CONTROL * s->rtol;   /* abm never asks for less than B's rounding */
+        o->invariant_tol = ENERGY_CONTROL * c->set->rtol;   /* abm never asks for less than B's rounding */
         c->invariant_on = 1;
     }
     o->stiff_stop = (caps & SWIM_ODE_CAP_STIFFNESS) != 0;   /* stop and report (or switch) on stiffness */
-    if (s->projection && (caps & SWIM_ODE_CAP_PROJECTION)) o->project = swim_dynamics_project;  /* drift control */
     if (c->req.sink.step && (caps & SWIM_ODE_CAP_STEP_TRACE)) {
         o->on_step = trace_step;
         o->on_step_data = c;
@@ -521,14 +520,14 @@ static int prepare(scene_run *c)
             c->ys_shift = malloc(sizeof(double) * (size_t)c->sdim);
             c->atolv = malloc(sizeof(double) * (size_t)c->sdim);
             if (!c->ys_shift || !c->atolv) goto oom;
-            c->shift_ok = s->origin_shift;
+            c->shift_ok = c->set->origin_shift;
         }
     }
     c->r.switch_t = -1.0;
     c->r.left_t = NAN;
     c->r.jmin_t = NAN;
     c->row_jmin = NAN;
-    snprintf(c->r.used, sizeof c->r.used, "%s", s->integrator);
+    snprintf(c->r.used, sizeof c->r.used, "%s", c->set->integrator);
     return 0;
 oom:
     return 1;
@@ -614,9 +613,9 @@ static void stop_by_signal(scene_run *c, double t)
 
 
 /* The remedy that keeps the scene as it is, when the run did not use it. */
-static const char *impact_hint(const swim_scene *s)
+static const char *impact_hint(const swim_run_settings *set)
 {
-    return s->impact_depth > 0 ? "" : ", or take such bounces as impacts (run.impact_depth, default 1e-16)";
+    return set->impact_depth > 0 ? "" : ", or take such bounces as impacts (run.impact_depth, default 1e-16)";
 }
 
 /* With a barrier, why it did not stop the shape: from the last row inside D, how deep into the
@@ -666,21 +665,21 @@ static void barrier_diagnosis(scene_run *c, char *buf, size_t len)
      * ~min J / |dJ/dt|, and the step sizes, the forces (~kappa / min J) and their rounding follow
      * it: a failure inside a bounce deeper than SHIFT_DEEP |c_1|^2 is put down to its depth. */
     const double escale = fmax(fmax(c->r.emax, T), 1e-300);
-    const double floor_j = kappa * 4.0 * 1.11e-16 * c1 / (s->rtol * escale);
+    const double floor_j = kappa * 4.0 * 1.11e-16 * c1 / (c->set->rtol * escale);
     if (!(kappa > 0) || !(c->shift_ok ? j0 < SHIFT_DEEP * c1 : reach < floor_j)) return;
     if (reach > 0 && c->shift_ok)
         snprintf(buf, len, "; at min J = %.3g the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold "
                  "of min J, and absorbing the kinetic energy still moving toward the boundary (%.3g) takes min J "
                  "down to ~1e%d: abm, in coordinates shifted to the bounce, could not follow it; "
                  "use alpha >= 1, a larger epsilon or a looser rtol%s",
-                 j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)), impact_hint(s));
+                 j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)), impact_hint(c->set));
     else if (reach > 0)
         snprintf(buf, len, "; at min J = %.3g the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold "
                  "of min J, and absorbing the kinetic energy still moving toward the boundary (%.3g) takes min J "
                  "down to ~1e%d, where the rounding of the shape (~1e-16 in J = |c1|^2 - |h|^2) moves W2 by "
                  "more than rtol of the energy (min J < %.1e): double precision cannot follow this bounce "
                  "without run.origin_shift; use alpha >= 1, a larger epsilon or a looser rtol%s",
-                 j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)), floor_j, impact_hint(s));
+                 j0, s->alpha, s->epsilon, kappa, T, (int)floor(log10(reach)), floor_j, impact_hint(c->set));
     else
         snprintf(buf, len, "; the barrier (alpha = %g < 1/2, epsilon = %g) is finite at the boundary of D and "
                  "cannot stop the kinetic energy moving toward it (%.3g)", s->alpha, s->epsilon, T);
@@ -705,7 +704,7 @@ static void stop_on_integrator(scene_run *c, int rc, double t)
     }
     /* A forcing law that is finite at t0 (checked when the scene is read) may not stay so. */
     if (s->forced && !swim_expr_defined(s->forcing, c->d.last_rhs_t, NULL, 0)) {
-        stop(c, "the forcing law is NaN or Inf at t = %.9g", fmin(c->d.last_rhs_t, s->forcing_finite_until));
+        stop(c, "the forcing law is NaN or Inf at t = %.9g", fmin(c->d.last_rhs_t, c->set->forcing_finite_until));
         return;
     }
     if (rc == SWIM_ODE_ERHS && swim_ode_rhs_status(c->ode) == SWIM_DYN_EBARRIER)
@@ -729,19 +728,18 @@ static void stop_on_integrator(scene_run *c, int rc, double t)
 /* Restart from the last output row (exact state there) with the stiff fallback integrator. */
 static int switch_to_fallback(scene_run *c, double t_last, double t)
 {
-    const swim_scene *s = c->s;
     double ts = ode_time(c);
     accumulate_stats(&c->total, c->ode);
     swim_ode_free(c->ode);
     c->ode = NULL;
     /* for the user even in a quiet run: the rest of the run is computed by another method than asked for */
     notice(c, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g",
-           ts, s->integrator, s->stiff_fallback, t_last);
+           ts, c->set->integrator, c->set->stiff_fallback, t_last);
     c->r.switch_t = t_last;
     swim_run_events_rewind(c->events, t_last);   /* the fallback locates them again from t_last */
     if (c->watch_ready) swim_run_watch_rewind(&c->watch, t_last);
     if (c->fw_on) forcing_rewind(c, t_last);
-    snprintf(c->r.used, sizeof c->r.used, "%s+%s", s->integrator, s->stiff_fallback);
+    snprintf(c->r.used, sizeof c->r.used, "%s+%s", c->set->integrator, c->set->stiff_fallback);
     memcpy(c->ys, c->ys_last, sizeof(double) * c->ndim);
     if (c->var_on && c->var.interval > 0) {   /* the tangent vector as it was at the row */
         while (c->lyap_n > 0 && c->lyap_t[c->lyap_n - 1] > t_last) c->lyap_n--;
@@ -758,7 +756,7 @@ static int switch_to_fallback(scene_run *c, double t_last, double t)
     c->shift_ok = 0;
     c->shift_pending = 0;
     c->o.stiff_stop = 0;
-    const unsigned caps = swim_ode_capabilities(s->stiff_fallback);
+    const unsigned caps = swim_ode_capabilities(c->set->stiff_fallback);
     if (!(caps & SWIM_ODE_CAP_PROJECTION)) c->o.project = NULL;
     if (!(caps & SWIM_ODE_CAP_WEIGHTS)) c->o.tol_scale = NULL;   /* the cut near the barrier is abm's */
     if (!(caps & SWIM_ODE_CAP_INVARIANT)) c->o.invariant = NULL;
@@ -767,10 +765,10 @@ static int switch_to_fallback(scene_run *c, double t_last, double t)
         /* it would put them into its error control, and the trajectory would change with them */
         char why[200];
         snprintf(why, sizeof why, "the stiff fallback %s at t = %.6g cannot leave them out of its error control",
-                 s->stiff_fallback, t_last);
+                 c->set->stiff_fallback, t_last);
         var_stop(c, why);
     }
-    int rc = swim_ode_create(s->stiff_fallback, &c->sys, &c->o, t_last, c->ys, &c->ode);
+    int rc = swim_ode_create(c->set->stiff_fallback, &c->sys, &c->o, t_last, c->ys, &c->ode);
     return rc == SWIM_ODE_OK ? swim_ode_advance(c->ode, t, c->ys) : rc;
 }
 
@@ -799,7 +797,6 @@ static int resume(scene_run *c, const char *method, double tau0, double tout)
  * to the new origin (or to none), and go on to tout. An ODE status. */
 static int shift_origin(scene_run *c, double tout)
 {
-    const swim_scene *s = c->s;
     const int clear = c->shift_pending == 2;
     stop_at_shift(c);
     if (swim_dynamics_rebase(&c->d, c->ys, clear) != 0) return SWIM_ODE_ENOMEM;
@@ -812,12 +809,12 @@ static int shift_origin(scene_run *c, double tout)
     c->steps_since_shift = 0;
     /* abm weighs errors by rtol |y_i| + atol; with u = y - origin small that is rtol |u_i| + atol_i */
     if (c->d.origin) {
-        for (int i = 0; i < c->ndim; i++) c->atolv[i] = s->atol + (i < c->sdim ? s->rtol * fabs(c->d.origin[i]) : 0.0);
+        for (int i = 0; i < c->ndim; i++) c->atolv[i] = c->set->atol + (i < c->sdim ? c->set->rtol * fabs(c->d.origin[i]) : 0.0);
         c->o.atol_vec = c->atolv;
     } else {
         c->o.atol_vec = NULL;
     }
-    return resume(c, s->integrator, tau0, tout);
+    return resume(c, c->set->integrator, tau0, tout);
 }
 
 /* The integrator stopped at shift_t (accept_step) at the step end where a bounce becomes an
@@ -825,7 +822,6 @@ static int shift_origin(scene_run *c, double tout)
  * same origin and clock, and go on to tout. An ODE status. */
 static int take_impact(scene_run *c, double tout)
 {
-    const swim_scene *s = c->s;
     stop_at_shift(c);
     const swim_scene_kernel *k = c->d.spec;
     for (int f = 0; f < k->nfree; f++) c->ys[3 + k->nfree + f] += c->impact_dv[k->free_index[f]];
@@ -840,12 +836,12 @@ static int take_impact(scene_run *c, double tout)
         notice(c, "swim run: t = %.10g: a bounce off the barrier predicted to turn at min J ~ %.1e |c1|^2 "
                "(below run.impact_depth = %g) taken as an impact at min J = %.2e |c1|^2 (docs/barrier.md); "
                "summary.json counts them",
-               t, c->impact_reach, s->impact_depth, c->impact_j);
+               t, c->impact_reach, c->set->impact_depth, c->impact_j);
     }
     c->impact_last_t = t;
     c->impact_j_max = fmax(c->impact_j_max, c->impact_j);
     c->impact_reach_min = fmin(c->impact_reach_min, c->impact_reach);
-    return resume(c, c->r.switch_t >= 0 ? s->stiff_fallback : s->integrator, c->shift_t, tout);
+    return resume(c, c->r.switch_t >= 0 ? c->set->stiff_fallback : c->set->integrator, c->shift_t, tout);
 }
 
 /* Advance to output time *t and leave the row's full state in c->y. A :stop event before *t
@@ -857,7 +853,7 @@ static int advance_to(scene_run *c, double *t, double *t_last)
     while (rc == SWIM_ODE_TERMINATED && c->shift_pending && swim_ode_time(c->ode) == c->shift_t)
         rc = c->shift_pending == 3 ? take_impact(c, *t) : shift_origin(c, *t);
     c->r.integrate_seconds += swim_clock_seconds() - ta;
-    if (rc == SWIM_ODE_ESTIFF && c->s->stiff_fallback[0] && c->r.switch_t < 0 && !stop_requested(c)) {
+    if (rc == SWIM_ODE_ESTIFF && c->set->stiff_fallback[0] && c->r.switch_t < 0 && !stop_requested(c)) {
         /* An alarm raised by a bounce off the barrier that double precision cannot follow is
          * not stiffness: BDF's larger steps would only cross the unresolved wall with a wrong
          * energy. The run stops there, saying why (stop_on_integrator). */
@@ -981,15 +977,14 @@ static void take_watch(run_report *r, swim_run_watch *w)
  * k*output_step up to t_end, stopping at the first failure. */
 static void start_loop(scene_run *c)
 {
-    const swim_scene *s = c->s;
     c->loop_started = 1;
     c->t_start = swim_clock_seconds();
     c->t_last = 0.0;
-    c->loop_rc = swim_ode_create(s->integrator, &c->sys, &c->o, 0.0, c->ys, &c->ode);
-    c->nrows = (long)floor(s->t_end / s->output_step + 1e-9);
+    c->loop_rc = swim_ode_create(c->set->integrator, &c->sys, &c->o, 0.0, c->ys, &c->ode);
+    c->nrows = (long)floor(c->set->t_end / c->set->output_step + 1e-9);
     c->every = c->nrows / (SWIM_RUN_SNAPSHOTS - 1) > 0 ? c->nrows / (SWIM_RUN_SNAPSHOTS - 1) : 1;
     if (c->loop_rc != SWIM_ODE_OK) {
-        stop(c, "integrator '%s' could not start: %s", s->integrator, swim_ode_strerror(c->loop_rc));
+        stop(c, "integrator '%s' could not start: %s", c->set->integrator, swim_ode_strerror(c->loop_rc));
         c->loop_done = 1;
     }
 }
@@ -997,10 +992,9 @@ static void start_loop(scene_run *c)
 /* The time of row k, or NAN past the last row. */
 static double row_time(const scene_run *c, long k)
 {
-    const swim_scene *s = c->s;
-    double t = k <= c->nrows ? k * s->output_step : s->t_end;
-    if (k == c->nrows && fabs(t - s->t_end) < 1e-9 * s->output_step) t = s->t_end;
-    if (k > c->nrows && (c->nrows * s->output_step >= s->t_end * (1 - 1e-12))) return NAN;
+    double t = k <= c->nrows ? k * c->set->output_step : c->set->t_end;
+    if (k == c->nrows && fabs(t - c->set->t_end) < 1e-9 * c->set->output_step) t = c->set->t_end;
+    if (k > c->nrows && (c->nrows * c->set->output_step >= c->set->t_end * (1 - 1e-12))) return NAN;
     if (k > c->nrows + 1) return NAN;
     return t;
 }
@@ -1012,9 +1006,9 @@ static int next_row(scene_run *c)
     const long k = c->k;
     double t = row_time(c, k);
     if (isnan(t)) return 1;
-    if (s->forced && t >= s->forcing_finite_until) {   /* found when the settings were checked */
+    if (s->forced && t >= c->set->forcing_finite_until) {   /* found when the settings were checked */
         stop(c, "the forcing law is NaN or Inf at t = %.9g; stopped before the step to t = %.6g",
-             s->forcing_finite_until, t);
+             c->set->forcing_finite_until, t);
         return 1;
     }
     if (k > 0 && (c->loop_rc = advance_to(c, &t, &c->t_last)) != SWIM_ODE_OK) {
@@ -1034,13 +1028,12 @@ static int next_row(scene_run *c)
         return 1;
     }
     if (c->r.event_stop) return 1;   /* the row at the event was the last */
-    if (c->req.sink.progress) c->req.sink.progress(c->req.sink.ctx, t, s->t_end);
+    if (c->req.sink.progress) c->req.sink.progress(c->req.sink.ctx, t, c->set->t_end);
     return 0;
 }
 
 static void finish_loop(scene_run *c)
 {
-    const swim_scene *s = c->s;
     if (c->ndim > c->sdim && c->var.interval > 0) {
         /* marks beyond the last row (in its step) are not the run's; the last row is the last mark */
         const double tl = c->var_on ? c->t_last : c->var_t;
@@ -1050,7 +1043,7 @@ static void finish_loop(scene_run *c)
             tangent_mark(c, tl, tangent_norm(c, c->ys_last));
         }
     }
-    if (c->r.status == 0 && !c->r.event_stop) end_run(c, 0, "reached t_end = %.6g", s->t_end);
+    if (c->r.status == 0 && !c->r.event_stop) end_run(c, 0, "reached t_end = %.6g", c->set->t_end);
     if (c->ode) accumulate_stats(&c->total, c->ode);
     if (c->watch_ready) take_watch(&c->r, &c->watch);
 }
@@ -1072,12 +1065,19 @@ static void advance_rows(scene_run *c, double t)
  * a dynamic scene's initial state, which needs the kernel (a stroke's runs on the stroke's own
  * initial state, when its run opens). 0; 1 when no kernel could be had; 2 for a law the generator
  * refuses or numbers that overflow. */
-void swim_run_ode_options(const swim_scene *s, swim_ode_options *o)
+void swim_run_ode_options(const swim_run_settings *set, swim_ode_options *o)
 {
     swim_ode_options_default(o);
-    o->rtol = s->rtol;
-    o->atol = s->atol;
-    if (s->step_lookahead >= 0) o->lookahead = s->step_lookahead;
+    o->rtol = set->rtol;
+    o->atol = set->atol;
+    if (set->step_lookahead >= 0) o->lookahead = set->step_lookahead;
+}
+
+void swim_run_ode_options_projected(const swim_run_settings *set, swim_ode_options *o)
+{
+    swim_run_ode_options(set, o);
+    if (set->projection && (swim_ode_capabilities(set->integrator) & SWIM_ODE_CAP_PROJECTION))
+        o->project = swim_dynamics_project;   /* drift control */
 }
 
 /* ---- the scene kind (driver/run.h, swim_run_kind) ------------------------------------------- */
@@ -1109,13 +1109,13 @@ static void fill_result(scene_run *c)
     res->diagnostics_seconds = r->diagnostics_seconds;
     res->output_seconds = r->output_seconds;
     res->wall_seconds = swim_clock_seconds() - c->t_start;
-    res->projection = c->s->projection && (swim_ode_capabilities(c->s->integrator) & SWIM_ODE_CAP_PROJECTION);
+    res->projection = c->set->projection && (swim_ode_capabilities(c->set->integrator) & SWIM_ODE_CAP_PROJECTION);
     res->step_checks = c->watch_ready;
     res->step_check_steps = c->watch.r.steps;
     res->step_check_seconds = swim_clock_sample_total(&c->watch.time);
     res->origin_shift_enabled = c->shift_ok || c->shifts;
     res->shifts = c->shifts;
-    res->impacts_enabled = c->ys_shift && c->s->impact_depth > 0;
+    res->impacts_enabled = c->ys_shift && c->set->impact_depth > 0;
     res->impacts = c->impacts;
     res->impact_first_t = c->impact_first_t;
     res->impact_last_t = c->impact_last_t;
@@ -1144,7 +1144,7 @@ static void describe(scene_run *c)
     res->kernel_kind = c->d.generic ? "generic" : "specialized";
     res->state_dimension = swim_dynamics_state_dim(&c->d);
     res->projection_change = s->projection_change;
-    res->impact_depth = s->impact_depth;
+    res->impact_depth = c->set->impact_depth;
     res->jacobian = c->sys_state.jacobian ? "exact" : "differences";   /* what the BDF methods use */
 }
 
@@ -1160,6 +1160,7 @@ static int scene_open(const swim_run_request *req, void **out, swim_status *st)
     }
     c->req = *req;
     c->s = req->scene;
+    c->set = req->settings;
     c->kn = req->kernel;
     c->spz = req->system;
     c->events = req->events;
@@ -1254,13 +1255,12 @@ static int scene_set_variational(void *p, const swim_run_variational *v, swim_st
         swim_status_fail(st, NULL, NULL, 0, NULL, "variational equations: attach them once, before the run");
         return 2;
     }
-    const swim_scene *s = c->s;
-    const unsigned caps = swim_ode_capabilities(s->integrator);
+    const unsigned caps = swim_ode_capabilities(c->set->integrator);
     const unsigned need = (v->error_control ? 0u : SWIM_ODE_CAP_ERROR_DIM) |
                           (v->interval > 0 ? SWIM_ODE_CAP_ERROR_DIM | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_RESCALE : 0u);
     if ((caps & need) != need) {
         swim_status_fail(st, NULL, NULL, 0, NULL, "integrator %s cannot carry %s on the run's steps outside its error "
-                         "control; use one of: %s", s->integrator,
+                         "control; use one of: %s", c->set->integrator,
                          v->interval > 0 ? "the Lyapunov tangent vector" : "the sensitivities", swim_ode_method_list_with(need));
         return 2;
     }
@@ -1269,7 +1269,7 @@ static int scene_set_variational(void *p, const swim_run_variational *v, swim_st
      * not move the warm starts of the run's own (model/dynamics.h) */
     if (swim_dynamics_set_aside(&c->d) != 0) goto oom;
     if (grow(&c->ys, n, m, 0.0) || grow(&c->ys_last, n, m, 0.0) || grow(&c->ys_row, n, m, 0.0) ||
-        grow(&c->ys_shift, n, m, 0.0) || grow(&c->atolv, n, m, s->atol) || grow(&c->tol_scale, n, m, 1.0) ||
+        grow(&c->ys_shift, n, m, 0.0) || grow(&c->atolv, n, m, c->set->atol) || grow(&c->tol_scale, n, m, 1.0) ||
         grow(&c->fw_ys, n, m, 0.0) || !(c->var_buf = calloc((size_t)m, sizeof(double))))
         goto oom;
     if (c->watch_ready) {   /* its buffer takes the interpolant's whole vector */

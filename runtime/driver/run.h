@@ -74,6 +74,10 @@ typedef struct {
     swim_run_sink sink;
     int stop_by_caller;             /* *stop is a caller's flag (libswim), any nonzero value, not a
                                        signal number: the run ends "stopped by the caller" */
+    /* The run's settings, resolved by the caller from the scene's [run] and its own options and
+     * checked (swim_run_settings_check); borrowed. NULL: the scene's [run] as read (scene->run,
+     * which the reader checked). The driver reads these, never the scene's. */
+    const swim_run_settings *settings;
 } swim_run_request;
 
 /* What a prescribed stroke adds (scene with a [stroke] table). */
@@ -184,11 +188,16 @@ const swim_run_kind *swim_run_kind_for(const swim_scene *s);
  * has three more): names[] (at most SWIM_RUN_MAX_COLUMNS) pointing into storage. The count. */
 int swim_run_columns(const swim_scene *s, const char **names, char storage[][24]);
 
-/* The scene's integrator settings as swim_ode_options (defaults, then rtol, atol, the step
- * look-ahead): the one mapping every integration of a scene starts from. What a run adds on top
- * (projection, events, the checks at every step, the error weights and the balance test near the
- * barrier) depends on the integrator's capabilities and is the driver's. */
-void swim_run_ode_options(const swim_scene *s, swim_ode_options *o);
+/* The run settings as swim_ode_options (defaults, then rtol, atol, the step look-ahead): the one
+ * mapping every integration of a scene starts from. What a run adds on top (events, the checks
+ * at every step, the error weights and the balance test near the barrier) depends on the
+ * integrator's capabilities and is the driver's. */
+void swim_run_ode_options(const swim_run_settings *set, swim_ode_options *o);
+/* The same with the drift control of an integration of the scene's own state (the run, floquet's
+ * and periodic's passes): the state put back on the constraints after each step when
+ * set->projection is on and the integrator can (SWIM_ODE_CAP_PROJECTION). Not for an augmented
+ * state (sensitivities, the monodromy), whose columns are not projected this way. */
+void swim_run_ode_options_projected(const swim_run_settings *set, swim_ode_options *o);
 
 /* The run of req (copied; what it points to is borrowed): a dynamic run, or a prescribed stroke
  * when the scene has a [stroke] table (req->system then holds its laws, swim_codegen_stroke).

@@ -34,6 +34,7 @@ typedef struct scene_run scene_run;
 struct scene_run {
     swim_run_request req;
     swim_scene *s;              /* req.scene */
+    const swim_run_settings *set;   /* req.settings: what the run reads, never s->run */
     const swim_compiled *kn, *spz;   /* req.kernel, req.system */
     swim_run_events *events;    /* req.events */
     swim_dynamics d;

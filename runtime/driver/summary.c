@@ -127,14 +127,14 @@ static json_t *residuals(const swim_run_result *r, int *bad)
     return o;
 }
 
-static json_t *stiff_switch(const swim_run_result *r, const swim_scene *s, int *bad)
+static json_t *stiff_switch(const swim_run_result *r, const swim_run_settings *set, int *bad)
 {
     if (!(r->switch_t >= 0)) return json_null();
     json_t *o = obj();
     if (!o) return NULL;
     put(o, "t", swim_json_num(r->switch_t), bad);
-    put(o, "from", swim_json_str(s->integrator), bad);
-    put(o, "to", swim_json_str(s->stiff_fallback), bad);
+    put(o, "from", swim_json_str(set->integrator), bad);
+    put(o, "to", swim_json_str(set->stiff_fallback), bad);
     return o;
 }
 
@@ -222,6 +222,7 @@ json_t *swim_run_summary(const swim_run *run, const swim_summary_context *x)
 {
     const swim_run_request *req = swim_run_get_request(run);
     const swim_scene *s = req->scene;
+    const swim_run_settings *set = req->settings;   /* resolved (swim_run_open: never NULL) */
     const swim_run_result *r = swim_run_get_result(run);
     if (r->summary_brief) return brief_summary(s);
     json_t *o = obj();
@@ -235,8 +236,8 @@ json_t *swim_run_summary(const swim_run *run, const swim_summary_context *x)
     put(o, "rhof", swim_json_num(s->rhof), &bad);
     put(o, "integrator", swim_json_str(r->used), &bad);
     put(o, "integrator_switch_t", swim_json_num(r->switch_t >= 0 ? r->switch_t : NAN), &bad);
-    put(o, "rtol", swim_json_fmt("%.3g", s->rtol), &bad);
-    put(o, "atol", swim_json_fmt("%.3g", s->atol), &bad);
+    put(o, "rtol", swim_json_fmt("%.3g", set->rtol), &bad);
+    put(o, "atol", swim_json_fmt("%.3g", set->atol), &bad);
     put(o, "step_lookahead", count(r->step_lookahead), &bad);
     put(o, "free", free_coordinates(s), &bad);
     put(o, "effects", effects(r, &bad), &bad);
@@ -249,7 +250,7 @@ json_t *swim_run_summary(const swim_run *run, const swim_summary_context *x)
     }
     put(o, "projection", proj, &bad);
     status(o, r, &bad);
-    put(o, "t_end", swim_json_num(s->t_end), &bad);
+    put(o, "t_end", swim_json_num(set->t_end), &bad);
     put(o, "t_reached", swim_json_num(r->t_reached), &bad);
     put(o, "rows", count(r->rows), &bad);
     if (x->sensitivity) put(o, "sensitivity", sensitivity(x, &bad), &bad);
@@ -265,7 +266,7 @@ json_t *swim_run_summary(const swim_run *run, const swim_summary_context *x)
     put(o, "jmin", swim_json_num(r->jmin), &bad);
     put(o, "jmin_t", swim_json_num(r->jmin_t), &bad);
     put(o, "left_D_t", swim_json_num(r->left_t), &bad);
-    put(o, "stiff_switch", stiff_switch(r, s, &bad), &bad);
+    put(o, "stiff_switch", stiff_switch(r, set, &bad), &bad);
     features(o, r, &bad);
     if (req->events) bad |= swim_run_events_summary(req->events, o);   /* "events", "event_stop", "periodic" */
     bad |= swim_run_kind_summary(run, o);                            /* the kind's own (a stroke's "stroke") */

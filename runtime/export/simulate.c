@@ -81,12 +81,13 @@ static int read_options(int argc, char **argv, options *o)
 
 /* The job's adjustment: the run options over the scene, read, bounded and recorded into
  * OUT/scene.toml by swim run's own code (cli/run_settings.h). */
-static int adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx, swim_status *st)
+static int adjust(const swim_scene *s, swim_run_settings *set, swim_override *recorded, int *nrecorded, void *ctx,
+                  swim_status *st)
 {
     (void)st;   /* the options' refusals are this program's own lines */
     const options *o = ctx;
-    if (swim_run_settings_options(o->opts, NOPTS, s) != 0) return 2;
-    *nrecorded = swim_run_settings_record(o->opts, NOPTS, s, recorded);
+    if (swim_run_settings_options(o->opts, NOPTS, s, set) != 0) return 2;
+    *nrecorded = swim_run_settings_record(o->opts, NOPTS, set, recorded);
     return 0;
 }
 

@@ -23,6 +23,7 @@ struct swim_job {
     swim_run_job req;
     swim_scene s;                /* the problem's scene (P.s) */
     swim_problem P;              /* the scene with the overrides, its kernels and dynamics */
+    swim_run_settings settings;  /* the run's: the scene's [run] and the command's options (adjust) */
     int stroke;                  /* the scene has a [stroke] table */
     swim_override recorded[2 * SWIM_JOB_MAX_SETS];   /* DIR/scene.toml: the overrides and the adjustments */
     int nrecorded;
@@ -93,24 +94,25 @@ static int read_scene(swim_job *j, swim_status *st)
     j->stroke = s->stroke_count > 0;
     int nadj = 0;
     swim_override adjusted[SWIM_JOB_MAX_SETS];
-    if (r->adjust && r->adjust(s, adjusted, &nadj, r->adjust_ctx, st) != 0) return 2;
+    j->settings = s->run;
+    if (r->adjust && r->adjust(s, &j->settings, adjusted, &nadj, r->adjust_ctx, st) != 0) return 2;
     if (j->stroke && refuse_for_stroke(j, st)) return 2;
-    if (r->lyapunov > 0 && !(s->t_end / r->lyapunov <= SWIM_LYAPUNOV_MAX_SEGMENTS)) {
+    if (r->lyapunov > 0 && !(j->settings.t_end / r->lyapunov <= SWIM_LYAPUNOV_MAX_SEGMENTS)) {
         swim_status_fail(st, who, NULL, 0, NULL, "--lyapunov-interval: %g gives %.3g renormalizations over t_end = %g, "
                          "more than %d (the rows of lyapunov.csv); give an interval >= %.3g", r->lyapunov,
-                         s->t_end / r->lyapunov, s->t_end, SWIM_LYAPUNOV_MAX_SEGMENTS,
-                         s->t_end / SWIM_LYAPUNOV_MAX_SEGMENTS);
+                         j->settings.t_end / r->lyapunov, j->settings.t_end, SWIM_LYAPUNOV_MAX_SEGMENTS,
+                         j->settings.t_end / SWIM_LYAPUNOV_MAX_SEGMENTS);
         return 2;
     }
-    if (r->trace && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
-        swim_status_fail(st, who, NULL, 0, NULL, "--trace-steps: integrator '%s' does not report its steps", s->integrator);
+    if (r->trace && !(swim_ode_capabilities(j->settings.integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
+        swim_status_fail(st, who, NULL, 0, NULL, "--trace-steps: integrator '%s' does not report its steps", j->settings.integrator);
         return 2;
     }
     /* events name columns of trajectory.csv: checked against them, before any output */
     const char *names[SWIM_RUN_MAX_COLUMNS];
     char storage[2 * SWIM_NMAX][24];
     const int ncol = swim_run_columns(s, names, storage);
-    const int erc = swim_run_events_parse(s, r->events, r->nevents, names, ncol, &j->events, st);
+    const int erc = swim_run_events_parse(s, &j->settings, r->events, r->nevents, names, ncol, &j->events, st);
     if (erc) return erc;
     /* the record of the run: the overrides, except those an adjustment sets again, then those */
     for (int i = 0; i < r->nsets; i++) {
@@ -156,7 +158,7 @@ static int check_variational(swim_job *j, swim_status *st)
     char who[64];
     snprintf(who, sizeof who, "swim %s", j->req.cmd);
     const swim_analyses_request ar = analyses_request(j);
-    return ar.keys || ar.lyapunov > 0 ? swim_analyses_check(j->s.integrator, &ar, who, st) : 0;
+    return ar.keys || ar.lyapunov > 0 ? swim_analyses_check(j->settings.integrator, &ar, who, st) : 0;
 }
 
 static swim_folder_request folder_request(const swim_job *j, const char **names, char storage[][24])
@@ -212,7 +214,8 @@ static int open_run(swim_job *j, swim_status *st)
         free(line);
     }
     const swim_run_request rr = {&j->s, &j->P.kn, &j->P.spz, j->req.generic, j->events, j->req.stop,
-                                 {sink_row, j->req.trace ? sink_step : NULL, sink_notice, sink_progress, j}, 0};
+                                 {sink_row, j->req.trace ? sink_step : NULL, sink_notice, sink_progress, j}, 0,
+                                 &j->settings};
     int rc = swim_run_open(&rr, &j->run, st);
     if (rc) return rc;
     const char *names[SWIM_RUN_MAX_COLUMNS];
@@ -311,7 +314,7 @@ static void finish_sensitivity(swim_job *j, swim_status *st)
     j->sens_seconds = j->an.row_seconds + swim_run_dynamics(j->run)->jac_seconds;
     j->sens_rows = j->an.rows;
     j->sens_t_last = j->an.rows > 0 ? j->an.t_last : NAN;
-    j->sens_t = r->status == 0 ? r->t_reached : j->s.t_end;
+    j->sens_t = r->status == 0 ? r->t_reached : j->settings.t_end;
     const int sig = j->req.stop ? *j->req.stop : 0;
     if (r->impacts) {   /* the variational equations would need the impact's jump (a saltation matrix) */
         j->sens_status = "failed";
@@ -370,7 +373,7 @@ static void finish_lyapunov(swim_job *j, swim_status *st)
         return;
     }
     char *path = swim_strprintf("%s/lyapunov.csv", swim_folder_paths(j->folder)->dir);
-    const int rc = path ? swim_analyses_lyapunov(&j->an, j->run, j->req.lyapunov, j->s.rtol, &j->lyap) : -1;
+    const int rc = path ? swim_analyses_lyapunov(&j->an, j->run, j->req.lyapunov, j->settings.rtol, &j->lyap) : -1;
     const int sig = j->req.stop ? *j->req.stop : 0;
     if (rc == 0 && r->status != 0 && j->lyap.status == 0) {
         j->lyap.status = 1;
@@ -478,6 +481,7 @@ int swim_job_run(swim_job *j, swim_status *st)
 /* ---- what it found ------------------------------------------------------------------------- */
 
 const swim_scene *swim_job_scene(const swim_job *j) { return &j->s; }
+const swim_run_settings *swim_job_settings(const swim_job *j) { return &j->settings; }
 const swim_run_result *swim_job_result(const swim_job *j) { return swim_run_get_result(j->run); }
 const swim_run_paths *swim_job_paths(const swim_job *j) { return swim_folder_paths(j->folder); }
 swim_dynamics *swim_job_dynamics(swim_job *j) { return swim_run_dynamics(j->run); }

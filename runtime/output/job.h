@@ -34,10 +34,13 @@ typedef struct {
     const char *scene_name;
     const swim_override *sets;          /* applied before the scene is validated (--set) */
     int nsets;
-    /* Settings applied to the read scene (the command line's run options, checked there with
-     * their option's name): 0, or 2 with the cause in st. It may add to `recorded` (at most
-     * SWIM_JOB_MAX_SETS) the overrides that write its changes into DIR/scene.toml. May be NULL. */
-    int (*adjust)(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx, swim_status *st);
+    /* The run's settings resolved: set holds the read scene's [run] (s->run, which stays as
+     * read); the command puts its run options over it and checks them once, with their option's
+     * name (swim_run_settings_check): 0, or 2 with the cause in st. It may add to `recorded` (at
+     * most SWIM_JOB_MAX_SETS) the overrides that write its changes into DIR/scene.toml. The run
+     * and its analyses read set. May be NULL: the scene's [run]. */
+    int (*adjust)(const swim_scene *s, swim_run_settings *set, swim_override *recorded, int *nrecorded, void *ctx,
+                  swim_status *st);
     void *adjust_ctx;
     const char *out;                    /* NULL: out/<scene name> */
     const char *trace;                  /* --trace-steps FILE (dynamic scenes) */
@@ -69,6 +72,8 @@ int swim_job_open(const swim_run_job *req, swim_job **out, swim_status *st);
 int swim_job_run(swim_job *j, swim_status *st);
 
 const swim_scene *swim_job_scene(const swim_job *j);
+/* The run's settings, resolved (the scene's [run] with the adjustment over it). */
+const swim_run_settings *swim_job_settings(const swim_job *j);
 const swim_run_result *swim_job_result(const swim_job *j);
 const swim_run_paths *swim_job_paths(const swim_job *j);
 swim_dynamics *swim_job_dynamics(swim_job *j);

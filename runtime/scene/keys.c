@@ -46,29 +46,29 @@ static const swim_scene_key keys[] = {
      "a named value the laws use, read at run time (the names are the structure)"},
     {"forcing", "direction", SWIM_KEY_VECTOR, F(direction), 0, 0, 0, {NULL}, NULL, NULL, RT | STRUCT,
      "direction of F(t) (5.1) (its zeros are the kernel's structure)"},
-    {"run", "t_end", SWIM_KEY_NUMBER, F(t_end), 0, 0, 0, {NULL}, NULL, "t-end", REQ, "final time"},
-    {"run", "output_step", SWIM_KEY_NUMBER, F(output_step), 0, 0, 0, {NULL}, NULL, "output-step", REQ,
+    {"run", "t_end", SWIM_KEY_NUMBER, F(run.t_end), 0, 0, 0, {NULL}, NULL, "t-end", REQ, "final time"},
+    {"run", "output_step", SWIM_KEY_NUMBER, F(run.output_step), 0, 0, 0, {NULL}, NULL, "output-step", REQ,
      "spacing of the output rows"},
-    {"run", "rtol", SWIM_KEY_NUMBER, F(rtol), 0, 0, 1e-8, {NULL}, NULL, "rtol", 0, "relative tolerance"},
-    {"run", "atol", SWIM_KEY_NUMBER, F(atol), 0, 0, 1e-10, {NULL}, NULL, "atol", 0, "absolute tolerance"},
-    {"run", "integrator", SWIM_KEY_TEXT, F(integrator), 0, 0, 0, {NULL}, NULL, "integrator", 0,
+    {"run", "rtol", SWIM_KEY_NUMBER, F(run.rtol), 0, 0, 1e-8, {NULL}, NULL, "rtol", 0, "relative tolerance"},
+    {"run", "atol", SWIM_KEY_NUMBER, F(run.atol), 0, 0, 1e-10, {NULL}, NULL, "atol", 0, "absolute tolerance"},
+    {"run", "integrator", SWIM_KEY_TEXT, F(run.integrator), 0, 0, 0, {NULL}, NULL, "integrator", 0,
      "the integrator (ode/ode.h's registry)"},
-    {"run", "stiff_fallback", SWIM_KEY_TEXT, F(stiff_fallback), 0, 0, 0, {NULL}, NULL, NULL, 0,
+    {"run", "stiff_fallback", SWIM_KEY_TEXT, F(run.stiff_fallback), 0, 0, 0, {NULL}, NULL, NULL, 0,
      "the integrator a run continues with when ABM detects stiffness, or \"none\""},
-    {"run", "projection", SWIM_KEY_BOOL, F(projection), 0, 0, 1, {NULL}, "true or false", NULL, PLAIN,
+    {"run", "projection", SWIM_KEY_BOOL, F(run.projection), 0, 0, 1, {NULL}, "true or false", NULL, PLAIN,
      "drift control: the state put back on the constraints after each step"},
-    {"run", "origin_shift", SWIM_KEY_BOOL, F(origin_shift), 0, 0, 1, {NULL}, "true or false", NULL, PLAIN,
+    {"run", "origin_shift", SWIM_KEY_BOOL, F(run.origin_shift), 0, 0, 1, {NULL}, "true or false", NULL, PLAIN,
      "abm with a barrier: the state carried relative to an origin near the boundary of D"},
-    {"run", "energy_control", SWIM_KEY_BOOL, F(energy_control), 0, 0, -1, {NULL}, "true or false", NULL, PLAIN,
+    {"run", "energy_control", SWIM_KEY_BOOL, F(run.energy_control), 0, 0, -1, {NULL}, "true or false", NULL, PLAIN,
      "abm: the energy balance in the error test (default: with a barrier)"},
-    {"run", "impact_depth", SWIM_KEY_NUMBER, F(impact_depth), 0, 1, 1e-16, {NULL}, "in [0, 1) (0: never)", NULL,
+    {"run", "impact_depth", SWIM_KEY_NUMBER, F(run.impact_depth), 0, 1, 1e-16, {NULL}, "in [0, 1) (0: never)", NULL,
      PLAIN, "abm with a barrier: bounces predicted to turn below impact_depth |c1|^2 taken as impacts"},
-    {"run", "step_lookahead", SWIM_KEY_INTEGER, F(step_lookahead), 0, 12, -1, {NULL}, "an integer 0..12",
+    {"run", "step_lookahead", SWIM_KEY_INTEGER, F(run.step_lookahead), 0, 12, -1, {NULL}, "an integer 0..12",
      "step-lookahead", PLAIN, "ABM step-size look-ahead p"},
-    {"run", "jacobian", SWIM_KEY_CHOICE, F(jacobian_exact), 0, 0, 1, {"differences", "exact", NULL},
+    {"run", "jacobian", SWIM_KEY_CHOICE, F(run.jacobian_exact), 0, 0, 1, {"differences", "exact", NULL},
      "\"exact\" or \"differences\"", NULL, PLAIN, "the Newton matrix of the BDF integrators"},
     {"events", "list", SWIM_KEY_TEXT, NONE, 0, 0, 0, {NULL}, NULL, NULL, 0, "events to locate, \"COLUMN:KIND[:stop]\""},
-    {"run", "project_initial", SWIM_KEY_BOOL, F(project_initial), 0, 0, 0, {NULL}, "true or false", NULL, PLAIN,
+    {"run", "project_initial", SWIM_KEY_BOOL, F(run.project_initial), 0, 0, 0, {NULL}, "true or false", NULL, PLAIN,
      "project an inconsistent dc0 onto the constraints instead of refusing it"},
     {"stroke", "*", SWIM_KEY_TEXT, NONE, 0, 0, 0, {NULL}, NULL, NULL, STRUCT, "the law of a prescribed coordinate"},
     {"stroke", "period", SWIM_KEY_NUMBER, F(stroke_period), 0, 0, 0, {NULL}, NULL, NULL, 0,
@@ -127,6 +127,16 @@ const swim_scene_key *swim_command_options(int *count)
 {
     *count = (int)(sizeof command_options / sizeof command_options[0]);
     return command_options;
+}
+
+void *swim_run_settings_field(swim_run_settings *set, const swim_scene_key *k)
+{
+    return (char *)set + (k->offset - offsetof(swim_scene, run));
+}
+
+const void *swim_run_settings_field_const(const swim_run_settings *set, const swim_scene_key *k)
+{
+    return (const char *)set + (k->offset - offsetof(swim_scene, run));
 }
 
 const swim_scene_key *swim_scene_keys(int *count)

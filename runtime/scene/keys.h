@@ -38,6 +38,8 @@ enum {
     SWIM_KEY_REQUIRED = 16    /* the table must have it */
 };
 
+#include "scene/settings.h"
+
 #define SWIM_KEY_NONE ((size_t)-1)   /* no field of its own (read by custom code) */
 
 typedef struct {
@@ -53,6 +55,11 @@ typedef struct {
     unsigned flags;
     const char *doc;              /* one line for users */
 } swim_scene_key;
+
+/* The field of row k, a key of table "run" with a field of its own (k->offset points into
+ * swim_scene.run), in the run settings set (scene/settings.h). */
+void *swim_run_settings_field(swim_run_settings *set, const swim_scene_key *k);
+const void *swim_run_settings_field_const(const swim_run_settings *set, const swim_scene_key *k);
 
 /* Every key, in the order of models/README.md's table. *count gets their number. */
 const swim_scene_key *swim_scene_keys(int *count);

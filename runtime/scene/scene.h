@@ -17,6 +17,7 @@
 #include "kernel/coords.h"
 #include "kernel/swim_kernel.h"
 #include "scene/expr.h"
+#include "scene/settings.h"
 
 #define SWIM_NMAX (2 * (SWIM_KERNEL_MAX_MODES + 1))
 #define SWIM_PARAMS_MAX 32   /* names in [parameters] */
@@ -65,24 +66,10 @@ typedef struct {
     int forced;                       /* F(t) = f(t) * direction (5.1) */
     swim_expr *forcing;
     char *forcing_text;               /* the law as written (owned) */
-    double forcing_finite_until;      /* first time in (0, t_end] where the law was found not
-                                         finite (a sample, see swim_run_settings_check), or inf */
     double direction[SWIM_NMAX];
-    double t_end, output_step, rtol, atol;
-    char integrator[32];
-    char stiff_fallback[32];          /* integrator to switch to when ABM detects stiffness ("cvode-bdf"
-                                         unless the scene says "none": then "") */
-    int project_initial;
-    int projection;                   /* drift control after each step (ABM), default on */
-    int origin_shift;                 /* abm with a barrier: shifted coordinates near the boundary of D
-                                         (model/dynamics.h), default on */
-    int energy_control;               /* abm: the local error of the energy balance joins the error
-                                         test (swim_ode_options.invariant); 1, 0, or -1 when the scene
-                                         does not say: on with a barrier, off without */
-    double impact_depth;              /* abm with a barrier: a bounce predicted to turn below
-                                         impact_depth |c_1|^2 is taken as an impact (model/bounce.h);
-                                         0: never */
-    int step_lookahead;               /* ABM step-size look-ahead p (swim_ode_options.lookahead); -1 = the integrator default */
+    /* [run] as read from the file (its overrides included); nothing writes it after. The run
+     * reads the settings its command resolved from it (scene/settings.h). */
+    swim_run_settings run;
     double projection_change;         /* max |change| of dc0 when projected */
     int setting_line[SWIM_SET_COUNT]; /* line of each run setting in the file (0: absent) */
     int line_c0, line_dc0, line_rho0, line_rhof;  /* for swim_scene_check_model's messages */
@@ -108,8 +95,6 @@ typedef struct {
     int nparams, params_line;
     char param_names[SWIM_PARAMS_MAX][32];
     double param_values[SWIM_PARAMS_MAX];
-    int jacobian_exact;               /* [run] jacobian: 1 "exact" (default: the kernel's exact
-                                         Jacobian for integrators that use one), 0 "differences" */
     /* The overrides applied (swim_scene_parse_with), as given: a value an override set has the
      * "line" -(i + 1) in the line fields above, and messages name override i, not a line of a
      * file it never was on (swim_scene_where). */
@@ -148,15 +133,16 @@ void swim_scene_free(swim_scene *scene);
  * differ in their laws or parameter names (their structure), and nothing is moved. */
 int swim_scene_take_values(swim_scene *scene, swim_scene *from);
 
-/* The one check of the run settings, whatever set them: the row cap and the tolerance bounds
- * above, and the laws on the run's interval [0, t_end], before any kernel is asked for. A law is
- * finite at t when every part of it is (swim_expr_defined: step(sqrt(-1)) is not). The forcing
- * law not finite at t0 is an error; the first sampled time where it is not finite later is
- * recorded in forcing_finite_until (the run stops there). A stroke law not finite at t0 or at
- * any sample is an error naming its key (stroke.am1). 0, or 2 with st naming the scene key
+/* The one check of the run settings `set` of scene s (its own [run], as the reader checks it,
+ * or the settings a command resolved from it), whatever set them: the row cap and the tolerance
+ * bounds above, and the laws on the run's interval [0, t_end], before any kernel is asked for. A
+ * law is finite at t when every part of it is (swim_expr_defined: step(sqrt(-1)) is not). The
+ * forcing law not finite at t0 is an error; the first sampled time where it is not finite later
+ * is recorded in set->forcing_finite_until (the run stops there). A stroke law not finite at t0
+ * or at any sample is an error naming its key (stroke.am1). 0, or 2 with st naming the scene key
  * (FILE:LINE: run.rtol: ...) or, for a setting in `cli`, the option (swim run: --rtol: ...).
  * cli may be NULL. */
-int swim_run_settings_check(swim_scene *scene, const swim_run_overrides *cli, swim_status *st);
+int swim_run_settings_check(const swim_scene *s, swim_run_settings *set, const swim_run_overrides *cli, swim_status *st);
 
 /* The model's numbers at a state must leave room for the products the right-hand side forms
  * (K v, v^T K v, the constrained solve of (4.12)): every entry of Mr, N, Md, K, <Gamma, v, v>

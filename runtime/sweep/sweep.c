@@ -25,6 +25,7 @@
 #include "io/message.h"
 #include "driver/summary_read.h"
 #include "output/job.h"
+#include "problem/problem.h"
 #include "scene/scene.h"
 
 /* ------------------------------------------------------------------ specs */
@@ -168,33 +169,36 @@ static void mode_kernels_close(mode_kernels *mk)
     memset(mk->open, 0, sizeof mk->open);
 }
 
-/* A member's scene as swim run checks it: the scene reader on the text read once (the file may
- * have changed since), then, with mk, the magnitude check of its model (swim_scene_check_model:
- * a density of 1e308 passes the reader but overflows the mass matrices). 0 or 2, or 1 when no
- * kernel of its N could be had. */
-static int check_member(const sweep_plan *p, long m, swim_scene *s, mode_kernels *mk, swim_status *st)
+/* A member's scene as swim run reads it: a problem (problem/problem.h) on the text read once
+ * (the file may have changed since) with the member's overrides, then, with mk, the magnitude
+ * check of its model (swim_scene_check_model: a density of 1e308 passes the reader but overflows
+ * the mass matrices). 0 with P open (close it after), or 2, or 1 when no kernel of its N could be
+ * had or out of memory (P then closed). */
+static int check_member(const sweep_plan *p, long m, swim_problem *P, mode_kernels *mk, swim_status *st)
 {
     swim_override ov[SWEEP_MAX_SETS + SWEEP_MAX_VARY];
-    int nov = member_overrides(p, m, ov);
-    int rc = swim_scene_parse_with(p->scene_text, p->scene_len, p->scene, ov, nov, s, st);
-    if (rc || !mk) return rc;
-    const int n = s->modes;
-    if (n < 1 || n > SWIM_KERNEL_MAX_MODES) return 0;   /* the reader refuses these */
-    if (!mk->open[n]) {
-        if (swim_codegen_kernel(n, &mk->kn[n], 0, st) != 0) rc = 1;
-        else mk->open[n] = 1;
+    const int nov = member_overrides(p, m, ov);
+    const swim_problem_source src = {.text = p->scene_text, .len = p->scene_len, .name = p->scene, .sets = ov,
+                                     .nsets = nov};
+    int rc = swim_problem_read(P, &src, st);
+    const int n = P->s->modes;
+    if (!rc && mk && n >= 1 && n <= SWIM_KERNEL_MAX_MODES) {   /* the reader refuses other N */
+        if (!mk->open[n]) {
+            if (swim_codegen_kernel(n, &mk->kn[n], 0, st) != 0) rc = 1;
+            else mk->open[n] = 1;
+        }
+        if (!rc) rc = swim_scene_check_model(P->s, mk->kn[n].kernel, st);
     }
-    if (!rc) rc = swim_scene_check_model(s, mk->kn[n].kernel, st);
-    if (rc) swim_scene_free(s);
+    if (rc) swim_problem_close(P);
     return rc;
 }
 
 /* Loads member m's scene (check_member): the cause of a refusal, with the member named in front
  * of it, in st. 0, 2, or 1 (no kernel). */
-static int load_member(const sweep_plan *p, long m, swim_scene *s, mode_kernels *mk, swim_status *st)
+static int load_member(const sweep_plan *p, long m, swim_problem *P, mode_kernels *mk, swim_status *st)
 {
     swim_status own = {0};   /* notices of a member's scene are not the sweep's */
-    int rc = check_member(p, m, s, mk, &own);
+    int rc = check_member(p, m, P, mk, &own);
     if (rc != 0) {
         char label[600], msg[SWIM_MESSAGE_MAX + 8], who[64];
         member_label(p, m, label, sizeof label);
@@ -614,24 +618,25 @@ static int generate_kernels(const sweep_plan *p, const long *rep, int nkeys, swi
 {
     const int verbose = p->quiet ? 0 : 1;
     for (int k = 0; k < nkeys; k++) {
-        swim_scene s;
-        if (load_member(p, rep[k], &s, NULL, st)) return 2;
+        swim_problem P;
+        if (load_member(p, rep[k], &P, NULL, st)) return 2;
+        const swim_scene *s = P.s;
         swim_compiled kn, sc;
-        int bad = swim_codegen_kernel(s.modes, &kn, verbose, st) != 0;
+        int bad = swim_codegen_kernel(s->modes, &kn, verbose, st) != 0;
         if (!bad) {
             /* a prescribed stroke's members run on its laws' kernel (runtime/stroke) */
-            bad = s.stroke ? swim_codegen_stroke(&s, &sc, verbose, st) : swim_codegen_scene(&s, p->generic, &sc, verbose, st);
+            bad = s->stroke ? swim_codegen_stroke(s, &sc, verbose, st) : swim_codegen_scene(s, p->generic, &sc, verbose, st);
             if (!bad) swim_compiled_close(&sc);
             swim_compiled_close(&kn);
         }
         if (bad == -2) {   /* a stroke law the generator refuses: bad input */
             char where[640];
-            swim_status_fail(st, "swim", s.path, 0, NULL, "%s: %s (member %ld)",
-                             swim_scene_stroke_where(&s, sc.refused_index, where, sizeof where), sc.refused, rep[k]);
-            swim_scene_free(&s);
+            swim_status_fail(st, "swim", s->path, 0, NULL, "%s: %s (member %ld)",
+                             swim_scene_stroke_where(s, sc.refused_index, where, sizeof where), sc.refused, rep[k]);
+            swim_problem_close(&P);
             return 2;
         }
-        swim_scene_free(&s);
+        swim_problem_close(&P);
         if (bad) {
             fail(st, p, "no kernel for the structure of member %ld, no member run", rep[k]);
             return 1;
@@ -650,10 +655,10 @@ int sweep_prepare(sweep_plan *p, swim_status *st)
     mode_kernels mk;
     memset(mk.open, 0, sizeof mk.open);
     for (long m = 0; m < p->members && !rc; m++) {
-        swim_scene s;
-        if ((rc = load_member(p, m, &s, &mk, st))) break;
-        char *key = swim_codegen_scene_key(&s, p->generic);
-        swim_scene_free(&s);
+        swim_problem P;
+        if ((rc = load_member(p, m, &P, &mk, st))) break;
+        char *key = swim_codegen_scene_key(P.s, p->generic);
+        swim_problem_close(&P);
         if (!key) {
             fail(st, p, "out of memory");
             rc = 1;
@@ -706,18 +711,19 @@ int sweep_prepare(sweep_plan *p, swim_status *st)
 
 /* The sweep's run options over a member's scene (as swim run's --integrator and --no-projection),
  * recorded for its DIR/scene.toml. */
-static int member_adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *ctx, swim_status *st)
+static int member_adjust(const swim_scene *s, swim_run_settings *set, swim_override *recorded, int *nrecorded,
+                         void *ctx, swim_status *st)
 {
     const sweep_plan *p = ctx;
     char text[64];
     *nrecorded = 0;
     if (p->integrator[0]) {
-        snprintf(s->integrator, sizeof s->integrator, "%s", p->integrator);
+        snprintf(set->integrator, sizeof set->integrator, "%s", p->integrator);
         snprintf(text, sizeof text, "run.integrator=%s", p->integrator);
         if (swim_override_parse(text, &recorded[*nrecorded], NULL, 0) == 0) (*nrecorded)++;
     }
     if (p->no_projection && s->stroke_count == 0) {
-        s->projection = 0;
+        set->projection = 0;
         if (swim_override_parse("run.projection=false", &recorded[*nrecorded], NULL, 0) == 0) (*nrecorded)++;
     }
     if (p->no_projection && s->stroke_count > 0) {
@@ -725,7 +731,7 @@ static int member_adjust(swim_scene *s, swim_override *recorded, int *nrecorded,
                          "[stroke]: only (3.21) is integrated)", s->path);
         return 2;
     }
-    return swim_run_settings_check(s, NULL, st) != 0 ? 2 : 0;
+    return swim_run_settings_check(s, set, NULL, st) != 0 ? 2 : 0;
 }
 
 /* Member m in this process (the forked child): a job of the run layer (output/job.h), with the
