@@ -71,6 +71,7 @@ TEST_BINS   := $(patsubst %.c,$(BUILD)/%,$(TEST_SRCS))
 BENCH_BINS  := $(patsubst %.c,$(BUILD)/%,$(BENCH_SRCS))
 
 .PHONY: FORCE asan-tests all deps deps-media paper paper-test help install test sanitize fuzz bench bench-docs docs-numbers bench-accuracy bench-drift bench-variational bench-optimize bench-hard bench-soft generate generate-all run readme-figures clean
+.DEFAULT_GOAL := all
 all: $(BIN)/swim
 
 help:
