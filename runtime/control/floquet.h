@@ -37,6 +37,9 @@
 #define SWIM_FLOQUET_NSYM 3                                     /* rotations tried as symmetries */
 #define SWIM_FLOQUET_TOL 1e-3                                   /* on |lambda| (see floquet.c) */
 #define SWIM_FLOQUET_CLOSURE_TOL (SWIM_FLOQUET_TOL * SWIM_FLOQUET_TOL)   /* relative closure */
+/* The monodromy's columns in the integrator's error test (1) or riding on the state's steps (0,
+ * the default of a run's sensitivities): see floquet.c, swim_floquet_at, for the choice. */
+#define SWIM_FLOQUET_ERROR_CONTROL 1
 
 typedef struct {
     int stopped;                   /* d->interrupt's value when the caller stopped the work (a signal

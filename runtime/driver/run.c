@@ -80,9 +80,9 @@ static double barrier_tolerance(scene_run *c, const double *y, double h)
             umax = fmax(umax, fabs(y[3 + i]));
             vmax = fmax(vmax, fabs(x[s->n + k->free_index[i]]));
         }
-        const double want = s->rtol * j0 / g1, floor_s = 40.0 * 1.11e-16 / s->rtol;
+        const double want = c->rtol * j0 / g1, floor_s = 40.0 * 1.11e-16 / c->rtol;
         for (int i = 0; i < k->nfree; i++) {
-            const double allowed = s->rtol * fabs(x[k->free_index[i]]) + s->atol;
+            const double allowed = c->rtol * fabs(x[k->free_index[i]]) + c->atol;
             /* with an origin abm rounds u, not the shape: the floor follows the largest |u| (and
              * what one more step can add to it) instead of the shape itself */
             const double floor_i = c->d.origin ? 40.0 * 1.11e-16 * (umax + h * vmax) / allowed : floor_s;
@@ -269,7 +269,7 @@ static int bounce_at(scene_run *c, const double *y, swim_bounce *b)
 static int impact_wanted(scene_run *c, const double *y, double j)
 {
     const swim_scene *s = c->s;
-    if (!(s->impact_depth > 0) || !(j < IMPACT_AT * s->rtol) || !c->d.diag_barrier) return 0;
+    if (!(s->impact_depth > 0) || !(j < IMPACT_AT * c->rtol) || !c->d.diag_barrier) return 0;
     double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
     swim_dynamics_unpack(&c->d, y, full);
     const double j0 = c->watch_ready && c->watch.end_y == y ? c->watch.end_j   /* just computed at this step end */
@@ -341,7 +341,7 @@ static void tangent_step(scene_run *c, const swim_ode_accepted *step)
     double r = NAN;
     for (;;) {
         const double tm = (double)(c->lyap_n + 1) * iv;
-        if (c->lyap_reason[0] || !(tm < c->s->t_end - 1e-9 * iv) || !(tm <= t0 + step->tb)) break;
+        if (c->lyap_reason[0] || !(tm < c->t_end - 1e-9 * iv) || !(tm <= t0 + step->tb)) break;
         const double tau = fmin(fmax(tm - t0, step->ta), step->tb);
         const double *Y = tau == step->tb && step->y_end ? step->y_end
                         : step->interp(step->ctx, tau, c->var_buf, NULL) == 0 ? c->var_buf : NULL;
@@ -451,6 +451,23 @@ static void trace_step(const swim_ode_step *st, void *data)
 
 static int packed_row(void *p, double t, const double *ys, int all, double *row);
 
+/* The request's section on the integrator's state u (relative to the origin, constant between
+ * restarts: the derivative is u's). */
+static double section_g(double t, const double *u, const double *up, void *data)
+{
+    const scene_run *c = data;
+    const int i = c->req.section->index;
+    (void)t;
+    if (c->req.section->kind != 'z') return up[i];
+    return c->d.origin ? c->d.origin[i] + u[i] : u[i];
+}
+
+static void section_hit(const swim_ode_event_hit *hit, void *data)
+{
+    scene_run *c = data;
+    if (c->req.section->hit(c->req.section->ctx, c->d.t_origin + hit->t)) c->sec_stop = 1;
+}
+
 static int prepare(scene_run *c)
 {
     swim_scene *s = c->s;
@@ -467,8 +484,13 @@ static int prepare(scene_run *c)
     c->ys_row = calloc((size_t)c->sdim, sizeof(double));
     c->y_inside = calloc((size_t)c->d.dim, sizeof(double));
     if (!c->y || !c->row || !c->ys || !c->ys_last || !c->ys_row || !c->y_inside) goto oom;
-    swim_dynamics_initial_state(&c->d, c->y);
-    swim_dynamics_pack(&c->d, c->y, c->ys);
+    if (c->req.y0) {   /* a flow map's start */
+        memcpy(c->ys, c->req.y0, sizeof(double) * (size_t)c->sdim);
+        swim_dynamics_unpack(&c->d, c->ys, c->y);
+    } else {
+        swim_dynamics_initial_state(&c->d, c->y);
+        swim_dynamics_pack(&c->d, c->y, c->ys);
+    }
     memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
     c->sys = (swim_ode_system){swim_dynamics_rhs, (size_t)c->sdim, &c->d, NULL};
     if (s->jacobian_exact && c->spz->scene->jacobian)   /* [run] jacobian: BDF methods use it */
@@ -476,6 +498,8 @@ static int prepare(scene_run *c)
     c->sys_state = c->sys;
     swim_ode_options *o = &c->o;
     swim_run_ode_options(s, o);
+    o->rtol = c->rtol;
+    o->atol = c->atol;
     swim_dynamics_track_balance(&c->d, 1);   /* the step checks and the balance test read it */
     /* by default where the scene has a barrier: its long stays near the wall (10^4-10^5 steps) are
      * where the drift adds up; a smooth paper scene at rtol 1e-8 keeps ~1e-10 without it, and would
@@ -485,7 +509,7 @@ static int prepare(scene_run *c)
     if (energy_control && (caps & SWIM_ODE_CAP_INVARIANT)) {
         o->invariant = scaled_balance;
         o->invariant_data = c;
-        o->invariant_tol = ENERGY_CONTROL * s->rtol;   /* abm never asks for less than B's rounding */
+        o->invariant_tol = ENERGY_CONTROL * c->rtol;   /* abm never asks for less than B's rounding */
         c->invariant_on = 1;
     }
     o->stiff_stop = (caps & SWIM_ODE_CAP_STIFFNESS) != 0;   /* stop and report (or switch) on stiffness */
@@ -499,6 +523,15 @@ static int prepare(scene_run *c)
         if (!c->rowc.full ||
             swim_run_events_attach(c->events, o, (size_t)c->sdim, 3 + 2 * s->n, packed_row, &c->rowc) != 0)
             goto oom;
+    }
+    if (c->req.section && !c->events) {
+        const swim_run_section *sec = c->req.section;
+        c->sec_ev = (swim_ode_event){section_g, c, sec->kind == 'x' ? -1 : +1, 0};
+        o->events = &c->sec_ev;
+        o->nevents = 1;
+        o->on_event = section_hit;
+        o->on_event_data = c;
+        o->event_stop = &c->sec_stop;
     }
     if (caps & SWIM_ODE_CAP_EVENTS) {   /* dense output: the watch sees every accepted step */
         if (swim_run_watch_init(&c->watch, &c->d, c->sdim, 1) != 0) goto oom;
@@ -666,7 +699,7 @@ static void barrier_diagnosis(scene_run *c, char *buf, size_t len)
      * ~min J / |dJ/dt|, and the step sizes, the forces (~kappa / min J) and their rounding follow
      * it: a failure inside a bounce deeper than SHIFT_DEEP |c_1|^2 is put down to its depth. */
     const double escale = fmax(fmax(c->r.emax, T), 1e-300);
-    const double floor_j = kappa * 4.0 * 1.11e-16 * c1 / (s->rtol * escale);
+    const double floor_j = kappa * 4.0 * 1.11e-16 * c1 / (c->rtol * escale);
     if (!(kappa > 0) || !(c->shift_ok ? j0 < SHIFT_DEEP * c1 : reach < floor_j)) return;
     if (reach > 0 && c->shift_ok)
         snprintf(buf, len, "; at min J = %.3g the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold "
@@ -812,7 +845,7 @@ static int shift_origin(scene_run *c, double tout)
     c->steps_since_shift = 0;
     /* abm weighs errors by rtol |y_i| + atol; with u = y - origin small that is rtol |u_i| + atol_i */
     if (c->d.origin) {
-        for (int i = 0; i < c->ndim; i++) c->atolv[i] = s->atol + (i < c->sdim ? s->rtol * fabs(c->d.origin[i]) : 0.0);
+        for (int i = 0; i < c->ndim; i++) c->atolv[i] = c->atol + (i < c->sdim ? c->rtol * fabs(c->d.origin[i]) : 0.0);
         c->o.atol_vec = c->atolv;
     } else {
         c->o.atol_vec = NULL;
@@ -869,6 +902,11 @@ static int advance_to(scene_run *c, double *t, double *t_last)
         *t = c->watch.t_left;   /* min J reached 0 inside a step: ys holds the state at the crossing */
         c->r.left_t = *t;
         c->r.left_stop = 1;
+        rc = SWIM_ODE_OK;
+    } else if (rc == SWIM_ODE_TERMINATED && c->sec_stop) {   /* the section's hit ended the run there */
+        *t = ode_time(c);
+        end_run(c, 0, "ended at an event of the section at t = %.10g", *t);
+        c->r.event_stop = 1;
         rc = SWIM_ODE_OK;
     } else if (rc == SWIM_ODE_TERMINATED) {   /* ys holds the state at the event */
         *t = ode_time(c);
@@ -986,7 +1024,7 @@ static void start_loop(scene_run *c)
     c->t_start = swim_clock_seconds();
     c->t_last = 0.0;
     c->loop_rc = swim_ode_create(s->integrator, &c->sys, &c->o, 0.0, c->ys, &c->ode);
-    c->nrows = (long)floor(s->t_end / s->output_step + 1e-9);
+    c->nrows = (long)floor(c->t_end / c->output_step + 1e-9);
     c->every = c->nrows / (SWIM_RUN_SNAPSHOTS - 1) > 0 ? c->nrows / (SWIM_RUN_SNAPSHOTS - 1) : 1;
     if (c->loop_rc != SWIM_ODE_OK) {
         stop(c, "integrator '%s' could not start: %s", s->integrator, swim_ode_strerror(c->loop_rc));
@@ -997,10 +1035,9 @@ static void start_loop(scene_run *c)
 /* The time of row k, or NAN past the last row. */
 static double row_time(const scene_run *c, long k)
 {
-    const swim_scene *s = c->s;
-    double t = k <= c->nrows ? k * s->output_step : s->t_end;
-    if (k == c->nrows && fabs(t - s->t_end) < 1e-9 * s->output_step) t = s->t_end;
-    if (k > c->nrows && (c->nrows * s->output_step >= s->t_end * (1 - 1e-12))) return NAN;
+    double t = k <= c->nrows ? k * c->output_step : c->t_end;
+    if (k == c->nrows && fabs(t - c->t_end) < 1e-9 * c->output_step) t = c->t_end;
+    if (k > c->nrows && (c->nrows * c->output_step >= c->t_end * (1 - 1e-12))) return NAN;
     if (k > c->nrows + 1) return NAN;
     return t;
 }
@@ -1034,13 +1071,12 @@ static int next_row(scene_run *c)
         return 1;
     }
     if (c->r.event_stop) return 1;   /* the row at the event was the last */
-    if (c->req.sink.progress) c->req.sink.progress(c->req.sink.ctx, t, s->t_end);
+    if (c->req.sink.progress) c->req.sink.progress(c->req.sink.ctx, t, c->t_end);
     return 0;
 }
 
 static void finish_loop(scene_run *c)
 {
-    const swim_scene *s = c->s;
     if (c->ndim > c->sdim && c->var.interval > 0) {
         /* marks beyond the last row (in its step) are not the run's; the last row is the last mark */
         const double tl = c->var_on ? c->t_last : c->var_t;
@@ -1050,7 +1086,7 @@ static void finish_loop(scene_run *c)
             tangent_mark(c, tl, tangent_norm(c, c->ys_last));
         }
     }
-    if (c->r.status == 0 && !c->r.event_stop) end_run(c, 0, "reached t_end = %.6g", s->t_end);
+    if (c->r.status == 0 && !c->r.event_stop) end_run(c, 0, "reached t_end = %.6g", c->t_end);
     if (c->ode) accumulate_stats(&c->total, c->ode);
     if (c->watch_ready) take_watch(&c->r, &c->watch);
 }
@@ -1163,8 +1199,14 @@ static int scene_open(const swim_run_request *req, void **out, swim_status *st)
     c->kn = req->kernel;
     c->spz = req->system;
     c->events = req->events;
+    c->t_end = req->t_end > 0 ? req->t_end : c->s->t_end;
+    c->output_step = req->output_step > 0 ? fmin(req->output_step, c->t_end) : c->s->output_step;
+    c->rtol = req->rtol > 0 ? req->rtol : c->s->rtol;
+    c->atol = req->atol > 0 ? req->atol : c->s->atol;
     c->ncol = scene_columns(c->s, c->names, c->storage);
-    if (prepare(c) != 0) {
+    const int prc = prepare(c);
+    c->req.y0 = NULL;   /* copied by prepare, not kept */
+    if (prc != 0) {
         scene_free(c);
         swim_status_fail(st, NULL, NULL, 0, NULL, "out of memory");
         return 1;
@@ -1269,8 +1311,9 @@ static int scene_set_variational(void *p, const swim_run_variational *v, swim_st
      * not move the warm starts of the run's own (model/dynamics.h) */
     if (swim_dynamics_set_aside(&c->d) != 0) goto oom;
     if (grow(&c->ys, n, m, 0.0) || grow(&c->ys_last, n, m, 0.0) || grow(&c->ys_row, n, m, 0.0) ||
-        grow(&c->ys_shift, n, m, 0.0) || grow(&c->atolv, n, m, s->atol) || grow(&c->tol_scale, n, m, 1.0) ||
-        grow(&c->fw_ys, n, m, 0.0) || !(c->var_buf = calloc((size_t)m, sizeof(double))))
+        grow(&c->ys_shift, n, m, 0.0) || grow(&c->atolv, n, m, c->atol) || grow(&c->tol_scale, n, m, 1.0) ||
+        grow(&c->fw_ys, n, m, 0.0) || !(c->var_buf = calloc((size_t)m, sizeof(double))) ||
+        (free(c->var_final), !(c->var_final = malloc(sizeof(double) * (size_t)m))))
         goto oom;
     if (c->watch_ready) {   /* its buffer takes the interpolant's whole vector */
         swim_run_watch_free(&c->watch);
@@ -1307,6 +1350,13 @@ static const swim_run_var_result *scene_var_result(void *p)
     r->t = c->lyap_t;
     r->log_norm = c->lyap_g;
     r->tangent_reason = c->lyap_reason;
+    r->final = NULL;
+    if (!c->var_final && c->ndim == c->sdim) c->var_final = malloc(sizeof(double) * (size_t)c->sdim);
+    if ((c->var_on || c->ndim == c->sdim) && c->var_final) {   /* the last row's, the state part absolute */
+        memcpy(c->var_final, c->ys_last, sizeof(double) * (size_t)c->ndim);
+        for (int i = 0; c->d.origin && i < c->sdim; i++) c->var_final[i] += c->d.origin[i];
+        r->final = c->var_final;
+    }
     return r;
 }
 
@@ -1330,6 +1380,7 @@ static void scene_free(void *p)
     free(c->fw_full);
     free(c->fw_ys);
     free(c->var_buf);
+    free(c->var_final);
     free(c->lyap_t);
     free(c->lyap_g);
     free(c->r.reason);
