@@ -127,7 +127,8 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
     const int rc = swim_flow_map(&req, &f, st);
     const int stopped = d->interrupt && *d->interrupt;   /* the caller's to say */
     if (rc == 1 && !stopped)
-        swim_status_fail_cmd(st, cmd, NULL, NULL, "the run for the period failed: %s", f.reason);
+        swim_status_fail_cmd(st, cmd, NULL, NULL, "the run for the period failed: %s",
+                             f.reason ? f.reason : "out of memory");
     else if (rc == 0 && log.count < log.want && !stopped) {
         char many[16];
         snprintf(many, sizeof many, log.want == 2 ? "two" : "%d", log.want);
