@@ -143,8 +143,9 @@ static int evaluation_problem(swim_opt_problem *p, const swim_override *ov, int 
 static void integrate(swim_opt_problem *p, const swim_override *ov, int nov, int want_grad, swim_eval_result *r)
 {
     swim_run *run = NULL;
-    swim_flow flow;
+    swim_flow flow, alone;   /* the run with the columns on its steps; a flow of its own */
     memset(&flow, 0, sizeof flow);
+    memset(&alone, 0, sizeof alone);
     r->status = 1;
     /* a refused value (outside D, a bound of the run settings) is not shown: the log row says
      * "refused" */
@@ -167,9 +168,13 @@ static void integrate(swim_opt_problem *p, const swim_override *ov, int nov, int
     }
     const char *keys[SWIM_OPT_MAX_KEYS];
     for (int i = 0; i < p->nkeys; i++) keys[i] = p->keys[i].text;
-    const swim_flow_vars vars = {0, 0, keys, p->nkeys, "optimize: --vary", 0};
+    /* an integrator that cannot leave the columns out of its error test (no SWIM_ODE_CAP_ERROR_DIM)
+     * would change the run's steps, and so the value: its columns take a flow of their own, in
+     * its error test, after the run */
+    const int ride = (swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_ERROR_DIM) != 0;
+    const swim_flow_vars vars = {0, 0, keys, p->nkeys, "optimize: --vary", !ride};
     flow.run = run;
-    if (want_grad && swim_flow_attach(&flow, run, &vars, &st) != 0) {   /* the keys were checked before */
+    if (want_grad && ride && swim_flow_attach(&flow, run, &vars, &st) != 0) {   /* the keys were checked before */
         snprintf(r->reason, sizeof r->reason, "the sensitivities failed");
         goto done;
     }
@@ -186,7 +191,11 @@ static void integrate(swim_opt_problem *p, const swim_override *ov, int nov, int
     r->work = res->is_stroke ? res->forcing_work : res->work;
     r->forcing_work = res->forcing_work;
     r->status = 0;
-    if (want_grad) {
+    if (want_grad && !ride) {
+        p->problem->d.interrupt = (volatile int *)p->interrupt;   /* the flow stops as the run does */
+        const swim_flow_request fr = {.model = &p->problem->d, .t_end = s->t_end, .vars = vars};
+        if (swim_flow_map(&fr, &alone, NULL) == 0) gradient(p, &alone, r);
+    } else if (want_grad) {
         gradient(p, &flow, r);
         if (!r->have_grad) {   /* no gradient: the search cannot use this point */
             r->status = 1;
@@ -195,6 +204,7 @@ static void integrate(swim_opt_problem *p, const swim_override *ov, int nov, int
     }
 done:
     swim_flow_free(&flow);   /* and the run */
+    swim_flow_free(&alone);
 }
 
 static int all_overrides(const swim_opt_problem *p, const double *v, swim_override *ov)
