@@ -83,7 +83,7 @@ typedef struct {
                                        rows at 0 and t_end only) */
     double rtol, atol;              /* > 0: the integrator's tolerances, not the scene's */
     const struct swim_run_section *section;   /* events of one state component (only when
-                                       `events` is NULL), or NULL */
+                                       `events` is NULL; borrowed for the run's life), or NULL */
 } swim_run_request;
 
 /* A section: the instants where one component of the packed state (absolute, whatever origin the
