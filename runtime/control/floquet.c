@@ -50,10 +50,10 @@ int swim_floquet_check(const swim_scene *s, const char *path, int what, swim_sta
         return 2;
     }
     /* the period is found from events of the scene's own integrator, which must locate them */
-    if ((what & SWIM_FLOQUET_EVENTS) && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
+    if ((what & SWIM_FLOQUET_EVENTS) && !(swim_ode_capabilities(s->run.integrator) & SWIM_ODE_CAP_EVENTS)) {
         swim_status_fail_cmd(st, "floquet", path, "run.integrator", "%s: run.integrator = \"%s\" cannot locate the "
                              "section's events (no dense output); use one of %s (e.g. --set run.integrator=abm)", path,
-                             s->integrator, swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
+                             s->run.integrator, swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
         return 2;
     }
     return 0;
@@ -511,7 +511,7 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
         goto done;
     }
     const double *Y = flow.Y;
-    double scale = d->scene->atol;
+    double scale = d->scene->run.atol;
     for (int i = 0; i < n2; i++) {
         fl->closure = fmax(fl->closure, fabs(Y[3 + i] - ys[3 + i]));
         scale = fmax(scale, fabs(ys[3 + i]));

@@ -171,7 +171,7 @@ static void integrate(swim_opt_problem *p, const swim_override *ov, int nov, int
     /* an integrator that cannot leave the columns out of its error test (no SWIM_ODE_CAP_ERROR_DIM)
      * would change the run's steps, and so the value: its columns take a flow of their own, in
      * its error test, after the run */
-    const int ride = (swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_ERROR_DIM) != 0;
+    const int ride = (swim_ode_capabilities(s->run.integrator) & SWIM_ODE_CAP_ERROR_DIM) != 0;
     const swim_flow_vars vars = {0, 0, keys, p->nkeys, "optimize: --vary", !ride};
     flow.run = run;
     if (want_grad && ride && swim_flow_attach(&flow, run, &vars, &st) != 0) {   /* the keys were checked before */
@@ -193,7 +193,7 @@ static void integrate(swim_opt_problem *p, const swim_override *ov, int nov, int
     r->status = 0;
     if (want_grad && !ride) {
         p->problem->d.interrupt = (volatile int *)p->interrupt;   /* the flow stops as the run does */
-        const swim_flow_request fr = {.model = &p->problem->d, .t_end = s->t_end, .vars = vars};
+        const swim_flow_request fr = {.model = &p->problem->d, .t_end = s->run.t_end, .vars = vars};
         if (swim_flow_map(&fr, &alone, NULL) == 0) gradient(p, &alone, r);
     } else if (want_grad) {
         gradient(p, &flow, r);
@@ -483,7 +483,7 @@ static void tight_check(swim_opt_problem *p)
     swim_scene s;
     p->tight_status = 1;
     if (swim_scene_parse_with(p->scene_text, p->scene_len, p->scene_path, ov, nov, &s, p->status) != 0) return;
-    const double rtol = fmax(s.rtol / 100.0, SWIM_RTOL_MIN), atol = s.atol / 100.0;
+    const double rtol = fmax(s.run.rtol / 100.0, SWIM_RTOL_MIN), atol = s.run.atol / 100.0;
     swim_scene_free(&s);
     swim_override extra[2];
     char err[200];

@@ -217,7 +217,7 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
     for (int i = 0; o->hold_zero && i < n2; i++)
         if (o->hold_zero[i]) ys[3 + i] = 0.0;
     double T = T0, res;
-    p->scale = d->scene->atol;
+    p->scale = d->scene->run.atol;
     for (int i = 0; i < n2; i++) p->scale = fmax(p->scale, fabs(ys[3 + i]));
     /* with a target energy the merit is the larger of the closing residual and the energy's
      * relative miss, so a step is taken for either */
@@ -370,9 +370,9 @@ int swim_periodic_check(const swim_scene *s, const char *cmd, const char *path, 
                              "are looked for in autonomous scenes only", path);
         return 2;
     }
-    if (!(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
+    if (!(swim_ode_capabilities(s->run.integrator) & SWIM_ODE_CAP_EVENTS)) {
         swim_status_fail_cmd(st, cmd, path, "run.integrator", "%s: run.integrator = \"%s\" cannot locate the guess's "
-                             "events; use one of %s (e.g. --set run.integrator=abm)", path, s->integrator,
+                             "events; use one of %s (e.g. --set run.integrator=abm)", path, s->run.integrator,
                              swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
         return 2;
     }

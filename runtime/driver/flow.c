@@ -92,8 +92,8 @@ int swim_flow_map(const swim_flow_request *req, swim_flow *f, swim_status *st)
         swim_sens_free(&probe);
         if (rc) return rc;
         if (!exact) {
-            rtol = fmax(rtol > 0 ? rtol : scene->rtol, SENS_RTOL_MIN);
-            atol = fmax(atol > 0 ? atol : scene->atol, SENS_ATOL_MIN);
+            rtol = fmax(rtol > 0 ? rtol : scene->run.rtol, SENS_RTOL_MIN);
+            atol = fmax(atol > 0 ? atol : scene->run.atol, SENS_ATOL_MIN);
         }
     }
     /* the model's kernels as the run takes them (only the kernel and the right-hand side are read) */

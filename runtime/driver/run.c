@@ -269,7 +269,7 @@ static int bounce_at(scene_run *c, const double *y, swim_bounce *b)
 static int impact_wanted(scene_run *c, const double *y, double j)
 {
     const swim_scene *s = c->s;
-    if (!(s->impact_depth > 0) || !(j < IMPACT_AT * c->rtol) || !c->d.diag_barrier) return 0;
+    if (!(s->run.impact_depth > 0) || !(j < IMPACT_AT * c->rtol) || !c->d.diag_barrier) return 0;
     double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
     swim_dynamics_unpack(&c->d, y, full);
     const double j0 = c->watch_ready && c->watch.end_y == y ? c->watch.end_j   /* just computed at this step end */
@@ -278,7 +278,7 @@ static int impact_wanted(scene_run *c, const double *y, double j)
     if (!(j0 > 0) || bounce_at(c, full, &b) != 0 || !(b.rate > 0)) return 0;
     const double reach = swim_barrier_reach(c->d.diag_barrier, full + 3, s->epsilon, s->alpha, b.normal_kinetic, NULL);
     const double c1 = full[3] * full[3] + full[4] * full[4];
-    if (!(reach > 0) || !(reach < s->impact_depth * c1) || !(reach < IMPACT_DEEPER * j0)) return 0;
+    if (!(reach > 0) || !(reach < s->run.impact_depth * c1) || !(reach < IMPACT_DEEPER * j0)) return 0;
     memcpy(c->impact_dv, b.dv, sizeof(double) * (size_t)s->n);
     c->impact_j = j0 / c1;
     c->impact_reach = reach / c1;
@@ -493,19 +493,19 @@ static int prepare(scene_run *c)
     }
     memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
     c->sys = (swim_ode_system){swim_dynamics_rhs, (size_t)c->sdim, &c->d, NULL};
-    if (s->jacobian_exact && c->spz->scene->jacobian)   /* [run] jacobian: BDF methods use it */
+    if (s->run.jacobian_exact && c->spz->scene->jacobian)   /* [run] jacobian: BDF methods use it */
         c->sys.jacobian = swim_dynamics_jacobian;
     c->sys_state = c->sys;
     swim_ode_options *o = &c->o;
-    swim_run_ode_options(s, o);
+    swim_run_ode_options(&s->run, o);
     o->rtol = c->rtol;
     o->atol = c->atol;
     swim_dynamics_track_balance(&c->d, 1);   /* the step checks and the balance test read it */
     /* by default where the scene has a barrier: its long stays near the wall (10^4-10^5 steps) are
      * where the drift adds up; a smooth paper scene at rtol 1e-8 keeps ~1e-10 without it, and would
      * pay 30-40 % more steps for 1e-12 (any scene can ask for it) */
-    const int energy_control = s->energy_control < 0 ? s->barrier : s->energy_control;
-    const unsigned caps = swim_ode_capabilities(s->integrator);
+    const int energy_control = s->run.energy_control < 0 ? s->barrier : s->run.energy_control;
+    const unsigned caps = swim_ode_capabilities(s->run.integrator);
     if (energy_control && (caps & SWIM_ODE_CAP_INVARIANT)) {
         o->invariant = scaled_balance;
         o->invariant_data = c;
@@ -513,7 +513,7 @@ static int prepare(scene_run *c)
         c->invariant_on = 1;
     }
     o->stiff_stop = (caps & SWIM_ODE_CAP_STIFFNESS) != 0;   /* stop and report (or switch) on stiffness */
-    if (s->projection && (caps & SWIM_ODE_CAP_PROJECTION)) o->project = swim_dynamics_project;  /* drift control */
+    if (s->run.projection && (caps & SWIM_ODE_CAP_PROJECTION)) o->project = swim_dynamics_project;  /* drift control */
     if (c->req.sink.step && (caps & SWIM_ODE_CAP_STEP_TRACE)) {
         o->on_step = trace_step;
         o->on_step_data = c;
@@ -554,14 +554,14 @@ static int prepare(scene_run *c)
             c->ys_shift = malloc(sizeof(double) * (size_t)c->sdim);
             c->atolv = malloc(sizeof(double) * (size_t)c->sdim);
             if (!c->ys_shift || !c->atolv) goto oom;
-            c->shift_ok = s->origin_shift;
+            c->shift_ok = s->run.origin_shift;
         }
     }
     c->r.switch_t = -1.0;
     c->r.left_t = NAN;
     c->r.jmin_t = NAN;
     c->row_jmin = NAN;
-    snprintf(c->r.used, sizeof c->r.used, "%s", s->integrator);
+    snprintf(c->r.used, sizeof c->r.used, "%s", s->run.integrator);
     return 0;
 oom:
     return 1;
@@ -649,7 +649,7 @@ static void stop_by_signal(scene_run *c, double t)
 /* The remedy that keeps the scene as it is, when the run did not use it. */
 static const char *impact_hint(const swim_scene *s)
 {
-    return s->impact_depth > 0 ? "" : ", or take such bounces as impacts (run.impact_depth, default 1e-16)";
+    return s->run.impact_depth > 0 ? "" : ", or take such bounces as impacts (run.impact_depth, default 1e-16)";
 }
 
 /* With a barrier, why it did not stop the shape: from the last row inside D, how deep into the
@@ -738,7 +738,7 @@ static void stop_on_integrator(scene_run *c, int rc, double t)
     }
     /* A forcing law that is finite at t0 (checked when the scene is read) may not stay so. */
     if (s->forced && !swim_expr_defined(s->forcing, c->d.last_rhs_t, NULL, 0)) {
-        stop(c, "the forcing law is NaN or Inf at t = %.9g", fmin(c->d.last_rhs_t, s->forcing_finite_until));
+        stop(c, "the forcing law is NaN or Inf at t = %.9g", fmin(c->d.last_rhs_t, s->run.forcing_finite_until));
         return;
     }
     if (rc == SWIM_ODE_ERHS && swim_ode_rhs_status(c->ode) == SWIM_DYN_EBARRIER)
@@ -769,12 +769,12 @@ static int switch_to_fallback(scene_run *c, double t_last, double t)
     c->ode = NULL;
     /* for the user even in a quiet run: the rest of the run is computed by another method than asked for */
     notice(c, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g",
-           ts, s->integrator, s->stiff_fallback, t_last);
+           ts, s->run.integrator, s->run.stiff_fallback, t_last);
     c->r.switch_t = t_last;
     swim_run_events_rewind(c->events, t_last);   /* the fallback locates them again from t_last */
     if (c->watch_ready) swim_run_watch_rewind(&c->watch, t_last);
     if (c->fw_on) forcing_rewind(c, t_last);
-    snprintf(c->r.used, sizeof c->r.used, "%s+%s", s->integrator, s->stiff_fallback);
+    snprintf(c->r.used, sizeof c->r.used, "%s+%s", s->run.integrator, s->run.stiff_fallback);
     memcpy(c->ys, c->ys_last, sizeof(double) * c->ndim);
     if (c->var_on && c->var.interval > 0) {   /* the tangent vector as it was at the row */
         while (c->lyap_n > 0 && c->lyap_t[c->lyap_n - 1] > t_last) c->lyap_n--;
@@ -791,7 +791,7 @@ static int switch_to_fallback(scene_run *c, double t_last, double t)
     c->shift_ok = 0;
     c->shift_pending = 0;
     c->o.stiff_stop = 0;
-    const unsigned caps = swim_ode_capabilities(s->stiff_fallback);
+    const unsigned caps = swim_ode_capabilities(s->run.stiff_fallback);
     if (!(caps & SWIM_ODE_CAP_PROJECTION)) c->o.project = NULL;
     if (!(caps & SWIM_ODE_CAP_WEIGHTS)) c->o.tol_scale = NULL;   /* the cut near the barrier is abm's */
     if (!(caps & SWIM_ODE_CAP_INVARIANT)) c->o.invariant = NULL;
@@ -800,10 +800,10 @@ static int switch_to_fallback(scene_run *c, double t_last, double t)
         /* it would put them into its error control, and the trajectory would change with them */
         char why[200];
         snprintf(why, sizeof why, "the stiff fallback %s at t = %.6g cannot leave them out of its error control",
-                 s->stiff_fallback, t_last);
+                 s->run.stiff_fallback, t_last);
         var_stop(c, why);
     }
-    int rc = swim_ode_create(s->stiff_fallback, &c->sys, &c->o, t_last, c->ys, &c->ode);
+    int rc = swim_ode_create(s->run.stiff_fallback, &c->sys, &c->o, t_last, c->ys, &c->ode);
     return rc == SWIM_ODE_OK ? swim_ode_advance(c->ode, t, c->ys) : rc;
 }
 
@@ -850,7 +850,7 @@ static int shift_origin(scene_run *c, double tout)
     } else {
         c->o.atol_vec = NULL;
     }
-    return resume(c, s->integrator, tau0, tout);
+    return resume(c, s->run.integrator, tau0, tout);
 }
 
 /* The integrator stopped at shift_t (accept_step) at the step end where a bounce becomes an
@@ -873,12 +873,12 @@ static int take_impact(scene_run *c, double tout)
         notice(c, "swim run: t = %.10g: a bounce off the barrier predicted to turn at min J ~ %.1e |c1|^2 "
                "(below run.impact_depth = %g) taken as an impact at min J = %.2e |c1|^2 (docs/barrier.md); "
                "summary.json counts them",
-               t, c->impact_reach, s->impact_depth, c->impact_j);
+               t, c->impact_reach, s->run.impact_depth, c->impact_j);
     }
     c->impact_last_t = t;
     c->impact_j_max = fmax(c->impact_j_max, c->impact_j);
     c->impact_reach_min = fmin(c->impact_reach_min, c->impact_reach);
-    return resume(c, c->r.switch_t >= 0 ? s->stiff_fallback : s->integrator, c->shift_t, tout);
+    return resume(c, c->r.switch_t >= 0 ? s->run.stiff_fallback : s->run.integrator, c->shift_t, tout);
 }
 
 /* Advance to output time *t and leave the row's full state in c->y. A :stop event before *t
@@ -890,7 +890,7 @@ static int advance_to(scene_run *c, double *t, double *t_last)
     while (rc == SWIM_ODE_TERMINATED && c->shift_pending && swim_ode_time(c->ode) == c->shift_t)
         rc = c->shift_pending == 3 ? take_impact(c, *t) : shift_origin(c, *t);
     c->r.integrate_seconds += swim_clock_seconds() - ta;
-    if (rc == SWIM_ODE_ESTIFF && c->s->stiff_fallback[0] && c->r.switch_t < 0 && !stop_requested(c)) {
+    if (rc == SWIM_ODE_ESTIFF && c->s->run.stiff_fallback[0] && c->r.switch_t < 0 && !stop_requested(c)) {
         /* An alarm raised by a bounce off the barrier that double precision cannot follow is
          * not stiffness: BDF's larger steps would only cross the unresolved wall with a wrong
          * energy. The run stops there, saying why (stop_on_integrator). */
@@ -1023,11 +1023,11 @@ static void start_loop(scene_run *c)
     c->loop_started = 1;
     c->t_start = swim_clock_seconds();
     c->t_last = 0.0;
-    c->loop_rc = swim_ode_create(s->integrator, &c->sys, &c->o, 0.0, c->ys, &c->ode);
+    c->loop_rc = swim_ode_create(s->run.integrator, &c->sys, &c->o, 0.0, c->ys, &c->ode);
     c->nrows = (long)floor(c->t_end / c->output_step + 1e-9);
     c->every = c->nrows / (SWIM_RUN_SNAPSHOTS - 1) > 0 ? c->nrows / (SWIM_RUN_SNAPSHOTS - 1) : 1;
     if (c->loop_rc != SWIM_ODE_OK) {
-        stop(c, "integrator '%s' could not start: %s", s->integrator, swim_ode_strerror(c->loop_rc));
+        stop(c, "integrator '%s' could not start: %s", s->run.integrator, swim_ode_strerror(c->loop_rc));
         c->loop_done = 1;
     }
 }
@@ -1049,9 +1049,9 @@ static int next_row(scene_run *c)
     const long k = c->k;
     double t = row_time(c, k);
     if (isnan(t)) return 1;
-    if (s->forced && t >= s->forcing_finite_until) {   /* found when the settings were checked */
+    if (s->forced && t >= s->run.forcing_finite_until) {   /* found when the settings were checked */
         stop(c, "the forcing law is NaN or Inf at t = %.9g; stopped before the step to t = %.6g",
-             s->forcing_finite_until, t);
+             s->run.forcing_finite_until, t);
         return 1;
     }
     if (k > 0 && (c->loop_rc = advance_to(c, &t, &c->t_last)) != SWIM_ODE_OK) {
@@ -1111,9 +1111,9 @@ static void advance_rows(scene_run *c, double t)
 void swim_run_ode_options(const swim_scene *s, swim_ode_options *o)
 {
     swim_ode_options_default(o);
-    o->rtol = s->rtol;
-    o->atol = s->atol;
-    if (s->step_lookahead >= 0) o->lookahead = s->step_lookahead;
+    o->rtol = s->run.rtol;
+    o->atol = s->run.atol;
+    if (s->run.step_lookahead >= 0) o->lookahead = s->run.step_lookahead;
 }
 
 /* ---- the scene kind (driver/run.h, swim_run_kind) ------------------------------------------- */
@@ -1145,13 +1145,13 @@ static void fill_result(scene_run *c)
     res->diagnostics_seconds = r->diagnostics_seconds;
     res->output_seconds = r->output_seconds;
     res->wall_seconds = swim_clock_seconds() - c->t_start;
-    res->projection = c->s->projection && (swim_ode_capabilities(c->s->integrator) & SWIM_ODE_CAP_PROJECTION);
+    res->projection = c->s->run.projection && (swim_ode_capabilities(c->s->run.integrator) & SWIM_ODE_CAP_PROJECTION);
     res->step_checks = c->watch_ready;
     res->step_check_steps = c->watch.r.steps;
     res->step_check_seconds = swim_clock_sample_total(&c->watch.time);
     res->origin_shift_enabled = c->shift_ok || c->shifts;
     res->shifts = c->shifts;
-    res->impacts_enabled = c->ys_shift && c->s->impact_depth > 0;
+    res->impacts_enabled = c->ys_shift && c->s->run.impact_depth > 0;
     res->impacts = c->impacts;
     res->impact_first_t = c->impact_first_t;
     res->impact_last_t = c->impact_last_t;
@@ -1180,7 +1180,7 @@ static void describe(scene_run *c)
     res->kernel_kind = c->d.generic ? "generic" : "specialized";
     res->state_dimension = swim_dynamics_state_dim(&c->d);
     res->projection_change = s->projection_change;
-    res->impact_depth = s->impact_depth;
+    res->impact_depth = s->run.impact_depth;
     res->jacobian = c->sys_state.jacobian ? "exact" : "differences";   /* what the BDF methods use */
 }
 
@@ -1199,10 +1199,10 @@ static int scene_open(const swim_run_request *req, void **out, swim_status *st)
     c->kn = req->kernel;
     c->spz = req->system;
     c->events = req->events;
-    c->t_end = req->t_end > 0 ? req->t_end : c->s->t_end;
-    c->output_step = req->output_step > 0 ? fmin(req->output_step, c->t_end) : c->s->output_step;
-    c->rtol = req->rtol > 0 ? req->rtol : c->s->rtol;
-    c->atol = req->atol > 0 ? req->atol : c->s->atol;
+    c->t_end = req->t_end > 0 ? req->t_end : c->s->run.t_end;
+    c->output_step = req->output_step > 0 ? fmin(req->output_step, c->t_end) : c->s->run.output_step;
+    c->rtol = req->rtol > 0 ? req->rtol : c->s->run.rtol;
+    c->atol = req->atol > 0 ? req->atol : c->s->run.atol;
     c->ncol = scene_columns(c->s, c->names, c->storage);
     const int prc = prepare(c);
     c->req.y0 = NULL;   /* copied by prepare, not kept */
@@ -1297,12 +1297,12 @@ static int scene_set_variational(void *p, const swim_run_variational *v, swim_st
         return 2;
     }
     const swim_scene *s = c->s;
-    const unsigned caps = swim_ode_capabilities(s->integrator);
+    const unsigned caps = swim_ode_capabilities(s->run.integrator);
     const unsigned need = (v->error_control ? 0u : SWIM_ODE_CAP_ERROR_DIM) |
                           (v->interval > 0 ? SWIM_ODE_CAP_ERROR_DIM | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_RESCALE : 0u);
     if ((caps & need) != need) {
         swim_status_fail(st, NULL, NULL, 0, NULL, "integrator %s cannot carry %s on the run's steps outside its error "
-                         "control; use one of: %s", s->integrator,
+                         "control; use one of: %s", s->run.integrator,
                          v->interval > 0 ? "the Lyapunov tangent vector" : "the sensitivities", swim_ode_method_list_with(need));
         return 2;
     }
