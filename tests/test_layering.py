@@ -11,6 +11,8 @@
   - a problem is built in one place (docs/run-driver.md): problem/ sits below the driver and above
     scene/, codegen/ and model/ (it includes none of the layers above it, and none below includes
     it), and nothing else asks codegen for a scene's kernels (swim_codegen_for_scene).
+  - every integration of a scene is a driver run: no file in control/ or output/ creates or
+    advances an integrator (the orbit analyses and optimize's gradient use driver/flow.h).
 Prints "test_layering: P passed, F failed"."""
 import glob
 import os
@@ -167,6 +169,18 @@ def test_kernels_of_a_scene_in_one_place():
             continue
         calls = re.findall(r"\bswim_codegen_for_scene\s*\(", code(text))
         check(not calls, "%s asks for a scene's kernels itself (use problem/problem.h)" % path)
+
+
+
+def test_integrators_only_in_the_driver():
+    found = 0
+    for folder in ("control", "output"):
+        for path, text in sources(folder):
+            found += 1
+            calls = re.findall(r"\bswim_ode_(create|advance)\s*\(", code(text))
+            check(not calls, "%s integrates itself (swim_ode_%s): use a driver run (driver/flow.h)"
+                  % (path, ", swim_ode_".join(sorted(set(calls)))))
+    check(found > 5, "control/ and output/ are found (%d files)" % found)
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "control/sensitivity.h"
+#include "model/sensitivity.h"
 #include "io/clock.h"
 #include "io/json.h"
 #include "io/message.h"

@@ -9,7 +9,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "control/sensitivity.h"
+#include "driver/flow.h"
 #include "driver/run.h"
 #include "io/clock.h"
 #include "io/json.h"
@@ -25,28 +25,18 @@
 
 
 
+/* The section's events of the period's run (driver/flow.h), up to the count + 1 the period needs. */
 typedef struct {
     double t[SWIM_FLOQUET_MAX_CROSSINGS + 1];
-    int count;
+    int count, want;
 } event_log;
 
-static double section_extremum(double t, const double *y, const double *yp, void *data)
+static int on_section(void *ctx, double t)
 {
-    (void)t; (void)y;
-    return yp[*(const int *)data];
-}
-
-static double section_zero(double t, const double *y, const double *yp, void *data)
-{
-    (void)t; (void)yp;
-    return y[*(const int *)data];
-}
-
-static void on_event(const swim_ode_event_hit *hit, void *data)
-{
-    event_log *log = data;
-    if (log->count <= SWIM_FLOQUET_MAX_CROSSINGS) log->t[log->count] = hit->t;
+    event_log *log = ctx;
+    if (log->count <= SWIM_FLOQUET_MAX_CROSSINGS) log->t[log->count] = t;
     log->count++;
+    return log->count >= log->want;   /* the period is known: the run ends here */
 }
 
 int swim_floquet_check(const swim_scene *s, const char *path, int what, swim_status *st)
@@ -128,43 +118,25 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
                         const char *t_max_from, const char *section_option, const double *ys0, double *t1,
                         double *period, swim_status *st)
 {
-    const swim_scene *s = d->scene;
-    const int n = swim_dynamics_state_dim(d);
-    double *y = malloc(sizeof(double) * n);
-    if (!y) {
-        swim_status_fail_cmd(st, cmd, NULL, NULL, "out of memory");
-        return 1;
-    }
-    memcpy(y, ys0, sizeof(double) * n);
-    int index = sec->index;
-    event_log log = {{0, 0}, 0};
-    swim_ode_event ev = {sec->kind == 'z' ? section_zero : section_extremum, &index,
-                         sec->kind == 'x' ? -1 : +1, 0};
-    swim_ode_system sys = {swim_dynamics_rhs, (size_t)n, d, NULL};
-    swim_ode_options o;
-    swim_run_ode_options_projected(&s->run, &o);   /* the scene's integrator, as swim run has it */
-    o.events = &ev;
-    o.nevents = 1;
-    o.on_event = on_event;
-    o.on_event_data = &log;
-    swim_ode *ode = NULL;
-    int rc = swim_ode_create(s->run.integrator, &sys, &o, 0.0, y, &ode);
-    const double dt = s->run.output_step;
-    const int want = sec->count + 1;
-    for (double t = dt; rc == SWIM_ODE_OK && log.count < want && t < t_max + dt; t += dt)
-        rc = swim_ode_advance(ode, fmin(t, t_max), y);
+    /* the scene's own run from ys0 (its integrator, drift control and near-wall policy), ended at
+     * the event that completes the period */
+    event_log log = {{0, 0}, 0, sec->count + 1};
+    const swim_run_section section = {sec->index, sec->kind, on_section, &log};
+    const swim_flow_request req = {.model = d, .y0 = ys0, .t_end = t_max, .section = &section};
+    swim_flow f;
+    const int rc = swim_flow_map(&req, &f, st);
     const int stopped = d->interrupt && *d->interrupt;   /* the caller's to say */
-    if (rc != SWIM_ODE_OK && !stopped)
-        swim_status_fail_cmd(st, cmd, NULL, NULL, "the run for the period failed: %s", swim_ode_strerror(rc));
-    else if (log.count < want && !stopped) {
+    if (rc == 1 && !stopped)
+        swim_status_fail_cmd(st, cmd, NULL, NULL, "the run for the period failed: %s",
+                             f.reason ? f.reason : "out of memory");
+    else if (rc == 0 && log.count < log.want && !stopped) {
         char many[16];
-        snprintf(many, sizeof many, want == 2 ? "two" : "%d", want);
+        snprintf(many, sizeof many, log.want == 2 ? "two" : "%d", log.want);
         swim_status_fail_cmd(st, cmd, NULL, NULL, "fewer than %s events of the section before t = %g: no period "
                              "(raise %s or choose another section with %s)", many, t_max, t_max_from, section_option);
     }
-    swim_ode_free(ode);
-    free(y);
-    if (rc != SWIM_ODE_OK || log.count < want) return 1;
+    swim_flow_free(&f);
+    if (rc != 0 || log.count < log.want) return 1;
     *t1 = log.t[0];
     *period = log.t[sec->count] - log.t[0];
     return 0;
@@ -519,40 +491,26 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
     fl->n2 = n2;
     fl->period = period;
     double *f = malloc(sizeof(double) * N), *C = malloc(sizeof(double) * 3 * n2);
-    double *Y = NULL;
-    swim_sens S;
-    int have_sens = 0, rc = 1;
+    swim_flow flow;
+    memset(&flow, 0, sizeof flow);
+    int rc = 1;
     fl->M = malloc(sizeof(double) * n2 * n2);
     fl->B = malloc(sizeof(double) * n2 * n2);
     if (!f || !C || !fl->B || !fl->M) goto oom;
-    if (swim_sens_init(&S, d) != 0) goto oom;
-    have_sens = 1;
-    for (int j = 0; j < n2; j++)
-        if (swim_sens_add_state(&S, 3 + j, "x") != 0) goto oom;
-    const int dimY = swim_sens_dimension(&S);
-    if (!(Y = malloc(sizeof(double) * dimY))) goto oom;
-    swim_sens_initial(&S, ys, Y);
-    swim_ode_system sys = {swim_sens_rhs, (size_t)dimY, &S, NULL};
-    swim_ode_options o;
-    swim_run_ode_options(&d->scene->run, &o);
-    if (!swim_sens_exact(&S)) {   /* as swim_sens_write_run: the differences' noise */
-        o.rtol = fmax(d->scene->run.rtol, 1e-10);
-        o.atol = fmax(d->scene->run.atol, 1e-12);
-    }
-    swim_ode *ode = NULL;
-    int orc = swim_ode_create(d->scene->run.integrator, &sys, &o, 0.0, Y, &ode);
-    if (orc == SWIM_ODE_OK) orc = swim_ode_advance(ode, period, Y);
-    if (ode) {
-        swim_ode_stats st;
-        swim_ode_get_stats(ode, &st);
-        fl->rhs_calls = st.rhs_evals;
-        swim_ode_free(ode);
-    }
-    if (orc != SWIM_ODE_OK) {
+    /* M = d x(T) / d x(0) on the carried shape state: the variational equations on the steps of
+     * the flow's own run (driver/flow.h), in its error test (SWIM_FLOQUET_ERROR_CONTROL) */
+    const swim_flow_request req = {.model = d, .y0 = ys, .t_end = period,
+                                   .vars = {3, n2, NULL, 0, "floquet", SWIM_FLOQUET_ERROR_CONTROL}};
+    const int orc = swim_flow_map(&req, &flow, st);
+    fl->rhs_calls = flow.rhs_calls;
+    if (orc == 2) goto done;
+    if (orc != 0) {
         if (!(d->interrupt && *d->interrupt))   /* stopped: the caller's to say */
-            swim_status_fail_cmd(st, "floquet", NULL, NULL, "the variational equations failed: %s", swim_ode_strerror(orc));
+            swim_status_fail_cmd(st, "floquet", NULL, NULL, "the variational equations failed: %s",
+                                 flow.reason ? flow.reason : "out of memory");
         goto done;
     }
+    const double *Y = flow.Y;
     double scale = d->scene->run.atol;
     for (int i = 0; i < n2; i++) {
         fl->closure = fmax(fl->closure, fabs(Y[3 + i] - ys[3 + i]));
@@ -578,8 +536,8 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
 oom:
     swim_status_fail_cmd(st, "floquet", NULL, NULL, "out of memory");
 done:
-    if (have_sens) swim_sens_free(&S);
-    free(f); free(C); free(Y);
+    swim_flow_free(&flow);
+    free(f); free(C);
     fl->seconds = swim_clock_seconds() - t0;
     return rc;
 }

@@ -9,7 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "control/sensitivity.h"
+#include "driver/flow.h"
 #include "driver/run.h"
 #include "io/clock.h"
 #include "io/files.h"
@@ -50,21 +50,31 @@ int swim_opt_has_gradient(int quantity)
     return !(quantity == SWIM_Q_FORCING_WORK || quantity == SWIM_Q_DISPLACEMENT_PER_WORK);   /* W_F: no state */
 }
 
-/* The gradient of the quantity in the keys' values from the exact sensitivities of the final
- * state (a second, augmented integration on the run's dynamics, as swim run --sensitivity). */
-static void gradient(const swim_opt_problem *p, swim_scene *s, swim_run *run, swim_eval_result *r)
+/* The gradient of the quantity in the keys' values from the sensitivities of the final state,
+ * carried by the evaluation's own run (driver/flow.h) on its steps, out of its error test
+ * (swim run --sensitivity-steps state): ~1e-5 relative, plenty for a search direction, at a
+ * fraction of the error-controlled cost, and the run's value is bit for bit the one without them. */
+/* dE/dp of key k: the energy is evaluated on the run's dynamics, whose state is relative to the
+ * origin the run may have left (model/dynamics.h), so the final state is given relative to it. */
+static double energy_gradient(swim_flow *f, int k)
 {
-    swim_sens S;
-    if (swim_sens_init(&S, swim_run_dynamics(run)) != 0) return;
-    /* the sensitivities ride on the state's steps (swim run --sensitivity-steps state): ~1e-5
-     * relative, plenty for a search direction, at a fraction of the error-controlled cost */
-    S.error_control = 0;
-    double *Y = NULL;
-    for (int i = 0; i < p->nkeys; i++)
-        if (swim_sens_add_key(&S, s, "optimize: --vary", p->keys[i].text, NULL) != 0) goto done;   /* checked before */
-    const int n = S.dim;
-    if (!(Y = malloc(sizeof(double) * (size_t)swim_sens_dimension(&S)))) goto done;
-    if (swim_sens_final(&S, s->run.integrator, s->run.t_end, Y, NULL, NULL) != 0) goto done;   /* no gradient: said by r */
+    const swim_dynamics *d = f->S.d;
+    if (!d->origin) return swim_sens_energy(&f->S, f->Y, k);
+    const int N = swim_sens_dimension(&f->S);
+    double *u = malloc(sizeof(double) * (size_t)N);
+    if (!u) return NAN;
+    memcpy(u, f->Y, sizeof(double) * (size_t)N);
+    for (int i = 0; i < f->S.dim; i++) u[i] -= d->origin[i];
+    const double g = swim_sens_energy(&f->S, u, k);
+    free(u);
+    return g;
+}
+
+static void gradient(const swim_opt_problem *p, swim_flow *f, swim_eval_result *r)
+{
+    if (swim_flow_final(f) != 0) return;   /* no gradient: said by r */
+    const double *Y = f->Y;
+    const int n = f->S.dim;
     const double disp = hypot(Y[0], Y[1]);
     for (int i = 0; i < p->nkeys; i++) {
         const double *si = Y + (size_t)(i + 1) * n;
@@ -75,15 +85,12 @@ static void gradient(const swim_opt_problem *p, swim_scene *s, swim_run *run, sw
         case SWIM_Q_THETA: g = si[2]; break;
         case SWIM_Q_DISPLACEMENT: g = disp > 0 ? (Y[0] * si[0] + Y[1] * si[1]) / disp : 0.0; break;
         case SWIM_Q_WORK: g = si[n - 1]; break;
-        case SWIM_Q_ENERGY: g = swim_sens_energy(&S, Y, i); break;
+        case SWIM_Q_ENERGY: g = energy_gradient(f, i); break;
         }
-        if (!isfinite(g)) goto done;
+        if (!isfinite(g)) return;
         r->grad[i] = g;
     }
     r->have_grad = 1;
-done:
-    free(Y);
-    swim_sens_free(&S);
 }
 
 int swim_opt_check_gradient(const swim_opt_problem *p, const swim_override *ov, int nov, swim_status *st)
@@ -136,6 +143,9 @@ static int evaluation_problem(swim_opt_problem *p, const swim_override *ov, int 
 static void integrate(swim_opt_problem *p, const swim_override *ov, int nov, int want_grad, swim_eval_result *r)
 {
     swim_run *run = NULL;
+    swim_flow flow, alone;   /* the run with the columns on its steps; a flow of its own */
+    memset(&flow, 0, sizeof flow);
+    memset(&alone, 0, sizeof alone);
     r->status = 1;
     /* a refused value (outside D, a bound of the run settings) is not shown: the log row says
      * "refused" */
@@ -147,13 +157,25 @@ static void integrate(swim_opt_problem *p, const swim_override *ov, int nov, int
         return;
     }
     swim_scene *s = p->problem->s;
-    const swim_run_request req = {s, &p->problem->kn, &p->problem->spz, 0, NULL, (volatile sig_atomic_t *)p->interrupt,
-                                  {NULL, NULL, NULL, NULL, NULL}, 0, NULL};
+    const swim_run_request req = {.scene = s, .kernel = &p->problem->kn, .system = &p->problem->spz,
+                                  .stop = (volatile sig_atomic_t *)p->interrupt};
     swim_status_clear(&st);
     rc = swim_run_open(&req, &run, &st);
     if (rc) {
         r->status = rc == 2 ? 2 : 1;
         snprintf(r->reason, sizeof r->reason, "%s", rc == 2 ? "stroke not allowable" : "out of memory");
+        goto done;
+    }
+    const char *keys[SWIM_OPT_MAX_KEYS];
+    for (int i = 0; i < p->nkeys; i++) keys[i] = p->keys[i].text;
+    /* an integrator that cannot leave the columns out of its error test (no SWIM_ODE_CAP_ERROR_DIM)
+     * would change the run's steps, and so the value: its columns take a flow of their own, in
+     * its error test, after the run */
+    const int ride = (swim_ode_capabilities(s->run.integrator) & SWIM_ODE_CAP_ERROR_DIM) != 0;
+    const swim_flow_vars vars = {0, 0, keys, p->nkeys, "optimize: --vary", !ride};
+    flow.run = run;
+    if (want_grad && ride && swim_flow_attach(&flow, run, &vars, &st) != 0) {   /* the keys were checked before */
+        snprintf(r->reason, sizeof r->reason, "the sensitivities failed");
         goto done;
     }
     const swim_run_result *res = (swim_run_integrate(run), swim_run_get_result(run));
@@ -169,15 +191,20 @@ static void integrate(swim_opt_problem *p, const swim_override *ov, int nov, int
     r->work = res->is_stroke ? res->forcing_work : res->work;
     r->forcing_work = res->forcing_work;
     r->status = 0;
-    if (want_grad) {
-        gradient(p, s, run, r);
+    if (want_grad && !ride) {
+        p->problem->d.interrupt = (volatile int *)p->interrupt;   /* the flow stops as the run does */
+        const swim_flow_request fr = {.model = &p->problem->d, .t_end = s->run.t_end, .vars = vars};
+        if (swim_flow_map(&fr, &alone, NULL) == 0) gradient(p, &alone, r);
+    } else if (want_grad) {
+        gradient(p, &flow, r);
         if (!r->have_grad) {   /* no gradient: the search cannot use this point */
             r->status = 1;
             snprintf(r->reason, sizeof r->reason, "the sensitivities failed");
         }
     }
 done:
-    swim_run_free(run);
+    swim_flow_free(&flow);   /* and the run */
+    swim_flow_free(&alone);
 }
 
 static int all_overrides(const swim_opt_problem *p, const double *v, swim_override *ov)

@@ -21,7 +21,7 @@
  *     that is not smooth or has no sensitivity (displacement_per_work: W_F is not a kernel
  *     state); converged when the simplex is smaller than tol in u;
  *   BFGS (gsl_multimin_fdfminimizer_vector_bfgs2): the gradient from the exact sensitivities of
- *     the final state (control/sensitivity.h: one augmented integration per evaluation) for x,
+ *     the final state (driver/flow.h: carried by the evaluation's own run, on its steps) for x,
  *     y, theta, displacement, work and energy of free dynamics; converged when |grad_u| < tol.
  * Both are local. With starts K > 1 the search is repeated from K space-filling points of the box
  * (the middle first, then a Halton sequence) and the best of all is kept. Then the best point is

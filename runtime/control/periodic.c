@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "driver/flow.h"
 #include "driver/run.h"
 #include "io/clock.h"
 #include "io/json.h"
@@ -22,37 +23,25 @@
  * so an integration under way ends at once): the value of the flag, else 0. */
 static int stop_asked(const swim_dynamics *d) { return d->interrupt && *d->interrupt ? *d->interrupt : 0; }
 
-/* The flow map: the integrator state ys at t = 0 carried to t = T by the scene's integrator and
- * drift control at rtol/atol (the rigid part and the work start from 0). 0, or 1 with the cause in st
- * (NULL: not said). */
+/* The flow map: the integrator state ys at t = 0 carried to t = T by a run of the scene
+ * (driver/flow.h: its integrator, drift control and near-wall policy) at rtol/atol (the rigid part
+ * and the work start from 0). 0, or 1 with the cause in st (NULL: not said). */
 static int flow(swim_dynamics *d, const double *ys, double T, const swim_periodic_options *o, double *out,
                 long *rhs_calls, swim_status *st)
 {
-    const swim_scene *s = d->scene;
     const int N = swim_dynamics_state_dim(d);
     memcpy(out, ys, sizeof(double) * N);
     out[0] = out[1] = out[2] = out[N - 1] = 0.0;
-    swim_ode_system sys = {swim_dynamics_rhs, (size_t)N, d, NULL};
-    swim_ode_options opt;
-    swim_run_ode_options_projected(&s->run, &opt);
-    opt.rtol = o->rtol;
-    opt.atol = o->atol;
-    swim_ode *ode = NULL;
-    int rc = swim_ode_create(s->run.integrator, &sys, &opt, 0.0, out, &ode);
-    if (rc == SWIM_ODE_OK) rc = swim_ode_advance(ode, T, out);
-    if (ode) {
-        swim_ode_stats st;
-        swim_ode_get_stats(ode, &st);
-        *rhs_calls += st.rhs_evals;
-        swim_ode_free(ode);
-    }
-    if (rc != SWIM_ODE_OK) {
-        if (!stop_asked(d))   /* a trial step of the line search that fails is only a step not taken (st NULL) */
-            swim_status_fail_cmd(st, CMD(o), NULL, NULL, "the integration over one period (T = %.10g) failed: %s", T,
-                                 swim_ode_strerror(rc));
-        return 1;
-    }
-    return 0;
+    const swim_flow_request req = {.model = d, .y0 = out, .t_end = T, .rtol = o->rtol, .atol = o->atol};
+    swim_flow f;
+    int rc = swim_flow_map(&req, &f, st);
+    *rhs_calls += f.rhs_calls;
+    if (rc == 0) memcpy(out, f.Y, sizeof(double) * N);
+    else if (rc == 1 && !stop_asked(d))   /* a trial step of the line search that fails is only a step not taken (st NULL) */
+        swim_status_fail_cmd(st, CMD(o), NULL, NULL, "the integration over one period (T = %.10g) failed: %s", T,
+                             f.reason ? f.reason : "out of memory");
+    swim_flow_free(&f);
+    return rc != 0;
 }
 
 /* r = phi_T(z) - z on the shape state, and max |r| / scale. */

@@ -451,6 +451,23 @@ static void trace_step(const swim_ode_step *st, void *data)
 
 static int packed_row(void *p, double t, const double *ys, int all, double *row);
 
+/* The request's section on the integrator's state u (relative to the origin, constant between
+ * restarts: the derivative is u's). */
+static double section_g(double t, const double *u, const double *up, void *data)
+{
+    const scene_run *c = data;
+    const int i = c->req.section->index;
+    (void)t;
+    if (c->req.section->kind != 'z') return up[i];
+    return c->d.origin ? c->d.origin[i] + u[i] : u[i];
+}
+
+static void section_hit(const swim_ode_event_hit *hit, void *data)
+{
+    scene_run *c = data;
+    if (c->req.section->hit(c->req.section->ctx, c->d.t_origin + hit->t)) c->sec_stop = 1;
+}
+
 static int prepare(scene_run *c)
 {
     swim_scene *s = c->s;
@@ -467,8 +484,13 @@ static int prepare(scene_run *c)
     c->ys_row = calloc((size_t)c->sdim, sizeof(double));
     c->y_inside = calloc((size_t)c->d.dim, sizeof(double));
     if (!c->y || !c->row || !c->ys || !c->ys_last || !c->ys_row || !c->y_inside) goto oom;
-    swim_dynamics_initial_state(&c->d, c->y);
-    swim_dynamics_pack(&c->d, c->y, c->ys);
+    if (c->req.y0) {   /* a flow map's start */
+        memcpy(c->ys, c->req.y0, sizeof(double) * (size_t)c->sdim);
+        swim_dynamics_unpack(&c->d, c->ys, c->y);
+    } else {
+        swim_dynamics_initial_state(&c->d, c->y);
+        swim_dynamics_pack(&c->d, c->y, c->ys);
+    }
     memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
     c->sys = (swim_ode_system){swim_dynamics_rhs, (size_t)c->sdim, &c->d, NULL};
     if (c->set->jacobian_exact && c->spz->scene->jacobian)   /* [run] jacobian: BDF methods use it */
@@ -498,6 +520,15 @@ static int prepare(scene_run *c)
         if (!c->rowc.full ||
             swim_run_events_attach(c->events, o, (size_t)c->sdim, 3 + 2 * s->n, packed_row, &c->rowc) != 0)
             goto oom;
+    }
+    if (c->req.section && !c->events) {
+        const swim_run_section *sec = c->req.section;
+        c->sec_ev = (swim_ode_event){section_g, c, sec->kind == 'x' ? -1 : +1, 0};
+        o->events = &c->sec_ev;
+        o->nevents = 1;
+        o->on_event = section_hit;
+        o->on_event_data = c;
+        o->event_stop = &c->sec_stop;
     }
     if (caps & SWIM_ODE_CAP_EVENTS) {   /* dense output: the watch sees every accepted step */
         if (swim_run_watch_init(&c->watch, &c->d, c->sdim, 1) != 0) goto oom;
@@ -866,6 +897,11 @@ static int advance_to(scene_run *c, double *t, double *t_last)
         c->r.left_t = *t;
         c->r.left_stop = 1;
         rc = SWIM_ODE_OK;
+    } else if (rc == SWIM_ODE_TERMINATED && c->sec_stop) {   /* the section's hit ended the run there */
+        *t = ode_time(c);
+        end_run(c, 0, "ended at an event of the section at t = %.10g", *t);
+        c->r.event_stop = 1;
+        rc = SWIM_ODE_OK;
     } else if (rc == SWIM_ODE_TERMINATED) {   /* ys holds the state at the event */
         *t = ode_time(c);
         if (swim_run_events_caller_stopped(c->events))   /* the caller's listener said stop */
@@ -1165,7 +1201,9 @@ static int scene_open(const swim_run_request *req, void **out, swim_status *st)
     c->spz = req->system;
     c->events = req->events;
     c->ncol = scene_columns(c->s, c->names, c->storage);
-    if (prepare(c) != 0) {
+    const int prc = prepare(c);
+    c->req.y0 = NULL;   /* copied by prepare, not kept */
+    if (prc != 0) {
         scene_free(c);
         swim_status_fail(st, NULL, NULL, 0, NULL, "out of memory");
         return 1;
@@ -1307,6 +1345,13 @@ static const swim_run_var_result *scene_var_result(void *p)
     r->t = c->lyap_t;
     r->log_norm = c->lyap_g;
     r->tangent_reason = c->lyap_reason;
+    r->final = NULL;
+    if (!c->var_final && c->ndim == c->sdim) c->var_final = malloc(sizeof(double) * (size_t)c->sdim);
+    if ((c->var_on || c->ndim == c->sdim) && c->var_final) {   /* the last row's, the state part absolute */
+        memcpy(c->var_final, c->ys_last, sizeof(double) * (size_t)c->ndim);
+        for (int i = 0; c->d.origin && i < c->sdim; i++) c->var_final[i] += c->d.origin[i];
+        r->final = c->var_final;
+    }
     return r;
 }
 
@@ -1330,6 +1375,7 @@ static void scene_free(void *p)
     free(c->fw_full);
     free(c->fw_ys);
     free(c->var_buf);
+    free(c->var_final);
     free(c->lyap_t);
     free(c->lyap_g);
     free(c->r.reason);

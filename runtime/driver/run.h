@@ -78,7 +78,26 @@ typedef struct {
      * checked (swim_run_settings_check); borrowed. NULL: the scene's [run] as read (scene->run,
      * which the reader checked). The driver reads these, never the scene's. */
     const swim_run_settings *settings;
+    /* A flow map rather than the scene's own run (driver/flow.h; a scene run only, not a stroke):
+     * its horizon and tolerances are its settings'. */
+    const double *y0;               /* the packed initial state at t = 0 (model/dynamics.h layout,
+                                       copied); NULL: the scene's */
+    const struct swim_run_section *section;   /* events of one state component (only when
+                                       `events` is NULL; borrowed for the run's life), or NULL */
 } swim_run_request;
+
+/* A section: the instants where one component of the packed state (absolute, whatever origin the
+ * run has shifted to) crosses zero rising, or has a maximum or a minimum, located by the
+ * integrator's events on its interpolant (the derivative is the interpolant's, no difference).
+ * Each is told to `hit` in the run's absolute time; a nonzero return ends the run there,
+ * completed, with the state there as its last row. What the driver's events (driver/events.h,
+ * columns of trajectory.csv) cannot say: a crossing in one direction only. */
+typedef struct swim_run_section {
+    int index;                  /* the component (model/dynamics.h, packed) */
+    char kind;                  /* 'z' zero (rising), 'x' maximum, 'n' minimum */
+    int (*hit)(void *ctx, double t);
+    void *ctx;
+} swim_run_section;
 
 /* What a prescribed stroke adds (scene with a [stroke] table). */
 typedef struct {
@@ -263,6 +282,10 @@ typedef struct swim_run_var_result {
     long marks;
     const double *t, *log_norm;
     const char *tangent_reason;
+    /* the integrator's state (with them: the state, then the dim others) at the run's last row,
+     * unprojected, its state part absolute (the driver's origin added back); NULL when they were
+     * attached and not carried to it (or out of memory). Valid until the next call. */
+    const double *final;
 } swim_run_var_result;
 
 /* Attach them before the first swim_run_advance (not to a prescribed stroke). 0; 2 when the

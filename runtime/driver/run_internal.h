@@ -103,6 +103,10 @@ struct scene_run {
     long lyap_n, lyap_cap;
     char lyap_reason[160];
     swim_run_var_result var_res;
+    double *var_final;          /* ndim: var_res.final */
+    /* the request's section (swim_run_request.section) as the integrator's one event */
+    swim_ode_event sec_ev;
+    volatile int sec_stop;      /* its hit asked to end the run at the event just located */
 };
 
 #endif

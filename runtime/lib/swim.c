@@ -483,8 +483,9 @@ static int sim_open(swim_sim *s, swim_status *st)
     }
     if (s->o.on_event && s->events) swim_run_events_listen(s->events, sim_event, s);
     /* the caller's stop flag is a flag, not a signal number (any nonzero value stops the run) */
-    const swim_run_request req = {&s->s, &m->P.kn, &m->P.spz, 0, s->events, (volatile sig_atomic_t *)s->o.stop,
-                                  {sink_row, NULL, NULL, NULL, s}, 1, NULL};
+    const swim_run_request req = {.scene = &s->s, .kernel = &m->P.kn, .system = &m->P.spz, .events = s->events,
+                                  .stop = (volatile sig_atomic_t *)s->o.stop,
+                                  .sink = {sink_row, NULL, NULL, NULL, s}, .stop_by_caller = 1};
     rc = swim_run_open(&req, &s->run, st);
     if (rc) return rc == 2 ? SWIM_EINPUT : SWIM_ENOMEM;
     rc = sim_check_analyses(s, st);

@@ -1,6 +1,6 @@
 /* sensitivity.h -- forward sensitivities of a scene's state: the variational equations (model
  * math: the keys, the augmented right-hand side, sensitivity.csv's rows). A run carries them on its
- * own steps (driver/analyses.h); control/sensitivity.h integrates them on their own.
+ * own steps (driver/analyses.h, driver/flow.h); no integration of them is made outside a run.
  *
  * For a key p -- a run-time number the right-hand side reads (model.rho0, elastic.stiffness[4],
  * parameters.A, barrier.epsilon, ...) or an initial value (c0.NAME, dc0.NAME of a free
@@ -17,7 +17,7 @@
  * reads as data, not as a coordinate -- take (df/dy) s + df/dp as the central difference of
  * the right-hand side along (s, 1) in (y, p), a step scaled to the state and the key (error
  * ~1e-10 relative, 2 evaluations of f per key); an error test that covers them runs at
- * rtol >= 1e-10 (control/sensitivity.c), since a tighter one fights that noise.
+ * rtol >= 1e-10 (driver/flow.c), since a tighter one fights that noise.
  * dy0/dp of an initial value is the unit vector projected onto the constraints G1, G2 and the
  * locks at c0 (ERRATA D5): the derivative of the run that a scene with [run] project_initial =
  * true makes from perturbed initial data.
@@ -54,8 +54,8 @@ typedef struct {
     double *J, *dp;              /* the exact Jacobian, the exact keys' partials (owned) */
     swim_param *plist;           /* the parameters of the exact keys, in key order (owned) */
     long rhs_calls, jac_calls;
-    /* control/sensitivity.h's own integration: 1 (default) the error test covers the
-     * sensitivities too (as CVODES with errconS); 0 the state only */
+    /* 1 (default) the error test covers the sensitivities too (as CVODES with errconS); 0 the
+     * state only (a flow's columns, driver/flow.h, set it as asked) */
     int error_control;
 } swim_sens;
 

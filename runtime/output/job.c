@@ -213,9 +213,10 @@ static int open_run(swim_job *j, swim_status *st)
         if (line) j->req.notice(j->req.ctx, line);
         free(line);
     }
-    const swim_run_request rr = {&j->s, &j->P.kn, &j->P.spz, j->req.generic, j->events, j->req.stop,
-                                 {sink_row, j->req.trace ? sink_step : NULL, sink_notice, sink_progress, j}, 0,
-                                 &j->settings};
+    const swim_run_request rr = {.scene = &j->s, .kernel = &j->P.kn, .system = &j->P.spz, .generic = j->req.generic,
+                                 .events = j->events, .stop = j->req.stop,
+                                 .sink = {sink_row, j->req.trace ? sink_step : NULL, sink_notice, sink_progress, j},
+                                 .settings = &j->settings};
     int rc = swim_run_open(&rr, &j->run, st);
     if (rc) return rc;
     const char *names[SWIM_RUN_MAX_COLUMNS];
