@@ -1308,7 +1308,8 @@ static int scene_set_variational(void *p, const swim_run_variational *v, swim_st
     if (swim_dynamics_set_aside(&c->d) != 0) goto oom;
     if (grow(&c->ys, n, m, 0.0) || grow(&c->ys_last, n, m, 0.0) || grow(&c->ys_row, n, m, 0.0) ||
         grow(&c->ys_shift, n, m, 0.0) || grow(&c->atolv, n, m, c->set->atol) || grow(&c->tol_scale, n, m, 1.0) ||
-        grow(&c->fw_ys, n, m, 0.0) || !(c->var_buf = calloc((size_t)m, sizeof(double))))
+        grow(&c->fw_ys, n, m, 0.0) || !(c->var_buf = calloc((size_t)m, sizeof(double))) ||
+        (free(c->var_final), !(c->var_final = malloc(sizeof(double) * (size_t)m))))
         goto oom;
     if (c->watch_ready) {   /* its buffer takes the interpolant's whole vector */
         swim_run_watch_free(&c->watch);
