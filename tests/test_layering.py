@@ -42,9 +42,9 @@ def test_nothing_below_cli_reaches_up():
     check(len(below) > 50, "the runtime's files are found (%d)" % len(below))
     for path, text in below:
         includes = re.findall(r'#include\s+"(cli/[^"]+)"', text)
-        allowed = {"cli/sweep_args.h", "cli/run_signals.h"} if path.startswith("runtime/mpi/") else set()
+        allowed = {"cli/sweep_args.h", "cli/run_signals.h", "cli/report.h"} if path.startswith("runtime/mpi/") else set()
         if path == "runtime/export/simulate.c":   # a program (main), reading swim run's options with its code
-            allowed = {"cli/args.h", "cli/run_settings.h"}
+            allowed = {"cli/args.h", "cli/run_settings.h", "cli/report.h"}
         bad = [h for h in includes if h not in allowed]
         check(not bad, "%s includes %s" % (path, ", ".join(bad)))
         calls = re.findall(r"\bswim_cmd_\w+", code(text))
@@ -141,10 +141,11 @@ def code_keep_strings(text):
 
 def test_cli_is_small():
     lines = sum(t.count("\n") for _, t in sources("cli"))
-    # 3300: inspect --energy, the commands' up-front --out and range checks, and the printing of
-    # statuses the layers below now return instead of printing (io/status.h); the checks move
-    # below cli/ with the settings struct of the typed engine, and the budget back to 3000
-    check(0 < lines <= 3300, "runtime/cli/ has %d lines (at most 3300)" % lines)
+    # 3400: inspect --energy, the commands' up-front --out and range checks, the printing of
+    # statuses the layers below return instead of printing (io/status.h), and since the library
+    # prints nothing at all, the programs' own printing helpers (cli/report.c, ~70 lines that were
+    # in io/); the option parsing of the run settings (cli/run_settings.c) is what could move below
+    check(0 < lines <= 3400, "runtime/cli/ has %d lines (at most 3400)" % lines)
 
 
 ABOVE_PROBLEM = ("cli", "mpi", "output", "sweep", "driver", "control", "lib", "export")

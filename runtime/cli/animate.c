@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "io/files.h"
 #include "io/message.h"
+#include "cli/report.h"
 
 /* The options of runtime/plot/animate_run.py (which parses them), for --help. */
 static const swim_opt animate_options[] = {

@@ -10,7 +10,7 @@
 #include "cli/commands.h"
 #include "codegen/codegen.h"
 #include "io/message.h"
-#include "io/stdout_check.h"
+#include "cli/report.h"
 #include "scene/keys.h"
 
 /* --older-than D: a number of days, or with a unit s, m, h, d (30d, 12h). 0 or 2. */
@@ -55,7 +55,7 @@ static void key_summary(const char *key, char *buf, size_t len)
 }
 
 /* The report's flush: one line naming the true reason, and main's check after it stays silent
- * (io/stdout_check.h prints once per process). */
+ * (cli/report.h prints once per process). */
 static int finish(void) { return swim_stdout_check("cache") != 0; }
 
 int swim_cmd_cache(int argc, char **argv)

@@ -13,6 +13,7 @@
 #include "problem/problem.h"
 #include "io/files.h"
 #include "io/message.h"
+#include "cli/report.h"
 
 typedef struct {
     const swim_branch *b;

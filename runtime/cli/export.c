@@ -10,6 +10,7 @@
 #include "io/clock.h"
 #include "io/message.h"
 #include "output/job.h"
+#include "cli/report.h"
 
 int swim_cmd_export(int argc, char **argv)
 {

@@ -13,6 +13,7 @@
 #include "io/files.h"
 #include "io/message.h"
 #include "kernel/coords.h"
+#include "cli/report.h"
 
 typedef struct {
     const swim_floquet *fl;

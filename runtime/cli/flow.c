@@ -22,7 +22,7 @@
 #include "model/flow.h"
 #include "scene/scene.h"
 #include "io/message.h"
-#include "io/stdout_check.h"
+#include "cli/report.h"
 
 #define MAX_TIMES 100000
 

@@ -10,6 +10,7 @@
 #include "io/message.h"
 #include "kernel/swim_kernel.h"
 #include "lib/swim.h"
+#include "cli/report.h"
 
 /* W_law and grad W_law of the energy law `law` (--param values) at shape x: the scene kernel of a
  * scene with every coordinate free and that law (kernel/swim_kernel.h, material), so the numbers

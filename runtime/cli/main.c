@@ -6,7 +6,7 @@
 #include "cli/commands.h"
 #include "cli/run_signals.h"
 #include "io/message.h"
-#include "io/stdout_check.h"
+#include "cli/report.h"
 #include "kernel/swim_kernel.h"
 #include "lib/swim.h"
 

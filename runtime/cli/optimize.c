@@ -19,6 +19,7 @@
 #include "io/json.h"
 #include "io/message.h"
 #include "scene/keys.h"
+#include "cli/report.h"
 
 
 /* KEY=LO:HI into p->keys[i], lo, hi. A key is compared with the others and with the --set

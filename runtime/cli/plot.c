@@ -11,6 +11,7 @@
 #include "cli/commands.h"
 #include "io/files.h"
 #include "io/message.h"
+#include "cli/report.h"
 
 
 /* The options of runtime/plot/plot_run.py (which parses them), for --help. */

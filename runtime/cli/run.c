@@ -18,7 +18,7 @@
 #include "cli/run_signals.h"
 #include "io/clock.h"
 #include "io/message.h"
-#include "io/stdout_check.h"
+#include "cli/report.h"
 #include "model/lyapunov.h"
 #include "output/job.h"
 

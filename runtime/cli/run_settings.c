@@ -9,6 +9,7 @@
 #include "io/message.h"
 #include "ode/ode.h"
 #include "scene/keys.h"
+#include "cli/report.h"
 
 /* A number option: parsed into *dst; *given says whether it was on the command line. */
 static int number_option(const swim_opt *opts, int nopts, const char *name, double *dst, int *given)

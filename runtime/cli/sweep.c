@@ -15,6 +15,7 @@
 #include "sweep/family_hdf5.h"
 #include "sweep/sweep.h"
 #include "io/message.h"
+#include "cli/report.h"
 
 static volatile sig_atomic_t stop_signal;
 static pid_t *running_pids;   /* slots; 0 = free */

@@ -40,11 +40,12 @@
 /* The runtime's C a run needs (output/job.h down), besides every header of these folders. */
 static const char *const sources[] = {
     "runtime/cli/args.c", "runtime/cli/run_settings.c",   /* simulate reads swim run's options with swim run's code */
+    "runtime/cli/report.c",                               /* ... and prints as swim run does */
     "runtime/codegen/structure.c",
     "runtime/driver/columns.c", "runtime/driver/events.c", "runtime/driver/watch.c", "runtime/driver/kinds.c",
     "runtime/driver/run.c", "runtime/driver/stroke_run.c", "runtime/driver/summary.c", "runtime/driver/analyses.c",
     "runtime/io/json.c", "runtime/io/csv.c", "runtime/io/files.c", "runtime/io/message.c", "runtime/io/status.c",
-    "runtime/io/clock.c", "runtime/io/stdout_check.c",
+    "runtime/io/clock.c",
     "runtime/model/dynamics.c", "runtime/model/flow.c", "runtime/model/bounce.c", "runtime/model/sensitivity.c",
     "runtime/model/lyapunov.c",
     "runtime/ode/ode.c", "runtime/ode/events.c", "runtime/ode/abm.c", "runtime/ode/peers_gsl.c",

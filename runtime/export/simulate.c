@@ -25,7 +25,7 @@
 #include "driver/events.h"
 #include "export_info.h"
 #include "io/message.h"
-#include "io/stdout_check.h"
+#include "cli/report.h"
 #include "output/job.h"
 
 #define PROG "simulate"
@@ -141,6 +141,6 @@ int main(int argc, char **argv)
     free(command);
     free(scene);
     free(o);
-    /* a line lost to a full stdout is a failure, said on stderr (io/stdout_check.h) */
+    /* a line lost to a full stdout is a failure, said on stderr (cli/report.h) */
     return swim_stdout_finish(PROG, rc == SWIM_ARGS_HELP ? 0 : rc);
 }

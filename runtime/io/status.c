@@ -93,15 +93,3 @@ int swim_status_print(const swim_status *st, FILE *f)
     }
     return ferror(f) ? -1 : 0;
 }
-
-int swim_status_shown(const swim_status *st, int rc)
-{
-    if (rc) swim_status_print(st, stderr);
-    return rc;
-}
-
-void swim_status_note_stderr(void *ctx, const char *line)
-{
-    (void)ctx;
-    swim_message(stderr, "%s", line);
-}

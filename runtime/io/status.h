@@ -69,13 +69,6 @@ const char *swim_status_message(const swim_status *st, char *buf, size_t n);
 /* Every line of st on f as swim_message shows it; nothing when nothing failed. 0 or -1. */
 int swim_status_print(const swim_status *st, FILE *f);
 
-/* rc, after showing st on stderr when rc is nonzero: a command's `if (swim_status_shown(&st,
- * f(..., &st))) return 2;`. */
-int swim_status_shown(const swim_status *st, int rc);
-
-/* A note callback that shows each notice on stderr as one line (swim_message): what a command
- * installs, `swim_status st = SWIM_STATUS_STDERR;`. */
-void swim_status_note_stderr(void *ctx, const char *line);
-#define SWIM_STATUS_STDERR {.note = swim_status_note_stderr}
+/* A program shows a status with cli/report.h (swim_status_shown, SWIM_STATUS_STDERR). */
 
 #endif

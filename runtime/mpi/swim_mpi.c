@@ -27,6 +27,7 @@
 #include "cli/sweep_args.h"
 #include "sweep/family_hdf5.h"
 #include "sweep/sweep.h"
+#include "cli/report.h"
 
 
 enum { TAG_RESULT = 1, TAG_WORK = 2 };

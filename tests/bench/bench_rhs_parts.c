@@ -16,6 +16,7 @@
 #include "shape/barrier.h"
 #include "bench/timing.h"
 #include "io/status.h"
+#include "cli/report.h"
 
 typedef struct {
     swim_dynamics *d;

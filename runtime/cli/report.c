@@ -1,4 +1,4 @@
-#include "io/stdout_check.h"
+#include "cli/report.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -29,4 +29,16 @@ int swim_stdout_finish(const char *cmd, int status)
     errno = 0;
     if (fclose(stdout) != 0 && !bad) bad = fail(cmd, errno) != 0;
     return bad && status == 0 ? 1 : status;
+}
+
+int swim_status_shown(const swim_status *st, int rc)
+{
+    if (rc) swim_status_print(st, stderr);
+    return rc;
+}
+
+void swim_status_note_stderr(void *ctx, const char *line)
+{
+    (void)ctx;
+    swim_message(stderr, "%s", line);
 }
