@@ -285,7 +285,7 @@ bench-accuracy: $(BIN)/swim
 
 # The measurements the docs quote (tests/bench/bench_docs.py, ~7 min, build/bench/docs/), and the
 # generated number blocks of README.md and docs/ rewritten from them and from the last make test.
-bench-docs: $(BIN)/swim $(BUILD)/tests/bench/bench_rhs $(BUILD)/tests/bench/bench_rhs_parts $(BUILD)/tests/bench/bench_jacobian_cost
+bench-docs: $(BIN)/swim $(BUILD)/tests/bench/bench_rhs $(BUILD)/tests/bench/bench_rhs_parts $(BUILD)/tests/bench/bench_kernel_flags $(BUILD)/tests/bench/bench_jacobian_cost
 	SWIM_BIN=$(CURDIR)/$(BIN)/swim BENCH_RHS=$(CURDIR)/$(BUILD)/tests/bench/bench_rhs $(PYTHON) tests/bench/bench_docs.py
 
 docs-numbers:

@@ -193,6 +193,16 @@ def rhs_parts_table(rec):
     return "\n".join(out)
 
 
+def kernel_flags_table(rec):
+    v = rec["values"]
+    out = ["| flags of the scene kernel (%s) | ns per RHS, min | median | own flags' min over this | bits |"
+           % v["scene"], "|---|---|---|---|---|"]
+    for r in v["rows"]:
+        out.append("| `%s` | %.0f | %.0f | %.3f | %s |" % (r["flags"], r["ns_min"], r["ns_median"], r["ratio_min"],
+                                                       "the same" if r["same_bits"] else "differ"))
+    return "\n".join(out)
+
+
 def sensitivity_table(rec):
     v = rec["values"]
     out = ["| case | exact (s, median of %d) | Jacobians | differences (s) | RHS evaluations | differences / exact "
@@ -291,6 +301,7 @@ BLOCKS = {
     "rhs_cost.table": ("rhs_cost.json", rhs_cost_table),
     "rhs_cost.barrier": ("rhs_cost.json", rhs_cost_barrier),
     "rhs_parts.table": ("rhs_parts.json", rhs_parts_table),
+    "kernel_flags.table": ("kernel_flags.json", kernel_flags_table),
     "sensitivity.table": ("sensitivity.json", sensitivity_table),
     "python_loop.table": ("python_loop.json", python_loop_table),
     "sweep.table": ("sweep.json", sweep_table),

@@ -117,15 +117,17 @@ static void reduced_matrix(const work_t *w, double f, double b, double *K)
             for (int j = 0; j < NX; j++)
                 row[j] += t * w->U[r][j];
         }
-        memcpy(acc[i], row, sizeof row);
+        /* the rigid part along the whole row (a vector loop; the entries left of the diagonal
+         * are not used: K takes its upper triangle, below) */
+        const double p0 = w->P[0][i], p1 = w->P[1][i], p2 = w->Ic * w->P[2][i];
+        for (int j = 0; j < NX; j++)
+            acc[i][j] = row[j] + b * (p0 * w->P[0][j] + p1 * w->P[1][j] + p2 * w->P[2][j]);
+        acc[i][i] += b * body_shape[i];
     }
-    for (int i = 0; i < NX; i++)
-        for (int j = i; j < NX; j++) {
-            double s = acc[i][j] + b * (w->P[0][i] * w->P[0][j] + w->P[1][i] * w->P[1][j]
-                                        + w->Ic * w->P[2][i] * w->P[2][j]);
-            if (i == j) s += b * body_shape[i];
-            K[NX * i + j] = K[NX * j + i] = s;
-        }
+    for (int i = 0; i < NX; i++) {
+        for (int j = 0; j < i; j++) K[NX * i + j] = acc[j][i];
+        for (int j = i; j < NX; j++) K[NX * i + j] = acc[i][j];
+    }
 }
 
 /* What <Gamma, v, v> is computed from, kept for its derivatives (kernel/scene_rhs.h). */

@@ -17,6 +17,9 @@ generated blocks of README.md and docs/.
   rhs_parts    the parts of a full-coordinate RHS (Example 7, §5.2): whole, barrier quadrature,
                kernel K + P + Γ, Γ's contraction, the rest (build/tests/bench/bench_rhs_parts, its
                medians of 7), the median of 3 runs of it.
+  kernel_flags the scene kernel of Example 7 rebuilt with -ffp-contract=fast and with reassociation,
+               against the kernels' own flags (build/tests/bench/bench_kernel_flags, interleaved
+               rounds; its minima and medians), once.
   peer         swim against the NumPy/SciPy implementation of the same model (DOP853, LSODA,
                Radau) at matched error on Examples 3 and 7 (tests/bench/peer/bench_peer.py, its
                medians of 3): its table.
@@ -148,6 +151,13 @@ def rhs_parts():
     return {"runs": 3, "scenes": out}
 
 
+def kernel_flags():
+    runs = csv_runs(os.path.join(ROOT, "build", "tests", "bench", "bench_kernel_flags"), [], n=1)
+    return {"rows": [{"flags": r["flags"], "ns_min": float(r["ns_min"]), "ns_median": float(r["ns_median"]),
+                      "ratio_min": float(r["ratio_min"]), "same_bits": int(r["same_bits"])} for r in runs[0]],
+            "scene": os.path.basename(runs[0][0]["scene"])[:-5]}
+
+
 def script_rows(script, args, csv_path, stdout=None):
     """Runs a bench script of tests/bench/ and returns the rows of the CSV it writes (and its
     standard output into the list stdout when given)."""
@@ -217,7 +227,7 @@ def first_use():
 
 
 MEASURE = {"member_cost": member_cost, "event_cost": event_cost, "lyapunov": lyapunov, "rhs_cost": rhs_cost,
-           "rhs_parts": rhs_parts, "sensitivity": sensitivity, "python_loop": python_loop, "sweep": sweep,
+           "rhs_parts": rhs_parts, "kernel_flags": kernel_flags, "sensitivity": sensitivity, "python_loop": python_loop, "sweep": sweep,
            "jacobian": jacobian, "peer": peer, "first_use": first_use}
 
 
