@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "bench/timing.h"
+#include "cli/report.h"
 #include "codegen/codegen.h"
 #include "io/files.h"
 #include "io/status.h"
