@@ -39,7 +39,9 @@ static int real_at(json_t *root, const char *key, swim_summary_real *out, const 
         return -1;
     }
     out->set = 1;
-    out->value = json_number_value(v);
+    /* + 0.0: the writer prints -0.0 as "-0", which reads back as the integer 0, so a summary's zero
+     * is +0 whether it is read from the text or from the tree it was written from */
+    out->value = json_number_value(v) + 0.0;
     return 0;
 }
 
@@ -85,6 +87,7 @@ static int string_at(json_t *root, const char *key, char *out, size_t len, const
 
 static int take(json_t *root, swim_summary *out, const char *path, char *err, size_t errlen)
 {
+    memset(out, 0, sizeof *out);
     if (!json_is_object(root)) {
         say(err, errlen, "%s: %s", path, "not a JSON object");
         return -1;
@@ -148,9 +151,15 @@ int swim_summary_read(const char *path, const char *text, swim_summary *out, cha
         if (err && errlen) snprintf(err, errlen, "%s:%d:%d: %s", name, je.line, je.column, je.text);
         return SWIM_SUMMARY_INVALID;
     }
-    int rc = take(root, out, name, err, errlen);
+    const int rc = swim_summary_take(root, path, out, err, errlen);
     json_decref(root);
-    if (rc) {
+    return rc;
+}
+
+int swim_summary_take(json_t *root, const char *path, swim_summary *out, char *err, size_t errlen)
+{
+    if (err && errlen) err[0] = '\0';
+    if (take(root, out, path ? path : "summary.json", err, errlen)) {
         memset(out, 0, sizeof *out);
         return SWIM_SUMMARY_INVALID;
     }

@@ -612,11 +612,17 @@ const char *swim_family_column(int i, const char **summary_path)
     return cols[i].name;
 }
 
+/* The summary of a simulation's run: what `swim run` writes, without an output folder. */
+static swim_summary_context summary_context(const swim_sim *s)
+{
+    const swim_summary_context x = {NULL, NULL, s->m->P.name, s->sets, s->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0, NULL, NULL};
+    return x;
+}
+
 static int fill_summary(FILE *f, const void *ctx)
 {
-    const swim_sim *s = ctx;
-    const swim_summary_context x = {NULL, NULL, s->m->P.name, s->sets, s->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0, NULL, NULL};
-    return swim_run_summary_json(f, s->run, &x);
+    const swim_summary_context x = summary_context(ctx);
+    return swim_run_summary_json(f, ((const swim_sim *)ctx)->run, &x);
 }
 
 static int fill_events(FILE *f, const void *ctx)
@@ -721,16 +727,20 @@ static int run_member(swim_model *m, const char *const *sets, int nsets, const c
     if (rc) return rc;
     swim_error ran = SWIM_ERROR_INIT;   /* a failed run is a member's row, not the call's failure */
     sim_advance(s, INFINITY, &ran);
-    char *json = text_of(fill_summary, s), why[256];
+    /* members.csv's numbers from the summary's tree, at the paths swim sweep reads in its text
+     * (swim_summary_take: the same doubles), without writing and parsing the text */
+    const swim_summary_context x = summary_context(s);
+    json_t *tree = swim_run_summary(s->run, &x);
+    char why[256];
     swim_summary sum;
     memset(&sum, 0, sizeof sum);
-    rc = json && swim_summary_read(m->P.name, json, &sum, why, sizeof why) == SWIM_SUMMARY_OK ? SWIM_OK : SWIM_ENOMEM;
+    rc = tree && swim_summary_take(tree, m->P.name, &sum, why, sizeof why) == SWIM_SUMMARY_OK ? SWIM_OK : SWIM_ENOMEM;
+    json_decref(tree);
     const swim_run_result *r = swim_run_get_result(s->run);
     swim_member out = {sizeof out, r->finished && r->status == 0, "", "", real_of(&sum.t_reached), real_of(&sum.x),
                        real_of(&sum.y), real_of(&sum.theta), real_of(&sum.energy_drift_rel),
                        real_of(&sum.energy_balance_abs), real_of(&sum.jmin), count_of(&sum.steps),
                        count_of(&sum.rhs_evaluations), real_of(&sum.integrate_seconds), real_of(&sum.wall_seconds)};
-    free(json);
     swim_sim_free(s);
     if (rc) return failed(err, NULL, rc, "out of memory");
     snprintf(out.status, sizeof out.status, "%s", sum.status);
