@@ -81,8 +81,9 @@ class Continuation(Output):
 
 
 class Optimize(Output):
-    """optimize.json of `swim optimize` (best values, the quantity, the searches), and optimize.csv
-    (every evaluation) as .table ({column: array}) with .columns."""
+    """optimize.json of `swim optimize` (best values, the quantity, the searches), optimize.csv (the
+    log of iterations) as .table ({column: array}) with .columns, and .best_values (the best values
+    in vary's order, a float64 array)."""
 
 
 def _csv_table(text):
