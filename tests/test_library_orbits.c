@@ -8,6 +8,10 @@
  *     two am1:max events of a plain simulation;
  *   - a branch of Example 1 in the energy: the table's first column is the targets, its energy
  *     column reaches them, its header is branch.csv's;
+ *   - Example 3's energy minimized over elastic.reference.am1 (swim_optimize): the optimum sits at
+ *     c0's 0.4 (E(T) = E(0) is smallest at cref = c0), the struct's numbers are those of the
+ *     optimize.json the library gives, optimize.csv's header names the key; a bad spec, an
+ *     unknown quantity and BFGS without a gradient are refused naming their key, nothing printed;
  *   - bad input (a stroke, an unknown section, a tolerance out of bounds, a small options struct,
  *     no period within t_max, no parameter) comes back as a status naming the key, with nothing
  *     printed; a stop flag set before the work gives a stopped, unconverged result. */
@@ -258,11 +262,76 @@ static void test_refused(void)
     remove(dir);
 }
 
+static void test_optimize(void)
+{
+    const char *sets[] = {"run.t_end=1"};
+    swim_model *m = open_model("models/example3.toml", sets, 1);
+    CHECK(m != NULL, "Example 3 opens");
+    if (!m) return;
+    const char *vary[] = {"elastic.reference.am1=0:1"};
+    swim_optimize_options o = SWIM_OPTIMIZE_OPTIONS_INIT;
+    o.vary = vary;
+    o.nvary = 1;
+    o.quantity = "energy";
+    swim_orbit *a = NULL;
+    swim_error e = SWIM_ERROR_INIT;
+    CHECK(swim_optimize(m, &o, &a, &e) == SWIM_OK && a, "swim_optimize: %s", e.message);
+    if (a) {
+        swim_optimize_result r = SWIM_OPTIMIZE_RESULT_INIT;
+        CHECK(swim_orbit_optimize(a, &r) == SWIM_OK && r.nkeys == 1 && r.keys && r.best &&
+              strcmp(r.keys[0], "elastic.reference.am1") == 0, "the optimize result");
+        swim_periodic_result wrong = SWIM_PERIODIC_RESULT_INIT;
+        CHECK(swim_orbit_periodic(a, &wrong) == SWIM_EINPUT, "a search has no periodic result");
+        char *json = swim_orbit_json(a), *csv = swim_orbit_csv(a);
+        CHECK(r.best && fabs(r.best[0] - 0.4) < 1e-3 && r.converged && r.holds && r.best_start == 1,
+              "the optimum at c0's 0.4: %.10g (converged %d)", r.best ? r.best[0] : NAN, r.converged);
+        CHECK(json && r.value == json_number(json, "value") && r.energy == json_number(json, "energy") &&
+              r.best && r.best[0] == json_number(json, "elastic.reference.am1") &&
+              (double)r.evaluations == json_number(strstr(json, "\n  \"evaluations\""), "evaluations") &&
+              strstr(json, "\"best_scene\": null"),
+              "the struct's numbers are optimize.json's: value %.17g", r.value);
+        CHECK(csv && strncmp(csv, "iteration,evaluations,elastic.reference.am1,energy,size,start\n", 61) == 0,
+              "optimize.csv's header");
+        swim_free(json);
+        swim_free(csv);
+        swim_orbit_free(a);
+    }
+    char dir[] = "/tmp/swim-lib-optimize-XXXXXX", path[64];
+    if (!mkdtemp(dir)) {
+        CHECK(0, "a temporary folder");
+        swim_model_free(m);
+        return;
+    }
+    snprintf(path, sizeof path, "%s/printed", dir);
+    const capture_fds q = capture_begin(path);
+    swim_error e_spec = SWIM_ERROR_INIT, e_q = SWIM_ERROR_INIT, e_bfgs = SWIM_ERROR_INIT;
+    const char *bad[] = {"elastic.reference.am1=1:0"};
+    o.vary = bad;
+    const int rc_spec = swim_optimize(m, &o, &a, &e_spec);
+    o.vary = vary;
+    o.quantity = "speed";
+    const int rc_q = swim_optimize(m, &o, &a, &e_q);
+    o.quantity = "displacement_per_work";
+    o.method = "bfgs";
+    const int rc_bfgs = swim_optimize(m, &o, &a, &e_bfgs);
+    const long long printed = capture_end(q);
+    CHECK(printed == 0, "the refusals printed %lld bytes", printed);
+    CHECK(rc_spec == SWIM_EINPUT && strcmp(e_spec.key, "elastic.reference.am1") == 0 && strstr(e_spec.message, "LO < HI"),
+          "LO > HI: %d key '%s' (%s)", rc_spec, e_spec.key, e_spec.message);
+    CHECK(rc_q == SWIM_EINPUT && strcmp(e_q.key, "quantity") == 0, "an unknown quantity: key '%s'", e_q.key);
+    CHECK(rc_bfgs == SWIM_EINPUT && strcmp(e_bfgs.key, "method") == 0 && strstr(e_bfgs.message, "no gradient"),
+          "BFGS without a gradient: %d key '%s' (%s)", rc_bfgs, e_bfgs.key, e_bfgs.message);
+    remove(path);
+    remove(dir);
+    swim_model_free(m);
+}
+
 int main(void)
 {
     test_periodic();
     test_floquet();
     test_branch();
     test_refused();
+    test_optimize();
     return check_report("test_library_orbits");
 }

@@ -1,12 +1,15 @@
 /* The one summary reader (driver/summary_read.h): values at their path in the JSON tree, integers
  * exactly, null and absent as unset, whole and stopped summaries told apart, and a text that is
- * not one strict JSON object refused with its line and column. */
+ * not one strict JSON object refused with its line and column; a summary's tree read directly
+ * (swim_summary_take) gives what its text gives: -0 as 0, a byte of no UTF-8 text as U+FFFD. */
 #include "check.h"
 #include "driver/summary_read.h"
+#include "io/json.h"
 #include "sweep/sweep.h"
 
 #include <errno.h>
 #include <jansson.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -180,6 +183,40 @@ static void test_family_columns_paths(void)
     json_decref(root);
 }
 
+/* A tree and the text swim_json_write makes of it read alike. */
+static void test_tree_is_its_text(void)
+{
+    json_t *root = json_object(), *fs = json_object(), *stats = json_object();
+    json_object_set_new(root, "status", json_string("failed"));
+    json_object_set_new(root, "reason", json_string_nocheck("scene a\xff" "b.toml: \xc3\xa9 bad"));
+    json_object_set_new(root, "t_reached", json_real(0.5));
+    json_object_set_new(fs, "x", json_real(-0.0));
+    json_object_set_new(fs, "y", json_real(0.1 + 0.2));
+    json_object_set_new(fs, "theta", json_real(-1e-300));
+    json_object_set_new(root, "final_state", fs);
+    json_object_set_new(stats, "steps", json_integer(12));
+    json_object_set_new(root, "stats", stats);
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&text, &len);
+    if (f) {
+        swim_json_write(f, root);
+        fclose(f);
+    }
+    swim_summary a, b;
+    char err[256];
+    const int rc_tree = swim_summary_take(root, NULL, &a, err, sizeof err);
+    const int rc_text = text ? swim_summary_read(NULL, text, &b, err, sizeof err) : -9;
+    CHECK(rc_tree == SWIM_SUMMARY_OK && rc_text == SWIM_SUMMARY_OK, "both read: %d %d %s", rc_tree, rc_text, err);
+    CHECK(strcmp(a.reason, b.reason) == 0 && strstr(a.reason, "a\xEF\xBF\xBD" "b") && strstr(a.reason, "\xc3\xa9"),
+          "the reason alike, U+FFFD for the stray byte: '%s' / '%s'", a.reason, b.reason);
+    CHECK(memcmp(&a.x.value, &b.x.value, sizeof(double)) == 0 && a.x.value == 0 && !signbit(a.x.value) &&
+          a.y.value == b.y.value && a.theta.value == b.theta.value && a.t_reached.value == b.t_reached.value &&
+          a.steps.value == b.steps.value && strcmp(a.status, b.status) == 0, "the numbers alike, -0 as 0");
+    free(text);
+    json_decref(root);
+}
+
 int main(void)
 {
     test_run_summary();
@@ -187,5 +224,6 @@ int main(void)
     test_whole_and_stopped();
     test_refused();
     test_file_and_long_reason();
+    test_tree_is_its_text();
     return check_report("test_summary_read");
 }

@@ -224,11 +224,28 @@ def python_loop_table(rec):
     return "\n".join(out)
 
 
+def python_loop_threads(rec):
+    rows = rec["values"].get("threads", [])
+    out = ["| swim.sweep, members (Example 3) | t_end | threads | seconds (median of %d) | members/s | × threads=1 |"
+           % rec["values"]["runs"], "|---|---|---|---|---|---|"]
+    one = None
+    for r in rows:
+        if r["way"].endswith("=1"):
+            one = r["seconds"]
+        out.append("| %d | %g | %s | %.3f | %.0f | %.2f× |" % (r["members"], r["t_end"], r["way"].split("=")[-1],
+                                                              r["seconds"], r["members_per_second"], one / r["seconds"]))
+    return "\n".join(out)
+
+
 def python_loop_sentence(rec):
-    r = {x["way"]: x for x in rec["values"]["rows"]}["python loop (swim.run)"]
-    return ("A loop of %d short Example 3 runs in process made %.1f× the members/s of `swim sweep --jobs 1` "
+    ways = {x["way"]: x for x in rec["values"]["rows"]}
+    r = ways["python loop (swim.run)"]
+    sim = ways.get("Simulation.set + run")
+    return ("A loop of %d short Example 3 runs in process made %.1f× the members/s of `swim sweep --jobs 1`%s "
             "(medians of %d side by side, `tests/bench/bench_python_loop.py`)."
-            % (r["members"], r["ratio_to_swim_sweep"], rec["values"]["runs"]))
+            % (r["members"], r["ratio_to_swim_sweep"],
+               "; one `swim.Simulation` with `set` per member, %.1f×" % sim["ratio_to_swim_sweep"] if sim else "",
+               rec["values"]["runs"]))
 
 
 SWEEP_NAMES = {"--jobs 1": "`--jobs 1`", "--jobs 2": "`--jobs 2`"}
@@ -304,6 +321,7 @@ BLOCKS = {
     "kernel_flags.table": ("kernel_flags.json", kernel_flags_table),
     "sensitivity.table": ("sensitivity.json", sensitivity_table),
     "python_loop.table": ("python_loop.json", python_loop_table),
+    "python_loop.threads": ("python_loop.json", python_loop_threads),
     "sweep.table": ("sweep.json", sweep_table),
     "jacobian.table": ("jacobian.json", jacobian_table),
     "peer.table": ("peer.json", jacobian_table),

@@ -354,13 +354,30 @@ class Result:
         self.completed = bool(result.completed)
         self.final_state = {"t": result.t_reached, "x": result.x, "y": result.y, "theta": result.theta}
         self.state = state
-        self.summary = summary
-        self.status = summary.get("status")
-        self.reason = summary.get("reason")
+        self._summary = summary   # a dict, or None until summary is asked for (_summary_text gives it)
+        self._summary_text = None
         self.events = events
         self.scene_text = scene_text
         self.steps = result.steps
         self.rhs_evaluations = result.rhs_evaluations
+
+    @property
+    def summary(self):
+        """summary.json of the run as a dict."""
+        if self._summary is None:
+            self._summary = json.loads(self._summary_text() or "{}")
+            self._summary_text = None
+        return self._summary
+
+    @property
+    def status(self):
+        """summary.json's status: "completed" or "failed"."""
+        return self.summary.get("status")
+
+    @property
+    def reason(self):
+        """summary.json's reason: why the run ended as it did."""
+        return self.summary.get("reason")
 
     def __getitem__(self, name):
         try:

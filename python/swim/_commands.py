@@ -1,51 +1,19 @@
 """swim.periodic, swim.floquet, swim.continuation and swim.optimize: the commands of the same names
 as Python objects with their files' numbers.
 
-periodic, floquet and continuation call libswim (swim_periodic_orbit, swim_floquet_multipliers,
-swim_continuation) in this process: the JSON the command would write comes from the same C
-writer, and the arrays (monodromy, multipliers, the branch table) from the result structs.
-optimize has no C entry yet: it runs the command-line program `swim` (bin/swim of the checkout
-this package belongs to, or of the PREFIX libswim was loaded from, or the first `swim` on PATH;
-$SWIM_BIN overrides) with --quiet and --out in a temporary folder that is removed afterwards, its
-files parsed as Python parses JSON and CSV (the same doubles)."""
+Each calls libswim in this process (swim_periodic_orbit, swim_floquet_multipliers,
+swim_continuation, swim_optimize), the GIL released while it computes: the JSON (and CSV) the
+command would write comes from the same C writer, and the arrays (monodromy, multipliers, the
+branch table, the best values) from the result structs."""
 import csv
+import io
 import json
-import os
-import shutil
-import subprocess
-import tempfile
 
 import numpy as np
 
 import ctypes
 
-from . import EFAILED, EINPUT, OK, Error, SceneError, _L, _c_text, _lib, _overrides, _value_text
-
-
-def _program():
-    """The `swim` program beside the library: $SWIM_BIN, the checkout's bin/swim, PREFIX/bin/swim
-    of the libswim loaded, `swim` on PATH."""
-    env = os.environ.get("SWIM_BIN")
-    if env:
-        return env
-    here = os.path.dirname(os.path.abspath(__file__))
-    places = [os.path.join(here, "..", "..", "bin", "swim")]
-    try:
-        from . import _checkout
-        places.append(os.path.join(_checkout.TREE, "bin", "swim"))
-    except ImportError:
-        pass
-    lib = os.path.realpath(_L._name)
-    places.append(os.path.join(os.path.dirname(os.path.dirname(lib)), "bin", "swim"))   # PREFIX/lib -> PREFIX/bin
-    places.append(os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(lib))), "bin", "swim"))   # build/lib
-    for p in places:
-        if os.path.isfile(p) and os.access(p, os.X_OK):
-            return os.path.normpath(p)
-    found = shutil.which("swim")
-    if found:
-        return found
-    raise Error(EFAILED, "swim: the program `swim` was not found (tried %s and PATH): build it with `make` or set "
-                "SWIM_BIN" % ", ".join(os.path.normpath(p) for p in places))
+from . import EINPUT, OK, SceneError, _L, _c_text, _lib, _value_text
 
 
 def _numbers(v):
@@ -113,13 +81,14 @@ class Continuation(Output):
 
 
 class Optimize(Output):
-    """optimize.json of `swim optimize` (best values, the quantity, the searches), and optimize.csv
-    (every evaluation) as .table ({column: array}) with .columns."""
+    """optimize.json of `swim optimize` (best values, the quantity, the searches), optimize.csv (the
+    log of iterations) as .table ({column: array}) with .columns, and .best_values (the best values
+    in vary's order, a float64 array)."""
 
 
-def _csv_table(path):
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+def _csv_table(text):
+    """A CSV text's header and {column: float64 array} (a column that is not numbers: an object array)."""
+    rows = list(csv.reader(io.StringIO(text or "")))
     if not rows:
         return (), {}
     header, body = rows[0], rows[1:]
@@ -131,42 +100,6 @@ def _csv_table(path):
         except ValueError:
             table[name] = np.array(col, dtype=object)
     return tuple(header), table
-
-
-def _command(cmd, scene, args, overrides, files):
-    """Runs `swim CMD SCENE --out TMP --quiet ARGS --set ...`; the parsed files named (name, kind)."""
-    scene = os.fspath(scene)
-    if "\n" in scene:
-        raise SceneError(EINPUT, "swim.%s: give the scene as a file's path (the command reads a file)" % cmd,
-                         key="scene")
-    sets = _overrides(scene, overrides)
-    with tempfile.TemporaryDirectory(prefix="swim-%s-" % cmd) as tmp:
-        out = os.path.join(tmp, "out")
-        argv = [_program(), cmd, scene, "--out", out, "--quiet"] + list(args)
-        for s in sets:
-            argv += ["--set", s]
-        p = subprocess.run(argv, capture_output=True, text=True)
-        first = files[0][0]
-        if p.returncode == 2 or not os.path.exists(os.path.join(out, first)):
-            lines = [ln for ln in p.stderr.splitlines() if ln.strip()]
-            why = lines[-1] if lines else "exit status %d" % p.returncode
-            if why.startswith("swim"):
-                why = why.split(": ", 1)[-1]
-            raise (SceneError if p.returncode == 2 else Error)(EINPUT if p.returncode == 2 else EFAILED,
-                                                             "swim %s: %s" % (cmd, why), file=scene)
-        got = {}
-        for name, kind in files:
-            path = os.path.join(out, name)
-            if not os.path.exists(path):
-                continue
-            if kind == "json":
-                with open(path) as f:
-                    got[name] = json.load(f)
-            else:
-                got[name] = _csv_table(path)
-        got["exit_status"] = p.returncode
-        got["report"] = p.stdout
-        return got
 
 
 def _orbit(kind, take, scene, overrides, section=None, tol=None, max_iter=None, t_max=None, param=None, start=None,
@@ -272,24 +205,37 @@ def optimize(scene, vary, maximize=None, minimize=None, method=None, starts=None
     """The best values of run-time keys within bounds for a quantity at t_end, as `swim optimize`:
     vary {KEY: (LO, HI)}, one of maximize / minimize a quantity (x, y, theta, displacement, work,
     forcing_work, displacement_per_work, energy), method "nelder-mead" or "bfgs", starts, max_iter,
-    tol as the command's options. An Optimize with optimize.json's numbers and optimize.csv as
-    .table and .columns. Runs the program `swim` in a temporary folder (no C entry yet)."""
+    tol as the command's options. An Optimize with optimize.json's numbers ("best_scene" is None:
+    no file is written), optimize.csv as .table and .columns, .best_values (the best values in
+    vary's order, a float64 array, from the C result) and .exit_status (1 when not converged, as
+    the command's). libswim's swim_optimize, in this process. Bad input raises SceneError naming
+    the option or the key; no evaluation that succeeded raises Error."""
+    from . import Model, _error, _take_text
     if (maximize is None) == (minimize is None):
         raise SceneError(EINPUT, "swim.optimize: give one of maximize= and minimize=", key="maximize")
-    args = []
-    for key, (lo, hi) in vary.items():
-        args += ["--vary", "%s=%s:%s" % (key, _value_text(key, lo), _value_text(key, hi))]
-    args += ["--maximize", maximize] if maximize is not None else ["--minimize", minimize]
-    args += _opts(("--method", method), ("--starts", starts), ("--max-iter", max_iter), ("--tol", tol))
-    got = _command("optimize", scene, args, overrides if set is None else set,
-                   [("optimize.json", "json"), ("optimize.csv", "csv")])
-    columns, table = got.get("optimize.csv", ((), {}))
-    return Optimize(got["optimize.json"], table=table, columns=columns, exit_status=got["exit_status"])
-
-
-def _opts(*pairs):
-    out = []
-    for option, value in pairs:
-        if value is not None:
-            out += [option, value if isinstance(value, str) else _value_text(option.lstrip("-"), value)]
-    return out
+    specs = ["%s=%s:%s" % (key, _value_text(key, lo), _value_text(key, hi)) for key, (lo, hi) in vary.items()]
+    keep = [_c_text(v, "vary") for v in specs]
+    o = _lib.swim_optimize_options()
+    o.vary = (ctypes.c_char_p * max(1, len(keep)))(*keep)
+    o.nvary = len(keep)
+    o.quantity = _c_text(maximize if maximize is not None else minimize, "quantity")
+    o.maximize = maximize is not None
+    if method is not None:
+        o.method = _c_text(method, "method")
+    o.starts = 0 if starts is None else int(starts)
+    o.max_iter = 0 if max_iter is None else int(max_iter)
+    o.tol = 0.0 if tol is None else float(tol)
+    with Model(scene, overrides if set is None else set) as m:
+        ptr, err = ctypes.c_void_p(), _lib.swim_error()
+        if _L.swim_optimize(m.ptr, ctypes.byref(o), ctypes.byref(ptr), ctypes.byref(err)) != OK:
+            raise _error(err)
+        try:
+            data = json.loads(_take_text(_L.swim_orbit_json(ptr)))
+            columns, table = _csv_table(_take_text(_L.swim_orbit_csv(ptr)))
+            r = _lib.swim_optimize_result()
+            _L.swim_orbit_optimize(ptr, ctypes.byref(r))
+            best = _array(r.best, r.nkeys)
+            exit_status = 0 if r.converged else 1
+        finally:
+            _L.swim_orbit_free(ptr)
+    return Optimize(data, table=table, columns=columns, best_values=best, exit_status=exit_status)

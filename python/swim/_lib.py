@@ -218,9 +218,52 @@ class swim_member(_Sized):
                 ("wall_seconds", ctypes.c_double)]
 
 
+class swim_optimize_options(_Sized):
+    _fields_ = [("size", ctypes.c_size_t),
+                ("vary", _NAMES),
+                ("nvary", ctypes.c_int),
+                ("quantity", ctypes.c_char_p),
+                ("maximize", ctypes.c_int),
+                ("method", ctypes.c_char_p),
+                ("starts", ctypes.c_int),
+                ("max_iter", ctypes.c_int),
+                ("tol", ctypes.c_double),
+                ("stop", ctypes.POINTER(ctypes.c_int))]
+
+
+class swim_optimize_result(_Sized):
+    _fields_ = [("size", ctypes.c_size_t),
+                ("converged", ctypes.c_int),
+                ("search_converged", ctypes.c_int),
+                ("interrupted", ctypes.c_int),
+                ("nkeys", ctypes.c_int),
+                ("keys", _NAMES),
+                ("best", _PD),
+                ("value", ctypes.c_double),
+                ("x", ctypes.c_double),
+                ("y", ctypes.c_double),
+                ("theta", ctypes.c_double),
+                ("work", ctypes.c_double),
+                ("forcing_work", ctypes.c_double),
+                ("energy", ctypes.c_double),
+                ("tight_status", ctypes.c_int),
+                ("tight_value", ctypes.c_double),
+                ("tight_change", ctypes.c_double),
+                ("value_tolerance", ctypes.c_double),
+                ("holds", ctypes.c_int),
+                ("iterations", ctypes.c_int),
+                ("evaluations", ctypes.c_long),
+                ("gradient_evaluations", ctypes.c_long),
+                ("failed_evaluations", ctypes.c_long),
+                ("starts", ctypes.c_int),
+                ("best_start", ctypes.c_int),
+                ("seconds", ctypes.c_double)]
+
+
 # The mirrors checked against the library at load, by swim.h's names.
 MIRRORS = (swim_error, swim_sim_options, swim_result, swim_inspection, swim_event, swim_lyapunov_result,
-           swim_orbit_options, swim_periodic_result, swim_floquet_result, swim_branch_result, swim_member)
+           swim_orbit_options, swim_periodic_result, swim_floquet_result, swim_branch_result, swim_member,
+           swim_optimize_options, swim_optimize_result)
 
 
 def size_mismatches(lib, mirrors=None):
@@ -314,6 +357,8 @@ def _declare(lib):
         "swim_orbit_periodic": (c_int, [c_void_p, ctypes.POINTER(swim_periodic_result)]),
         "swim_orbit_floquet": (c_int, [c_void_p, ctypes.POINTER(swim_floquet_result)]),
         "swim_orbit_branch": (c_int, [c_void_p, ctypes.POINTER(swim_branch_result)]),
+        "swim_optimize": (c_int, [c_void_p, ctypes.POINTER(swim_optimize_options), pp, err]),
+        "swim_orbit_optimize": (c_int, [c_void_p, ctypes.POINTER(swim_optimize_result)]),
         "swim_orbit_json": (c_void_p, [c_void_p]),
         "swim_orbit_csv": (c_void_p, [c_void_p]),
         "swim_orbit_free": (None, [c_void_p]),

@@ -2,6 +2,7 @@
 dense output, sensitivities and the Lyapunov exponent. Public through swim/__init__.py."""
 import ctypes
 import json
+import weakref
 
 import numpy as np
 
@@ -72,6 +73,8 @@ class Simulation(_Closing):
                  "parameters.A", "c0.am1", "initial", ...): computed when the run completes
     lyapunov     True (interval 1, as swim run) or an interval > 0: the Lyapunov exponent and
                  horizon when the run completes
+    rows         False: the rows are not kept (advance() gives none, .rows is empty; .t, .state,
+                 the summary and the events are the run's as with them), as swim.run(rows=False)
 
     Advancing in pieces gives the rows of one run bit for bit. Bad input raises SceneError before
     anything runs; a run that fails is not an exception (.completed False, .reason). Free it with
@@ -80,7 +83,7 @@ class Simulation(_Closing):
     """
 
     def __init__(self, scene, overrides=None, integrator=None, rtol=None, atol=None, t_end=None, output_step=None,
-                 events=None, on_event=None, sensitivity=None, lyapunov=False, name=None, *, set=None):
+                 events=None, on_event=None, sensitivity=None, lyapunov=False, name=None, rows=True, *, set=None):
         self._sim = None
         self._model = None
         overrides = _alias(overrides, set, "overrides", "set")
@@ -97,6 +100,13 @@ class Simulation(_Closing):
         self._model = Model._with_sets(scene, sets, name)
         self.columns = self._model.columns
         self.name = self._model.name
+        self._keep_rows = bool(rows)
+        # made once, used by every run of this simulation (set() and reset() start a new one)
+        self._rows = _Rows(len(self.columns))
+        self._ev = _c_strings(self._events, "events", self.name)
+        self._event_fn = _lib.EVENT_FN(self._event)
+        self._sens_text = _c_text(",".join(self._sens_keys), "sensitivity", self.name) if self._sens_keys else None
+        self._pending = []   # weak references to Results whose summary is not read yet
         self._start()
 
     # ---- the C simulation ------------------------------------------------------------------
@@ -104,18 +114,16 @@ class Simulation(_Closing):
     def _start(self):
         """A fresh swim_sim of the model (at t = 0)."""
         self._free()
-        self._rows = _Rows(len(self.columns))
+        self._rows.n = 0   # the rows handed out before were copies
         self._exception = None
-        self._ev = _c_strings(self._events, "events", self.name)
-        self._event_fn = _lib.EVENT_FN(self._event)
         opts = _lib.swim_sim_options()
-        opts.rows = self._rows.fn
+        if self._keep_rows:
+            opts.rows = self._rows.fn
         opts.events = ctypes.cast(self._ev, ctypes.POINTER(ctypes.c_char_p))
         opts.nevents = len(self._events)
         if self._on_event is not None:
             opts.on_event = self._event_fn
-        if self._sens_keys:
-            self._sens_text = _c_text(",".join(self._sens_keys), "sensitivity", self.name)
+        if self._sens_text is not None:
             opts.sensitivity = self._sens_text
         opts.lyapunov = self._lyapunov
         self._opts = opts   # the callbacks and strings live as long as the simulation
@@ -143,7 +151,20 @@ class Simulation(_Closing):
             raise ValueError("swim: the simulation of %s is closed" % self.name)
         return self._sim
 
+    def _settle(self):
+        """The summaries of the Results handed out, read now: the run is about to go on or to be
+        freed, and a Result is the run as it was when it was made."""
+        if self._pending:
+            live = [r for r in (ref() for ref in self._pending) if r is not None and r._summary is None]
+            self._pending = []
+            if live:
+                text = _take_text(_L.swim_sim_summary_json(self._sim))
+                for r in live:
+                    r._summary = json.loads(text or "{}")
+                    r._summary_text = None
+
     def _call(self, fn, *args):
+        self._settle()
         err = _lib.swim_error()
         rc = fn(self._live(), *args, ctypes.byref(err))
         self._cache = None
@@ -196,9 +217,14 @@ class Simulation(_Closing):
             self._cache = res
         return self._cache
 
+    def _have_rows(self):
+        return self._rows.n > 0 if self._keep_rows else self._result().rows > 0
+
     @property
     def t(self):
         """The time of the last row (0 before any)."""
+        if not self._keep_rows:
+            return self._result().t_reached if self._have_rows() else 0.0
         return self._rows.buf[self._rows.n - 1, 0] if self._rows.n else 0.0
 
     @property
@@ -206,7 +232,7 @@ class Simulation(_Closing):
         """The state at the last row: x, y, theta, c, cdot (trajectory.csv's columns 1 .. 3 + 2n)."""
         n = _L.swim_sim_state(self._live(), None, 0)
         out = np.empty(n)
-        if self._rows.n:
+        if self._have_rows():
             _L.swim_sim_state(self._sim, out.ctypes.data_as(_lib._PD), n)
         else:
             out[:] = np.nan
@@ -262,8 +288,12 @@ class Simulation(_Closing):
     def result(self):
         """The run so far as a Result (swim.run's: rows, summary, events, state)."""
         res = self._result()
-        return Result(self.columns, self._rows.array(), res, self.state, self.summary, self.events,
-                      self._model.scene_text())
+        r = Result(self.columns, self._rows.array(), res, self.state, None, self.events, self._model.scene_text())
+        # summary.json is made and parsed when it is asked for, or before the run goes on
+        sim = self._sim
+        r._summary_text = lambda: _take_text(_L.swim_sim_summary_json(sim))
+        self._pending.append(weakref.ref(r))
+        return r
 
     # ---- analyses --------------------------------------------------------------------------
 
@@ -323,6 +353,7 @@ class Simulation(_Closing):
 
     def _free(self):
         if self._sim and _L is not None:
+            self._settle()
             _L.swim_sim_free(self._sim)
         self._sim = None
 

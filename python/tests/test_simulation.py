@@ -46,6 +46,28 @@ def test_set_is_an_override():
         assert e.value.key == "model.modes"
 
 
+def test_a_result_is_the_run_when_it_was_made_and_rows_may_be_left():
+    # the summary is read when asked for, but it is the one of the run when result() was called
+    with swim.Simulation(EX3, t_end=5) as sim:
+        sim.advance(2.0)
+        early = sim.result()
+        last = sim.run()
+        assert early.summary["t_reached"] == early.final_state["t"] < last.final_state["t"] == 5.0
+        assert early.status != "completed" and last.status == "completed"
+        sim.set("model.rho0", 2.0)
+        assert last.summary["t_reached"] == 5.0   # kept past set(), which starts a new run
+    # without rows: the same run, no rows kept
+    want = swim.run(EX3, t_end=5, rows=False)
+    with swim.Simulation(EX3, t_end=5, rows=False) as sim:
+        r = sim.run()
+        assert r.final_state == want.final_state and len(r.rows) == 0 and len(sim.rows) == 0
+        assert sim.t == 5.0 and sim.state.tolist() == want.state.tolist()
+        timed = ("ns_per_rhs",)   # a timing too
+        assert untimed({k: v for k, v in r.summary["stats"].items() if k not in timed}) == \
+            untimed({k: v for k, v in want.summary["stats"].items() if k not in timed})
+        assert untimed(dict(r.summary, stats=None)) == untimed(dict(want.summary, stats=None))
+
+
 def test_on_event_stops_at_the_first_maximum():
     first = [e for e in swim.run(EX3, t_end=10, events=["am1:max"]).events if e["kind"] == "max"][0]
     seen = []
@@ -198,3 +220,25 @@ def test_continuation_is_branch_csv(tmp_path):
             assert np.array_equal(c.table[name], want, equal_nan=True), name
         except ValueError:   # a column of words
             assert c.table[name].tolist() == [r[i] for r in rows[1:]], name
+
+
+def test_optimize_is_optimize_json(tmp_path):
+    want, out = cli_json(tmp_path, "optimize", EX3, "optimize.json", "--vary", "elastic.reference.am1=0:1",
+                         "--minimize", "energy", "--set", "run.t_end=1")
+    o = swim.optimize(EX3, {"elastic.reference.am1": (0, 1)}, minimize="energy", overrides={"run.t_end": 1})
+    # every number of the command's file but the timings; no best.toml is written by the library
+    assert o.json.pop("best_scene") is None and want.pop("best_scene")
+    assert untimed(o.json) == untimed(want) and o.exit_status == 0
+    # the C result's best values are the file's
+    assert o.best_values.tolist() == [want["best"]["elastic.reference.am1"]]
+    with open(out / "optimize.csv") as f:
+        rows = list(csv.reader(f))
+    assert list(o.columns) == rows[0]
+    for i, name in enumerate(rows[0]):
+        assert o.table[name].tolist() == [float(r[i]) for r in rows[1:]], name
+    with pytest.raises(swim.SceneError) as e:
+        swim.optimize(EX3, {"elastic.reference.am1": (0, 1)}, maximize="displacement_per_work", method="bfgs")
+    assert e.value.key == "method"
+    with pytest.raises(swim.SceneError) as e:
+        swim.optimize(EX3, {"model.modes": (1, 2)}, minimize="energy")
+    assert e.value.key == "model.modes"

@@ -16,161 +16,20 @@
 #include "problem/problem.h"
 #include "control/optimize.h"
 #include "io/files.h"
-#include "io/json.h"
 #include "io/message.h"
 #include "scene/keys.h"
 #include "cli/report.h"
 
-
-/* KEY=LO:HI into p->keys[i], lo, hi. A key is compared with the others and with the --set
- * overrides by the value it sets, whatever its spelling (shape.c0.am1 is shape.c0[2]): a value
- * varied twice, or varied and set, would leave one of them a dead variable the search "converges"
- * over. 0, or 2 after one line on stderr. */
-static int parse_vary(swim_opt_problem *p, const char *spec, const swim_override *sets, int nsets)
-{
-    const int i = p->nkeys;
-    if (i == SWIM_OPT_MAX_KEYS) {
-        swim_message(stderr, "swim optimize: --vary: at most %d keys", SWIM_OPT_MAX_KEYS);
-        return 2;
-    }
-    const char *eq = strchr(spec, '='), *colon = eq ? strchr(eq, ':') : NULL;
-    char key[128], err[256];
-    if (!eq || !colon || (size_t)(eq - spec) >= sizeof key) {
-        swim_message(stderr, "swim optimize: --vary: expected KEY=LO:HI (e.g. parameters.A=0.5:4), got '%s'", spec);
-        return 2;
-    }
-    snprintf(key, sizeof key, "%.*s", (int)(eq - spec), spec);
-    memset(&p->keys[i], 0, sizeof p->keys[i]);
-    if (swim_override_key(key, &p->keys[i], err, sizeof err) != 0) {
-        swim_message(stderr, "swim optimize: --vary %s: %s", spec, err);
-        return 2;
-    }
-    /* a value that can be varied continuously: a number of the scene (scene/keys.h) */
-    const swim_scene_key *row = swim_scene_key_find(p->keys[i].table, p->keys[i].key);
-    if (!row || !(row->kind == SWIM_KEY_NUMBER || row->kind == SWIM_KEY_VECTOR)) {
-        swim_message(stderr, "swim optimize: --vary %s: %s (vary a number: a [parameters] value, an item of a "
-                     "vector such as elastic.stiffness.am1, model.rho0, ...)", spec,
-                     !row ? "not a key of a scene" : "not a number");
-        return 2;
-    }
-    if (row->kind == SWIM_KEY_VECTOR && p->keys[i].index < 0) {
-        swim_message(stderr, "swim optimize: --vary %s: %s.%s is a vector: vary one item of it (%s.%s.am1 or %s.%s[I])",
-                     spec, row->table, row->key, row->table, row->key, row->table, row->key);
-        return 2;
-    }
-    snprintf(p->keys[i].text, sizeof p->keys[i].text, "%s", key);
-    char lo[64], *end;
-    snprintf(lo, sizeof lo, "%.*s", (int)(colon - eq - 1), eq + 1);
-    p->lo[i] = strtod(lo, &end);
-    int ok = end != lo && *end == '\0' && isfinite(p->lo[i]);
-    p->hi[i] = strtod(colon + 1, &end);
-    ok = ok && end != colon + 1 && *end == '\0' && isfinite(p->hi[i]) && p->lo[i] < p->hi[i];
-    if (!ok) {
-        swim_message(stderr, "swim optimize: --vary %s: LO and HI must be finite numbers with LO < HI", spec);
-        return 2;
-    }
-    char target[100];
-    swim_override_target(&p->keys[i], target, sizeof target);
-    for (int k = 0; k < i; k++)
-        if (swim_override_same_target(&p->keys[k], &p->keys[i])) {
-            swim_message(stderr, "swim optimize: --vary %s: varies %s, which --vary %s already varies (vary each "
-                         "value once)", spec, target, p->keys[k].text);
-            return 2;
-        }
-    for (int k = 0; k < nsets; k++)
-        if (swim_override_same_target(&sets[k], &p->keys[i])) {
-            swim_message(stderr, "swim optimize: --set %s: sets %s, which --vary %s varies (the set value would "
-                         "never be used)", sets[k].text, target, spec);
-            return 2;
-        }
-    p->nkeys++;
-    return 0;
-}
 
 typedef struct {
     const swim_opt_problem *p;
     const char *best_path;
 } json_job;
 
-static void fill_json(FILE *f, void *ctx)
+static void write_json(FILE *f, void *ctx)
 {
     const json_job *j = ctx;
-    const swim_opt_problem *p = j->p;
-    fprintf(f, "{\n  \"scene\": ");
-    swim_json_string(f, p->scene_path);
-    fprintf(f, ",\n  \"quantity\": ");
-    swim_json_string(f, swim_quantity_name(p->quantity));
-    fprintf(f, ",\n  \"goal\": \"%s\",\n  \"best\": {", p->maximize ? "maximize" : "minimize");
-    for (int i = 0; i < p->nkeys; i++) {
-        fprintf(f, "%s", i ? ", " : "");
-        swim_json_string(f, p->keys[i].text);
-        fprintf(f, ": ");
-        swim_json_number(f, p->best_value[i]);
-    }
-    fprintf(f, "},\n  \"bounds\": {");
-    for (int i = 0; i < p->nkeys; i++) {
-        fprintf(f, "%s", i ? ", " : "");
-        swim_json_string(f, p->keys[i].text);
-        fprintf(f, ": [");
-        swim_json_number(f, p->lo[i]);
-        fprintf(f, ", ");
-        swim_json_number(f, p->hi[i]);
-        fprintf(f, "]");
-    }
-    fprintf(f, "},\n  \"value\": ");
-    swim_json_number(f, p->best_q);
-    fprintf(f, ",\n  \"final\": {\"x\": ");
-    swim_json_number(f, p->best.x);
-    fprintf(f, ", \"y\": ");
-    swim_json_number(f, p->best.y);
-    fprintf(f, ", \"theta\": ");
-    swim_json_number(f, p->best.theta);
-    fprintf(f, ", \"work\": ");
-    swim_json_number(f, p->best.work);
-    fprintf(f, ", \"forcing_work\": ");
-    swim_json_number(f, p->best.forcing_work);
-    fprintf(f, ", \"energy\": ");
-    swim_json_number(f, p->best.energy);
-    fprintf(f, "},\n  \"method\": \"%s\",\n  \"tolerance\": ", p->method == SWIM_OPT_BFGS ? "bfgs" : "nelder-mead");
-    swim_json_number(f, p->tol);
-    fprintf(f, ",\n  \"tight_check\": {\"rtol_factor\": 0.01, \"status\": \"%s\", \"value\": ",
-            p->tight_status == 0 ? "completed" : "failed");
-    swim_json_number(f, p->tight_status == 0 ? p->tight_q : NAN);
-    fprintf(f, ", \"change\": ");
-    swim_json_number(f, p->tight_status == 0 ? p->tight_change : NAN);
-    fprintf(f, ", \"value_tolerance\": ");
-    swim_json_number(f, p->value_tol);
-    fprintf(f, ", \"holds\": %s},\n  \"search_converged\": %s,\n  \"best_start\": %d,\n  \"starts\": [",
-            p->tight_status == 0 && fabs(p->tight_change) <= p->value_tol ? "true" : "false",
-            p->search_converged ? "true" : "false", p->best_start + 1);
-    for (int s = 0; s < p->nstarts; s++) {
-        const swim_opt_start *st = &p->start[s];
-        fprintf(f, "%s\n    {\"start\": {", s ? "," : "");
-        for (int i = 0; i < p->nkeys; i++) {
-            fprintf(f, "%s", i ? ", " : "");
-            swim_json_string(f, p->keys[i].text);
-            fprintf(f, ": ");
-            swim_json_number(f, st->start[i]);
-        }
-        fprintf(f, "}, \"best\": {");
-        for (int i = 0; i < p->nkeys; i++) {
-            fprintf(f, "%s", i ? ", " : "");
-            swim_json_string(f, p->keys[i].text);
-            fprintf(f, ": ");
-            swim_json_number(f, st->ok ? st->best_value[i] : NAN);
-        }
-        fprintf(f, "}, \"value\": ");
-        swim_json_number(f, st->ok ? st->best_q : NAN);
-        fprintf(f, ", \"iterations\": %d, \"evaluations\": %ld, \"converged\": %s}", st->iterations,
-                st->evaluations, st->converged ? "true" : "false");
-    }
-    fprintf(f, "\n  ],\n  \"iterations\": %d,\n  \"evaluations\": %ld,\n  \"gradient_evaluations\": %ld,\n"
-            "  \"failed_evaluations\": %ld,\n  \"seconds\": ", p->iterations, p->evaluations, p->gradients, p->failed);
-    swim_json_number(f, p->seconds);
-    fprintf(f, ",\n  \"converged\": %s,\n  \"interrupted\": %s,\n  \"best_scene\": ",
-            p->converged ? "true" : "false", p->interrupted ? "true" : "false");
-    swim_json_string(f, j->best_path);
-    fprintf(f, "\n}\n");
+    swim_opt_json(f, j->p, j->best_path);
 }
 
 /* runtime/plot/plot_optimize.py DIR: convergence.png. 0, or nonzero (said on stderr). */
@@ -239,8 +98,12 @@ static int optimize_command(int argc, char **argv, char **text)
         swim_message(stderr, "swim optimize: --vary KEY=LO:HI is required (at least one key)");
         return 2;
     }
+    p.scene_path = pos[0];
+    p.sets = sets;
+    p.nsets = nsets;
+    swim_status vst = SWIM_STATUS_STDERR;
     for (int i = 0; i < nvary; i++)
-        if (parse_vary(&p, vary[i], sets, nsets)) return 2;
+        if (swim_status_shown(&vst, swim_opt_vary(&p, vary[i], &vst))) return 2;
     const char *qmax = swim_args_get(opts, nopts, "maximize"), *qmin = swim_args_get(opts, nopts, "minimize");
     if (!!qmax == !!qmin) {
         swim_message(stderr, "swim optimize: give exactly one of --maximize QUANTITY or --minimize QUANTITY (%s)",
@@ -264,11 +127,6 @@ static int optimize_command(int argc, char **argv, char **text)
             return 2;
         }
     }
-    if (p.method == SWIM_OPT_BFGS && !swim_opt_has_gradient(p.quantity)) {
-        swim_message(stderr, "swim optimize: --method bfgs: %s has no gradient from the sensitivities (W_F is not "
-                     "a state of the equations); use --method nelder-mead", qname);
-        return 2;
-    }
     double starts = p.starts, max_iter = 60;
     p.tol = 1e-3;
     if (swim_args_bounded("optimize", opts, nopts, "starts", &starts) ||
@@ -278,50 +136,13 @@ static int optimize_command(int argc, char **argv, char **text)
     p.starts = (int)starts;
     p.max_iter = (int)max_iter;
     p.quiet = swim_args_get(opts, nopts, "quiet") != NULL;
-    p.scene_path = pos[0];
     swim_status rst = SWIM_STATUS_STDERR;
     *text = swim_scene_read(pos[0], &p.scene_len, &rst);   /* the one read of the file */
     if (swim_status_shown(&rst, *text ? 0 : 2)) return 2;
     p.scene_text = *text;
-    p.sets = sets;
-    p.nsets = nsets;
-    /* The scene with the keys at the middle of their ranges is read and checked now: a key the
-     * scene does not have, or a quantity it cannot give, is one line and exit 2 before any run. */
-    {
-        swim_override ov[SWIM_OPT_MAX_SETS + SWIM_OPT_MAX_KEYS];
-        int k = 0;
-        for (int i = 0; i < nsets; i++) ov[k++] = sets[i];
-        for (int i = 0; i < p.nkeys; i++) ov[k++] = p.keys[i];
-        /* every key at LO, then at HI, then in the middle (kept): a bound the scene refuses is
-         * refused now, named by its --vary, not met by a run halfway through the search */
-        swim_scene s;
-        for (int at = 0; at < 3; at++) {
-            for (int i = 0; i < p.nkeys; i++) {
-                swim_override *o = &ov[nsets + i];
-                o->value = at == 0 ? p.lo[i] : at == 1 ? p.hi[i] : 0.5 * (p.lo[i] + p.hi[i]);
-                snprintf(o->text, sizeof o->text, "--vary %s=%.10g:%.10g (at %s = %.10g)", p.keys[i].text, p.lo[i],
-                         p.hi[i], p.keys[i].text, o->value);
-            }
-            swim_status st = SWIM_STATUS_STDERR;
-            if (swim_status_shown(&st, swim_scene_parse_with(p.scene_text, p.scene_len, pos[0], ov, k, &s, &st))) return 2;
-            if (at < 2) swim_scene_free(&s);
-        }
-        const int forced = s.forced || s.stroke;   /* a stroke's work is the body's positive work */
-        const int stroke = s.stroke || s.stroke_count > 0;
-        swim_scene_free(&s);
-        if (p.method == SWIM_OPT_BFGS && stroke) {
-            swim_message(stderr, "swim optimize: --method bfgs: %s is a prescribed stroke, which has no "
-                         "sensitivities; use --method nelder-mead", pos[0]);
-            return 2;
-        }
-        swim_status st = SWIM_STATUS_STDERR;
-        if (p.method == SWIM_OPT_BFGS && swim_status_shown(&st, swim_opt_check_gradient(&p, ov, k, &st))) return 2;
-        if ((p.quantity == SWIM_Q_DISPLACEMENT_PER_WORK || p.quantity == SWIM_Q_FORCING_WORK) && !forced) {
-            swim_message(stderr, "swim optimize: %s: %s needs a [forcing] law (the work of F(t)) or a [stroke] "
-                         "(the positive work of the body)", pos[0], qname);
-            return 2;
-        }
-    }
+    /* a key the scene does not have, or a quantity it cannot give, is one line and exit 2 before any run */
+    swim_status cst = SWIM_STATUS_STDERR;
+    if (swim_status_shown(&cst, swim_opt_check(&p, &cst))) return 2;
     const char *out = swim_args_get(opts, nopts, "out");
     char *dir = swim_args_out_dir(out, pos[0], "optimize");
     char *csv = dir ? swim_path_join(dir, "optimize.csv") : NULL, *best = dir ? swim_path_join(dir, "best.toml") : NULL;
@@ -353,11 +174,11 @@ static int optimize_command(int argc, char **argv, char **text)
             rc = 1;
         }
         json_job job = {&p, best};
-        if (swim_replace_file_with(json, fill_json, &job) != 0) {
+        if (swim_replace_file_with(json, write_json, &job) != 0) {
             swim_message(stderr, "swim optimize: cannot write %s: %s", json, strerror(errno));
             rc = 1;
         }
-        const int holds = p.tight_status == 0 && fabs(p.tight_change) <= p.value_tol;
+        const int holds = swim_opt_holds(&p);
         swim_message(stdout, "%s: %s %s = %.10g after %d iterations, %ld runs (%ld failed; %s, %d start%s, best from "
                      "start %d), %.1f s%s", pos[0], p.maximize ? "largest" : "smallest", qname, p.best_q, p.iterations,
                      p.evaluations, p.failed, p.method == SWIM_OPT_BFGS ? "BFGS" : "Nelder-Mead", p.nstarts,

@@ -17,6 +17,7 @@
 #include "io/message.h"
 #include "ode/ode.h"
 #include "problem/problem.h"
+#include "scene/keys.h"
 #include "scene/resolve.h"
 
 /* What the minimizer sees for a run that failed or values that were refused: worse than any
@@ -563,4 +564,194 @@ int swim_opt_write_scene(const swim_opt_problem *p, const char *path)
     rc = swim_replace_file(path, out, outlen);
     free(out);
     return rc;
+}
+
+/* ---- the problem as given: keys, bounds and quantity checked before any run --------------------- */
+
+int swim_opt_vary(swim_opt_problem *p, const char *spec, swim_status *st)
+{
+    const int i = p->nkeys;
+    const char *file = p->scene_path;
+    if (i == SWIM_OPT_MAX_KEYS) {
+        swim_status_fail_cmd(st, "optimize", file, "vary", "--vary: at most %d keys", SWIM_OPT_MAX_KEYS);
+        return 2;
+    }
+    const char *eq = strchr(spec, '='), *colon = eq ? strchr(eq, ':') : NULL;
+    char key[128], err[256];
+    if (!eq || !colon || (size_t)(eq - spec) >= sizeof key) {
+        swim_status_fail_cmd(st, "optimize", file, "vary", "--vary: expected KEY=LO:HI (e.g. parameters.A=0.5:4), "
+                             "got '%s'", spec);
+        return 2;
+    }
+    snprintf(key, sizeof key, "%.*s", (int)(eq - spec), spec);
+    memset(&p->keys[i], 0, sizeof p->keys[i]);
+    if (swim_override_key(key, &p->keys[i], err, sizeof err) != 0) {
+        swim_status_fail_cmd(st, "optimize", file, key, "--vary %s: %s", spec, err);
+        return 2;
+    }
+    /* a value that can be varied continuously: a number of the scene (scene/keys.h) */
+    const swim_scene_key *row = swim_scene_key_find(p->keys[i].table, p->keys[i].key);
+    if (!row || !(row->kind == SWIM_KEY_NUMBER || row->kind == SWIM_KEY_VECTOR)) {
+        swim_status_fail_cmd(st, "optimize", file, key, "--vary %s: %s (vary a number: a [parameters] value, an item "
+                             "of a vector such as elastic.stiffness.am1, model.rho0, ...)", spec,
+                             !row ? "not a key of a scene" : "not a number");
+        return 2;
+    }
+    if (row->kind == SWIM_KEY_VECTOR && p->keys[i].index < 0) {
+        swim_status_fail_cmd(st, "optimize", file, key, "--vary %s: %s.%s is a vector: vary one item of it (%s.%s.am1 "
+                             "or %s.%s[I])", spec, row->table, row->key, row->table, row->key, row->table, row->key);
+        return 2;
+    }
+    snprintf(p->keys[i].text, sizeof p->keys[i].text, "%s", key);
+    char lo[64], *end;
+    snprintf(lo, sizeof lo, "%.*s", (int)(colon - eq - 1), eq + 1);
+    p->lo[i] = strtod(lo, &end);
+    int ok = end != lo && *end == '\0' && isfinite(p->lo[i]);
+    p->hi[i] = strtod(colon + 1, &end);
+    ok = ok && end != colon + 1 && *end == '\0' && isfinite(p->hi[i]) && p->lo[i] < p->hi[i];
+    if (!ok) {
+        swim_status_fail_cmd(st, "optimize", file, key, "--vary %s: LO and HI must be finite numbers with LO < HI", spec);
+        return 2;
+    }
+    char target[100];
+    swim_override_target(&p->keys[i], target, sizeof target);
+    for (int k = 0; k < i; k++)
+        if (swim_override_same_target(&p->keys[k], &p->keys[i])) {
+            swim_status_fail_cmd(st, "optimize", file, key, "--vary %s: varies %s, which --vary %s already varies "
+                                 "(vary each value once)", spec, target, p->keys[k].text);
+            return 2;
+        }
+    for (int k = 0; k < p->nsets; k++)
+        if (swim_override_same_target(&p->sets[k], &p->keys[i])) {
+            swim_status_fail_cmd(st, "optimize", file, key, "--set %s: sets %s, which --vary %s varies (the set value "
+                                 "would never be used)", p->sets[k].text, target, spec);
+            return 2;
+        }
+    p->nkeys++;
+    return 0;
+}
+
+int swim_opt_check(const swim_opt_problem *p, swim_status *st)
+{
+    const char *qname = swim_quantity_name(p->quantity), *scene = p->scene_path;
+    if (p->method == SWIM_OPT_BFGS && !swim_opt_has_gradient(p->quantity)) {
+        swim_status_fail_cmd(st, "optimize", scene, "method", "--method bfgs: %s has no gradient from the sensitivities "
+                             "(W_F is not a state of the equations); use --method nelder-mead", qname);
+        return 2;
+    }
+    if (p->nsets > SWIM_OPT_MAX_SETS) {
+        swim_status_fail_cmd(st, "optimize", scene, "set", "more than %d --set overrides", SWIM_OPT_MAX_SETS);
+        return 2;
+    }
+    swim_override ov[SWIM_OPT_MAX_SETS + SWIM_OPT_MAX_KEYS];
+    int k = 0;
+    for (int i = 0; i < p->nsets; i++) ov[k++] = p->sets[i];
+    for (int i = 0; i < p->nkeys; i++) ov[k++] = p->keys[i];
+    /* every key at LO, then at HI, then in the middle (kept): a bound the scene refuses is
+     * refused now, named by its --vary, not met by a run halfway through the search */
+    swim_scene s;
+    for (int at = 0; at < 3; at++) {
+        for (int i = 0; i < p->nkeys; i++) {
+            swim_override *o = &ov[p->nsets + i];
+            o->value = at == 0 ? p->lo[i] : at == 1 ? p->hi[i] : 0.5 * (p->lo[i] + p->hi[i]);
+            snprintf(o->text, sizeof o->text, "--vary %s=%.10g:%.10g (at %s = %.10g)", p->keys[i].text, p->lo[i],
+                     p->hi[i], p->keys[i].text, o->value);
+        }
+        if (swim_scene_parse_with(p->scene_text, p->scene_len, scene, ov, k, &s, st) != 0) return 2;
+        if (at < 2) swim_scene_free(&s);
+    }
+    const int forced = s.forced || s.stroke;   /* a stroke's work is the body's positive work */
+    const int stroke = s.stroke || s.stroke_count > 0;
+    swim_scene_free(&s);
+    if (p->method == SWIM_OPT_BFGS && stroke) {
+        swim_status_fail_cmd(st, "optimize", scene, "method", "--method bfgs: %s is a prescribed stroke, which has no "
+                             "sensitivities; use --method nelder-mead", scene);
+        return 2;
+    }
+    if (p->method == SWIM_OPT_BFGS && swim_opt_check_gradient(p, ov, k, st)) return 2;
+    if ((p->quantity == SWIM_Q_DISPLACEMENT_PER_WORK || p->quantity == SWIM_Q_FORCING_WORK) && !forced) {
+        swim_status_fail_cmd(st, "optimize", scene, "quantity", "%s: %s needs a [forcing] law (the work of F(t)) or a "
+                             "[stroke] (the positive work of the body)", scene, qname);
+        return 2;
+    }
+    return 0;
+}
+
+/* ---- optimize.json ------------------------------------------------------------------------------ */
+
+/* {"KEY": v[0], ...} of the varied keys; NaN (null) for all when ok is 0. */
+static void json_keys(FILE *f, const swim_opt_problem *p, const double *v, int ok)
+{
+    fputc('{', f);
+    for (int i = 0; i < p->nkeys; i++) {
+        fprintf(f, "%s", i ? ", " : "");
+        swim_json_string(f, p->keys[i].text);
+        fprintf(f, ": ");
+        swim_json_number(f, ok ? v[i] : NAN);
+    }
+    fputc('}', f);
+}
+
+void swim_opt_json(FILE *f, const swim_opt_problem *p, const char *best_path)
+{
+    fprintf(f, "{\n  \"scene\": ");
+    swim_json_string(f, p->scene_path);
+    fprintf(f, ",\n  \"quantity\": ");
+    swim_json_string(f, swim_quantity_name(p->quantity));
+    fprintf(f, ",\n  \"goal\": \"%s\",\n  \"best\": ", p->maximize ? "maximize" : "minimize");
+    json_keys(f, p, p->best_value, 1);
+    fprintf(f, ",\n  \"bounds\": {");
+    for (int i = 0; i < p->nkeys; i++) {
+        fprintf(f, "%s", i ? ", " : "");
+        swim_json_string(f, p->keys[i].text);
+        fprintf(f, ": [");
+        swim_json_number(f, p->lo[i]);
+        fprintf(f, ", ");
+        swim_json_number(f, p->hi[i]);
+        fprintf(f, "]");
+    }
+    fprintf(f, "},\n  \"value\": ");
+    swim_json_number(f, p->best_q);
+    const double final[6] = {p->best.x, p->best.y, p->best.theta, p->best.work, p->best.forcing_work, p->best.energy};
+    static const char *const final_names[6] = {"x", "y", "theta", "work", "forcing_work", "energy"};
+    fprintf(f, ",\n  \"final\": {");
+    for (int i = 0; i < 6; i++) {
+        fprintf(f, "%s\"%s\": ", i ? ", " : "", final_names[i]);
+        swim_json_number(f, final[i]);
+    }
+    fprintf(f, "},\n  \"method\": \"%s\",\n  \"tolerance\": ", p->method == SWIM_OPT_BFGS ? "bfgs" : "nelder-mead");
+    swim_json_number(f, p->tol);
+    fprintf(f, ",\n  \"tight_check\": {\"rtol_factor\": 0.01, \"status\": \"%s\", \"value\": ",
+            p->tight_status == 0 ? "completed" : "failed");
+    swim_json_number(f, p->tight_status == 0 ? p->tight_q : NAN);
+    fprintf(f, ", \"change\": ");
+    swim_json_number(f, p->tight_status == 0 ? p->tight_change : NAN);
+    fprintf(f, ", \"value_tolerance\": ");
+    swim_json_number(f, p->value_tol);
+    fprintf(f, ", \"holds\": %s},\n  \"search_converged\": %s,\n  \"best_start\": %d,\n  \"starts\": [",
+            swim_opt_holds(p) ? "true" : "false", p->search_converged ? "true" : "false", p->best_start + 1);
+    for (int s = 0; s < p->nstarts; s++) {
+        const swim_opt_start *st = &p->start[s];
+        fprintf(f, "%s\n    {\"start\": ", s ? "," : "");
+        json_keys(f, p, st->start, 1);
+        fprintf(f, ", \"best\": ");
+        json_keys(f, p, st->best_value, st->ok);
+        fprintf(f, ", \"value\": ");
+        swim_json_number(f, st->ok ? st->best_q : NAN);
+        fprintf(f, ", \"iterations\": %d, \"evaluations\": %ld, \"converged\": %s}", st->iterations,
+                st->evaluations, st->converged ? "true" : "false");
+    }
+    fprintf(f, "\n  ],\n  \"iterations\": %d,\n  \"evaluations\": %ld,\n  \"gradient_evaluations\": %ld,\n"
+            "  \"failed_evaluations\": %ld,\n  \"seconds\": ", p->iterations, p->evaluations, p->gradients, p->failed);
+    swim_json_number(f, p->seconds);
+    fprintf(f, ",\n  \"converged\": %s,\n  \"interrupted\": %s,\n  \"best_scene\": ",
+            p->converged ? "true" : "false", p->interrupted ? "true" : "false");
+    if (best_path) swim_json_string(f, best_path);
+    else fputs("null", f);
+    fprintf(f, "\n}\n");
+}
+
+int swim_opt_holds(const swim_opt_problem *p)
+{
+    return p->tight_status == 0 && fabs(p->tight_change) <= p->value_tol;
 }

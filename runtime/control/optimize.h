@@ -114,6 +114,23 @@ int swim_opt_has_gradient(int quantity);
 /* Whether every varied key has a sensitivity at the scene with overrides ov (the scene's
  * kernel): 0, or 2 with the line "swim optimize: --vary: KEY: reason" (or the scene's) in st. */
 int swim_opt_check_gradient(const swim_opt_problem *p, const swim_override *ov, int nov, swim_status *st);
+/* KEY=LO:HI (spec, as --vary takes it) into the next of p->keys, lo, hi: a number of the scene
+ * (an item of a vector), LO < HI finite, each value varied once and not also one of p->sets
+ * (compared by the value set, whatever its spelling: shape.c0.am1 is shape.c0[2]; a value varied
+ * twice, or varied and set, would leave one of them a dead variable the search "converges" over).
+ * Needs p->scene_path, sets and nsets. 0, or 2 with the line "swim optimize: --vary ..." in st. */
+int swim_opt_vary(swim_opt_problem *p, const char *spec, swim_status *st);
+/* The problem checked before any run, as swim optimize checks it: the scene with every key at LO,
+ * then at HI, then in the middle (a bound the scene refuses is named by its --vary now, not met by
+ * a run halfway through), BFGS only for a quantity with a gradient, on free dynamics, with keys
+ * that have sensitivities; forcing_work and displacement_per_work need a forcing law or a stroke.
+ * Needs p's scene, sets, keys, quantity and method. 0, or 2 with the line in st (the scene
+ * reader's notices go to st's note callback). */
+int swim_opt_check(const swim_opt_problem *p, swim_status *st);
+/* The best value holds at the tight tolerances (optimize.json's tight_check.holds). */
+int swim_opt_holds(const swim_opt_problem *p);
+/* optimize.json of a finished search on f; best_path: the best scene's file (NULL: null). */
+void swim_opt_json(FILE *f, const swim_opt_problem *p, const char *best_path);
 /* The search (every start, then the tight check); 0, or 1 when no evaluation succeeded.
  * converged = the best start's search met tol and its value held at the tight tolerances. */
 int swim_opt_run(swim_opt_problem *p);

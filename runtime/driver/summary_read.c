@@ -6,6 +6,8 @@
 
 #include <jansson.h>
 
+#include "io/message.h"
+
 static void say(char *err, size_t errlen, const char *fmt, const char *path, const char *what)
 {
     if (err && errlen) snprintf(err, errlen, fmt, path, what);
@@ -39,7 +41,9 @@ static int real_at(json_t *root, const char *key, swim_summary_real *out, const 
         return -1;
     }
     out->set = 1;
-    out->value = json_number_value(v);
+    /* + 0.0: the writer prints -0.0 as "-0", which reads back as the integer 0, so a summary's zero
+     * is +0 whether it is read from the text or from the tree it was written from */
+    out->value = json_number_value(v) + 0.0;
     return 0;
 }
 
@@ -58,16 +62,26 @@ static int count_at(json_t *root, const char *key, swim_summary_count *out, cons
     return 0;
 }
 
-/* Copies a UTF-8 string into out[len], cut at a character boundary when it does not fit. */
+/* Copies a UTF-8 string into out[len], cut at a character boundary when it does not fit. A byte
+ * of no UTF-8 text becomes U+FFFD, as the summary's writer writes it (io/json.c): a tree read
+ * before it was written gives the text read after (a text parsed by jansson has none). */
 static void copy_utf8(char *out, size_t len, const char *s)
 {
-    size_t n = strlen(s);
-    if (n >= len) {
-        n = len - 1;
-        while (n > 0 && ((unsigned char)s[n] & 0xC0) == 0x80) n--;   /* s[n] starts a character */
+    static const char replacement[] = "\xEF\xBF\xBD";
+    const unsigned char *p = (const unsigned char *)s;
+    const size_t n = strlen(s);
+    size_t o = 0;
+    for (size_t i = 0; i < n;) {
+        unsigned long cp;
+        const size_t k = swim_utf8_sequence(p + i, n - i, &cp);
+        const char *from = k ? s + i : replacement;
+        const size_t m = k ? k : sizeof replacement - 1;
+        if (o + m >= len) break;
+        memcpy(out + o, from, m);
+        o += m;
+        i += k ? k : 1;
     }
-    memcpy(out, s, n);
-    out[n] = '\0';
+    out[o] = '\0';
 }
 
 static int string_at(json_t *root, const char *key, char *out, size_t len, const char *path, char *err, size_t errlen)
@@ -85,6 +99,7 @@ static int string_at(json_t *root, const char *key, char *out, size_t len, const
 
 static int take(json_t *root, swim_summary *out, const char *path, char *err, size_t errlen)
 {
+    memset(out, 0, sizeof *out);
     if (!json_is_object(root)) {
         say(err, errlen, "%s: %s", path, "not a JSON object");
         return -1;
@@ -148,9 +163,15 @@ int swim_summary_read(const char *path, const char *text, swim_summary *out, cha
         if (err && errlen) snprintf(err, errlen, "%s:%d:%d: %s", name, je.line, je.column, je.text);
         return SWIM_SUMMARY_INVALID;
     }
-    int rc = take(root, out, name, err, errlen);
+    const int rc = swim_summary_take(root, path, out, err, errlen);
     json_decref(root);
-    if (rc) {
+    return rc;
+}
+
+int swim_summary_take(json_t *root, const char *path, swim_summary *out, char *err, size_t errlen)
+{
+    if (err && errlen) err[0] = '\0';
+    if (take(root, out, path ? path : "summary.json", err, errlen)) {
         memset(out, 0, sizeof *out);
         return SWIM_SUMMARY_INVALID;
     }

@@ -26,6 +26,7 @@
 #ifndef SWIM_SUMMARY_READ_H
 #define SWIM_SUMMARY_READ_H
 
+#include <jansson.h>
 #include <stddef.h>
 
 /* A number of the summary: set = 0 when null or absent. */
@@ -67,5 +68,9 @@ enum {
  * holds the values; otherwise *out is cleared (not whole) and err holds one line saying why, with
  * the path and, for a JSON error, its line and column ("PATH:LINE:COLUMN: ..."). err may be NULL. */
 int swim_summary_read(const char *path, const char *text, swim_summary *out, char *err, size_t errlen);
+/* The same values from a summary's tree (driver/summary.h's swim_run_summary) without its text:
+ * the numbers swim_summary_read gives for the text written from that tree (the writer's digits
+ * read back to the same doubles). SWIM_SUMMARY_OK or SWIM_SUMMARY_INVALID, as there. */
+int swim_summary_take(json_t *root, const char *path, swim_summary *out, char *err, size_t errlen);
 
 #endif

@@ -11,6 +11,8 @@ $(BUILD)/runtime/lib/swim.o $(BUILD)/pic/runtime/lib/swim.o: CPPFLAGS += \
   $(shell echo "$(SWIM_VERSION)" | awk -F. '{printf "-DSWIM_BUILD_MAJOR=%d -DSWIM_BUILD_MINOR=%d -DSWIM_BUILD_PATCH=%d", $$1, $$2, $$3}') \
   -DSWIM_BUILD_ABI=$(SWIM_ABI)
 RUNTIME_SRCS += runtime/lib/swim.c
+# members through libswim on 1 and 2 threads and in 2 processes (make bench)
+BENCH_SRCS   += tests/bench/bench_lib_threads.c
 
 # The rules are in runtime/lib/rules.mk, read once LIB_OBJS is known.
 # The objects that print the version are rebuilt when VERSION changes.

@@ -22,6 +22,7 @@
 #include "codegen/codegen.h"
 #include "control/continuation.h"
 #include "control/floquet.h"
+#include "control/optimize.h"
 #include "control/periodic.h"
 #include "driver/analyses.h"
 #include "driver/events.h"
@@ -137,6 +138,8 @@ const char *swim_strerror(int status)
 #define FLOQUET_V1 FIRST_LAYOUT(swim_floquet_result, seconds)
 #define BRANCH_V1 FIRST_LAYOUT(swim_branch_result, seconds)
 #define MEMBER_V1 FIRST_LAYOUT(swim_member, wall_seconds)
+#define OPTIMIZE_OPTIONS_V1 FIRST_LAYOUT(swim_optimize_options, stop)
+#define OPTIMIZE_V1 FIRST_LAYOUT(swim_optimize_result, seconds)
 
 size_t swim_struct_size(const char *name)
 {
@@ -153,7 +156,9 @@ size_t swim_struct_size(const char *name)
                  {"swim_periodic_result", sizeof(swim_periodic_result)},
                  {"swim_floquet_result", sizeof(swim_floquet_result)},
                  {"swim_branch_result", sizeof(swim_branch_result)},
-                 {"swim_member", sizeof(swim_member)}};
+                 {"swim_member", sizeof(swim_member)},
+                 {"swim_optimize_options", sizeof(swim_optimize_options)},
+                 {"swim_optimize_result", sizeof(swim_optimize_result)}};
     for (size_t i = 0; name && i < sizeof sizes / sizeof sizes[0]; i++)
         if (strcmp(name, sizes[i].name) == 0) return sizes[i].size;
     return 0;
@@ -613,11 +618,17 @@ const char *swim_family_column(int i, const char **summary_path)
     return cols[i].name;
 }
 
+/* The summary of a simulation's run: what `swim run` writes, without an output folder. */
+static swim_summary_context summary_context(const swim_sim *s)
+{
+    const swim_summary_context x = {NULL, NULL, s->m->P.name, s->sets, s->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0, NULL, NULL};
+    return x;
+}
+
 static int fill_summary(FILE *f, const void *ctx)
 {
-    const swim_sim *s = ctx;
-    const swim_summary_context x = {NULL, NULL, s->m->P.name, s->sets, s->nsets, 0, NULL, 0.0, 0, 0.0, NULL, 0, 0, 0.0, NULL, NULL};
-    return swim_run_summary_json(f, s->run, &x);
+    const swim_summary_context x = summary_context(ctx);
+    return swim_run_summary_json(f, ((const swim_sim *)ctx)->run, &x);
 }
 
 static int fill_events(FILE *f, const void *ctx)
@@ -722,16 +733,20 @@ static int run_member(swim_model *m, const char *const *sets, int nsets, const c
     if (rc) return rc;
     swim_error ran = SWIM_ERROR_INIT;   /* a failed run is a member's row, not the call's failure */
     sim_advance(s, INFINITY, &ran);
-    char *json = text_of(fill_summary, s), why[256];
+    /* members.csv's numbers from the summary's tree, at the paths swim sweep reads in its text
+     * (swim_summary_take: the same doubles), without writing and parsing the text */
+    const swim_summary_context x = summary_context(s);
+    json_t *tree = swim_run_summary(s->run, &x);
+    char why[256];
     swim_summary sum;
     memset(&sum, 0, sizeof sum);
-    rc = json && swim_summary_read(m->P.name, json, &sum, why, sizeof why) == SWIM_SUMMARY_OK ? SWIM_OK : SWIM_ENOMEM;
+    rc = tree && swim_summary_take(tree, m->P.name, &sum, why, sizeof why) == SWIM_SUMMARY_OK ? SWIM_OK : SWIM_ENOMEM;
+    json_decref(tree);
     const swim_run_result *r = swim_run_get_result(s->run);
     swim_member out = {sizeof out, r->finished && r->status == 0, "", "", real_of(&sum.t_reached), real_of(&sum.x),
                        real_of(&sum.y), real_of(&sum.theta), real_of(&sum.energy_drift_rel),
                        real_of(&sum.energy_balance_abs), real_of(&sum.jmin), count_of(&sum.steps),
                        count_of(&sum.rhs_evaluations), real_of(&sum.integrate_seconds), real_of(&sum.wall_seconds)};
-    free(json);
     swim_sim_free(s);
     if (rc) return failed(err, NULL, rc, "out of memory");
     snprintf(out.status, sizeof out.status, "%s", sum.status);
@@ -762,7 +777,8 @@ typedef struct {
 } orbit_problem;
 
 struct swim_orbit {
-    char kind;                       /* 'p' periodic, 'f' floquet, 'b' branch */
+    char kind;                       /* 'p' periodic, 'f' floquet, 'b' branch, 'o' optimize */
+    swim_opt_problem *opt;           /* optimize: the search, done */
     char *json, *csv;                /* the command's files */
     swim_periodic p;
     swim_floquet fl;
@@ -1003,7 +1019,8 @@ void swim_orbit_free(swim_orbit *a)
     if (!a) return;
     if (a->kind == 'p') swim_periodic_free(&a->p);
     else if (a->kind == 'f') swim_floquet_free(&a->fl);
-    else swim_branch_free(&a->b);
+    else if (a->kind == 'b') swim_branch_free(&a->b);
+    free(a->opt);
     free(a->json);
     free(a->csv);
     free(a->re);
@@ -1011,6 +1028,107 @@ void swim_orbit_free(swim_orbit *a)
     free(a->table);
     free(a->key);
     free(a);
+}
+
+/* ---- optimize --------------------------------------------------------------------------------- */
+
+static int fill_optimize_json(FILE *f, const void *ctx)
+{
+    swim_opt_json(f, ctx, NULL);
+    return 0;
+}
+
+/* The options into p as swim optimize takes its command line (cli/optimize.c), then checked as
+ * it checks them (swim_opt_vary, swim_opt_check): 0, or SWIM_EINPUT with err. */
+static int optimize_problem(const swim_model *m, const swim_optimize_options *o, swim_opt_problem *p, swim_error *err)
+{
+    if (string_list(err, "swim_optimize", "vary", "nvary", o->vary, o->nvary)) return SWIM_EINPUT;
+    if (o->nvary < 1) return bad_arg(err, "vary", "vary: give at least one KEY=LO:HI");
+    if (!o->quantity) return bad_arg(err, "quantity", "quantity is NULL: give one of %s", swim_quantity_list());
+    if ((p->quantity = swim_quantity_index(o->quantity)) < 0)
+        return bad_arg(err, "quantity", "unknown quantity '%s' (%s)", o->quantity, swim_quantity_list());
+    p->maximize = o->maximize != 0;
+    p->method = SWIM_OPT_NELDER_MEAD;
+    if (o->method && strcmp(o->method, "bfgs") == 0) p->method = SWIM_OPT_BFGS;
+    else if (o->method && strcmp(o->method, "nelder-mead") != 0)
+        return bad_arg(err, "method", "method: expected nelder-mead or bfgs, got '%s'", o->method);
+    if (option_bounded(err, "optimize", "starts", "starts", o->starts) ||
+        option_bounded(err, "optimize", "max-iter", "max_iter", o->max_iter) ||
+        option_bounded(err, "optimize", "tol", "tol", o->tol))
+        return SWIM_EINPUT;
+    p->starts = o->starts > 0 ? o->starts : 1;
+    p->max_iter = o->max_iter > 0 ? o->max_iter : 60;
+    p->tol = o->tol > 0 ? o->tol : 1e-3;
+    p->scene_path = m->P.name;
+    p->scene_text = m->P.text;
+    p->scene_len = m->P.len;
+    p->sets = m->P.sets;
+    p->nsets = m->P.nsets;
+    p->quiet = 1;
+    p->interrupt = o->stop;
+    swim_status st = {0};
+    for (int i = 0; i < o->nvary; i++)
+        if (swim_opt_vary(p, o->vary[i], &st)) return failed(err, &st, SWIM_EINPUT, "the key cannot be varied");
+    if (swim_opt_check(p, &st)) return failed(err, &st, SWIM_EINPUT, "the search cannot be made");
+    return SWIM_OK;
+}
+
+static int optimize_run(const swim_model *m, const swim_optimize_options *theirs, swim_orbit **out, swim_error *err)
+{
+    if (!out) return bad_arg(err, "out", "out is NULL");
+    *out = NULL;
+    if (!m) return bad_arg(err, "model", "model is NULL");
+    if (!theirs) return bad_arg(err, "options", "options is NULL");
+    if (theirs->size < OPTIMIZE_OPTIONS_V1)
+        return too_small(err, "swim_optimize_options", theirs->size, OPTIMIZE_OPTIONS_V1);
+    swim_optimize_options o = {0};
+    memcpy(&o, theirs, theirs->size < sizeof o ? theirs->size : sizeof o);
+    swim_orbit *a = calloc(1, sizeof *a);
+    swim_opt_problem *p = a ? (a->opt = calloc(1, sizeof *a->opt)) : NULL;
+    if (!p) {
+        free(a);
+        return refuse(err, SWIM_ENOMEM, "", "out of memory");
+    }
+    a->kind = 'o';
+    int rc = optimize_problem(m, &o, p, err);
+    if (rc) {
+        swim_orbit_free(a);
+        return rc;
+    }
+    size_t len = 0;
+    FILE *log = open_memstream(&a->csv, &len);   /* optimize.csv */
+    swim_status st = {0};
+    p->log_csv = log;
+    p->status = &st;
+    rc = log ? swim_opt_run(p) : -1;
+    p->log_csv = NULL;
+    p->status = NULL;
+    if (log && fclose(log) != 0) rc = -1;
+    if (rc == 0 && !(a->json = text_of(fill_optimize_json, p))) rc = -1;
+    if (rc != 0) {
+        const long evaluations = p->evaluations;
+        swim_orbit_free(a);
+        if (rc < 0 || st.failed) return failed(err, &st, SWIM_ENOMEM, "out of memory");
+        return refuse(err, SWIM_EFAILED, "", "no run succeeded (%ld evaluations): nothing to report", evaluations);
+    }
+    for (int i = 0; i < p->nkeys; i++) a->names[i] = p->keys[i].text;
+    *out = a;
+    return SWIM_OK;
+}
+
+int swim_orbit_optimize(const swim_orbit *a, swim_optimize_result *theirs)
+{
+    if (!a || !theirs || a->kind != 'o' || theirs->size < OPTIMIZE_V1) return SWIM_EINPUT;
+    const swim_opt_problem *p = a->opt;
+    const swim_eval_result *b = &p->best;
+    const int tight = p->tight_status == 0;
+    const swim_optimize_result r = {
+        sizeof r, p->converged, p->search_converged, p->interrupted, p->nkeys, a->names, p->best_value, p->best_q,
+        b->x, b->y, b->theta, b->work, b->forcing_work, b->energy, p->tight_status, tight ? p->tight_q : NAN,
+        tight ? p->tight_change : NAN, p->value_tol, swim_opt_holds(p), p->iterations, p->evaluations, p->gradients,
+        p->failed, p->nstarts, p->best_start + 1, p->seconds};
+    give(theirs, &r, sizeof r);
+    return SWIM_OK;
 }
 
 /* ---- inspection ----------------------------------------------------------------------------- */
@@ -1154,4 +1272,11 @@ int swim_continuation(const swim_model *m, const swim_orbit_options *o, swim_orb
     swim_error e;
     if (!error_begin(err, &e)) return SWIM_EINPUT;
     return error_give(err, &e, orbit_run(m, o, 'b', out, &e));
+}
+
+int swim_optimize(const swim_model *m, const swim_optimize_options *o, swim_orbit **out, swim_error *err)
+{
+    swim_error e;
+    if (!error_begin(err, &e)) return SWIM_EINPUT;
+    return error_give(err, &e, optimize_run(m, o, out, &e));
 }

@@ -398,11 +398,61 @@ typedef struct {
 SWIM_API int swim_orbit_periodic(const swim_orbit *a, swim_periodic_result *out);
 SWIM_API int swim_orbit_floquet(const swim_orbit *a, swim_floquet_result *out);
 SWIM_API int swim_orbit_branch(const swim_orbit *a, swim_branch_result *out);
-/* periodic.json, floquet.json or branch.json as the command writes it; branch.csv (NULL for the
- * others). Malloc'd text: free it with swim_free (NULL for a NULL a). */
+/* periodic.json, floquet.json, branch.json or optimize.json as the command writes it; branch.csv
+ * or optimize.csv (NULL for the others). Malloc'd text: free it with swim_free (NULL for a NULL a). */
 SWIM_API char *swim_orbit_json(const swim_orbit *a);
 SWIM_API char *swim_orbit_csv(const swim_orbit *a);
 SWIM_API void swim_orbit_free(swim_orbit *a);
+
+/* ---- the best values of run-time keys (`swim optimize`) --------------------------------------
+ *
+ * The search of docs/control.md on a model (its scene with its overrides, and none of them also
+ * varied), as swim optimize searches: the same evaluations, the same optimize.json (from
+ * swim_orbit_json; "best_scene" is null: no file is written) and optimize.csv (swim_orbit_csv:
+ * the log of iterations), nothing printed. Input the command refuses (a --vary spec, a quantity,
+ * a method without gradients, a bound the scene refuses, ...) is SWIM_EINPUT with its message and
+ * err->key the option or the varied key; no evaluation that succeeded is SWIM_EFAILED. A search
+ * that does not converge or is stopped by the flag is SWIM_OK with the result saying so (the
+ * command writes its files and exits 1). Each evaluation reads the model's text again with its
+ * values, as the command does (a value may change the kernel's structure). Not while another
+ * thread sets a key of the model. */
+typedef struct {
+    size_t size;                      /* sizeof(swim_optimize_options), set by the caller (SWIM_OPTIMIZE_OPTIONS_INIT) */
+    const char *const *vary;          /* "KEY=LO:HI", as --vary (1 to 8 of them) */
+    int nvary;
+    const char *quantity;             /* x, y, theta, displacement, work, forcing_work, displacement_per_work, energy */
+    int maximize;                     /* nonzero: --maximize, else --minimize */
+    const char *method;               /* "nelder-mead" (NULL) or "bfgs" */
+    int starts;                       /* 1..64; 0: 1 */
+    int max_iter;                     /* per start, 1..100000; 0: 60 */
+    double tol;                       /* 0: 1e-3 */
+    volatile int *stop;               /* a flag: nonzero ends the search with what it has (interrupted) */
+} swim_optimize_options;
+#define SWIM_OPTIMIZE_OPTIONS_INIT SWIM_SIZED_INIT_(swim_optimize_options)
+
+/* optimize.json's numbers (swim_optimize). */
+typedef struct {
+    size_t size;                      /* sizeof(swim_optimize_result), set by the caller (SWIM_OPTIMIZE_RESULT_INIT) */
+    int converged;                    /* the search converged and its value holds at the tight tolerances */
+    int search_converged, interrupted;
+    int nkeys;                        /* the varied keys ... */
+    const char *const *keys;          /* ... as given */
+    const double *best;               /* nkeys: their best values */
+    double value;                     /* the quantity there */
+    double x, y, theta, work, forcing_work, energy;   /* the best run's final values ("final") */
+    int tight_status;                 /* 0: the best point ran again at rtol/100, atol/100 */
+    double tight_value, tight_change, value_tolerance;
+    int holds;                        /* |tight_change| <= value_tolerance */
+    int iterations;                   /* of the best start */
+    long evaluations, gradient_evaluations, failed_evaluations;
+    int starts, best_start;           /* best_start: 1-based, as optimize.json */
+    double seconds;
+} swim_optimize_result;
+#define SWIM_OPTIMIZE_RESULT_INIT SWIM_SIZED_INIT_(swim_optimize_result)
+
+SWIM_API int swim_optimize(const swim_model *m, const swim_optimize_options *o, swim_orbit **out, swim_error *err);
+/* The result as far as out->size holds (as swim_orbit_periodic). */
+SWIM_API int swim_orbit_optimize(const swim_orbit *a, swim_optimize_result *out);
 
 /* ---- the model's matrices at one shape (`swim inspect`) ----------------------------------- */
 

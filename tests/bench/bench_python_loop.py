@@ -8,15 +8,17 @@ the values swim sweep computes from that SPEC, swim.spec_values), to t = BENCH_P
 1). Five ways, each BENCH_PY_REPEATS times (default 3), medians reported:
   python loop    for v in values: swim.run(scene, set={"model.rho0": v}, t_end=T)  (rows kept)
   Simulation     one swim.Simulation(scene, t_end=T); for v: sim.set("model.rho0", v); sim.run()
+                 (rows kept), and the same with Simulation(..., rows=False)
   swim.sweep     swim.sweep(scene, vary={"model.rho0": SPEC}, t_end=T)  (summaries only)
   ... threads=2  the same on 2 threads
   swim sweep     bin/swim sweep scene --out FRESH_DIR --vary model.rho0=SPEC --t-end T --jobs 1 --quiet
 The kernels are cached before timing (one warm-up run). Every member's final y of each way is
 checked against members.csv's (the same doubles), so all ran the same family.
-Then the threads on longer members, where the integration is most of a member's time:
-swim.sweep of BENCH_PY_LONG members (default "0.5:2:20") to t = BENCH_PY_LONG_T_END (default 300)
-with threads=1 and threads=2 (the same rows checked). Run on 2 cores: the threads only gain when
-the other core is free, so the load average is printed beside the numbers.
+Then the threads, each family with threads=1 and threads=2 in turn (the same rows checked): short
+members, BENCH_PY_SHORT (default "0.5:2:2000") to t = T_END, and longer ones, where the
+integration is most of a member's time, BENCH_PY_LONG (default "0.5:2:20") to t =
+BENCH_PY_LONG_T_END (default 300). Run on 2 cores: the threads only gain when the other core is
+free, so the load average is printed beside the numbers.
 Writes build/bench/python_loop.csv and prints the tables."""
 import csv
 import os
@@ -37,6 +39,7 @@ SPEC = os.environ.get("BENCH_PY_SPEC", "0.5:2:200")
 T_END = float(os.environ.get("BENCH_PY_T_END", "1"))
 REPEATS = int(os.environ.get("BENCH_PY_REPEATS", "3"))
 KEY = "model.rho0"
+SHORT = os.environ.get("BENCH_PY_SHORT", "0.5:2:2000")
 LONG = os.environ.get("BENCH_PY_LONG", "0.5:2:20")
 LONG_T_END = float(os.environ.get("BENCH_PY_LONG_T_END", "300"))
 
@@ -49,9 +52,9 @@ def python_sweep(values, spec=SPEC, t_end=T_END, threads=1):
     return swim.sweep(SCENE, vary={KEY: spec}, t_end=t_end, threads=threads)
 
 
-def simulation_set(values):
+def simulation_set(values, rows=True):
     ys = []
-    with swim.Simulation(SCENE, t_end=T_END) as sim:
+    with swim.Simulation(SCENE, t_end=T_END, rows=rows) as sim:
         for v in values:
             sim.set(KEY, v)
             ys.append(sim.run().final_state["y"])
@@ -77,8 +80,8 @@ def timed(fn, *args):
 def main():
     values = swim.spec_values(SPEC)
     swim.run(SCENE, t_end=T_END)   # warm-up: kernels into the cache, the library's pages in memory
-    ways = ["python loop (swim.run)", "Simulation.set + run", "swim.sweep (in process)", "swim.sweep threads=2",
-            "swim sweep --jobs 1"]
+    ways = ["python loop (swim.run)", "Simulation.set + run", "Simulation.set + run, rows=False",
+            "swim.sweep (in process)", "swim.sweep threads=2", "swim sweep --jobs 1"]
     times = {w: [] for w in ways}
     load = os.getloadavg()[0]
     with tempfile.TemporaryDirectory(prefix="swim-bench-py-") as tmp:
@@ -87,16 +90,18 @@ def main():
             times[ways[0]].append(t)
             t, sim_ys = timed(simulation_set, values)
             times[ways[1]].append(t)
-            t, rows = timed(python_sweep, values)
+            t, sim_ys2 = timed(simulation_set, values, False)
             times[ways[2]].append(t)
-            t, rows2 = timed(python_sweep, values, SPEC, T_END, 2)
+            t, rows = timed(python_sweep, values)
             times[ways[3]].append(t)
-            t, table = timed(cli_sweep, tmp, k)
+            t, rows2 = timed(python_sweep, values, SPEC, T_END, 2)
             times[ways[4]].append(t)
+            t, table = timed(cli_sweep, tmp, k)
+            times[ways[5]].append(t)
     want = [repr(float(m["y"])) for m in table]
     if len(table) != len(values) or [repr(r.final_state["y"]) for r in loop] != want \
             or [repr(r["y"]) for r in rows] != want or [repr(r["y"]) for r in rows2] != want \
-            or [repr(y) for y in sim_ys] != want:
+            or [repr(y) for y in sim_ys] != want or [repr(y) for y in sim_ys2] != want:
         print("FAIL: the loop, the Simulation, swim.sweep and swim sweep did not compute the same members")
         return 1
     cli = statistics.median(times["swim sweep --jobs 1"])
@@ -111,28 +116,30 @@ def main():
             med = statistics.median(ts)
             print("%-26s %10.3f %12.1f %9.2fx" % (way, med, len(values) / med, cli / med))
             w.writerow([way, len(values), T_END, "%.4f" % med, "%.1f" % (len(values) / med), "%.2f" % (cli / med)])
-        # the threads on longer members
-        long_values = swim.spec_values(LONG)
-        long_times = {1: [], 2: []}
-        load = os.getloadavg()[0]
-        for k in range(REPEATS):
-            for threads in (1, 2):
-                t, out = timed(python_sweep, long_values, LONG, LONG_T_END, threads)
-                long_times[threads].append(t)
-                if threads == 1:
-                    ref = [repr(r["y"]) for r in out]
-                elif [repr(r["y"]) for r in out] != ref:
-                    print("FAIL: threads=2 did not compute the members of threads=1")
-                    return 1
-        print("\nswim.sweep, %d members (%s=%s) to t = %g, median of %d, load average %.1f" % (
-            len(long_values), KEY, LONG, LONG_T_END, REPEATS, load))
-        print("%-26s %10s %12s %10s" % ("threads", "seconds", "members/s", "vs 1"))
-        one = statistics.median(long_times[1])
-        for threads, ts in long_times.items():
-            med = statistics.median(ts)
-            print("%-26s %10.3f %12.1f %9.2fx" % ("swim.sweep threads=%d" % threads, med, len(long_values) / med, one / med))
-            w.writerow(["swim.sweep threads=%d" % threads, len(long_values), LONG_T_END, "%.4f" % med,
-                        "%.1f" % (len(long_values) / med), ""])
+        # the threads, on short and on longer members
+        for label, spec, t_end in (("short", SHORT, T_END), ("long", LONG, LONG_T_END)):
+            fam = swim.spec_values(spec)
+            thread_times = {1: [], 2: []}
+            load = os.getloadavg()[0]
+            for k in range(REPEATS):
+                for threads in (1, 2):
+                    t, out = timed(python_sweep, fam, spec, t_end, threads)
+                    thread_times[threads].append(t)
+                    if threads == 1:
+                        ref = [repr(r["y"]) for r in out]
+                    elif [repr(r["y"]) for r in out] != ref:
+                        print("FAIL: threads=2 did not compute the members of threads=1")
+                        return 1
+            print("\nswim.sweep, %d %s members (%s=%s) to t = %g, median of %d, load average %.1f" % (
+                len(fam), label, KEY, spec, t_end, REPEATS, load))
+            print("%-26s %10s %12s %10s" % ("threads", "seconds", "members/s", "vs 1"))
+            one = statistics.median(thread_times[1])
+            for threads, ts in thread_times.items():
+                med = statistics.median(ts)
+                print("%-26s %10.3f %12.1f %9.2fx" % ("swim.sweep threads=%d" % threads, med, len(fam) / med,
+                                                      one / med))
+                w.writerow(["swim.sweep threads=%d" % threads, len(fam), t_end, "%.4f" % med, "%.1f" % (len(fam) / med),
+                            ""])
     return 0
 
 
