@@ -66,7 +66,7 @@ static void rigid_blocks(work_t *w, double f, double b)
 }
 
 /* P = -Mr^-1 Nc by a 3x3 Cholesky factorization; -1 if Mr is not positive definite. */
-static int schur_factor(work_t *w)
+static int schur_p(work_t *w)
 {
     const double *M = w->Mr;
     double l00 = M[0];
@@ -91,6 +91,13 @@ static int schur_factor(work_t *w)
         w->P[1][k] = -z1;
         w->P[2][k] = -z2;
     }
+    return 0;
+}
+
+/* P, then U = S E (the data of the reduced velocities). */
+static int schur_factor(work_t *w)
+{
+    if (schur_p(w) != 0) return -1;
     for (int r = 0; r < NR; r++)
         for (int k = 0; k < NX; k++)
             w->U[r][k] = w->S[r][3 + k] + w->S[r][0] * w->P[0][k] + w->S[r][1] * w->P[1][k]
@@ -216,6 +223,34 @@ static void mass(const double *x, double rho0, double rhof, double *Mr, double *
     }
 }
 
+/* The blocks the row diagnostics read (swim_kernel.row_blocks): one evaluation of the boundary
+ * data for Mr, Nc, P and the block of Md where v is not 0, each entry by the same operations as
+ * mass and reduced (the same bits). */
+static int row_blocks(const double *x, const double *v, double rho0, double rhof, double *Mr, double *Nc,
+                      double *P, int *idx, double *Md)
+{
+    work_t w;
+    const double f = rhof * KPI, b = rho0 * KPI;
+    boundary_data(x, w.S);
+    w.Ic = inertia(x, NULL);
+    rigid_blocks(&w, f, b);
+    memcpy(Mr, w.Mr, sizeof w.Mr);
+    memcpy(Nc, w.Nc, sizeof w.Nc);
+    int m = 0;
+    for (int i = 0; i < NX; i++)
+        if (v[i] != 0.0) idx[m++] = i;
+    for (int a = 0; a < m; a++)
+        for (int c = a; c < m; c++) {
+            const int i = idx[a], j = idx[c];   /* i <= j: mass sums the upper triangle */
+            double s = 0.0;
+            for (int r = 0; r < NR; r++) s += f * weight[r] * w.S[r][3 + i] * w.S[r][3 + j];
+            Md[m * a + c] = Md[m * c + a] = s + (i == j ? b * body_shape[i] : 0.0);
+        }
+    if (schur_p(&w) != 0) return -1;
+    memcpy(P, w.P, sizeof w.P);
+    return m;
+}
+
 static int mass_deriv(const double *x, double rho0, double rhof,
                       double *dMr, double *dNc, double *dMd)
 {
@@ -297,6 +332,7 @@ const swim_kernel SWIM_KERNEL_NAME = {
     .modes = NFULL / 2 - 1,
     .dim = NX,
     .mass = mass,
+    .row_blocks = row_blocks,
     .mass_deriv = mass_deriv,
     .reduced = reduced,
     .reduced_deriv = reduced_deriv,

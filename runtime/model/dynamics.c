@@ -423,10 +423,11 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     /* on the stack (35 kB at the largest N): this runs at every output row */
     enum { NMAX = 2 * (SWIM_KERNEL_MAX_MODES + 1) };
     double Mr[9], Nc[3 * NMAX], Md[NMAX * NMAX];
-    d->k->mass(c, s->rho0, s->rhof, Mr, Nc, Md);
-    /* P alone (K = NULL: assembly.h's reduced then skips the Gram product, which nothing
-     * here reads); the call still fails when Mr is not positive definite */
-    if (d->k->reduced(c, NULL, s->rho0, s->rhof, NULL, d->P, NULL) != 0) return -1;
+    int on[NMAX];
+    /* Mr, Nc, P and the block of Md on the velocities that are not 0 (the locked ones are), from
+     * one evaluation of the boundary data; fails when Mr is not positive definite */
+    const int m = d->k->row_blocks(c, v, s->rho0, s->rhof, Mr, Nc, d->P, on, Md);
+    if (m < 0) return -1;
     double q[3] = {0, 0, 0};
     for (int p = 0; p < 3; p++)
         for (int k = 0; k < n; k++) q[p] += d->P[p * n + k] * v[k];
@@ -438,8 +439,10 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
         for (int k = 0; k < n; k++) Ncv[p] += Nc[p * n + k] * v[k];
         T += 2.0 * q[p] * Ncv[p];
     }
-    for (int i = 0; i < n; i++)
-        for (int j = 0; j < n; j++) T += v[i] * Md[i * n + j] * v[j];
+    /* v^T Md v without its terms v_i Md_ij v_j = 0 for v_i = 0 or v_j = 0: adding an exact zero
+     * to T, a sum that started at +0, changes no bit */
+    for (int e = 0; e < m; e++)
+        for (int f = 0; f < m; f++) T += v[on[e]] * Md[e * m + f] * v[on[f]];
     T *= 0.5;
     o->kinetic_rigid = 0.5 * b * (q[0] * q[0] + q[1] * q[1] + Ic * q[2] * q[2]);
     for (int i = 0; i < n; i++)
