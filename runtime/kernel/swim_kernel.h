@@ -48,11 +48,12 @@ typedef struct swim_kernel {
      * velocity X the fluid potential is xi = sum_j (-(S X)_{2j-2} cos j theta
      * + (S X)_{2j-1} sin j theta) r^-j (ERRATA A4). */
     void (*boundary_data)(const double *x, double *S);
-    /* What the row diagnostics read, from one evaluation of the boundary data: Mr, Nc and
-     * P = -Mr^-1 Nc (3xn) as mass and reduced give them, and of Md only the block on the m
-     * coordinates where v is not 0, written ascending to idx: Md[a*m + b] = Md_{idx[a] idx[b]},
-     * the same bits as mass (v^T Md v loses only exact zeros; the cost falls with the
-     * square of the coordinates locked). Returns m, or -1 when Mr is not positive definite. */
+    /* What the row diagnostics read, from one evaluation of the boundary data: Mr (3x3), and
+     * Nc, P = -Mr^-1 Nc and Md only in the m columns (and rows) where v is not 0, their indices
+     * written ascending to idx: Nc[p*m + a] = Nc_{p idx[a]}, P likewise, Md[a*m + b] =
+     * Md_{idx[a] idx[b]}, each entry the same bits as mass and reduced give (products with v
+     * lose only exact zeros; the cost falls with the coordinates locked). Returns m, or -1 when
+     * Mr is not positive definite. */
     int (*row_blocks)(const double *x, const double *v, double rho0, double rhof, double *Mr, double *Nc,
                       double *P, int *idx, double *Md);
 } swim_kernel;

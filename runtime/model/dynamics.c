@@ -45,6 +45,9 @@ int swim_dynamics_init(swim_dynamics *d, const swim_scene *s, const swim_kernel 
         return -1;
     }
     d->m = swim_constraint_rows(n, s->c0, s->free_mask, d->G);
+    d->mu0 = swim_area_constant(n, s->c0);
+    for (int i = 0; i < n; i++)
+        if (s->free_mask[i]) d->free_at[d->nfree++] = i;
     return 0;
 }
 
@@ -422,31 +425,33 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     memset(o, 0, sizeof *o);
     /* on the stack (35 kB at the largest N): this runs at every output row */
     enum { NMAX = 2 * (SWIM_KERNEL_MAX_MODES + 1) };
-    double Mr[9], Nc[3 * NMAX], Md[NMAX * NMAX];
+    double Mr[9], Nc[3 * NMAX], P[3 * NMAX], Md[NMAX * NMAX];
     int on[NMAX];
-    /* Mr, Nc, P and the block of Md on the velocities that are not 0 (the locked ones are), from
-     * one evaluation of the boundary data; fails when Mr is not positive definite */
-    const int m = d->k->row_blocks(c, v, s->rho0, s->rhof, Mr, Nc, d->P, on, Md);
+    /* Mr, and Nc, P and Md on the velocities that are not 0 (the locked ones are), from one
+     * evaluation of the boundary data; fails when Mr is not positive definite. The sums over
+     * the velocities below leave out their terms with v_k = 0: adding an exact zero to a sum
+     * that started at +0 changes no bit (it is never -0: x + (-x) rounds to +0). */
+    const int m = d->k->row_blocks(c, v, s->rho0, s->rhof, Mr, Nc, P, on, Md);
     if (m < 0) return -1;
     double q[3] = {0, 0, 0};
     for (int p = 0; p < 3; p++)
-        for (int k = 0; k < n; k++) q[p] += d->P[p * n + k] * v[k];
+        for (int a = 0; a < m; a++) q[p] += P[p * m + a] * v[on[a]];
     const double b = s->rho0 * M_PI, Ic = d->k->inertia(c, NULL);
     /* (1/2) X^T M X with X = (q*, cdot): the total kinetic energy, = (1/2) cdot^T K cdot. */
     double T = 0.0, Ncv[3] = {0, 0, 0};
     for (int p = 0; p < 3; p++) {
         for (int r = 0; r < 3; r++) T += q[p] * Mr[3 * p + r] * q[r];
-        for (int k = 0; k < n; k++) Ncv[p] += Nc[p * n + k] * v[k];
+        for (int a = 0; a < m; a++) Ncv[p] += Nc[p * m + a] * v[on[a]];
         T += 2.0 * q[p] * Ncv[p];
     }
-    /* v^T Md v without its terms v_i Md_ij v_j = 0 for v_i = 0 or v_j = 0: adding an exact zero
-     * to T, a sum that started at +0, changes no bit */
     for (int e = 0; e < m; e++)
         for (int f = 0; f < m; f++) T += v[on[e]] * Md[e * m + f] * v[on[f]];
     T *= 0.5;
     o->kinetic_rigid = 0.5 * b * (q[0] * q[0] + q[1] * q[1] + Ic * q[2] * q[2]);
-    for (int i = 0; i < n; i++)
-        o->kinetic_shape += 0.5 * b * v[i] * v[i] / (abs(swim_coord_mode(i)) + 1);   /* (2.17) */
+    for (int a = 0; a < m; a++) {   /* (2.17), over the velocities that are not 0 as above */
+        const int i = on[a];
+        o->kinetic_shape += 0.5 * b * v[i] * v[i] / (abs(swim_coord_mode(i)) + 1);
+    }
     o->kinetic_fluid = T - o->kinetic_rigid - o->kinetic_shape;
     o->w1 = elastic_energy(s, c);
     if (s->barrier) o->w2 = swim_dynamics_w2(d, c);
@@ -492,20 +497,21 @@ int swim_dynamics_project(double t, double *ys, void *params)
     if (d->origin) memcpy(before, absolute(d, ys, d->hi), sizeof(double) * m);
     memcpy(d->proj_delta, ys, sizeof(double) * m);
     swim_dynamics_unpack(d, ys, y);
-    int free_at[2 * (SWIM_KERNEL_MAX_MODES + 1)], nfree = 0;
-    for (int i = 0; i < n; i++)
-        if (s->free_mask[i]) {
-            free_at[nfree++] = i;
-        } else {
-            change = larger(change, fabs(c[i] - s->c0[i]) + fabs(v[i]));
-            c[i] = s->c0[i];
-            v[i] = 0.0;
-        }
+    const int *free_at = d->free_at, nfree = d->nfree;
+    /* A kernel that carries only the free coordinates leaves the locked ones at c0 and cdot 0
+     * (unpack); one that carries them all may have moved them: put them back. */
+    if (d->spec->nfree != nfree || memcmp(d->spec->free_index, free_at, sizeof(int) * (size_t)nfree) != 0)
+        for (int i = 0; i < n; i++)
+            if (!s->free_mask[i]) {
+                change = larger(change, fabs(c[i] - s->c0[i]) + fabs(v[i]));
+                c[i] = s->c0[i];
+                v[i] = 0.0;
+            }
     /* Volume (2.5): mu^2(c) = mu0^2, Newton along the free part of grad mu^2 = 2 G1. With an
      * origin the residual is taken from the exact shape origin + u (what c lost to rounding is
      * in d->x_lo) and the corrections go to u alone (dcx): the residual of the rounded shape is
      * rounding noise of 1e-16, and correcting it would put that noise back into u. */
-    const double mu0 = swim_area_constant(n, s->c0);
+    const double mu0 = d->mu0;
     double dcx[2 * (SWIM_KERNEL_MAX_MODES + 1)] = {0.0}, c_hi[2 * (SWIM_KERNEL_MAX_MODES + 1)];
     const int shifted = d->origin != NULL;
     if (shifted) {

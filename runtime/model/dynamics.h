@@ -82,6 +82,10 @@ typedef struct {
     /* The last projection: its output and what it changed (packed), for the balance's noise. */
     int proj_valid;
     double proj_out[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)], proj_delta[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    /* Fixed by the scene, for the projection at every step: mu0^2 = sum k |c0_k|^2 (2.5), the
+     * free coordinates (scene->free_mask) ascending and how many there are. */
+    double mu0;
+    int free_at[2 * (SWIM_KERNEL_MAX_MODES + 1)], nfree;
 } swim_dynamics;
 
 /* k: the kernel of N = scene->modes modes. 0, or -1 (out of memory). */
