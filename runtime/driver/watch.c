@@ -91,7 +91,7 @@ static int j_at(swim_run_watch *w, const swim_ode_accepted *st, double t, const 
     swim_dynamics_unpack(w->d, ys ? ys : w->ys, w->full);
     const int n = w->d->n, modes = w->d->scene->modes;
     double theta;
-    *J = swim_dynamics_jmin(w->d, ys ? ys : w->ys, &theta);
+    *J = swim_dynamics_jmin_unpacked(w->d, ys ? ys : w->ys, w->full, &theta);
     w->theta_last = theta;
     *rate = swim_shape_j_rate(modes, w->full + 3, w->full + 3 + n, theta);
     return 0;

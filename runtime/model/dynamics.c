@@ -258,8 +258,14 @@ static const double *split_state(swim_dynamics *d, const double *u)
 
 double swim_dynamics_jmin(const swim_dynamics *d, const double *u, double *theta)
 {
-    double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)], lo[2 * (SWIM_KERNEL_MAX_MODES + 1)], th;
+    double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
     swim_dynamics_unpack(d, u, full);
+    return swim_dynamics_jmin_unpacked(d, u, full, theta);
+}
+
+double swim_dynamics_jmin_unpacked(const swim_dynamics *d, const double *u, const double *full, double *theta)
+{
+    double lo[2 * (SWIM_KERNEL_MAX_MODES + 1)], th;
     const int modes = d->scene->modes;
     double J = swim_shape_jmin_at(modes, full + 3, &th);
     if (d->origin && !isnan(J) && J < 1e-3 * (full[3] * full[3] + full[4] * full[4])) {

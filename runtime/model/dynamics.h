@@ -129,6 +129,9 @@ int swim_dynamics_rebase(swim_dynamics *d, double *u, int clear);
  * J small, evaluated at origin + u exactly (shape.h, swim_shape_j_precise), where the rounded
  * shape would give J to 1e-16 only -- 0 or below at the bottom of a deep bounce. */
 double swim_dynamics_jmin(const swim_dynamics *d, const double *u, double *theta);
+/* The same with u already unpacked into full (swim_dynamics_unpack): the checks at every step
+ * have it at hand. */
+double swim_dynamics_jmin_unpacked(const swim_dynamics *d, const double *u, const double *full, double *theta);
 
 /* Drift control: (2.8) is enforced by (4.12) only at the acceleration level, so the
  * volume and the velocity constraints drift with the integration error. After each accepted
