@@ -152,7 +152,7 @@ static void balance(swim_run_watch *w, double tb, const double *u)
     p->drift = fabs(E - w->e0 - work);
     p->e = fabs(E);
     swim_constraint_residuals res;
-    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, &res);
+    swim_constraint_residuals_at(n, c, v, s->c0, d->mu0, s->free_mask, &res);
     p->res_volume = fabs(res.volume);
     p->res_volume_rate = fabs(res.volume_rate);
     p->res_angular = fabs(res.angular);

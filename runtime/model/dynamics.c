@@ -475,7 +475,7 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     swim_to_fixed_frame(y[2], Ncv, o->impulse_fluid_shape);
     memcpy(o->rigid_velocity, q, sizeof q);
     swim_constraint_residuals res;
-    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, &res);
+    swim_constraint_residuals_at(n, c, v, s->c0, d->mu0, s->free_mask, &res);
     o->res_volume = res.volume;
     o->res_volume_rate = res.volume_rate;
     o->res_angular = res.angular;
