@@ -79,6 +79,10 @@ typedef struct {
      * kinetic energy and W2 anyway (swim_dynamics_track_balance, swim_dynamics_balance). */
     int bal_track, bal_valid;
     double bal_kinetic, bal_u[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    /* B at bal_u once computed from those by-products (the integrator's error test asks first,
+     * the check at the step end then again): valid while bal_valid is, cleared with it */
+    int bal_memo;
+    double bal_memo_b;
     /* The last projection: its output and what it changed (packed), for the balance's noise. */
     int proj_valid;
     double proj_out[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)], proj_delta[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
