@@ -63,7 +63,7 @@ int main(void)
     swim_override_parse("model.rho0=2", &ov, why, sizeof why);
     CHECK(swim_scene_parse_with(text, len, path, &ov, 1, &ref, &st) == 0, "the scene read with --set model.rho0=2");
     CHECK(ref.rho0 == p->s->rho0 && ref.rhof == p->s->rhof && memcmp(ref.c0, p->s->c0, sizeof ref.c0) == 0 &&
-          memcmp(ref.dc0, p->s->dc0, sizeof ref.dc0) == 0 && ref.t_end == p->s->t_end, "the same values");
+          memcmp(ref.dc0, p->s->dc0, sizeof ref.dc0) == 0 && ref.run.t_end == p->s->run.t_end, "the same values");
     swim_scene_free(&ref);
 
     refused(p, "model.modes", "3", "structure key");
@@ -78,7 +78,7 @@ int main(void)
     CHECK(rc == 0 && p->s->rho0 == 1.5 && p->nsets == 1, "set again: %d, rho0 %g, %d overrides", rc, p->s->rho0,
           p->nsets);
     rc = swim_problem_set(p, "run.rtol", "1e-9", &st);
-    CHECK(rc == 0 && p->s->rtol == 1e-9 && p->nsets == 2, "a run setting: %d", rc);
+    CHECK(rc == 0 && p->s->run.rtol == 1e-9 && p->nsets == 2, "a run setting: %d", rc);
     swim_problem_close(p);
 
     /* a parameter: the law compiled at the opening reads the value set */

@@ -308,7 +308,7 @@ static void test_comparison(const swim_scene *s)
     t.c0[t.n - 1] = nextafter(t.c0[t.n - 1], INFINITY);
     CHECK(!same_scene(s, &t, why, sizeof why), "one ulp of c0 is a difference");
     memcpy(&t, s, sizeof t);
-    t.jacobian_exact = !t.jacobian_exact;
+    t.run.jacobian_exact = !t.run.jacobian_exact;
     CHECK(!same_scene(s, &t, why, sizeof why), "jacobian is a difference");
     memcpy(&t, s, sizeof t);
     t.title = "another title";

@@ -143,7 +143,7 @@ int swim_cmd_continue(int argc, char **argv)
         free(dir); free(csv); free(json);
         return rc;
     }
-    o.periodic.t_max = m.s->t_end;
+    o.periodic.t_max = m.s->run.t_end;
     if (!swim_args_get(opts, nopts, "quiet")) o.progress = on_point;
     /* SIGINT, SIGTERM and SIGHUP alike stop the branch; the points so far are written (run_signals.h) */
     swim_branch b;

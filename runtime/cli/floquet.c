@@ -65,7 +65,7 @@ int swim_cmd_floquet(int argc, char **argv)
     swim_status st = SWIM_STATUS_STDERR;
     int rc = swim_status_shown(&st, swim_problem_read(&m, &(swim_problem_source){.path = pos[0], .sets = sets, .nsets = nsets}, &st));
     if (rc == 0) rc = swim_status_shown(&st, swim_floquet_check(m.s, pos[0], SWIM_FLOQUET_NO_STROKE, &st));
-    if (rc == 0 && t_max > 0) rc = swim_args_steps_bounded("floquet", "t-max", t_max, m.s->output_step);
+    if (rc == 0 && t_max > 0) rc = swim_args_steps_bounded("floquet", "t-max", t_max, m.s->run.output_step);
     if (rc == 0)
         rc = swim_status_shown(&st, swim_problem_kernels(&m, "floquet", swim_args_get(opts, nopts, "generic") != NULL,
                                                          quiet ? 0 : 1, &st));
@@ -99,7 +99,7 @@ int swim_cmd_floquet(int argc, char **argv)
     swim_run_stop = 0;
     m.d.interrupt = (volatile int *)&swim_run_stop;
     swim_run_signals_install(&sig);
-    rc = swim_floquet_compute(&m.d, &sec, t_max > 0 ? t_max : m.s->t_end, quiet ? NULL : on_period, NULL, &fl, &st);
+    rc = swim_floquet_compute(&m.d, &sec, t_max > 0 ? t_max : m.s->run.t_end, quiet ? NULL : on_period, NULL, &fl, &st);
     swim_run_signals_restore(&sig);
     swim_status_shown(&st, rc);
     if (rc == 0 && fl.stopped) {

@@ -113,8 +113,8 @@ int swim_cmd_periodic(int argc, char **argv)
         free(json);
         return rc;
     }
-    if (o.t_max <= 0) o.t_max = m.s->t_end;
-    else if (swim_args_steps_bounded("periodic", "t-max", o.t_max, m.s->output_step)) rc = 2;
+    if (o.t_max <= 0) o.t_max = m.s->run.t_end;
+    else if (swim_args_steps_bounded("periodic", "t-max", o.t_max, m.s->run.output_step)) rc = 2;
     if (rc) {
         free(dir);
         free(json);

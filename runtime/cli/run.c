@@ -77,7 +77,7 @@ static int adjust(swim_scene *s, swim_override *recorded, int *nrecorded, void *
         return 2;
     }
     if (swim_run_settings_options(c->opts, c->nopts, s) != 0) return 2;
-    if (swim_args_get(c->opts, c->nopts, "no-projection")) s->projection = 0;
+    if (swim_args_get(c->opts, c->nopts, "no-projection")) s->run.projection = 0;
     *nrecorded = swim_run_settings_record(c->opts, c->nopts, s, recorded);
     return 0;
 }
@@ -237,7 +237,7 @@ static void report_stroke(const swim_scene *s, const swim_run_result *r)
 {
     const swim_stroke_report *k = &r->stroke;
     printf("  prescribed stroke: %d laws%s; (3.21) integrated with %s, rtol %.3g: %ld RHS evaluations\n", k->laws,
-           k->completed_c1 ? ", c1 completed from the volume (2.5) and (2.14)" : "", s->integrator, s->rtol, k->rhs_calls);
+           k->completed_c1 ? ", c1 completed from the volume (2.5) and (2.14)" : "", s->run.integrator, s->run.rtol, k->rhs_calls);
     if (k->period > 0)
         printf("  period %.10g (%s), %ld strokes; per stroke: first displacement (%.6g, %.6g), dtheta %.6g, "
                "positive work %.6g\n", k->period, k->period_source, k->strokes, k->first_dx, k->first_dy,
@@ -255,7 +255,7 @@ static void report_dynamics(run_cmd *c, swim_job *job, const swim_run_result *r)
     const swim_ode_stats *st = &r->stats;
     printf("  %s kernel (state dimension %d)\n", d->generic ? "generic" : "specialized", swim_dynamics_state_dim(d));
     swim_message(stdout, "  integrator %s, rtol %.3g: %ld steps, %ld RHS evaluations, %ld rejected; %.3f s (%.3f s in the RHS)",
-                 r->used, s->rtol, st->steps, st->rhs_evals, st->rejected, swim_clock_seconds() - c->t_start, swim_dynamics_rhs_seconds(d));
+                 r->used, s->run.rtol, st->steps, st->rhs_evals, st->rejected, swim_clock_seconds() - c->t_start, swim_dynamics_rhs_seconds(d));
     printf("  energy drift %.3g (E0 = %.6g), max residuals: volume %.2g, angular %.2g, locks %.2g; min J %.4g at t = %.6g\n",
            r->drift_abs, r->e0, r->res_volume, r->res_angular, r->res_locks, r->jmin, r->jmin_t);
     if (r->impacts)   /* min J above is over the computed steps, not the turning points of the impacts */

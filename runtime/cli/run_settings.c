@@ -67,10 +67,10 @@ static int plain_options(const swim_opt *opts, int nopts, swim_scene *s)
 int swim_run_settings_options(const swim_opt *opts, int nopts, swim_scene *s)
 {
     swim_run_overrides cli = {{0}};
-    if (number_option(opts, nopts, "t-end", &s->t_end, &cli.given[SWIM_SET_T_END]) ||
-        number_option(opts, nopts, "output-step", &s->output_step, &cli.given[SWIM_SET_OUTPUT_STEP]) ||
-        number_option(opts, nopts, "rtol", &s->rtol, &cli.given[SWIM_SET_RTOL]) ||
-        number_option(opts, nopts, "atol", &s->atol, &cli.given[SWIM_SET_ATOL]))
+    if (number_option(opts, nopts, "t-end", &s->run.t_end, &cli.given[SWIM_SET_T_END]) ||
+        number_option(opts, nopts, "output-step", &s->run.output_step, &cli.given[SWIM_SET_OUTPUT_STEP]) ||
+        number_option(opts, nopts, "rtol", &s->run.rtol, &cli.given[SWIM_SET_RTOL]) ||
+        number_option(opts, nopts, "atol", &s->run.atol, &cli.given[SWIM_SET_ATOL]))
         return 2;
     const char *v;
     if ((v = swim_args_get(opts, nopts, "integrator"))) {
@@ -78,7 +78,7 @@ int swim_run_settings_options(const swim_opt *opts, int nopts, swim_scene *s)
             swim_message(stderr, "swim run: --integrator: unknown integrator '%s' (%s)", v, swim_ode_method_list());
             return 2;
         }
-        snprintf(s->integrator, sizeof s->integrator, "%s", v);   /* a known name: it fits */
+        snprintf(s->run.integrator, sizeof s->run.integrator, "%s", v);   /* a known name: it fits */
     }
     if (plain_options(opts, nopts, s)) return 2;
     swim_status st = SWIM_STATUS_STDERR;
@@ -89,7 +89,7 @@ int swim_run_settings_record(const swim_opt *opts, int nopts, const swim_scene *
 {
     static const char *const numeric[][2] = {{"t-end", "run.t_end"}, {"output-step", "run.output_step"},
                                              {"rtol", "run.rtol"}, {"atol", "run.atol"}};
-    const double values[] = {s->t_end, s->output_step, s->rtol, s->atol};
+    const double values[] = {s->run.t_end, s->run.output_step, s->run.rtol, s->run.atol};
     char text[160];
     int n = 0;
     for (int i = 0; i < 4; i++)
@@ -98,7 +98,7 @@ int swim_run_settings_record(const swim_opt *opts, int nopts, const swim_scene *
             if (swim_override_parse(text, &out[n], NULL, 0) == 0) n++;
         }
     if (swim_args_get(opts, nopts, "integrator")) {
-        snprintf(text, sizeof text, "run.integrator=%s", s->integrator);
+        snprintf(text, sizeof text, "run.integrator=%s", s->run.integrator);
         if (swim_override_parse(text, &out[n], NULL, 0) == 0) n++;
     }
     int count;

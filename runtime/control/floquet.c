@@ -60,10 +60,10 @@ int swim_floquet_check(const swim_scene *s, const char *path, int what, swim_sta
         return 2;
     }
     /* the period is found from events of the scene's own integrator, which must locate them */
-    if ((what & SWIM_FLOQUET_EVENTS) && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
+    if ((what & SWIM_FLOQUET_EVENTS) && !(swim_ode_capabilities(s->run.integrator) & SWIM_ODE_CAP_EVENTS)) {
         swim_status_fail_cmd(st, "floquet", path, "run.integrator", "%s: run.integrator = \"%s\" cannot locate the "
                              "section's events (no dense output); use one of %s (e.g. --set run.integrator=abm)", path,
-                             s->integrator, swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
+                             s->run.integrator, swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
         return 2;
     }
     return 0;
@@ -142,15 +142,15 @@ int swim_floquet_period(swim_dynamics *d, const char *cmd, const swim_floquet_se
                          sec->kind == 'x' ? -1 : +1, 0};
     swim_ode_system sys = {swim_dynamics_rhs, (size_t)n, d, NULL};
     swim_ode_options o;
-    swim_run_ode_options(s, &o);   /* the scene's integrator, as swim run has it */
-    if (s->projection && (swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_PROJECTION)) o.project = swim_dynamics_project;
+    swim_run_ode_options(&s->run, &o);   /* the scene's integrator, as swim run has it */
+    if (s->run.projection && (swim_ode_capabilities(s->run.integrator) & SWIM_ODE_CAP_PROJECTION)) o.project = swim_dynamics_project;
     o.events = &ev;
     o.nevents = 1;
     o.on_event = on_event;
     o.on_event_data = &log;
     swim_ode *ode = NULL;
-    int rc = swim_ode_create(s->integrator, &sys, &o, 0.0, y, &ode);
-    const double dt = s->output_step;
+    int rc = swim_ode_create(s->run.integrator, &sys, &o, 0.0, y, &ode);
+    const double dt = s->run.output_step;
     const int want = sec->count + 1;
     for (double t = dt; rc == SWIM_ODE_OK && log.count < want && t < t_max + dt; t += dt)
         rc = swim_ode_advance(ode, fmin(t, t_max), y);
@@ -535,13 +535,13 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
     swim_sens_initial(&S, ys, Y);
     swim_ode_system sys = {swim_sens_rhs, (size_t)dimY, &S, NULL};
     swim_ode_options o;
-    swim_run_ode_options(d->scene, &o);
+    swim_run_ode_options(&d->scene->run, &o);
     if (!swim_sens_exact(&S)) {   /* as swim_sens_write_run: the differences' noise */
-        o.rtol = fmax(d->scene->rtol, 1e-10);
-        o.atol = fmax(d->scene->atol, 1e-12);
+        o.rtol = fmax(d->scene->run.rtol, 1e-10);
+        o.atol = fmax(d->scene->run.atol, 1e-12);
     }
     swim_ode *ode = NULL;
-    int orc = swim_ode_create(d->scene->integrator, &sys, &o, 0.0, Y, &ode);
+    int orc = swim_ode_create(d->scene->run.integrator, &sys, &o, 0.0, Y, &ode);
     if (orc == SWIM_ODE_OK) orc = swim_ode_advance(ode, period, Y);
     if (ode) {
         swim_ode_stats st;
@@ -554,7 +554,7 @@ int swim_floquet_at(swim_dynamics *d, const double *ys, double period, swim_floq
             swim_status_fail_cmd(st, "floquet", NULL, NULL, "the variational equations failed: %s", swim_ode_strerror(orc));
         goto done;
     }
-    double scale = d->scene->atol;
+    double scale = d->scene->run.atol;
     for (int i = 0; i < n2; i++) {
         fl->closure = fmax(fl->closure, fabs(Y[3 + i] - ys[3 + i]));
         scale = fmax(scale, fabs(ys[3 + i]));

@@ -64,7 +64,7 @@ static void gradient(const swim_opt_problem *p, swim_scene *s, swim_run *run, sw
         if (swim_sens_add_key(&S, s, "optimize: --vary", p->keys[i].text, NULL) != 0) goto done;   /* checked before */
     const int n = S.dim;
     if (!(Y = malloc(sizeof(double) * (size_t)swim_sens_dimension(&S)))) goto done;
-    if (swim_sens_final(&S, s->integrator, s->t_end, Y, NULL, NULL) != 0) goto done;   /* no gradient: said by r */
+    if (swim_sens_final(&S, s->run.integrator, s->run.t_end, Y, NULL, NULL) != 0) goto done;   /* no gradient: said by r */
     const double disp = hypot(Y[0], Y[1]);
     for (int i = 0; i < p->nkeys; i++) {
         const double *si = Y + (size_t)(i + 1) * n;
@@ -456,7 +456,7 @@ static void tight_check(swim_opt_problem *p)
     swim_scene s;
     p->tight_status = 1;
     if (swim_scene_parse_with(p->scene_text, p->scene_len, p->scene_path, ov, nov, &s, p->status) != 0) return;
-    const double rtol = fmax(s.rtol / 100.0, SWIM_RTOL_MIN), atol = s.atol / 100.0;
+    const double rtol = fmax(s.run.rtol / 100.0, SWIM_RTOL_MIN), atol = s.run.atol / 100.0;
     swim_scene_free(&s);
     swim_override extra[2];
     char err[200];

@@ -34,12 +34,12 @@ static int flow(swim_dynamics *d, const double *ys, double T, const swim_periodi
     out[0] = out[1] = out[2] = out[N - 1] = 0.0;
     swim_ode_system sys = {swim_dynamics_rhs, (size_t)N, d, NULL};
     swim_ode_options opt;
-    swim_run_ode_options(s, &opt);
+    swim_run_ode_options(&s->run, &opt);
     opt.rtol = o->rtol;
     opt.atol = o->atol;
-    if (s->projection && (swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_PROJECTION)) opt.project = swim_dynamics_project;
+    if (s->run.projection && (swim_ode_capabilities(s->run.integrator) & SWIM_ODE_CAP_PROJECTION)) opt.project = swim_dynamics_project;
     swim_ode *ode = NULL;
-    int rc = swim_ode_create(s->integrator, &sys, &opt, 0.0, out, &ode);
+    int rc = swim_ode_create(s->run.integrator, &sys, &opt, 0.0, out, &ode);
     if (rc == SWIM_ODE_OK) rc = swim_ode_advance(ode, T, out);
     if (ode) {
         swim_ode_stats st;
@@ -229,7 +229,7 @@ int swim_periodic_refine(swim_dynamics *d, const double *ys0, double T0, double 
     for (int i = 0; o->hold_zero && i < n2; i++)
         if (o->hold_zero[i]) ys[3 + i] = 0.0;
     double T = T0, res;
-    p->scale = d->scene->atol;
+    p->scale = d->scene->run.atol;
     for (int i = 0; i < n2; i++) p->scale = fmax(p->scale, fabs(ys[3 + i]));
     /* with a target energy the merit is the larger of the closing residual and the energy's
      * relative miss, so a step is taken for either */
@@ -382,9 +382,9 @@ int swim_periodic_check(const swim_scene *s, const char *cmd, const char *path, 
                              "are looked for in autonomous scenes only", path);
         return 2;
     }
-    if (!(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
+    if (!(swim_ode_capabilities(s->run.integrator) & SWIM_ODE_CAP_EVENTS)) {
         swim_status_fail_cmd(st, cmd, path, "run.integrator", "%s: run.integrator = \"%s\" cannot locate the guess's "
-                             "events; use one of %s (e.g. --set run.integrator=abm)", path, s->integrator,
+                             "events; use one of %s (e.g. --set run.integrator=abm)", path, s->run.integrator,
                              swim_ode_method_list_with(SWIM_ODE_CAP_EVENTS));
         return 2;
     }

@@ -23,10 +23,10 @@ static int augmented_options(const swim_sens *S, swim_ode_options *o, double **a
     const swim_scene *s = S->d->scene;
     const int n = S->dim, N = swim_sens_dimension(S);
     *atolv = NULL;
-    swim_run_ode_options(s, o);
+    swim_run_ode_options(&s->run, o);
     if (!swim_sens_exact(S)) {
-        o->rtol = fmax(s->rtol, SENS_RTOL_MIN);
-        o->atol = fmax(s->atol, SENS_ATOL_MIN);
+        o->rtol = fmax(s->run.rtol, SENS_RTOL_MIN);
+        o->atol = fmax(s->run.atol, SENS_ATOL_MIN);
     }
     if (!S->error_control) {   /* the sensitivities ride on the state's steps */
         if (!(*atolv = malloc(sizeof(double) * N))) return -1;

@@ -148,14 +148,14 @@ int swim_run_events_parse(const swim_scene *s, const char *const *extra, int nex
     }
     if (n == 0)
         return 0;
-    if (!(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_EVENTS)) {
+    if (!(swim_ode_capabilities(s->run.integrator) & SWIM_ODE_CAP_EVENTS)) {
         swim_status_fail(st, "swim run", NULL, 0, "events", "--event: integrator '%s' cannot locate events (it has no dense "
-                         "output)", s->integrator);
+                         "output)", s->run.integrator);
         return 2;
     }
-    if (s->stiff_fallback[0] && !(swim_ode_capabilities(s->stiff_fallback) & SWIM_ODE_CAP_EVENTS)) {
+    if (s->run.stiff_fallback[0] && !(swim_ode_capabilities(s->run.stiff_fallback) & SWIM_ODE_CAP_EVENTS)) {
         swim_status_fail(st, "swim", s->path, 0, "run.stiff_fallback", "%s: run.stiff_fallback: integrator '%s' cannot "
-                         "locate the events asked for", s->path, s->stiff_fallback);
+                         "locate the events asked for", s->path, s->run.stiff_fallback);
         return 2;
     }
     swim_run_events *ev = calloc(1, sizeof *ev);

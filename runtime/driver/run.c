@@ -80,9 +80,9 @@ static double barrier_tolerance(scene_run *c, const double *y, double h)
             umax = fmax(umax, fabs(y[3 + i]));
             vmax = fmax(vmax, fabs(x[s->n + k->free_index[i]]));
         }
-        const double want = s->rtol * j0 / g1, floor_s = 40.0 * 1.11e-16 / s->rtol;
+        const double want = s->run.rtol * j0 / g1, floor_s = 40.0 * 1.11e-16 / s->run.rtol;
         for (int i = 0; i < k->nfree; i++) {
-            const double allowed = s->rtol * fabs(x[k->free_index[i]]) + s->atol;
+            const double allowed = s->run.rtol * fabs(x[k->free_index[i]]) + s->run.atol;
             /* with an origin abm rounds u, not the shape: the floor follows the largest |u| (and
              * what one more step can add to it) instead of the shape itself */
             const double floor_i = c->d.origin ? 40.0 * 1.11e-16 * (umax + h * vmax) / allowed : floor_s;
@@ -269,7 +269,7 @@ static int bounce_at(scene_run *c, const double *y, swim_bounce *b)
 static int impact_wanted(scene_run *c, const double *y, double j)
 {
     const swim_scene *s = c->s;
-    if (!(s->impact_depth > 0) || !(j < IMPACT_AT * s->rtol) || !c->d.diag_barrier) return 0;
+    if (!(s->run.impact_depth > 0) || !(j < IMPACT_AT * s->run.rtol) || !c->d.diag_barrier) return 0;
     double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
     swim_dynamics_unpack(&c->d, y, full);
     const double j0 = c->watch_ready && c->watch.end_y == y ? c->watch.end_j   /* just computed at this step end */
@@ -278,7 +278,7 @@ static int impact_wanted(scene_run *c, const double *y, double j)
     if (!(j0 > 0) || bounce_at(c, full, &b) != 0 || !(b.rate > 0)) return 0;
     const double reach = swim_barrier_reach(c->d.diag_barrier, full + 3, s->epsilon, s->alpha, b.normal_kinetic, NULL);
     const double c1 = full[3] * full[3] + full[4] * full[4];
-    if (!(reach > 0) || !(reach < s->impact_depth * c1) || !(reach < IMPACT_DEEPER * j0)) return 0;
+    if (!(reach > 0) || !(reach < s->run.impact_depth * c1) || !(reach < IMPACT_DEEPER * j0)) return 0;
     memcpy(c->impact_dv, b.dv, sizeof(double) * (size_t)s->n);
     c->impact_j = j0 / c1;
     c->impact_reach = reach / c1;
@@ -341,7 +341,7 @@ static void tangent_step(scene_run *c, const swim_ode_accepted *step)
     double r = NAN;
     for (;;) {
         const double tm = (double)(c->lyap_n + 1) * iv;
-        if (c->lyap_reason[0] || !(tm < c->s->t_end - 1e-9 * iv) || !(tm <= t0 + step->tb)) break;
+        if (c->lyap_reason[0] || !(tm < c->s->run.t_end - 1e-9 * iv) || !(tm <= t0 + step->tb)) break;
         const double tau = fmin(fmax(tm - t0, step->ta), step->tb);
         const double *Y = tau == step->tb && step->y_end ? step->y_end
                         : step->interp(step->ctx, tau, c->var_buf, NULL) == 0 ? c->var_buf : NULL;
@@ -471,25 +471,25 @@ static int prepare(scene_run *c)
     swim_dynamics_pack(&c->d, c->y, c->ys);
     memcpy(c->ys_last, c->ys, sizeof(double) * c->sdim);
     c->sys = (swim_ode_system){swim_dynamics_rhs, (size_t)c->sdim, &c->d, NULL};
-    if (s->jacobian_exact && c->spz->scene->jacobian)   /* [run] jacobian: BDF methods use it */
+    if (s->run.jacobian_exact && c->spz->scene->jacobian)   /* [run] jacobian: BDF methods use it */
         c->sys.jacobian = swim_dynamics_jacobian;
     c->sys_state = c->sys;
     swim_ode_options *o = &c->o;
-    swim_run_ode_options(s, o);
+    swim_run_ode_options(&s->run, o);
     swim_dynamics_track_balance(&c->d, 1);   /* the step checks and the balance test read it */
     /* by default where the scene has a barrier: its long stays near the wall (10^4-10^5 steps) are
      * where the drift adds up; a smooth paper scene at rtol 1e-8 keeps ~1e-10 without it, and would
      * pay 30-40 % more steps for 1e-12 (any scene can ask for it) */
-    const int energy_control = s->energy_control < 0 ? s->barrier : s->energy_control;
-    const unsigned caps = swim_ode_capabilities(s->integrator);
+    const int energy_control = s->run.energy_control < 0 ? s->barrier : s->run.energy_control;
+    const unsigned caps = swim_ode_capabilities(s->run.integrator);
     if (energy_control && (caps & SWIM_ODE_CAP_INVARIANT)) {
         o->invariant = scaled_balance;
         o->invariant_data = c;
-        o->invariant_tol = ENERGY_CONTROL * s->rtol;   /* abm never asks for less than B's rounding */
+        o->invariant_tol = ENERGY_CONTROL * s->run.rtol;   /* abm never asks for less than B's rounding */
         c->invariant_on = 1;
     }
     o->stiff_stop = (caps & SWIM_ODE_CAP_STIFFNESS) != 0;   /* stop and report (or switch) on stiffness */
-    if (s->projection && (caps & SWIM_ODE_CAP_PROJECTION)) o->project = swim_dynamics_project;  /* drift control */
+    if (s->run.projection && (caps & SWIM_ODE_CAP_PROJECTION)) o->project = swim_dynamics_project;  /* drift control */
     if (c->req.sink.step && (caps & SWIM_ODE_CAP_STEP_TRACE)) {
         o->on_step = trace_step;
         o->on_step_data = c;
@@ -521,14 +521,14 @@ static int prepare(scene_run *c)
             c->ys_shift = malloc(sizeof(double) * (size_t)c->sdim);
             c->atolv = malloc(sizeof(double) * (size_t)c->sdim);
             if (!c->ys_shift || !c->atolv) goto oom;
-            c->shift_ok = s->origin_shift;
+            c->shift_ok = s->run.origin_shift;
         }
     }
     c->r.switch_t = -1.0;
     c->r.left_t = NAN;
     c->r.jmin_t = NAN;
     c->row_jmin = NAN;
-    snprintf(c->r.used, sizeof c->r.used, "%s", s->integrator);
+    snprintf(c->r.used, sizeof c->r.used, "%s", s->run.integrator);
     return 0;
 oom:
     return 1;
@@ -616,7 +616,7 @@ static void stop_by_signal(scene_run *c, double t)
 /* The remedy that keeps the scene as it is, when the run did not use it. */
 static const char *impact_hint(const swim_scene *s)
 {
-    return s->impact_depth > 0 ? "" : ", or take such bounces as impacts (run.impact_depth, default 1e-16)";
+    return s->run.impact_depth > 0 ? "" : ", or take such bounces as impacts (run.impact_depth, default 1e-16)";
 }
 
 /* With a barrier, why it did not stop the shape: from the last row inside D, how deep into the
@@ -666,7 +666,7 @@ static void barrier_diagnosis(scene_run *c, char *buf, size_t len)
      * ~min J / |dJ/dt|, and the step sizes, the forces (~kappa / min J) and their rounding follow
      * it: a failure inside a bounce deeper than SHIFT_DEEP |c_1|^2 is put down to its depth. */
     const double escale = fmax(fmax(c->r.emax, T), 1e-300);
-    const double floor_j = kappa * 4.0 * 1.11e-16 * c1 / (s->rtol * escale);
+    const double floor_j = kappa * 4.0 * 1.11e-16 * c1 / (s->run.rtol * escale);
     if (!(kappa > 0) || !(c->shift_ok ? j0 < SHIFT_DEEP * c1 : reach < floor_j)) return;
     if (reach > 0 && c->shift_ok)
         snprintf(buf, len, "; at min J = %.3g the barrier (alpha = %g, epsilon = %g) rises by only %.3g per e-fold "
@@ -705,7 +705,7 @@ static void stop_on_integrator(scene_run *c, int rc, double t)
     }
     /* A forcing law that is finite at t0 (checked when the scene is read) may not stay so. */
     if (s->forced && !swim_expr_defined(s->forcing, c->d.last_rhs_t, NULL, 0)) {
-        stop(c, "the forcing law is NaN or Inf at t = %.9g", fmin(c->d.last_rhs_t, s->forcing_finite_until));
+        stop(c, "the forcing law is NaN or Inf at t = %.9g", fmin(c->d.last_rhs_t, s->run.forcing_finite_until));
         return;
     }
     if (rc == SWIM_ODE_ERHS && swim_ode_rhs_status(c->ode) == SWIM_DYN_EBARRIER)
@@ -736,12 +736,12 @@ static int switch_to_fallback(scene_run *c, double t_last, double t)
     c->ode = NULL;
     /* for the user even in a quiet run: the rest of the run is computed by another method than asked for */
     notice(c, "swim run: stiffness detected near t = %.6g; switching from %s to %s at t = %.6g",
-           ts, s->integrator, s->stiff_fallback, t_last);
+           ts, s->run.integrator, s->run.stiff_fallback, t_last);
     c->r.switch_t = t_last;
     swim_run_events_rewind(c->events, t_last);   /* the fallback locates them again from t_last */
     if (c->watch_ready) swim_run_watch_rewind(&c->watch, t_last);
     if (c->fw_on) forcing_rewind(c, t_last);
-    snprintf(c->r.used, sizeof c->r.used, "%s+%s", s->integrator, s->stiff_fallback);
+    snprintf(c->r.used, sizeof c->r.used, "%s+%s", s->run.integrator, s->run.stiff_fallback);
     memcpy(c->ys, c->ys_last, sizeof(double) * c->ndim);
     if (c->var_on && c->var.interval > 0) {   /* the tangent vector as it was at the row */
         while (c->lyap_n > 0 && c->lyap_t[c->lyap_n - 1] > t_last) c->lyap_n--;
@@ -758,7 +758,7 @@ static int switch_to_fallback(scene_run *c, double t_last, double t)
     c->shift_ok = 0;
     c->shift_pending = 0;
     c->o.stiff_stop = 0;
-    const unsigned caps = swim_ode_capabilities(s->stiff_fallback);
+    const unsigned caps = swim_ode_capabilities(s->run.stiff_fallback);
     if (!(caps & SWIM_ODE_CAP_PROJECTION)) c->o.project = NULL;
     if (!(caps & SWIM_ODE_CAP_WEIGHTS)) c->o.tol_scale = NULL;   /* the cut near the barrier is abm's */
     if (!(caps & SWIM_ODE_CAP_INVARIANT)) c->o.invariant = NULL;
@@ -767,10 +767,10 @@ static int switch_to_fallback(scene_run *c, double t_last, double t)
         /* it would put them into its error control, and the trajectory would change with them */
         char why[200];
         snprintf(why, sizeof why, "the stiff fallback %s at t = %.6g cannot leave them out of its error control",
-                 s->stiff_fallback, t_last);
+                 s->run.stiff_fallback, t_last);
         var_stop(c, why);
     }
-    int rc = swim_ode_create(s->stiff_fallback, &c->sys, &c->o, t_last, c->ys, &c->ode);
+    int rc = swim_ode_create(s->run.stiff_fallback, &c->sys, &c->o, t_last, c->ys, &c->ode);
     return rc == SWIM_ODE_OK ? swim_ode_advance(c->ode, t, c->ys) : rc;
 }
 
@@ -812,12 +812,12 @@ static int shift_origin(scene_run *c, double tout)
     c->steps_since_shift = 0;
     /* abm weighs errors by rtol |y_i| + atol; with u = y - origin small that is rtol |u_i| + atol_i */
     if (c->d.origin) {
-        for (int i = 0; i < c->ndim; i++) c->atolv[i] = s->atol + (i < c->sdim ? s->rtol * fabs(c->d.origin[i]) : 0.0);
+        for (int i = 0; i < c->ndim; i++) c->atolv[i] = s->run.atol + (i < c->sdim ? s->run.rtol * fabs(c->d.origin[i]) : 0.0);
         c->o.atol_vec = c->atolv;
     } else {
         c->o.atol_vec = NULL;
     }
-    return resume(c, s->integrator, tau0, tout);
+    return resume(c, s->run.integrator, tau0, tout);
 }
 
 /* The integrator stopped at shift_t (accept_step) at the step end where a bounce becomes an
@@ -840,12 +840,12 @@ static int take_impact(scene_run *c, double tout)
         notice(c, "swim run: t = %.10g: a bounce off the barrier predicted to turn at min J ~ %.1e |c1|^2 "
                "(below run.impact_depth = %g) taken as an impact at min J = %.2e |c1|^2 (docs/barrier.md); "
                "summary.json counts them",
-               t, c->impact_reach, s->impact_depth, c->impact_j);
+               t, c->impact_reach, s->run.impact_depth, c->impact_j);
     }
     c->impact_last_t = t;
     c->impact_j_max = fmax(c->impact_j_max, c->impact_j);
     c->impact_reach_min = fmin(c->impact_reach_min, c->impact_reach);
-    return resume(c, c->r.switch_t >= 0 ? s->stiff_fallback : s->integrator, c->shift_t, tout);
+    return resume(c, c->r.switch_t >= 0 ? s->run.stiff_fallback : s->run.integrator, c->shift_t, tout);
 }
 
 /* Advance to output time *t and leave the row's full state in c->y. A :stop event before *t
@@ -857,7 +857,7 @@ static int advance_to(scene_run *c, double *t, double *t_last)
     while (rc == SWIM_ODE_TERMINATED && c->shift_pending && swim_ode_time(c->ode) == c->shift_t)
         rc = c->shift_pending == 3 ? take_impact(c, *t) : shift_origin(c, *t);
     c->r.integrate_seconds += swim_clock_seconds() - ta;
-    if (rc == SWIM_ODE_ESTIFF && c->s->stiff_fallback[0] && c->r.switch_t < 0 && !stop_requested(c)) {
+    if (rc == SWIM_ODE_ESTIFF && c->s->run.stiff_fallback[0] && c->r.switch_t < 0 && !stop_requested(c)) {
         /* An alarm raised by a bounce off the barrier that double precision cannot follow is
          * not stiffness: BDF's larger steps would only cross the unresolved wall with a wrong
          * energy. The run stops there, saying why (stop_on_integrator). */
@@ -985,11 +985,11 @@ static void start_loop(scene_run *c)
     c->loop_started = 1;
     c->t_start = swim_clock_seconds();
     c->t_last = 0.0;
-    c->loop_rc = swim_ode_create(s->integrator, &c->sys, &c->o, 0.0, c->ys, &c->ode);
-    c->nrows = (long)floor(s->t_end / s->output_step + 1e-9);
+    c->loop_rc = swim_ode_create(s->run.integrator, &c->sys, &c->o, 0.0, c->ys, &c->ode);
+    c->nrows = (long)floor(s->run.t_end / s->run.output_step + 1e-9);
     c->every = c->nrows / (SWIM_RUN_SNAPSHOTS - 1) > 0 ? c->nrows / (SWIM_RUN_SNAPSHOTS - 1) : 1;
     if (c->loop_rc != SWIM_ODE_OK) {
-        stop(c, "integrator '%s' could not start: %s", s->integrator, swim_ode_strerror(c->loop_rc));
+        stop(c, "integrator '%s' could not start: %s", s->run.integrator, swim_ode_strerror(c->loop_rc));
         c->loop_done = 1;
     }
 }
@@ -998,9 +998,9 @@ static void start_loop(scene_run *c)
 static double row_time(const scene_run *c, long k)
 {
     const swim_scene *s = c->s;
-    double t = k <= c->nrows ? k * s->output_step : s->t_end;
-    if (k == c->nrows && fabs(t - s->t_end) < 1e-9 * s->output_step) t = s->t_end;
-    if (k > c->nrows && (c->nrows * s->output_step >= s->t_end * (1 - 1e-12))) return NAN;
+    double t = k <= c->nrows ? k * s->run.output_step : s->run.t_end;
+    if (k == c->nrows && fabs(t - s->run.t_end) < 1e-9 * s->run.output_step) t = s->run.t_end;
+    if (k > c->nrows && (c->nrows * s->run.output_step >= s->run.t_end * (1 - 1e-12))) return NAN;
     if (k > c->nrows + 1) return NAN;
     return t;
 }
@@ -1012,9 +1012,9 @@ static int next_row(scene_run *c)
     const long k = c->k;
     double t = row_time(c, k);
     if (isnan(t)) return 1;
-    if (s->forced && t >= s->forcing_finite_until) {   /* found when the settings were checked */
+    if (s->forced && t >= s->run.forcing_finite_until) {   /* found when the settings were checked */
         stop(c, "the forcing law is NaN or Inf at t = %.9g; stopped before the step to t = %.6g",
-             s->forcing_finite_until, t);
+             s->run.forcing_finite_until, t);
         return 1;
     }
     if (k > 0 && (c->loop_rc = advance_to(c, &t, &c->t_last)) != SWIM_ODE_OK) {
@@ -1034,7 +1034,7 @@ static int next_row(scene_run *c)
         return 1;
     }
     if (c->r.event_stop) return 1;   /* the row at the event was the last */
-    if (c->req.sink.progress) c->req.sink.progress(c->req.sink.ctx, t, s->t_end);
+    if (c->req.sink.progress) c->req.sink.progress(c->req.sink.ctx, t, s->run.t_end);
     return 0;
 }
 
@@ -1050,7 +1050,7 @@ static void finish_loop(scene_run *c)
             tangent_mark(c, tl, tangent_norm(c, c->ys_last));
         }
     }
-    if (c->r.status == 0 && !c->r.event_stop) end_run(c, 0, "reached t_end = %.6g", s->t_end);
+    if (c->r.status == 0 && !c->r.event_stop) end_run(c, 0, "reached t_end = %.6g", s->run.t_end);
     if (c->ode) accumulate_stats(&c->total, c->ode);
     if (c->watch_ready) take_watch(&c->r, &c->watch);
 }
@@ -1075,9 +1075,9 @@ static void advance_rows(scene_run *c, double t)
 void swim_run_ode_options(const swim_scene *s, swim_ode_options *o)
 {
     swim_ode_options_default(o);
-    o->rtol = s->rtol;
-    o->atol = s->atol;
-    if (s->step_lookahead >= 0) o->lookahead = s->step_lookahead;
+    o->rtol = s->run.rtol;
+    o->atol = s->run.atol;
+    if (s->run.step_lookahead >= 0) o->lookahead = s->run.step_lookahead;
 }
 
 /* ---- the scene kind (driver/run.h, swim_run_kind) ------------------------------------------- */
@@ -1109,13 +1109,13 @@ static void fill_result(scene_run *c)
     res->diagnostics_seconds = r->diagnostics_seconds;
     res->output_seconds = r->output_seconds;
     res->wall_seconds = swim_clock_seconds() - c->t_start;
-    res->projection = c->s->projection && (swim_ode_capabilities(c->s->integrator) & SWIM_ODE_CAP_PROJECTION);
+    res->projection = c->s->run.projection && (swim_ode_capabilities(c->s->run.integrator) & SWIM_ODE_CAP_PROJECTION);
     res->step_checks = c->watch_ready;
     res->step_check_steps = c->watch.r.steps;
     res->step_check_seconds = swim_clock_sample_total(&c->watch.time);
     res->origin_shift_enabled = c->shift_ok || c->shifts;
     res->shifts = c->shifts;
-    res->impacts_enabled = c->ys_shift && c->s->impact_depth > 0;
+    res->impacts_enabled = c->ys_shift && c->s->run.impact_depth > 0;
     res->impacts = c->impacts;
     res->impact_first_t = c->impact_first_t;
     res->impact_last_t = c->impact_last_t;
@@ -1144,7 +1144,7 @@ static void describe(scene_run *c)
     res->kernel_kind = c->d.generic ? "generic" : "specialized";
     res->state_dimension = swim_dynamics_state_dim(&c->d);
     res->projection_change = s->projection_change;
-    res->impact_depth = s->impact_depth;
+    res->impact_depth = s->run.impact_depth;
     res->jacobian = c->sys_state.jacobian ? "exact" : "differences";   /* what the BDF methods use */
 }
 
@@ -1255,12 +1255,12 @@ static int scene_set_variational(void *p, const swim_run_variational *v, swim_st
         return 2;
     }
     const swim_scene *s = c->s;
-    const unsigned caps = swim_ode_capabilities(s->integrator);
+    const unsigned caps = swim_ode_capabilities(s->run.integrator);
     const unsigned need = (v->error_control ? 0u : SWIM_ODE_CAP_ERROR_DIM) |
                           (v->interval > 0 ? SWIM_ODE_CAP_ERROR_DIM | SWIM_ODE_CAP_EVENTS | SWIM_ODE_CAP_RESCALE : 0u);
     if ((caps & need) != need) {
         swim_status_fail(st, NULL, NULL, 0, NULL, "integrator %s cannot carry %s on the run's steps outside its error "
-                         "control; use one of: %s", s->integrator,
+                         "control; use one of: %s", s->run.integrator,
                          v->interval > 0 ? "the Lyapunov tangent vector" : "the sensitivities", swim_ode_method_list_with(need));
         return 2;
     }
@@ -1269,7 +1269,7 @@ static int scene_set_variational(void *p, const swim_run_variational *v, swim_st
      * not move the warm starts of the run's own (model/dynamics.h) */
     if (swim_dynamics_set_aside(&c->d) != 0) goto oom;
     if (grow(&c->ys, n, m, 0.0) || grow(&c->ys_last, n, m, 0.0) || grow(&c->ys_row, n, m, 0.0) ||
-        grow(&c->ys_shift, n, m, 0.0) || grow(&c->atolv, n, m, s->atol) || grow(&c->tol_scale, n, m, 1.0) ||
+        grow(&c->ys_shift, n, m, 0.0) || grow(&c->atolv, n, m, s->run.atol) || grow(&c->tol_scale, n, m, 1.0) ||
         grow(&c->fw_ys, n, m, 0.0) || !(c->var_buf = calloc((size_t)m, sizeof(double))))
         goto oom;
     if (c->watch_ready) {   /* its buffer takes the interpolant's whole vector */

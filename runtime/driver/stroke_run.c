@@ -137,13 +137,13 @@ static int prepare_stroke(swim_stroke_run *c, swim_status *st)
     if (swim_scene_check_model(s, c->kn->kernel, st)) return 2;
     double t_bad;
     char why[512];
-    if (swim_stroke_check(&c->st, s->t_end, s->output_step, SWIM_STROKE_CHECK_SAMPLES, &t_bad, why, sizeof why))
+    if (swim_stroke_check(&c->st, s->run.t_end, s->run.output_step, SWIM_STROKE_CHECK_SAMPLES, &t_bad, why, sizeof why))
         return refuse(c, t_bad, why, st);
     if (s->stroke_period > 0) {
         c->period = s->stroke_period;
         c->period_source = "scene";
     } else {
-        c->period = swim_stroke_detect_period(&c->st, s->t_end);
+        c->period = swim_stroke_detect_period(&c->st, s->run.t_end);
         c->period_source = c->period > 0 ? "detected" : "none";
     }
     if (swim_dynamics_init(&c->d, s, c->kn->kernel) != 0) {
@@ -278,23 +278,23 @@ static void integrate(swim_stroke_run *c)
 {
     const swim_scene *s = c->s;
     swim_ode_system sys = {swim_stroke_rhs, SWIM_STROKE_DIM, &c->st, NULL};
-    swim_run_ode_options(s, &c->o);
+    swim_run_ode_options(&s->run, &c->o);
     if (c->events && swim_run_events_attach(c->events, &c->o, SWIM_STROKE_DIM, 3 + 2 * s->n, event_row, c) != 0) {
         end_run(c, 1, "out of memory");
         return;
     }
     swim_stroke_initial_state(&c->st, c->y);
     c->t_start = swim_clock_seconds();
-    int rc = swim_ode_create(s->integrator, &sys, &c->o, 0.0, c->y, &c->ode);
+    int rc = swim_ode_create(s->run.integrator, &sys, &c->o, 0.0, c->y, &c->ode);
     if (rc != SWIM_ODE_OK) {
-        end_run(c, 1, "integrator '%s' could not start: %s", s->integrator, swim_ode_strerror(rc));
+        end_run(c, 1, "integrator '%s' could not start: %s", s->run.integrator, swim_ode_strerror(rc));
         return;
     }
-    const long rows = (long)floor(s->t_end / s->output_step + 1e-9);
-    const int tail_row = rows * s->output_step < s->t_end * (1 - 1e-12);
+    const long rows = (long)floor(s->run.t_end / s->run.output_step + 1e-9);
+    const int tail_row = rows * s->run.output_step < s->run.t_end * (1 - 1e-12);
     const long every = rows / (SWIM_RUN_SNAPSHOTS - 1) > 0 ? rows / (SWIM_RUN_SNAPSHOTS - 1) : 1;
-    const long nstrokes = c->period > 0 ? (long)fmin(floor(s->t_end / c->period * (1 + 1e-12)), MAX_STROKES) : 0;
-    const double h_sample = fmin(0.25 * s->output_step, (c->period > 0 ? c->period : s->t_end) / SWIM_STROKE_POSWORK_SAMPLES);
+    const long nstrokes = c->period > 0 ? (long)fmin(floor(s->run.t_end / c->period * (1 + 1e-12)), MAX_STROKES) : 0;
+    const double h_sample = fmin(0.25 * s->run.output_step, (c->period > 0 ? c->period : s->run.t_end) / SWIM_STROKE_POSWORK_SAMPLES);
     if (nstrokes > 0 && !(c->strokes = calloc((size_t)nstrokes, sizeof *c->strokes))) {
         end_run(c, 1, "out of memory");
         return;
@@ -308,10 +308,10 @@ static void integrate(swim_stroke_run *c)
     long k = 0, j = 1;   /* next row, next stroke end */
     if (emit_row(c, k++, every, rows == 0 && !tail_row, 0.0) != 0) return;
     for (;;) {
-        const double tr = k <= rows ? (k == rows && fabs(k * s->output_step - s->t_end) < 1e-9 * s->output_step
-                                           ? s->t_end : k * s->output_step)
-                        : (k == rows + 1 && tail_row ? s->t_end : INFINITY);
-        const double ts = j <= nstrokes ? fmin(j * c->period, s->t_end) : INFINITY;
+        const double tr = k <= rows ? (k == rows && fabs(k * s->run.output_step - s->run.t_end) < 1e-9 * s->run.output_step
+                                           ? s->run.t_end : k * s->run.output_step)
+                        : (k == rows + 1 && tail_row ? s->run.t_end : INFINITY);
+        const double ts = j <= nstrokes ? fmin(j * c->period, s->run.t_end) : INFINITY;
         const double target = fmin(tr, ts);
         if (!isfinite(target)) break;
         t = fmin(target, t + h_sample);
@@ -356,9 +356,9 @@ static void integrate(swim_stroke_run *c)
             stop_on_integrator(c, SWIM_ODE_ERHS);
             break;
         }
-        if (c->req.sink.progress) c->req.sink.progress(c->req.sink.ctx, t, s->t_end);
+        if (c->req.sink.progress) c->req.sink.progress(c->req.sink.ctx, t, s->run.t_end);
     }
-    if (!c->reason) end_run(c, 0, "reached t_end = %.6g", s->t_end);
+    if (!c->reason) end_run(c, 0, "reached t_end = %.6g", s->run.t_end);
 }
 
 /* ---- report ------------------------------------------------------------------------------- */
@@ -485,7 +485,7 @@ static int stroke_advance(void *p, double t_unused)
     r->jmin_t = c->jmin_t;
     r->left_t = c->left_D_t;
     r->switch_t = -1.0;
-    snprintf(r->used, sizeof r->used, "%s", c->s->integrator);
+    snprintf(r->used, sizeof r->used, "%s", c->s->run.integrator);
     if (c->ode) swim_ode_get_stats(c->ode, &r->stats);
     r->integrate_seconds = c->integrate_seconds;
     r->diagnostics_seconds = c->diagnostics_seconds;

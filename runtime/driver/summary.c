@@ -133,8 +133,8 @@ static json_t *stiff_switch(const swim_run_result *r, const swim_scene *s, int *
     json_t *o = obj();
     if (!o) return NULL;
     put(o, "t", swim_json_num(r->switch_t), bad);
-    put(o, "from", swim_json_str(s->integrator), bad);
-    put(o, "to", swim_json_str(s->stiff_fallback), bad);
+    put(o, "from", swim_json_str(s->run.integrator), bad);
+    put(o, "to", swim_json_str(s->run.stiff_fallback), bad);
     return o;
 }
 
@@ -235,8 +235,8 @@ json_t *swim_run_summary(const swim_run *run, const swim_summary_context *x)
     put(o, "rhof", swim_json_num(s->rhof), &bad);
     put(o, "integrator", swim_json_str(r->used), &bad);
     put(o, "integrator_switch_t", swim_json_num(r->switch_t >= 0 ? r->switch_t : NAN), &bad);
-    put(o, "rtol", swim_json_fmt("%.3g", s->rtol), &bad);
-    put(o, "atol", swim_json_fmt("%.3g", s->atol), &bad);
+    put(o, "rtol", swim_json_fmt("%.3g", s->run.rtol), &bad);
+    put(o, "atol", swim_json_fmt("%.3g", s->run.atol), &bad);
     put(o, "step_lookahead", count(r->step_lookahead), &bad);
     put(o, "free", free_coordinates(s), &bad);
     put(o, "effects", effects(r, &bad), &bad);
@@ -249,7 +249,7 @@ json_t *swim_run_summary(const swim_run *run, const swim_summary_context *x)
     }
     put(o, "projection", proj, &bad);
     status(o, r, &bad);
-    put(o, "t_end", swim_json_num(s->t_end), &bad);
+    put(o, "t_end", swim_json_num(s->run.t_end), &bad);
     put(o, "t_reached", swim_json_num(r->t_reached), &bad);
     put(o, "rows", count(r->rows), &bad);
     if (x->sensitivity) put(o, "sensitivity", sensitivity(x, &bad), &bad);

@@ -466,7 +466,7 @@ int swim_export(const swim_export_request *req, swim_export_result *res, swim_st
     res->stroke = s->stroke_count > 0;
     res->modes = s->modes;
     /* peers_cvode.c is the only user of SUNDIALS; a stroke runs its own integrator without fallback */
-    res->cvode = is_cvode(s->integrator) || (!res->stroke && s->stiff_fallback[0] && is_cvode(s->stiff_fallback));
+    res->cvode = is_cvode(s->run.integrator) || (!res->stroke && s->run.stiff_fallback[0] && is_cvode(s->run.stiff_fallback));
     char probe[4200];
     int rc = 0;
     if (!(c.share = swim_share_dir(st))) rc = 1;

@@ -388,10 +388,10 @@ static int sim_check_analyses(swim_sim *s, swim_status *st)
         s->bad_option = 1;
         return SWIM_EINPUT;
     }
-    if (s->o.lyapunov != 0 && !(s->o.lyapunov > 0 && s->s.t_end / s->o.lyapunov <= SWIM_LYAPUNOV_MAX_SEGMENTS)) {
+    if (s->o.lyapunov != 0 && !(s->o.lyapunov > 0 && s->s.run.t_end / s->o.lyapunov <= SWIM_LYAPUNOV_MAX_SEGMENTS)) {
         swim_status_fail(st, "swim", s->m->P.name, 0, "lyapunov", "%s: lyapunov: the interval %g must be > 0 and give at "
                          "most %d renormalizations over t_end = %g", s->m->P.name, s->o.lyapunov,
-                         SWIM_LYAPUNOV_MAX_SEGMENTS, s->s.t_end);
+                         SWIM_LYAPUNOV_MAX_SEGMENTS, s->s.run.t_end);
         s->bad_option = 2;
         return SWIM_EINPUT;
     }
@@ -423,7 +423,7 @@ static int sim_attach_analyses(swim_sim *s, swim_status *st)
 {
     if (!s->sens_keys && !(s->o.lyapunov > 0)) return SWIM_OK;
     const swim_analyses_request ar = {s->sens_keys, 0, 0, s->o.lyapunov > 0 ? s->o.lyapunov : 0.0, sens_table_row, s};
-    int rc = swim_analyses_check(s->s.integrator, &ar, "swim", st);
+    int rc = swim_analyses_check(s->s.run.integrator, &ar, "swim", st);
     if (rc) {
         s->bad_option = s->sens_keys ? 1 : 2;
         return SWIM_EINPUT;
@@ -462,7 +462,7 @@ static void sim_analyses(swim_sim *s)
             snprintf(s->lyap_reason, sizeof s->lyap_reason, "%s", r->status != 0 ? "the run did not complete"
                      : r->impacts ? "the run took impacts, across which the variational equations do not hold"
                                   : "the run has no time span");
-        else if (swim_analyses_lyapunov(&s->an, s->run, s->o.lyapunov, s->s.rtol, &s->lyap) != 0)
+        else if (swim_analyses_lyapunov(&s->an, s->run, s->o.lyapunov, s->s.run.rtol, &s->lyap) != 0)
             snprintf(s->lyap_reason, sizeof s->lyap_reason, "out of memory");
         else if (s->lyap.status != 0)
             snprintf(s->lyap_reason, sizeof s->lyap_reason, "%s", s->lyap.reason);
@@ -897,7 +897,7 @@ static int orbit_run(const swim_model *m, const swim_orbit_options *theirs, char
     }
     int arc = 0;
     if (rc == SWIM_OK) {
-        const double t_max = o.t_max > 0 ? o.t_max : op.s.t_end;
+        const double t_max = o.t_max > 0 ? o.t_max : op.s.run.t_end;
         swim_periodic_options po = {o.tol > 0 ? o.tol : 1e-11, o.max_iter > 0 ? o.max_iter : 20, 1e-12, 1e-14, t_max,
                                     cmd, "swim_orbit_options.t_max", NULL, NULL, NULL};
         if (kind == 'p') {
@@ -905,7 +905,7 @@ static int orbit_run(const swim_model *m, const swim_orbit_options *theirs, char
         } else if (kind == 'f') {
             arc = swim_floquet_compute(&op.d, &op.sec, t_max, NULL, NULL, &a->fl, &st);
         } else {
-            po.t_max = op.s.t_end;
+            po.t_max = op.s.run.t_end;
             po.t_max_from = "run.t_end";
             const swim_cont_options co = {a->key, o.start, o.end, o.points > 0 ? o.points : 11, po, NULL, NULL};
             arc = swim_continue(&op.d, &op.s, &op.sec, &co, &a->b, &st);

@@ -95,15 +95,15 @@ static int read_scene(swim_job *j, swim_status *st)
     swim_override adjusted[SWIM_JOB_MAX_SETS];
     if (r->adjust && r->adjust(s, adjusted, &nadj, r->adjust_ctx, st) != 0) return 2;
     if (j->stroke && refuse_for_stroke(j, st)) return 2;
-    if (r->lyapunov > 0 && !(s->t_end / r->lyapunov <= SWIM_LYAPUNOV_MAX_SEGMENTS)) {
+    if (r->lyapunov > 0 && !(s->run.t_end / r->lyapunov <= SWIM_LYAPUNOV_MAX_SEGMENTS)) {
         swim_status_fail(st, who, NULL, 0, NULL, "--lyapunov-interval: %g gives %.3g renormalizations over t_end = %g, "
                          "more than %d (the rows of lyapunov.csv); give an interval >= %.3g", r->lyapunov,
-                         s->t_end / r->lyapunov, s->t_end, SWIM_LYAPUNOV_MAX_SEGMENTS,
-                         s->t_end / SWIM_LYAPUNOV_MAX_SEGMENTS);
+                         s->run.t_end / r->lyapunov, s->run.t_end, SWIM_LYAPUNOV_MAX_SEGMENTS,
+                         s->run.t_end / SWIM_LYAPUNOV_MAX_SEGMENTS);
         return 2;
     }
-    if (r->trace && !(swim_ode_capabilities(s->integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
-        swim_status_fail(st, who, NULL, 0, NULL, "--trace-steps: integrator '%s' does not report its steps", s->integrator);
+    if (r->trace && !(swim_ode_capabilities(s->run.integrator) & SWIM_ODE_CAP_STEP_TRACE)) {
+        swim_status_fail(st, who, NULL, 0, NULL, "--trace-steps: integrator '%s' does not report its steps", s->run.integrator);
         return 2;
     }
     /* events name columns of trajectory.csv: checked against them, before any output */
@@ -156,7 +156,7 @@ static int check_variational(swim_job *j, swim_status *st)
     char who[64];
     snprintf(who, sizeof who, "swim %s", j->req.cmd);
     const swim_analyses_request ar = analyses_request(j);
-    return ar.keys || ar.lyapunov > 0 ? swim_analyses_check(j->s.integrator, &ar, who, st) : 0;
+    return ar.keys || ar.lyapunov > 0 ? swim_analyses_check(j->s.run.integrator, &ar, who, st) : 0;
 }
 
 static swim_folder_request folder_request(const swim_job *j, const char **names, char storage[][24])
@@ -311,7 +311,7 @@ static void finish_sensitivity(swim_job *j, swim_status *st)
     j->sens_seconds = j->an.row_seconds + swim_run_dynamics(j->run)->jac_seconds;
     j->sens_rows = j->an.rows;
     j->sens_t_last = j->an.rows > 0 ? j->an.t_last : NAN;
-    j->sens_t = r->status == 0 ? r->t_reached : j->s.t_end;
+    j->sens_t = r->status == 0 ? r->t_reached : j->s.run.t_end;
     const int sig = j->req.stop ? *j->req.stop : 0;
     if (r->impacts) {   /* the variational equations would need the impact's jump (a saltation matrix) */
         j->sens_status = "failed";
@@ -370,7 +370,7 @@ static void finish_lyapunov(swim_job *j, swim_status *st)
         return;
     }
     char *path = swim_strprintf("%s/lyapunov.csv", swim_folder_paths(j->folder)->dir);
-    const int rc = path ? swim_analyses_lyapunov(&j->an, j->run, j->req.lyapunov, j->s.rtol, &j->lyap) : -1;
+    const int rc = path ? swim_analyses_lyapunov(&j->an, j->run, j->req.lyapunov, j->s.run.rtol, &j->lyap) : -1;
     const int sig = j->req.stop ? *j->req.stop : 0;
     if (rc == 0 && r->status != 0 && j->lyap.status == 0) {
         j->lyap.status = 1;

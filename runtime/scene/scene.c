@@ -306,7 +306,7 @@ static int check_initial_velocity(ctx *c, const toml_value *shape, swim_scene *s
         swim_coord_name(idx, nm, sizeof nm);
         snprintf(what, sizeof what, "the lock of %s (it must start at rest)", nm);
     }
-    if (!s->project_initial)
+    if (!s->run.project_initial)
         ERR(c, line, "dc0", "violates %s by %.3g; fix the data or set [run] project_initial = true", what, worst);
     double before[SWIM_NMAX];
     memcpy(before, s->dc0, sizeof(double) * s->n);
@@ -537,20 +537,20 @@ static int load_tree(ctx *c, const toml_value *root, swim_scene *s)
     c->table = "run";
     if (check_table_keys(c, run, "run")) return 2;
     /* Bounds and the row cap: swim_run_settings_check, once the forcing law is read too. */
-    if (get_number(c, run, "t_end", 1, &s->t_end)) return 2;
-    if (get_number(c, run, "output_step", 1, &s->output_step)) return 2;
-    s->rtol = 1e-8;
-    s->atol = 1e-10;
-    if (get_number(c, run, "rtol", 0, &s->rtol)) return 2;
-    if (get_number(c, run, "atol", 0, &s->atol)) return 2;
+    if (get_number(c, run, "t_end", 1, &s->run.t_end)) return 2;
+    if (get_number(c, run, "output_step", 1, &s->run.output_step)) return 2;
+    s->run.rtol = 1e-8;
+    s->run.atol = 1e-10;
+    if (get_number(c, run, "rtol", 0, &s->run.rtol)) return 2;
+    if (get_number(c, run, "atol", 0, &s->run.atol)) return 2;
     static const char *const setting_keys[] = {"t_end", "output_step", "rtol", "atol"};
     for (int i = 0; i < 4; i++) s->setting_line[i] = toml_get_key_line(run, setting_keys[i]);
-    snprintf(s->integrator, sizeof s->integrator, "abm");
-    if (get_integrator(c, run, "integrator", s->integrator, sizeof s->integrator)) return 2;
+    snprintf(s->run.integrator, sizeof s->run.integrator, "abm");
+    if (get_integrator(c, run, "integrator", s->run.integrator, sizeof s->run.integrator)) return 2;
     /* BDF by default: where ABM's stiffness diagnostic fires, a stiff code goes on at a fraction
      * of the cost; "none" keeps the stop with the message naming the remedy */
-    snprintf(s->stiff_fallback, sizeof s->stiff_fallback, "cvode-bdf");
-    if (get_stiff_fallback(c, run, s->stiff_fallback, sizeof s->stiff_fallback)) return 2;
+    snprintf(s->run.stiff_fallback, sizeof s->run.stiff_fallback, "cvode-bdf");
+    if (get_stiff_fallback(c, run, s->run.stiff_fallback, sizeof s->run.stiff_fallback)) return 2;
     /* projection, origin_shift, energy_control, impact_depth, step_lookahead, jacobian,
      * project_initial: plain keys (scene/keys.h). Turning points below the resolution of
      * J = |c_1|^2 - |h|^2 in double precision (u |c_1|^2) are impacts by default: the shifted
@@ -675,7 +675,7 @@ int swim_scene_parse_with(const char *text, size_t len, const char *path, const 
                           int nov, swim_scene *s, swim_status *st)
 {
     memset(s, 0, sizeof *s);
-    s->forcing_finite_until = INFINITY;
+    s->run.forcing_finite_until = INFINITY;
     s->path = strdup(path);
     s->title = strdup("");
     if (!s->path || !s->title) {
@@ -1033,9 +1033,9 @@ static double first_nonfinite(const swim_expr *e, double step, long count, doubl
 #define LAW_ROW_SAMPLES 1000000L
 static double law_finite_until(const swim_scene *s, const swim_expr *e)
 {
-    long rows = (long)fmin(floor(s->t_end / s->output_step), (double)LAW_ROW_SAMPLES);
-    return fmin(first_nonfinite(e, s->t_end / LAW_SAMPLES, LAW_SAMPLES, s->t_end),
-                first_nonfinite(e, s->output_step, rows, s->t_end));
+    long rows = (long)fmin(floor(s->run.t_end / s->run.output_step), (double)LAW_ROW_SAMPLES);
+    return fmin(first_nonfinite(e, s->run.t_end / LAW_SAMPLES, LAW_SAMPLES, s->run.t_end),
+                first_nonfinite(e, s->run.output_step, rows, s->run.t_end));
 }
 
 /* A stroke law must be defined on the whole run (its kernel has no other law to follow, and
@@ -1065,26 +1065,26 @@ int swim_run_settings_check(swim_scene *s, const swim_run_overrides *cli, swim_s
      * (its line is the one to change); with one from the command line, it is that option's. */
     int rows_key = cli && cli->given[SWIM_SET_T_END] && !cli->given[SWIM_SET_OUTPUT_STEP] ? SWIM_SET_T_END
                                                                                         : SWIM_SET_OUTPUT_STEP;
-    if (!(s->t_end > 0)) return setting_error(s, cli, st, SWIM_SET_T_END, "must be > 0, got %g", s->t_end);
-    if (!(s->output_step > 0)) return setting_error(s, cli, st, SWIM_SET_OUTPUT_STEP, "must be > 0, got %g", s->output_step);
-    if (!(s->t_end / s->output_step <= SWIM_ROWS_MAX))
+    if (!(s->run.t_end > 0)) return setting_error(s, cli, st, SWIM_SET_T_END, "must be > 0, got %g", s->run.t_end);
+    if (!(s->run.output_step > 0)) return setting_error(s, cli, st, SWIM_SET_OUTPUT_STEP, "must be > 0, got %g", s->run.output_step);
+    if (!(s->run.t_end / s->run.output_step <= SWIM_ROWS_MAX))
         return setting_error(s, cli, st, rows_key, "output_step %g gives more than 10^7 rows for t_end = %g",
-                             s->output_step, s->t_end);
-    if (!(s->rtol > 0)) return setting_error(s, cli, st, SWIM_SET_RTOL, "must be > 0, got %g", s->rtol);
-    if (!(s->rtol >= SWIM_RTOL_MIN && s->rtol <= SWIM_RTOL_MAX))
+                             s->run.output_step, s->run.t_end);
+    if (!(s->run.rtol > 0)) return setting_error(s, cli, st, SWIM_SET_RTOL, "must be > 0, got %g", s->run.rtol);
+    if (!(s->run.rtol >= SWIM_RTOL_MIN && s->run.rtol <= SWIM_RTOL_MAX))
         return setting_error(s, cli, st, SWIM_SET_RTOL, "%g is outside [%.2g, %g]: below 100 unit roundoffs the error "
                              "test cannot be met in double precision, above %g it bounds nothing",
-                             s->rtol, SWIM_RTOL_MIN, SWIM_RTOL_MAX, SWIM_RTOL_MAX);
-    if (!(s->atol > 0)) return setting_error(s, cli, st, SWIM_SET_ATOL, "must be > 0, got %g", s->atol);
-    if (!(s->atol <= SWIM_ATOL_MAX))
-        return setting_error(s, cli, st, SWIM_SET_ATOL, "%g is above %g: the states are of order 1", s->atol, SWIM_ATOL_MAX);
-    s->forcing_finite_until = INFINITY;
+                             s->run.rtol, SWIM_RTOL_MIN, SWIM_RTOL_MAX, SWIM_RTOL_MAX);
+    if (!(s->run.atol > 0)) return setting_error(s, cli, st, SWIM_SET_ATOL, "must be > 0, got %g", s->run.atol);
+    if (!(s->run.atol <= SWIM_ATOL_MAX))
+        return setting_error(s, cli, st, SWIM_SET_ATOL, "%g is above %g: the states are of order 1", s->run.atol, SWIM_ATOL_MAX);
+    s->run.forcing_finite_until = INFINITY;
     if (s->forcing) {
         char why[160];
         if (!swim_expr_defined(s->forcing, 0.0, why, sizeof why))
             return setting_error(s, NULL, st, SWIM_SET_LAW, "\"%s\" is not finite at t = 0, the start of the run: %s",
                                  s->forcing_text, why);
-        s->forcing_finite_until = law_finite_until(s, s->forcing);
+        s->run.forcing_finite_until = law_finite_until(s, s->forcing);
     }
     return s->stroke ? check_stroke_laws(s, st) : 0;
 }

@@ -712,12 +712,12 @@ static int member_adjust(swim_scene *s, swim_override *recorded, int *nrecorded,
     char text[64];
     *nrecorded = 0;
     if (p->integrator[0]) {
-        snprintf(s->integrator, sizeof s->integrator, "%s", p->integrator);
+        snprintf(s->run.integrator, sizeof s->run.integrator, "%s", p->integrator);
         snprintf(text, sizeof text, "run.integrator=%s", p->integrator);
         if (swim_override_parse(text, &recorded[*nrecorded], NULL, 0) == 0) (*nrecorded)++;
     }
     if (p->no_projection && s->stroke_count == 0) {
-        s->projection = 0;
+        s->run.projection = 0;
         if (swim_override_parse("run.projection=false", &recorded[*nrecorded], NULL, 0) == 0) (*nrecorded)++;
     }
     if (p->no_projection && s->stroke_count > 0) {

@@ -14,11 +14,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     static swim_scene s;
     int rc = swim_scene_parse((const char *)data, size, "fuzz.toml", &s, NULL);
     if (rc == 0) {
-        if (s.n != 2 * (s.modes + 1) || s.modes < 0 || s.modes > SWIM_KERNEL_MAX_MODES || !(s.t_end > 0) || !(s.output_step > 0)) abort();
+        if (s.n != 2 * (s.modes + 1) || s.modes < 0 || s.modes > SWIM_KERNEL_MAX_MODES || !(s.run.t_end > 0) || !(s.run.output_step > 0)) abort();
         /* an accepted scene passed the run-settings check (the magnitude check needs the
          * kernel of N modes: swim_scene_check_model, run by swim run) */
-        if (!(s.t_end / s.output_step <= SWIM_ROWS_MAX) || !(s.rtol >= SWIM_RTOL_MIN && s.rtol <= SWIM_RTOL_MAX) ||
-            !(s.atol > 0 && s.atol <= SWIM_ATOL_MAX))
+        if (!(s.run.t_end / s.run.output_step <= SWIM_ROWS_MAX) || !(s.run.rtol >= SWIM_RTOL_MIN && s.run.rtol <= SWIM_RTOL_MAX) ||
+            !(s.run.atol > 0 && s.run.atol <= SWIM_ATOL_MAX))
             abort();
         if (s.forcing && !swim_expr_defined(s.forcing, 0.0, NULL, 0)) abort();
         if (!s.path || !s.title || strcmp(s.path, "fuzz.toml") != 0) abort();

@@ -18,10 +18,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memset(&s, 0, sizeof s);
     double v[4];
     memcpy(v, data, sizeof v);
-    s.t_end = v[0];
-    s.output_step = v[1];
-    s.rtol = v[2];
-    s.atol = v[3];
+    s.run.t_end = v[0];
+    s.run.output_step = v[1];
+    s.run.rtol = v[2];
+    s.run.atol = v[3];
     s.path = "fuzz.toml";
     swim_run_overrides cli;
     for (int i = 0; i < SWIM_SET_COUNT; i++) cli.given[i] = (data[sizeof v] >> i) & 1;
@@ -36,14 +36,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     int rc = swim_run_settings_check(&s, (data[sizeof v] & 0x80) ? NULL : &cli, NULL);
     if (rc != 0 && rc != 2) abort();
     if (rc == 0) {
-        if (!(s.t_end > 0) || !(s.output_step > 0) || !(s.t_end / s.output_step <= SWIM_ROWS_MAX)) abort();
-        if (!(s.rtol >= SWIM_RTOL_MIN && s.rtol <= SWIM_RTOL_MAX) || !(s.atol > 0 && s.atol <= SWIM_ATOL_MAX)) abort();
+        if (!(s.run.t_end > 0) || !(s.run.output_step > 0) || !(s.run.t_end / s.run.output_step <= SWIM_ROWS_MAX)) abort();
+        if (!(s.run.rtol >= SWIM_RTOL_MIN && s.run.rtol <= SWIM_RTOL_MAX) || !(s.run.atol > 0 && s.run.atol <= SWIM_ATOL_MAX)) abort();
         if (s.forcing) {
             if (!swim_expr_defined(s.forcing, 0.0, NULL, 0) || !isfinite(swim_expr_eval(s.forcing, 0.0))) abort();
-            double u = s.forcing_finite_until;
+            double u = s.run.forcing_finite_until;
             if (!(u > 0)) abort();
             /* a recorded onset is a time where the law was evaluated and a part of it found not finite */
-            if (isfinite(u) && (u > s.t_end || swim_expr_defined(s.forcing, u, NULL, 0))) abort();
+            if (isfinite(u) && (u > s.run.t_end || swim_expr_defined(s.forcing, u, NULL, 0))) abort();
         }
     }
     swim_expr_free(s.forcing);
