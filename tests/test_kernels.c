@@ -6,6 +6,7 @@
  * - Derivatives: generated dMr, dNc, dMd, dK and both forms of Gamma against numerical
  *   differentiation of the *reference* matrices: central differences with two levels of
  *   Richardson extrapolation (steps h, h/2, h/4; truncation error O(h^6)), h = 1e-2.
+ * - The row diagnostics' blocks (row_blocks): the bits of mass and reduced, in the columns asked.
  * - Structure: K exactly symmetric, smallest eigenvalue of K (LAPACK dsyev) >= rho0 pi/(2(N+1))
  *   (Lemma 4.3), Gamma symmetric in its two velocity slots.
  * - Barrier W2 (shape/barrier.h): value and gradient against the reference and against
@@ -135,6 +136,46 @@ static void check_values(const swim_kernel *k, int trials)
         CHECK(ev[0] >= nu, "N=%d: smallest eigenvalue of K %.6g < nu_N = %.6g", N, ev[0], nu);
     }
     printf("  N=%2d values: max relative error vs reference %.2e (%d shapes)\n", N, worst, trials);
+}
+
+/* row_blocks against mass and reduced, bit for bit: Mr whole, Nc, P and Md in the columns where
+ * v is not 0 (v with about half its entries 0, and v = 0 and v without a 0); a shape whose Mr
+ * is not positive definite (NaN) is refused as by reduced. */
+static void check_row_blocks(const swim_kernel *k, int trials)
+{
+    const int N = k->modes, n = k->dim;
+    int same = 1, columns = 1;
+    for (int t = 0; t < trials + 2; t++) {
+        double x[NMAX], v[NMAX], rho0 = 0.5 + fabs(urand()), rhof = 0.5 + fabs(urand());
+        random_shape(N, x, 0.85 * fabs(urand()));
+        for (int i = 0; i < n; i++) v[i] = t == trials ? 0.0 : t == trials + 1 || urand() > 0.0 ? urand() : 0.0;
+        double Mr[9], Nc[3 * NMAX], Md[NMAX * NMAX], P[3 * NMAX];
+        double bMr[9], bNc[3 * NMAX], bMd[NMAX * NMAX], bP[3 * NMAX];
+        int idx[NMAX], m = k->row_blocks(x, v, rho0, rhof, bMr, bNc, bP, idx, bMd);
+        k->mass(x, rho0, rhof, Mr, Nc, Md);
+        CHECK(k->reduced(x, NULL, rho0, rhof, NULL, P, NULL) == 0, "N=%d reduced failed", N);
+        int want = 0;
+        for (int i = 0; i < n; i++)
+            if (v[i] != 0.0) columns &= m > want && idx[want++] == i;
+        columns &= m == want;
+        if (m != want) continue;
+        same &= memcmp(Mr, bMr, sizeof Mr) == 0;
+        for (int a = 0; a < m; a++) {
+            for (int p = 0; p < 3; p++)
+                same &= memcmp(&Nc[p * n + idx[a]], &bNc[p * m + a], sizeof(double)) == 0 &&
+                        memcmp(&P[p * n + idx[a]], &bP[p * m + a], sizeof(double)) == 0;
+            for (int b = 0; b < m; b++) same &= memcmp(&Md[idx[a] * n + idx[b]], &bMd[a * m + b], sizeof(double)) == 0;
+        }
+    }
+    CHECK(columns, "N=%d: row_blocks lists the columns where v is not 0", N);
+    CHECK(same, "N=%d: row_blocks gives the bits of mass and reduced", N);
+    double x[NMAX], v[NMAX], Mr[9], Nc[3 * NMAX], Md[NMAX * NMAX], P[3 * NMAX];
+    int idx[NMAX];
+    random_shape(N, x, 0.5);
+    for (int i = 0; i < n; i++) v[i] = 1.0;
+    x[0] = NAN;
+    CHECK(k->row_blocks(x, v, 1.0, 1.0, Mr, Nc, P, idx, Md) == -1 && k->reduced(x, NULL, 1.0, 1.0, NULL, P, NULL) == -1,
+          "N=%d: row_blocks refuses a shape whose Mr is not positive definite, as reduced", N);
 }
 
 static void check_derivatives(const swim_kernel *k, int trials)
@@ -362,6 +403,7 @@ int main(void)
     }
     for (int i = 0; i < count; i++) {
         check_values(ks[i], ks[i]->modes >= 20 ? 5 : 20);
+        check_row_blocks(ks[i], 4);
         if (ks[i]->modes >= 20) continue;  /* N = 20: values only (CI time) */
         check_derivatives(ks[i], ks[i]->modes >= 12 ? 1 : 3);
         if (ks[i]->modes > 12) continue;   /* N = 15: values and derivatives only */

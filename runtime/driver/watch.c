@@ -91,7 +91,7 @@ static int j_at(swim_run_watch *w, const swim_ode_accepted *st, double t, const 
     swim_dynamics_unpack(w->d, ys ? ys : w->ys, w->full);
     const int n = w->d->n, modes = w->d->scene->modes;
     double theta;
-    *J = swim_dynamics_jmin(w->d, ys ? ys : w->ys, &theta);
+    *J = swim_dynamics_jmin_unpacked(w->d, ys ? ys : w->ys, w->full, &theta);
     w->theta_last = theta;
     *rate = swim_shape_j_rate(modes, w->full + 3, w->full + 3 + n, theta);
     return 0;
@@ -152,7 +152,7 @@ static void balance(swim_run_watch *w, double tb, const double *u)
     p->drift = fabs(E - w->e0 - work);
     p->e = fabs(E);
     swim_constraint_residuals res;
-    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, &res);
+    swim_constraint_residuals_at(n, c, v, s->c0, d->mu0, s->free_mask, &res);
     p->res_volume = fabs(res.volume);
     p->res_volume_rate = fabs(res.volume_rate);
     p->res_angular = fabs(res.angular);

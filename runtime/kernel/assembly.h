@@ -65,10 +65,11 @@ static void rigid_blocks(work_t *w, double f, double b)
     w->Mr[8] += b * w->Ic;
 }
 
-/* P = -Mr^-1 Nc by a 3x3 Cholesky factorization; -1 if Mr is not positive definite. */
-static int schur_factor(work_t *w)
+/* P = -Mr^-1 Nc by a 3x3 Cholesky factorization, for the ncol columns of Nc and P (3 x ncol,
+ * row-major); -1 if Mr is not positive definite. Each column by the same operations whatever
+ * ncol is (row_blocks solves a few of them). */
+static int schur_cols(const double *M, const double *Nc, int ncol, double *P)
 {
-    const double *M = w->Mr;
     double l00 = M[0];
     if (!(l00 > 0.0)) return -1;
     l00 = sqrt(l00);
@@ -80,17 +81,24 @@ static int schur_factor(work_t *w)
     double l22 = M[8] - l20 * l20 - l21 * l21;
     if (!(l22 > 0.0)) return -1;
     l22 = sqrt(l22);
-    for (int k = 0; k < NX; k++) {
-        double y0 = w->Nc[k] / l00;
-        double y1 = (w->Nc[NX + k] - l10 * y0) / l11;
-        double y2 = (w->Nc[2 * NX + k] - l20 * y0 - l21 * y1) / l22;
+    for (int k = 0; k < ncol; k++) {
+        double y0 = Nc[k] / l00;
+        double y1 = (Nc[ncol + k] - l10 * y0) / l11;
+        double y2 = (Nc[2 * ncol + k] - l20 * y0 - l21 * y1) / l22;
         double z2 = y2 / l22;
         double z1 = (y1 - l21 * z2) / l11;
         double z0 = (y0 - l10 * z1 - l20 * z2) / l00;
-        w->P[0][k] = -z0;
-        w->P[1][k] = -z1;
-        w->P[2][k] = -z2;
+        P[k] = -z0;
+        P[ncol + k] = -z1;
+        P[2 * ncol + k] = -z2;
     }
+    return 0;
+}
+
+/* P, then U = S E (the data of the reduced velocities). */
+static int schur_factor(work_t *w)
+{
+    if (schur_cols(w->Mr, w->Nc, NX, &w->P[0][0]) != 0) return -1;
     for (int r = 0; r < NR; r++)
         for (int k = 0; k < NX; k++)
             w->U[r][k] = w->S[r][3 + k] + w->S[r][0] * w->P[0][k] + w->S[r][1] * w->P[1][k]
@@ -218,6 +226,47 @@ static void mass(const double *x, double rho0, double rhof, double *Mr, double *
     }
 }
 
+/* The blocks the row diagnostics read (swim_kernel.row_blocks): from one evaluation of the
+ * boundary data Mr, and the columns of Nc, P and Md where v is not 0, each entry by the same
+ * operations as rigid_blocks, mass and reduced (the same bits: a column of the Gram product is
+ * a sum over the rows of S of its own). */
+static int row_blocks(const double *x, const double *v, double rho0, double rhof, double *Mr, double *Nc,
+                      double *P, int *idx, double *Md)
+{
+    double S[NR][NP];
+    const double f = rhof * KPI, b = rho0 * KPI;
+    boundary_data(x, S);
+    const double Ic = inertia(x, NULL);
+    int m = 0;
+    for (int i = 0; i < NX; i++)
+        if (v[i] != 0.0) idx[m++] = i;
+    double t[3][NR], acc[3][3] = {{0.0}};   /* t: the factors of rigid_blocks' sums */
+    for (int p = 0; p < 3; p++)
+        for (int r = 0; r < NR; r++) t[p][r] = f * weight[r] * S[r][p];
+    for (int r = 0; r < NR; r++)
+        for (int p = 0; p < 3; p++)
+            for (int q = 0; q < 3; q++) acc[p][q] += t[p][r] * S[r][q];
+    for (int p = 0; p < 3; p++) {
+        for (int q = 0; q < 3; q++) Mr[3 * p + q] = acc[p < q ? p : q][p < q ? q : p];
+        for (int a = 0; a < m; a++) {
+            double s = 0.0;
+            for (int r = 0; r < NR; r++) s += t[p][r] * S[r][3 + idx[a]];
+            Nc[m * p + a] = s;
+        }
+    }
+    Mr[0] += b;
+    Mr[4] += b;
+    Mr[8] += b * Ic;
+    for (int a = 0; a < m; a++)
+        for (int c = a; c < m; c++) {
+            const int i = idx[a], j = idx[c];   /* i <= j: mass sums the upper triangle */
+            double s = 0.0;
+            for (int r = 0; r < NR; r++) s += f * weight[r] * S[r][3 + i] * S[r][3 + j];
+            Md[m * a + c] = Md[m * c + a] = s + (i == j ? b * body_shape[i] : 0.0);
+        }
+    return schur_cols(Mr, Nc, m, P) != 0 ? -1 : m;
+}
+
 static int mass_deriv(const double *x, double rho0, double rhof,
                       double *dMr, double *dNc, double *dMd)
 {
@@ -299,6 +348,7 @@ const swim_kernel SWIM_KERNEL_NAME = {
     .modes = NFULL / 2 - 1,
     .dim = NX,
     .mass = mass,
+    .row_blocks = row_blocks,
     .mass_deriv = mass_deriv,
     .reduced = reduced,
     .reduced_deriv = reduced_deriv,

@@ -16,7 +16,7 @@
 #ifndef SWIM_KERNEL_H
 #define SWIM_KERNEL_H
 
-#define SWIM_KERNEL_ABI 9
+#define SWIM_KERNEL_ABI 10
 #define SWIM_KERNEL_MAX_MODES 32   /* largest N the runtime accepts (arrays are sized by it) */
 
 typedef struct swim_kernel {
@@ -48,6 +48,14 @@ typedef struct swim_kernel {
      * velocity X the fluid potential is xi = sum_j (-(S X)_{2j-2} cos j theta
      * + (S X)_{2j-1} sin j theta) r^-j (ERRATA A4). */
     void (*boundary_data)(const double *x, double *S);
+    /* What the row diagnostics read, from one evaluation of the boundary data: Mr (3x3), and
+     * Nc, P = -Mr^-1 Nc and Md only in the m columns (and rows) where v is not 0, their indices
+     * written ascending to idx: Nc[p*m + a] = Nc_{p idx[a]}, P likewise, Md[a*m + b] =
+     * Md_{idx[a] idx[b]}, each entry the same bits as mass and reduced give (products with v
+     * lose only exact zeros; the cost falls with the coordinates locked). Returns m, or -1 when
+     * Mr is not positive definite. */
+    int (*row_blocks)(const double *x, const double *v, double rho0, double rhof, double *Mr, double *Nc,
+                      double *P, int *idx, double *Md);
 } swim_kernel;
 
 /* Codes returned by right-hand sides (generic: runtime/model/dynamics.c; scene kernels). */

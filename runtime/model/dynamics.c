@@ -45,6 +45,9 @@ int swim_dynamics_init(swim_dynamics *d, const swim_scene *s, const swim_kernel 
         return -1;
     }
     d->m = swim_constraint_rows(n, s->c0, s->free_mask, d->G);
+    d->mu0 = swim_area_constant(n, s->c0);
+    for (int i = 0; i < n; i++)
+        if (s->free_mask[i]) d->free_at[d->nfree++] = i;
     return 0;
 }
 
@@ -201,7 +204,7 @@ static int shape_in_D(const swim_dynamics *d, const double *y)
 int swim_dynamics_set_origin(swim_dynamics *d, const double *origin)
 {
     const int m = swim_dynamics_state_dim(d);
-    d->bal_valid = 0;   /* the same u means another state now */
+    d->bal_valid = d->bal_memo = 0;   /* the same u means another state now */
     d->proj_valid = 0;
     if (!origin) {
         free(d->origin);
@@ -255,8 +258,14 @@ static const double *split_state(swim_dynamics *d, const double *u)
 
 double swim_dynamics_jmin(const swim_dynamics *d, const double *u, double *theta)
 {
-    double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)], lo[2 * (SWIM_KERNEL_MAX_MODES + 1)], th;
+    double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
     swim_dynamics_unpack(d, u, full);
+    return swim_dynamics_jmin_unpacked(d, u, full, theta);
+}
+
+double swim_dynamics_jmin_unpacked(const swim_dynamics *d, const double *u, const double *full, double *theta)
+{
+    double lo[2 * (SWIM_KERNEL_MAX_MODES + 1)], th;
     const int modes = d->scene->modes;
     double J = swim_shape_jmin_at(modes, full + 3, &th);
     if (d->origin && !isnan(J) && J < 1e-3 * (full[3] * full[3] + full[4] * full[4])) {
@@ -278,6 +287,7 @@ int swim_dynamics_rhs(double t, const double *u, double *dy, void *params)
     else rc = d->spec->rhs(d->t_origin + t, y, dy, &d->spec_params);
     d->lo_valid = 0;
     d->bal_valid = d->bal_track && rc == 0 && (!d->scene->barrier || d->w2_valid);
+    d->bal_memo = 0;
     if (d->bal_valid) memcpy(d->bal_u, u, sizeof(double) * (size_t)swim_dynamics_state_dim(d));
     swim_clock_sample_stop(&d->rhs_time, timed);
     d->rhs_calls++;
@@ -315,7 +325,7 @@ static double elastic_energy(const swim_scene *s, const double *c)
 void swim_dynamics_track_balance(swim_dynamics *d, int on)
 {
     d->bal_track = on;
-    d->bal_valid = 0;
+    d->bal_valid = d->bal_memo = 0;
     d->spec_params.kinetic = on ? &d->bal_kinetic : NULL;
 }
 
@@ -325,12 +335,13 @@ double swim_dynamics_balance(double t, const double *u, double *noise, void *par
     const swim_scene *s = d->scene;
     const int n = d->n, nf = d->spec->nfree;
     double full[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)], gbuf[2 * (SWIM_KERNEL_MAX_MODES + 1)];
+    const int hit = d->bal_valid && memcmp(u, d->bal_u, sizeof(double) * (size_t)swim_dynamics_state_dim(d)) == 0;
+    if (hit && d->bal_memo && !noise) return d->bal_memo_b;   /* what the lines below gave for this u */
     swim_dynamics_unpack(d, u, full);
     const double *c = full + 3, *v = full + 3 + n, *g = d->gbar;   /* grad W2 at c */
     double T = 0.0, W2 = 0.0;
     (void)t;   /* E and the work are functions of the state alone */
-    if (d->bal_valid &&
-        memcmp(u, d->bal_u, sizeof(double) * (size_t)swim_dynamics_state_dim(d)) == 0) {
+    if (hit) {
         T = d->bal_kinetic;
         if (s->barrier) W2 = d->w2_last;
     } else {
@@ -369,7 +380,12 @@ double swim_dynamics_balance(double t, const double *u, double *noise, void *par
             for (int f = 0; f < nf; f++) r += fabs(g[d->spec->free_index[f]] * d->proj_delta[3 + f]);
         *noise = r;
     }
-    return T + W1 + W2 - work;
+    const double B = T + W1 + W2 - work;
+    if (hit) {   /* from u, the by-products and the scene alone: the same value at the next ask */
+        d->bal_memo = 1;
+        d->bal_memo_b = B;
+    }
+    return B;
 }
 
 int swim_dynamics_jacobian(double t, const double *y, double *J, void *params)
@@ -422,28 +438,33 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     memset(o, 0, sizeof *o);
     /* on the stack (35 kB at the largest N): this runs at every output row */
     enum { NMAX = 2 * (SWIM_KERNEL_MAX_MODES + 1) };
-    double Mr[9], Nc[3 * NMAX], Md[NMAX * NMAX];
-    d->k->mass(c, s->rho0, s->rhof, Mr, Nc, Md);
-    /* P alone (K = NULL: assembly.h's reduced then skips the Gram product, which nothing
-     * here reads); the call still fails when Mr is not positive definite */
-    if (d->k->reduced(c, NULL, s->rho0, s->rhof, NULL, d->P, NULL) != 0) return -1;
+    double Mr[9], Nc[3 * NMAX], P[3 * NMAX], Md[NMAX * NMAX];
+    int on[NMAX];
+    /* Mr, and Nc, P and Md on the velocities that are not 0 (the locked ones are), from one
+     * evaluation of the boundary data; fails when Mr is not positive definite. The sums over
+     * the velocities below leave out their terms with v_k = 0: adding an exact zero to a sum
+     * that started at +0 changes no bit (it is never -0: x + (-x) rounds to +0). */
+    const int m = d->k->row_blocks(c, v, s->rho0, s->rhof, Mr, Nc, P, on, Md);
+    if (m < 0) return -1;
     double q[3] = {0, 0, 0};
     for (int p = 0; p < 3; p++)
-        for (int k = 0; k < n; k++) q[p] += d->P[p * n + k] * v[k];
+        for (int a = 0; a < m; a++) q[p] += P[p * m + a] * v[on[a]];
     const double b = s->rho0 * M_PI, Ic = d->k->inertia(c, NULL);
     /* (1/2) X^T M X with X = (q*, cdot): the total kinetic energy, = (1/2) cdot^T K cdot. */
     double T = 0.0, Ncv[3] = {0, 0, 0};
     for (int p = 0; p < 3; p++) {
         for (int r = 0; r < 3; r++) T += q[p] * Mr[3 * p + r] * q[r];
-        for (int k = 0; k < n; k++) Ncv[p] += Nc[p * n + k] * v[k];
+        for (int a = 0; a < m; a++) Ncv[p] += Nc[p * m + a] * v[on[a]];
         T += 2.0 * q[p] * Ncv[p];
     }
-    for (int i = 0; i < n; i++)
-        for (int j = 0; j < n; j++) T += v[i] * Md[i * n + j] * v[j];
+    for (int e = 0; e < m; e++)
+        for (int f = 0; f < m; f++) T += v[on[e]] * Md[e * m + f] * v[on[f]];
     T *= 0.5;
     o->kinetic_rigid = 0.5 * b * (q[0] * q[0] + q[1] * q[1] + Ic * q[2] * q[2]);
-    for (int i = 0; i < n; i++)
-        o->kinetic_shape += 0.5 * b * v[i] * v[i] / (abs(swim_coord_mode(i)) + 1);   /* (2.17) */
+    for (int a = 0; a < m; a++) {   /* (2.17), over the velocities that are not 0 as above */
+        const int i = on[a];
+        o->kinetic_shape += 0.5 * b * v[i] * v[i] / (abs(swim_coord_mode(i)) + 1);
+    }
     o->kinetic_fluid = T - o->kinetic_rigid - o->kinetic_shape;
     o->w1 = elastic_energy(s, c);
     if (s->barrier) o->w2 = swim_dynamics_w2(d, c);
@@ -461,7 +482,7 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
     swim_to_fixed_frame(y[2], Ncv, o->impulse_fluid_shape);
     memcpy(o->rigid_velocity, q, sizeof q);
     swim_constraint_residuals res;
-    swim_constraint_residuals_at(n, c, v, s->c0, s->free_mask, &res);
+    swim_constraint_residuals_at(n, c, v, s->c0, d->mu0, s->free_mask, &res);
     o->res_volume = res.volume;
     o->res_volume_rate = res.volume_rate;
     o->res_angular = res.angular;
@@ -489,20 +510,21 @@ int swim_dynamics_project(double t, double *ys, void *params)
     if (d->origin) memcpy(before, absolute(d, ys, d->hi), sizeof(double) * m);
     memcpy(d->proj_delta, ys, sizeof(double) * m);
     swim_dynamics_unpack(d, ys, y);
-    int free_at[2 * (SWIM_KERNEL_MAX_MODES + 1)], nfree = 0;
-    for (int i = 0; i < n; i++)
-        if (s->free_mask[i]) {
-            free_at[nfree++] = i;
-        } else {
-            change = larger(change, fabs(c[i] - s->c0[i]) + fabs(v[i]));
-            c[i] = s->c0[i];
-            v[i] = 0.0;
-        }
+    const int *free_at = d->free_at, nfree = d->nfree;
+    /* A kernel that carries only the free coordinates leaves the locked ones at c0 and cdot 0
+     * (unpack); one that carries them all may have moved them: put them back. */
+    if (d->spec->nfree != nfree || memcmp(d->spec->free_index, free_at, sizeof(int) * (size_t)nfree) != 0)
+        for (int i = 0; i < n; i++)
+            if (!s->free_mask[i]) {
+                change = larger(change, fabs(c[i] - s->c0[i]) + fabs(v[i]));
+                c[i] = s->c0[i];
+                v[i] = 0.0;
+            }
     /* Volume (2.5): mu^2(c) = mu0^2, Newton along the free part of grad mu^2 = 2 G1. With an
      * origin the residual is taken from the exact shape origin + u (what c lost to rounding is
      * in d->x_lo) and the corrections go to u alone (dcx): the residual of the rounded shape is
      * rounding noise of 1e-16, and correcting it would put that noise back into u. */
-    const double mu0 = swim_area_constant(n, s->c0);
+    const double mu0 = d->mu0;
     double dcx[2 * (SWIM_KERNEL_MAX_MODES + 1)] = {0.0}, c_hi[2 * (SWIM_KERNEL_MAX_MODES + 1)];
     const int shifted = d->origin != NULL;
     if (shifted) {

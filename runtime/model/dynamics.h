@@ -79,9 +79,17 @@ typedef struct {
      * kinetic energy and W2 anyway (swim_dynamics_track_balance, swim_dynamics_balance). */
     int bal_track, bal_valid;
     double bal_kinetic, bal_u[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    /* B at bal_u once computed from those by-products (the integrator's error test asks first,
+     * the check at the step end then again): valid while bal_valid is, cleared with it */
+    int bal_memo;
+    double bal_memo_b;
     /* The last projection: its output and what it changed (packed), for the balance's noise. */
     int proj_valid;
     double proj_out[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)], proj_delta[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
+    /* Fixed by the scene, for the projection at every step: mu0^2 = sum k |c0_k|^2 (2.5), the
+     * free coordinates (scene->free_mask) ascending and how many there are. */
+    double mu0;
+    int free_at[2 * (SWIM_KERNEL_MAX_MODES + 1)], nfree;
 } swim_dynamics;
 
 /* k: the kernel of N = scene->modes modes. 0, or -1 (out of memory). */
@@ -125,6 +133,9 @@ int swim_dynamics_rebase(swim_dynamics *d, double *u, int clear);
  * J small, evaluated at origin + u exactly (shape.h, swim_shape_j_precise), where the rounded
  * shape would give J to 1e-16 only -- 0 or below at the bottom of a deep bounce. */
 double swim_dynamics_jmin(const swim_dynamics *d, const double *u, double *theta);
+/* The same with u already unpacked into full (swim_dynamics_unpack): the checks at every step
+ * have it at hand. */
+double swim_dynamics_jmin_unpacked(const swim_dynamics *d, const double *u, const double *full, double *theta);
 
 /* Drift control: (2.8) is enforced by (4.12) only at the acceleration level, so the
  * volume and the velocity constraints drift with the integration error. After each accepted

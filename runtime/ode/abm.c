@@ -922,9 +922,12 @@ void abm_interp(const abm *a, double tout, double *yout, double *ypout)
     /* gi[j] = g_{j,1}(s), cj[j] = c_j(s) with
      * c_{j+1} = c_j (s + psi_{j-1})/psi_j and the integrals advanced by
      * g_{j+1,q} = gamma g_{j,q} - eta g_{j,q+1}, gamma = (s+psi_{j-1})/psi_j, eta = s/psi_j. */
+    /* g_{1,q} = 1/q (the quotients rounded as 1.0 / q computed them) */
+    static const double inv_q[KM + 3] = {0, 1.0 / 1, 1.0 / 2, 1.0 / 3, 1.0 / 4, 1.0 / 5, 1.0 / 6, 1.0 / 7,
+                                         1.0 / 8, 1.0 / 9, 1.0 / 10, 1.0 / 11, 1.0 / 12, 1.0 / 13, 1.0 / 14};
     double wq[KM + 3], gi[KM + 3], cj[KM + 3];
     for (int q = 1; q <= ki; q++)
-        wq[q] = 1.0 / q;
+        wq[q] = inv_q[q];
     gi[1] = 1.0;
     cj[1] = 1.0;
     double prev = 0.0;   /* psi_{j-1} */
@@ -937,6 +940,14 @@ void abm_interp(const abm *a, double tout, double *yout, double *ypout)
         cj[j + 1] = cj[j] * gam;
         prev = pj;
     }
+    if (!ypout) {   /* the value alone (rows, the checks between steps): no derivative sums */
+        for (size_t l = 0; l < n; l++) {
+            double sy = 0.0;
+            for (int i = ki; i >= 1; i--) sy += gi[i] * a->phi[i * n + l];
+            yout[l] = a->y[l] + (s * sy + a->yc[l]);
+        }
+        return;
+    }
     for (size_t l = 0; l < n; l++) {
         double sy = 0.0, sd = 0.0;
         for (int i = ki; i >= 1; i--) {
@@ -945,8 +956,7 @@ void abm_interp(const abm *a, double tout, double *yout, double *ypout)
             sd += cj[i] * ph;
         }
         yout[l] = a->y[l] + (s * sy + a->yc[l]);
-        if (ypout)
-            ypout[l] = sd;
+        ypout[l] = sd;
     }
 }
 

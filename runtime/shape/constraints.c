@@ -53,10 +53,10 @@ int swim_constraint_project(int n, int m, const double *G, double *v)
     return rc;
 }
 
-void swim_constraint_residuals_at(int n, const double *c, const double *v, const double *c0, const int *free_mask,
-                                  swim_constraint_residuals *r)
+void swim_constraint_residuals_at(int n, const double *c, const double *v, const double *c0, double mu0,
+                                  const int *free_mask, swim_constraint_residuals *r)
 {
-    r->volume = swim_area_constant(n, c) - swim_area_constant(n, c0);
+    r->volume = swim_area_constant(n, c) - mu0;
     /* G1.v and G2.v with the rows of swim_constraint_rows formed term by term, in its order (the
      * same sums to the bit), without writing G: this runs at every step */
     double rate = 0.0, ang = 0.0, locks = 0.0;

@@ -16,8 +16,9 @@ int swim_constraint_locked_index(int n, const int *free_mask, int row);
 typedef struct {
     double volume, volume_rate, angular, locks;
 } swim_constraint_residuals;
-void swim_constraint_residuals_at(int n, const double *c, const double *v, const double *c0, const int *free_mask,
-                                  swim_constraint_residuals *r);
+/* mu0 = mu^2(c0) (swim_area_constant), kept by the caller: the checks at every step ask. */
+void swim_constraint_residuals_at(int n, const double *c, const double *v, const double *c0, double mu0,
+                                  const int *free_mask, swim_constraint_residuals *r);
 /* v <- v - G^T (G G^T)^-1 G v, the l2-orthogonal projection onto {G v = 0} (ERRATA D5).
  * 0, or -1 when G G^T is singular. */
 int swim_constraint_project(int n, int m, const double *G, double *v);

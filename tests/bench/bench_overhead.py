@@ -27,7 +27,14 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 SWIM = os.path.join(ROOT, "bin", "swim")
 REF = os.environ.get("SWIM_BENCH_REF", "")
 RUNS = int(os.environ.get("BENCH_RUNS", "0"))
-ENV = dict(os.environ, SWIM_SHARE=ROOT)   # the reference build finds the same generator
+ENV = dict(os.environ, SWIM_SHARE=ROOT)
+# The reference finds the generator and kernel headers of its own tree (next to its bin/): the
+# kernel ABI may differ between the two, and a kernel built from the other's headers is refused.
+ENV_REF = {k: v for k, v in os.environ.items() if k != "SWIM_SHARE"}
+
+
+def env_for(exe):
+    return ENV if exe == SWIM else ENV_REF
 
 
 def load():
@@ -37,7 +44,7 @@ def load():
 
 def process_ms(argv):
     """Process time of one run of argv in ms (its children included: wait4's rusage)."""
-    p = subprocess.Popen(argv, cwd=ROOT, env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    p = subprocess.Popen(argv, cwd=ROOT, env=env_for(argv[0]), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     _, status, ru = os.wait4(p.pid, 0)
     p.returncode = os.waitstatus_to_exitcode(status)
     if p.returncode != 0:
@@ -47,7 +54,7 @@ def process_ms(argv):
 
 def member(exe, out):
     subprocess.run([exe, "run", "models/example3.toml", "--summary-only", "--quiet", "--out", out],
-                   check=True, cwd=ROOT, env=ENV, capture_output=True)
+                   check=True, cwd=ROOT, env=env_for(exe), capture_output=True)
     with open(os.path.join(out, "summary.json")) as fh:
         st = json.load(fh)["stats"]
     return (1e3 * st["integrate_seconds"], 1e3 * st["diagnostics_seconds"], 1e3 * st["rhs_seconds"])
