@@ -141,11 +141,11 @@ def code_keep_strings(text):
 
 def test_cli_is_small():
     lines = sum(t.count("\n") for _, t in sources("cli"))
-    # 3400: inspect --energy, the commands' up-front --out and range checks, the printing of
-    # statuses the layers below return instead of printing (io/status.h), and since the library
-    # prints nothing at all, the programs' own printing helpers (cli/report.c, ~70 lines that were
-    # in io/); the option parsing of the run settings (cli/run_settings.c) is what could move below
-    check(0 < lines <= 3400, "runtime/cli/ has %d lines (at most 3400)" % lines)
+    # 3300: inspect --energy, the commands' up-front --out and range checks, the printing of
+    # statuses the layers below return instead of printing (io/status.h) and the programs' own
+    # printing helpers (cli/report.c, moved up from io/); the option parsing of the run settings
+    # (cli/run_settings.c) is what could move below next
+    check(0 < lines <= 3300, "runtime/cli/ has %d lines (at most 3300)" % lines)
 
 
 ABOVE_PROBLEM = ("cli", "mpi", "output", "sweep", "driver", "control", "lib", "export")
