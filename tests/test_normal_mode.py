@@ -114,7 +114,9 @@ def test_special_point_refined():
     lo, hi = sp[0]["between"]
     check(0.15 < lo < hi < 0.25 and hi - lo <= 0.05 / 2 ** 23, "bracket [%.12g, %.12g] narrowed by 2^-24" % (lo, hi))
     lam = [complex(*m) for m in sp[0]["at"]["multipliers"]]
-    real_out = [z for z in lam if z.imag == 0 and 1 < abs(z) < 1 + 1e-3]
+    # one real multiplier just outside the circle; the one the orbit keeps at 1 (1 to ~1e-11, on
+    # either side as the monodromy's rounding falls) has not left it
+    real_out = [z for z in lam if z.imag == 0 and 1 + 1e-9 < abs(z) < 1 + 1e-3]
     check(len(real_out) == 1, "at the bracket's outer end a real multiplier has just left the circle at +1 (%s)" % lam)
     check([r["stable"] for r in rows] == ["yes", "no", "no"], "stable below it, not above (%s)"
           % [r["stable"] for r in rows])

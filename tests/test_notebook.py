@@ -37,8 +37,9 @@ def test_family_notebook_executes():
     text = "".join("".join(o.get("text", "")) for o in outputs if o.get("output_type") == "stream")
     images = sum(1 for o in outputs if "image/png" in o.get("data", {}))
     check(images == 2, "two figures (the family, the sensitivities): %d" % images)
-    check("converged True" in text and "|multipliers| [1. 1. 1. 1. 1.]" in text,
-          "a converged orbit with its multipliers on the unit circle: %r" % text)
+    check("converged True" in text and "multipliers at 1: 3 - time shift along the orbit; energy" in text
+          and "|other multipliers| [1. 1.] stable True" in text,
+          "a converged orbit, its multipliers at 1 named and the others on the unit circle: %r" % text)
     check("y(t = 10) from" in text and "maxima of am1; dy/drho0" in text, "the family and the sensitivities: %r" % text)
 
 
