@@ -28,6 +28,8 @@ QUICK_ABOVE = 16   # coordinates carried above which the SymPy code is compiled 
 # paper, the kernels linked into bin/swim) keeps the straight-line code and its bits.
 TABLE_ABOVE = 7
 CHUNK = 32   # statements per function of monomial_bodies
+BIGRAD_CHUNK = 4   # coordinates per function of the printed bigradient (monomial_bodies)
+BIGRAD_WAYS = 4    # partial sums per coordinate there, so that the additions do not wait on each other
 NOINLINE = """\
 #if defined(__GNUC__)
 #define SWIM_NOINLINE __attribute__((noinline))
@@ -152,13 +154,23 @@ class _Emitter:
                     keys.add((r, row, col))
         return sorted(keys)
 
+    def partial_terms(self):
+        """The terms of the first partials of S, coordinate by coordinate: for each carried
+        coordinate r, [(c, at, j)] meaning d S.flat[at] / dx_r has the term c x_j (j = None: c)."""
+        m = self.m
+        grad = [[] for _ in range(m.n)]
+        for row, col, terms in m.S_monomials():
+            for c, i, k in terms:
+                for r, other in m.monomial_partials(i, k):
+                    grad[r].append((c, row * m.ncols + col, other))
+        return grad
+
     def monomial_bodies(self):
-        """S and D_v S of a tabled scene kernel printed straight from the monomials of S: one
-        statement per entry, no SymPy expression and no cse (the compiler's own CSE finds the few
-        shared products), so that a large kernel is printed in a fraction of a second and
-        compiles in a few; they run faster than loops over the table. The bigradient, whose
-        printed form took most of the compiler's time (N = 32: about 4 of 6.5 s), is a loop of
-        kernel/sparse_data.h."""
+        """S, D_v S and the bigradient of a tabled scene kernel printed straight from the
+        monomials of S: one statement per entry of S and D_v S, one sum per coordinate of the
+        bigradient, no SymPy expression and no cse (the compiler's own CSE finds the few shared
+        products), so that a large kernel is printed in a fraction of a second and compiles in a
+        few; they run faster than the loops over the table of kernel/sparse_data.h."""
         m = self.m
 
         def pos(i):
@@ -198,21 +210,35 @@ class _Emitter:
                 D_lines.append("    D%s = %s;" % (at, total(d_terms)))
         helpers = []
 
-        def chunked(name, params, args, lines):
-            """The statements as functions of at most CHUNK statements each, called in order:
+        def chunked(name, params, args, lines, size=CHUNK):
+            """The statements as functions of at most `size` statements each, called in order:
             the compiler's time grows faster than the length of one function."""
             calls = []
-            for n, first in enumerate(range(0, len(lines), CHUNK)):
+            for n, first in enumerate(range(0, len(lines), size)):
                 helpers.append("static SWIM_NOINLINE void %s_%d(%s)\n{\n%s\n}\n"
-                               % (name, n, params, "\n".join(lines[first:first + CHUNK])))
+                               % (name, n, params, "\n".join(lines[first:first + size])))
                 calls.append("    %s_%d(%s);" % (name, n, args))
             return "\n".join(calls)
 
+        # g_r = sum of the terms c x_j of d S.flat[at] / dx_r times wx[at] = w_row X_col
+        # (sparse_outer), in BIGRAD_WAYS partial sums: printed, the bigradient runs in half the
+        # time of the loop over the table (N = 12: 0.33 against 0.75 us, as fast as SymPy's
+        # straight-line code) for about 0.7 s more of the compiler's time at N = 32.
+        G_lines = []
+        for r, terms in enumerate(self.partial_terms()):
+            ts = [term(c, ["wx[%d]" % at] + ([] if j is None else ["x[%d]" % j])) for c, at, j in terms]
+            if not ts:
+                G_lines.append("    g[%d] = 0.0;" % r)
+                continue
+            ways = [ts[w::BIGRAD_WAYS] for w in range(BIGRAD_WAYS)]
+            G_lines.append("    g[%d] = %s;" % (r, " + ".join("(%s)" % total(p) for p in ways if p)))
         bodies = dict(
             S_body=chunked("boundary_data_part", "const double *x, double S[NR][NP]", "x, S", S_lines),
             D_body=(chunked("boundary_data_dir_part", "const double *x, const double *v, double D[NR][NP]",
                             "x, v, D", D_lines) if D_lines else "    (void)x;\n    (void)v;"),
-            G_body="    sparse_boundary_data_bigrad(x, w, X, g);")
+            G_body=("    double wx[NR * NP];\n    sparse_outer(w, X, wx);\n"
+                    + chunked("boundary_data_bigrad_part", "const double *x, const double *wx, double *g",
+                              "x, wx, g", G_lines, BIGRAD_CHUNK)))
         self.helpers = NOINLINE + "\n".join(helpers) + "\n"
         return bodies
 
@@ -256,11 +282,8 @@ class _Emitter:
                 qki.append(key.get((pos(i), row, col), -1))
                 qkk.append(key.get((pos(k), row, col), -1))
             qstart.append(len(qc))
-        grad = [[] for _ in range(m.n)]   # the terms of the first partials by coordinate
-        for row, col, terms in m.S_monomials():
-            for c, i, k in terms:
-                for r, other in m.monomial_partials(i, k):
-                    grad[r].append((number(c), row * P + col, m.nfull if other is None else other))
+        grad = [[(number(c), at, m.nfull if j is None else j) for c, at, j in terms]
+                for terms in self.partial_terms()]   # the first partials by coordinate
         gstart = [0]
         for t in grad:
             gstart.append(gstart[-1] + len(t))
@@ -285,11 +308,12 @@ class _Emitter:
                      "static const int sq_at[SD_NQE > 0 ? SD_NQE : 1] = {%s};" % _table(qat),
                      "static const int sq_start[SD_NQE + 1] = {%s};" % _table(qstart),
                      "static const int sd_pos[NFULL + 1] = {%s};" % _table(p_all)]
-        text += ["static const int sg_start[NX + 1] = {%s};" % _table(gstart),
-                "static const double sg_c[%d] = {%s};" % (max(len(gflat), 1),
-                                                          ", ".join(t[0] for t in gflat) or "0.0"),
-                "static const int sg_at[%d] = {%s};" % (max(len(gflat), 1), _table([t[1] for t in gflat])),
-                "static const int sg_k[%d] = {%s};" % (max(len(gflat), 1), _table([t[2] for t in gflat]))]
+        if self.loops:   # the bigradient's loop reads these (monomial_bodies prints it otherwise)
+            text += ["static const int sg_start[NX + 1] = {%s};" % _table(gstart),
+                     "static const double sg_c[%d] = {%s};" % (max(len(gflat), 1),
+                                                               ", ".join(t[0] for t in gflat) or "0.0"),
+                     "static const int sg_at[%d] = {%s};" % (max(len(gflat), 1), _table([t[1] for t in gflat])),
+                     "static const int sg_k[%d] = {%s};" % (max(len(gflat), 1), _table([t[2] for t in gflat]))]
         if self.loops:
             text.append("#define SWIM_SPARSE_LOOPS")
         if partials:

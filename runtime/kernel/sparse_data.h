@@ -16,22 +16,23 @@
  *                            per entry: the loop has no data-dependent branch);
  *   SD_NQE, SD_NQ, sq_at[SD_NQE], sq_start[SD_NQE + 1], sq_c[SD_NQ], sq_i[SD_NQ], sq_k[SD_NQ]
  *                            the quadratic terms, entry by entry: sq_c[t] * x[sq_i[t]] * x[sq_k[t]];
- *   sg_start[NX + 1], sg_c[], sg_at[], sg_k[]   the first partials term by term, coordinate by
- *                            coordinate: d S.flat[sg_at[t]] / dx_r has the term sg_c[t] * xo[sg_k[t]]
- *                            for sg_start[r] <= t < sg_start[r + 1];
  *   sd_pos[NFULL + 1]        the velocity position of each coordinate, -1 when it is locked (and
  *                            for the 1);
+ *   with SWIM_SPARSE_LOOPS: sg_start[NX + 1], sg_c[], sg_at[], sg_k[]   the first partials term by
+ *                            term, coordinate by coordinate: d S.flat[sg_at[t]] / dx_r has the term
+ *                            sg_c[t] * xo[sg_k[t]] for sg_start[r] <= t < sg_start[r + 1];
  *   with SWIM_SPARSE_PARTIALS: SD_NKEYS (NDS), sl_key[SD_W][SD_NL], sq_ki[SD_NQ], sq_kk[SD_NQ]
  *                            the index, in the sorted first partials of scene_rhs.h (dS_row,
  *                            dS_col, dS_start), of the derivative of a linear term and of the
  *                            derivatives in x_i and x_k of a quadratic one, -1 when that
  *                            coordinate is locked (or is padding).
- * It defines what the symbolic wrappers call: sparse_boundary_data_bigrad; with
- * SWIM_SPARSE_LOOPS (the kernel of N modes, which serves diagnostics, not the integration)
- * sparse_boundary_data and sparse_boundary_data_dir (a scene kernel prints these two as one
- * statement per entry, still without SymPy: faster to run, compiled in a few seconds at N = 32;
- * printed, the bigradient would be most of the compiler's time); and
- * sparse_boundary_data_deriv (SWIM_KERNEL_FULL) or sparse_boundary_data_partials
+ * It defines what the symbolic wrappers call: sparse_outer (the products w_row X_col the
+ * bigradient weighs its terms with); with SWIM_SPARSE_LOOPS (the kernel of N modes, which serves
+ * diagnostics, not the integration) sparse_boundary_data, sparse_boundary_data_dir and
+ * sparse_boundary_data_bigrad (a scene kernel prints these three from the monomials, still
+ * without SymPy: one statement per entry of S and D_v S, one sum per coordinate of the
+ * bigradient; they run in half the time or less of these loops and compile in a few seconds at
+ * N = 32); and sparse_boundary_data_deriv (SWIM_KERNEL_FULL) or sparse_boundary_data_partials
  * (SWIM_SPARSE_PARTIALS).
  */
 #ifndef SWIM_KERNEL_SPARSE_DATA_H
@@ -43,6 +44,13 @@ static void sparse_extend(const double *x, double *xo)
 {
     memcpy(xo, x, sizeof(double) * NFULL);
     xo[NFULL] = 1.0;
+}
+
+/* wx[row * NP + col] = w_row X_col, what the terms of the bigradient weigh. */
+static void sparse_outer(const double *w, const double *X, double *wx)
+{
+    for (int r = 0; r < NR; r++)
+        for (int q = 0; q < NP; q++) wx[r * NP + q] = w[r] * X[q];
 }
 
 #ifdef SWIM_SPARSE_LOOPS
@@ -84,16 +92,13 @@ static void sparse_boundary_data_dir(const double *x, const double *v, double D[
     sparse_eval(xo, yo, &D[0][0]);
 }
 
-#endif
-
 /* g_r = sum_{row,col} w_row X_col dS[row][col]/dx_r, coordinate by coordinate from the terms of
  * the first partials (sg_*), two sums in turn so that the additions do not wait on each other. */
 static void sparse_boundary_data_bigrad(const double *x, const double *w, const double *X, double *g)
 {
     double xo[NFULL + 1], wx[NR * NP];
     sparse_extend(x, xo);
-    for (int r = 0; r < NR; r++)
-        for (int q = 0; q < NP; q++) wx[r * NP + q] = w[r] * X[q];
+    sparse_outer(w, X, wx);
     for (int r = 0; r < NX; r++) {
         double a0 = 0.0, a1 = 0.0;
         int t = sg_start[r];
@@ -105,6 +110,7 @@ static void sparse_boundary_data_bigrad(const double *x, const double *w, const 
         g[r] = a0 + a1;
     }
 }
+#endif
 
 #ifdef SWIM_KERNEL_FULL
 /* dS[r][row][col] = dS[row][col]/dx_r; the caller clears dS. */
