@@ -166,6 +166,7 @@ TEST_SCRIPTS := $(sort $(wildcard tests/test_*.py tests/test_*.sh))
 ASAN_BUILD := build/asan
 ifeq ($(findstring -fsanitize,$(OPT)),)
 ASAN_TEST_BINS := $(patsubst $(BUILD)/%,$(ASAN_BUILD)/%,$(TEST_BINS))
+TSAN_TEST_BINS := $(TSAN_TESTS)
 endif
 SAN_ENV := ASAN_OPTIONS=detect_leaks=1:halt_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
@@ -176,10 +177,11 @@ asan-tests: | $(DEPS_STAMP)
 # make test T=PATTERN runs only the programs whose name (test_io, asan-test_io, test_flow) matches
 # the extended regular expression PATTERN.
 # Everything the tests install is built first: two tests running `make install` at once only copy.
-test: $(BIN)/swim lib $(BUILD)/man/swim.1 $(TEST_BINS) $(if $(ASAN_TEST_BINS),asan-tests) $(MEDIA_STAMP) $(FUZZ_STAMP)
+test: $(BIN)/swim lib $(BUILD)/man/swim.1 $(TEST_BINS) $(if $(ASAN_TEST_BINS),asan-tests) \
+      $(if $(TSAN_TEST_BINS),tsan-tests) $(MEDIA_STAMP) $(FUZZ_STAMP)
 	@$(MAKE) --no-print-directory mpi >/dev/null 2>&1 || echo "make mpi failed: the MPI sweep tests are skipped"
-	@$(SAN_ENV) SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim \
-	  TEST_FILTER='$(T)' bash tests/run_tests.sh $(TEST_BINS) $(ASAN_TEST_BINS) $(TEST_SCRIPTS)
+	@$(SAN_ENV) $(TSAN_ENV) SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim \
+	  TEST_FILTER='$(T)' bash tests/run_tests.sh $(TEST_BINS) $(ASAN_TEST_BINS) $(TSAN_TEST_BINS) $(TEST_SCRIPTS)
 
 # bin/swim finds PREFIX/share/swim from its own location, so the tree can be moved as a whole.
 SHARE_FILES := $(shell find generator runtime/kernel -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null) \

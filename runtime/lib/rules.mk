@@ -53,13 +53,16 @@ uninstall-lib:
 
 # The C API's tests (tests/test_library*.c: two threads running two models, two threads building
 # one kernel while a third watches the signal handlers) built with ThreadSanitizer in their own
-# build folder and run. Not part of `make test` (a second sanitized build of the whole library
-# costs minutes); the kernels they build keep the plain flags, so they share the test cache.
+# build folder (the programs tsan-test_library*): `make test` runs them beside the plain suite, so
+# the thread promise of swim.h is checked on every change; `make tsan-test` runs them alone. The
+# kernels they build keep the plain flags, so they share the test cache.
 TSAN_BUILD := build/tsan
 TSAN_TESTS := $(patsubst tests/%.c,$(TSAN_BUILD)/tests/%,$(wildcard tests/test_library*.c))
-.PHONY: tsan-test
-tsan-test: | $(DEPS_STAMP)
+TSAN_ENV := TSAN_OPTIONS=halt_on_error=1
+.PHONY: tsan-tests tsan-test
+tsan-tests: | $(DEPS_STAMP)
 	@$(MAKE) --no-print-directory BUILD=$(TSAN_BUILD) BIN=$(TSAN_BUILD)/bin OPT="-O1 -g -fsanitize=thread" \
 	  KERNEL_OPT="$(KERNEL_OPT)" $(TSAN_TESTS)
-	@TSAN_OPTIONS=halt_on_error=1 SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim \
+tsan-test: tsan-tests
+	@$(TSAN_ENV) SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim \
 	  bash tests/run_tests.sh $(TSAN_TESTS)

@@ -18,9 +18,9 @@ kernel of N modes and the scene kernel). Printed per N and per generator:
               median of 7, BENCH_FIRST_USE_RHS_RUNS; the runs alternate between the two
               generators' kernels so both see the same load), and the same for Example 7
               (N = 7: code identical in both, a check of the noise).
-The base is the generator and runtime/kernel/ of BENCH_FIRST_USE_BASE (default 96c5de6, the
-last straight-line generator), taken by `git archive` and used through SWIM_SHARE; the cache
-key hashes those folders, so the two never share a kernel. Writes build/bench/first_use.csv
+The base is the generator of BENCH_FIRST_USE_BASE (default 96c5de6, the last straight-line
+generator), taken by `git archive`, with this tree's runtime/kernel/ (whose entry points bin/swim
+loads), used through SWIM_SHARE; the cache key hashes generator/, so the two never share a kernel. Writes build/bench/first_use.csv
 and prints a table with the load average before and after.
 """
 
@@ -202,10 +202,14 @@ def main():
     if not os.path.exists(os.path.join(base, BASE)):
         shutil.rmtree(base, ignore_errors=True)
         os.makedirs(base)
-        archive = subprocess.run(["git", "-C", ROOT, "archive", BASE, "generator", "runtime/kernel"],
+        archive = subprocess.run(["git", "-C", ROOT, "archive", BASE, "generator"],
                                  capture_output=True, check=True).stdout
         subprocess.run(["tar", "-x", "-C", base], input=archive, check=True)
         open(os.path.join(base, BASE), "w").close()
+    # this tree's runtime/kernel/ beside the base's generator: the kernels bin/swim loads have its
+    # entry points (kernel ABI), and the two differ in what the generators print alone
+    shutil.rmtree(os.path.join(base, "runtime"), ignore_errors=True)
+    shutil.copytree(os.path.join(ROOT, "runtime", "kernel"), os.path.join(base, "runtime", "kernel"))
     load0 = os.getloadavg()[0]
     rows = []
     for N in MODES:
