@@ -51,10 +51,6 @@ int swim_opt_has_gradient(int quantity)
     return !(quantity == SWIM_Q_FORCING_WORK || quantity == SWIM_Q_DISPLACEMENT_PER_WORK);   /* W_F: no state */
 }
 
-/* The gradient of the quantity in the keys' values from the sensitivities of the final state,
- * carried by the evaluation's own run (driver/flow.h) on its steps, out of its error test
- * (swim run --sensitivity-steps state): ~1e-5 relative, plenty for a search direction, at a
- * fraction of the error-controlled cost, and the run's value is bit for bit the one without them. */
 /* dE/dp of key k: the energy is evaluated on the run's dynamics, whose state is relative to the
  * origin the run may have left (model/dynamics.h), so the final state is given relative to it. */
 static double energy_gradient(swim_flow *f, int k)
@@ -71,6 +67,10 @@ static double energy_gradient(swim_flow *f, int k)
     return g;
 }
 
+/* The gradient of the quantity in the keys' values from the sensitivities of the final state,
+ * carried by the evaluation's own run (driver/flow.h) on its steps, out of its error test
+ * (swim run --sensitivity-steps state): ~1e-5 relative, plenty for a search direction, at a
+ * fraction of the error-controlled cost, and the run's value is bit for bit the one without them. */
 static void gradient(const swim_opt_problem *p, swim_flow *f, swim_eval_result *r)
 {
     if (swim_flow_final(f) != 0) return;   /* no gradient: said by r */

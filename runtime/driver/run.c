@@ -1008,7 +1008,6 @@ static void take_watch(run_report *r, swim_run_watch *w)
     r->res_locks = fmax(r->res_locks, s->res_locks);
 }
 
-/* The output loop: rows at k*output_step up to t_end, stopping at the first failure. */
 /* The output loop, one row at a time (swim_run_advance stops between rows): rows at
  * k*output_step up to t_end, stopping at the first failure. */
 static void start_loop(scene_run *c)
