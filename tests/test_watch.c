@@ -273,9 +273,45 @@ static void test_watch(void)
     swim_dynamics_free(&d);
 }
 
+/* min J and its rate in closed form (P of degree <= 1 in w) against the sampled minimum and the
+ * rate at its angle: J to the bit, the rate to rounding; a higher degree, or p_1 = 0, is left to
+ * the angle (0 returned). */
+static void test_jmin_rate(void)
+{
+    srand(11);
+    int bits = 0, handled = 0, wrong = 0;
+    double worst = 0.0;
+    for (int trial = 0; trial < 2000; trial++) {
+        const int modes = 1 + trial % 7;
+        double x[16] = {0}, v[16] = {0}, th, J, rate;
+        x[0] = 1.0 + 0.1 * (rand() / (double)RAND_MAX - 0.5);
+        x[1] = 0.1 * (rand() / (double)RAND_MAX - 0.5);
+        const int top = trial % 3 ? (modes < 2 ? modes : 2) : modes;   /* the modes above `top` at 0 */
+        for (int i = 0; i < 2 * (top + 1); i++) {
+            if (i >= 2) x[i] = 0.3 * (rand() / (double)RAND_MAX - 0.5) / top;
+            v[i] = rand() / (double)RAND_MAX - 0.5;
+        }
+        const double J0 = swim_shape_jmin_at(modes, x, &th), r0 = swim_shape_j_rate(modes, x, v, th);
+        if (!swim_shape_jmin_rate(modes, x, v, &J, &rate)) {
+            wrong += top <= 2;   /* refused where it has a closed form */
+            continue;
+        }
+        handled++;
+        wrong += top > 2;        /* taken where it has none */
+        bits += memcmp(&J, &J0, sizeof J) != 0;
+        worst = fmax(worst, fabs(rate - r0) / (1.0 + fabs(r0)));
+    }
+    CHECK(handled > 1000 && wrong == 0 && bits == 0 && worst < 1e-13, "closed-form min J and rate: %d shapes "
+          "(%d taken or refused wrongly), %d values of J not those of swim_shape_jmin_at, worst rate difference "
+          "%.3g", handled, wrong, bits, worst);
+    double x[6] = {1.0, 0.0, 0.0, 0.0, 0.3, 0.1}, v[6] = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6}, J, rate;
+    CHECK(swim_shape_jmin_rate(2, x, v, &J, &rate) == 0, "p_1 = 0: |p_1| has no derivative, the angle decides");
+}
+
 int main(void)
 {
     test_on_accept();
     test_watch();
+    test_jmin_rate();
     return check_report("test_watch");
 }

@@ -60,6 +60,7 @@ struct scene_run {
     double shift_t;             /* in the integrator's time (absolute: d.t_origin + shift_t) */
     double left_native;         /* the watch's crossing, in the integrator's time */
     double row_jmin;            /* min J of the row's exact state with an origin (else NAN) */
+    double row_clock;           /* clock at the end of the row's integration: its diagnostics start there (0: none) */
     double *ys_shift;           /* the accepted state at shift_t, in the integrator's coordinates */
     double *atolv;              /* absolute tolerances with an origin: atol + rtol |origin_i| */
     long shifts;                /* restarts for the origin */

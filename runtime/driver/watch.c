@@ -4,6 +4,7 @@
 #include "io/clock.h"
 #include "kernel/coords.h"
 #include "shape/constraints.h"
+#include "shape/shape.h"
 
 #include <float.h>
 #include <math.h>
@@ -90,6 +91,12 @@ static int j_at(swim_run_watch *w, const swim_ode_accepted *st, double t, const 
     if (!ys && st->interp(st->ctx, t, w->ys, NULL)) return -1;
     swim_dynamics_unpack(w->d, ys ? ys : w->ys, w->full);
     const int n = w->d->n, modes = w->d->scene->modes;
+    /* Without a barrier the angle of the minimum is asked for nowhere (the barrier's weights and
+     * precise J take it): where min J and its rate have a closed form, no trigonometry at all. */
+    if (!w->d->scene->barrier && !w->d->origin && swim_shape_jmin_rate(modes, w->full + 3, w->full + 3 + n, J, rate)) {
+        w->theta_last = NAN;
+        return 0;
+    }
     double theta;
     *J = swim_dynamics_jmin_unpacked(w->d, ys ? ys : w->ys, w->full, &theta);
     w->theta_last = theta;

@@ -325,6 +325,17 @@ static int start(abm *a, double tout)
     return SWIM_ODE_OK;
 }
 
+/* 1/q and 1/(q (q + 1)), q = 0..KM+2 (0 where undefined), as the divisions 1.0 / q and
+ * 1.0 / (q * (q + 1.0)) round them (both are correctly rounded, at compile time or at run time):
+ * after a change of h the coefficients are recomputed on the next k steps, and on this problem h
+ * changes often enough that they are recomputed at nearly every step. */
+static const double inv_q[KM + 3] = {0, 1.0 / 1, 1.0 / 2, 1.0 / 3, 1.0 / 4, 1.0 / 5, 1.0 / 6, 1.0 / 7,
+                                     1.0 / 8, 1.0 / 9, 1.0 / 10, 1.0 / 11, 1.0 / 12, 1.0 / 13, 1.0 / 14};
+#define INV_QQ1(q) (1.0 / ((q) * ((q) + 1.0)))
+static const double inv_qq1[KM + 3] = {0, INV_QQ1(1), INV_QQ1(2), INV_QQ1(3), INV_QQ1(4), INV_QQ1(5),
+                                       INV_QQ1(6), INV_QQ1(7), INV_QQ1(8), INV_QQ1(9), INV_QQ1(10),
+                                       INV_QQ1(11), INV_QQ1(12), INV_QQ1(13), INV_QQ1(14)};
+
 /* Coefficients alpha, beta, sigma, psi(n+1), g for the step of size h, order k.
  * Only the entries that change on a run of ns equal steps are recomputed. */
 static void coefficients(abm *a)
@@ -349,7 +360,7 @@ static void coefficients(abm *a)
     double *psi = a->psi, *alpha = a->alpha, *beta = a->beta, *sig = a->sig;
     double *v = a->v, *w = a->w, *g = a->g;
     beta[ns] = 1.0;
-    alpha[ns] = 1.0 / ns;
+    alpha[ns] = inv_q[ns];
     sig[ns + 1] = 1.0;
     double next = h * ns;    /* psi_ns(n+1) */
     for (int i = ns + 1; i <= k; i++) {
@@ -366,13 +377,13 @@ static void coefficients(abm *a)
      * column that is advanced to g_{k+1,q}. */
     if (ns == 1) {
         for (int q = 1; q <= k; q++) {
-            v[q] = 1.0 / (q * (q + 1.0));
+            v[q] = inv_qq1[q];
             w[q] = v[q];
         }
     } else {
         if (k > a->kold) {
             /* order went up: extend v by one entry along the anti-diagonal */
-            v[k] = 1.0 / (k * (k + 1.0));
+            v[k] = inv_qq1[k];
             for (int j = 1; j <= ns - 2; j++) {
                 int i = k - j;
                 v[i] -= alpha[j + 1] * v[i + 1];
@@ -922,9 +933,7 @@ void abm_interp(const abm *a, double tout, double *yout, double *ypout)
     /* gi[j] = g_{j,1}(s), cj[j] = c_j(s) with
      * c_{j+1} = c_j (s + psi_{j-1})/psi_j and the integrals advanced by
      * g_{j+1,q} = gamma g_{j,q} - eta g_{j,q+1}, gamma = (s+psi_{j-1})/psi_j, eta = s/psi_j. */
-    /* g_{1,q} = 1/q (the quotients rounded as 1.0 / q computed them) */
-    static const double inv_q[KM + 3] = {0, 1.0 / 1, 1.0 / 2, 1.0 / 3, 1.0 / 4, 1.0 / 5, 1.0 / 6, 1.0 / 7,
-                                         1.0 / 8, 1.0 / 9, 1.0 / 10, 1.0 / 11, 1.0 / 12, 1.0 / 13, 1.0 / 14};
+    /* g_{1,q} = 1/q */
     double wq[KM + 3], gi[KM + 3], cj[KM + 3];
     for (int q = 1; q <= ki; q++)
         wq[q] = inv_q[q];

@@ -61,6 +61,9 @@ void swim_constraint_residuals_at(int n, const double *c, const double *v, const
      * same sums to the bit), without writing G: this runs at every step */
     double rate = 0.0, ang = 0.0, locks = 0.0;
     for (int i = 0; i < n; i += 2) {
+        /* a mode at rest (v = 0, c finite: the locked ones) adds four signed zeros to sums that
+         * start at +0, which changes no bit: its two divisions are skipped */
+        if (v[i] == 0.0 && v[i + 1] == 0.0 && isfinite(c[i]) && isfinite(c[i + 1])) continue;
         const int k = swim_coord_mode(i), ak = abs(k);
         rate += (k * c[i]) * v[i];
         rate += (k * c[i + 1]) * v[i + 1];

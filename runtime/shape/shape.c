@@ -191,12 +191,35 @@ double swim_shape_j_rate(int modes, const double *x, const double *v, double the
     return rate - 2.0 * (Pr * Vr + Pi * Vi);
 }
 
+int swim_shape_jmin_rate(int modes, const double *x, const double *v, double *J, double *rate)
+{
+    double pr[SWIM_KERNEL_MAX_MODES], pi[SWIM_KERNEL_MAX_MODES], vr[SWIM_KERNEL_MAX_MODES], vi[SWIM_KERNEL_MAX_MODES];
+    if (modes < 1) return 0;
+    coefficients(modes, x, pr, pi);
+    coefficients(modes, v, vr, vi);
+    while (modes > 1 && pr[modes - 1] == 0.0 && pi[modes - 1] == 0.0) modes--;   /* as jmin_impl */
+    const double c1sq = x[0] * x[0] + x[1] * x[1], c1rate = 2.0 * (x[0] * v[0] + x[1] * v[1]);
+    if (modes == 1) {   /* J = |c_1|^2 - |p_1|^2 on the whole circle */
+        *J = c1sq - (pr[0] * pr[0] + pi[0] * pi[0]);
+        *rate = c1rate - 2.0 * (pr[0] * vr[0] + pi[0] * vi[0]);
+        return !isnan(*J);
+    }
+    if (modes != 2) return 0;
+    const double m1 = sqrt(pr[0] * pr[0] + pi[0] * pi[0]), m2 = sqrt(pr[1] * pr[1] + pi[1] * pi[1]);
+    if (!(m1 > 0.0 && m2 > 0.0)) return 0;
+    *J = c1sq - (m1 + m2) * (m1 + m2);
+    const double m1rate = (pr[0] * vr[0] + pi[0] * vi[0]) / m1, m2rate = (pr[1] * vr[1] + pi[1] * vi[1]) / m2;
+    *rate = c1rate - 2.0 * (m1 + m2) * (m1rate + m2rate);
+    return !isnan(*J);
+}
+
 int swim_shape_in_D(int modes, const double *x)
 {
     double bound = 0.0;
     for (int m = 1; m <= modes; m++) {
         const int i = swim_coord_index(-m);
-        bound += m * sqrt(x[i] * x[i] + x[i + 1] * x[i + 1]);
+        /* a mode at 0 adds +0 (its root is a latency chain of its own): the same sum without it */
+        if (x[i] != 0.0 || x[i + 1] != 0.0) bound += m * sqrt(x[i] * x[i] + x[i + 1] * x[i + 1]);
     }
     const double c1 = sqrt(x[0] * x[0] + x[1] * x[1]);
     if (c1 > bound * (1.0 + 1e-12)) return 1;   /* margin: J > 0 with room for rounding */

@@ -24,6 +24,13 @@ double swim_shape_jmin_at(int modes, const double *x, double *theta);
  * locates the minimum of J in time between integration steps. */
 double swim_shape_j_rate(int modes, const double *x, const double *v, double theta);
 
+/* min J and its time derivative along v together, without the angle, where both have a closed
+ * form: P of degree <= 1 in w after dropping zero top modes (min J = |c_1|^2 - (|p_1| + |p_2|)^2,
+ * so d/dt min J = 2 Re(conj(c_1) c_1') - 2 (|p_1| + |p_2|) (|p_1|' + |p_2|')). Returns 1 with
+ * *J (the bits of swim_shape_jmin_at) and *rate set, or 0 -- a higher degree, or p_1 = 0 where
+ * |p_1| has no derivative -- and then the caller takes the angle and swim_shape_j_rate. */
+int swim_shape_jmin_rate(int modes, const double *x, const double *v, double *J, double *rate);
+
 /* J(theta) and (J1 != NULL) J'(theta) in double-double arithmetic (106 bits, about 1e-31 of
  * |c_1|^2) at the shape x + lo (lo may be NULL: x), rounded to double at the end. Near a zero of J
  * the double value carries the cancellation error of |c_1|^2 - |P|^2 (absolute 1e-16: relative
