@@ -1,7 +1,7 @@
 /* What compiler flags of the generated kernels would buy: the scene kernel's source (from the
  * cache, runtime/codegen) compiled again with the kernels' flags (KERNEL_OPT) and with each set of
  * extra flags given, then ns per RHS of each at the scene's initial state, measured in
- * interleaved rounds (151 rounds of 400 calls, kernel after kernel, so that a change of the
+ * interleaved rounds (301 rounds of 200 calls, the kernels in a shuffled order per round, so that a change of the
  * machine's load falls on all of them alike): the minimum and the median over the rounds, and
  * whether the derivative is the same to the bit as with the kernels' own flags.
  *
@@ -31,7 +31,7 @@
 #define SWIM_CC "cc"
 #endif
 
-enum { MAXK = 8, ROUNDS = 151, CALLS = 400 };
+enum { MAXK = 8, ROUNDS = 301, CALLS = 200 };
 
 /* The kernel source compiled with the kernels' flags and extra ones into dir/k<i>.so, loaded. */
 static const swim_scene_kernel *build(const char *source, const char *share, const char *extra,
@@ -82,12 +82,14 @@ int main(int argc, char **argv)
     const swim_scene_kernel *ks[MAXK];
     int bad = 0;
     for (int i = 0; i < nk && !bad; i++) bad = !(ks[i] = build(sp.source, share, flags[i], dir, i));
-    for (int i = 0; i < nk; i++) {
-        char so[600];
-        snprintf(so, sizeof so, "%s/k%d.so", dir, i);
-        unlink(so);
+    if (!getenv("BENCH_KEEP_KERNELS")) {   /* set, the builds stay for a profiler to read their symbols */
+        for (int i = 0; i < nk; i++) {
+            char so[600];
+            snprintf(so, sizeof so, "%s/k%d.so", dir, i);
+            unlink(so);
+        }
+        rmdir(dir);
     }
-    rmdir(dir);
     if (bad) return 1;
     double *y = calloc((size_t)d.dim, sizeof(double)), *ys = calloc((size_t)d.dim, sizeof(double));
     double *dy = calloc((size_t)d.dim, sizeof(double)), *dy0 = calloc((size_t)d.dim, sizeof(double));
@@ -95,12 +97,25 @@ int main(int argc, char **argv)
     swim_dynamics_use_scene_kernel(&d, sp.scene, 0);
     swim_dynamics_pack(&d, y, ys);
     static double t[MAXK][ROUNDS];
-    for (int r = 0; r < ROUNDS; r++)
-        for (int i = 0; i < nk; i++) {
+    unsigned seed = 12345u;
+    for (int r = 0; r < ROUNDS; r++) {
+        /* each round in its own order (a fixed shuffle): a build timed first, or right after
+         * another, in every round would carry whatever that position costs */
+        int order[MAXK];
+        for (int i = 0; i < nk; i++) order[i] = i;
+        for (int i = nk - 1; i > 0; i--) {
+            seed = seed * 1103515245u + 12345u;
+            const int j = (int)((seed >> 16) % (unsigned)(i + 1)), o = order[i];
+            order[i] = order[j];
+            order[j] = o;
+        }
+        for (int q = 0; q < nk; q++) {
+            const int i = order[q];
             const double t0 = bench_now();
             for (int c = 0; c < CALLS; c++) ks[i]->rhs(0.1, ys, dy, &d.spec_params);
             t[i][r] = (bench_now() - t0) / CALLS * 1e9;
         }
+    }
     FILE *csv = fopen("build/bench/kernel_flags.csv", "w");
     const char *head = "scene,flags,ns_min,ns_median,ratio_min,same_bits\n";
     printf("%s", head);
