@@ -4,6 +4,13 @@
 
 SHELL      := /bin/bash
 MAKEFLAGS  += --no-builtin-rules
+# A cold `make test` (or `make`) is mostly compiling -- three builds with the tests: plain, ASan and
+# TSan -- so those goals build on every core. Every other goal runs one job at a time: a benchmark
+# must not share the machine with another, an install keeps its order. A -j given on the command
+# line still decides.
+ifeq ($(filter-out all test lib run,$(or $(MAKECMDGOALS),all)),)
+MAKEFLAGS  += -j$(shell nproc 2>/dev/null || echo 1)
+endif
 .SUFFIXES:
 PYTHON     ?= /usr/bin/python3
 export PYTHON
@@ -113,7 +120,8 @@ $(MEDIA_STAMP): PKGS := $(MEDIA_PKGS)
 $(MPI_STAMP): PKGS := $(MPI_PKGS)
 $(FUZZ_STAMP): PKGS := $(FUZZ_PKGS)
 # The stamps depend on the Makefile (and the module fragments listing packages): a package added to
-# a list is checked again in a build folder whose stamp predates it.
+# a list is checked again in a build folder whose stamp predates it. Two stamps can be made at once
+# (parallel goals, above): their apt-get runs take turns on a lock, where dpkg's own would fail one.
 $(DEPS_STAMP) $(MEDIA_STAMP) $(MPI_STAMP) $(FUZZ_STAMP): Makefile $(wildcard runtime/*/module.mk)
 	@missing=""; for p in $(PKGS); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
@@ -121,7 +129,8 @@ $(DEPS_STAMP) $(MEDIA_STAMP) $(MPI_STAMP) $(FUZZ_STAMP): Makefile $(wildcard run
 	if [ -n "$$missing" ]; then \
 	  if [ "$$(id -u)" = 0 ]; then \
 	    echo "installing:$$missing"; \
-	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing >/dev/null || exit 1; \
+	    mkdir -p build; \
+	    flock build/.apt.lock sh -c 'apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$$@" >/dev/null' sh $$missing || exit 1; \
 	  else \
 	    echo "missing Debian packages:$$missing -- run: sudo apt-get install$$missing" >&2; exit 1; \
 	  fi; \

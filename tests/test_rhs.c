@@ -158,7 +158,14 @@ int main(void)
             while (*end == ' ' || *end == ',') end++;
         }
     } else {
+        /* Built with AddressSanitizer, which checks the runtime's memory use (the same code at every
+         * N), the list stops at N = 12: the reference's loops at N = 20 and 32 took a minute there.
+         * The plain build checks every N. */
+#if defined(__SANITIZE_ADDRESS__)
+        static const int def[] = {0, 1, 2, 3, 4, 5, 6, 7, 12};
+#else
         static const int def[] = {0, 1, 2, 3, 4, 5, 6, 7, 12, 20, 32};
+#endif
         count = (int)(sizeof def / sizeof def[0]);
         memcpy(modes, def, sizeof def);
     }
