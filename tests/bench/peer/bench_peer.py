@@ -173,7 +173,41 @@ def table(all_rows, info, T, repeat, loads):
              "on %d cores. Made by `make bench` (tests/bench/peer/bench_peer.py)."
              % (T, ", ".join("%.1e (%s)" % (v["agree"], k) for k, v in info.items()), repeat,
                 loads[0], loads[1], os.cpu_count())]
-    return "\n".join(out + notes) + "\n"
+    return "\n".join(out + notes + decomposition(all_rows, info)) + "\n"
+
+
+def decomposition(all_rows, info):
+    """Where the ratio against DOP853 comes from, at each target error: the RHS evaluations each
+    side needs (interpolated like the CPU time), the CPU time per evaluation (swim's RHS alone
+    beside it: the rest is its step control and checks), their product, and the CPU time per
+    evaluation swim would need, with the evaluations it needs, for 100x and 300x."""
+    out = ["", "| scene | error | RHS evaluations: DOP853 / swim | CPU per evaluation: DOP853 / swim "
+           "(its RHS alone) | swim faster × | swim's CPU per evaluation for 100× / 300× |",
+           "|---|---|---|---|---|---|"]
+    for name in info:
+        rows = [r for r in all_rows if r["scene"] == name]
+        rhs_alone = statistics.median(r["ns_per_rhs"] for r in rows if r["method"] == "swim")
+        for e in TARGETS:
+            got = {}
+            for m in ("swim", "DOP853"):
+                mr = [r for r in rows if r["method"] == m]
+                got[m] = (cost_to_reach([(r["cpu_s"], r["error"]) for r in mr], e),
+                          cost_to_reach([(r["rhs_evals"], r["error"]) for r in mr], e))
+            if any(c is None or n is None or c[1] != "interp" or n[1] != "interp" for c, n in got.values()):
+                out.append("| %s | %.0e | — | — | — | — |" % (name, e))   # not reached, or only bounded
+                continue
+            (cs, ns), (cp, np_) = ((c[0], n[0]) for c, n in (got["swim"], got["DOP853"]))
+            per_s, per_p = 1e9 * cs / ns, 1e9 * cp / np_
+            out.append("| %s | %.0e | %.0f / %.0f (%.2f×) | %.0f µs / %.2f µs (%.2f µs) (%.0f×) | %.0f | %.2f µs / %.2f µs |"
+                       % (name, e, np_, ns, np_ / ns, per_p / 1e3, per_s / 1e3, rhs_alone / 1e3, per_p / per_s,
+                          cp / cs, 1e6 * cp / (100 * ns), 1e6 * cp / (300 * ns)))
+    out.append("")
+    out.append("The ratio is the product of the two quotients in brackets. Evaluations and CPU time are "
+               "interpolated log-log at the error on each side's runs (as the table above); CPU per "
+               "evaluation = CPU time / evaluations there. The last column is what swim's CPU time per "
+               "evaluation -- its RHS and everything around it -- would have to be, with the evaluations it "
+               "needs, for swim to be 100× or 300× faster than DOP853.")
+    return out
 
 
 def main(argv=None):
