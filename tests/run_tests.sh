@@ -7,7 +7,8 @@
 # the programs that failed and one line "tests: P passed, F failed" summing the programs'
 # "NAME: p passed, f failed" lines (CI reads that last line). A program that crashes or exits
 # non-zero without a summary line counts as one failure. The programs that took longest last
-# time start first (build/test-logs/durations), so the slowest one does not start last.
+# time start first (build/test-logs/durations), so the slowest one does not start last; a
+# sanitized build (asan-NAME, tsan-NAME) starts after NAME has ended.
 set -u
 jobs="${TEST_JOBS:-$(nproc 2>/dev/null || echo 1)}"
 logs="${TEST_LOGS:-build/test-logs}"
@@ -72,11 +73,30 @@ order=$(for prog in "${progs[@]}"; do
 done | sort -s -g -r -k1,1 | cut -d' ' -f2-)
 
 for prog in "${progs[@]}"; do rm -f "$logs/$(name_of "$prog").rc"; done
+# A sanitized build of a program (asan-NAME, tsan-NAME) starts once NAME has ended, when both run:
+# on an empty kernel cache the two ask for the same kernels, and one of them held a slot waiting
+# for the other's compiler (asan-test_rhs: a minute of a cold run).
+declare -A listed
+for prog in "${progs[@]}"; do listed[$(name_of "$prog")]=1; done
+ready() {   # ready PROG: 0 when nothing it waits for is still to run
+    local name twin
+    name=$(name_of "$1"); twin=${name#asan-}; twin=${twin#tsan-}
+    [ "$twin" = "$name" ] || [ -z "${listed[$twin]+set}" ] || [ -e "$logs/$twin.rc" ]
+}
+queue=($order)
 running=0
-for prog in $order; do
-    if [ "$running" -ge "$jobs" ]; then wait -n; running=$((running - 1)); fi
-    run_one "$prog" &
+while [ "${#queue[@]}" -gt 0 ]; do
+    next=-1
+    if [ "$running" -lt "$jobs" ]; then
+        for i in "${!queue[@]}"; do
+            if ready "${queue[$i]}"; then next=$i; break; fi
+        done
+    fi
+    if [ "$next" -lt 0 ]; then wait -n; running=$((running - 1)); continue; fi
+    run_one "${queue[$next]}" &
     running=$((running + 1))
+    unset "queue[$next]"
+    queue=("${queue[@]+"${queue[@]}"}")
 done
 wait
 

@@ -116,5 +116,38 @@ def test_filter():
               p.returncode, p.stdout, p.stderr))
 
 
+def test_sanitized_twin_waits():
+    """asan-NAME starts only once NAME has ended (they would wait for the same kernels), even when
+    the durations put it first; a program without a twin does not wait."""
+    d = os.path.join(swimtest.TMP, "runner-twins")
+    marker = os.path.join(d, "plain-ended")
+    bodies = {
+        os.path.join("build", "tests", "test_pair.sh"): "sleep 1\ntouch '%s'\necho 'test_pair: 1 passed, 0 failed'\n"
+                                                          % marker,
+        os.path.join("build", "asan", "tests", "test_pair.sh"):
+            "if [ -e '%s' ]; then echo 'asan-test_pair: 1 passed, 0 failed'; else "
+            "echo 'FAIL started before test_pair ended'; echo 'asan-test_pair: 0 passed, 1 failed'; fi\n" % marker,
+        os.path.join("build", "tests", "test_alone.sh"): "echo 'test_alone: 1 passed, 0 failed'\n",
+    }
+    for rel, body in bodies.items():
+        p = os.path.join(d, rel)
+        os.makedirs(os.path.dirname(p), exist_ok=True)
+        with open(p, "w") as fh:
+            fh.write("#!/bin/sh\n" + body)
+        os.chmod(p, 0o755)
+    logs = os.path.join(d, "logs")
+    os.makedirs(logs, exist_ok=True)
+    with open(os.path.join(logs, "durations"), "w") as fh:   # longest first would start the twin first
+        fh.write("asan-test_pair 90000\ntest_alone 50000\ntest_pair 10\n")
+    env = dict(os.environ, TEST_JOBS="2", TEST_LOGS=logs, TEST_FILTER="")
+    p = subprocess.run(["bash", RUNNER] + list(bodies), capture_output=True, text=True, env=env, timeout=60, cwd=d)
+    out = p.stdout.splitlines()
+    check(p.returncode == 0 and out[-1:] == ["tests: 3 passed, 0 failed"],
+          "the twin did not wait for its program: status %d\n%s" % (p.returncode, p.stdout))
+    ends = [ln.split(":")[0] for ln in out[1:-1]]
+    check(ends.index("test_alone") < ends.index("test_pair") < ends.index("asan-test_pair"),
+          "order of the ends %s (test_alone has no twin: it runs at once)" % ends)
+
+
 if __name__ == "__main__":
     sys.exit(swimtest.main(globals(), "test_run_tests"))
