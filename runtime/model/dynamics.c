@@ -143,6 +143,8 @@ void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *s
     p->barrier_ctx = d;
     p->law_params = s->param_values;
     p->barrier_hessian = scene_barrier_hessian;
+    d->carries_locked = spec->nfree != d->nfree ||
+                        memcmp(spec->free_index, d->free_at, sizeof(int) * (size_t)d->nfree) != 0;
 }
 
 int swim_dynamics_state_dim(const swim_dynamics *d)
@@ -318,7 +320,13 @@ static double elastic_energy(const swim_scene *s, const double *c)
 {
     double W1 = 0.0;
     if (s->elastic)
-        for (int i = 0; i < s->n; i++) W1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
+        for (int i = 0; i < s->n; i++) {
+            const double e = c[i] - s->reference[i];
+            /* a coordinate without stiffness adds a signed zero (e finite) to a sum that started
+             * at +0, which changes no bit (it is never -0): skipped, off the chain of additions */
+            if (s->stiffness[i] == 0.0 && isfinite(e)) continue;
+            W1 += 0.5 * s->stiffness[i] * e * e;
+        }
     return W1;
 }
 
@@ -430,6 +438,22 @@ int swim_dynamics_diagnostics_aside(swim_dynamics *d, const double *y, swim_diag
     return rc;
 }
 
+/* swim_to_fixed_frame (3.21) of three vectors at one angle theta, with one cos and sin of it:
+ * each rotated vector is the one swim_to_fixed_frame gives. */
+static void to_fixed_frame3(double theta, const double *a, const double *b, const double *c, double *fa, double *fb,
+                            double *fc)
+{
+    const double ct = cos(theta), st = sin(theta);
+    const double *in[3] = {a, b, c};
+    double *out[3] = {fa, fb, fc};
+    for (int j = 0; j < 3; j++) {
+        const double u = in[j][0], w = in[j][1];
+        out[j][0] = ct * u - st * w;
+        out[j][1] = st * u + ct * w;
+        out[j][2] = in[j][2];
+    }
+}
+
 int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
 {
     const swim_scene *s = d->scene;
@@ -477,9 +501,7 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
         fr[p] = -body[p];
         for (int r = 0; r < 3; r++) fr[p] += Mr[3 * p + r] * q[r];
     }
-    swim_to_fixed_frame(y[2], body, o->impulse_body);
-    swim_to_fixed_frame(y[2], fr, o->impulse_fluid_rigid);
-    swim_to_fixed_frame(y[2], Ncv, o->impulse_fluid_shape);
+    to_fixed_frame3(y[2], body, fr, Ncv, o->impulse_body, o->impulse_fluid_rigid, o->impulse_fluid_shape);
     memcpy(o->rigid_velocity, q, sizeof q);
     swim_constraint_residuals res;
     swim_constraint_residuals_at(n, c, v, s->c0, d->mu0, s->free_mask, &res);
@@ -513,7 +535,7 @@ int swim_dynamics_project(double t, double *ys, void *params)
     const int *free_at = d->free_at, nfree = d->nfree;
     /* A kernel that carries only the free coordinates leaves the locked ones at c0 and cdot 0
      * (unpack); one that carries them all may have moved them: put them back. */
-    if (d->spec->nfree != nfree || memcmp(d->spec->free_index, free_at, sizeof(int) * (size_t)nfree) != 0)
+    if (d->carries_locked)
         for (int i = 0; i < n; i++)
             if (!s->free_mask[i]) {
                 change = larger(change, fabs(c[i] - s->c0[i]) + fabs(v[i]));
@@ -612,6 +634,6 @@ int swim_dynamics_project(double t, double *ys, void *params)
     memcpy(d->proj_out, ys, sizeof(double) * m);
     d->proj_valid = 1;
     d->projections++;
-    d->max_projection = fmax(d->max_projection, change);
+    d->max_projection = larger(d->max_projection, change);   /* change is never NaN (larger) */
     return 0;
 }
