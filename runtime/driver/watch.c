@@ -44,22 +44,18 @@ static void note_jmin(swim_run_watch_results *r, double t, double J)
     }
 }
 
-/* fmax(m, x) without the library call (this runs at every step), NaN included: a NaN x leaves
- * m, a NaN m gives x. Both are >= 0 or NaN here (absolute values), so no signed zero to order. */
-static inline double max_of(double m, double x) { return x > m || isnan(m) ? x : m; }
-
 /* What p holds at or before t_end into r; p is emptied. */
 static void commit(swim_run_watch_results *r, swim_run_watch_pending *p, double t_end)
 {
     for (int i = 0; i < p->n; i++)
         if (p->t[i] <= t_end) note_jmin(r, p->t[i], p->J[i]);
     if (p->balanced && p->tb <= t_end) {
-        r->drift_abs = max_of(r->drift_abs, p->drift);
-        r->emax = max_of(r->emax, p->e);
-        r->res_volume = max_of(r->res_volume, p->res_volume);
-        r->res_volume_rate = max_of(r->res_volume_rate, p->res_volume_rate);
-        r->res_angular = max_of(r->res_angular, p->res_angular);
-        r->res_locks = max_of(r->res_locks, p->res_locks);
+        r->drift_abs = swim_run_max_of(r->drift_abs, p->drift);
+        r->emax = swim_run_max_of(r->emax, p->e);
+        r->res_volume = swim_run_max_of(r->res_volume, p->res_volume);
+        r->res_volume_rate = swim_run_max_of(r->res_volume_rate, p->res_volume_rate);
+        r->res_angular = swim_run_max_of(r->res_angular, p->res_angular);
+        r->res_locks = swim_run_max_of(r->res_locks, p->res_locks);
     }
     memset(p, 0, sizeof *p);
 }

@@ -530,7 +530,9 @@ int swim_dynamics_project(double t, double *ys, void *params)
     const int m = swim_dynamics_state_dim(d);
     (void)t;
     if (d->origin) memcpy(before, absolute(d, ys, d->hi), sizeof(double) * m);
-    memcpy(d->proj_delta, ys, sizeof(double) * m);
+    /* what the projection changes is read by the balance's noise, with a barrier only */
+    const int keep = s->barrier;
+    if (keep) memcpy(d->proj_delta, ys, sizeof(double) * m);
     swim_dynamics_unpack(d, ys, y);
     const int *free_at = d->free_at, nfree = d->nfree;
     /* A kernel that carries only the free coordinates leaves the locked ones at c0 and cdot 0
@@ -564,7 +566,7 @@ int swim_dynamics_project(double t, double *ys, void *params)
             }
             r = (double)(mu2 - mu0);
         } else {
-            r = swim_area_constant(n, c) - mu0;
+            r = swim_area_constant_moving(n, c) - mu0;
         }
         /* over the free coordinates only: a locked one's gradient entry is 0, and adding the
          * exact zeros it gave to sums that start at +0 changed no bit (a NaN residual, which left
@@ -630,9 +632,11 @@ int swim_dynamics_project(double t, double *ys, void *params)
     } else {
         swim_dynamics_pack(d, y, ys);
     }
-    for (int i = 0; i < m; i++) d->proj_delta[i] = ys[i] - d->proj_delta[i];
-    memcpy(d->proj_out, ys, sizeof(double) * m);
-    d->proj_valid = 1;
+    if (keep) {
+        for (int i = 0; i < m; i++) d->proj_delta[i] = ys[i] - d->proj_delta[i];
+        memcpy(d->proj_out, ys, sizeof(double) * m);
+        d->proj_valid = 1;
+    }
     d->projections++;
     d->max_projection = larger(d->max_projection, change);   /* change is never NaN (larger) */
     return 0;

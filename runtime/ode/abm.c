@@ -107,7 +107,7 @@ struct abm {
     double beta[KM + 3];         /* beta_i: phi*_i = beta_i phi_i(n) */
     double sig[KM + 3];          /* sigma_i: error-estimate factors for variable steps */
     double g[KM + 3];            /* integration coefficients g_{i,1} */
-    double v[KM + 3], w[KM + 3]; /* g_{ns,q} carried over runs of equal steps; working column */
+    double v[KM + 3];            /* g_{ns,q} carried over runs of equal steps */
     double gstar[KM + 3];        /* |gamma*_m|, error constants of the order-m Adams-Moulton formula */
     double psi_save[KM + 3], v_save[KM + 3];   /* step history before this attempt changed it ... */
     double alpha_save[KM + 3], beta_save[KM + 3], sig_save[KM + 3], g_save[KM + 3];   /* ... and its coefficients */
@@ -333,6 +333,39 @@ static const double inv_qq1[KM + 3] = {0, INV_QQ1(1), INV_QQ1(2), INV_QQ1(3), IN
                                        INV_QQ1(6), INV_QQ1(7), INV_QQ1(8), INV_QQ1(9), INV_QQ1(10),
                                        INV_QQ1(11), INV_QQ1(12), INV_QQ1(13), INV_QQ1(14)};
 
+/* The columns of integration coefficients, g_{j,q} for q = 1 .. KM + 2 at the most, held in two
+ * vectors of 8 lanes (lane q - 1), for the recurrences g_{j+1,q} = gam g_{j,q} - eta g_{j,q+1}
+ * over all q at once: the lanes stay in registers from one j to the next instead of being stored
+ * and loaded back (shifted by one entry) in every round. Each entry is computed by the same two
+ * products and difference as entry by entry; entries past those a round needs are computed from
+ * whatever lies there and never read. */
+typedef double col8 __attribute__((vector_size(8 * sizeof(double))));
+typedef long long col8_index __attribute__((vector_size(8 * sizeof(long long))));
+typedef struct {
+    col8 lo, hi;                 /* q = 1..8, 9..16 */
+} column;
+
+static inline column column_load(const double *w1, int len)   /* w1[0 .. len-1] = g_{j,1 .. len} */
+{
+    double buf[16] = {0};
+    memcpy(buf, w1, sizeof(double) * (size_t)len);
+    column c;
+    memcpy(&c.lo, buf, sizeof c.lo);
+    memcpy(&c.hi, buf + 8, sizeof c.hi);
+    return c;
+}
+
+/* g_{j,q} <- gam g_{j,q} - eta g_{j,q+1} for every q; returns the new g_{j,1} */
+static inline double column_step(column *c, double gam, double eta)
+{
+    const col8_index down = {1, 2, 3, 4, 5, 6, 7, 8};
+    const col8 zero = {0};
+    const col8 next_lo = __builtin_shuffle(c->lo, c->hi, down), next_hi = __builtin_shuffle(c->hi, zero, down);
+    c->lo = gam * c->lo - eta * next_lo;
+    c->hi = gam * c->hi - eta * next_hi;
+    return c->lo[0];
+}
+
 /* Coefficients alpha, beta, sigma, psi(n+1), g for the step of size h, order k.
  * Only the entries that change on a run of ns equal steps are recomputed. */
 static void coefficients(abm *a)
@@ -355,7 +388,7 @@ static void coefficients(abm *a)
     memcpy(a->g_save, a->g, sizeof a->g);
     a->saved = 1;
     double *psi = a->psi, *alpha = a->alpha, *beta = a->beta, *sig = a->sig;
-    double *v = a->v, *w = a->w, *g = a->g;
+    double *v = a->v, *g = a->g;
     beta[ns] = 1.0;
     alpha[ns] = inv_q[ns];
     sig[ns + 1] = 1.0;
@@ -370,13 +403,13 @@ static void coefficients(abm *a)
     }
     psi[k] = next;
 
-    /* v holds g_{ns,q} carried over the run of equal steps; w is the working
-     * column that is advanced to g_{k+1,q}. */
+    /* v holds g_{ns,q} carried over the run of equal steps; the working column w (from v) is
+     * advanced to g_{k+1,q}. */
+    column w;
     if (ns == 1) {
-        for (int q = 1; q <= k; q++) {
+        for (int q = 1; q <= k; q++)
             v[q] = inv_qq1[q];
-            w[q] = v[q];
-        }
+        w = column_load(v + 1, k);
     } else {
         if (k > a->kold) {
             /* order went up: extend v by one entry along the anti-diagonal */
@@ -387,18 +420,13 @@ static void coefficients(abm *a)
             }
         }
         double an = alpha[ns];
-        for (int q = 1; q <= k + 1 - ns; q++) {
+        for (int q = 1; q <= k + 1 - ns; q++)
             v[q] -= an * v[q + 1];
-            w[q] = v[q];
-        }
-        g[ns + 1] = w[1];
+        w = column_load(v + 1, k + 1 - ns);
+        g[ns + 1] = v[1];
     }
-    for (int i = ns + 2; i <= k + 1; i++) {
-        double ai = alpha[i - 1];
-        for (int q = 1; q <= k + 2 - i; q++)
-            w[q] -= ai * w[q + 1];
-        g[i] = w[1];
-    }
+    for (int i = ns + 2; i <= k + 1; i++)   /* g_{i,q} = g_{i-1,q} - alpha_{i-1} g_{i-1,q+1} */
+        g[i] = column_step(&w, 1.0, alpha[i - 1]);
 }
 
 /* Undo the changes a step attempt made to the step history (the difference
@@ -931,18 +959,15 @@ void abm_interp(const abm *a, double tout, double *yout, double *ypout)
      * c_{j+1} = c_j (s + psi_{j-1})/psi_j and the integrals advanced by
      * g_{j+1,q} = gamma g_{j,q} - eta g_{j,q+1}, gamma = (s+psi_{j-1})/psi_j, eta = s/psi_j. */
     /* g_{1,q} = 1/q */
-    double wq[KM + 3], gi[KM + 3], cj[KM + 3];
-    for (int q = 1; q <= ki; q++)
-        wq[q] = inv_q[q];
+    double gi[KM + 3], cj[KM + 3];
+    column wq = column_load(inv_q + 1, ki);
     gi[1] = 1.0;
     cj[1] = 1.0;
     double prev = 0.0;   /* psi_{j-1} */
     for (int j = 1; j < ki; j++) {
         double pj = a->psi[j];
         double gam = (s + prev) / pj, eta = s / pj;
-        for (int q = 1; q <= ki - j; q++)
-            wq[q] = gam * wq[q] - eta * wq[q + 1];
-        gi[j + 1] = wq[1];
+        gi[j + 1] = column_step(&wq, gam, eta);
         cj[j + 1] = cj[j] * gam;
         prev = pj;
     }

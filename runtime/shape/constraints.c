@@ -53,10 +53,20 @@ int swim_constraint_project(int n, int m, const double *G, double *v)
     return rc;
 }
 
+double swim_area_constant_moving(int n, const double *c)
+{
+    double mu2 = 0.0;
+    for (int i = 0; i < n; i += 2) {
+        if (c[i] == 0.0 && c[i + 1] == 0.0) continue;   /* k (0 + 0) = +-0 */
+        mu2 += swim_coord_mode(i) * (c[i] * c[i] + c[i + 1] * c[i + 1]);
+    }
+    return mu2;
+}
+
 void swim_constraint_residuals_at(int n, const double *c, const double *v, const double *c0, double mu0,
                                   const int *free_mask, swim_constraint_residuals *r)
 {
-    r->volume = swim_area_constant(n, c) - mu0;
+    r->volume = swim_area_constant_moving(n, c) - mu0;
     /* G1.v and G2.v with the rows of swim_constraint_rows formed term by term, in its order (the
      * same sums to the bit), without writing G: this runs at every step */
     double rate = 0.0, ang = 0.0, locks = 0.0;
