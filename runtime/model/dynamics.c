@@ -46,6 +46,7 @@ int swim_dynamics_init(swim_dynamics *d, const swim_scene *s, const swim_kernel 
     }
     d->m = swim_constraint_rows(n, s->c0, s->free_mask, d->G);
     d->mu0 = swim_area_constant(n, s->c0);
+    memcpy(d->rest, s->c0, sizeof(double) * n);   /* and n zeros (memset above) */
     for (int i = 0; i < n; i++)
         if (s->free_mask[i]) d->free_at[d->nfree++] = i;
     return 0;
@@ -180,8 +181,7 @@ void swim_dynamics_unpack(const swim_dynamics *d, const double *ustate, double *
     double buf[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
     const double *state = absolute(d, ustate, buf);
     memcpy(full, state, 3 * sizeof(double));
-    memcpy(full + 3, d->scene->c0, sizeof(double) * n);   /* locked coordinates keep c0 */
-    memset(full + 3 + n, 0, sizeof(double) * n);
+    memcpy(full + 3, d->rest, sizeof(double) * 2 * n);   /* locked coordinates keep c0, at rest */
     for (int f = 0; f < nf; f++) {
         full[3 + d->spec->free_index[f]] = state[3 + f];
         full[3 + n + d->spec->free_index[f]] = state[3 + nf + f];
@@ -549,9 +549,10 @@ int swim_dynamics_project(double t, double *ys, void *params)
      * in d->x_lo) and the corrections go to u alone (dcx): the residual of the rounded shape is
      * rounding noise of 1e-16, and correcting it would put that noise back into u. */
     const double mu0 = d->mu0;
-    double dcx[2 * (SWIM_KERNEL_MAX_MODES + 1)] = {0.0}, c_hi[2 * (SWIM_KERNEL_MAX_MODES + 1)];
+    double dcx[2 * (SWIM_KERNEL_MAX_MODES + 1)], c_hi[2 * (SWIM_KERNEL_MAX_MODES + 1)];
     const int shifted = d->origin != NULL;
-    if (shifted) {
+    if (shifted) {   /* dcx is read with an origin only */
+        memset(dcx, 0, sizeof(double) * (size_t)n);
         split_state(d, ys);
         d->lo_valid = 0;
         memcpy(c_hi, c, sizeof(double) * n);
@@ -581,7 +582,7 @@ int swim_dynamics_project(double t, double *ys, void *params)
         for (int f = 0; f < nfree; f++) {
             const int i = free_at[f];
             c[i] -= r * g[i] / gg;
-            dcx[i] -= r * g[i] / gg;
+            if (shifted) dcx[i] -= r * g[i] / gg;
             change = larger(change, fabs(r * g[i] / gg));
         }
     }

@@ -671,7 +671,8 @@ static int project(abm *a)
         a->rhs_status = rc;
         return SWIM_ODE_ERHS;
     }
-    memset(a->ycn, 0, a->n * sizeof(double));   /* the carries belonged to the unprojected y */
+    if (a->compensate)   /* the carries belonged to the unprojected y (without, correct() left 0) */
+        memset(a->ycn, 0, a->n * sizeof(double));
     return SWIM_ODE_OK;
 }
 
