@@ -576,16 +576,16 @@ static void track(run_report *r, double t, const swim_diag *g, int first)
 {
     if (first) { r->e0 = g->energy; r->jmin = INFINITY; }
     r->t_reached = t;
-    r->drift_abs = fmax(r->drift_abs, fabs(g->energy - r->e0 - g->work));
-    r->emax = fmax(r->emax, fabs(g->energy));
+    r->drift_abs = swim_run_max_of(r->drift_abs, fabs(g->energy - r->e0 - g->work));
+    r->emax = swim_run_max_of(r->emax, fabs(g->energy));
     if (g->jmin < r->jmin || isnan(g->jmin)) {
         r->jmin = g->jmin;
         r->jmin_t = t;
     }
-    r->res_volume = fmax(r->res_volume, fabs(g->res_volume));
-    r->res_volume_rate = fmax(r->res_volume_rate, fabs(g->res_volume_rate));
-    r->res_angular = fmax(r->res_angular, fabs(g->res_angular));
-    r->res_locks = fmax(r->res_locks, g->res_locks);
+    r->res_volume = swim_run_max_of(r->res_volume, fabs(g->res_volume));
+    r->res_volume_rate = swim_run_max_of(r->res_volume_rate, fabs(g->res_volume_rate));
+    r->res_angular = swim_run_max_of(r->res_angular, fabs(g->res_angular));
+    r->res_locks = swim_run_max_of(r->res_locks, g->res_locks);   /* >= 0 (swim_constraint_residuals) */
 }
 
 /* The columns at integrator state ys for the event functions (swim_run_row_func): all, or t and

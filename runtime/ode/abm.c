@@ -496,8 +496,9 @@ static int check_attempt(abm *a)
 
 /* Predictor of order k: p = y_n + h sum_{i<=k} g_i phi*_i; phin rows 1..k get the
  * partial sums sum_{j>=i} phi*_j that the corrector and the new differences need.
- * Blocks of 4 components with the order index inside keep the partial sums in
- * registers (4 independent chains); the tail runs one component at a time. */
+ * Blocks of 8 components (one vector) and of 4 with the order index inside keep the
+ * partial sums in registers (independent chains, one per component, each in the order of
+ * the one-component loop); the tail runs one component at a time. */
 static void predict(abm *a)
 {
     const size_t n = a->n;
@@ -508,6 +509,18 @@ static void predict(abm *a)
     double *restrict pinc = a->pinc, *restrict pp = a->p;
     const double *restrict yy = a->y, *restrict yc = a->yc;
     size_t l = 0;
+    for (; l + 8 <= n; l += 8) {   /* 8 components in one vector, then blocks of 4, then one by one */
+        col8 c = {0}, acc = {0}, p;
+        for (int i = k; i >= 1; i--) {
+            memcpy(&p, phi + i * n + l, sizeof p);
+            p = beta[i] * p;
+            c += p;
+            memcpy(phin + i * n + l, &c, sizeof c);
+            acc += g[i] * p;
+        }
+        acc = h * acc;
+        memcpy(pinc + l, &acc, sizeof acc);
+    }
     for (; l + 4 <= n; l += 4) {
         double c0 = 0, c1 = 0, c2 = 0, c3 = 0, a0 = 0, a1 = 0, a2 = 0, a3 = 0;
         for (int i = k; i >= 1; i--) {
@@ -725,6 +738,15 @@ static double update_differences(abm *a, int want_up)
             ek2[l] = ek1[l] - ok1[l];
     }
     size_t l = 0;
+    for (; l + 8 <= n; l += 8) {   /* as in predict: 8, then 4, then 1 */
+        col8 e, row;
+        memcpy(&e, ek1 + l, sizeof e);
+        for (int i = 1; i <= k; i++) {
+            memcpy(&row, phin + i * n + l, sizeof row);
+            row += e;
+            memcpy(phin + i * n + l, &row, sizeof row);
+        }
+    }
     for (; l + 4 <= n; l += 4) {
         const double e0 = ek1[l], e1 = ek1[l + 1], e2 = ek1[l + 2], e3 = ek1[l + 3];
         for (int i = 1; i <= k; i++) {
@@ -1015,7 +1037,7 @@ int abm_step_toward(abm *a, double tout, int *done)
             return rc;
     }
     if (a->t >= tout ||
-        (a->have_step && isfinite(a->tstop) && a->tstop - a->t <= 64.0 * UROUND * fmax(fabs(a->t), fabs(a->tstop)))) {
+        (a->have_step && isfinite(a->tstop) && a->tstop - a->t <= 64.0 * UROUND * MAXD(fabs(a->t), fabs(a->tstop)))) {   /* both finite */
         *done = 1;   /* covered, or at tstop up to rounding: extrapolate the last polynomial */
         return SWIM_ODE_OK;
     }
