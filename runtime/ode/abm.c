@@ -345,13 +345,16 @@ typedef struct {
     col8 lo, hi;                 /* q = 1..8, 9..16 */
 } column;
 
-static inline column column_load(const double *w1, int len)   /* w1[0 .. len-1] = g_{j,1 .. len} */
+/* w1[0 .. KM + 1] (g_{j,1 .. KM+2}, of which the caller's column is the first entries) into lanes
+ * 0 .. KM + 1; fixed sizes, so no library call */
+static inline column column_load(const double *w1)
 {
-    double buf[16] = {0};
-    memcpy(buf, w1, sizeof(double) * (size_t)len);
+    _Static_assert(KM + 2 > 8 && KM + 2 <= 16, "a column fits two vectors of 8");
     column c;
-    memcpy(&c.lo, buf, sizeof c.lo);
-    memcpy(&c.hi, buf + 8, sizeof c.hi);
+    double hi[8] = {0};
+    memcpy(&c.lo, w1, sizeof c.lo);
+    memcpy(hi, w1 + 8, sizeof(double) * (KM + 2 - 8));
+    memcpy(&c.hi, hi, sizeof c.hi);
     return c;
 }
 
@@ -409,7 +412,7 @@ static void coefficients(abm *a)
     if (ns == 1) {
         for (int q = 1; q <= k; q++)
             v[q] = inv_qq1[q];
-        w = column_load(v + 1, k);
+        w = column_load(v + 1);
     } else {
         if (k > a->kold) {
             /* order went up: extend v by one entry along the anti-diagonal */
@@ -422,7 +425,7 @@ static void coefficients(abm *a)
         double an = alpha[ns];
         for (int q = 1; q <= k + 1 - ns; q++)
             v[q] -= an * v[q + 1];
-        w = column_load(v + 1, k + 1 - ns);
+        w = column_load(v + 1);
         g[ns + 1] = v[1];
     }
     for (int i = ns + 2; i <= k + 1; i++)   /* g_{i,q} = g_{i-1,q} - alpha_{i-1} g_{i-1,q+1} */
@@ -983,7 +986,7 @@ void abm_interp(const abm *a, double tout, double *yout, double *ypout)
      * g_{j+1,q} = gamma g_{j,q} - eta g_{j,q+1}, gamma = (s+psi_{j-1})/psi_j, eta = s/psi_j. */
     /* g_{1,q} = 1/q */
     double gi[KM + 3], cj[KM + 3];
-    column wq = column_load(inv_q + 1, ki);
+    column wq = column_load(inv_q + 1);
     gi[1] = 1.0;
     cj[1] = 1.0;
     double prev = 0.0;   /* psi_{j-1} */
