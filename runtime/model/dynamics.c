@@ -47,8 +47,10 @@ int swim_dynamics_init(swim_dynamics *d, const swim_scene *s, const swim_kernel 
     d->m = swim_constraint_rows(n, s->c0, s->free_mask, d->G);
     d->mu0 = swim_area_constant(n, s->c0);
     memcpy(d->rest, s->c0, sizeof(double) * n);   /* and n zeros (memset above) */
-    for (int i = 0; i < n; i++)
+    for (int i = 0; i < n; i++) {
         if (s->free_mask[i]) d->free_at[d->nfree++] = i;
+        if (s->elastic && s->stiffness[i] != 0.0) d->stiff_at[d->nstiff++] = i;
+    }
     return 0;
 }
 
@@ -315,18 +317,25 @@ double swim_dynamics_w_law(const swim_dynamics *d, const double *c)
     return d->spec->material(c, &d->spec_params, &W, NULL, NULL) == 0 ? W : NAN;
 }
 
-/* W1 (section 4.1.1): (1/2) sum R_i (c_i - c_ref,i)^2. */
-static double elastic_energy(const swim_scene *s, const double *c)
+/* W1 (section 4.1.1): (1/2) sum R_i (c_i - c_ref,i)^2. A coordinate without stiffness adds
+ * 0 (c - c_ref)^2, a signed zero while c - c_ref is finite, to a sum that started at +0 (never
+ * -0), which changes no bit: when they all are finite the sum runs over the stiff coordinates
+ * alone (d->stiff_at, in the same order), off a chain of additions through every coordinate. */
+static double elastic_energy(const swim_dynamics *d, const double *c)
 {
+    const swim_scene *s = d->scene;
     double W1 = 0.0;
-    if (s->elastic)
-        for (int i = 0; i < s->n; i++) {
-            const double e = c[i] - s->reference[i];
-            /* a coordinate without stiffness adds a signed zero (e finite) to a sum that started
-             * at +0, which changes no bit (it is never -0): skipped, off the chain of additions */
-            if (s->stiffness[i] == 0.0 && isfinite(e)) continue;
-            W1 += 0.5 * s->stiffness[i] * e * e;
+    if (!s->elastic) return W1;
+    int finite = 1;
+    for (int i = 0; i < s->n; i++) finite &= isfinite(c[i] - s->reference[i]);
+    if (finite) {
+        for (int a = 0; a < d->nstiff; a++) {
+            const int i = d->stiff_at[a];
+            W1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
         }
+        return W1;
+    }
+    for (int i = 0; i < s->n; i++) W1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
     return W1;
 }
 
@@ -371,7 +380,7 @@ double swim_dynamics_balance(double t, const double *u, double *noise, void *par
             g = gbuf;
         }
     }
-    const double W1 = elastic_energy(s, c) + swim_dynamics_w_law(d, c), work = full[3 + 2 * n];
+    const double W1 = elastic_energy(d, c) + swim_dynamics_w_law(d, c), work = full[3 + 2 * n];
     if (noise) {
         /* What rounding leaves of B: the sums (~dim u of each term), the barrier rule (chosen by
          * error, ~1e-14 of W2 between two rules), and W2 through the rounding of the carried state
@@ -490,7 +499,7 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
         o->kinetic_shape += 0.5 * b * v[i] * v[i] / (abs(swim_coord_mode(i)) + 1);
     }
     o->kinetic_fluid = T - o->kinetic_rigid - o->kinetic_shape;
-    o->w1 = elastic_energy(s, c);
+    o->w1 = elastic_energy(d, c);
     if (s->barrier) o->w2 = swim_dynamics_w2(d, c);
     o->energy = T + o->w1 + o->w2;
     o->work = y[3 + 2 * n];
