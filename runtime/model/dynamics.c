@@ -327,7 +327,11 @@ static double elastic_energy(const swim_dynamics *d, const double *c)
     double W1 = 0.0;
     if (!s->elastic) return W1;
     int finite = 1;
-    for (int i = 0; i < s->n; i++) finite &= isfinite(c[i] - s->reference[i]);
+    for (int i = 0; i < s->n; i++)   /* element by element (a vector load of c, just stored, would stall) */
+        if (!isfinite(c[i] - s->reference[i])) {
+            finite = 0;
+            break;
+        }
     if (finite) {
         for (int a = 0; a < d->nstiff; a++) {
             const int i = d->stiff_at[a];

@@ -358,6 +358,16 @@ static inline column column_load(const double *w1)
     return c;
 }
 
+/* lanes 0 .. len-1 into w1[0 .. len-1] (the rest of w1 as it was) */
+static inline void column_store(const column *c, double *w1, int len)
+{
+    double buf[16];
+    memcpy(buf, &c->lo, sizeof c->lo);
+    memcpy(buf + 8, &c->hi, sizeof c->hi);
+    for (int q = 0; q < len; q++)
+        w1[q] = buf[q];
+}
+
 /* g_{j,q} <- gam g_{j,q} - eta g_{j,q+1} for every q; returns the new g_{j,1} */
 static inline double column_step(column *c, double gam, double eta)
 {
@@ -412,7 +422,7 @@ static void coefficients(abm *a)
     if (ns == 1) {
         for (int q = 1; q <= k; q++)
             v[q] = inv_qq1[q];
-        w = column_load(v + 1);
+        w = column_load(inv_qq1 + 1);   /* v's entries, from the table: a load of v just stored stalls */
     } else {
         if (k > a->kold) {
             /* order went up: extend v by one entry along the anti-diagonal */
@@ -422,11 +432,10 @@ static void coefficients(abm *a)
                 v[i] -= alpha[j + 1] * v[i + 1];
             }
         }
-        double an = alpha[ns];
-        for (int q = 1; q <= k + 1 - ns; q++)
-            v[q] -= an * v[q + 1];
+        /* v_q <- v_q - alpha_ns v_{q+1}, q = 1 .. k + 1 - ns: a step of the column */
         w = column_load(v + 1);
-        g[ns + 1] = v[1];
+        g[ns + 1] = column_step(&w, 1.0, alpha[ns]);
+        column_store(&w, v + 1, k + 1 - ns);
     }
     for (int i = ns + 2; i <= k + 1; i++)   /* g_{i,q} = g_{i-1,q} - alpha_{i-1} g_{i-1,q+1} */
         g[i] = column_step(&w, 1.0, alpha[i - 1]);
