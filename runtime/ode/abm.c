@@ -1009,7 +1009,18 @@ void abm_interp(const abm *a, double tout, double *yout, double *ypout)
     const double *restrict phi = a->phi, *restrict yy = a->y, *restrict yc = a->yc;
     size_t l = 0;
     if (!ypout) {   /* the value alone (rows, the checks between steps): no derivative sums */
-        /* blocks of 4 components, each its own sum in the same order, as in predict */
+        /* blocks of 8 and 4 components, each its own sum in the same order, as in predict */
+        for (; l + 8 <= n; l += 8) {
+            col8 sy = {0}, row, y8, c8;
+            for (int i = ki; i >= 1; i--) {
+                memcpy(&row, phi + i * n + l, sizeof row);
+                sy += gi[i] * row;
+            }
+            memcpy(&y8, yy + l, sizeof y8);
+            memcpy(&c8, yc + l, sizeof c8);
+            y8 = y8 + (s * sy + c8);
+            memcpy(yout + l, &y8, sizeof y8);
+        }
         for (; l + 4 <= n; l += 4) {
             double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
             for (int i = ki; i >= 1; i--) {
