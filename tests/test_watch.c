@@ -3,9 +3,11 @@
  * are known in closed form. */
 #include "check.h"
 #include "driver/watch.h"
+#include "kernel/coords.h"
 #include "model/dynamics.h"
 #include "ode/ode.h"
 #include "ode_problems.h"
+#include "shape/constraints.h"
 #include "shape/shape.h"
 
 #include <math.h>
@@ -308,10 +310,41 @@ static void test_jmin_rate(void)
     CHECK(swim_shape_jmin_rate(2, x, v, &J, &rate) == 0, "p_1 = 0: |p_1| has no derivative, the angle decides");
 }
 
+/* The shortcuts of the checks at every step give the bits of what they replace: the inline
+ * maximum those of fmax (NaN on either side included), the area constant without the modes at 0
+ * those of swim_area_constant (signed zeros, and squares that underflow to 0, included). */
+static void test_same_bits(void)
+{
+    const double vals[] = {0.0, 1.0, 2.5, 1e-300, INFINITY, NAN};
+    const int nv = (int)(sizeof vals / sizeof vals[0]);
+    int differ = 0;
+    for (int i = 0; i < nv; i++)
+        for (int j = 0; j < nv; j++) {
+            const double a = swim_run_max_of(vals[i], vals[j]), b = fmax(vals[i], vals[j]);
+            differ += memcmp(&a, &b, sizeof a) != 0;
+        }
+    CHECK(differ == 0, "swim_run_max_of: %d of %d pairs not fmax's bits", differ, nv * nv);
+    srand(5);
+    differ = 0;
+    for (int trial = 0; trial < 1000; trial++) {
+        const int n = 2 * (2 + trial % 7);
+        double c[16];
+        for (int i = 0; i < n; i++) {
+            const int kind = rand() % 5;   /* 0, -0, a tiny value whose square is 0, or an ordinary one */
+            c[i] = kind == 0 ? 0.0 : kind == 1 ? -0.0 : kind == 2 ? 1e-170 * (rand() % 2 ? 1 : -1)
+                                                               : rand() / (double)RAND_MAX - 0.5;
+        }
+        const double a = swim_area_constant_moving(n, c), b = swim_area_constant(n, c);
+        differ += memcmp(&a, &b, sizeof a) != 0;
+    }
+    CHECK(differ == 0, "swim_area_constant_moving: %d of 1000 shapes not swim_area_constant's bits", differ);
+}
+
 int main(void)
 {
     test_on_accept();
     test_watch();
     test_jmin_rate();
+    test_same_bits();
     return check_report("test_watch");
 }

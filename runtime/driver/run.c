@@ -406,7 +406,7 @@ static int accept_step(const swim_ode_accepted *step, void *data, double *t_stop
             c->left_native = *t_stop;
         }
     }
-    if (c->watch.pend.balanced) c->bal_scale = fmax(c->bal_scale, fabs(c->watch.pend.e));
+    if (c->watch.pend.balanced) c->bal_scale = swim_run_max_of(c->bal_scale, c->watch.pend.e);   /* pend.e = |E| */
     if (c->fw_on) forcing_step(c, step);
     if (!c->tol_scale || !step->y_end) return rc;
     const double j = barrier_tolerance(c, step->y_end, step->tb - step->ta);
@@ -576,16 +576,16 @@ static void track(run_report *r, double t, const swim_diag *g, int first)
 {
     if (first) { r->e0 = g->energy; r->jmin = INFINITY; }
     r->t_reached = t;
-    r->drift_abs = fmax(r->drift_abs, fabs(g->energy - r->e0 - g->work));
-    r->emax = fmax(r->emax, fabs(g->energy));
+    r->drift_abs = swim_run_max_of(r->drift_abs, fabs(g->energy - r->e0 - g->work));
+    r->emax = swim_run_max_of(r->emax, fabs(g->energy));
     if (g->jmin < r->jmin || isnan(g->jmin)) {
         r->jmin = g->jmin;
         r->jmin_t = t;
     }
-    r->res_volume = fmax(r->res_volume, fabs(g->res_volume));
-    r->res_volume_rate = fmax(r->res_volume_rate, fabs(g->res_volume_rate));
-    r->res_angular = fmax(r->res_angular, fabs(g->res_angular));
-    r->res_locks = fmax(r->res_locks, g->res_locks);
+    r->res_volume = swim_run_max_of(r->res_volume, fabs(g->res_volume));
+    r->res_volume_rate = swim_run_max_of(r->res_volume_rate, fabs(g->res_volume_rate));
+    r->res_angular = swim_run_max_of(r->res_angular, fabs(g->res_angular));
+    r->res_locks = swim_run_max_of(r->res_locks, g->res_locks);   /* >= 0 (swim_constraint_residuals) */
 }
 
 /* The columns at integrator state ys for the event functions (swim_run_row_func): all, or t and
@@ -879,7 +879,8 @@ static int take_impact(scene_run *c, double tout)
  * ends the run there: *t becomes the event time, whose row is the last. An ODE status. */
 static int advance_to(scene_run *c, double *t, double *t_last)
 {
-    double ta = swim_clock_seconds();
+    double ta = c->out_clock > 0 ? c->out_clock : swim_clock_seconds();   /* chained: one read less a row */
+    c->out_clock = 0;
     int rc = swim_ode_advance(c->ode, *t - c->d.t_origin, c->ys);
     while (rc == SWIM_ODE_TERMINATED && c->shift_pending && swim_ode_time(c->ode) == c->shift_t)
         rc = c->shift_pending == 3 ? take_impact(c, *t) : shift_origin(c, *t);
@@ -981,7 +982,8 @@ static int emit_row(scene_run *c, long k, long rows, long every, double t)
     if (rc == 0 && c->var_on && c->var.row && c->var.row(c->var.row_ctx, t, c->ys, why, sizeof why) != 0)
         rc = SWIM_RUN_ROW_FAILED;
     if (rc == 0 && c->var_on) c->var_t = t;
-    c->r.output_seconds += swim_clock_seconds() - t_out;
+    c->out_clock = swim_clock_seconds();
+    c->r.output_seconds += c->out_clock - t_out;
     if (rc != 0) {
         stop(c, "%s (at t = %.6g)", why[0] ? why : "an output could not be written", t);
         return -1;
@@ -1068,7 +1070,10 @@ static int next_row(scene_run *c)
         return 1;
     }
     if (c->r.event_stop) return 1;   /* the row at the event was the last */
-    if (c->req.sink.progress) c->req.sink.progress(c->req.sink.ctx, t, c->set->t_end);
+    if (c->req.sink.progress) {
+        c->out_clock = 0;   /* the report's time is the caller's, not the next row's */
+        c->req.sink.progress(c->req.sink.ctx, t, c->set->t_end);
+    }
     return 0;
 }
 
@@ -1097,6 +1102,7 @@ static void advance_rows(scene_run *c, double t)
         if (!isnan(tk) && tk > t) break;
         if (next_row(c)) c->loop_done = 1;
     }
+    c->out_clock = 0;   /* the time until the next call is the caller's */
 }
 
 

@@ -61,6 +61,8 @@ struct scene_run {
     double left_native;         /* the watch's crossing, in the integrator's time */
     double row_jmin;            /* min J of the row's exact state with an origin (else NAN) */
     double row_clock;           /* clock at the end of the row's integration: its diagnostics start there (0: none) */
+    double out_clock;           /* clock at the end of a row's output: the next row's integration starts there
+                                   (0: none; cleared when the loop hands control back, advance_rows) */
     double *ys_shift;           /* the accepted state at shift_t, in the integrator's coordinates */
     double *atolv;              /* absolute tolerances with an origin: atol + rtol |origin_i| */
     long shifts;                /* restarts for the origin */

@@ -50,12 +50,12 @@ static void commit(swim_run_watch_results *r, swim_run_watch_pending *p, double 
     for (int i = 0; i < p->n; i++)
         if (p->t[i] <= t_end) note_jmin(r, p->t[i], p->J[i]);
     if (p->balanced && p->tb <= t_end) {
-        r->drift_abs = fmax(r->drift_abs, p->drift);
-        r->emax = fmax(r->emax, p->e);
-        r->res_volume = fmax(r->res_volume, p->res_volume);
-        r->res_volume_rate = fmax(r->res_volume_rate, p->res_volume_rate);
-        r->res_angular = fmax(r->res_angular, p->res_angular);
-        r->res_locks = fmax(r->res_locks, p->res_locks);
+        r->drift_abs = swim_run_max_of(r->drift_abs, p->drift);
+        r->emax = swim_run_max_of(r->emax, p->e);
+        r->res_volume = swim_run_max_of(r->res_volume, p->res_volume);
+        r->res_volume_rate = swim_run_max_of(r->res_volume_rate, p->res_volume_rate);
+        r->res_angular = swim_run_max_of(r->res_angular, p->res_angular);
+        r->res_locks = swim_run_max_of(r->res_locks, p->res_locks);
     }
     memset(p, 0, sizeof *p);
 }

@@ -12,6 +12,8 @@
 #ifndef SWIM_DRIVER_WATCH_H
 #define SWIM_DRIVER_WATCH_H
 
+#include <math.h>
+
 #include "io/clock.h"
 #include "model/dynamics.h"
 #include "ode/ode.h"
@@ -72,5 +74,9 @@ void swim_run_watch_finish(swim_run_watch *w, double t_end);
 
 /* swim_ode_options.on_accept with data = swim_run_watch *: 0, or 1 with *t_stop at the crossing. */
 int swim_run_watch_step(const swim_ode_accepted *step, void *data, double *t_stop);
+
+/* fmax(m, x) without the library call, for maxima taken at every step, NaN included (a NaN x
+ * leaves m, a NaN m gives x). For m, x >= 0 or NaN (absolute values): no signed zero to order. */
+static inline double swim_run_max_of(double m, double x) { return x > m || isnan(m) ? x : m; }
 
 #endif

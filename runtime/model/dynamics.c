@@ -46,8 +46,11 @@ int swim_dynamics_init(swim_dynamics *d, const swim_scene *s, const swim_kernel 
     }
     d->m = swim_constraint_rows(n, s->c0, s->free_mask, d->G);
     d->mu0 = swim_area_constant(n, s->c0);
-    for (int i = 0; i < n; i++)
+    memcpy(d->rest, s->c0, sizeof(double) * n);   /* and n zeros (memset above) */
+    for (int i = 0; i < n; i++) {
         if (s->free_mask[i]) d->free_at[d->nfree++] = i;
+        if (s->elastic && s->stiffness[i] != 0.0) d->stiff_at[d->nstiff++] = i;
+    }
     return 0;
 }
 
@@ -143,6 +146,8 @@ void swim_dynamics_use_scene_kernel(swim_dynamics *d, const swim_scene_kernel *s
     p->barrier_ctx = d;
     p->law_params = s->param_values;
     p->barrier_hessian = scene_barrier_hessian;
+    d->carries_locked = spec->nfree != d->nfree ||
+                        memcmp(spec->free_index, d->free_at, sizeof(int) * (size_t)d->nfree) != 0;
 }
 
 int swim_dynamics_state_dim(const swim_dynamics *d)
@@ -178,8 +183,7 @@ void swim_dynamics_unpack(const swim_dynamics *d, const double *ustate, double *
     double buf[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
     const double *state = absolute(d, ustate, buf);
     memcpy(full, state, 3 * sizeof(double));
-    memcpy(full + 3, d->scene->c0, sizeof(double) * n);   /* locked coordinates keep c0 */
-    memset(full + 3 + n, 0, sizeof(double) * n);
+    memcpy(full + 3, d->rest, sizeof(double) * 2 * n);   /* locked coordinates keep c0, at rest */
     for (int f = 0; f < nf; f++) {
         full[3 + d->spec->free_index[f]] = state[3 + f];
         full[3 + n + d->spec->free_index[f]] = state[3 + nf + f];
@@ -313,12 +317,29 @@ double swim_dynamics_w_law(const swim_dynamics *d, const double *c)
     return d->spec->material(c, &d->spec_params, &W, NULL, NULL) == 0 ? W : NAN;
 }
 
-/* W1 (section 4.1.1): (1/2) sum R_i (c_i - c_ref,i)^2. */
-static double elastic_energy(const swim_scene *s, const double *c)
+/* W1 (section 4.1.1): (1/2) sum R_i (c_i - c_ref,i)^2. A coordinate without stiffness adds
+ * 0 (c - c_ref)^2, a signed zero while c - c_ref is finite, to a sum that started at +0 (never
+ * -0), which changes no bit: when they all are finite the sum runs over the stiff coordinates
+ * alone (d->stiff_at, in the same order), off a chain of additions through every coordinate. */
+static double elastic_energy(const swim_dynamics *d, const double *c)
 {
+    const swim_scene *s = d->scene;
     double W1 = 0.0;
-    if (s->elastic)
-        for (int i = 0; i < s->n; i++) W1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
+    if (!s->elastic) return W1;
+    int finite = 1;
+    for (int i = 0; i < s->n; i++)   /* element by element (a vector load of c, just stored, would stall) */
+        if (!isfinite(c[i] - s->reference[i])) {
+            finite = 0;
+            break;
+        }
+    if (finite) {
+        for (int a = 0; a < d->nstiff; a++) {
+            const int i = d->stiff_at[a];
+            W1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
+        }
+        return W1;
+    }
+    for (int i = 0; i < s->n; i++) W1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
     return W1;
 }
 
@@ -363,7 +384,7 @@ double swim_dynamics_balance(double t, const double *u, double *noise, void *par
             g = gbuf;
         }
     }
-    const double W1 = elastic_energy(s, c) + swim_dynamics_w_law(d, c), work = full[3 + 2 * n];
+    const double W1 = elastic_energy(d, c) + swim_dynamics_w_law(d, c), work = full[3 + 2 * n];
     if (noise) {
         /* What rounding leaves of B: the sums (~dim u of each term), the barrier rule (chosen by
          * error, ~1e-14 of W2 between two rules), and W2 through the rounding of the carried state
@@ -430,6 +451,22 @@ int swim_dynamics_diagnostics_aside(swim_dynamics *d, const double *y, swim_diag
     return rc;
 }
 
+/* swim_to_fixed_frame (3.21) of three vectors at one angle theta, with one cos and sin of it:
+ * each rotated vector is the one swim_to_fixed_frame gives. */
+static void to_fixed_frame3(double theta, const double *a, const double *b, const double *c, double *fa, double *fb,
+                            double *fc)
+{
+    const double ct = cos(theta), st = sin(theta);
+    const double *in[3] = {a, b, c};
+    double *out[3] = {fa, fb, fc};
+    for (int j = 0; j < 3; j++) {
+        const double u = in[j][0], w = in[j][1];
+        out[j][0] = ct * u - st * w;
+        out[j][1] = st * u + ct * w;
+        out[j][2] = in[j][2];
+    }
+}
+
 int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
 {
     const swim_scene *s = d->scene;
@@ -466,7 +503,7 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
         o->kinetic_shape += 0.5 * b * v[i] * v[i] / (abs(swim_coord_mode(i)) + 1);
     }
     o->kinetic_fluid = T - o->kinetic_rigid - o->kinetic_shape;
-    o->w1 = elastic_energy(s, c);
+    o->w1 = elastic_energy(d, c);
     if (s->barrier) o->w2 = swim_dynamics_w2(d, c);
     o->energy = T + o->w1 + o->w2;
     o->work = y[3 + 2 * n];
@@ -477,9 +514,7 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
         fr[p] = -body[p];
         for (int r = 0; r < 3; r++) fr[p] += Mr[3 * p + r] * q[r];
     }
-    swim_to_fixed_frame(y[2], body, o->impulse_body);
-    swim_to_fixed_frame(y[2], fr, o->impulse_fluid_rigid);
-    swim_to_fixed_frame(y[2], Ncv, o->impulse_fluid_shape);
+    to_fixed_frame3(y[2], body, fr, Ncv, o->impulse_body, o->impulse_fluid_rigid, o->impulse_fluid_shape);
     memcpy(o->rigid_velocity, q, sizeof q);
     swim_constraint_residuals res;
     swim_constraint_residuals_at(n, c, v, s->c0, d->mu0, s->free_mask, &res);
@@ -508,12 +543,14 @@ int swim_dynamics_project(double t, double *ys, void *params)
     const int m = swim_dynamics_state_dim(d);
     (void)t;
     if (d->origin) memcpy(before, absolute(d, ys, d->hi), sizeof(double) * m);
-    memcpy(d->proj_delta, ys, sizeof(double) * m);
+    /* what the projection changes is read by the balance's noise, with a barrier only */
+    const int keep = s->barrier;
+    if (keep) memcpy(d->proj_delta, ys, sizeof(double) * m);
     swim_dynamics_unpack(d, ys, y);
     const int *free_at = d->free_at, nfree = d->nfree;
     /* A kernel that carries only the free coordinates leaves the locked ones at c0 and cdot 0
      * (unpack); one that carries them all may have moved them: put them back. */
-    if (d->spec->nfree != nfree || memcmp(d->spec->free_index, free_at, sizeof(int) * (size_t)nfree) != 0)
+    if (d->carries_locked)
         for (int i = 0; i < n; i++)
             if (!s->free_mask[i]) {
                 change = larger(change, fabs(c[i] - s->c0[i]) + fabs(v[i]));
@@ -525,9 +562,10 @@ int swim_dynamics_project(double t, double *ys, void *params)
      * in d->x_lo) and the corrections go to u alone (dcx): the residual of the rounded shape is
      * rounding noise of 1e-16, and correcting it would put that noise back into u. */
     const double mu0 = d->mu0;
-    double dcx[2 * (SWIM_KERNEL_MAX_MODES + 1)] = {0.0}, c_hi[2 * (SWIM_KERNEL_MAX_MODES + 1)];
+    double dcx[2 * (SWIM_KERNEL_MAX_MODES + 1)], c_hi[2 * (SWIM_KERNEL_MAX_MODES + 1)];
     const int shifted = d->origin != NULL;
-    if (shifted) {
+    if (shifted) {   /* dcx is read with an origin only */
+        memset(dcx, 0, sizeof(double) * (size_t)n);
         split_state(d, ys);
         d->lo_valid = 0;
         memcpy(c_hi, c, sizeof(double) * n);
@@ -542,7 +580,7 @@ int swim_dynamics_project(double t, double *ys, void *params)
             }
             r = (double)(mu2 - mu0);
         } else {
-            r = swim_area_constant(n, c) - mu0;
+            r = swim_area_constant_moving(n, c) - mu0;
         }
         /* over the free coordinates only: a locked one's gradient entry is 0, and adding the
          * exact zeros it gave to sums that start at +0 changed no bit (a NaN residual, which left
@@ -557,7 +595,7 @@ int swim_dynamics_project(double t, double *ys, void *params)
         for (int f = 0; f < nfree; f++) {
             const int i = free_at[f];
             c[i] -= r * g[i] / gg;
-            dcx[i] -= r * g[i] / gg;
+            if (shifted) dcx[i] -= r * g[i] / gg;
             change = larger(change, fabs(r * g[i] / gg));
         }
     }
@@ -608,10 +646,12 @@ int swim_dynamics_project(double t, double *ys, void *params)
     } else {
         swim_dynamics_pack(d, y, ys);
     }
-    for (int i = 0; i < m; i++) d->proj_delta[i] = ys[i] - d->proj_delta[i];
-    memcpy(d->proj_out, ys, sizeof(double) * m);
-    d->proj_valid = 1;
+    if (keep) {
+        for (int i = 0; i < m; i++) d->proj_delta[i] = ys[i] - d->proj_delta[i];
+        memcpy(d->proj_out, ys, sizeof(double) * m);
+        d->proj_valid = 1;
+    }
     d->projections++;
-    d->max_projection = fmax(d->max_projection, change);
+    d->max_projection = larger(d->max_projection, change);   /* change is never NaN (larger) */
     return 0;
 }

@@ -107,7 +107,7 @@ struct abm {
     double beta[KM + 3];         /* beta_i: phi*_i = beta_i phi_i(n) */
     double sig[KM + 3];          /* sigma_i: error-estimate factors for variable steps */
     double g[KM + 3];            /* integration coefficients g_{i,1} */
-    double v[KM + 3], w[KM + 3]; /* g_{ns,q} carried over runs of equal steps; working column */
+    double v[KM + 3];            /* g_{ns,q} carried over runs of equal steps */
     double gstar[KM + 3];        /* |gamma*_m|, error constants of the order-m Adams-Moulton formula */
     double psi_save[KM + 3], v_save[KM + 3];   /* step history before this attempt changed it ... */
     double alpha_save[KM + 3], beta_save[KM + 3], sig_save[KM + 3], g_save[KM + 3];   /* ... and its coefficients */
@@ -247,26 +247,23 @@ static double set_weights(abm *a)
     const double rt = a->rtol, at = a->atol;
     const double *restrict y = a->y, *restrict av = a->atolv;
     double *restrict rw = a->rw;
-    double s = 0.0;
+    /* the weights first (loops the compiler vectorizes: the divisions run 4 or 8 at a time), then
+     * the maximum, a chain of comparisons in component order */
     if (a->tol_scale) {
         const double *restrict sc = a->tol_scale;
-        for (size_t l = 0; l < n; l++) {
-            double r = 1.0 / (sc[l] * (rt * fabs(y[l]) + (av ? av[l] : at))), q = fabs(y[l] * r);
-            rw[l] = r;
-            s = MAXD(s, q);
-        }
+        for (size_t l = 0; l < n; l++)
+            rw[l] = 1.0 / (sc[l] * (rt * fabs(y[l]) + (av ? av[l] : at)));
     } else if (av) {
-        for (size_t l = 0; l < n; l++) {
-            double r = 1.0 / (rt * fabs(y[l]) + av[l]), q = fabs(y[l] * r);
-            rw[l] = r;
-            s = MAXD(s, q);
-        }
+        for (size_t l = 0; l < n; l++)
+            rw[l] = 1.0 / (rt * fabs(y[l]) + av[l]);
     } else {
-        for (size_t l = 0; l < n; l++) {
-            double r = 1.0 / (rt * fabs(y[l]) + at), q = fabs(y[l] * r);
-            rw[l] = r;
-            s = MAXD(s, q);
-        }
+        for (size_t l = 0; l < n; l++)
+            rw[l] = 1.0 / (rt * fabs(y[l]) + at);
+    }
+    double s = 0.0;
+    for (size_t l = 0; l < n; l++) {
+        const double q = fabs(y[l] * rw[l]);
+        s = MAXD(s, q);
     }
     return s;     /* max |y/w|, for the round-off test */
 }
@@ -336,6 +333,52 @@ static const double inv_qq1[KM + 3] = {0, INV_QQ1(1), INV_QQ1(2), INV_QQ1(3), IN
                                        INV_QQ1(6), INV_QQ1(7), INV_QQ1(8), INV_QQ1(9), INV_QQ1(10),
                                        INV_QQ1(11), INV_QQ1(12), INV_QQ1(13), INV_QQ1(14)};
 
+/* The columns of integration coefficients, g_{j,q} for q = 1 .. KM + 2 at the most, held in two
+ * vectors of 8 lanes (lane q - 1), for the recurrences g_{j+1,q} = gam g_{j,q} - eta g_{j,q+1}
+ * over all q at once: the lanes stay in registers from one j to the next instead of being stored
+ * and loaded back (shifted by one entry) in every round. Each entry is computed by the same two
+ * products and difference as entry by entry; entries past those a round needs are computed from
+ * whatever lies there and never read. */
+typedef double col8 __attribute__((vector_size(8 * sizeof(double))));
+typedef long long col8_index __attribute__((vector_size(8 * sizeof(long long))));
+typedef struct {
+    col8 lo, hi;                 /* q = 1..8, 9..16 */
+} column;
+
+/* w1[0 .. KM + 1] (g_{j,1 .. KM+2}, of which the caller's column is the first entries) into lanes
+ * 0 .. KM + 1; fixed sizes, so no library call */
+static inline column column_load(const double *w1)
+{
+    _Static_assert(KM + 2 > 8 && KM + 2 <= 16, "a column fits two vectors of 8");
+    column c;
+    double hi[8] = {0};
+    memcpy(&c.lo, w1, sizeof c.lo);
+    memcpy(hi, w1 + 8, sizeof(double) * (KM + 2 - 8));
+    memcpy(&c.hi, hi, sizeof c.hi);
+    return c;
+}
+
+/* lanes 0 .. len-1 into w1[0 .. len-1] (the rest of w1 as it was) */
+static inline void column_store(const column *c, double *w1, int len)
+{
+    double buf[16];
+    memcpy(buf, &c->lo, sizeof c->lo);
+    memcpy(buf + 8, &c->hi, sizeof c->hi);
+    for (int q = 0; q < len; q++)
+        w1[q] = buf[q];
+}
+
+/* g_{j,q} <- gam g_{j,q} - eta g_{j,q+1} for every q; returns the new g_{j,1} */
+static inline double column_step(column *c, double gam, double eta)
+{
+    const col8_index down = {1, 2, 3, 4, 5, 6, 7, 8};
+    const col8 zero = {0};
+    const col8 next_lo = __builtin_shuffle(c->lo, c->hi, down), next_hi = __builtin_shuffle(c->hi, zero, down);
+    c->lo = gam * c->lo - eta * next_lo;
+    c->hi = gam * c->hi - eta * next_hi;
+    return c->lo[0];
+}
+
 /* Coefficients alpha, beta, sigma, psi(n+1), g for the step of size h, order k.
  * Only the entries that change on a run of ns equal steps are recomputed. */
 static void coefficients(abm *a)
@@ -358,7 +401,7 @@ static void coefficients(abm *a)
     memcpy(a->g_save, a->g, sizeof a->g);
     a->saved = 1;
     double *psi = a->psi, *alpha = a->alpha, *beta = a->beta, *sig = a->sig;
-    double *v = a->v, *w = a->w, *g = a->g;
+    double *v = a->v, *g = a->g;
     beta[ns] = 1.0;
     alpha[ns] = inv_q[ns];
     sig[ns + 1] = 1.0;
@@ -373,13 +416,13 @@ static void coefficients(abm *a)
     }
     psi[k] = next;
 
-    /* v holds g_{ns,q} carried over the run of equal steps; w is the working
-     * column that is advanced to g_{k+1,q}. */
+    /* v holds g_{ns,q} carried over the run of equal steps; the working column w (from v) is
+     * advanced to g_{k+1,q}. */
+    column w;
     if (ns == 1) {
-        for (int q = 1; q <= k; q++) {
+        for (int q = 1; q <= k; q++)
             v[q] = inv_qq1[q];
-            w[q] = v[q];
-        }
+        w = column_load(inv_qq1 + 1);   /* v's entries, from the table: a load of v just stored stalls */
     } else {
         if (k > a->kold) {
             /* order went up: extend v by one entry along the anti-diagonal */
@@ -389,19 +432,13 @@ static void coefficients(abm *a)
                 v[i] -= alpha[j + 1] * v[i + 1];
             }
         }
-        double an = alpha[ns];
-        for (int q = 1; q <= k + 1 - ns; q++) {
-            v[q] -= an * v[q + 1];
-            w[q] = v[q];
-        }
-        g[ns + 1] = w[1];
+        /* v_q <- v_q - alpha_ns v_{q+1}, q = 1 .. k + 1 - ns: a step of the column */
+        w = column_load(v + 1);
+        g[ns + 1] = column_step(&w, 1.0, alpha[ns]);
+        column_store(&w, v + 1, k + 1 - ns);
     }
-    for (int i = ns + 2; i <= k + 1; i++) {
-        double ai = alpha[i - 1];
-        for (int q = 1; q <= k + 2 - i; q++)
-            w[q] -= ai * w[q + 1];
-        g[i] = w[1];
-    }
+    for (int i = ns + 2; i <= k + 1; i++)   /* g_{i,q} = g_{i-1,q} - alpha_{i-1} g_{i-1,q+1} */
+        g[i] = column_step(&w, 1.0, alpha[i - 1]);
 }
 
 /* Undo the changes a step attempt made to the step history (the difference
@@ -471,8 +508,9 @@ static int check_attempt(abm *a)
 
 /* Predictor of order k: p = y_n + h sum_{i<=k} g_i phi*_i; phin rows 1..k get the
  * partial sums sum_{j>=i} phi*_j that the corrector and the new differences need.
- * Blocks of 4 components with the order index inside keep the partial sums in
- * registers (4 independent chains); the tail runs one component at a time. */
+ * Blocks of 8 components (one vector) and of 4 with the order index inside keep the
+ * partial sums in registers (independent chains, one per component, each in the order of
+ * the one-component loop); the tail runs one component at a time. */
 static void predict(abm *a)
 {
     const size_t n = a->n;
@@ -483,6 +521,18 @@ static void predict(abm *a)
     double *restrict pinc = a->pinc, *restrict pp = a->p;
     const double *restrict yy = a->y, *restrict yc = a->yc;
     size_t l = 0;
+    for (; l + 8 <= n; l += 8) {   /* 8 components in one vector, then blocks of 4, then one by one */
+        col8 c = {0}, acc = {0}, p;
+        for (int i = k; i >= 1; i--) {
+            memcpy(&p, phi + i * n + l, sizeof p);
+            p = beta[i] * p;
+            c += p;
+            memcpy(phin + i * n + l, &c, sizeof c);
+            acc += g[i] * p;
+        }
+        acc = h * acc;
+        memcpy(pinc + l, &acc, sizeof acc);
+    }
     for (; l + 4 <= n; l += 4) {
         double c0 = 0, c1 = 0, c2 = 0, c3 = 0, a0 = 0, a1 = 0, a2 = 0, a3 = 0;
         for (int i = k; i >= 1; i--) {
@@ -646,7 +696,8 @@ static int project(abm *a)
         a->rhs_status = rc;
         return SWIM_ODE_ERHS;
     }
-    memset(a->ycn, 0, a->n * sizeof(double));   /* the carries belonged to the unprojected y */
+    if (a->compensate)   /* the carries belonged to the unprojected y (without, correct() left 0) */
+        memset(a->ycn, 0, a->n * sizeof(double));
     return SWIM_ODE_OK;
 }
 
@@ -699,6 +750,15 @@ static double update_differences(abm *a, int want_up)
             ek2[l] = ek1[l] - ok1[l];
     }
     size_t l = 0;
+    for (; l + 8 <= n; l += 8) {   /* as in predict: 8, then 4, then 1 */
+        col8 e, row;
+        memcpy(&e, ek1 + l, sizeof e);
+        for (int i = 1; i <= k; i++) {
+            memcpy(&row, phin + i * n + l, sizeof row);
+            row += e;
+            memcpy(phin + i * n + l, &row, sizeof row);
+        }
+    }
     for (; l + 4 <= n; l += 4) {
         const double e0 = ek1[l], e1 = ek1[l + 1], e2 = ek1[l + 2], e3 = ek1[l + 3];
         for (int i = 1; i <= k; i++) {
@@ -829,8 +889,8 @@ static void stiffness_diagnostic(abm *a, int k, double h, int was_clamped, int c
     a->blk_low += k <= 4;
     a->blk_clamped += was_clamped;
     a->blk_cuts += cut;
-    a->blk_hmin = fmin(a->blk_hmin, h);
-    a->blk_hmax = fmax(a->blk_hmax, h);
+    a->blk_hmin = MIND(h, a->blk_hmin);   /* fmin, fmax: h > 0 was checked before the attempt */
+    a->blk_hmax = MAXD(h, a->blk_hmax);
     if (a->blk_n == STIFF_BLOCK) {
         long cuts = a->rejected - a->blk_rej0 + a->blk_cuts;
         int stiff_like = a->blk_low >= STIFF_BLOCK / 2 && a->blk_clamped == 0 &&
@@ -934,37 +994,59 @@ void abm_interp(const abm *a, double tout, double *yout, double *ypout)
      * c_{j+1} = c_j (s + psi_{j-1})/psi_j and the integrals advanced by
      * g_{j+1,q} = gamma g_{j,q} - eta g_{j,q+1}, gamma = (s+psi_{j-1})/psi_j, eta = s/psi_j. */
     /* g_{1,q} = 1/q */
-    double wq[KM + 3], gi[KM + 3], cj[KM + 3];
-    for (int q = 1; q <= ki; q++)
-        wq[q] = inv_q[q];
+    double gi[KM + 3], cj[KM + 3];
+    column wq = column_load(inv_q + 1);
     gi[1] = 1.0;
     cj[1] = 1.0;
     double prev = 0.0;   /* psi_{j-1} */
     for (int j = 1; j < ki; j++) {
         double pj = a->psi[j];
         double gam = (s + prev) / pj, eta = s / pj;
-        for (int q = 1; q <= ki - j; q++)
-            wq[q] = gam * wq[q] - eta * wq[q + 1];
-        gi[j + 1] = wq[1];
+        gi[j + 1] = column_step(&wq, gam, eta);
         cj[j + 1] = cj[j] * gam;
         prev = pj;
     }
+    const double *restrict phi = a->phi, *restrict yy = a->y, *restrict yc = a->yc;
+    size_t l = 0;
     if (!ypout) {   /* the value alone (rows, the checks between steps): no derivative sums */
-        for (size_t l = 0; l < n; l++) {
+        /* blocks of 8 and 4 components, each its own sum in the same order, as in predict */
+        for (; l + 8 <= n; l += 8) {
+            col8 sy = {0}, row, y8, c8;
+            for (int i = ki; i >= 1; i--) {
+                memcpy(&row, phi + i * n + l, sizeof row);
+                sy += gi[i] * row;
+            }
+            memcpy(&y8, yy + l, sizeof y8);
+            memcpy(&c8, yc + l, sizeof c8);
+            y8 = y8 + (s * sy + c8);
+            memcpy(yout + l, &y8, sizeof y8);
+        }
+        for (; l + 4 <= n; l += 4) {
+            double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+            for (int i = ki; i >= 1; i--) {
+                const double *restrict row = phi + i * n + l, gv = gi[i];
+                s0 += gv * row[0]; s1 += gv * row[1]; s2 += gv * row[2]; s3 += gv * row[3];
+            }
+            yout[l] = yy[l] + (s * s0 + yc[l]);
+            yout[l + 1] = yy[l + 1] + (s * s1 + yc[l + 1]);
+            yout[l + 2] = yy[l + 2] + (s * s2 + yc[l + 2]);
+            yout[l + 3] = yy[l + 3] + (s * s3 + yc[l + 3]);
+        }
+        for (; l < n; l++) {
             double sy = 0.0;
-            for (int i = ki; i >= 1; i--) sy += gi[i] * a->phi[i * n + l];
-            yout[l] = a->y[l] + (s * sy + a->yc[l]);
+            for (int i = ki; i >= 1; i--) sy += gi[i] * phi[i * n + l];
+            yout[l] = yy[l] + (s * sy + yc[l]);
         }
         return;
     }
-    for (size_t l = 0; l < n; l++) {
+    for (; l < n; l++) {
         double sy = 0.0, sd = 0.0;
         for (int i = ki; i >= 1; i--) {
-            double ph = a->phi[i * n + l];
+            double ph = phi[i * n + l];
             sy += gi[i] * ph;
             sd += cj[i] * ph;
         }
-        yout[l] = a->y[l] + (s * sy + a->yc[l]);
+        yout[l] = yy[l] + (s * sy + yc[l]);
         ypout[l] = sd;
     }
 }
@@ -978,7 +1060,7 @@ int abm_step_toward(abm *a, double tout, int *done)
             return rc;
     }
     if (a->t >= tout ||
-        (a->have_step && isfinite(a->tstop) && a->tstop - a->t <= 64.0 * UROUND * fmax(fabs(a->t), fabs(a->tstop)))) {
+        (a->have_step && isfinite(a->tstop) && a->tstop - a->t <= 64.0 * UROUND * MAXD(fabs(a->t), fabs(a->tstop)))) {   /* both finite */
         *done = 1;   /* covered, or at tstop up to rounding: extrapolate the last polynomial */
         return SWIM_ODE_OK;
     }

@@ -16,6 +16,10 @@ int swim_constraint_locked_index(int n, const int *free_mask, int row);
 typedef struct {
     double volume, volume_rate, angular, locks;
 } swim_constraint_residuals;
+/* swim_area_constant (kernel/coords.h) to the bit, leaving out the modes at exactly 0 (the
+ * locked ones, mostly): each adds a signed zero to a sum that started at +0 and so is never -0,
+ * which changes no bit; off the chain of additions they cost nothing (every step asks). */
+double swim_area_constant_moving(int n, const double *c);
 /* mu0 = mu^2(c0) (swim_area_constant), kept by the caller: the checks at every step ask. */
 void swim_constraint_residuals_at(int n, const double *c, const double *v, const double *c0, double mu0,
                                   const int *free_mask, swim_constraint_residuals *r);
