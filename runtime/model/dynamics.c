@@ -46,11 +46,8 @@ int swim_dynamics_init(swim_dynamics *d, const swim_scene *s, const swim_kernel 
     }
     d->m = swim_constraint_rows(n, s->c0, s->free_mask, d->G);
     d->mu0 = swim_area_constant(n, s->c0);
-    memcpy(d->rest, s->c0, sizeof(double) * n);   /* and n zeros (memset above) */
-    for (int i = 0; i < n; i++) {
+    for (int i = 0; i < n; i++)
         if (s->free_mask[i]) d->free_at[d->nfree++] = i;
-        if (s->elastic && s->stiffness[i] != 0.0) d->stiff_at[d->nstiff++] = i;
-    }
     return 0;
 }
 
@@ -183,7 +180,10 @@ void swim_dynamics_unpack(const swim_dynamics *d, const double *ustate, double *
     double buf[4 + 4 * (SWIM_KERNEL_MAX_MODES + 1)];
     const double *state = absolute(d, ustate, buf);
     memcpy(full, state, 3 * sizeof(double));
-    memcpy(full + 3, d->rest, sizeof(double) * 2 * n);   /* locked coordinates keep c0, at rest */
+    /* locked coordinates keep c0, live: a sensitivity's difference quotient moves a locked value
+     * in place (model/sensitivity.c) */
+    memcpy(full + 3, d->scene->c0, sizeof(double) * n);
+    memset(full + 3 + n, 0, sizeof(double) * n);
     for (int f = 0; f < nf; f++) {
         full[3 + d->spec->free_index[f]] = state[3 + f];
         full[3 + n + d->spec->free_index[f]] = state[3 + nf + f];
@@ -317,29 +317,14 @@ double swim_dynamics_w_law(const swim_dynamics *d, const double *c)
     return d->spec->material(c, &d->spec_params, &W, NULL, NULL) == 0 ? W : NAN;
 }
 
-/* W1 (section 4.1.1): (1/2) sum R_i (c_i - c_ref,i)^2. A coordinate without stiffness adds
- * 0 (c - c_ref)^2, a signed zero while c - c_ref is finite, to a sum that started at +0 (never
- * -0), which changes no bit: when they all are finite the sum runs over the stiff coordinates
- * alone (d->stiff_at, in the same order), off a chain of additions through every coordinate. */
+/* W1 (section 4.1.1): (1/2) sum R_i (c_i - c_ref,i)^2. Over every coordinate: a sensitivity's
+ * difference quotient may move a stiffness of 0 in place (model/sensitivity.c). */
 static double elastic_energy(const swim_dynamics *d, const double *c)
 {
     const swim_scene *s = d->scene;
     double W1 = 0.0;
-    if (!s->elastic) return W1;
-    int finite = 1;
-    for (int i = 0; i < s->n; i++)   /* element by element (a vector load of c, just stored, would stall) */
-        if (!isfinite(c[i] - s->reference[i])) {
-            finite = 0;
-            break;
-        }
-    if (finite) {
-        for (int a = 0; a < d->nstiff; a++) {
-            const int i = d->stiff_at[a];
-            W1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
-        }
-        return W1;
-    }
-    for (int i = 0; i < s->n; i++) W1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
+    if (s->elastic)
+        for (int i = 0; i < s->n; i++) W1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
     return W1;
 }
 

@@ -92,8 +92,6 @@ typedef struct {
     int free_at[2 * (SWIM_KERNEL_MAX_MODES + 1)], nfree;
     /* the kernel carries other coordinates than free_at (it may move locked ones), set with it */
     int carries_locked;
-    double rest[4 * (SWIM_KERNEL_MAX_MODES + 1)];   /* (c0, 0): the shape part of a full state at rest */
-    int stiff_at[2 * (SWIM_KERNEL_MAX_MODES + 1)], nstiff;   /* the coordinates with stiffness != 0, ascending */
 } swim_dynamics;
 
 /* k: the kernel of N = scene->modes modes. 0, or -1 (out of memory). */
