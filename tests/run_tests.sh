@@ -74,8 +74,8 @@ done | sort -s -g -r -k1,1 | cut -d' ' -f2-)
 
 for prog in "${progs[@]}"; do rm -f "$logs/$(name_of "$prog").rc"; done
 # A sanitized build of a program (asan-NAME, tsan-NAME) starts once NAME has ended, when both run:
-# on an empty kernel cache the two ask for the same kernels, and one of them held a slot waiting
-# for the other's compiler (asan-test_rhs: a minute of a cold run).
+# on an empty kernel cache the two ask for the same kernels and take turns making them, each
+# holding a slot while it waits for the other's (asan-test_rhs took 57 s of a cold run, 1 s warm).
 declare -A listed
 for prog in "${progs[@]}"; do listed[$(name_of "$prog")]=1; done
 ready() {   # ready PROG: 0 when nothing it waits for is still to run

@@ -340,7 +340,6 @@ static const double inv_qq1[KM + 3] = {0, INV_QQ1(1), INV_QQ1(2), INV_QQ1(3), IN
  * products and difference as entry by entry; entries past those a round needs are computed from
  * whatever lies there and never read. */
 typedef double col8 __attribute__((vector_size(8 * sizeof(double))));
-typedef long long col8_index __attribute__((vector_size(8 * sizeof(long long))));
 typedef struct {
     col8 lo, hi;                 /* q = 1..8, 9..16 */
 } column;
@@ -371,9 +370,9 @@ static inline void column_store(const column *c, double *w1, int len)
 /* g_{j,q} <- gam g_{j,q} - eta g_{j,q+1} for every q; returns the new g_{j,1} */
 static inline double column_step(column *c, double gam, double eta)
 {
-    const col8_index down = {1, 2, 3, 4, 5, 6, 7, 8};
-    const col8 zero = {0};
-    const col8 next_lo = __builtin_shuffle(c->lo, c->hi, down), next_hi = __builtin_shuffle(c->hi, zero, down);
+    const col8 zero = {0};   /* lane q + 1 of (lo, hi) and of (hi, 0): index 8 is the second vector's first */
+    const col8 next_lo = __builtin_shufflevector(c->lo, c->hi, 1, 2, 3, 4, 5, 6, 7, 8),
+               next_hi = __builtin_shufflevector(c->hi, zero, 1, 2, 3, 4, 5, 6, 7, 8);
     c->lo = gam * c->lo - eta * next_lo;
     c->hi = gam * c->hi - eta * next_hi;
     return c->lo[0];
