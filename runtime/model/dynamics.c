@@ -317,11 +317,9 @@ double swim_dynamics_w_law(const swim_dynamics *d, const double *c)
     return d->spec->material(c, &d->spec_params, &W, NULL, NULL) == 0 ? W : NAN;
 }
 
-/* W1 (section 4.1.1): (1/2) sum R_i (c_i - c_ref,i)^2. Over every coordinate: a sensitivity's
- * difference quotient may move a stiffness of 0 in place (model/sensitivity.c). */
-static double elastic_energy(const swim_dynamics *d, const double *c)
+/* W1 (section 4.1.1): (1/2) sum R_i (c_i - c_ref,i)^2. */
+static double elastic_energy(const swim_scene *s, const double *c)
 {
-    const swim_scene *s = d->scene;
     double W1 = 0.0;
     if (s->elastic)
         for (int i = 0; i < s->n; i++) W1 += 0.5 * s->stiffness[i] * (c[i] - s->reference[i]) * (c[i] - s->reference[i]);
@@ -369,7 +367,7 @@ double swim_dynamics_balance(double t, const double *u, double *noise, void *par
             g = gbuf;
         }
     }
-    const double W1 = elastic_energy(d, c) + swim_dynamics_w_law(d, c), work = full[3 + 2 * n];
+    const double W1 = elastic_energy(s, c) + swim_dynamics_w_law(d, c), work = full[3 + 2 * n];
     if (noise) {
         /* What rounding leaves of B: the sums (~dim u of each term), the barrier rule (chosen by
          * error, ~1e-14 of W2 between two rules), and W2 through the rounding of the carried state
@@ -488,7 +486,7 @@ int swim_dynamics_diagnostics(swim_dynamics *d, const double *y, swim_diag *o)
         o->kinetic_shape += 0.5 * b * v[i] * v[i] / (abs(swim_coord_mode(i)) + 1);
     }
     o->kinetic_fluid = T - o->kinetic_rigid - o->kinetic_shape;
-    o->w1 = elastic_energy(d, c);
+    o->w1 = elastic_energy(s, c);
     if (s->barrier) o->w2 = swim_dynamics_w2(d, c);
     o->energy = T + o->w1 + o->w2;
     o->work = y[3 + 2 * n];
