@@ -3,8 +3,9 @@
 
 Scene: Example 3 forced by A sin(w t) along a_-1 and b_-2 ([parameters] A, w), with
 project_initial = true so that a perturbed c0 or dc0 is projected onto the constraints as the
-sensitivities' initial columns are. For a parameter, a stiffness, the fluid density, c0.am1 and
-dc0.bm2, d x, d y, d theta, d E and d work at every 10th row are compared with the Richardson
+sensitivities' initial columns are. For a parameter, a stiffness, the fluid density, c0.am1,
+dc0.bm2 and a locked coordinate's value c0.a1 (a parameter the energy's difference quotient moves in
+place: the full state must take it up), d x, d y, d theta, d E and d work at every 10th row are compared with the Richardson
 extrapolation of two central differences of whole runs (--set KEY=value +- h, +- h/2). Also:
 dE/dp at t = 0 is the exact derivative of the initial energy (0.5 (c0 - cref)^2 for a stiffness);
 the run's own trajectory is unchanged by --sensitivity; bad keys are one line and exit 2 before
@@ -23,8 +24,8 @@ from swimtest import ROOT, SWIM, TMP, check, main
 
 WHAT = ("x", "y", "theta", "energy", "work")
 KEYS = {"parameters.w": 1.3, "parameters.A": 0.3, "elastic.stiffness.am1": 1.0, "model.rhof": 1.0,
-        "c0.am1": 0.4, "dc0.bm2": -0.6}
-SET_KEY = {"c0.am1": "shape.c0.am1", "dc0.bm2": "shape.dc0.bm2"}
+        "c0.am1": 0.4, "dc0.bm2": -0.6, "c0.a1": 1.0}
+SET_KEY = {"c0.am1": "shape.c0.am1", "dc0.bm2": "shape.dc0.bm2", "c0.a1": "shape.c0.a1"}
 T_END = 6.0
 
 
