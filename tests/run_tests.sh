@@ -76,11 +76,14 @@ for prog in "${progs[@]}"; do rm -f "$logs/$(name_of "$prog").rc"; done
 # A sanitized build of a program (asan-NAME, tsan-NAME) starts once NAME has ended, when both run:
 # on an empty kernel cache the two ask for the same kernels and take turns making them, each
 # holding a slot while it waits for the other's (asan-test_rhs took 57 s of a cold run, 1 s warm).
-declare -A listed
-for prog in "${progs[@]}"; do listed[$(name_of "$prog")]=1; done
+declare -A listed name_by
+for prog in "${progs[@]}"; do
+    name_by[$prog]=$(name_of "$prog")   # once: ready() runs at every start
+    listed[${name_by[$prog]}]=1
+done
 ready() {   # ready PROG: 0 when nothing it waits for is still to run
-    local name twin
-    name=$(name_of "$1"); twin=${name#asan-}; twin=${twin#tsan-}
+    local name=${name_by[$1]} twin
+    twin=${name#asan-}; twin=${twin#tsan-}
     [ "$twin" = "$name" ] || [ -z "${listed[$twin]+set}" ] || [ -e "$logs/$twin.rc" ]
 }
 queue=($order)
