@@ -117,8 +117,12 @@ static int minima(int N, const double *x, real *th, real *jv, real *width)
     return n;
 }
 
-/* Reference W2 and gradient (binary128, 30-point Gauss on graded panels). Returns min J. */
-static double reference(int N, const double *x, double eps, double alpha, double *W, double *grad)
+/* Reference W2 and gradient (binary128, 30-point Gauss on graded panels) for each of the na
+ * exponents alpha[a], into W[a] and grad + a * NG: J and its gradient are evaluated once per node
+ * for all of them, since they are nearly all of the reference's time. Returns min J. */
+enum { NG = 2 * 33 + 2, NA = 3 };
+static double reference(int N, const double *x, double eps, const double *alpha, int na, double *W,
+                        double *grad)
 {
     real th[64], jv[64], wd[64];
     int nm = minima(N, x, th, jv, wd);
@@ -135,31 +139,37 @@ static double reference(int N, const double *x, double eps, double alpha, double
         brk[nb++] = fmodq(th[i] + 2 * PI_Q, 2 * PI_Q);
     }
     qsort(brk, nb, sizeof(real), cmp_real);
-    real S = 0, G[2 * 33 + 2];
+    real S[NA] = {0}, G[NA][NG];
     const int n = 2 * (N + 1);
-    for (int i = 0; i < n; i++) G[i] = 0;
+    for (int a = 0; a < na; a++)
+        for (int i = 0; i < n; i++) G[a][i] = 0;
     for (int p = 0; p < nb; p++) {
         real u = brk[p], v = p + 1 < nb ? brk[p + 1] : brk[0] + 2 * PI_Q;
         if (!(v > u)) continue;
         real mid = (u + v) / 2, half = (v - u) / 2;
         for (int k = 0; k < 30; k++) {
             real t = mid + half * gx30[k], w = half * gw30[k];
-            real g[2 * 33 + 2];
-            real J = jgq(N, x, t, g), f = powq(J, -(real)alpha);
-            S += w * f;
-            for (int i = 0; i < n; i++) G[i] += w * f / J * g[i];
+            real g[NG];
+            real J = jgq(N, x, t, g);
+            for (int a = 0; a < na; a++) {
+                real f = powq(J, -(real)alpha[a]);
+                S[a] += w * f;
+                for (int i = 0; i < n; i++) G[a][i] += w * f / J * g[i];
+            }
         }
     }
     free(brk);
-    *W = (double)(eps / (2 * alpha) * S);
-    for (int i = 0; i < n; i++) grad[i] = (double)(-0.5 * eps * G[i]);
+    for (int a = 0; a < na; a++) {
+        W[a] = (double)(eps / (2 * alpha[a]) * S[a]);
+        for (int i = 0; i < n; i++) grad[a * NG + i] = (double)(-0.5 * eps * G[a][i]);
+    }
     return (double)jmin;
 }
 
 /* The binary128 reference is nearly all of this program's time (software floating point). Built
  * with AddressSanitizer -- which checks the rule's memory use, not its accuracy: the plain build
- * does that -- the program compares one case in REF_EVERY with it; every case still runs the rule
- * and must give finite values. */
+ * does that -- the program compares one shape in REF_EVERY with it; every shape still runs the
+ * rule and must give finite values. */
 #if defined(__SANITIZE_ADDRESS__)
 #define REF_EVERY 8
 #else
@@ -219,7 +229,7 @@ static void accuracy(void)
 {
     static const int modes[] = {0, 1, 2, 3, 5, 8, 12, 20, 32};
     static const double targets[] = {0.5, 1e-2, 1e-4, 1e-6, 1e-8, 1e-10};
-    static const double alphas[] = {0.5, 1.0, 1.5};
+    static const double alphas[NA] = {0.5, 1.0, 1.5};
     double worst = 0, worst_g = 0;
     printf("%4s %6s %9s %5s %8s %6s %9s %9s\n", "N", "decay", "min J", "alpha", "rule", "nodes",
            "err W", "err grad");
@@ -230,21 +240,21 @@ static void accuracy(void)
         for (int decay = 1; decay <= 2; decay++)
             for (size_t t = 0; t < sizeof targets / sizeof *targets; t++) {
                 if (N <= 1 && t > 0) break;    /* J is constant: nothing to approach */
-                double x[2 * 33 + 2];
+                double x[NG], Wr[NA], gr[NA * NG], jmin = 0.0;
                 make_shape(N, decay, targets[t], x);
-                for (size_t k = 0; k < sizeof alphas / sizeof *alphas; k++) {
-                    double W, g[2 * 33 + 2], Wr, gr[2 * 33 + 2], scale;
+                const int due = reference_due();
+                if (due) jmin = reference(N, x, 0.03, alphas, NA, Wr, gr);
+                for (int k = 0; k < NA; k++) {
+                    double W, g[NG], scale;
                     swim_barrier_info info;
-                    if (!reference_due()) {
-                        int rc = swim_barrier_w2(b, x, 0.03, alphas[k], &W, g, &info);
+                    const int rc = swim_barrier_w2(b, x, 0.03, alphas[k], &W, g, &info);
+                    if (!due) {
                         CHECK(rc == SWIM_BARRIER_OK && all_finite(W, g, n), "N=%d target %g: rc %d", N, targets[t], rc);
                         continue;
                     }
-                    double jmin = reference(N, x, 0.03, alphas[k], &Wr, gr);
-                    int rc = swim_barrier_w2(b, x, 0.03, alphas[k], &W, g, &info);
                     CHECK(rc == SWIM_BARRIER_OK, "N=%d min J %g: rc %d", N, jmin, rc);
-                    double eW = fabs(W - Wr) / fabs(Wr);
-                    double eg = max_abs_diff(g, gr, n, &scale) / scale;
+                    double eW = fabs(W - Wr[k]) / fabs(Wr[k]);
+                    double eg = max_abs_diff(g, gr + k * NG, n, &scale) / scale;
                     worst = fmax(worst, eW);
                     worst_g = fmax(worst_g, eg);
                     printf("%4d %6d %9.2e %5.2g %8s %6d %9.1e %9.1e\n", N, decay, jmin, alphas[k],
@@ -273,27 +283,28 @@ static void sparse(void)
         swim_barrier_quad *b = swim_barrier_quad_new(N);
         for (size_t t = 0; t < sizeof targets / sizeof *targets; t++)
             for (int trial = 0; trial < 3; trial++) {
-                double x[2 * 33 + 2];
+                double x[NG], Wr[2], gr[2 * NG], jmin = 0.0;
                 make_shape(3, 1, targets[t], x);   /* c_1, c_-1 .. c_-3 */
                 for (int i = 8; i < n; i++) x[i] = 0.0;
+                static const double alphas[2] = {0.5, 1.0};
+                const int due = reference_due();
+                if (due) jmin = reference(N, x, 0.03, alphas, 2, Wr, gr);
                 for (int k = 0; k < 2; k++) {
-                    const double alpha = k ? 1.0 : 0.5;
-                    double W, g[2 * 33 + 2], Wr, gr[2 * 33 + 2], scale;
+                    double W, g[NG], scale;
                     swim_barrier_info info;
-                    if (!reference_due()) {
-                        const int rc = swim_barrier_w2(b, x, 0.03, alpha, &W, g, &info);
+                    const int rc = swim_barrier_w2(b, x, 0.03, alphas[k], &W, g, &info);
+                    if (!due) {
                         CHECK(rc == SWIM_BARRIER_OK && all_finite(W, g, n), "sparse N=%d target %g: rc %d", N,
                               targets[t], rc);
                         continue;
                     }
-                    const double jmin = reference(N, x, 0.03, alpha, &Wr, gr);
-                    const int rc = swim_barrier_w2(b, x, 0.03, alpha, &W, g, &info);
-                    const double eW = fabs(W - Wr) / fabs(Wr), eg = max_abs_diff(g, gr, n, &scale) / scale;
+                    const double eW = fabs(W - Wr[k]) / fabs(Wr[k]);
+                    const double eg = max_abs_diff(g, gr + k * NG, n, &scale) / scale;
                     worst = fmax(worst, eW);
                     worst_g = fmax(worst_g, eg);
                     CHECK(rc == SWIM_BARRIER_OK && eW <= 1e-12 && eg <= 1e-12,
                           "sparse N=%d min J %.3g alpha %g (%s, %d nodes): W rel error %.2e, grad %.2e", N, jmin,
-                          alpha, info.graded ? "graded" : "trapezoidal", info.nodes, eW, eg);
+                          alphas[k], info.graded ? "graded" : "trapezoidal", info.nodes, eW, eg);
                 }
             }
         swim_barrier_quad_free(b);
