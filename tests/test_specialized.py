@@ -20,11 +20,12 @@ import numpy as np
 import swimtest
 from swimtest import ROOT, TMP, check, main
 
-ENV = dict(os.environ, SWIM_CACHE=os.path.join(TMP, "cache"))
+# the suite's kernel cache (make test's build/cache); test_cache starts an empty one of its own
+ENV = dict(os.environ)
 
 
-def run(scene, name, *args):
-    return swimtest.run(scene, name, *args, env=ENV)
+def run(scene, name, *args, env=None):
+    return swimtest.run(scene, name, *args, env=env or ENV)
 
 
 SCENES = {"example1": 10, "example2a": 10, "example2b": 10, "example2c": 10, "example3": 10,
@@ -96,7 +97,7 @@ def scene_variant(name, change):
 
 
 def test_cache():
-    ENV["SWIM_CACHE"] = os.path.join(TMP, "fresh-cache")   # start empty
+    env = dict(ENV, SWIM_CACHE=os.path.join(TMP, "fresh-cache"))   # start empty
     cache_runs = []
     base = scene_variant("c-base", lambda s: s)
     for label, path, args in [
@@ -108,14 +109,14 @@ def test_cache():
         ("more free coordinates", scene_variant("c-free", lambda s: s.replace('"bm2"]', '"bm2", "am3", "bm3"]')), []),
         ("elasticity added", scene_variant("c-el", lambda s: s.replace("[run]", "[elastic]\nstiffness = [0,0,1,1,1,1,0,0,0,0,0,0,0,0,0,0]\nreference = [1,0,0.5,0,0,0,0,0,0,0,0,0,0,0,0,0]\n\n[run]")), []),
     ]:
-        _, _, s = run(path, "cache-" + label.replace(" ", "-"), *(args or ["--t-end", "1"]))
+        _, _, s = run(path, "cache-" + label.replace(" ", "-"), *(args or ["--t-end", "1"]), env=env)
         cache_runs.append((label, s["kernel"]["from_cache"], s["kernel"]["cache"]))
     expect = [False, True, True, True, False, False]
     for (label, hit, _), want in zip(cache_runs, expect):
         check(hit == want, "cache: %s: from_cache = %s, want %s" % (label, hit, want))
     dirs = {c for _, _, c in cache_runs}
     check(len(dirs) == 3, "cache: %d kernels for 3 structures" % len(dirs))
-    check(len(glob.glob(os.path.join(ENV["SWIM_CACHE"], "*", "kernel.so"))) == 3, "cache: 3 compiled kernels")
+    check(len(glob.glob(os.path.join(env["SWIM_CACHE"], "*", "kernel.so"))) == 3, "cache: 3 compiled kernels")
 
 
 if __name__ == "__main__":

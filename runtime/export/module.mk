@@ -2,5 +2,5 @@
 # built with the compiler and flags of this build, baked into export.o here. simulate.c, kernels.c
 # and no_cvode.c are not part of bin/swim: they are copied into the tree.
 RUNTIME_SRCS += runtime/export/export.c
-$(BUILD)/runtime/export/export.o $(BUILD)/pic/runtime/export/export.o: CPPFLAGS += -DSWIM_EXPORT_CC='"$(CC)"' \
+$(BUILD)/runtime/export/export.o: CPPFLAGS += -DSWIM_EXPORT_CC='"$(CC)"' \
   -DSWIM_EXPORT_CFLAGS='"$(strip $(filter-out -MMD -MP,$(CFLAGS)))"' -DSWIM_EXPORT_KERNEL_OPT='"$(KERNEL_OPT)"'

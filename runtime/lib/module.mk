@@ -7,7 +7,7 @@ SWIM_VERSION := $(shell cat VERSION 2>/dev/null || echo unknown)
 SWIM_ABI     := $(shell sed -n 's/^.define SWIM_ABI \([0-9][0-9]*\)$$/\1/p' runtime/lib/swim.h)
 CPPFLAGS     += -DSWIM_VERSION='"$(SWIM_VERSION)"'
 # swim.c refuses to build when swim.h's SWIM_VERSION_* or SWIM_ABI are not these
-$(BUILD)/runtime/lib/swim.o $(BUILD)/pic/runtime/lib/swim.o: CPPFLAGS += \
+$(BUILD)/runtime/lib/swim.o: CPPFLAGS += \
   $(shell echo "$(SWIM_VERSION)" | awk -F. '{printf "-DSWIM_BUILD_MAJOR=%d -DSWIM_BUILD_MINOR=%d -DSWIM_BUILD_PATCH=%d", $$1, $$2, $$3}') \
   -DSWIM_BUILD_ABI=$(SWIM_ABI)
 RUNTIME_SRCS += runtime/lib/swim.c
@@ -16,6 +16,4 @@ BENCH_SRCS   += tests/bench/bench_lib_threads.c
 
 # The rules are in runtime/lib/rules.mk, read once LIB_OBJS is known.
 # The objects that print the version are rebuilt when VERSION changes.
-$(BUILD)/runtime/lib/swim.o $(BUILD)/pic/runtime/lib/swim.o \
-$(BUILD)/runtime/driver/summary.o $(BUILD)/pic/runtime/driver/summary.o \
-$(BUILD)/runtime/export/export.o $(BUILD)/pic/runtime/export/export.o: VERSION
+$(BUILD)/runtime/lib/swim.o $(BUILD)/runtime/driver/summary.o $(BUILD)/runtime/export/export.o: VERSION

@@ -1,21 +1,17 @@
 # runtime/lib's rules (runtime/lib/module.mk says what they build); included after LIB_OBJS.
-# (target-specific flags of a module -- barrier.o, codegen.o, files.o -- name both objects)
-PIC_OBJS   := $(LIB_SRCS:%.c=$(BUILD)/pic/%.o) $(BUILD)/pic/kernel_table.o
 LIB_SO     := $(BUILD)/lib/libswim.so.$(SWIM_VERSION)
 LIB_A      := $(BUILD)/lib/libswim_static.a
 
 .PHONY: lib install-lib uninstall-lib uninstall
 lib: $(LIB_SO) $(LIB_A)
 
-# The objects again, position-independent and with hidden symbols (only SWIM_API's are seen).
-$(BUILD)/pic/%.o: %.c | $(DEPS_STAMP)
-	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -fPIC -fvisibility=hidden -c $< -o $@
-$(BUILD)/pic/kernel_table.o: $(BUILD)/kernel_table.c
-	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -fPIC -fvisibility=hidden -c $< -o $@
+# The library's objects are compiled once, position-independent and with hidden symbols (only
+# SWIM_API's are seen), for the shared library and for everything linked statically -- bin/swim,
+# the tests, libswim_static.a -- alike: hidden symbols bind within the module, so the code is the
+# one a position-independent executable gets.
+$(LIB_OBJS): CFLAGS += -fPIC -fvisibility=hidden
 
-$(LIB_SO): $(PIC_OBJS)
+$(LIB_SO): $(LIB_OBJS)
 	@mkdir -p $(dir $@)
 	$(CC) -shared -Wl,-soname,libswim.so.$(SWIM_ABI) -Wl,--no-undefined $(CFLAGS) $^ -o $@ $(LDLIBS)
 $(LIB_A): $(LIB_OBJS)

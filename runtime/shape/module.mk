@@ -4,4 +4,4 @@ RUNTIME_SRCS += runtime/shape/shape.c runtime/shape/constraints.c runtime/shape/
 # the textbook product and quotient are exact enough and avoid libgcc's checked __muldc3/__divdc3.
 # Nor does it read errno: without -fno-math-errno GCC keeps every sqrt a scalar call (it might set
 # errno), and the node loops of J^-1/2 stop vectorizing.
-$(BUILD)/runtime/shape/barrier.o $(BUILD)/pic/runtime/shape/barrier.o: CFLAGS += -fcx-limited-range -fno-math-errno
+$(BUILD)/runtime/shape/barrier.o: CFLAGS += -fcx-limited-range -fno-math-errno

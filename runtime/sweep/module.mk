@@ -10,9 +10,9 @@ CPPFLAGS     += $(HDF5_CFLAGS)
 # Read when the object is compiled, after `make deps` has installed libhdf5-dev.
 HDF5_SONAME   = $(shell objdump -p $(firstword $(patsubst -L%,%,$(filter -L%,$(HDF5_LIBS))) /usr/lib)/libhdf5.so \
                 2>/dev/null | awk '/SONAME/ {print $$2}')
-$(BUILD)/runtime/sweep/family_hdf5.o $(BUILD)/pic/runtime/sweep/family_hdf5.o: \
+$(BUILD)/runtime/sweep/family_hdf5.o: \
     CPPFLAGS += $(if $(HDF5_SONAME),-DSWIM_HDF5_SONAME='"$(HDF5_SONAME)"')
-$(BUILD)/runtime/sweep/family_hdf5.o $(BUILD)/pic/runtime/sweep/family_hdf5.o: VERSION
+$(BUILD)/runtime/sweep/family_hdf5.o: VERSION
 
 # The paper's families (Figs 4.1, 4.2, 4.5, 4.6, 4.7): one sweep and one `swim plot` each, into
 # out/families/; initial data on the curve (4.17) from runtime/plot/reduction_members.py.
