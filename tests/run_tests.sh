@@ -19,11 +19,24 @@ touch "$durations"
 
 # A program's name: its path without the build and tests folders, "/" as "-" (build/tests/test_io
 # is test_io, the sanitized build/asan/tests/test_io is asan-test_io, tests/test_flow.py test_flow).
-name_of() { sed -E -e 's#^(\./)?(build/)?##' -e 's#(^|/)tests/#\1#' -e 's#/#-#g' -e 's/\.(py|sh)$//' <<<"$1"; }
+# Into the variable $name, in bash alone: it is found for every program given, before any starts.
+name_of() {
+    name=${1#./}
+    name=${name#build/}
+    if [[ $name == tests/* ]]; then name=${name#tests/}; else name=${name/\/tests\//\/}; fi
+    name=${name//\//-}
+    name=${name%.py}
+    name=${name%.sh}
+}
 
 progs=()
+declare -A name_by
 for prog in "$@"; do
-    if [ -z "$filter" ] || grep -qE -- "$filter" <<<"$(name_of "$prog")"; then progs+=("$prog"); fi
+    name_of "$prog"
+    if [ -z "$filter" ] || [[ $name =~ $filter ]]; then
+        progs+=("$prog")
+        name_by[$prog]=$name
+    fi
 done
 if [ "${#progs[@]}" -eq 0 ]; then
     echo "tests: no test program matches T=$filter (names as in $logs: test_io, asan-test_io, test_flow, ...)" >&2
@@ -38,8 +51,7 @@ summary() {
 }
 
 run_one() {   # run_one PROG: output to its log, exit status and milliseconds to its .rc file, one line out
-    local prog="$1" name start rc ms counts report fails
-    name=$(name_of "$prog")
+    local prog="$1" name=${name_by[$1]} start rc ms counts report fails
     start=$(date +%s%N)
     case "$prog" in
         *.py) "${PYTHON:-/usr/bin/python3}" "$prog" >"$logs/$name.log" 2>&1; rc=$? ;;
@@ -67,20 +79,18 @@ clock_start=$(date +%s)
 echo "tests: ${#progs[@]} $word, $jobs at a time; each one's output in $logs/NAME.log"
 
 # Longest first (by the last run's milliseconds; unknown programs first of all, in the given order).
+declare -A last_ms
+while read -r n ms _; do [ -n "$n" ] && last_ms[$n]=$ms; done <"$durations"
 order=$(for prog in "${progs[@]}"; do
-    s=$(awk -v n="$(name_of "$prog")" '$1 == n { print $2 }' "$durations")
-    printf '%s %s\n' "${s:-1e9}" "$prog"
+    printf '%s %s\n' "${last_ms[${name_by[$prog]}]:-1e9}" "$prog"
 done | sort -s -g -r -k1,1 | cut -d' ' -f2-)
 
-for prog in "${progs[@]}"; do rm -f "$logs/$(name_of "$prog").rc"; done
+for prog in "${progs[@]}"; do rm -f "$logs/${name_by[$prog]}.rc"; done
 # A sanitized build of a program (asan-NAME, tsan-NAME) starts once NAME has ended, when both run:
 # on an empty kernel cache the two ask for the same kernels and take turns making them, each
 # holding a slot while it waits for the other's (asan-test_rhs took 57 s of a cold run, 1 s warm).
-declare -A listed name_by
-for prog in "${progs[@]}"; do
-    name_by[$prog]=$(name_of "$prog")   # once: ready() runs at every start
-    listed[${name_by[$prog]}]=1
-done
+declare -A listed
+for prog in "${progs[@]}"; do listed[${name_by[$prog]}]=1; done
 ready() {   # ready PROG: 0 when nothing it waits for is still to run
     local name=${name_by[$1]} twin
     twin=${name#asan-}; twin=${twin#tsan-}
@@ -104,13 +114,10 @@ done
 wait
 
 total_pass=0; total_fail=0; failed=()
-cp "$durations" "$durations.new"
 for prog in "${progs[@]}"; do
-    name=$(name_of "$prog")
+    name=${name_by[$prog]}
     read -r rc ms <"$logs/$name.rc" 2>/dev/null || { rc=255; ms=0; }
-    # this run's time replaces the last one; programs not run this time (T=...) keep theirs
-    awk -v n="$name" '$1 != n' "$durations.new" >"$durations.tmp" && mv "$durations.tmp" "$durations.new"
-    echo "$name $ms" >>"$durations.new"
+    last_ms[$name]=$ms   # this run's time replaces the last one; programs not run (T=...) keep theirs
     counts=$(summary "$logs/$name.log")
     if [ -n "$counts" ]; then
         p=${counts% *}; f=${counts#* }
@@ -121,7 +128,7 @@ for prog in "${progs[@]}"; do
     fi
     [ "$f" -gt 0 ] && failed+=("$name")
 done
-mv "$durations.new" "$durations"
+for n in "${!last_ms[@]}"; do echo "$n ${last_ms[$n]}"; done >"$durations.new" && mv "$durations.new" "$durations"
 for name in "${failed[@]+"${failed[@]}"}"; do
     echo "failed: $name (see $logs/$name.log)"
     grep -q -E '^[A-Za-z0-9_.-]+: [0-9]+ passed, [0-9]+ failed' "$logs/$name.log" || tail -n 20 "$logs/$name.log"
