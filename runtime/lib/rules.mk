@@ -57,7 +57,7 @@ TSAN_TESTS := $(patsubst tests/%.c,$(TSAN_BUILD)/tests/%,$(wildcard tests/test_l
 TSAN_ENV := TSAN_OPTIONS=halt_on_error=1
 .PHONY: tsan-tests tsan-test
 tsan-tests: | $(DEPS_STAMP)
-	@$(MAKE) --no-print-directory BUILD=$(TSAN_BUILD) BIN=$(TSAN_BUILD)/bin OPT="-O1 -g -fsanitize=thread" \
+	@$(MAKE) --no-print-directory BUILD=$(TSAN_BUILD) BIN=$(TSAN_BUILD)/bin OPT="-O1 -fsanitize=thread" DEBUG=-g1 \
 	  KERNEL_OPT="$(KERNEL_OPT)" $(TSAN_TESTS)
 tsan-test: tsan-tests
 	@$(TSAN_ENV) SWIM_CACHE=$${SWIM_CACHE:-$(CURDIR)/$(BUILD)/cache} SWIM_BIN=$(CURDIR)/$(BIN)/swim \
