@@ -5,8 +5,12 @@
  * machine's load falls on all of them alike): the minimum and the median over the rounds, and
  * whether the derivative is the same to the bit as with the kernels' own flags.
  *
- *   bench_kernel_flags [SCENE [FLAGS ...]]
+ *   bench_kernel_flags [--jacobian] [SCENE [FLAGS ...]]
  *     (default: models/example7.toml, "-ffp-contract=fast", and that with reassociation)
+ *
+ * With --jacobian the scene kernel's exact Jacobian is timed instead (10 calls per round; the
+ * CSV is then build/bench/kernel_flags_jacobian.csv), e.g. against "-O2", the level its tangent
+ * code would need for a compile twice as fast (docs/performance.md).
  *
  * One CSV row per build on stdout and build/bench/kernel_flags.csv:
  * scene,flags,ns_min,ns_median,ratio_min,same_bits  (ratio: the kernels' own flags over these). */
@@ -31,7 +35,17 @@
 #define SWIM_CC "cc"
 #endif
 
-enum { MAXK = 8, ROUNDS = 301, CALLS = 200 };
+enum { MAXK = 8, ROUNDS = 301, CALLS = 200, CALLS_J = 10 };
+
+/* One timed call: the RHS, or the exact Jacobian into out. */
+static void call(const swim_scene_kernel *k, int jacobian, const double *y, double *out,
+                 const swim_scene_params *p)
+{
+    if (jacobian)
+        k->jacobian(0.1, y, out, p);
+    else
+        k->rhs(0.1, y, out, p);
+}
 
 /* The kernel source compiled with the kernels' flags and extra ones into dir/k<i>.so, loaded. */
 static const swim_scene_kernel *build(const char *source, const char *share, const char *extra,
@@ -55,6 +69,11 @@ static const swim_scene_kernel *build(const char *source, const char *share, con
 
 int main(int argc, char **argv)
 {
+    const int jacobian = argc > 1 && strcmp(argv[1], "--jacobian") == 0;
+    if (jacobian) {
+        argv++;
+        argc--;
+    }
     const char *scene = argc > 1 ? argv[1] : "models/example7.toml";
     const char *defaults[] = {"-ffp-contract=fast",
                               "-ffp-contract=fast -fassociative-math -fno-signed-zeros -fno-trapping-math"};
@@ -92,7 +111,8 @@ int main(int argc, char **argv)
     }
     if (bad) return 1;
     double *y = calloc((size_t)d.dim, sizeof(double)), *ys = calloc((size_t)d.dim, sizeof(double));
-    double *dy = calloc((size_t)d.dim, sizeof(double)), *dy0 = calloc((size_t)d.dim, sizeof(double));
+    const size_t nout = jacobian ? (size_t)d.dim * (size_t)d.dim : (size_t)d.dim;
+    double *dy = calloc(nout, sizeof(double)), *dy0 = calloc(nout, sizeof(double));
     swim_dynamics_initial_state(&d, y);
     swim_dynamics_use_scene_kernel(&d, sp.scene, 0);
     swim_dynamics_pack(&d, y, ys);
@@ -112,19 +132,20 @@ int main(int argc, char **argv)
         for (int q = 0; q < nk; q++) {
             const int i = order[q];
             const double t0 = bench_now();
-            for (int c = 0; c < CALLS; c++) ks[i]->rhs(0.1, ys, dy, &d.spec_params);
-            t[i][r] = (bench_now() - t0) / CALLS * 1e9;
+            const int calls = jacobian ? CALLS_J : CALLS;
+            for (int c = 0; c < calls; c++) call(ks[i], jacobian, ys, dy, &d.spec_params);
+            t[i][r] = (bench_now() - t0) / calls * 1e9;
         }
     }
-    FILE *csv = fopen("build/bench/kernel_flags.csv", "w");
+    FILE *csv = fopen(jacobian ? "build/bench/kernel_flags_jacobian.csv" : "build/bench/kernel_flags.csv", "w");
     const char *head = "scene,flags,ns_min,ns_median,ratio_min,same_bits\n";
     printf("%s", head);
     if (csv) fputs(head, csv);
     double base = 0.0;
     for (int i = 0; i < nk; i++) {
-        ks[i]->rhs(0.1, ys, dy, &d.spec_params);
-        if (i == 0) memcpy(dy0, dy, sizeof(double) * (size_t)d.dim);
-        const int same = memcmp(dy0, dy, sizeof(double) * (size_t)d.dim) == 0;
+        call(ks[i], jacobian, ys, dy, &d.spec_params);
+        if (i == 0) memcpy(dy0, dy, sizeof(double) * nout);
+        const int same = memcmp(dy0, dy, sizeof(double) * nout) == 0;
         const double med = bench_median(t[i], ROUNDS), lo = t[i][0];   /* sorted by the median */
         if (i == 0) base = lo;
         char row[1024];
