@@ -123,8 +123,9 @@ def test_not_converged_and_interrupted():
     out = os.path.join(TMP, "sigint")
     proc = subprocess.Popen([SWIM, "optimize", "models/control/selfpropelled_params.toml", "--out", out, "--quiet",
                              "--vary", "parameters.A=0.5:4", "--vary", "parameters.w=0.1:1",
-                             "--maximize", "displacement_per_work"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True, cwd=ROOT)
+                             "--maximize", "displacement_per_work", "--max-iter", "100000", "--tol", "1e-12",
+                             "--set", "run.t_end=10"],   # short runs that go on: the log fills within a second
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
     import time
     log = os.path.join(out, "optimize.csv")
     deadline = time.time() + 60

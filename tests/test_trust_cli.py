@@ -185,7 +185,8 @@ def test_optimize_keeps_results_on_sighup():
     log = os.path.join(out, "optimize.csv")
     proc = subprocess.Popen([SWIM, "optimize", "models/control/selfpropelled_params.toml", "--out", out, "--vary",
                              "parameters.A=0.5:4", "--vary", "parameters.w=0.1:1", "--maximize",
-                             "displacement_per_work", "--max-iter", "100000", "--tol", "1e-12", "--quiet"],
+                             "displacement_per_work", "--max-iter", "100000", "--tol", "1e-12", "--quiet",
+                             "--set", "run.t_end=10"],   # short runs: the search logs within a second
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
     ok = wait_for(lambda: os.path.exists(log) and sum(1 for _ in open(log)) >= 3, proc)
     proc.send_signal(signal.SIGHUP)
