@@ -1256,31 +1256,99 @@ typedef struct {
     double complex Q[64], F1[64], F2[128];
 } hess_sums;
 
-/* One node (angle th, weight wt, J and h there) into the sums. */
-static void hess_node(const swim_barrier_quad *b, double alpha, double th, double wt, double J,
-                      double complex h, hess_sums *hs)
+/* The sums above over nodes k = 0..m-1 (z_k = c_k + i s_k, h_k, J_k, weight w_k or, with w
+ * NULL, wu), added to hs. As power_sums: blocks of 8 nodes outside, the powers inside, each sum
+ * in 8 lanes (node k in lane k % 8) that total8 adds up once; the nodes after the last block
+ * one by one. z^p and a h z^p advance by a multiplication per power. */
+static void hess_sums_add(int N, double alpha, const double *c, const double *sn, const double *hr,
+                          const double *hi, const double *J, const double *w, double wu, int m,
+                          hess_sums *hs)
 {
-    const int N = b->N;
-    const double complex zf = cexp(I * th);
-    const double g = wt * jpow(J, alpha) / J;           /* wt J^{-alpha-1} */
-    const double a = (alpha + 1.0) * g / J;             /* wt (alpha+1) J^{-alpha-2} */
-    hs->A0 += a;
-    const double ah2 = a * (creal(h) * creal(h) + cimag(h) * cimag(h));
-    double complex e = 1.0, t = a * h;
-    for (int p = 0; p < N; p++) {                       /* z^p, p = 0..N-1 */
-        hs->cp[p] += g * creal(e);
-        hs->sp[p] += g * cimag(e);
-        hs->F1[p] += ah2 * e;
-        hs->Q[p] += t;
-        t *= zf;
-        e *= zf;
+    typedef struct {
+        vec4 v[2];
+    } lanes;
+    static const lanes zero;
+    lanes A0 = zero, cp[64], sp[64], Qr[64], Qi[64], F1r[64], F1i[64], F2r[128], F2i[128];
+    const int P = N > 0 ? N : 1, P2 = 2 * N - 1 > 0 ? 2 * N - 1 : 0, mv = m - m % 8;
+    for (int p = 0; p < P; p++) cp[p] = sp[p] = Qr[p] = Qi[p] = F1r[p] = F1i[p] = zero;
+    for (int q = 0; q < P2; q++) F2r[q] = F2i[q] = zero;
+    for (int k = 0; k < mv; k += 8)
+        for (int h = 0; h < 2; h++) {   /* nodes k + 4h .. k + 4h + 3 */
+            const int o = k + 4 * h;
+            double gv[4], av[4];
+            for (int i = 0; i < 4; i++) {
+                const double Jk = J[o + i];
+                gv[i] = (w ? w[o + i] : wu) * jpow(Jk, alpha) / Jk;   /* wt J^{-alpha-1} */
+                av[i] = (alpha + 1.0) * gv[i] / Jk;                   /* wt (alpha+1) J^{-alpha-2} */
+            }
+            const vec4 g = load4(gv), a = load4(av), zr = load4(c + o), zi = load4(sn + o);
+            const vec4 xr = load4(hr + o), xi = load4(hi + o);
+            A0.v[h] += a;
+            const vec4 ah2 = a * (xr * xr + xi * xi);
+            vec4 er = {1.0, 1.0, 1.0, 1.0}, ei = {0.0, 0.0, 0.0, 0.0}, tr = a * xr, ti = a * xi;
+            for (int p = 0; p < N; p++) {   /* z^p, p = 0..N-1 */
+                cp[p].v[h] += g * er;
+                sp[p].v[h] += g * ei;
+                F1r[p].v[h] += ah2 * er;
+                F1i[p].v[h] += ah2 * ei;
+                Qr[p].v[h] += tr;
+                Qi[p].v[h] += ti;
+                const vec4 t2 = tr * zr - ti * zi, e2 = er * zr - ei * zi;
+                ti = tr * zi + ti * zr;
+                ei = er * zi + ei * zr;
+                tr = t2;
+                er = e2;
+            }
+            if (N == 0) cp[0].v[h] += g;
+            vec4 fr = a * (xr * xr - xi * xi), fi = a * (2.0 * xr * xi);   /* a h^2 */
+            for (int q = 0; q < P2; q++) {
+                F2r[q].v[h] += fr;
+                F2i[q].v[h] += fi;
+                const vec4 f2 = fr * zr - fi * zi;
+                fi = fr * zi + fi * zr;
+                fr = f2;
+            }
+        }
+    double tA0 = 0.0, tcp[64] = {0}, tsp[64] = {0}, tQr[64] = {0}, tQi[64] = {0}, tF1r[64] = {0},
+           tF1i[64] = {0}, tF2r[128] = {0}, tF2i[128] = {0};
+    for (int k = mv; k < m; k++) {
+        const double g = (w ? w[k] : wu) * jpow(J[k], alpha) / J[k], a = (alpha + 1.0) * g / J[k];
+        const double zr = c[k], zi = sn[k], xr = hr[k], xi = hi[k];
+        tA0 += a;
+        const double ah2 = a * (xr * xr + xi * xi);
+        double er = 1.0, ei = 0.0, tr = a * xr, ti = a * xi;
+        for (int p = 0; p < N; p++) {
+            tcp[p] += g * er;
+            tsp[p] += g * ei;
+            tF1r[p] += ah2 * er;
+            tF1i[p] += ah2 * ei;
+            tQr[p] += tr;
+            tQi[p] += ti;
+            const double t2 = tr * zr - ti * zi, e2 = er * zr - ei * zi;
+            ti = tr * zi + ti * zr;
+            ei = er * zi + ei * zr;
+            tr = t2;
+            er = e2;
+        }
+        if (N == 0) tcp[0] += g;
+        double fr = a * (xr * xr - xi * xi), fi = a * (2.0 * xr * xi);
+        for (int q = 0; q < P2; q++) {
+            tF2r[q] += fr;
+            tF2i[q] += fi;
+            const double f2 = fr * zr - fi * zi;
+            fi = fr * zi + fi * zr;
+            fr = f2;
+        }
     }
-    if (N == 0) hs->cp[0] += g;
-    double complex f = a * h * h;
-    for (int q = 0; q + 1 < 2 * N; q++) {
-        hs->F2[q] += f;
-        f *= zf;
+    hs->A0 += total8(A0.v[0], A0.v[1], tA0);
+    for (int p = 0; p < P; p++) {
+        hs->cp[p] += total8(cp[p].v[0], cp[p].v[1], tcp[p]);
+        hs->sp[p] += total8(sp[p].v[0], sp[p].v[1], tsp[p]);
+        hs->Q[p] += CMPLX(total8(Qr[p].v[0], Qr[p].v[1], tQr[p]), total8(Qi[p].v[0], Qi[p].v[1], tQi[p]));
+        hs->F1[p] += CMPLX(total8(F1r[p].v[0], F1r[p].v[1], tF1r[p]), total8(F1i[p].v[0], F1i[p].v[1], tF1i[p]));
     }
+    for (int q = 0; q < P2; q++)
+        hs->F2[q] += CMPLX(total8(F2r[q].v[0], F2r[q].v[1], tF2r[q]), total8(F2i[q].v[0], F2i[q].v[1], tF2i[q]));
 }
 
 int swim_barrier_hessian(swim_barrier_quad *b, const double *x, double eps, double alpha,
@@ -1294,28 +1362,19 @@ int swim_barrier_hessian(swim_barrier_quad *b, const double *x, double eps, doub
     hess_sums hs;
     memset(&hs, 0, sizeof hs);
     if (!info->graded) {
-        /* the levels of the nested trapezoidal rule that swim_barrier_w2 accepted */
+        /* the levels of the nested trapezoidal rule that swim_barrier_w2 accepted: h and J at
+         * their nodes as trap_level has them, cos and sin theta from the level's table (its row
+         * j = 1; for N < 2 no power of z is read) */
         const int Q = info->nodes;
-        const double c1 = x[0] * x[0] + x[1] * x[1];
         for (int l = 0, used = 0; l < b->levels && used < Q; used += b->lnodes[l], l++) {
-            const int m = b->lnodes[l], Ql = l == 0 ? m : 2 * m;
-            for (int k = 0; k < m; k++) {
-                const double th = l == 0 ? TWO_PI * k / Ql : TWO_PI * (2 * k + 1) / Ql;
-                double hr = 0.0, hi = 0.0;   /* h from the level's tables, as trap_level does */
-                for (int j = 0; j < N; j++) {
-                    const double complex H = coef_h(x, j);
-                    const double c = b->tcs[l][(size_t)j * m + k], sn = b->tsn[l][(size_t)j * m + k];
-                    hr += creal(H) * c + cimag(H) * sn;
-                    hi += cimag(H) * c - creal(H) * sn;
-                }
-                hess_node(b, alpha, th, TWO_PI / Q, c1 - hr * hr - hi * hi, CMPLX(hr, hi), &hs);
-            }
+            const int m = b->lnodes[l];
+            node_values(b, b->tcs[l], b->tsn[l], m, x, b->hr, b->hi, b->jv);
+            const double *zc = N >= 2 ? b->tcs[l] + m : b->tcs[l], *zs = N >= 2 ? b->tsn[l] + m : b->tsn[l];
+            hess_sums_add(N, alpha, zc, zs, b->hr, b->hi, b->jv, NULL, TWO_PI / Q, m, &hs);
         }
     } else {
-        for (int k = 0; k < info->nodes; k++) {
-            const double th = b->base[k] + b->th[k];
-            hess_node(b, alpha, th, b->wt[k], b->jnode[k], CMPLX(b->hr[k], b->hi[k]), &hs);
-        }
+        const int m = info->nodes;   /* the graded nodes of the call above: cos, sin theta in gcs */
+        hess_sums_add(N, alpha, b->gcs, b->gcs + m, b->hr, b->hi, b->jnode, b->wt, 0.0, m, &hs);
     }
     /* hess W2 = eps/2 (sum a u u^T - sum g d2J), u = grad J = (2 a_1, 2 b_1, Re p_m, Im p_m);
      * d2J: 2 on a_1, b_1; for the modes -m, -l (ERRATA B2)
