@@ -21,7 +21,7 @@ OPT        ?= -O3 -march=native
 # Flags of the kernels bin/swim generates and caches at run time (default: those of the build).
 KERNEL_OPT ?= $(OPT)
 # Debugging information: full by default; the sanitized twins of the tests (asan-tests,
-# tsan-tests) take -g1, the line tables their stack traces need, at two thirds of the compile time.
+# tsan-tests) take -g1, the line tables their stack traces need, which compile faster.
 DEBUG      ?= -g
 CFLAGS     ?= $(OPT) $(DEBUG)
 CFLAGS     += -std=c11 -D_XOPEN_SOURCE=700 -Wall -Wextra -Wno-unused-parameter -MMD -MP
