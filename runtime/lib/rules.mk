@@ -10,9 +10,10 @@ lib: $(LIB_SO) $(LIB_A)
 # the tests, libswim_static.a -- alike: hidden symbols bind within the module, so the code is the
 # one a position-independent executable gets.
 $(LIB_OBJS): CFLAGS += -fPIC -fvisibility=hidden
-# A build folder from before (objects without -fPIC, which libswim.so cannot link) has no stamp:
-# made now, it is newer than those objects, and they are compiled again, once.
-LIB_OBJS_STAMP := $(BUILD)/.lib-objects-pic
+# A build folder from before (objects without -fPIC, which libswim.so cannot link, or the runtime's
+# with straight-line vectorization, Makefile) has no stamp of this name: made now, it is newer than
+# those objects, and they are compiled again, once.
+LIB_OBJS_STAMP := $(BUILD)/.lib-objects-pic-noslp
 $(LIB_OBJS_STAMP):
 	@mkdir -p $(dir $@) && touch $@
 $(LIB_OBJS): $(LIB_OBJS_STAMP)
