@@ -193,6 +193,30 @@ def rhs_parts_table(rec):
     return "\n".join(out)
 
 
+def member_floor_table(rec):
+    v = rec["values"]
+    ns = v["ns_per_step"]
+    abm = next(m for m in v["methods"] if m["method"] == "abm" and m["rows"])
+    f = abm["ns_per_step_net"]
+    rest = ns["integrate"] - ns["rhs"] - ns["checks"] - f
+    out = ["| Example 3 `--summary-only` (%d steps, %d rows), per accepted step, medians of %d runs | ns | × its RHS |"
+           % (v["steps"], v["rows"], v["runs"]), "|---|---|---|"]
+    for label, x in (("right-hand side (%.2f evaluations)" % (v["rhs_evaluations"] / v["steps"]), ns["rhs"]),
+                     ("ABM's own step: the same tolerances, dimension and rows with a trivial right-hand side", f),
+                     ("checks at every step (`step_checks` of summary.json)", ns["checks"]),
+                     ("rest of the integration: projection, balance, clocks (by difference)", rest),
+                     ("row diagnostics", ns["diagnostics"])):
+        out.append("| %s | %.0f | %.2f |" % (label, x, x / ns["rhs"]))
+    out.append("| (integration + diagnostics) / RHS | | **%.2f** |" % ((ns["integrate"] + ns["diagnostics"]) / ns["rhs"]))
+    out += ["", "| the same trivial problem (12 components, rtol 1e-10, rows every 0.05) | steps | ns per step, "
+            "less the right-hand side | × ABM's |", "|---|---|---|---|"]
+    for m in v["methods"]:
+        if not m["rows"]:
+            continue
+        out.append("| %s | %d | %.0f | %.1f |" % (m["method"], m["steps"], m["ns_per_step_net"], m["ns_per_step_net"] / f))
+    return "\n".join(out)
+
+
 def kernel_flags_table(rec):
     v = rec["values"]
     out = ["| flags of the scene kernel (%s) | ns per RHS, min | median | own flags' min over this | bits |"
@@ -328,6 +352,7 @@ BLOCKS = {
     "sweep.rank0": ("sweep.json", sweep_rank0),
     "python_loop.sentence": ("python_loop.json", python_loop_sentence),
     "first_use.table": ("first_use.json", first_use_table),
+    "member_floor.table": ("member_floor.json", member_floor_table),
     "first_use.profile": ("first_use.json", first_use_profile),
 }
 COMMAND = {"tests": "make test"}

@@ -23,6 +23,11 @@ generated blocks of README.md and docs/.
   peer         swim against the NumPy/SciPy implementation of the same model (DOP853, LSODA,
                Radau) at matched error on Examples 3 and 7 (tests/bench/peer/bench_peer.py, its
                medians of 3): its table.
+  member_floor Example 3's --summary-only run (T = 30) per accepted step, medians of 15 runs: its
+               right-hand side, its checks at every step, its row diagnostics and the rest of its
+               integration, beside the cost of ABM's own step on a problem of the same dimension
+               with a trivial right-hand side (build/tests/bench/bench_step_floor, its medians of
+               5, with GSL msadams and CVODE-Adams): the floor under item 4's ratio.
   first_use    first use of a new structure at N = 10, 20, 32 against the straight-line
                generator it replaced (tests/bench/bench_first_use.py: medians of 3, the base once).
 
@@ -218,6 +223,23 @@ def python_loop():
             "threads": [row(r) for r in rows if not r["ratio_to_swim_sweep"]]}
 
 
+def member_floor():
+    floor = csv_runs(os.path.join(ROOT, "build", "tests", "bench", "bench_step_floor"), [], n=1)[0]
+    methods = [{"method": r["method"], "rows": int(r["rows"]), "steps": int(r["steps"]),
+                "rhs_evals": int(r["rhs_evals"]), "ns_per_step_net": float(r["ns_per_step_net"])} for r in floor]
+    ex3 = "models/example3.toml"
+    per = {k: [] for k in ("rhs", "checks", "diagnostics", "integrate")}
+    for _ in range(15):
+        s = run(ex3, "--summary-only")
+        st, steps = s["stats"], s["stats"]["steps"]
+        per["rhs"].append(1e9 * st["rhs_seconds"] / steps)
+        per["checks"].append(1e9 * s["step_checks"]["seconds"] / steps)
+        per["diagnostics"].append(1e9 * st["diagnostics_seconds"] / steps)
+        per["integrate"].append(1e9 * st["integrate_seconds"] / steps)
+    return {"scene": ex3, "runs": 15, "steps": steps, "rows": s["rows"], "rhs_evaluations": st["rhs_evaluations"],
+            "ns_per_step": {k: statistics.median(v) for k, v in per.items()}, "methods": methods}
+
+
 def peer():
     out = os.path.join(OUT, "peer")
     script_rows(os.path.join("peer", "bench_peer.py"), ["--out", out], os.path.join(out, "peer.csv"))
@@ -232,7 +254,7 @@ def first_use():
 
 MEASURE = {"member_cost": member_cost, "event_cost": event_cost, "lyapunov": lyapunov, "rhs_cost": rhs_cost,
            "rhs_parts": rhs_parts, "kernel_flags": kernel_flags, "sensitivity": sensitivity, "python_loop": python_loop, "sweep": sweep,
-           "jacobian": jacobian, "peer": peer, "first_use": first_use}
+           "jacobian": jacobian, "peer": peer, "first_use": first_use, "member_floor": member_floor}
 
 
 def main(argv):
