@@ -272,7 +272,60 @@ static void test_watch(void)
     CHECK(swim_shape_in_D(2, x) == 1, "in D");
     double out[6] = {1.0, 0.0, 0.0, 0.0, 0.6, 0.0};   /* min J = 1 - 1.44 */
     CHECK(swim_shape_in_D(2, out) == 0 && fabs(swim_shape_jmin(2, out) + 0.44) < 1e-14, "outside D");
+    /* a coefficient that is not a number: so is min J, and the shape is not in D */
+    double bad[8] = {1.0, 0.0, 0.1, 0.0, 0.05, 0.0, NAN, 0.0};
+    CHECK(isnan(swim_shape_jmin(3, bad)) && swim_shape_in_D(3, bad) == 0, "NaN coefficient: min J %g, in D %d",
+          swim_shape_jmin(3, bad), swim_shape_in_D(3, bad));
     swim_dynamics_free(&d);
+}
+
+/* J(theta) = |c_1|^2 - |h|^2, h = sum_m m c_-m conj(z)^(m-1), z = e^{i theta} (ERRATA B2), summed
+ * here independently of runtime/shape. */
+static double j_direct(int modes, const double *x, double theta)
+{
+    double hr = 0.0, hi = 0.0;
+    for (int m = 1; m <= modes; m++) {
+        const double a = -(m - 1) * theta, re = m * x[2 * m], im = m * x[2 * m + 1];
+        hr += re * cos(a) - im * sin(a);
+        hi += re * sin(a) + im * cos(a);
+    }
+    return x[0] * x[0] + x[1] * x[1] - (hr * hr + hi * hi);
+}
+
+/* min J of random shapes with several dips against a fine sampling: never above the samples'
+ * minimum, never below it by more than the sampling can miss, and the value is J at the angle
+ * returned. */
+static void test_jmin_sampled(void)
+{
+    enum { FINE = 20000 };
+    int above = 0, below = 0, angle = 0, tried = 0;
+    srand(11);
+    for (int trial = 0; trial < 300; trial++) {
+        const int modes = 3 + trial % 10;
+        double x[2 * 13 + 2] = {0}, s0 = 0.0, s1 = 0.0, s2 = 0.0;   /* sums of (m-1)^j |m c_-m| */
+        x[0] = 1.0;
+        for (int m = 1; m <= modes; m++) {
+            const double r = (0.1 + 0.8 * rand() / (double)RAND_MAX) / (m * sqrt((double)modes));
+            const double phi = 2.0 * PI * rand() / (double)RAND_MAX;
+            x[2 * m] = r * cos(phi);
+            x[2 * m + 1] = r * sin(phi);
+            s0 += m * r;
+            s1 += (m - 1.0) * m * r;
+            s2 += (m - 1.0) * (m - 1.0) * m * r;
+        }
+        double th, fine = INFINITY;
+        const double J = swim_shape_jmin_at(modes, x, &th);
+        for (int k = 0; k < FINE; k++) fine = fmin(fine, j_direct(modes, x, 2.0 * PI * k / FINE));
+        /* |J''| <= 2 (s1^2 + s0 s2), and a minimum lies within half a spacing of a sample */
+        const double miss = 2.0 * (s1 * s1 + s0 * s2) * (2.0 * PI / FINE) * (2.0 * PI / FINE) / 8.0 + 1e-13;
+        tried++;
+        above += J > fine + 1e-13;
+        below += J < fine - miss;
+        angle += fabs(j_direct(modes, x, th) - J) > 1e-13;
+    }
+    CHECK(tried == 300 && above == 0 && below == 0 && angle == 0,
+          "min J of %d random shapes against %d samples: %d above the samples' minimum, %d below by more than "
+          "they can miss, %d whose value is not J at its angle", tried, FINE, above, below, angle);
 }
 
 /* min J and its rate in closed form (P of degree <= 1 in w) against the sampled minimum and the
@@ -345,6 +398,7 @@ int main(void)
     test_on_accept();
     test_watch();
     test_jmin_rate();
+    test_jmin_sampled();
     test_same_bits();
     return check_report("test_watch");
 }

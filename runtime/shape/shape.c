@@ -113,19 +113,31 @@ static double jmin_impl(int modes, const double *x, double *theta, int sign_only
     const int S = 8 * (modes + 1);
     const double h = TWO_PI / S, margin = 2.0 * (s1 * s1 + s0 * s2) * h * h / 8.0;
     double Js[8 * (SWIM_KERNEL_MAX_MODES + 1)];
-    /* samples at theta_q = q h; w_q = e^{-i q h} by rotation, restarted exactly every 16 samples */
+    /* samples at theta_q = q h; w_q = e^{-i q h} by rotation, restarted exactly every 16 samples.
+     * The runs of 16 are independent: they advance side by side, so that their chains of
+     * dependent products overlap instead of following one another (each w_q is the same
+     * sequence of operations as in one run after the other). */
+    enum { RUN = 16, RUNS = (8 * (SWIM_KERNEL_MAX_MODES + 1) + RUN - 1) / RUN };
     double wr[8 * (SWIM_KERNEL_MAX_MODES + 1)], wi[8 * (SWIM_KERNEL_MAX_MODES + 1)];
     double Pr[8 * (SWIM_KERNEL_MAX_MODES + 1)], Pi[8 * (SWIM_KERNEL_MAX_MODES + 1)];
     const double rr = cos(h), ri = -sin(h);
-    double zr = 1.0, zi = 0.0, best = INFINITY;
-    for (int q = 0; q < S; q++) {
-        if (q % 16 == 0) { zr = cos(q * h); zi = -sin(q * h); }
-        wr[q] = zr;
-        wi[q] = zi;
-        const double nr = zr * rr - zi * ri;
-        zi = zr * ri + zi * rr;
-        zr = nr;
+    double zr[RUNS], zi[RUNS], best = INFINITY;
+    const int runs = (S + RUN - 1) / RUN;
+    for (int r = 0; r < runs; r++) {
+        const int q = r * RUN;
+        zr[r] = cos(q * h);
+        zi[r] = -sin(q * h);
     }
+    for (int j = 0; j < RUN; j++)
+        for (int r = 0; r < runs; r++) {
+            const int q = r * RUN + j;
+            if (q >= S) continue;
+            wr[q] = zr[r];
+            wi[q] = zi[r];
+            const double nr = zr[r] * rr - zi[r] * ri;
+            zi[r] = zr[r] * ri + zi[r] * rr;
+            zr[r] = nr;
+        }
     for (int q = 0; q < S; q++) {
         Pr[q] = pr[modes - 1];
         Pi[q] = pi[modes - 1];
@@ -136,13 +148,24 @@ static double jmin_impl(int modes, const double *x, double *theta, int sign_only
             Pi[q] = Pr[q] * wi[q] + Pi[q] * wr[q] + pi[m - 1];
             Pr[q] = nr;
         }
+    for (int q = 0; q < S; q++) Js[q] = c1sq - (Pr[q] * Pr[q] + Pi[q] * Pi[q]);
+    /* the smallest sample, the first where there are several: the minimum over 8 lanes (exact,
+     * so in any order; S is a multiple of 8), then its first index -- a search that kept the
+     * index with the value was a serial chain of comparisons over all samples */
+    double lane[8];
+    int finite = 1;
+    for (int l = 0; l < 8; l++) lane[l] = INFINITY;
+    for (int q = 0; q < S; q += 8)
+        for (int l = 0; l < 8; l++) {
+            const double J = Js[q + l];
+            finite &= J == J;
+            lane[l] = J < lane[l] ? J : lane[l];
+        }
+    if (!finite) return NAN;
+    for (int l = 0; l < 8; l++) best = lane[l] < best ? lane[l] : best;
     int qbest = 0;
-    for (int q = 0; q < S; q++) {
-        const double J = c1sq - (Pr[q] * Pr[q] + Pi[q] * Pi[q]);
-        Js[q] = J;
-        if (!(J >= best)) { best = J; qbest = q; }   /* also catches NaN */
-    }
-    if (isnan(best)) return NAN;
+    while (!(Js[qbest] == best)) qbest++;
+    best = Js[qbest];   /* of the first such sample (+0 or -0 alike) */
     if (sign_only && (best - margin > 0 || !(best > 0))) return best - margin > 0 ? best : fmin(best, 0.0);
     /* the angle goes with the value: a minimum lying on a sample (a mirror-symmetric shape has
      * it at 0, pi/2, pi or 3pi/2) may refine to a value a rounding above the sample's, and then
@@ -150,7 +173,8 @@ static double jmin_impl(int modes, const double *x, double *theta, int sign_only
      * the barrier are taken at this angle) */
     double jmin = best, tmin = qbest * h;
     for (int q = 0; q < S; q++) {
-        const double Jq = Js[q], Jl = Js[(q + S - 1) % S], Jr = Js[(q + 1) % S];
+        /* the neighbours on the circle without an integer division per sample (S is no constant) */
+        const double Jq = Js[q], Jl = Js[q > 0 ? q - 1 : S - 1], Jr = Js[q + 1 < S ? q + 1 : 0];
         if (Jq > Jl || Jq > Jr || Jq > best + margin) continue;
         if (Jq == Jl && q > 0) continue;   /* a flat run: refine it once */
         /* Newton starts at the vertex of the parabola through the three samples */
