@@ -54,10 +54,28 @@ def test_chaotic_scene():
         res[rtol] = (s["lyapunov"], out)
     l8, l10 = res["1e-8"][0], res["1e-10"][0]
     for rtol, l in res.items():
+        # Over T = 20 the estimate is near the edge of its own test: whether the halves agree is a
+        # property of the particular chaotic trajectory, which any change of the last bits of the
+        # computation moves. What must hold is the verdict's promise: agreeing halves are called
+        # converged, and a run not yet converged says how long to run, and converges there.
         a1, a2 = l[0]["rate_first_half"], l[0]["rate_second_half"]
-        check(l[0]["verdict"] == "converged" and abs(a1 - a2) <= l[0]["agreement_tolerance"] * max(abs(a1), abs(a2)),
-              "rtol %s: verdict converged, the halves' rates %.4g and %.4g agree within the stated tolerance"
-              % (rtol, a1, a2))
+        agree = abs(a1 - a2) <= l[0]["agreement_tolerance"] * max(abs(a1), abs(a2))
+        if l[0]["verdict"] == "converged":
+            check(agree, "rtol %s: verdict converged, the halves' rates %.4g and %.4g agree within the stated "
+                  "tolerance" % (rtol, a1, a2))
+            continue
+        need = l[0]["t_end_needed"]
+        check(l[0]["verdict"] == "not_converged" and need is not None and need > 20,
+              "rtol %s: not converged over T = 20 (halves %.4g, %.4g), a longer run named (%r)" % (rtol, a1, a2, need))
+        if need is None:
+            continue
+        p, _, s = run(SOFT, "soft_long_" + rtol, "--rtol", rtol, "--t-end", str(need), "--lyapunov", "--summary-only")
+        lo = s["lyapunov"] if s else None
+        b1, b2 = (lo["rate_first_half"], lo["rate_second_half"]) if lo else (float("nan"), float("nan"))
+        check(lo is not None and lo["verdict"] == "converged"
+              and abs(b1 - b2) <= lo["agreement_tolerance"] * max(abs(b1), abs(b2)),
+              "rtol %s: over the T = %s the verdict named, converged, the halves' rates %.4g and %.4g agree (%s)"
+              % (rtol, need, b1, b2, p.stderr.strip()[-200:]))
     check(l8["exponent"] > 1 and l10["exponent"] > 1, "a positive exponent: chaos (%.4g, %.4g)"
           % (l8["exponent"], l10["exponent"]))
     rel = abs(l8["exponent"] - l10["exponent"]) / (0.5 * (l8["exponent"] + l10["exponent"]))
