@@ -580,19 +580,27 @@ static double peak_width(const swim_barrier_quad *b, double dstop)
         if (!(J[k] < left && J[k] <= right)) continue;
         double th = TWO_PI * k / M, Jt, J1, J2;      /* Newton on J' from the sample */
         int converged = 0;
-        for (int it = 0; it < 30 && !converged; it++) {
+        for (int it = 0; it < 30; it++) {
             j_derivs(b, th, &Jt, &J1, &J2);
             if (!(J2 > 0.0)) break;
             double step = J1 / J2;
+            /* What is wanted is J and J'' at the minimum, not its angle: at a distance e from it
+             * J is too large by J'' e^2 / 2 = J (e / w)^2, w = sqrt(2 J / J''). Newton's step is
+             * about e, so once it is below 1e-5 w the values here are those of the minimum to a
+             * relative 1e-10, w and the node count with them; near J = 0 (w -> 0) the step must
+             * still fall below 1e-10, as the test of J against 0 below needs. */
+            const double w2 = 2.0 * Jt / J2, tol = w2 > 1e-10 ? 1e-5 * sqrt(w2) : 1e-10;
+            if (fabs(step) < tol) {
+                converged = 1;
+                break;
+            }
             if (fabs(step) > TWO_PI / M) step = step > 0 ? TWO_PI / M : -TWO_PI / M;
             th -= step;
-            converged = fabs(step) < 1e-10;
         }
         /* A minimum Newton cannot pin down (a peak far narrower than the sampling, or J'' <= 0
          * on the way) is not estimated: the caller then takes the graded rule, which finds
          * every zero of J. */
         if (!converged) return -1.0;
-        j_derivs(b, th, &Jt, &J1, &J2);
         /* J is known here to the cancellation error of |c_1|^2 - |h|^2 only: within it, the
          * graded rule decides from J in extended precision at the foot */
         if (!(Jt > 1e-13 * b->c1sq)) return Jt > -1e-13 * b->c1sq ? -1.0 : 0.0;
